@@ -1,0 +1,353 @@
+// device.cpp — device enumeration and choice, capability checks, the sub-group backend
+// choice with its start-up self-test, and the program cache.
+#include <algorithm>
+#include <cstdlib>
+#include <sstream>
+
+#include "cl/cl_error.h"
+#include "cl/device_impl.h"
+
+namespace clhair {
+
+namespace {
+
+constexpr int kSelftestWords = 16;
+constexpr int kSgSize = 32;
+constexpr cl_device_info kComputeCapabilityMajorNv = 0x4000;
+
+std::string envOr(const char* name, const std::string& given) {
+  if (!given.empty()) return given;
+  const char* v = std::getenv(name);
+  return v ? std::string(v) : std::string();
+}
+
+bool hasExtension(const std::string& extensions, const std::string& ext) {
+  std::istringstream ss(extensions);
+  std::string token;
+  while (ss >> token)
+    if (token == ext) return true;
+  return false;
+}
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+// "OpenCL C 1.2 ..." -> 120
+int clcVersionNumber(const std::string& clc) {
+  auto pos = clc.find("OpenCL C ");
+  if (pos == std::string::npos) return 120;
+  int major = 1, minor = 2;
+  if (std::sscanf(clc.c_str() + pos + 9, "%d.%d", &major, &minor) != 2) return 120;
+  return major * 100 + minor * 10;
+}
+
+DeviceInfo describe(const cl::Platform& platform, const cl::Device& device, int p, int d) {
+  DeviceInfo info;
+  info.platformIndex = p;
+  info.deviceIndex = d;
+  info.platformName = platform.getInfo<CL_PLATFORM_NAME>();
+  info.name = device.getInfo<CL_DEVICE_NAME>();
+  info.vendor = device.getInfo<CL_DEVICE_VENDOR>();
+  info.version = device.getInfo<CL_DEVICE_VERSION>();
+  info.clcVersion = device.getInfo<CL_DEVICE_OPENCL_C_VERSION>();
+  info.driverVersion = device.getInfo<CL_DRIVER_VERSION>();
+  info.isGpu = (device.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_GPU) != 0;
+  info.maxAlloc = device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+  info.globalMem = device.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+  info.computeUnits = device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+  std::string ext = device.getInfo<CL_DEVICE_EXTENSIONS>();
+  info.int64Atomics = hasExtension(ext, "cl_khr_int64_base_atomics") &&
+                      hasExtension(ext, "cl_khr_int64_extended_atomics");
+  std::string vendor = lower(info.vendor + " " + info.platformName);
+  int clc = clcVersionNumber(info.clcVersion);
+  if (hasExtension(ext, "cl_khr_subgroup_shuffle_relative") && clc >= 200)
+    info.candidates.push_back(SubgroupBackend::Khr);
+  if (hasExtension(ext, "cl_intel_subgroups")) info.candidates.push_back(SubgroupBackend::Intel);
+  if (vendor.find("nvidia") != std::string::npos) info.candidates.push_back(SubgroupBackend::NvPtx);
+  if (info.isGpu && (vendor.find("advanced micro devices") != std::string::npos ||
+                     vendor.find("amd") != std::string::npos))
+    info.candidates.push_back(SubgroupBackend::Amd);
+  info.candidates.push_back(SubgroupBackend::Local);
+  return info;
+}
+
+struct Found {
+  cl::Platform platform;
+  cl::Device device;
+  DeviceInfo info;
+};
+
+std::vector<Found> enumerate() {
+  std::vector<Found> all;
+  std::vector<cl::Platform> platforms;
+  try {
+    cl::Platform::get(&platforms);
+  } catch (const cl::Error& e) {
+    if (e.err() == -1001 /* CL_PLATFORM_NOT_FOUND_KHR */) return all;
+    rethrowAsClhairError("listing OpenCL platforms");
+  }
+  for (int p = 0; p < static_cast<int>(platforms.size()); ++p) {
+    std::vector<cl::Device> devices;
+    try {
+      platforms[p].getDevices(CL_DEVICE_TYPE_ALL, &devices);
+    } catch (const cl::Error&) {
+      continue;  // a platform without devices
+    }
+    for (int d = 0; d < static_cast<int>(devices.size()); ++d)
+      all.push_back({platforms[p], devices[d], describe(platforms[p], devices[d], p, d)});
+  }
+  return all;
+}
+
+std::string describeList(const std::vector<Found>& all) {
+  std::string s;
+  for (const Found& f : all)
+    s += "\n  " + std::to_string(f.info.platformIndex) + ":" + std::to_string(f.info.deviceIndex) +
+         "  " + f.info.name + " (" + f.info.platformName + ")";
+  return s.empty() ? std::string(" (none)") : s;
+}
+
+}  // namespace
+
+const char* subgroupBackendName(SubgroupBackend b) {
+  switch (b) {
+    case SubgroupBackend::Local:
+      return "local";
+    case SubgroupBackend::Khr:
+      return "khr";
+    case SubgroupBackend::Intel:
+      return "intel";
+    case SubgroupBackend::NvPtx:
+      return "nvptx";
+    case SubgroupBackend::Amd:
+      return "amd";
+  }
+  return "?";
+}
+
+SubgroupBackend parseSubgroupBackend(const std::string& name) {
+  for (SubgroupBackend b : {SubgroupBackend::Local, SubgroupBackend::Khr, SubgroupBackend::Intel,
+                            SubgroupBackend::NvPtx, SubgroupBackend::Amd})
+    if (name == subgroupBackendName(b)) return b;
+  throw Error("unknown sub-group backend \"" + name +
+              "\"; expected one of: local, khr, intel, nvptx, amd");
+}
+
+DeviceOptions DeviceOptions::fromEnvironment(DeviceOptions given) {
+  given.selector = envOr("CLHAIR_DEVICE", given.selector);
+  given.subgroup = envOr("CLHAIR_SUBGROUP", given.subgroup);
+  given.kernelDir = envOr("CLHAIR_KERNEL_DIR", given.kernelDir);
+  return given;
+}
+
+std::vector<DeviceInfo> Device::list() {
+  std::vector<DeviceInfo> out;
+  for (const Found& f : enumerate()) out.push_back(f.info);
+  return out;
+}
+
+Device Device::open(const DeviceOptions& options) {
+  std::vector<Found> all = enumerate();
+  if (all.empty())
+    throw Error(
+        "no OpenCL device found: install an OpenCL driver (on Debian: pocl-opencl-icd) and "
+        "check `clinfo`");
+
+  const Found* chosen = nullptr;
+  const std::string& sel = options.selector;
+  if (sel.empty()) {
+    for (const Found& f : all)
+      if (f.info.int64Atomics && f.info.isGpu && !chosen) chosen = &f;
+    for (const Found& f : all)
+      if (f.info.int64Atomics && !chosen) chosen = &f;
+    if (!chosen) chosen = &all.front();
+  } else {
+    int p = -1, d = -1;
+    char tail = 0;
+    if (std::sscanf(sel.c_str(), "%d:%d%c", &p, &d, &tail) == 2) {
+      for (const Found& f : all)
+        if (f.info.platformIndex == p && f.info.deviceIndex == d) chosen = &f;
+    } else {
+      for (const Found& f : all)
+        if (!chosen && (lower(f.info.name + " " + f.info.platformName).find(lower(sel)) !=
+                        std::string::npos))
+          chosen = &f;
+    }
+    if (!chosen)
+      throw Error("no OpenCL device matches \"" + sel + "\"; devices on this machine:" +
+                  describeList(all));
+  }
+  if (!chosen->info.int64Atomics)
+    throw Error("device \"" + chosen->info.name + "\" (" + chosen->info.platformName +
+                ") lacks cl_khr_int64_extended_atomics: clhair needs 64-bit atom_min for its "
+                "G-buffer; choose another device with --device or CLHAIR_DEVICE");
+
+  auto impl = std::make_shared<Impl>();
+  impl->platform = chosen->platform;
+  impl->device = chosen->device;
+  impl->info = chosen->info;
+  impl->sources = KernelSources(options.kernelDir);
+  impl->kernelWarningsAsErrors = options.kernelWarningsAsErrors;
+  const char* dbg = std::getenv("CLHAIR_DEBUG_SYNC");
+  impl->debugFinish = dbg && std::string(dbg) == "1";
+  clCall("creating the OpenCL context on " + impl->info.name, [&] {
+    impl->context = cl::Context(impl->device);
+    impl->queue = cl::CommandQueue(impl->context, impl->device, CL_QUEUE_PROFILING_ENABLE);
+    return 0;
+  });
+  Device dev(impl);
+
+  std::string forced = options.subgroup == "auto" ? std::string() : options.subgroup;
+  if (!forced.empty()) {
+    SubgroupBackend b = parseSubgroupBackend(forced);
+    std::string why = dev.selfTest(b);
+    if (!why.empty())
+      throw Error(std::string("forced sub-group backend \"") + subgroupBackendName(b) +
+                  "\" fails its self-test on " + impl->info.name + ": " + why);
+    impl->info.backend = b;
+    impl->info.backendNote = "forced";
+    return dev;
+  }
+  std::string notes;
+  for (SubgroupBackend b : impl->info.candidates) {
+    std::string why = dev.selfTest(b);
+    if (why.empty()) {
+      impl->info.backend = b;
+      impl->info.backendNote = notes.empty() ? "self-test passed" : notes;
+      return dev;
+    }
+    notes += std::string(subgroupBackendName(b)) + " failed (" + why + "); ";
+  }
+  throw Error("no sub-group backend passes its self-test on " + impl->info.name + ": " + notes);
+}
+
+const DeviceInfo& Device::info() const { return impl_->info; }
+
+Device Device::withBackend(SubgroupBackend b) const {
+  auto impl = std::make_shared<Impl>();
+  impl->platform = impl_->platform;
+  impl->device = impl_->device;
+  impl->context = impl_->context;
+  impl->queue = impl_->queue;
+  impl->info = impl_->info;
+  impl->info.backend = b;
+  impl->info.backendNote = "selected";
+  impl->sources = impl_->sources;
+  impl->kernelWarningsAsErrors = impl_->kernelWarningsAsErrors;
+  impl->debugFinish = impl_->debugFinish;
+  return Device(impl);
+}
+
+std::string Device::selfTest(SubgroupBackend b) const {
+  Impl& d = *impl_;
+  try {
+    cl::Program program = d.programFor(b, "selftest.cl", "");
+    cl::Kernel k(program, "selftest_subgroup");
+    size_t wg = k.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(d.device);
+    if (wg < static_cast<size_t>(kSgSize))
+      return "kernel work-group limit " + std::to_string(wg) + " < " + std::to_string(kSgSize);
+    std::vector<cl_uint> out(kSgSize * kSelftestWords, 0xDEADu);
+    cl::Buffer buf(d.context, CL_MEM_READ_WRITE, out.size() * sizeof(cl_uint));
+    d.queue.enqueueWriteBuffer(buf, CL_TRUE, 0, out.size() * sizeof(cl_uint), out.data());
+    k.setArg(0, buf);
+    d.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(kSgSize), cl::NDRange(kSgSize));
+    d.queue.enqueueReadBuffer(buf, CL_TRUE, 0, out.size() * sizeof(cl_uint), out.data());
+    for (cl_uint lane = 0; lane < static_cast<cl_uint>(kSgSize); ++lane) {
+      const cl_uint* o = &out[lane * kSelftestWords];
+      auto xOf = [](cl_uint l) { return l * 7u + 3u; };
+      auto yOf = [](cl_uint l) { return l * 13u + 100u; };
+      cl_uint expect[13];
+      expect[0] = lane == 0 ? 0xF00Du : xOf(lane - 1);
+      expect[1] = lane == kSgSize - 1 ? 0xBEEFu : xOf(lane + 1);
+      expect[2] = xOf(0);
+      for (cl_uint c = 0; c < 4; ++c) {
+        expect[3 + c] = lane == 0 ? 1u + c : xOf(lane - 1) + c;
+        expect[7 + c] = lane == kSgSize - 1 ? 1u + c : xOf(lane + 1) + c;
+      }
+      expect[11] = lane == 0 ? 0xF00Du : yOf(lane - 1);
+      expect[12] = lane == kSgSize - 1 ? 0xBEEFu : yOf(lane + 1);
+      for (int w = 0; w < 13; ++w)
+        if (o[w] != expect[w])
+          return "lane " + std::to_string(lane) + " word " + std::to_string(w) + " is " +
+                 std::to_string(o[w]) + ", expected " + std::to_string(expect[w]);
+    }
+    return {};
+  } catch (const Error& e) {
+    std::string msg = e.what();
+    return msg.substr(0, msg.find('\n'));
+  } catch (const cl::Error& e) {
+    return std::string(e.what()) + " " + clErrorName(e.err());
+  }
+}
+
+// ---- Impl: build options and the program cache -------------------------------------------
+
+std::string Device::Impl::buildOptions(SubgroupBackend backend, const std::string& extra) const {
+  std::string opts;
+  int clc = clcVersionNumber(info.clcVersion);
+  std::string ext = device.getInfo<CL_DEVICE_EXTENSIONS>();
+  switch (backend) {
+    case SubgroupBackend::Khr:
+      opts = clc >= 300 ? "-cl-std=CL3.0" : "-cl-std=CL2.0";
+      break;
+    default:
+      opts = "-cl-std=CL1.2";
+      break;
+  }
+  opts += " -DSG_SIZE=" + std::to_string(kSgSize);
+  opts += " -DSG_BACKEND=" + std::to_string(static_cast<int>(backend));
+  if ((backend == SubgroupBackend::Intel || backend == SubgroupBackend::Khr) &&
+      hasExtension(ext, "cl_intel_required_subgroup_size"))
+    opts += " -DSG_INTEL_REQD_SIZE=1";
+  if (backend == SubgroupBackend::NvPtx) {
+    cl_uint major = 0;
+    if (clGetDeviceInfo(device(), kComputeCapabilityMajorNv, sizeof(major), &major, nullptr) ==
+            CL_SUCCESS &&
+        major < 7)
+      opts += " -DSG_PTX_LEGACY_SHFL=1";
+  }
+  if (kernelWarningsAsErrors) opts += " -Werror";
+  if (!extra.empty()) opts += " " + extra;
+  return opts;
+}
+
+cl::Program Device::Impl::programFor(SubgroupBackend backend, const std::string& file,
+                                     const std::string& extraOptions) {
+  std::string options = buildOptions(backend, extraOptions);
+  std::string key = file + "|" + options;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = programs_.find(key);
+    if (it != programs_.end()) return it->second;
+  }
+  std::string text = sources.program(file);
+  cl::Program program(context, text);
+  try {
+    program.build({device}, options.c_str());
+  } catch (const cl::Error& e) {
+    std::string log;
+    try {
+      log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device);
+    } catch (const cl::Error&) {
+    }
+    throw Error("building " + file + " for " + info.name + " failed with " +
+                clErrorName(e.err()) + " (options: " + options + ")\n--- build log ---\n" + log);
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  programs_[key] = program;
+  return program;
+}
+
+cl::Program Device::Impl::program(const std::string& file, const std::string& extraOptions) {
+  return programFor(info.backend, file, extraOptions);
+}
+
+cl::Kernel Device::Impl::kernel(const std::string& file, const std::string& name,
+                                const std::string& extraOptions) {
+  cl::Program p = program(file, extraOptions);
+  return clCall("creating kernel " + name + " from " + file, [&] { return cl::Kernel(p, name.c_str()); });
+}
+
+}  // namespace clhair

@@ -1,0 +1,43 @@
+// device_impl.h — the OpenCL objects behind clhair::Device and its program cache.
+//
+// Programs are built from KernelSources with the options of the chosen sub-group backend
+// and cached per (file, options); the driver's own binary cache (PoCL: POCL_CACHE_DIR)
+// makes later processes skip compilation. Kernels are handed out per call (cl::Kernel
+// objects hold argument state, so each stage keeps its own).
+#pragma once
+
+#include <map>
+#include <mutex>
+#include <string>
+
+#include "cl/kernel_sources.h"
+#include "cl/opencl.h"
+#include "clhair/device.h"
+
+namespace clhair {
+
+struct Device::Impl {
+  cl::Platform platform;
+  cl::Device device;
+  cl::Context context;
+  cl::CommandQueue queue;
+  DeviceInfo info;
+  KernelSources sources;
+  bool kernelWarningsAsErrors = false;
+  bool debugFinish = false;  // finish() after every dispatch (CLHAIR_DEBUG_SYNC=1)
+
+  // Build options for `backend` (sub-group defines, -cl-std) plus `extra`.
+  std::string buildOptions(SubgroupBackend backend, const std::string& extra) const;
+  // Builds (or returns the cached) program of kernel file `file` for the chosen backend.
+  cl::Program program(const std::string& file, const std::string& extraOptions = {});
+  cl::Program programFor(SubgroupBackend backend, const std::string& file,
+                         const std::string& extraOptions);
+  cl::Kernel kernel(const std::string& file, const std::string& name,
+                    const std::string& extraOptions = {});
+
+ private:
+  std::mutex mutex_;
+  std::map<std::string, cl::Program> programs_;
+};
+
+}  // namespace clhair

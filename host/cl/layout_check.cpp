@@ -1,0 +1,22 @@
+// layout_check.cpp — compile-time pins of the host/device struct layouts of gpu_types.h.
+// The device side reports the same sizes through selftest_layout (tests/test_layout.cpp).
+#include <cstddef>
+
+#include "clhair/gpu_types.h"
+
+namespace clhair::gpu {
+
+static_assert(sizeof(ClhMeshVertex) == 64, "ClhMeshVertex layout");
+static_assert(sizeof(ClhBundle) == 64, "ClhBundle layout");
+static_assert(offsetof(ClhBundle, uv) == 32, "ClhBundle uv offset");
+static_assert(sizeof(ClhGroomGpu) == 256, "ClhGroomGpu layout");
+static_assert(offsetof(ClhGroomGpu, bundle_count) == 96, "ClhGroomGpu counts offset");
+static_assert(offsetof(ClhGroomGpu, clump_strength) == 160, "ClhGroomGpu styling offset");
+static_assert(offsetof(ClhGroomGpu, root_color) == 208, "ClhGroomGpu colour offset");
+static_assert(sizeof(ClhViewGpu) == 144, "ClhViewGpu layout");
+static_assert(sizeof(ClhLightGpu) == 32, "ClhLightGpu layout");
+static_assert(sizeof(ClhSphereGpu) == 32, "ClhSphereGpu layout");
+static_assert(sizeof(ClhPlaneGpu) == 32, "ClhPlaneGpu layout");
+static_assert(sizeof(ClhSceneGpu) == 48, "ClhSceneGpu layout");
+
+}  // namespace clhair::gpu

@@ -1,0 +1,302 @@
+// hair_mesh_io.cpp — reading, validating and writing hair-mesh files (JSON, documented in
+// docs/hair-mesh-format.md). Every rejection names the file, the JSON element and the
+// values that matter; nothing is half-read into the renderer.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "clhair/error.h"
+#include "clhair/gpu_types.h"
+#include "clhair/hair_mesh.h"
+#include "io/json_util.h"
+
+namespace clhair {
+
+namespace {
+
+using nlohmann::json;
+
+constexpr int kFormatVersion = 1;
+constexpr std::int64_t kMaxStrands = 50'000'000;
+constexpr int kMaxVertices = 4'000'000;
+
+std::vector<float> floatArray(const JsonReader& r, const json& j, const std::string& key,
+                              std::size_t expected) {
+  if (!j.is_array()) r.fail(key, "must be an array of numbers");
+  if (j.size() != expected)
+    r.fail(key, "has " + std::to_string(j.size()) + " numbers, expected " + std::to_string(expected));
+  std::vector<float> out(expected);
+  for (std::size_t i = 0; i < expected; ++i) {
+    const json& e = j[i];
+    if (!e.is_number()) r.fail(key + "[" + std::to_string(i) + "]", "is not a number");
+    double d = e.get<double>();
+    if (!std::isfinite(d) || std::fabs(d) > 3.0e38)
+      r.fail(key + "[" + std::to_string(i) + "]", "is not a finite number");
+    out[i] = static_cast<float>(d);
+  }
+  return out;
+}
+
+// Per-layer arrays: `layers` arrays of `perLayer` numbers each, flattened layer-major.
+std::vector<float> layeredArray(const JsonReader& r, const json& j, const std::string& key,
+                                int layers, std::size_t perLayer) {
+  if (!j.is_array()) r.fail(key, "must be an array with one array per layer");
+  if (static_cast<int>(j.size()) != layers)
+    r.fail(key, "has " + std::to_string(j.size()) + " layers, expected " + std::to_string(layers));
+  std::vector<float> out;
+  out.reserve(perLayer * layers);
+  for (int l = 0; l < layers; ++l) {
+    auto part = floatArray(r, j[l], key + "[" + std::to_string(l) + "]", perLayer);
+    out.insert(out.end(), part.begin(), part.end());
+  }
+  return out;
+}
+
+std::vector<glm::vec3> toVec3(const std::vector<float>& f) {
+  std::vector<glm::vec3> v(f.size() / 3);
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] = glm::vec3(f[3 * i], f[3 * i + 1], f[3 * i + 2]);
+  return v;
+}
+
+void readStyle(const JsonReader& r, const json& j, StyleParams& s) {
+  JsonReader o = r.object(j, "style");
+  s.clumpStrength = o.number("clump_strength", s.clumpStrength, 0.0, 1.0);
+  s.clumpFrequency = o.number("clump_frequency", s.clumpFrequency, 0.0, 10000.0);
+  s.clumpShape = o.number("clump_shape", s.clumpShape, 0.01, 16.0);
+  s.curlAmplitude = o.number("curl_amplitude", s.curlAmplitude, 0.0, 1e6);
+  s.curlFrequency = o.number("curl_frequency", s.curlFrequency, 0.0, 1000.0);
+  s.curlHelix = o.number("curl_helix", s.curlHelix, 0.0, 1.0);
+  s.curlPhaseJitter = o.number("curl_phase_jitter", s.curlPhaseJitter, 0.0, 1.0);
+  s.frizzAmplitude = o.number("frizz_amplitude", s.frizzAmplitude, 0.0, 1e6);
+  s.frizzFrequency = o.number("frizz_frequency", s.frizzFrequency, 0.0, 1000.0);
+  s.flyawayFraction = o.number("flyaway_fraction", s.flyawayFraction, 0.0, 1.0);
+  s.flyawayAmplitude = o.number("flyaway_amplitude", s.flyawayAmplitude, 0.0, 1e6);
+  s.lengthVariation = o.number("length_variation", s.lengthVariation, 0.0, 0.95);
+  o.rejectUnknown({"clump_strength", "clump_frequency", "clump_shape", "curl_amplitude",
+                   "curl_frequency", "curl_helix", "curl_phase_jitter", "frizz_amplitude",
+                   "frizz_frequency", "flyaway_fraction", "flyaway_amplitude", "length_variation"});
+}
+
+void readAppearance(const JsonReader& r, const json& j, AppearanceParams& a) {
+  JsonReader o = r.object(j, "appearance");
+  a.rootColor = o.vec3("root_color", a.rootColor, 0.0, 1.0);
+  a.tipColor = o.vec3("tip_color", a.tipColor, 0.0, 1.0);
+  a.strandWidth = o.number("strand_width", a.strandWidth, 1e-9, 1e3);
+  o.rejectUnknown({"root_color", "tip_color", "strand_width"});
+}
+
+void readLod(const JsonReader& r, const json& j, LodParams& lod) {
+  JsonReader o = r.object(j, "lod");
+  lod.enabled = o.boolean("enabled", lod.enabled);
+  lod.lambda = o.number("lambda", lod.lambda, 1e-3, 1e3);
+  lod.morphWindow = o.number("morph_window", lod.morphWindow, 0.0, 1.0);
+  o.rejectUnknown({"enabled", "lambda", "morph_window"});
+}
+
+
+// Rounds to 6 significant digits so files stay small and diff-friendly.
+double tidy(float v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.6g", static_cast<double>(v));
+  return std::strtod(buf, nullptr);
+}
+
+json vec3Json(const glm::vec3& v) { return json::array({tidy(v.x), tidy(v.y), tidy(v.z)}); }
+
+// One top-level key per line; per-layer arrays one layer per line; everything else compact.
+std::string layout(const json& j) {
+  std::string out = "{\n";
+  std::size_t i = 0;
+  for (auto it = j.begin(); it != j.end(); ++it, ++i) {
+    out += "  " + json(it.key()).dump() + ": ";
+    const json& v = it.value();
+    bool perLine = v.is_array() && !v.empty() && v[0].is_array() && v[0].size() > 4;
+    if (perLine) {
+      out += "[\n";
+      for (std::size_t k = 0; k < v.size(); ++k) out += "    " + v[k].dump() + (k + 1 < v.size() ? ",\n" : "\n");
+      out += "  ]";
+    } else {
+      out += v.dump();
+    }
+    out += i + 1 < j.size() ? ",\n" : "\n";
+  }
+  return out + "}\n";
+}
+
+}  // namespace
+
+void validateHairMesh(const HairMesh& m, const std::string& where) {
+  auto fail = [&](const std::string& what) { throw Error(where + ": " + what); };
+  if (m.layerCount < 2)
+    fail("layer_count is " + std::to_string(m.layerCount) + ", a hair mesh needs at least 2 layers");
+  if (m.layerCount > CLH_MAX_LAYERS)
+    fail("layer_count is " + std::to_string(m.layerCount) + ", at most " +
+         std::to_string(CLH_MAX_LAYERS) + " layers are supported");
+  if (m.vertexCount < 3 || m.vertexCount > kMaxVertices)
+    fail("vertex_count is " + std::to_string(m.vertexCount) + ", expected 3.." + std::to_string(kMaxVertices));
+  const std::size_t n = static_cast<std::size_t>(m.layerCount) * m.vertexCount;
+  if (m.positions.size() != n) fail("positions hold " + std::to_string(m.positions.size()) + " vertices, expected " + std::to_string(n));
+  if (m.uv.size() != static_cast<std::size_t>(m.vertexCount)) fail("uv holds " + std::to_string(m.uv.size()) + " entries, expected vertex_count " + std::to_string(m.vertexCount));
+  if (!m.tangents.empty() && m.tangents.size() != n) fail("tangents must have one entry per layer vertex");
+  if (!m.w.empty() && m.w.size() != n) fail("w must have one entry per layer vertex");
+  if (!m.ao.empty() && m.ao.size() != n) fail("ao must have one entry per layer vertex");
+  if (m.faces.empty()) fail("faces is empty: the scalp needs at least one face");
+  for (std::size_t i = 0; i < n; ++i) {
+    const glm::vec3& p = m.positions[i];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      fail("layer " + std::to_string(i / m.vertexCount) + " vertex " + std::to_string(i % m.vertexCount) + " has a non-finite position");
+    if (!m.tangents.empty() && !(std::isfinite(m.tangents[i].x) && std::isfinite(m.tangents[i].y) && std::isfinite(m.tangents[i].z)))
+      fail("tangent of layer vertex " + std::to_string(i) + " is not finite");
+    if (!m.w.empty() && !(std::isfinite(m.w[i]) && m.w[i] >= 0.0f && m.w[i] <= 1.0f))
+      fail("w of layer vertex " + std::to_string(i) + " must be a finite number in [0, 1]");
+    if (!m.ao.empty() && !(std::isfinite(m.ao[i]) && m.ao[i] >= 0.0f && m.ao[i] <= 1.0f))
+      fail("ao of layer vertex " + std::to_string(i) + " must be a finite number in [0, 1]");
+  }
+  for (std::size_t v = 0; v < m.uv.size(); ++v)
+    if (!std::isfinite(m.uv[v].x) || !std::isfinite(m.uv[v].y))
+      fail("uv of vertex " + std::to_string(v) + " is not finite");
+  for (std::size_t f = 0; f < m.faces.size(); ++f) {
+    const auto& face = m.faces[f];
+    int corners = face[3] < 0 ? 3 : 4;
+    for (int c = 0; c < corners; ++c)
+      if (face[c] < 0 || face[c] >= m.vertexCount)
+        fail("faces[" + std::to_string(f) + "] vertex index " + std::to_string(face[c]) +
+             " is out of range (vertex_count " + std::to_string(m.vertexCount) + ")");
+    for (int a = 0; a < corners; ++a)
+      for (int b = a + 1; b < corners; ++b)
+        if (face[a] == face[b]) fail("faces[" + std::to_string(f) + "] repeats vertex " + std::to_string(face[a]));
+    glm::vec2 e1 = m.uv[face[1]] - m.uv[face[0]], e2 = m.uv[face[2]] - m.uv[face[0]];
+    if (std::fabs(e1.x * e2.y - e2.x * e1.y) < 1e-12f)
+      fail("faces[" + std::to_string(f) + "] has zero uv area: styling frames need a uv layout");
+  }
+  if (m.strandCount < 0 || m.strandCount > kMaxStrands)
+    fail("strands is " + std::to_string(m.strandCount) + ", expected 0.." + std::to_string(kMaxStrands));
+  bool pow2plus1 = false;
+  for (int k = 1; k <= 7; ++k) pow2plus1 |= m.controlPoints == (1 << k) + 1;
+  if (!pow2plus1 && m.controlPoints != CLH_MAX_CONTROL_POINTS)
+    fail("control_points is " + std::to_string(m.controlPoints) + ", expected 3, 5, 9, 17, 33, 65 or 127");
+}
+
+HairMesh loadHairMesh(const std::string& path) {
+  json root = readJsonFile(path, "hair mesh");
+  JsonReader r(path, root);
+  HairMesh m;
+  std::string format = r.string("format", "");
+  if (format != "clhair-hairmesh") r.fail("format", "is \"" + format + "\", expected \"clhair-hairmesh\"");
+  int version = r.integer("version", 1, 1, 1000);
+  if (version != kFormatVersion) r.fail("version", std::to_string(version) + " is not supported (this build reads version 1)");
+  m.name = r.string("name", std::filesystem::path(path).stem().string());
+  m.layerCount = r.integer("layer_count", 0, 0, 1 << 20);
+  if (m.layerCount < 2) r.fail("layer_count", "is " + std::to_string(m.layerCount) + ", a hair mesh needs at least 2 layers");
+  if (m.layerCount > CLH_MAX_LAYERS) r.fail("layer_count", "is " + std::to_string(m.layerCount) + ", at most " + std::to_string(CLH_MAX_LAYERS) + " layers are supported");
+  m.vertexCount = r.integer("vertex_count", 0, 3, kMaxVertices);
+  m.strandCount = r.integer64("strands", 0, 0, kMaxStrands);
+  m.controlPoints = r.integer("control_points", m.controlPoints, 2, CLH_MAX_CONTROL_POINTS);
+  m.seed = static_cast<std::uint32_t>(r.integer64("seed", 1, 0, 0xFFFFFFFFll));
+
+  const json& faces = r.require("faces");
+  if (!faces.is_array()) r.fail("faces", "must be an array of 3- or 4-index arrays");
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    const json& face = faces[f];
+    std::string key = "faces[" + std::to_string(f) + "]";
+    if (!face.is_array() || (face.size() != 3 && face.size() != 4))
+      r.fail(key, "must list 3 (triangle) or 4 (quad) vertex indices");
+    std::array<int, 4> idx{-1, -1, -1, -1};
+    for (std::size_t c = 0; c < face.size(); ++c) {
+      if (!face[c].is_number_integer()) r.fail(key, "holds a non-integer index");
+      long long v = face[c].get<long long>();
+      if (v < 0 || v >= m.vertexCount)
+        r.fail(key, "vertex index " + std::to_string(v) + " is out of range (vertex_count " + std::to_string(m.vertexCount) + ")");
+      idx[c] = static_cast<int>(v);
+    }
+    m.faces.push_back(idx);
+  }
+  auto uv = floatArray(r, r.require("uv"), "uv", 2 * static_cast<std::size_t>(m.vertexCount));
+  m.uv.resize(m.vertexCount);
+  for (int v = 0; v < m.vertexCount; ++v) m.uv[v] = glm::vec2(uv[2 * v], uv[2 * v + 1]);
+  m.positions = toVec3(layeredArray(r, r.require("layers"), "layers", m.layerCount, 3 * static_cast<std::size_t>(m.vertexCount)));
+  if (root.contains("tangents"))
+    m.tangents = toVec3(layeredArray(r, root["tangents"], "tangents", m.layerCount, 3 * static_cast<std::size_t>(m.vertexCount)));
+  if (root.contains("w")) m.w = layeredArray(r, root["w"], "w", m.layerCount, m.vertexCount);
+  if (root.contains("ao")) m.ao = layeredArray(r, root["ao"], "ao", m.layerCount, m.vertexCount);
+  if (root.contains("style")) readStyle(r, root["style"], m.style);
+  if (root.contains("appearance")) readAppearance(r, root["appearance"], m.appearance);
+  if (root.contains("lod")) readLod(r, root["lod"], m.lod);
+  r.rejectUnknown({"format", "version", "name", "layer_count", "vertex_count", "strands",
+                   "control_points", "seed", "faces", "uv", "layers", "tangents", "w", "ao",
+                   "style", "appearance", "lod"});
+  validateHairMesh(m, path);
+  return m;
+}
+
+void saveHairMesh(const HairMesh& m, const std::string& path) {
+  validateHairMesh(m, "saving " + path);
+  json j;
+  j["format"] = "clhair-hairmesh";
+  j["version"] = kFormatVersion;
+  j["name"] = m.name;
+  j["layer_count"] = m.layerCount;
+  j["vertex_count"] = m.vertexCount;
+  j["strands"] = m.strandCount;
+  j["control_points"] = m.controlPoints;
+  j["seed"] = m.seed;
+  json faces = json::array();
+  for (const auto& f : m.faces) {
+    if (f[3] < 0)
+      faces.push_back({f[0], f[1], f[2]});
+    else
+      faces.push_back({f[0], f[1], f[2], f[3]});
+  }
+  j["faces"] = faces;
+  json uv = json::array();
+  for (const auto& t : m.uv) {
+    uv.push_back(tidy(t.x));
+    uv.push_back(tidy(t.y));
+  }
+  j["uv"] = uv;
+  auto layered3 = [&](const std::vector<glm::vec3>& src) {
+    json layers = json::array();
+    for (int l = 0; l < m.layerCount; ++l) {
+      json a = json::array();
+      for (int v = 0; v < m.vertexCount; ++v) {
+        const glm::vec3& p = src[static_cast<std::size_t>(l) * m.vertexCount + v];
+        a.push_back(tidy(p.x));
+        a.push_back(tidy(p.y));
+        a.push_back(tidy(p.z));
+      }
+      layers.push_back(a);
+    }
+    return layers;
+  };
+  auto layered1 = [&](const std::vector<float>& src) {
+    json layers = json::array();
+    for (int l = 0; l < m.layerCount; ++l) {
+      json a = json::array();
+      for (int v = 0; v < m.vertexCount; ++v) a.push_back(tidy(src[static_cast<std::size_t>(l) * m.vertexCount + v]));
+      layers.push_back(a);
+    }
+    return layers;
+  };
+  j["layers"] = layered3(m.positions);
+  if (!m.tangents.empty()) j["tangents"] = layered3(m.tangents);
+  if (!m.w.empty()) j["w"] = layered1(m.w);
+  if (!m.ao.empty()) j["ao"] = layered1(m.ao);
+  const StyleParams& s = m.style;
+  j["style"] = {{"clump_strength", tidy(s.clumpStrength)},     {"clump_frequency", tidy(s.clumpFrequency)},
+                {"clump_shape", tidy(s.clumpShape)},           {"curl_amplitude", tidy(s.curlAmplitude)},
+                {"curl_frequency", tidy(s.curlFrequency)},     {"curl_helix", tidy(s.curlHelix)},
+                {"curl_phase_jitter", tidy(s.curlPhaseJitter)}, {"frizz_amplitude", tidy(s.frizzAmplitude)},
+                {"frizz_frequency", tidy(s.frizzFrequency)},   {"flyaway_fraction", tidy(s.flyawayFraction)},
+                {"flyaway_amplitude", tidy(s.flyawayAmplitude)}, {"length_variation", tidy(s.lengthVariation)}};
+  j["appearance"] = {{"root_color", vec3Json(m.appearance.rootColor)},
+                     {"tip_color", vec3Json(m.appearance.tipColor)},
+                     {"strand_width", tidy(m.appearance.strandWidth)}};
+  j["lod"] = {{"enabled", m.lod.enabled}, {"lambda", tidy(m.lod.lambda)}, {"morph_window", tidy(m.lod.morphWindow)}};
+  writeTextAtomically(path, layout(j));
+}
+
+}  // namespace clhair

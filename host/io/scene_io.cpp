@@ -1,0 +1,244 @@
+// scene_io.cpp — the JSON scene format (docs/scene-format.md) and camera presets.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "clhair/error.h"
+#include "clhair/scene.h"
+#include "io/json_util.h"
+
+namespace clhair {
+
+namespace {
+
+using nlohmann::json;
+
+constexpr double kBig = 1e6;
+
+glm::mat4 readTransform(const JsonReader& parent, const json& j) {
+  JsonReader t = parent.object(j, "transform");
+  glm::mat4 m(1.0f);
+  if (t.has("matrix")) {
+    const json& a = t.require("matrix");
+    if (!a.is_array() || a.size() != 16) t.fail("matrix", "must be 16 numbers, row-major");
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) {
+        if (!a[r * 4 + c].is_number()) t.fail("matrix", "must be 16 numbers, row-major");
+        double d = a[r * 4 + c].get<double>();
+        if (!std::isfinite(d)) t.fail("matrix", "holds a non-finite number");
+        m[c][r] = static_cast<float>(d);
+      }
+    t.rejectUnknown({"matrix"});
+    return m;
+  }
+  glm::vec3 translate = t.vec3("translate", glm::vec3(0.0f), -kBig, kBig);
+  float rotateY = static_cast<float>(t.number("rotate_y", 0.0, -360.0, 360.0));
+  float scale = static_cast<float>(t.number("scale", 1.0, 1e-6, 1e6));
+  t.rejectUnknown({"translate", "rotate_y", "scale"});
+  m = glm::translate(m, translate);
+  m = glm::rotate(m, glm::radians(rotateY), glm::vec3(0, 1, 0));
+  m = glm::scale(m, glm::vec3(scale));
+  return m;
+}
+
+void worldBounds(const Scene& s, glm::vec3& lo, glm::vec3& hi) {
+  lo = glm::vec3(1e30f);
+  hi = glm::vec3(-1e30f);
+  for (const GroomInstance& g : s.grooms) {
+    for (const glm::vec3& p : g.mesh->positions) {
+      glm::vec3 w = glm::vec3(g.transform * glm::vec4(p, 1.0f));
+      lo = glm::min(lo, w);
+      hi = glm::max(hi, w);
+    }
+  }
+  if (s.grooms.empty()) {
+    lo = glm::vec3(-0.5f);
+    hi = glm::vec3(0.5f);
+  }
+}
+
+}  // namespace
+
+CameraPreset parseCameraPreset(const std::string& name) {
+  if (name == "close") return CameraPreset::Close;
+  if (name == "mid") return CameraPreset::Mid;
+  if (name == "far") return CameraPreset::Far;
+  throw Error("unknown camera preset \"" + name + "\"; expected close, mid or far");
+}
+
+Camera framePreset(const Scene& scene, CameraPreset preset, float azimuthDeg, float elevationDeg,
+                   float fovYDeg) {
+  glm::vec3 lo, hi;
+  worldBounds(scene, lo, hi);
+  const float fraction = preset == CameraPreset::Close ? 0.6f : preset == CameraPreset::Mid ? 0.2f : 0.05f;
+  glm::vec3 center = 0.5f * (lo + hi);
+  glm::vec3 extent = hi - lo;
+  // The groom's size across the view: its vertical extent, or its horizontal one when the
+  // image is the smaller side of it (a wide groom must still fit).
+  float aspect = static_cast<float>(scene.width) / static_cast<float>(scene.height);
+  float horizontal = std::max(extent.x, extent.z) / aspect;
+  float size = std::max(extent.y, horizontal);
+  float tanHalf = std::tan(glm::radians(fovYDeg) * 0.5f);
+  float distance = size / (2.0f * fraction * tanHalf) + 0.5f * std::max(extent.x, extent.z);
+  float az = glm::radians(azimuthDeg), el = glm::radians(elevationDeg);
+  glm::vec3 dir(std::sin(az) * std::cos(el), std::sin(el), std::cos(az) * std::cos(el));
+  Camera cam;
+  cam.fovYDegrees = fovYDeg;
+  cam.target = center;
+  cam.position = center + dir * distance;
+  cam.up = glm::vec3(0, 1, 0);
+  return cam;
+}
+
+Scene loadScene(const std::string& path) {
+  json root = readJsonFile(path, "scene");
+  JsonReader r(path, root);
+  Scene s;
+  const std::filesystem::path base = std::filesystem::path(path).parent_path();
+
+  if (r.has("resolution")) {
+    const json& res = r.require("resolution");
+    if (!res.is_array() || res.size() != 2 || !res[0].is_number_integer() || !res[1].is_number_integer())
+      r.fail("resolution", "must be [width, height] in pixels");
+    long long w = res[0].get<long long>(), h = res[1].get<long long>();
+    if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
+      r.fail("resolution", std::to_string(w) + "x" + std::to_string(h) + " is outside 1.." +
+                               std::to_string(kMaxImageSide) + " per side");
+    s.width = static_cast<int>(w);
+    s.height = static_cast<int>(h);
+  }
+  s.background = r.vec3("background", s.background, 0.0, kBig);
+  s.ambient = r.vec3("ambient", s.ambient, 0.0, kBig);
+
+  if (r.has("lights")) {
+    const json& lights = r.require("lights");
+    if (!lights.is_array()) r.fail("lights", "must be an array");
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+      JsonReader l = r.object(lights[i], "lights[" + std::to_string(i) + "]");
+      Light light;
+      std::string type = l.string("type", "directional");
+      if (type == "point") {
+        light.type = Light::Type::Point;
+        light.position = l.vec3("position", light.position, -kBig, kBig);
+      } else if (type == "directional") {
+        light.type = Light::Type::Directional;
+        glm::vec3 d = l.vec3("direction", light.direction, -kBig, kBig);
+        if (glm::length(d) < 1e-6f) l.fail("direction", "must not be zero");
+        light.direction = glm::normalize(d);
+      } else {
+        l.fail("type", "is \"" + type + "\", expected \"point\" or \"directional\"");
+      }
+      light.color = l.vec3("color", light.color, 0.0, kBig);
+      light.intensity = static_cast<float>(l.number("intensity", light.intensity, 0.0, kBig));
+      l.rejectUnknown({"type", "position", "direction", "color", "intensity"});
+      s.lights.push_back(light);
+    }
+    if (s.lights.size() > 16) r.fail("lights", "holds " + std::to_string(s.lights.size()) + " lights, at most 16 are supported");
+  }
+  if (r.has("spheres")) {
+    const json& a = r.require("spheres");
+    if (!a.is_array()) r.fail("spheres", "must be an array");
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      JsonReader o = r.object(a[i], "spheres[" + std::to_string(i) + "]");
+      Sphere sp;
+      sp.center = o.vec3("center", sp.center, -kBig, kBig);
+      sp.radius = static_cast<float>(o.number("radius", sp.radius, 1e-6, kBig));
+      sp.color = o.vec3("color", sp.color, 0.0, 1.0);
+      o.rejectUnknown({"center", "radius", "color"});
+      s.spheres.push_back(sp);
+    }
+  }
+  if (r.has("planes")) {
+    const json& a = r.require("planes");
+    if (!a.is_array()) r.fail("planes", "must be an array");
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      JsonReader o = r.object(a[i], "planes[" + std::to_string(i) + "]");
+      Plane pl;
+      glm::vec3 n = o.vec3("normal", pl.normal, -kBig, kBig);
+      if (glm::length(n) < 1e-6f) o.fail("normal", "must not be zero");
+      pl.normal = glm::normalize(n);
+      pl.offset = static_cast<float>(o.number("offset", pl.offset, -kBig, kBig));
+      pl.color = o.vec3("color", pl.color, 0.0, 1.0);
+      o.rejectUnknown({"normal", "offset", "color"});
+      s.planes.push_back(pl);
+    }
+  }
+
+  std::map<std::string, std::shared_ptr<const HairMesh>> loaded;
+  if (r.has("grooms")) {
+    const json& a = r.require("grooms");
+    if (!a.is_array()) r.fail("grooms", "must be an array");
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      JsonReader o = r.object(a[i], "grooms[" + std::to_string(i) + "]");
+      std::string file = o.string("file", "");
+      if (file.empty()) o.fail("file", "is missing: name the groom's hair-mesh file");
+      std::filesystem::path p = std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;
+      std::string key = p.lexically_normal().string();
+      if (!std::filesystem::exists(p)) o.fail("file", "\"" + key + "\" does not exist");
+      std::shared_ptr<const HairMesh> mesh;
+      if (loaded.count(key)) {
+        mesh = loaded[key];
+      } else {
+        mesh = std::make_shared<const HairMesh>(loadHairMesh(key));
+        loaded[key] = mesh;
+      }
+      GroomInstance g;
+      g.name = o.string("name", mesh->name);
+      if (o.has("transform")) g.transform = readTransform(o, o.require("transform"));
+      if (o.has("strands") || o.has("lod") || o.has("control_points")) {
+        HairMesh copy = *mesh;
+        copy.strandCount = o.integer64("strands", copy.strandCount, 0, 50'000'000);
+        copy.controlPoints = o.integer("control_points", copy.controlPoints, 2, 127);
+        if (o.has("lod")) {
+          JsonReader l = o.object(o.require("lod"), "lod");
+          copy.lod.enabled = l.boolean("enabled", copy.lod.enabled);
+          copy.lod.lambda = static_cast<float>(l.number("lambda", copy.lod.lambda, 1e-3, 1e3));
+          copy.lod.morphWindow = static_cast<float>(l.number("morph_window", copy.lod.morphWindow, 0.0, 1.0));
+          l.rejectUnknown({"enabled", "lambda", "morph_window"});
+        }
+        validateHairMesh(copy, path + ": grooms[" + std::to_string(i) + "]");
+        mesh = std::make_shared<const HairMesh>(std::move(copy));
+      }
+      g.mesh = mesh;
+      o.rejectUnknown({"file", "name", "transform", "strands", "lod", "control_points"});
+      s.grooms.push_back(g);
+    }
+  }
+
+  if (r.has("camera")) {
+    JsonReader c = r.object(r.require("camera"), "camera");
+    float fov = static_cast<float>(c.number("fov", 35.0, 1.0, 170.0));
+    if (c.has("preset")) {
+      std::string name = c.string("preset", "mid");
+      CameraPreset preset;
+      try {
+        preset = parseCameraPreset(name);
+      } catch (const Error& e) {
+        c.fail("preset", e.what());
+      }
+      s.camera = framePreset(s, preset, static_cast<float>(c.number("azimuth", 0.0, -360.0, 360.0)),
+                             static_cast<float>(c.number("elevation", 10.0, -89.0, 89.0)), fov);
+      c.rejectUnknown({"preset", "azimuth", "elevation", "fov"});
+    } else {
+      s.camera.position = c.vec3("position", s.camera.position, -kBig, kBig);
+      s.camera.target = c.vec3("target", s.camera.target, -kBig, kBig);
+      s.camera.up = c.vec3("up", s.camera.up, -kBig, kBig);
+      s.camera.fovYDegrees = fov;
+      if (glm::length(s.camera.target - s.camera.position) < 1e-9f) c.fail("target", "must differ from position");
+      if (glm::length(glm::cross(s.camera.target - s.camera.position, s.camera.up)) < 1e-9f)
+        c.fail("up", "must not be parallel to the viewing direction");
+      c.rejectUnknown({"position", "target", "up", "fov"});
+    }
+  } else {
+    s.camera = framePreset(s, CameraPreset::Mid);
+  }
+  r.rejectUnknown({"resolution", "camera", "background", "ambient", "lights", "spheres", "planes", "grooms"});
+  return s;
+}
+
+}  // namespace clhair

@@ -1,0 +1,394 @@
+// renderer.cpp — the frame loop: opaque scene, then per groom lod -> scan -> strands ->
+// shade -> composite, over one render target; plus strand export.
+//
+// Device resources of a groom (its hair-mesh records, LOD and scan buffers) are uploaded
+// once per mesh and kept while the Renderer lives; target-sized buffers are reallocated
+// only when the resolution changes. Every size is checked against the device's maximum
+// allocation before anything is created.
+#include "clhair/renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+#include <glm/mat4x4.hpp>
+
+#include "cl/cl_error.h"
+#include "cl/device_impl.h"
+#include "groom/blue_noise.h"
+#include "groom/groom_data.h"
+#include "stages/composite_stage.h"
+#include "stages/dispatch.h"
+#include "stages/lod_stage.h"
+#include "stages/opaque_stage.h"
+#include "stages/shade_stage.h"
+#include "stages/strand_stage.h"
+
+namespace clhair {
+
+namespace {
+
+constexpr std::uint32_t kMinRootSet = 1024;
+constexpr std::uint32_t kMaxRootSet = 1u << 16;
+
+void store4(float* dst, const glm::vec3& v, float w) {
+  dst[0] = v.x;
+  dst[1] = v.y;
+  dst[2] = v.z;
+  dst[3] = w;
+}
+
+// Row-major 3x4 from the upper 3x4 of a column-major glm matrix.
+void storeMat34(float* dst, const glm::mat4& m) {
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) dst[r * 4 + c] = m[c][r];
+}
+
+glm::mat4 worldToView(const Camera& cam) {
+  glm::vec3 f = glm::normalize(cam.target - cam.position);
+  glm::vec3 r = glm::normalize(glm::cross(f, cam.up));
+  glm::vec3 u = glm::cross(r, f);
+  glm::mat4 m(1.0f);
+  for (int c = 0; c < 3; ++c) {
+    m[c][0] = r[c];
+    m[c][1] = u[c];
+    m[c][2] = f[c];
+  }
+  m[3][0] = -glm::dot(r, cam.position);
+  m[3][1] = -glm::dot(u, cam.position);
+  m[3][2] = -glm::dot(f, cam.position);
+  return m;
+}
+
+gpu::ClhViewGpu makeView(const Camera& cam, int width, int height) {
+  gpu::ClhViewGpu v;
+  std::memset(&v, 0, sizeof(v));
+  glm::mat4 w2v = worldToView(cam);
+  storeMat34(v.world_to_view, w2v);
+  storeMat34(v.view_to_world, glm::inverse(w2v));
+  float fy = 0.5f * static_cast<float>(height) / std::tan(glm::radians(cam.fovYDegrees) * 0.5f);
+  v.fx = fy;
+  v.fy = fy;
+  v.cx = 0.5f * static_cast<float>(width);
+  v.cy = 0.5f * static_cast<float>(height);
+  v.width = static_cast<gpu::clh_u32>(width);
+  v.height = static_cast<gpu::clh_u32>(height);
+  v.samples = 1;
+  store4(v.eye, cam.position, 1.0f);
+  return v;
+}
+
+template <typename T>
+cl::Buffer makeBuffer(Device::Impl& dev, const std::string& what, std::size_t count,
+                      const T* data = nullptr) {
+  std::size_t bytes = std::max<std::size_t>(count, 1) * sizeof(T);
+  if (bytes > dev.info.maxAlloc)
+    throw Error(what + " needs " + std::to_string(bytes >> 20) + " MiB in one buffer but " +
+                dev.info.name + " allows at most " + std::to_string(dev.info.maxAlloc >> 20) + " MiB");
+  return clCall("allocating " + what, [&] {
+    cl::Buffer b(dev.context, CL_MEM_READ_WRITE, bytes);
+    if (data && count > 0) dev.queue.enqueueWriteBuffer(b, CL_TRUE, 0, count * sizeof(T), data);
+    return b;
+  });
+}
+
+template <typename T>
+void upload(Device::Impl& dev, cl::Buffer& buffer, const T* data, std::size_t count) {
+  if (count == 0) return;
+  clCall("uploading", [&] {
+    dev.queue.enqueueWriteBuffer(buffer, CL_TRUE, 0, count * sizeof(T), data);
+    return 0;
+  });
+}
+
+struct GroomResources {
+  std::shared_ptr<const HairMesh> keepAlive;
+  GroomData data;
+  gpu::ClhGroomGpu params;
+  cl::Buffer vertices, bundles, groom, lod, counts, offsets;
+};
+
+}  // namespace
+
+double Frame::stageMs(const std::string& stage) const {
+  for (const StageTime& t : timings)
+    if (t.stage == stage) return t.ms;
+  return 0.0;
+}
+
+double Frame::totalMs() const {
+  double s = 0.0;
+  for (const StageTime& t : timings) s += t.ms;
+  return s;
+}
+
+struct Renderer::Impl {
+  Device device;
+  Device::Impl& dev;
+  OpaqueStage opaque;
+  LodStage lod;
+  StrandStage strands;
+  ShadeStage shade;
+  CompositeStage composite;
+  Profiler profiler;
+
+  std::map<const HairMesh*, std::unique_ptr<GroomResources>> grooms;
+  RootSets roots;
+  cl::Buffer rootsQuad, rootsTri;
+
+  int width = 0, height = 0;
+  cl::Buffer color, depth, center, hair;
+  cl::Buffer view, scene, spheres, planes, lights;
+
+  explicit Impl(Device d)
+      : device(std::move(d)),
+        dev(*device.impl()),
+        opaque(dev),
+        lod(dev),
+        strands(dev),
+        shade(dev),
+        composite(dev) {
+    view = makeBuffer<gpu::ClhViewGpu>(dev, "view parameters", 1);
+    scene = makeBuffer<gpu::ClhSceneGpu>(dev, "scene parameters", 1);
+  }
+
+  void ensureRoots(std::uint32_t needed) {
+    std::uint32_t size = kMinRootSet;
+    while (size < needed && size < kMaxRootSet) size <<= 1;
+    if (needed > kMaxRootSet)
+      throw Error("a bundle requests " + std::to_string(needed) + " strands; at most " +
+                  std::to_string(kMaxRootSet) + " per bundle are supported (split its scalp face)");
+    if (roots.size() >= size) return;
+    roots = makeRootSets(size);
+    rootsQuad = makeBuffer<glm::vec2>(dev, "root sample set", roots.quad.size(), roots.quad.data());
+    rootsTri = makeBuffer<glm::vec2>(dev, "root sample set", roots.triangle.size(), roots.triangle.data());
+  }
+
+  std::unique_ptr<GroomResources> buildGroom(const HairMesh& mesh) {
+    auto g = std::make_unique<GroomResources>();
+    g->data = prepareGroom(mesh);
+    std::memset(&g->params, 0, sizeof(g->params));
+    fillGroomParams(mesh, g->data, g->params);
+    ensureRoots(g->data.maxBundleStrands);
+    g->params.root_set_size = roots.size();
+    const std::string what = "groom \"" + mesh.name + "\"";
+    g->vertices = makeBuffer(dev, what + " hair-mesh vertices", g->data.vertices.size(), g->data.vertices.data());
+    g->bundles = makeBuffer(dev, what + " bundles", g->data.bundles.size(), g->data.bundles.data());
+    g->groom = makeBuffer<gpu::ClhGroomGpu>(dev, what + " parameters", 1, &g->params);
+    g->lod = makeBuffer<cl_uint4>(dev, what + " LOD records", g->data.bundles.size());
+    g->counts = makeBuffer<cl_uint>(dev, what + " strand counts", g->data.bundles.size());
+    g->offsets = makeBuffer<cl_uint>(dev, what + " strand offsets", g->data.bundles.size() + 1);
+    return g;
+  }
+
+  GroomResources& groomFor(const std::shared_ptr<const HairMesh>& mesh) {
+    auto it = grooms.find(mesh.get());
+    if (it != grooms.end()) return *it->second;
+    auto g = buildGroom(*mesh);
+    g->keepAlive = mesh;
+    GroomResources& ref = *g;
+    grooms[mesh.get()] = std::move(g);
+    return ref;
+  }
+
+  void ensureTarget(int w, int h) {
+    if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
+      throw Error("resolution " + std::to_string(w) + "x" + std::to_string(h) +
+                  " is outside 1.." + std::to_string(kMaxImageSide) + " per side");
+    if (w == width && h == height) return;
+    std::size_t n = static_cast<std::size_t>(w) * h;
+    std::string res = std::to_string(w) + "x" + std::to_string(h);
+    color = makeBuffer<cl_float4>(dev, "the " + res + " colour target", n);
+    depth = makeBuffer<cl_float>(dev, "the " + res + " depth target", n);
+    center = makeBuffer<cl_ulong>(dev, "the " + res + " center G-buffer", n);
+    hair = makeBuffer<cl_float4>(dev, "the " + res + " hair colour buffer", n);
+    width = w;
+    height = h;
+  }
+
+  void uploadScene(const Scene& s) {
+    gpu::ClhSceneGpu sg;
+    std::memset(&sg, 0, sizeof(sg));
+    store4(sg.background, s.background, 1.0f);
+    store4(sg.ambient, s.ambient, 1.0f);
+    std::vector<gpu::ClhSphereGpu> sp(s.spheres.size());
+    for (std::size_t i = 0; i < sp.size(); ++i) {
+      store4(sp[i].center, s.spheres[i].center, s.spheres[i].radius);
+      store4(sp[i].color, s.spheres[i].color, 1.0f);
+    }
+    std::vector<gpu::ClhPlaneGpu> pl(s.planes.size());
+    for (std::size_t i = 0; i < pl.size(); ++i) {
+      store4(pl[i].normal, s.planes[i].normal, s.planes[i].offset);
+      store4(pl[i].color, s.planes[i].color, 1.0f);
+    }
+    if (s.lights.size() > CLH_MAX_LIGHTS)
+      throw Error("scene has " + std::to_string(s.lights.size()) + " lights; at most " + std::to_string(CLH_MAX_LIGHTS) + " are supported");
+    std::vector<gpu::ClhLightGpu> li(s.lights.size());
+    for (std::size_t i = 0; i < li.size(); ++i) {
+      const Light& l = s.lights[i];
+      if (l.type == Light::Type::Point)
+        store4(li[i].pos, l.position, 1.0f);
+      else
+        store4(li[i].pos, l.direction, 0.0f);
+      store4(li[i].color, l.color * l.intensity, 1.0f);
+    }
+    sg.sphere_count = static_cast<gpu::clh_u32>(sp.size());
+    sg.plane_count = static_cast<gpu::clh_u32>(pl.size());
+    sg.light_count = static_cast<gpu::clh_u32>(li.size());
+    upload(dev, scene, &sg, 1);
+    spheres = makeBuffer(dev, "spheres", sp.size(), sp.data());
+    planes = makeBuffer(dev, "planes", pl.size(), pl.data());
+    lights = makeBuffer(dev, "lights", li.size(), li.data());
+  }
+
+  // View-dependent groom parameters; returns false when the groom is entirely behind the camera.
+  bool prepareGroomView(GroomResources& g, const glm::mat4& objToWorld, const glm::mat4& w2v,
+                        const RenderOptions& options) {
+    gpu::ClhGroomGpu& p = g.params;
+    glm::mat4 o2v = w2v * objToWorld;
+    storeMat34(p.obj_to_view, o2v);
+    storeMat34(p.obj_to_world, objToWorld);
+    float zmin = 1e30f, zmax = -1e30f;
+    for (int c = 0; c < 8; ++c) {
+      glm::vec3 corner((c & 1) ? g.data.boundsMax.x : g.data.boundsMin.x,
+                       (c & 2) ? g.data.boundsMax.y : g.data.boundsMin.y,
+                       (c & 4) ? g.data.boundsMax.z : g.data.boundsMin.z);
+      float z = (o2v * glm::vec4(corner, 1.0f)).z;
+      zmin = std::min(zmin, z);
+      zmax = std::max(zmax, z);
+    }
+    if (zmax <= 1e-4f) return false;
+    p.depth_near = std::max(zmin, 1e-4f);
+    p.depth_far = std::max(zmax, p.depth_near * 1.0001f + 1e-6f);
+    const HairMesh& mesh = *g.keepAlive;
+    p.lod_enabled = options.lod < 0 ? (mesh.lod.enabled ? 1u : 0u) : static_cast<gpu::clh_u32>(options.lod);
+    p.lod_lambda = mesh.lod.lambda * options.lodLambdaScale;
+    upload(dev, g.groom, &p, 1);
+    return true;
+  }
+
+  // The styling reach in view units: the object-space margin times the largest axis scale.
+  static float viewReach(const GroomResources& g, const glm::mat4& objToWorld) {
+    float scale = std::max({glm::length(glm::vec3(objToWorld[0])), glm::length(glm::vec3(objToWorld[1])),
+                            glm::length(glm::vec3(objToWorld[2]))});
+    return g.data.styleMargin * scale;
+  }
+
+  StrandStage::Inputs strandInputs(GroomResources& g, std::uint32_t total) {
+    return {&g.groom, &g.bundles, &g.vertices, &g.lod, &g.offsets, &rootsQuad, &rootsTri, total};
+  }
+
+  std::uint32_t runLod(GroomResources& g, float reach, Profiler* prof) {
+    LodStage::Params lp{&g.groom, &view, &g.bundles, &g.vertices, reach,
+                        &g.lod, &g.counts, &g.offsets,
+                        static_cast<std::uint32_t>(g.data.bundles.size())};
+    return lod.run(lp, prof);
+  }
+};
+
+Renderer::Renderer(Device device) : impl_(std::make_unique<Impl>(std::move(device))) {}
+Renderer::~Renderer() = default;
+
+const Device& Renderer::device() const { return impl_->device; }
+
+Frame Renderer::render(const Scene& s, const RenderOptions& options) {
+  Impl& r = *impl_;
+  r.ensureTarget(s.width, s.height);
+  r.uploadScene(s);
+  gpu::ClhViewGpu view = makeView(s.camera, s.width, s.height);
+  upload(r.dev, r.view, &view, 1);
+  const glm::mat4 w2v = worldToView(s.camera);
+  Frame frame;
+
+  r.opaque.enqueue({&r.scene, &r.view, &r.spheres, &r.planes, &r.lights, &r.color, &r.depth, s.width, s.height},
+                   &r.profiler);
+  for (const GroomInstance& gi : s.grooms) {
+    GroomResources& g = r.groomFor(gi.mesh);
+    if (!r.prepareGroomView(g, gi.transform, w2v, options)) continue;
+    std::uint32_t total = r.runLod(g, Impl::viewReach(g, gi.transform), &r.profiler);
+    frame.stats.strandsDrawn += total;
+    clCall("clearing the center G-buffer", [&] {
+      cl::Event e;
+      r.dev.queue.enqueueFillBuffer(r.center, ~cl_ulong(0), 0,
+                                    static_cast<std::size_t>(s.width) * s.height * sizeof(cl_ulong),
+                                    nullptr, &e);
+      r.profiler.add("clear", e);
+      return 0;
+    });
+    r.strands.raster(r.strandInputs(g, total), r.view, r.depth, r.center, &r.profiler);
+    r.shade.enqueue({&g.groom, &r.view, &r.scene, &r.lights, &r.center, &r.hair, s.width, s.height}, &r.profiler);
+    r.composite.enqueue({&g.groom, &r.view, &r.hair, &r.center, &r.color, &r.depth, s.width, s.height},
+                        &r.profiler);
+  }
+
+  const std::size_t n = static_cast<std::size_t>(s.width) * s.height;
+  frame.color.width = s.width;
+  frame.color.height = s.height;
+  frame.color.rgba.resize(n * 4);
+  frame.depth.resize(n);
+  clCall("reading the frame back", [&] {
+    r.dev.queue.enqueueReadBuffer(r.color, CL_TRUE, 0, n * 4 * sizeof(float), frame.color.rgba.data());
+    r.dev.queue.enqueueReadBuffer(r.depth, CL_TRUE, 0, n * sizeof(float), frame.depth.data());
+    return 0;
+  });
+  frame.timings = r.profiler.collect();
+  return frame;
+}
+
+StrandSet Renderer::generateStrands(const HairMesh& mesh) {
+  Impl& r = *impl_;
+  validateHairMesh(mesh, mesh.name);
+  auto g = r.buildGroom(mesh);
+  // Full detail regardless of the view: LOD off, the identity view, nothing culled.
+  Scene s;
+  s.width = s.height = 1;
+  gpu::ClhViewGpu view = makeView(Camera{}, 1, 1);
+  upload(r.dev, r.view, &view, 1);
+  g->params.lod_enabled = 0;
+  upload(r.dev, g->groom, &g->params, 1);
+  // The LOD pass with LOD off only culls; make every bundle visible by giving it an
+  // unbounded reach so no bundle is off screen.
+  std::uint32_t total = r.runLod(*g, 1e30f, nullptr);
+  if (total != g->data.totalStrands)
+    throw Error("strand export: the LOD pass kept " + std::to_string(total) + " of " +
+                std::to_string(g->data.totalStrands) + " strands");
+  StrandSet out;
+  if (total == 0) return out;
+  const std::size_t slots = static_cast<std::size_t>(total) * CLH_MAX_CONTROL_POINTS;
+  cl::Buffer points = makeBuffer<cl_float4>(r.dev, "exported strand points", slots);
+  cl::Buffer tangents = makeBuffer<cl_float4>(r.dev, "exported strand tangents", slots);
+  cl::Buffer counts = makeBuffer<cl_uint>(r.dev, "exported strand point counts", total);
+  r.strands.exportStrands(r.strandInputs(*g, total), points, tangents, counts, nullptr);
+  std::vector<cl_float4> p(slots), t(slots);
+  out.pointCounts.resize(total);
+  clCall("reading exported strands", [&] {
+    r.dev.queue.enqueueReadBuffer(points, CL_TRUE, 0, slots * sizeof(cl_float4), p.data());
+    r.dev.queue.enqueueReadBuffer(tangents, CL_TRUE, 0, slots * sizeof(cl_float4), t.data());
+    r.dev.queue.enqueueReadBuffer(counts, CL_TRUE, 0, total * sizeof(cl_uint), out.pointCounts.data());
+    return 0;
+  });
+  std::vector<cl_uint> offsets(g->data.bundles.size() + 1);
+  clCall("reading strand offsets", [&] {
+    r.dev.queue.enqueueReadBuffer(g->offsets, CL_TRUE, 0, offsets.size() * sizeof(cl_uint), offsets.data());
+    return 0;
+  });
+  out.bundleOf.resize(total);
+  for (std::size_t b = 0; b + 1 < offsets.size(); ++b)
+    for (cl_uint i = offsets[b]; i < offsets[b + 1] && i < total; ++i) out.bundleOf[i] = static_cast<std::uint32_t>(b);
+  for (std::uint32_t s2 = 0; s2 < total; ++s2) {
+    std::size_t base = static_cast<std::size_t>(s2) * CLH_MAX_CONTROL_POINTS;
+    for (std::uint32_t k = 0; k < out.pointCounts[s2] && k < CLH_MAX_CONTROL_POINTS; ++k) {
+      const cl_float4& q = p[base + k];
+      const cl_float4& tq = t[base + k];
+      out.points.insert(out.points.end(), {q.s[0], q.s[1], q.s[2]});
+      out.tangents.insert(out.tangents.end(), {tq.s[0], tq.s[1], tq.s[2]});
+      out.w.push_back(q.s[3]);
+    }
+  }
+  return out;
+}
+
+}  // namespace clhair

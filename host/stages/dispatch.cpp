@@ -1,0 +1,67 @@
+// dispatch.cpp — launching kernels and summing profiled times.
+#include "stages/dispatch.h"
+
+#include "cl/cl_error.h"
+
+namespace clhair {
+
+std::vector<StageTime> Profiler::collect() {
+  std::vector<StageTime> out;
+  for (auto& [stage, event] : events_) {
+    double ms = 0.0;
+    try {
+      event.wait();
+      cl_ulong start = event.getProfilingInfo<CL_PROFILING_COMMAND_START>();
+      cl_ulong end = event.getProfilingInfo<CL_PROFILING_COMMAND_END>();
+      ms = end > start ? static_cast<double>(end - start) * 1e-6 : 0.0;
+    } catch (...) {
+      rethrowAsClhairError("reading profiling times of stage " + stage);
+    }
+    bool found = false;
+    for (StageTime& t : out)
+      if (t.stage == stage) {
+        t.ms += ms;
+        found = true;
+      }
+    if (!found) out.push_back({stage, ms});
+  }
+  events_.clear();
+  return out;
+}
+
+std::size_t roundUp(std::size_t n, std::size_t multiple) {
+  return multiple == 0 ? n : (n + multiple - 1) / multiple * multiple;
+}
+
+cl::Event dispatch(Device::Impl& dev, cl::Kernel& kernel, const std::string& stage,
+                   cl::NDRange global, cl::NDRange local, Profiler* profiler) {
+  std::string name = clCall(stage, [&] { return kernel.getInfo<CL_KERNEL_FUNCTION_NAME>(); });
+  std::size_t wgLimit = clCall(stage, [&] {
+    return kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(dev.device);
+  });
+  std::size_t localTotal = 1;
+  for (cl::size_type d = 0; d < local.dimensions(); ++d) localTotal *= local.get()[d];
+  if (localTotal > wgLimit)
+    throw Error(stage + ": kernel " + name + " needs work-groups of " + std::to_string(localTotal) +
+                " items but " + dev.info.name + " allows " + std::to_string(wgLimit) +
+                " for it (too many registers or local memory)");
+  std::size_t g[3] = {1, 1, 1};
+  for (cl::size_type d = 0; d < global.dimensions(); ++d) {
+    std::size_t l = d < local.dimensions() ? local.get()[d] : 1;
+    g[d] = roundUp(global.get()[d], l);
+    if (g[d] == 0) return cl::Event();
+  }
+  cl::NDRange rounded = global.dimensions() == 1   ? cl::NDRange(g[0])
+                        : global.dimensions() == 2 ? cl::NDRange(g[0], g[1])
+                                                   : cl::NDRange(g[0], g[1], g[2]);
+  cl::Event event;
+  clCall(stage + ": enqueue " + name, [&] {
+    dev.queue.enqueueNDRangeKernel(kernel, cl::NullRange, rounded, local, nullptr, &event);
+    return 0;
+  });
+  if (dev.debugFinish) clCall(stage + ": finish after " + name, [&] { return dev.queue.finish(); });
+  if (profiler) profiler->add(stage, event);
+  return event;
+}
+
+}  // namespace clhair

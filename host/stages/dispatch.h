@@ -1,0 +1,32 @@
+// dispatch.h — the one way kernels are launched: rounded global sizes, work-group limits
+// checked with readable messages, a named profiling event per dispatch, and finish()
+// after every dispatch when CLHAIR_DEBUG_SYNC=1.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cl/device_impl.h"
+#include "clhair/renderer.h"
+
+namespace clhair {
+
+class Profiler {
+ public:
+  void add(const std::string& stage, const cl::Event& e) { events_.emplace_back(stage, e); }
+  // Waits for every event and sums the device time per stage, in first-seen order.
+  std::vector<StageTime> collect();
+  void clear() { events_.clear(); }
+
+ private:
+  std::vector<std::pair<std::string, cl::Event>> events_;
+};
+
+std::size_t roundUp(std::size_t n, std::size_t multiple);
+
+// 1D or 2D dispatch: `global` is rounded up to a multiple of `local` per dimension.
+cl::Event dispatch(Device::Impl& dev, cl::Kernel& kernel, const std::string& stage,
+                   cl::NDRange global, cl::NDRange local, Profiler* profiler);
+
+}  // namespace clhair

@@ -1,0 +1,36 @@
+// lod_stage.h — binds and launches the LOD pre-pass and the scan (kernels/lod.cl), then
+// reads back the 4-byte strand total that sizes the strand dispatch (DESIGN.md, Atomics
+// and dispatch sizing: read-back).
+#pragma once
+
+#include <cstdint>
+
+#include "stages/dispatch.h"
+
+namespace clhair {
+
+class LodStage {
+ public:
+  static constexpr int kScanWorkGroup = 256;
+  explicit LodStage(Device::Impl& dev);
+  struct Params {
+    const cl::Buffer* groom;     // ClhGroomGpu
+    const cl::Buffer* view;      // ClhViewGpu
+    const cl::Buffer* bundles;   // ClhBundle[bundleCount]
+    const cl::Buffer* vertices;  // ClhMeshVertex[layers * vertices]
+    float reach;                 // largest styling offset, object units
+    cl::Buffer* lod;             // uint4[bundleCount]
+    cl::Buffer* counts;          // uint[bundleCount]
+    cl::Buffer* offsets;         // uint[bundleCount + 1]
+    std::uint32_t bundleCount;
+  };
+  // Enqueues both kernels and returns the total strand count (blocking 4-byte read).
+  std::uint32_t run(const Params& p, Profiler* profiler);
+
+ private:
+  Device::Impl& dev_;
+  cl::Kernel lod_;
+  cl::Kernel scan_;
+};
+
+}  // namespace clhair

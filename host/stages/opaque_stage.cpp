@@ -1,0 +1,19 @@
+// opaque_stage.cpp — see opaque_stage.h.
+#include "stages/opaque_stage.h"
+
+namespace clhair {
+
+OpaqueStage::OpaqueStage(Device::Impl& dev) : dev_(dev), kernel_(dev.kernel("opaque.cl", "opaque_render")) {}
+
+cl::Event OpaqueStage::enqueue(const Params& p, Profiler* profiler) {
+  kernel_.setArg(0, *p.scene);
+  kernel_.setArg(1, *p.view);
+  kernel_.setArg(2, *p.spheres);
+  kernel_.setArg(3, *p.planes);
+  kernel_.setArg(4, *p.lights);
+  kernel_.setArg(5, *p.color);
+  kernel_.setArg(6, *p.depth);
+  return dispatch(dev_, kernel_, "opaque", cl::NDRange(p.width, p.height), cl::NDRange(8, 8), profiler);
+}
+
+}  // namespace clhair

@@ -1,0 +1,269 @@
+/* gpu_types.h — the contract between the C++ host and the OpenCL C kernels.
+ *
+ * Every struct that crosses the host/device boundary and every packed bit layout lives
+ * here, written once in the common subset of C++17 and OpenCL C 1.2: fixed-width scalars,
+ * float arrays instead of float3/float4 members (12 vs 16 bytes), explicit padding, and
+ * small pack/unpack helpers as inline functions. The kernels, the CPU references and the
+ * tests all call the same helpers, so a layout changes in exactly one place.
+ *
+ * Invariants: every struct size is a multiple of 16 bytes and is pinned by static_asserts
+ * on the host (host/cl/layout_check.cpp) and by a device-side size kernel in the tests.
+ */
+#ifndef CLHAIR_GPU_TYPES_H
+#define CLHAIR_GPU_TYPES_H
+
+#if defined(__OPENCL_VERSION__) || defined(__OPENCL_C_VERSION__)
+#define CLH_DEVICE_CODE 1
+typedef uint clh_u32;
+typedef int clh_i32;
+typedef ulong clh_u64;
+#define CLH_FN static inline
+#else
+#include <cmath>
+#include <cstdint>
+namespace clhair {
+namespace gpu {
+typedef std::uint32_t clh_u32;
+typedef std::int32_t clh_i32;
+typedef std::uint64_t clh_u64;
+using std::fabs;
+using std::floor;
+using std::fmax;
+using std::fmin;
+using std::sqrt;
+#define CLH_FN inline
+#endif
+
+/* ---- limits shared by host validation and kernel array sizes ----------------------- */
+#define CLH_MAX_LAYERS 64           /* layers per bundle (local-memory array in strands.cl) */
+#define CLH_MAX_CONTROL_POINTS 127  /* C_max of Lipp et al. Eq. 5 */
+#define CLH_MAX_LIGHTS 16
+#define CLH_MAX_MSAA 8
+
+/* ---- hair-mesh vertex: one per (layer, root vertex), 64 bytes ------------------------
+ * pos : xyz object-space position,  w: styling coordinate w (0 at root layer)
+ * tan : xyz given tangent dP/d(layer index) (valid when the groom has tangents),
+ *       w: baked ambient occlusion in [0,1] (1 = unoccluded)
+ * du  : xyz object-space styling direction u = dP/du (Bhokare Eq. 1-3, not normalised)
+ * dv  : xyz object-space styling direction v = dP/dv;  w unused                        */
+typedef struct {
+  float pos[4];
+  float tan[4];
+  float du[4];
+  float dv[4];
+} ClhMeshVertex;
+
+/* ---- bundle: one per scalp face, 64 bytes ---------------------------------------------
+ * vtx   : root-layer vertex indices in counter-clockwise order; triangles repeat vtx[2]
+ *         in vtx[3] so bilinear interpolation at (s, t) is barycentric (Bhokare §3.3)
+ * strand_count : N, strands of this bundle at full detail
+ * triangle     : 1 for triangle faces (roots come from the triangle blue-noise set)
+ * lod_delta    : per-bundle random offset delta in [0,1) of Lipp Eq. 1
+ * uv    : root uv of the four corners (u0 v0 u1 v1 u2 v2 u3 v3)                         */
+typedef struct {
+  clh_i32 vtx[4];
+  clh_u32 strand_count;
+  clh_u32 triangle;
+  float lod_delta;
+  clh_u32 pad0;
+  float uv[8];
+} ClhBundle;
+
+/* ---- per-groom parameters for one view, 256 bytes ------------------------------------- */
+typedef struct {
+  float obj_to_view[12];  /* 3x4 row-major: object space -> view space (+z forward) */
+  float obj_to_world[12]; /* 3x4 row-major: object space -> world space */
+
+  clh_u32 bundle_count;
+  clh_u32 layer_count;
+  clh_u32 vertex_count;   /* root vertices; the mesh holds layer_count * vertex_count */
+  clh_u32 has_tangents;
+
+  clh_u32 control_points; /* C when LOD is off: 2^k + 1, or CLH_MAX_CONTROL_POINTS */
+  clh_u32 lod_enabled;
+  clh_u32 seed;
+  clh_u32 root_set_size;  /* samples in each progressive blue-noise root set */
+
+  float lod_lambda;       /* Lipp Eq. 2 sensitivity */
+  float lod_morph_window; /* Bhokare Eq. 10 transition window */
+  float depth_near;       /* G-buffer depth mapping range (view z) */
+  float depth_far;
+
+  float hit_diameter_px;  /* center-layer hit diameter in pixels */
+  float strand_width;     /* world-space strand diameter */
+  float pad1[2];
+
+  /* styling (Bhokare §3.4 frames; functions documented in docs/hair-mesh-format.md) */
+  float clump_strength;   /* 0..1: how far tips move toward the clump center */
+  float clump_frequency;  /* clump cells per unit of root uv */
+  float clump_shape;      /* exponent of w in the clump profile */
+  float curl_amplitude;   /* object units */
+  float curl_frequency;   /* turns per strand (over w in [0,1]) */
+  float curl_helix;       /* 1: helical curl, 0: planar wave */
+  float curl_phase_jitter;/* 0: clumps curl in phase, 1: every strand random */
+  float frizz_amplitude;  /* object units at the tip */
+  float frizz_frequency;  /* noise cells per strand */
+  float flyaway_fraction; /* fraction of strands with stronger frizz */
+  float flyaway_amplitude;
+  float length_variation; /* strands are shortened by up to this fraction */
+
+  /* appearance */
+  float root_color[4];
+  float tip_color[4];
+  float pad2[4];
+} ClhGroomGpu;
+
+/* ---- camera for one view, 128 bytes ------------------------------------------------
+ * View space: camera at the origin looking down +z, +y up, +x right.
+ * Pixel coordinates: x_px = cx + fx * x / z,  y_px = cy - fy * y / z; pixel (i, j) has
+ * its center at (i + 0.5, j + 0.5).                                                      */
+typedef struct {
+  float world_to_view[12];
+  float view_to_world[12];
+  float fx, fy, cx, cy;
+  clh_u32 width, height, samples, pad0;
+  float eye[4];
+} ClhViewGpu;
+
+/* ---- lights and opaque primitives ---------------------------------------------------- */
+typedef struct {
+  float pos[4];   /* w = 1: point light at xyz; w = 0: directional, xyz points to the light */
+  float color[4]; /* linear rgb radiance scale (point lights: intensity at distance 1) */
+} ClhLightGpu;
+
+typedef struct {
+  float center[4]; /* w = radius */
+  float color[4];  /* linear albedo */
+} ClhSphereGpu;
+
+typedef struct {
+  float normal[4]; /* xyz unit normal, w = d with dot(n, x) = d on the plane */
+  float color[4];
+} ClhPlaneGpu;
+
+typedef struct {
+  float background[4];
+  float ambient[4];
+  clh_u32 sphere_count;
+  clh_u32 plane_count;
+  clh_u32 light_count;
+  clh_u32 pad0;
+} ClhSceneGpu;
+
+/* ---- per-bundle LOD record written by lod.cl (one uint4 per bundle) -------------------
+ * x: N_LOD strands to draw (0 = culled)     y: control points C
+ * z: L as float bits (Lipp Eq. 2)            w: vertex-LOD morph factor gamma as float bits */
+
+/* ---- the 64-bit G-buffer word --------------------------------------------------------
+ *  bits 63..40  depth, 24 bits: view z mapped linearly from [near, far]; smaller = closer
+ *  bits 39..24  tangent, octahedral, 8 bits x then 8 bits y
+ *  bits 23..18  u   bits 17..12  v   bits 11..6  w   (styling coordinates, 6 bits each)
+ *  bits  5..0   baked ambient occlusion
+ * All ones is the empty word. atom_min over it is order independent, which makes frames
+ * bit-identical across runs and thread counts.                                          */
+#define CLH_GBUF_EMPTY (~(clh_u64)0)
+#define CLH_DEPTH_MAX_CODE 0xFFFFFEu /* all-ones depth is reserved for the empty word */
+
+CLH_FN float clh_clamp01(float x) { return fmin(fmax(x, 0.0f), 1.0f); }
+
+CLH_FN clh_u32 clh_unorm_bits(float x, clh_u32 bits) {
+  float scale = (float)((1u << bits) - 1u);
+  return (clh_u32)(clh_clamp01(x) * scale + 0.5f);
+}
+
+CLH_FN float clh_unorm_value(clh_u32 code, clh_u32 bits) {
+  return (float)code / (float)((1u << bits) - 1u);
+}
+
+CLH_FN clh_u32 clh_depth_encode(float z, float near_z, float far_z) {
+  float t = clh_clamp01((z - near_z) / (far_z - near_z));
+  clh_u32 code = (clh_u32)(t * (float)CLH_DEPTH_MAX_CODE + 0.5f);
+  return code > CLH_DEPTH_MAX_CODE ? CLH_DEPTH_MAX_CODE : code;
+}
+
+CLH_FN float clh_depth_decode(clh_u32 code, float near_z, float far_z) {
+  return near_z + (far_z - near_z) * ((float)code / (float)CLH_DEPTH_MAX_CODE);
+}
+
+/* Octahedral unit-vector encoding, 8 + 8 bits (the full sphere: hair tangents keep their
+ * root-to-tip sign). */
+CLH_FN float clh_sign_nz(float x) { return x >= 0.0f ? 1.0f : -1.0f; }
+
+CLH_FN clh_u32 clh_oct_encode(float x, float y, float z) {
+  float s = fabs(x) + fabs(y) + fabs(z);
+  if (!(s > 0.0f)) return (128u << 8) | 128u;
+  float px = x / s, py = y / s;
+  if (z < 0.0f) {
+    float ox = (1.0f - fabs(py)) * clh_sign_nz(px);
+    float oy = (1.0f - fabs(px)) * clh_sign_nz(py);
+    px = ox;
+    py = oy;
+  }
+  clh_u32 qx = clh_unorm_bits(px * 0.5f + 0.5f, 8u);
+  clh_u32 qy = clh_unorm_bits(py * 0.5f + 0.5f, 8u);
+  return (qx << 8) | qy;
+}
+
+/* Decodes to a unit vector written to out[0..2]. */
+CLH_FN void clh_oct_decode(clh_u32 code, float* out) {
+  float px = clh_unorm_value((code >> 8) & 0xFFu, 8u) * 2.0f - 1.0f;
+  float py = clh_unorm_value(code & 0xFFu, 8u) * 2.0f - 1.0f;
+  float pz = 1.0f - fabs(px) - fabs(py);
+  if (pz < 0.0f) {
+    float ox = (1.0f - fabs(py)) * clh_sign_nz(px);
+    float oy = (1.0f - fabs(px)) * clh_sign_nz(py);
+    px = ox;
+    py = oy;
+  }
+  float len = sqrt(px * px + py * py + pz * pz);
+  out[0] = px / len;
+  out[1] = py / len;
+  out[2] = pz / len;
+}
+
+CLH_FN clh_u64 clh_gbuf_pack(clh_u32 depth24, clh_u32 oct16, clh_u32 u6, clh_u32 v6,
+                             clh_u32 w6, clh_u32 ao6) {
+  return ((clh_u64)(depth24 & 0xFFFFFFu) << 40) | ((clh_u64)(oct16 & 0xFFFFu) << 24) |
+         ((clh_u64)(u6 & 63u) << 18) | ((clh_u64)(v6 & 63u) << 12) |
+         ((clh_u64)(w6 & 63u) << 6) | (clh_u64)(ao6 & 63u);
+}
+
+CLH_FN clh_u32 clh_gbuf_depth(clh_u64 word) { return (clh_u32)(word >> 40) & 0xFFFFFFu; }
+CLH_FN clh_u32 clh_gbuf_oct(clh_u64 word) { return (clh_u32)(word >> 24) & 0xFFFFu; }
+CLH_FN clh_u32 clh_gbuf_u(clh_u64 word) { return (clh_u32)(word >> 18) & 63u; }
+CLH_FN clh_u32 clh_gbuf_v(clh_u64 word) { return (clh_u32)(word >> 12) & 63u; }
+CLH_FN clh_u32 clh_gbuf_w(clh_u64 word) { return (clh_u32)(word >> 6) & 63u; }
+CLH_FN clh_u32 clh_gbuf_ao(clh_u64 word) { return (clh_u32)word & 63u; }
+
+/* ---- random numbers: identical streams on host and device ----------------------------
+ * lowbias32 integer hash (Chris Wellons' hash-prospector), combined per key.            */
+CLH_FN clh_u32 clh_hash(clh_u32 x) {
+  x ^= x >> 16;
+  x *= 0x7feb352du;
+  x ^= x >> 15;
+  x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return x;
+}
+
+CLH_FN clh_u32 clh_hash2(clh_u32 a, clh_u32 b) { return clh_hash(a ^ clh_hash(b + 0x9e3779b9u)); }
+
+CLH_FN clh_u32 clh_hash3(clh_u32 a, clh_u32 b, clh_u32 c) { return clh_hash2(clh_hash2(a, b), c); }
+
+/* Uniform float in [0, 1) from the top 24 bits of a hash. */
+CLH_FN float clh_u01(clh_u32 h) { return (float)(h >> 8) * (1.0f / 16777216.0f); }
+
+/* Stream identifiers: the per-strand random values used by styling and shading. */
+#define CLH_RNG_LENGTH 1u
+#define CLH_RNG_PHASE 2u
+#define CLH_RNG_FLYAWAY 3u
+#define CLH_RNG_FRIZZ 4u
+#define CLH_RNG_CLUMP 5u
+#define CLH_RNG_LOD_DELTA 6u
+
+#ifndef CLH_DEVICE_CODE
+} /* namespace gpu */
+} /* namespace clhair */
+#endif
+
+#endif /* CLHAIR_GPU_TYPES_H */

@@ -1,0 +1,80 @@
+// hair_mesh.h — a groom given as a hair mesh (Yuksel et al. 2009; Bhokare et al. 2024).
+//
+// The scalp (root layer) is a polygon mesh of quads and triangles over `vertexCount` root
+// vertices, each with a uv styling coordinate. Every root vertex is extruded through
+// `layerCount` >= 2 layers; a scalp face and its extrusions form one bundle. Positions are
+// stored layer-major: positions[layer * vertexCount + vertex]. Tangents (dP/d layer), the
+// styling coordinate w and baked ambient occlusion are optional per layer vertex.
+// Strands are never stored: the renderer generates them from this description.
+// The file format is documented in docs/hair-mesh-format.md.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+namespace clhair {
+
+// Procedural styling applied in the consistent per-vertex u/v/w frames (Bhokare §3.4).
+struct StyleParams {
+  float clumpStrength = 0.0f;    // 0..1, how far tips move toward their clump center
+  float clumpFrequency = 10.0f;  // clump cells per unit of root uv
+  float clumpShape = 1.5f;       // profile exponent of w (> 0)
+  float curlAmplitude = 0.0f;    // object units
+  float curlFrequency = 0.0f;    // turns along the strand
+  float curlHelix = 1.0f;        // 1 helical curl, 0 planar wave
+  float curlPhaseJitter = 0.15f; // 0: a clump curls in phase; 1: each strand random
+  float frizzAmplitude = 0.0f;   // object units at the tip
+  float frizzFrequency = 6.0f;   // noise cells along the strand
+  float flyawayFraction = 0.0f;  // fraction of strands with extra frizz
+  float flyawayAmplitude = 0.0f; // object units of that extra frizz at the tip
+  float lengthVariation = 0.0f;  // strands shortened by up to this fraction (0..0.95)
+};
+
+struct AppearanceParams {
+  glm::vec3 rootColor{0.08f, 0.05f, 0.03f};  // linear rgb (placeholder shading)
+  glm::vec3 tipColor{0.25f, 0.17f, 0.10f};
+  float strandWidth = 7.0e-5f;  // world-space fibre diameter
+};
+
+struct LodParams {
+  bool enabled = false;
+  float lambda = 3.0f;        // Lipp Eq. 2
+  float morphWindow = 0.5f;   // Bhokare Eq. 10 transition window
+};
+
+struct HairMesh {
+  std::string name;
+  int layerCount = 0;
+  int vertexCount = 0;
+  std::vector<std::array<int, 4>> faces;  // counter-clockwise; triangles have [3] == -1
+  std::vector<glm::vec2> uv;              // per root vertex
+  std::vector<glm::vec3> positions;       // layerCount * vertexCount, layer-major
+  std::vector<glm::vec3> tangents;        // empty, or like positions (dP/d layer)
+  std::vector<float> w;                   // empty, or per layer vertex styling w
+  std::vector<float> ao;                  // empty, or per layer vertex ambient occlusion
+  std::int64_t strandCount = 0;           // strands at full detail, spread by face area
+  int controlPoints = 65;                 // C without LOD: 2^k + 1, or 127
+  std::uint32_t seed = 1;
+  StyleParams style;
+  AppearanceParams appearance;
+  LodParams lod;
+
+  const glm::vec3& position(int layer, int vertex) const {
+    return positions[static_cast<std::size_t>(layer) * vertexCount + vertex];
+  }
+};
+
+// Throws clhair::Error naming `where` and the offending element when the mesh is not
+// renderable: counts, index ranges, finite numbers, parameter ranges, degenerate uv.
+void validateHairMesh(const HairMesh& mesh, const std::string& where);
+
+HairMesh loadHairMesh(const std::string& path);
+// Writes atomically (temporary file, then rename).
+void saveHairMesh(const HairMesh& mesh, const std::string& path);
+
+}  // namespace clhair

@@ -1,0 +1,28 @@
+/* composite.cl — blends one groom's shaded hair over the render target.
+ *
+ * hair_g holds premultiplied RGBA; the target colour becomes hair + (1 - alpha) * target.
+ * Where hair was drawn its depth (decoded from the center G-buffer) replaces the scene
+ * depth when nearer, so the next groom is depth tested against this one.
+ */
+#include "clhair/gpu_types.h"
+
+#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
+
+__kernel void composite_over(__global const ClhGroomGpu* groom_g,
+                             __global const ClhViewGpu* view_g, __global const float4* hair_g,
+                             __global const ulong* center_g, __global float4* color_g,
+                             __global float* depth_g) {
+  uint x = (uint)get_global_id(0), y = (uint)get_global_id(1);
+  uint width = view_g->width, height = view_g->height;
+  if (x >= width || y >= height) return;
+  size_t idx = (size_t)y * width + x;
+  float4 h = hair_g[idx];
+  if (!(h.w > 0.0f)) return;
+  float4 c = color_g[idx];
+  color_g[idx] = (float4)(h.xyz + (1.0f - h.w) * c.xyz, 1.0f);
+  ulong word = center_g[idx];
+  if (word != CLH_GBUF_EMPTY) {
+    float z = clh_depth_decode(clh_gbuf_depth(word), groom_g->depth_near, groom_g->depth_far);
+    depth_g[idx] = fmin(depth_g[idx], z);
+  }
+}

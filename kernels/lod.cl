@@ -1,0 +1,103 @@
+/* lod.cl — the per-bundle LOD pre-pass and the scan that sizes the strand dispatch.
+ *
+ * lod_bundles (one work-item per bundle, Lipp §3.2): projects the four corners of every
+ * layer quad, accumulates one screen AABB (Eq. 3) widened by the groom's styling reach,
+ * culls bundles entirely off screen, and computes L (Eq. 2), N_LOD (Eq. 1 with the
+ * bundle's delta) and C (Eq. 4-5). With LOD off L = 1, N_LOD = N and C is the groom's
+ * full-detail count. Output: one uint4 per bundle (N_LOD, C, L bits, morph bits) and the
+ * strand count alone for the scan.
+ *
+ * scan_bundles (one work-group of SCAN_WG items): exclusive scan of the counts into
+ * offsets[0..n], offsets[n] being the total the host reads back to size the strand pass.
+ */
+#include "clhair/gpu_types.h"
+#include "clh_math.h"
+
+#ifndef SCAN_WG
+#define SCAN_WG 256
+#endif
+
+/* C snapped to 2^k + 1 (Lipp Eq. 5), C_raw >= 3. */
+static inline uint lod_snap_control_points(uint c_raw) {
+  c_raw = max(c_raw, 3u);
+  uint p = 1u;
+  while (p < c_raw - 1u) p <<= 1;
+  return min(p + 1u, (uint)CLH_MAX_CONTROL_POINTS);
+}
+
+__kernel void lod_bundles(__global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
+                          __global const ClhBundle* bundles_g,
+                          __global const ClhMeshVertex* verts_g, float reach,
+                          __global uint4* lod_g, __global uint* counts_g) {
+  uint b = (uint)get_global_id(0);
+  __global const ClhGroomGpu* g = groom_g;
+  if (b >= g->bundle_count) return;
+  __global const ClhBundle* bundle = bundles_g + b;
+  uint n_full = bundle->strand_count;
+  uint layers = clamp(g->layer_count, 2u, (uint)CLH_MAX_LAYERS);
+  uint nv = g->vertex_count;
+  clh_mat34 to_view = clh_load_mat34(g->obj_to_view);
+  float fx = view_g->fx, fy = view_g->fy, cx = view_g->cx, cy = view_g->cy;
+  float width = (float)view_g->width, height = (float)view_g->height;
+
+  /* Corners at or behind the camera plane cannot be projected: such a bundle is kept at
+   * full detail, unless every corner lies behind the camera by more than the reach. */
+  float2 lo = (float2)(INFINITY), hi = (float2)(-INFINITY);
+  bool all_behind = true, unprojectable = false;
+  for (uint l = 0; l < layers; ++l) {
+    for (uint c = 0; c < 4u; ++c) {
+      int vi = clamp(bundle->vtx[c], 0, (int)nv - 1);
+      float3 p = clh_xform_point(to_view, vload3(0, verts_g[(size_t)l * nv + (uint)vi].pos));
+      if (p.z >= -reach) all_behind = false;
+      if (p.z <= 1e-4f) {
+        unprojectable = true;
+        continue;
+      }
+      float2 s = (float2)(cx + fx * p.x / p.z, cy - fy * p.y / p.z);
+      float r = fx * reach / p.z; /* styling can move strands this far off the mesh */
+      lo = fmin(lo, s - r);
+      hi = fmax(hi, s + r);
+    }
+  }
+
+  uint n_lod = n_full;
+  uint C = clamp(g->control_points, 2u, (uint)CLH_MAX_CONTROL_POINTS);
+  float L = 1.0f;
+  bool off_screen = hi.x < 0.0f || hi.y < 0.0f || lo.x > width || lo.y > height;
+  if (all_behind || (!unprojectable && off_screen)) {
+    n_lod = 0u;
+  } else if (g->lod_enabled != 0u && !unprojectable) {
+    float2 ext = hi - lo;
+    L = clh_saturate(length(ext) / height * g->lod_lambda);                 /* Eq. 2 */
+    n_lod = (uint)ceil(L * ((float)n_full + bundle->lod_delta));            /* Eq. 1 */
+    n_lod = n_full == 0u ? 0u : clamp(n_lod, 1u, n_full);
+    uint c_raw = max((uint)floor(sqrt(L) * (float)CLH_MAX_CONTROL_POINTS), layers); /* Eq. 4 */
+    C = lod_snap_control_points(c_raw);                                      /* Eq. 5 */
+  }
+  lod_g[b] = (uint4)(n_lod, C, as_uint(L), as_uint(0.0f));
+  counts_g[b] = n_lod;
+}
+
+__kernel __attribute__((reqd_work_group_size(SCAN_WG, 1, 1))) void scan_bundles(
+    __global const uint* counts_g, __global uint* offsets_g, uint n) {
+  __local uint sums_l[SCAN_WG];
+  uint lid = (uint)get_local_id(0);
+  uint carry = 0u;
+  for (uint base = 0u; base < n; base += SCAN_WG) {
+    uint i = base + lid;
+    uint v = i < n ? counts_g[i] : 0u;
+    sums_l[lid] = v;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    /* Hillis-Steele inclusive scan */
+    for (uint off = 1u; off < SCAN_WG; off <<= 1) {
+      uint add = lid >= off ? sums_l[lid - off] : 0u;
+      barrier(CLK_LOCAL_MEM_FENCE);
+      sums_l[lid] += add;
+      barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    if (i < n) offsets_g[i] = carry + sums_l[lid] - v;
+    carry += sums_l[SCAN_WG - 1];
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+  if (lid == 0u) offsets_g[n] = carry;
+}

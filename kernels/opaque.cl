@@ -1,0 +1,89 @@
+/* opaque.cl — the opaque scene: analytic spheres and planes ray cast per pixel.
+ *
+ * Writes the render target's linear colour (float4, alpha 1) and view-space depth (the
+ * z of the hit in camera space, +INFINITY for background) that the hair passes test
+ * against and composite over. Lambert shading with the scene's point and directional
+ * lights plus a constant ambient term; no shadows.
+ */
+#include "clhair/gpu_types.h"
+#include "clh_math.h"
+
+/* Nearest hit along origin + t * dir (t > 0); returns t or INFINITY, normal and albedo. */
+static inline float opaque_trace(__global const ClhSceneGpu* scene_g,
+                                 __global const ClhSphereGpu* spheres_g,
+                                 __global const ClhPlaneGpu* planes_g, float3 origin, float3 dir,
+                                 float3* normal, float3* albedo) {
+  float best = INFINITY;
+  for (uint i = 0; i < scene_g->sphere_count; ++i) {
+    float4 c = vload4(0, spheres_g[i].center);
+    float3 oc = origin - c.xyz;
+    float b = dot(oc, dir);
+    float a = dot(dir, dir);
+    float disc = b * b - a * (dot(oc, oc) - c.w * c.w);
+    if (disc < 0.0f) continue;
+    float sq = sqrt(disc);
+    float t = (-b - sq) / a;
+    if (t <= 0.0f) t = (-b + sq) / a;
+    if (t > 0.0f && t < best) {
+      best = t;
+      *normal = normalize(oc + t * dir);
+      *albedo = vload3(0, spheres_g[i].color);
+    }
+  }
+  for (uint i = 0; i < scene_g->plane_count; ++i) {
+    float4 p = vload4(0, planes_g[i].normal);
+    float denom = dot(p.xyz, dir);
+    if (fabs(denom) < 1e-12f) continue;
+    float t = (p.w - dot(p.xyz, origin)) / denom;
+    if (t > 0.0f && t < best) {
+      best = t;
+      *normal = denom < 0.0f ? p.xyz : -p.xyz;
+      *albedo = vload3(0, planes_g[i].color);
+    }
+  }
+  return best;
+}
+
+__kernel void opaque_render(__global const ClhSceneGpu* scene_g, __global const ClhViewGpu* view_g,
+                            __global const ClhSphereGpu* spheres_g,
+                            __global const ClhPlaneGpu* planes_g,
+                            __global const ClhLightGpu* lights_g, __global float4* color_g,
+                            __global float* depth_g) {
+  uint x = (uint)get_global_id(0), y = (uint)get_global_id(1);
+  uint width = view_g->width, height = view_g->height;
+  if (x >= width || y >= height) return;
+  size_t idx = (size_t)y * width + x;
+  /* view-space ray with z = 1, so the hit distance t is the view depth */
+  float3 dv = (float3)(((float)x + 0.5f - view_g->cx) / view_g->fx,
+                       -((float)y + 0.5f - view_g->cy) / view_g->fy, 1.0f);
+  clh_mat34 to_world = clh_load_mat34(view_g->view_to_world);
+  float3 origin = vload3(0, view_g->eye);
+  float3 dir = clh_xform_dir(to_world, dv);
+  float3 n = (float3)(0.0f, 1.0f, 0.0f), albedo = (float3)(0.0f);
+  float t = opaque_trace(scene_g, spheres_g, planes_g, origin, dir, &n, &albedo);
+  if (!(t < INFINITY)) {
+    color_g[idx] = (float4)(vload3(0, scene_g->background), 1.0f);
+    depth_g[idx] = INFINITY;
+    return;
+  }
+  float3 pos = origin + t * dir;
+  float3 radiance = albedo * vload3(0, scene_g->ambient);
+  uint nl = min(scene_g->light_count, (uint)CLH_MAX_LIGHTS);
+  for (uint i = 0; i < nl; ++i) {
+    float4 lp = vload4(0, lights_g[i].pos);
+    float3 lc = vload3(0, lights_g[i].color);
+    float3 l;
+    float falloff = 1.0f;
+    if (lp.w > 0.5f) {
+      float3 d = lp.xyz - pos;
+      float d2 = fmax(dot(d, d), 1e-8f);
+      l = d * rsqrt(d2);
+      falloff = 1.0f / d2;
+    } else {
+      l = normalize(lp.xyz);
+    }
+    radiance += albedo * lc * (falloff * fmax(dot(n, l), 0.0f) / CLH_PI);
+  }
+  color_g[idx] = (float4)(radiance, 1.0f);
+  depth_g[idx] = t;
+}

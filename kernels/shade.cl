@@ -1,0 +1,64 @@
+/* shade.cl — deferred shading of the center G-buffer, one work-item per pixel.
+ *
+ * Decodes the 64-bit word (gpu_types.h), rebuilds the view-space position from the pixel
+ * center and the 24-bit depth, and shades with shade_placeholder: a PLACEHOLDER hair
+ * model (Kajiya-Kay diffuse and specular, root-to-tip colour over w, times baked AO) that
+ * the physically based hair BSDF will replace. Output: premultiplied RGBA (alpha 1 where
+ * hair was hit, 0 elsewhere).
+ */
+#include "clhair/gpu_types.h"
+#include "clh_math.h"
+
+#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
+
+__kernel void shade_placeholder(__global const ClhGroomGpu* groom_g,
+                                __global const ClhViewGpu* view_g,
+                                __global const ClhSceneGpu* scene_g,
+                                __global const ClhLightGpu* lights_g,
+                                __global const ulong* center_g, __global float4* hair_g) {
+  uint x = (uint)get_global_id(0), y = (uint)get_global_id(1);
+  uint width = view_g->width, height = view_g->height;
+  if (x >= width || y >= height) return;
+  size_t idx = (size_t)y * width + x;
+  ulong word = center_g[idx];
+  if (word == CLH_GBUF_EMPTY) {
+    hair_g[idx] = (float4)(0.0f);
+    return;
+  }
+  float z = clh_depth_decode(clh_gbuf_depth(word), groom_g->depth_near, groom_g->depth_far);
+  float3 pv = (float3)(((float)x + 0.5f - view_g->cx) / view_g->fx * z,
+                       -((float)y + 0.5f - view_g->cy) / view_g->fy * z, z);
+  clh_mat34 to_world = clh_load_mat34(view_g->view_to_world);
+  float3 pos = clh_xform_point(to_world, pv);
+  float tv[3];
+  clh_oct_decode(clh_gbuf_oct(word), tv);
+  float3 T = (float3)(tv[0], tv[1], tv[2]);
+  float w = clh_unorm_value(clh_gbuf_w(word), 6u);
+  float ao = clh_unorm_value(clh_gbuf_ao(word), 6u);
+  float3 albedo = mix(vload3(0, groom_g->root_color), vload3(0, groom_g->tip_color), w);
+  float3 V = normalize(vload3(0, view_g->eye) - pos);
+
+  float3 radiance = albedo * vload3(0, scene_g->ambient);
+  uint nl = min(scene_g->light_count, (uint)CLH_MAX_LIGHTS);
+  for (uint i = 0; i < nl; ++i) {
+    float4 lp = vload4(0, lights_g[i].pos);
+    float3 lc = vload3(0, lights_g[i].color);
+    float3 L;
+    float falloff = 1.0f;
+    if (lp.w > 0.5f) {
+      float3 d = lp.xyz - pos;
+      float d2 = fmax(dot(d, d), 1e-8f);
+      L = d * rsqrt(d2);
+      falloff = 1.0f / d2;
+    } else {
+      L = normalize(lp.xyz);
+    }
+    float tl = dot(T, L);
+    float diffuse = sqrt(fmax(1.0f - tl * tl, 0.0f));
+    float3 H = normalize(L + V);
+    float th = dot(T, H);
+    float spec = pow(sqrt(fmax(1.0f - th * th, 0.0f)), 80.0f);
+    radiance += lc * falloff * (albedo * diffuse * 0.6f + (float3)(0.12f * spec)) / CLH_PI;
+  }
+  hair_g[idx] = (float4)(radiance * ao, 1.0f);
+}

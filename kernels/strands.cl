@@ -1,0 +1,360 @@
+/* strands.cl — strand assembly and rasterisation: one work-group (one logical sub-group of
+ * SG_SIZE lanes) per strand.
+ *
+ * Inputs: the groom (ClhGroomGpu), its bundles and hair-mesh vertices, the per-bundle LOD
+ * records (uint4: N_LOD, C, L, gamma) and their exclusive scan (bundle_count + 1 entries,
+ * the last being the total), and the progressive blue-noise root sets.
+ *
+ * Assembly (Lipp §3.1.1, Bhokare §3.3-3.5): the lanes interpolate the bundle's layers at
+ * the strand's root sample into local memory (finite-difference tangents, neighbours
+ * exchanged by shuffles); then each lane evaluates its own run of the C control points on
+ * the Hermite base spline, styles them, and swaps its first/last points and tangents with
+ * its neighbours, so every point and tangent is computed exactly once. Lane i owns points
+ * [i*S, i*S + S) with S = ceil((C-1)/SG_SIZE); when SG_SIZE*S == C-1 the last lane also
+ * owns the tip.
+ *
+ * Outputs: strands_raster draws each segment as a 1-pixel DDA line into the center
+ * G-buffer with 64-bit atom_min (depth tested against the scene depth); strands_export
+ * writes the points and tangents instead (export-strands, tests).
+ */
+#include "clhair/gpu_types.h"
+#include "subgroup.h"
+#include "clh_math.h"
+#include "hair_style.h"
+
+#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
+#pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
+
+#ifndef CLH_ATOMIC_LOAD_SKIP
+#define CLH_ATOMIC_LOAD_SKIP 1 /* plain load before atom_min (DESIGN.md, Atomics) */
+#endif
+
+#define CLH_PTS_PER_LANE ((CLH_MAX_CONTROL_POINTS - 1 + SG_SIZE - 1) / SG_SIZE)
+#define CLH_PTS_CAP (CLH_PTS_PER_LANE + 1)
+#define CLH_LAYERS_PER_LANE ((CLH_MAX_LAYERS + SG_SIZE - 1) / SG_SIZE)
+
+/* The lane's share of the strand after assembly. */
+typedef struct {
+  uint C;        /* control points of the strand */
+  uint first;    /* index of the lane's first point */
+  uint count;    /* points the lane owns */
+  float4 next_p; /* point first+count (position, styling w), from the next lane */
+  float4 next_t; /* its final tangent (xyz, ambient occlusion in w) */
+  float2 uv;     /* the strand's root styling coordinates */
+} clh_lane_span;
+
+/* Largest b with offsets[b] <= strand: the bundle that holds the strand. */
+static inline uint clh_find_bundle(__global const uint* offsets_g, uint bundle_count, uint strand) {
+  uint lo = 0u, hi = bundle_count;
+  while (hi - lo > 1u) {
+    uint mid = (lo + hi) >> 1;
+    if (offsets_g[mid] <= strand) {
+      lo = mid;
+    } else {
+      hi = mid;
+    }
+  }
+  return lo;
+}
+
+/* Reflects the neighbour tangent t about the end segment direction q (Bhokare Eq. 5-6). */
+static inline float3 clh_end_tangent(float3 q, float3 t_neighbour) {
+  return 2.0f * q * dot(t_neighbour, q) - t_neighbour;
+}
+
+/* Cooperative assembly of one strand. Every lane must call it. */
+static inline void clh_assemble_strand(sg_ctx* sg, __local clh_layer_pt* layers_l,
+                                __global const ClhGroomGpu* g, __global const ClhBundle* b,
+                                __global const ClhMeshVertex* verts_g,
+                                __global const float2* roots_quad_g,
+                                __global const float2* roots_tri_g, uint bundle,
+                                uint local_index, uint C, float4* P, float4* T,
+                                clh_lane_span* span) {
+  const uint lane = sg_lane();
+  const uint layer_count = clamp(g->layer_count, 2u, (uint)CLH_MAX_LAYERS);
+  const int4 vtx = vload4(0, b->vtx);
+  const uint root = min(local_index, g->root_set_size - 1u);
+  const float2 st = b->triangle ? roots_tri_g[root] : roots_quad_g[root];
+  const clh_strand s = clh_strand_setup(g, b, bundle, local_index, st);
+
+  /* ---- pass 1: the strand's sample on every layer -------------------------------- */
+  const uint SL = (layer_count + SG_SIZE - 1u) / SG_SIZE;
+  const uint lfirst = lane * SL;
+  const uint lcount = lfirst < layer_count ? min(SL, layer_count - lfirst) : 0u;
+  clh_layer_pt lay[CLH_LAYERS_PER_LANE];
+  for (uint i = 0; i < CLH_LAYERS_PER_LANE; ++i) {
+    if (i < lcount) {
+      lay[i] = clh_bundle_layer(verts_g, vtx, lfirst + i, g->vertex_count, st);
+    } else {
+      lay[i].pos = lay[i].tan = lay[i].du = lay[i].dv = (float4)(0.0f);
+    }
+  }
+  const float4 lay_last = lay[lcount > 0u ? lcount - 1u : 0u].pos;
+  const float4 lay_prev = sg_shuffle_up1_f4(sg, lay_last, (float4)(0.0f));
+  const float4 lay_next = sg_shuffle_down1_f4(sg, lay[0].pos, (float4)(0.0f));
+  for (uint i = 0; i < CLH_LAYERS_PER_LANE; ++i) {
+    if (i < lcount) {
+      uint l = lfirst + i;
+      if (g->has_tangents == 0u) {
+        float3 prev = (i > 0u ? lay[i - 1u].pos : lay_prev).xyz;
+        float3 next = (i + 1u < lcount ? lay[i + 1u].pos : lay_next).xyz;
+        float3 cur = lay[i].pos.xyz;
+        float3 m = (l == 0u) ? next - cur : (l == layer_count - 1u) ? cur - prev
+                                                                    : 0.5f * (next - prev);
+        lay[i].tan.xyz = m;
+      }
+      layers_l[l] = lay[i];
+    }
+  }
+  barrier(CLK_LOCAL_MEM_FENCE);
+
+  /* ---- pass 2: styled control points ---------------------------------------------- */
+  const uint S = (C - 1u + SG_SIZE - 1u) / SG_SIZE;
+  const uint first = lane * S;
+  const uint end = (lane == (uint)(SG_SIZE - 1)) ? C : min(first + S, C);
+  const uint count = end > first ? min(end - first, (uint)CLH_PTS_CAP) : 0u;
+  float ao[CLH_PTS_CAP];
+  for (uint i = 0; i < CLH_PTS_CAP; ++i) {
+    P[i] = (float4)(0.0f);
+    T[i] = (float4)(0.0f);
+    ao[i] = 1.0f;
+    if (i < count) {
+      float3 deriv, du, dv;
+      float4 base = clh_base_point(layers_l, layer_count, first + i, C, s.length, &deriv, &du,
+                                   &dv, &ao[i]);
+      P[i] = (float4)(base.xyz + clh_style_offset(g, &s, base.w, deriv, du, dv), base.w);
+    }
+  }
+
+  /* exchange 1: neighbour points for the finite-difference tangents */
+  const float4 prev_p = sg_shuffle_up1_f4(sg, P[count > 0u ? count - 1u : 0u], (float4)(0.0f));
+  const float4 next_p = sg_shuffle_down1_f4(sg, P[0], (float4)(0.0f));
+  for (uint i = 0; i < CLH_PTS_CAP; ++i) {
+    uint k = first + i;
+    if (i < count && k > 0u && k + 1u < C) {
+      float3 a = (i > 0u ? P[i - 1u] : prev_p).xyz;
+      float3 c = (i + 1u < count ? P[i + 1u] : next_p).xyz;
+      T[i].xyz = clh_normalize_or(c - a, (float3)(0.0f, 1.0f, 0.0f));
+    }
+    T[i].w = ao[i];
+  }
+
+  /* exchange 2: interior tangents next to the end points */
+  const float4 prev_t = sg_shuffle_up1_f4(sg, T[count > 0u ? count - 1u : 0u], (float4)(0.0f));
+  const float4 next_t0 = sg_shuffle_down1_f4(sg, T[0], (float4)(0.0f));
+  if (count > 0u && first == 0u) { /* root, Bhokare Eq. 6 */
+    float3 p1 = (count > 1u ? P[1] : next_p).xyz;
+    float3 q = clh_normalize_or(p1 - P[0].xyz, (float3)(0.0f, 1.0f, 0.0f));
+    float3 t1 = (C == 2u) ? q : (count > 1u ? T[1] : next_t0).xyz;
+    T[0].xyz = clh_normalize_or(clh_end_tangent(q, t1), q);
+  }
+  if (count > 0u && C - 1u >= first && C - 1u < first + count) { /* tip, Bhokare Eq. 5 */
+    uint i = C - 1u - first;
+    float3 pm = (i > 0u ? P[i - 1u] : prev_p).xyz;
+    float3 q = clh_normalize_or(P[i].xyz - pm, (float3)(0.0f, 1.0f, 0.0f));
+    float3 tm = (C == 2u) ? q : (i > 0u ? T[i - 1u] : prev_t).xyz;
+    T[i].xyz = clh_normalize_or(clh_end_tangent(q, tm), q);
+  }
+
+  /* exchange 3: the next lane's first tangent, now final */
+  span->next_t = sg_shuffle_down1_f4(sg, T[0], (float4)(0.0f));
+  span->next_p = next_p;
+  span->uv = s.uv;
+  span->C = C;
+  span->first = first;
+  span->count = count;
+}
+
+/* ---- rasterisation ---------------------------------------------------------------- */
+
+typedef struct {
+  float fx, fy, cx, cy;
+  int width, height;
+  float near_z;
+  float depth_near, depth_far;
+  float hit_radius; /* center-layer acceptance: distance to the pixel center, pixels */
+  uint u6, v6;
+} clh_raster_ctx;
+
+/* Draws one segment (view-space endpoints with world tangents, styling w and AO) as a
+ * 1-pixel DDA line: one pixel per column (x-major) or row (y-major) whose center lies in
+ * [start, end) along the major axis, so consecutive segments never draw a column twice. */
+static inline void clh_raster_segment(const clh_raster_ctx* rc, __global const float* scene_depth_g,
+                               __global ulong* center_g, float3 pa, float3 pb, float4 ta,
+                               float4 tb, float wa, float wb) {
+  /* near-plane clip in view space */
+  if (pa.z < rc->near_z && pb.z < rc->near_z) return;
+  if (pa.z < rc->near_z || pb.z < rc->near_z) {
+    float t = (rc->near_z - pa.z) / (pb.z - pa.z);
+    float3 pc = mix(pa, pb, t);
+    float4 tc = mix(ta, tb, t);
+    float wc = mix(wa, wb, t);
+    if (pa.z < rc->near_z) {
+      pa = pc;
+      ta = tc;
+      wa = wc;
+    } else {
+      pb = pc;
+      tb = tc;
+      wb = wc;
+    }
+  }
+  float iza = 1.0f / pa.z, izb = 1.0f / pb.z;
+  float xa = rc->cx + rc->fx * pa.x * iza, ya = rc->cy - rc->fy * pa.y * iza;
+  float xb = rc->cx + rc->fx * pb.x * izb, yb = rc->cy - rc->fy * pb.y * izb;
+  float dx = xb - xa, dy = yb - ya;
+  float len = sqrt(dx * dx + dy * dy);
+  if (!(len > 1e-6f) || !(len < 1e7f)) return;
+
+  bool xmajor = fabs(dx) >= fabs(dy);
+  float ma = xmajor ? xa : ya, mb = xmajor ? xb : yb;
+  float na = xmajor ? ya : xa, nb = xmajor ? yb : xb;
+  /* attributes divided by z for perspective-correct interpolation */
+  float4 aa = ta * iza, ab = tb * izb;
+  float ea = wa * iza, eb = wb * izb;
+  if (ma > mb) {
+    float tmp = ma; ma = mb; mb = tmp;
+    tmp = na; na = nb; nb = tmp;
+    tmp = iza; iza = izb; izb = tmp;
+    float4 t4 = aa; aa = ab; ab = t4;
+    tmp = ea; ea = eb; eb = tmp;
+  }
+  int major_max = xmajor ? rc->width : rc->height;
+  int minor_max = xmajor ? rc->height : rc->width;
+  float span_m = mb - ma;
+  float slope = (nb - na) / span_m;
+  float lo = ma - 0.5f, hi = mb - 0.5f; /* pixel centers i + 0.5 in [ma, mb) */
+  /* restrict to the rows/columns where the minor coordinate stays on screen */
+  if (fabs(slope) > 1e-12f) {
+    float m0 = ma + (-1.0f - na) / slope - 0.5f;
+    float m1 = ma + ((float)minor_max + 1.0f - na) / slope - 0.5f;
+    lo = fmax(lo, fmin(m0, m1));
+    hi = fmin(hi, fmax(m0, m1));
+  } else if (na < -1.0f || na > (float)minor_max + 1.0f) {
+    return;
+  }
+  int i0 = max((int)ceil(fmax(lo, -1.0f)), 0);
+  int i1 = min((int)ceil(fmin(hi, (float)major_max)), major_max); /* exclusive */
+  float perp = span_m / len; /* converts minor-axis offsets to perpendicular distance */
+  for (int i = i0; i < i1; ++i) {
+    float t = ((float)i + 0.5f - ma) / span_m;
+    float n = na + t * (nb - na);
+    int j = (int)floor(n);
+    if (j < 0 || j >= minor_max) continue;
+    if (fabs(n - ((float)j + 0.5f)) * perp > rc->hit_radius) continue;
+    int px = xmajor ? i : j, py = xmajor ? j : i;
+    size_t idx = (size_t)py * (size_t)rc->width + (size_t)px;
+    float iz = mix(iza, izb, t);
+    float z = 1.0f / iz;
+    if (!(z < scene_depth_g[idx])) continue;
+    float4 tw = mix(aa, ab, t) * z;
+    float w = mix(ea, eb, t) * z;
+    float3 tn = clh_normalize_or(tw.xyz, (float3)(0.0f, 1.0f, 0.0f));
+    ulong word = clh_gbuf_pack(clh_depth_encode(z, rc->depth_near, rc->depth_far),
+                               clh_oct_encode(tn.x, tn.y, tn.z), rc->u6, rc->v6,
+                               clh_unorm_bits(w, 6u), clh_unorm_bits(tw.w, 6u));
+#if CLH_ATOMIC_LOAD_SKIP
+    if (word >= center_g[idx]) continue;
+#endif
+    atom_min(center_g + idx, word);
+  }
+}
+
+/* Shared prologue: which strand this work-group draws, or none. */
+static inline bool clh_strand_job(__global const ClhGroomGpu* g, __global const uint4* lod_g,
+                           __global const uint* offsets_g, uint strand, uint* bundle,
+                           uint* local_index, uint* C) {
+  uint bundle_count = g->bundle_count;
+  if (bundle_count == 0u || strand >= offsets_g[bundle_count]) return false;
+  uint b = clh_find_bundle(offsets_g, bundle_count, strand);
+  uint4 lod = lod_g[b];
+  *bundle = b;
+  *local_index = strand - offsets_g[b];
+  *C = clamp(lod.y, 2u, (uint)CLH_MAX_CONTROL_POINTS);
+  return *local_index < lod.x;
+}
+
+__kernel SG_KERNEL_ATTRS void strands_raster(
+    __global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
+    __global const ClhBundle* bundles_g, __global const ClhMeshVertex* verts_g,
+    __global const uint4* lod_g, __global const uint* offsets_g,
+    __global const float2* roots_quad_g, __global const float2* roots_tri_g,
+    __global const float* scene_depth_g, __global ulong* center_g, uint strand_base) {
+  SG_DECLARE(sg);
+  __local clh_layer_pt layers_l[CLH_MAX_LAYERS];
+  uint bundle = 0u, local_index = 0u, C = 2u;
+  /* uniform per work-group: the whole group leaves together or not at all */
+  if (!clh_strand_job(groom_g, lod_g, offsets_g, strand_base + (uint)get_group_id(0), &bundle,
+                      &local_index, &C))
+    return;
+
+  float4 P[CLH_PTS_CAP], T[CLH_PTS_CAP];
+  clh_lane_span span;
+  clh_assemble_strand(&sg, layers_l, groom_g, bundles_g + bundle, verts_g, roots_quad_g,
+                      roots_tri_g, bundle, local_index, C, P, T, &span);
+
+  __global const ClhGroomGpu* g = groom_g;
+  clh_raster_ctx rc;
+  rc.fx = view_g->fx;
+  rc.fy = view_g->fy;
+  rc.cx = view_g->cx;
+  rc.cy = view_g->cy;
+  rc.width = (int)view_g->width;
+  rc.height = (int)view_g->height;
+  rc.near_z = 1e-4f;
+  rc.depth_near = g->depth_near;
+  rc.depth_far = g->depth_far;
+  rc.hit_radius = 0.5f * g->hit_diameter_px;
+  rc.u6 = clh_unorm_bits(span.uv.x, 6u);
+  rc.v6 = clh_unorm_bits(span.uv.y, 6u);
+  const clh_mat34 to_view = clh_load_mat34(g->obj_to_view);
+  const clh_mat34 to_world = clh_load_mat34(g->obj_to_world);
+
+  float3 prev_view = (float3)(0.0f);
+  float4 prev_t = (float4)(0.0f);
+  float prev_w = 0.0f;
+  for (uint i = 0; i < CLH_PTS_CAP + 1u; ++i) {
+    uint k = span.first + i;
+    if (i > span.count || k >= span.C) break;
+    float4 p = (i < span.count) ? P[i] : span.next_p;
+    float4 t = (i < span.count) ? T[i] : span.next_t;
+    float3 pv = clh_xform_point(to_view, p.xyz);
+    float4 tw = (float4)(clh_xform_dir(to_world, t.xyz), t.w);
+    if (i > 0u) {
+      clh_raster_segment(&rc, scene_depth_g, center_g, prev_view, pv, prev_t, tw, prev_w, p.w);
+    }
+    prev_view = pv;
+    prev_t = tw;
+    prev_w = p.w;
+  }
+}
+
+/* Writes the assembled strands: points_g/tangents_g hold CLH_MAX_CONTROL_POINTS float4 per
+ * strand (object space; w = styling w / ambient occlusion), counts_g the point count. */
+__kernel SG_KERNEL_ATTRS void strands_export(
+    __global const ClhGroomGpu* groom_g, __global const ClhBundle* bundles_g,
+    __global const ClhMeshVertex* verts_g, __global const uint4* lod_g,
+    __global const uint* offsets_g, __global const float2* roots_quad_g,
+    __global const float2* roots_tri_g, __global float4* points_g, __global float4* tangents_g,
+    __global uint* counts_g, uint strand_base, uint strand_capacity) {
+  SG_DECLARE(sg);
+  __local clh_layer_pt layers_l[CLH_MAX_LAYERS];
+  uint strand = strand_base + (uint)get_group_id(0);
+  uint bundle = 0u, local_index = 0u, C = 2u;
+  if (strand >= strand_capacity ||
+      !clh_strand_job(groom_g, lod_g, offsets_g, strand, &bundle, &local_index, &C))
+    return;
+
+  float4 P[CLH_PTS_CAP], T[CLH_PTS_CAP];
+  clh_lane_span span;
+  clh_assemble_strand(&sg, layers_l, groom_g, bundles_g + bundle, verts_g, roots_quad_g,
+                      roots_tri_g, bundle, local_index, C, P, T, &span);
+  size_t base = (size_t)strand * CLH_MAX_CONTROL_POINTS;
+  for (uint i = 0; i < CLH_PTS_CAP; ++i) {
+    if (i < span.count) {
+      points_g[base + span.first + i] = P[i];
+      tangents_g[base + span.first + i] = T[i];
+    }
+  }
+  if (sg_lane() == 0u) counts_g[strand] = span.C;
+}

@@ -1,0 +1,74 @@
+// test_util.h — shared helpers for the test suite: one OpenCL device per process, paths
+// to the source tree, the CLI and a scratch folder, running the CLI with its exit code and
+// output, and small image statistics.
+#pragma once
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "clhair/device.h"
+#include "clhair/error.h"
+
+namespace clhair::test {
+
+inline std::string envOr(const char* name, const std::string& def) {
+  const char* v = std::getenv(name);
+  return v && *v ? std::string(v) : def;
+}
+
+inline std::string sourceDir() { return envOr("CLHAIR_SOURCE_DIR", CLHAIR_SOURCE_DIR); }
+inline std::string assetPath(const std::string& rel) { return sourceDir() + "/assets/" + rel; }
+inline std::string cliPath() { return envOr("CLHAIR_BIN", "clhair"); }
+
+// A fresh scratch folder for one test: <build>/test-output/<suite>.<test>/
+inline std::string scratchDir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::string name = info ? std::string(info->test_suite_name()) + "." + info->name() : "misc";
+  for (char& c : name)
+    if (c == '/') c = '_';
+  std::filesystem::path p = std::filesystem::path(envOr("CLHAIR_TEST_OUTPUT", "test-output")) / name;
+  std::filesystem::remove_all(p);
+  std::filesystem::create_directories(p);
+  return p.string();
+}
+
+// The default device of this process, opened once (kernel warnings are errors in tests).
+inline Device& sharedDevice() {
+  static std::unique_ptr<Device> dev;
+  if (!dev) {
+    DeviceOptions opts;
+    opts.kernelWarningsAsErrors = true;
+    dev = std::make_unique<Device>(Device::open(DeviceOptions::fromEnvironment(opts)));
+  }
+  return *dev;
+}
+
+struct CommandResult {
+  int exitCode = -1;
+  std::string output;  // stdout and stderr together
+};
+
+// Runs a shell command, capturing both streams.
+inline CommandResult runCommand(const std::string& cmd) {
+  CommandResult r;
+  std::string full = cmd + " 2>&1";
+  FILE* pipe = ::popen(full.c_str(), "r");
+  if (!pipe) return r;
+  char buf[4096];
+  std::size_t n;
+  while ((n = std::fread(buf, 1, sizeof(buf), pipe)) > 0) r.output.append(buf, n);
+  int status = ::pclose(pipe);
+  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+inline std::string quote(const std::string& s) { return "'" + s + "'"; }
+
+inline CommandResult runCli(const std::string& args) { return runCommand(quote(cliPath()) + " " + args); }
+
+}  // namespace clhair::test

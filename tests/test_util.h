@@ -23,7 +23,7 @@ inline std::string envOr(const char* name, const std::string& def) {
 
 inline std::string sourceDir() { return envOr("CLHAIR_SOURCE_DIR", CLHAIR_SOURCE_DIR); }
 inline std::string assetPath(const std::string& rel) { return sourceDir() + "/assets/" + rel; }
-inline std::string cliPath() { return envOr("CLHAIR_BIN", "clhair"); }
+inline std::string cliPath() { return envOr("CLHAIR_BIN", CLHAIR_TEST_BIN); }
 
 // A fresh scratch folder for one test: <build>/test-output/<suite>.<test>/
 inline std::string scratchDir() {
@@ -31,16 +31,23 @@ inline std::string scratchDir() {
   std::string name = info ? std::string(info->test_suite_name()) + "." + info->name() : "misc";
   for (char& c : name)
     if (c == '/') c = '_';
-  std::filesystem::path p = std::filesystem::path(envOr("CLHAIR_TEST_OUTPUT", "test-output")) / name;
+  std::filesystem::path p = std::filesystem::path(envOr("CLHAIR_TEST_OUTPUT", CLHAIR_TEST_OUTPUT_DIR)) / name;
   std::filesystem::remove_all(p);
   std::filesystem::create_directories(p);
   return p.string();
+}
+
+// Compiled kernels are cached inside the build folder (for this process and the CLI runs
+// it starts) unless POCL_CACHE_DIR is already set.
+inline void usePoclCacheInBuild() {
+  if (!std::getenv("POCL_CACHE_DIR")) ::setenv("POCL_CACHE_DIR", CLHAIR_TEST_POCL_CACHE, 0);
 }
 
 // The default device of this process, opened once (kernel warnings are errors in tests).
 inline Device& sharedDevice() {
   static std::unique_ptr<Device> dev;
   if (!dev) {
+    usePoclCacheInBuild();
     DeviceOptions opts;
     opts.kernelWarningsAsErrors = true;
     dev = std::make_unique<Device>(Device::open(DeviceOptions::fromEnvironment(opts)));
@@ -55,6 +62,7 @@ struct CommandResult {
 
 // Runs a shell command, capturing both streams.
 inline CommandResult runCommand(const std::string& cmd) {
+  usePoclCacheInBuild();
   CommandResult r;
   std::string full = cmd + " 2>&1";
   FILE* pipe = ::popen(full.c_str(), "r");

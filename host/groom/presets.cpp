@@ -182,10 +182,10 @@ HairMesh longWavy() {
 
 HairMesh curlyMedium() {
   GrowthModel g;
-  g.stiffness = 0.965f;
-  g.gravity = 0.45f;
-  g.volume = 0.03f;
-  HairMesh m = headGroom("curly_medium", g, 9, 9, 32, 70.0f, 108.0f, 0.15f, 0.19f, 0.8f, 11u);
+  g.stiffness = 0.95f;
+  g.gravity = 1.0f;
+  g.volume = 0.028f;
+  HairMesh m = headGroom("curly_medium", g, 9, 9, 32, 70.0f, 108.0f, 0.16f, 0.2f, 0.45f, 11u);
   m.strandCount = 100000;
   m.controlPoints = 65;
   m.style.clumpStrength = 0.8f;

@@ -84,7 +84,7 @@ Camera framePreset(const Scene& scene, CameraPreset preset, float azimuthDeg, fl
   float horizontal = std::max(extent.x, extent.z) / aspect;
   float size = std::max(extent.y, horizontal);
   float tanHalf = std::tan(glm::radians(fovYDeg) * 0.5f);
-  float distance = size / (2.0f * fraction * tanHalf) + 0.5f * std::max(extent.x, extent.z);
+  float distance = std::max(size / (2.0f * fraction * tanHalf), glm::length(extent));
   float az = glm::radians(azimuthDeg), el = glm::radians(elevationDeg);
   glm::vec3 dir(std::sin(az) * std::cos(el), std::sin(el), std::cos(az) * std::cos(el));
   Camera cam;

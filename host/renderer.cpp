@@ -113,6 +113,26 @@ struct GroomResources {
 
 }  // namespace
 
+const char* dispatchModeName(DispatchMode m) {
+  switch (m) {
+    case DispatchMode::Auto:
+      return "auto";
+    case DispatchMode::ReadBack:
+      return "readback";
+    case DispatchMode::OverLaunch:
+      return "overlaunch";
+    case DispatchMode::Persistent:
+      return "persistent";
+  }
+  return "?";
+}
+
+DispatchMode parseDispatchMode(const std::string& name) {
+  for (DispatchMode m : {DispatchMode::Auto, DispatchMode::ReadBack, DispatchMode::OverLaunch, DispatchMode::Persistent})
+    if (name == dispatchModeName(m)) return m;
+  throw Error("unknown dispatch mode \"" + name + "\"; expected auto, readback, overlaunch or persistent");
+}
+
 double Frame::stageMs(const std::string& stage) const {
   for (const StageTime& t : timings)
     if (t.stage == stage) return t.ms;
@@ -139,8 +159,8 @@ struct Renderer::Impl {
   RootSets roots;
   cl::Buffer rootsQuad, rootsTri;
 
-  int width = 0, height = 0;
-  cl::Buffer color, depth, center, hair;
+  int width = 0, height = 0, layers = 0;
+  cl::Buffer color, depth, gbuffer, hair, stats;
   cl::Buffer view, scene, spheres, planes, lights;
 
   explicit Impl(Device d)
@@ -194,19 +214,34 @@ struct Renderer::Impl {
     return ref;
   }
 
-  void ensureTarget(int w, int h) {
+  void ensureTarget(int w, int h, int msaa) {
     if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
       throw Error("resolution " + std::to_string(w) + "x" + std::to_string(h) +
                   " is outside 1.." + std::to_string(kMaxImageSide) + " per side");
-    if (w == width && h == height) return;
+    if (msaa != 1 && msaa != 2 && msaa != 4 && msaa != 8)
+      throw Error("MSAA must be 1, 2, 4 or 8 samples, not " + std::to_string(msaa));
     std::size_t n = static_cast<std::size_t>(w) * h;
     std::string res = std::to_string(w) + "x" + std::to_string(h);
-    color = makeBuffer<cl_float4>(dev, "the " + res + " colour target", n);
-    depth = makeBuffer<cl_float>(dev, "the " + res + " depth target", n);
-    center = makeBuffer<cl_ulong>(dev, "the " + res + " center G-buffer", n);
-    hair = makeBuffer<cl_float4>(dev, "the " + res + " hair colour buffer", n);
+    if (w != width || h != height) {
+      color = makeBuffer<cl_float4>(dev, "the " + res + " colour target", n);
+      depth = makeBuffer<cl_float>(dev, "the " + res + " depth target", n);
+      hair = makeBuffer<cl_float4>(dev, "the " + res + " hair colour buffer", n);
+      layers = 0;
+    }
+    // sample layers plus the conservative layer
+    if (layers != msaa + 1)
+      gbuffer = makeBuffer<cl_ulong>(dev, "the " + res + " G-buffer with " + std::to_string(msaa + 1) + " layers",
+                                     n * static_cast<std::size_t>(msaa + 1));
+    if (!stats()) stats = makeBuffer<cl_uint>(dev, "raster statistics", 4);
     width = w;
     height = h;
+    layers = msaa + 1;
+  }
+
+  DispatchMode resolveMode(DispatchMode m) const {
+    // Measured by the benchmark (bench/README.md): read-back is the fastest on the CPU
+    // device and is the default until a GPU measurement says otherwise.
+    return m == DispatchMode::Auto ? DispatchMode::ReadBack : m;
   }
 
   void uploadScene(const Scene& s) {
@@ -277,15 +312,13 @@ struct Renderer::Impl {
     return g.data.styleMargin * scale;
   }
 
-  StrandStage::Inputs strandInputs(GroomResources& g, std::uint32_t total) {
-    return {&g.groom, &g.bundles, &g.vertices, &g.lod, &g.offsets, &rootsQuad, &rootsTri, total};
+  StrandStage::Inputs strandInputs(GroomResources& g) {
+    return {&g.groom, &g.bundles, &g.vertices, &g.lod, &g.offsets, &rootsQuad, &rootsTri};
   }
 
-  std::uint32_t runLod(GroomResources& g, float reach, Profiler* prof) {
-    LodStage::Params lp{&g.groom, &view, &g.bundles, &g.vertices, reach,
-                        &g.lod, &g.counts, &g.offsets,
-                        static_cast<std::uint32_t>(g.data.bundles.size())};
-    return lod.run(lp, prof);
+  LodStage::Params lodParams(GroomResources& g, float reach) {
+    return {&g.groom, &view, &g.bundles, &g.vertices, reach, &g.lod, &g.counts, &g.offsets,
+            static_cast<std::uint32_t>(g.data.bundles.size())};
   }
 };
 
@@ -296,44 +329,67 @@ const Device& Renderer::device() const { return impl_->device; }
 
 Frame Renderer::render(const Scene& s, const RenderOptions& options) {
   Impl& r = *impl_;
-  r.ensureTarget(s.width, s.height);
+  r.ensureTarget(s.width, s.height, options.msaa);
   r.uploadScene(s);
   gpu::ClhViewGpu view = makeView(s.camera, s.width, s.height);
+  view.samples = static_cast<gpu::clh_u32>(options.msaa);
   upload(r.dev, r.view, &view, 1);
   const glm::mat4 w2v = worldToView(s.camera);
+  const DispatchMode mode = r.resolveMode(options.dispatch);
+  const std::size_t pixels = static_cast<std::size_t>(s.width) * s.height;
   Frame frame;
+  if (options.rasterStats) {
+    const cl_uint zero[4] = {0, 0, 0, 0};
+    upload(r.dev, r.stats, zero, 4);
+  }
 
   r.opaque.enqueue({&r.scene, &r.view, &r.spheres, &r.planes, &r.lights, &r.color, &r.depth, s.width, s.height},
                    &r.profiler);
+  std::vector<GroomResources*> drawn;
   for (const GroomInstance& gi : s.grooms) {
     GroomResources& g = r.groomFor(gi.mesh);
     if (!r.prepareGroomView(g, gi.transform, w2v, options)) continue;
-    std::uint32_t total = r.runLod(g, Impl::viewReach(g, gi.transform), &r.profiler);
-    frame.stats.strandsDrawn += total;
-    clCall("clearing the center G-buffer", [&] {
+    drawn.push_back(&g);
+    LodStage::Params lp = r.lodParams(g, Impl::viewReach(g, gi.transform));
+    r.lod.enqueue(lp, &r.profiler);
+    std::uint32_t strands = mode == DispatchMode::ReadBack ? r.lod.readTotal(lp)
+                                                           : static_cast<std::uint32_t>(g.data.totalStrands);
+    clCall("clearing the G-buffer", [&] {
       cl::Event e;
-      r.dev.queue.enqueueFillBuffer(r.center, ~cl_ulong(0), 0,
-                                    static_cast<std::size_t>(s.width) * s.height * sizeof(cl_ulong),
-                                    nullptr, &e);
+      r.dev.queue.enqueueFillBuffer(r.gbuffer, ~cl_ulong(0), 0, pixels * r.layers * sizeof(cl_ulong), nullptr, &e);
       r.profiler.add("clear", e);
       return 0;
     });
-    r.strands.raster(r.strandInputs(g, total), r.view, r.depth, r.center, &r.profiler);
-    r.shade.enqueue({&g.groom, &r.view, &r.scene, &r.lights, &r.center, &r.hair, s.width, s.height}, &r.profiler);
-    r.composite.enqueue({&g.groom, &r.view, &r.hair, &r.center, &r.color, &r.depth, s.width, s.height},
+    StrandStage::Raster rs{&r.view, &r.depth, &r.gbuffer, &r.stats, options.msaa, options.rasterStats, mode, strands};
+    r.strands.raster(r.strandInputs(g), rs, &r.profiler);
+    r.shade.enqueue({&g.groom, &r.view, &r.scene, &r.lights, &r.gbuffer, &r.hair, s.width, s.height, options.msaa},
+                    &r.profiler);
+    r.composite.enqueue({&g.groom, &r.view, &r.hair, &r.gbuffer, &r.color, &r.depth, s.width, s.height, options.msaa},
                         &r.profiler);
   }
 
-  const std::size_t n = static_cast<std::size_t>(s.width) * s.height;
   frame.color.width = s.width;
   frame.color.height = s.height;
-  frame.color.rgba.resize(n * 4);
-  frame.depth.resize(n);
+  frame.color.rgba.resize(pixels * 4);
+  frame.depth.resize(pixels);
   clCall("reading the frame back", [&] {
-    r.dev.queue.enqueueReadBuffer(r.color, CL_TRUE, 0, n * 4 * sizeof(float), frame.color.rgba.data());
-    r.dev.queue.enqueueReadBuffer(r.depth, CL_TRUE, 0, n * sizeof(float), frame.depth.data());
+    r.dev.queue.enqueueReadBuffer(r.color, CL_TRUE, 0, pixels * 4 * sizeof(float), frame.color.rgba.data());
+    r.dev.queue.enqueueReadBuffer(r.depth, CL_TRUE, 0, pixels * sizeof(float), frame.depth.data());
     return 0;
   });
+  for (GroomResources* g : drawn)
+    frame.stats.strandsDrawn += r.lod.readTotal(r.lodParams(*g, 0.0f));
+  if (options.rasterStats) {
+    cl_uint st[4];
+    clCall("reading raster statistics", [&] {
+      r.dev.queue.enqueueReadBuffer(r.stats, CL_TRUE, 0, sizeof(st), st);
+      return 0;
+    });
+    frame.stats.pixelWrites = st[0];
+    frame.stats.atomicsIssued = st[1];
+    frame.stats.atomicsSkipped = st[2];
+    frame.stats.segmentsDrawn = st[3];
+  }
   frame.timings = r.profiler.collect();
   return frame;
 }
@@ -351,7 +407,9 @@ StrandSet Renderer::generateStrands(const HairMesh& mesh) {
   upload(r.dev, g->groom, &g->params, 1);
   // The LOD pass with LOD off only culls; make every bundle visible by giving it an
   // unbounded reach so no bundle is off screen.
-  std::uint32_t total = r.runLod(*g, 1e30f, nullptr);
+  LodStage::Params lp = r.lodParams(*g, 1e30f);
+  r.lod.enqueue(lp, nullptr);
+  std::uint32_t total = r.lod.readTotal(lp);
   if (total != g->data.totalStrands)
     throw Error("strand export: the LOD pass kept " + std::to_string(total) + " of " +
                 std::to_string(g->data.totalStrands) + " strands");
@@ -361,7 +419,7 @@ StrandSet Renderer::generateStrands(const HairMesh& mesh) {
   cl::Buffer points = makeBuffer<cl_float4>(r.dev, "exported strand points", slots);
   cl::Buffer tangents = makeBuffer<cl_float4>(r.dev, "exported strand tangents", slots);
   cl::Buffer counts = makeBuffer<cl_uint>(r.dev, "exported strand point counts", total);
-  r.strands.exportStrands(r.strandInputs(*g, total), points, tangents, counts, nullptr);
+  r.strands.exportStrands(r.strandInputs(*g), total, points, tangents, counts, nullptr);
   std::vector<cl_float4> p(slots), t(slots);
   out.pointCounts.resize(total);
   clCall("reading exported strands", [&] {

@@ -4,26 +4,20 @@
  * layer quad, accumulates one screen AABB (Eq. 3) widened by the groom's styling reach,
  * culls bundles entirely off screen, and computes L (Eq. 2), N_LOD (Eq. 1 with the
  * bundle's delta) and C (Eq. 4-5). With LOD off L = 1, N_LOD = N and C is the groom's
- * full-detail count. Output: one uint4 per bundle (N_LOD, C, L bits, morph bits) and the
+ * full-detail count; gamma is the vertex-LOD morph factor (lod_math.h). Output: one uint4
+ * per bundle (N_LOD, C, L bits, gamma bits) and the
  * strand count alone for the scan.
  *
  * scan_bundles (one work-group of SCAN_WG items): exclusive scan of the counts into
  * offsets[0..n], offsets[n] being the total the host reads back to size the strand pass.
  */
 #include "clhair/gpu_types.h"
+#include "clhair/lod_math.h"
 #include "clh_math.h"
 
 #ifndef SCAN_WG
 #define SCAN_WG 256
 #endif
-
-/* C snapped to 2^k + 1 (Lipp Eq. 5), C_raw >= 3. */
-static inline uint lod_snap_control_points(uint c_raw) {
-  c_raw = max(c_raw, 3u);
-  uint p = 1u;
-  while (p < c_raw - 1u) p <<= 1;
-  return min(p + 1u, (uint)CLH_MAX_CONTROL_POINTS);
-}
 
 __kernel void lod_bundles(__global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
                           __global const ClhBundle* bundles_g,
@@ -62,19 +56,18 @@ __kernel void lod_bundles(__global const ClhGroomGpu* groom_g, __global const Cl
 
   uint n_lod = n_full;
   uint C = clamp(g->control_points, 2u, (uint)CLH_MAX_CONTROL_POINTS);
-  float L = 1.0f;
+  float L = 1.0f, gamma = 0.0f;
   bool off_screen = hi.x < 0.0f || hi.y < 0.0f || lo.x > width || lo.y > height;
   if (all_behind || (!unprojectable && off_screen)) {
     n_lod = 0u;
   } else if (g->lod_enabled != 0u && !unprojectable) {
     float2 ext = hi - lo;
-    L = clh_saturate(length(ext) / height * g->lod_lambda);                 /* Eq. 2 */
-    n_lod = (uint)ceil(L * ((float)n_full + bundle->lod_delta));            /* Eq. 1 */
-    n_lod = n_full == 0u ? 0u : clamp(n_lod, 1u, n_full);
-    uint c_raw = max((uint)floor(sqrt(L) * (float)CLH_MAX_CONTROL_POINTS), layers); /* Eq. 4 */
-    C = lod_snap_control_points(c_raw);                                      /* Eq. 5 */
+    L = clh_lod_value(ext.x, ext.y, height, g->lod_lambda);    /* Eq. 2 */
+    n_lod = clh_lod_strands(L, n_full, bundle->lod_delta);     /* Eq. 1 */
+    C = clh_lod_control_points(L, layers);                     /* Eq. 4-5 */
+    gamma = clh_lod_morph(L, layers, g->lod_morph_window);     /* Bhokare Eq. 10-12 */
   }
-  lod_g[b] = (uint4)(n_lod, C, as_uint(L), as_uint(0.0f));
+  lod_g[b] = (uint4)(n_lod, C, as_uint(L), as_uint(gamma));
   counts_g[b] = n_lod;
 }
 

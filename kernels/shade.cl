@@ -1,33 +1,26 @@
 /* shade.cl — deferred shading of the center G-buffer, one work-item per pixel.
  *
- * Decodes the 64-bit word (gpu_types.h), rebuilds the view-space position from the pixel
- * center and the 24-bit depth, and shades with shade_placeholder: a PLACEHOLDER hair
+ * Decodes the 64-bit word (gpu_types.h), rebuilds the view-space position from the sample
+ * position and the 24-bit depth, and shades with shade_placeholder: a PLACEHOLDER hair
  * model (Kajiya-Kay diffuse and specular, root-to-tip colour over w, times baked AO) that
- * the physically based hair BSDF will replace. Output: premultiplied RGBA (alpha 1 where
- * hair was hit, 0 elsewhere).
+ * the physically based hair BSDF will replace. With CLH_MSAA samples per pixel every
+ * sample layer is shaded and the results averaged (the MSAA resolve). Output:
+ * premultiplied RGBA, alpha = fraction of samples hit.
  */
 #include "clhair/gpu_types.h"
 #include "clh_math.h"
 
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 
-__kernel void shade_placeholder(__global const ClhGroomGpu* groom_g,
-                                __global const ClhViewGpu* view_g,
-                                __global const ClhSceneGpu* scene_g,
-                                __global const ClhLightGpu* lights_g,
-                                __global const ulong* center_g, __global float4* hair_g) {
-  uint x = (uint)get_global_id(0), y = (uint)get_global_id(1);
-  uint width = view_g->width, height = view_g->height;
-  if (x >= width || y >= height) return;
-  size_t idx = (size_t)y * width + x;
-  ulong word = center_g[idx];
-  if (word == CLH_GBUF_EMPTY) {
-    hair_g[idx] = (float4)(0.0f);
-    return;
-  }
+#ifndef CLH_MSAA
+#define CLH_MSAA 1
+#endif
+
+static inline float3 shade_word(__global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
+                                 __global const ClhSceneGpu* scene_g,
+                                 __global const ClhLightGpu* lights_g, ulong word, float2 pixel) {
   float z = clh_depth_decode(clh_gbuf_depth(word), groom_g->depth_near, groom_g->depth_far);
-  float3 pv = (float3)(((float)x + 0.5f - view_g->cx) / view_g->fx * z,
-                       -((float)y + 0.5f - view_g->cy) / view_g->fy * z, z);
+  float3 pv = (float3)((pixel.x - view_g->cx) / view_g->fx * z, -(pixel.y - view_g->cy) / view_g->fy * z, z);
   clh_mat34 to_world = clh_load_mat34(view_g->view_to_world);
   float3 pos = clh_xform_point(to_world, pv);
   float tv[3];
@@ -60,5 +53,27 @@ __kernel void shade_placeholder(__global const ClhGroomGpu* groom_g,
     float spec = pow(sqrt(fmax(1.0f - th * th, 0.0f)), 80.0f);
     radiance += lc * falloff * (albedo * diffuse * 0.6f + (float3)(0.12f * spec)) / CLH_PI;
   }
-  hair_g[idx] = (float4)(radiance * ao, 1.0f);
+  return radiance * ao;
+}
+
+__kernel void shade_placeholder(__global const ClhGroomGpu* groom_g,
+                                __global const ClhViewGpu* view_g,
+                                __global const ClhSceneGpu* scene_g,
+                                __global const ClhLightGpu* lights_g,
+                                __global const ulong* gbuf_g, __global float4* hair_g) {
+  uint x = (uint)get_global_id(0), y = (uint)get_global_id(1);
+  uint width = view_g->width, height = view_g->height;
+  if (x >= width || y >= height) return;
+  size_t idx = (size_t)y * width + x;
+  size_t plane = (size_t)width * height;
+  float3 sum = (float3)(0.0f);
+  uint hits = 0u;
+  for (uint s = 0; s < CLH_MSAA; ++s) {
+    ulong word = gbuf_g[s * plane + idx];
+    if (word == CLH_GBUF_EMPTY) continue;
+    /* positions are rebuilt at the pixel center: the depth of every sample is stored */
+    sum += shade_word(groom_g, view_g, scene_g, lights_g, word, (float2)((float)x + 0.5f, (float)y + 0.5f));
+    ++hits;
+  }
+  hair_g[idx] = (float4)(sum, (float)hits) / (float)CLH_MSAA;
 }

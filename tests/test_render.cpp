@@ -14,6 +14,7 @@ namespace {
 Scene smallScene(const std::string& preset, std::int64_t strands, int w = 160, int h = 120) {
   HairMesh mesh = makeGroomPreset(preset);
   mesh.strandCount = strands;
+  mesh.appearance.minHitDiameterPx = 1.0f;  // gap-free lines: coverage without the filter
   Scene s;
   s.width = w;
   s.height = h;

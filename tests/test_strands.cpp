@@ -78,9 +78,9 @@ INSTANTIATE_TEST_SUITE_P(Presets, StrandsVsReference,
                          ::testing::Values("tiny", "long_wavy", "curly_medium", "fur_sphere"));
 
 TEST(Strands, ControlPointCountsNotMultipleOfLanes) {
-  // C = 3, 5, 9, 17, 33, 65, 127: lane ownership differs for each (including the extra tip
+  // C = 3, 5, 9, 17, 33, 65, 129: lane ownership differs for each (including the extra tip
   // of the last lane when 32 * S == C - 1, e.g. C = 33 with S = 1).
-  for (int C : {3, 5, 9, 17, 33, 65, 127}) {
+  for (int C : {3, 5, 9, 17, 33, 65, 129}) {
     HairMesh mesh = makeGroomPreset("tiny");
     mesh.controlPoints = C;
     mesh.strandCount = 13;

@@ -63,8 +63,18 @@ int cmdDevices(const DeviceOptions& opts) {
   return 0;
 }
 
+struct RenderFlags {
+  int width = 0, height = 0, msaa = 1;
+  std::string camera, lod, dispatch = "auto";
+  bool quiet = false;
+};
+
 int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std::string& out,
-              int width, int height, const std::string& camera, const std::string& lod, bool quiet) {
+              const RenderFlags& f) {
+  const int width = f.width, height = f.height;
+  const std::string& camera = f.camera;
+  const std::string& lod = f.lod;
+  const bool quiet = f.quiet;
   Scene scene = loadScene(scenePath);
   if (width != 0 || height != 0) {
     if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide)
@@ -81,6 +91,10 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     ro.lod = 0;
   else if (!lod.empty() && lod != "auto")
     throw Error("--lod must be on, off or auto, not \"" + lod + "\"");
+  if (f.msaa != 1 && f.msaa != 2 && f.msaa != 4 && f.msaa != 8)
+    throw Error("--msaa must be 1, 2, 4 or 8, not " + std::to_string(f.msaa));
+  ro.msaa = f.msaa;
+  ro.dispatch = parseDispatchMode(f.dispatch);
   Device dev = Device::open(opts);
   Renderer renderer(dev);
   Frame frame = renderer.render(scene, ro);
@@ -138,16 +152,17 @@ int main(int argc, char** argv) {
   auto* devices = app.add_subcommand("devices", "list OpenCL devices and their capabilities");
 
   auto* render = app.add_subcommand("render", "render a scene to an image");
-  std::string scenePath, out, camera, lod;
-  int width = 0, height = 0;
-  bool quiet = false;
+  std::string scenePath, out;
+  RenderFlags rf;
   render->add_option("scene", scenePath, "scene JSON file")->required();
   render->add_option("-o,--output", out, "output image (.png, .exr, ...)")->required();
-  render->add_option("--width", width, "override the scene's width");
-  render->add_option("--height", height, "override the scene's height");
-  render->add_option("--camera", camera, "frame the grooms with a preset: close, mid, far");
-  render->add_option("--lod", lod, "LOD: on, off, or auto (as each groom says)");
-  render->add_flag("-q,--quiet", quiet, "print nothing on success");
+  render->add_option("--width", rf.width, "override the scene's width");
+  render->add_option("--height", rf.height, "override the scene's height");
+  render->add_option("--camera", rf.camera, "frame the grooms with a preset: close, mid, far");
+  render->add_option("--lod", rf.lod, "LOD: on, off, or auto (as each groom says)");
+  render->add_option("--msaa", rf.msaa, "software MSAA samples per pixel: 1, 2, 4, 8");
+  render->add_option("--dispatch", rf.dispatch, "strand dispatch sizing: auto, readback, overlaunch, persistent");
+  render->add_flag("-q,--quiet", rf.quiet, "print nothing on success");
 
   auto* groom = app.add_subcommand("groom", "write a generated hair mesh");
   std::string preset, groomOut;
@@ -169,7 +184,7 @@ int main(int argc, char** argv) {
   try {
     DeviceOptions resolved = DeviceOptions::fromEnvironment(opts);
     if (*devices) return cmdDevices(resolved);
-    if (*render) return cmdRender(resolved, scenePath, out, width, height, camera, lod, quiet);
+    if (*render) return cmdRender(resolved, scenePath, out, rf);
     if (*groom) return cmdGroom(preset, groomOut, strands);
     if (*exportCmd) return cmdExport(resolved, groomPath, hairOut);
   } catch (const Error& e) {

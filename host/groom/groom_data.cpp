@@ -37,7 +37,9 @@ float faceArea(const HairMesh& m, const std::array<int, 4>& f) {
 }  // namespace
 
 std::uint32_t fullDetailControlPoints(const HairMesh& mesh) {
-  int c = std::max(mesh.controlPoints, mesh.layerCount);
+  // at least one point per layer, snapped up to 2^k + 1 like every LOD level (Lipp Eq. 5)
+  int c = 3;
+  while (c < std::max(mesh.controlPoints, mesh.layerCount)) c = 2 * (c - 1) + 1;
   return static_cast<std::uint32_t>(std::min(c, CLH_MAX_CONTROL_POINTS));
 }
 
@@ -160,7 +162,7 @@ void fillGroomParams(const HairMesh& m, const GroomData& data, gpu::ClhGroomGpu&
   p.lod_lambda = m.lod.lambda;
   p.lod_morph_window = m.lod.morphWindow;
   p.strand_width = m.appearance.strandWidth;
-  p.hit_diameter_px = 1.0f;
+  p.hit_diameter_px = m.appearance.minHitDiameterPx;
   const StyleParams& s = m.style;
   p.clump_strength = s.clumpStrength;
   p.clump_frequency = s.clumpStrength > 0.0f ? s.clumpFrequency : 0.0f;

@@ -33,7 +33,7 @@ GroomData prepareGroom(const HairMesh& mesh);
 // styling, colours); view-dependent fields are left to the renderer.
 void fillGroomParams(const HairMesh& mesh, const GroomData& data, gpu::ClhGroomGpu& params);
 
-// Control points without LOD, as configured (2^k + 1 or 127, at least the layer count).
+// Control points without LOD, as configured (2^k + 1, at least the layer count).
 std::uint32_t fullDetailControlPoints(const HairMesh& mesh);
 
 }  // namespace clhair

@@ -86,7 +86,8 @@ void readAppearance(const JsonReader& r, const json& j, AppearanceParams& a) {
   a.rootColor = o.vec3("root_color", a.rootColor, 0.0, 1.0);
   a.tipColor = o.vec3("tip_color", a.tipColor, 0.0, 1.0);
   a.strandWidth = o.number("strand_width", a.strandWidth, 1e-9, 1e3);
-  o.rejectUnknown({"root_color", "tip_color", "strand_width"});
+  a.minHitDiameterPx = o.number("min_hit_diameter_px", a.minHitDiameterPx, 0.0, 3.0);
+  o.rejectUnknown({"root_color", "tip_color", "strand_width", "min_hit_diameter_px"});
 }
 
 void readLod(const JsonReader& r, const json& j, LodParams& lod) {
@@ -177,8 +178,8 @@ void validateHairMesh(const HairMesh& m, const std::string& where) {
     fail("strands is " + std::to_string(m.strandCount) + ", expected 0.." + std::to_string(kMaxStrands));
   bool pow2plus1 = false;
   for (int k = 1; k <= 7; ++k) pow2plus1 |= m.controlPoints == (1 << k) + 1;
-  if (!pow2plus1 && m.controlPoints != CLH_MAX_CONTROL_POINTS)
-    fail("control_points is " + std::to_string(m.controlPoints) + ", expected 3, 5, 9, 17, 33, 65 or 127");
+  if (!pow2plus1)
+    fail("control_points is " + std::to_string(m.controlPoints) + ", expected 3, 5, 9, 17, 33, 65 or 129");
 }
 
 HairMesh loadHairMesh(const std::string& path) {
@@ -294,7 +295,8 @@ void saveHairMesh(const HairMesh& m, const std::string& path) {
                 {"flyaway_amplitude", tidy(s.flyawayAmplitude)}, {"length_variation", tidy(s.lengthVariation)}};
   j["appearance"] = {{"root_color", vec3Json(m.appearance.rootColor)},
                      {"tip_color", vec3Json(m.appearance.tipColor)},
-                     {"strand_width", tidy(m.appearance.strandWidth)}};
+                     {"strand_width", tidy(m.appearance.strandWidth)},
+                     {"min_hit_diameter_px", tidy(m.appearance.minHitDiameterPx)}};
   j["lod"] = {{"enabled", m.lod.enabled}, {"lambda", tidy(m.lod.lambda)}, {"morph_window", tidy(m.lod.morphWindow)}};
   writeTextAtomically(path, layout(j));
 }

@@ -9,6 +9,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "clhair/error.h"
+#include "clhair/gpu_types.h"
 #include "clhair/scene.h"
 #include "io/json_util.h"
 
@@ -193,7 +194,7 @@ Scene loadScene(const std::string& path) {
       if (o.has("strands") || o.has("lod") || o.has("control_points")) {
         HairMesh copy = *mesh;
         copy.strandCount = o.integer64("strands", copy.strandCount, 0, 50'000'000);
-        copy.controlPoints = o.integer("control_points", copy.controlPoints, 2, 127);
+        copy.controlPoints = o.integer("control_points", copy.controlPoints, 2, CLH_MAX_CONTROL_POINTS);
         if (o.has("lod")) {
           JsonReader l = o.object(o.require("lod"), "lod");
           copy.lod.enabled = l.boolean("enabled", copy.lod.enabled);

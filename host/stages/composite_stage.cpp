@@ -3,16 +3,23 @@
 
 namespace clhair {
 
-CompositeStage::CompositeStage(Device::Impl& dev) : dev_(dev), kernel_(dev.kernel("composite.cl", "composite_over")) {}
+CompositeStage::CompositeStage(Device::Impl& dev) : dev_(dev) { kernel(1); }
+
+cl::Kernel& CompositeStage::kernel(int msaa) {
+  auto it = kernels_.find(msaa);
+  if (it != kernels_.end()) return it->second;
+  return kernels_[msaa] = dev_.kernel("composite.cl", "composite_over", "-DCLH_MSAA=" + std::to_string(msaa));
+}
 
 cl::Event CompositeStage::enqueue(const Params& p, Profiler* profiler) {
-  kernel_.setArg(0, *p.groom);
-  kernel_.setArg(1, *p.view);
-  kernel_.setArg(2, *p.hair);
-  kernel_.setArg(3, *p.center);
-  kernel_.setArg(4, *p.color);
-  kernel_.setArg(5, *p.depth);
-  return dispatch(dev_, kernel_, "composite", cl::NDRange(p.width, p.height), cl::NDRange(8, 8), profiler);
+  cl::Kernel& k = kernel(p.msaa);
+  k.setArg(0, *p.groom);
+  k.setArg(1, *p.view);
+  k.setArg(2, *p.hair);
+  k.setArg(3, *p.gbuffer);
+  k.setArg(4, *p.color);
+  k.setArg(5, *p.depth);
+  return dispatch(dev_, k, "composite", cl::NDRange(p.width, p.height), cl::NDRange(8, 8), profiler);
 }
 
 }  // namespace clhair

@@ -2,6 +2,8 @@
 // the target colour, hair depth into the target depth for the next groom.
 #pragma once
 
+#include <map>
+
 #include "stages/dispatch.h"
 
 namespace clhair {
@@ -13,16 +15,18 @@ class CompositeStage {
     const cl::Buffer* groom;
     const cl::Buffer* view;
     const cl::Buffer* hair;
-    const cl::Buffer* center;
+    const cl::Buffer* gbuffer;  // ulong per pixel, msaa + 1 layers
     cl::Buffer* color;
     cl::Buffer* depth;
     int width, height;
+    int msaa = 1;
   };
   cl::Event enqueue(const Params& p, Profiler* profiler);
 
  private:
+  cl::Kernel& kernel(int msaa);
   Device::Impl& dev_;
-  cl::Kernel kernel_;
+  std::map<int, cl::Kernel> kernels_;
 };
 
 }  // namespace clhair

@@ -10,8 +10,8 @@ LodStage::LodStage(Device::Impl& dev)
       lod_(dev.kernel("lod.cl", "lod_bundles", "-DSCAN_WG=" + std::to_string(kScanWorkGroup))),
       scan_(dev.kernel("lod.cl", "scan_bundles", "-DSCAN_WG=" + std::to_string(kScanWorkGroup))) {}
 
-std::uint32_t LodStage::run(const Params& p, Profiler* profiler) {
-  if (p.bundleCount == 0) return 0;
+void LodStage::enqueue(const Params& p, Profiler* profiler) {
+  if (p.bundleCount == 0) return;
   lod_.setArg(0, *p.groom);
   lod_.setArg(1, *p.view);
   lod_.setArg(2, *p.bundles);
@@ -24,6 +24,10 @@ std::uint32_t LodStage::run(const Params& p, Profiler* profiler) {
   scan_.setArg(1, *p.offsets);
   scan_.setArg(2, p.bundleCount);
   dispatch(dev_, scan_, "lod", cl::NDRange(kScanWorkGroup), cl::NDRange(kScanWorkGroup), profiler);
+}
+
+std::uint32_t LodStage::readTotal(const Params& p) {
+  if (p.bundleCount == 0) return 0;
   std::uint32_t total = 0;
   clCall("lod: reading the strand total", [&] {
     dev_.queue.enqueueReadBuffer(*p.offsets, CL_TRUE, sizeof(std::uint32_t) * p.bundleCount,

@@ -24,8 +24,10 @@ class LodStage {
     cl::Buffer* offsets;         // uint[bundleCount + 1]
     std::uint32_t bundleCount;
   };
-  // Enqueues both kernels and returns the total strand count (blocking 4-byte read).
-  std::uint32_t run(const Params& p, Profiler* profiler);
+  // Enqueues both kernels; the total stays on the device in offsets[bundleCount].
+  void enqueue(const Params& p, Profiler* profiler);
+  // Blocking 4-byte read of the total (read-back sizing).
+  std::uint32_t readTotal(const Params& p);
 
  private:
   Device::Impl& dev_;

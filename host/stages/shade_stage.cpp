@@ -3,16 +3,23 @@
 
 namespace clhair {
 
-ShadeStage::ShadeStage(Device::Impl& dev) : dev_(dev), kernel_(dev.kernel("shade.cl", "shade_placeholder")) {}
+ShadeStage::ShadeStage(Device::Impl& dev) : dev_(dev) { kernel(1); }
+
+cl::Kernel& ShadeStage::kernel(int msaa) {
+  auto it = kernels_.find(msaa);
+  if (it != kernels_.end()) return it->second;
+  return kernels_[msaa] = dev_.kernel("shade.cl", "shade_placeholder", "-DCLH_MSAA=" + std::to_string(msaa));
+}
 
 cl::Event ShadeStage::enqueue(const Params& p, Profiler* profiler) {
-  kernel_.setArg(0, *p.groom);
-  kernel_.setArg(1, *p.view);
-  kernel_.setArg(2, *p.scene);
-  kernel_.setArg(3, *p.lights);
-  kernel_.setArg(4, *p.center);
-  kernel_.setArg(5, *p.hair);
-  return dispatch(dev_, kernel_, "shade", cl::NDRange(p.width, p.height), cl::NDRange(8, 8), profiler);
+  cl::Kernel& k = kernel(p.msaa);
+  k.setArg(0, *p.groom);
+  k.setArg(1, *p.view);
+  k.setArg(2, *p.scene);
+  k.setArg(3, *p.lights);
+  k.setArg(4, *p.gbuffer);
+  k.setArg(5, *p.hair);
+  return dispatch(dev_, k, "shade", cl::NDRange(p.width, p.height), cl::NDRange(8, 8), profiler);
 }
 
 }  // namespace clhair

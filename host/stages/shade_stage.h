@@ -2,6 +2,8 @@
 // center G-buffer, one work-item per pixel, into premultiplied hair RGBA.
 #pragma once
 
+#include <map>
+
 #include "stages/dispatch.h"
 
 namespace clhair {
@@ -14,15 +16,17 @@ class ShadeStage {
     const cl::Buffer* view;
     const cl::Buffer* scene;
     const cl::Buffer* lights;
-    const cl::Buffer* center;  // ulong per pixel
+    const cl::Buffer* gbuffer;  // ulong per pixel, msaa + 1 layers
     cl::Buffer* hair;          // float4 per pixel
     int width, height;
+    int msaa = 1;
   };
   cl::Event enqueue(const Params& p, Profiler* profiler);
 
  private:
+  cl::Kernel& kernel(int msaa);
   Device::Impl& dev_;
-  cl::Kernel kernel_;
+  std::map<int, cl::Kernel> kernels_;
 };
 
 }  // namespace clhair

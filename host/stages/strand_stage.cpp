@@ -3,34 +3,57 @@
 
 #include <algorithm>
 
+#include "clhair/error.h"
+
 namespace clhair {
 
 StrandStage::StrandStage(Device::Impl& dev)
-    : dev_(dev),
-      raster_(dev.kernel("strands.cl", "strands_raster")),
-      export_(dev.kernel("strands.cl", "strands_export")) {}
+    : dev_(dev), export_(dev.kernel("strands.cl", "strands_export")) {
+  rasterKernel(1, false);  // build the common variant up front
+}
 
-void StrandStage::raster(const Inputs& in, const cl::Buffer& view, const cl::Buffer& sceneDepth,
-                         cl::Buffer& center, Profiler* profiler) {
-  raster_.setArg(0, *in.groom);
-  raster_.setArg(1, view);
-  raster_.setArg(2, *in.bundles);
-  raster_.setArg(3, *in.vertices);
-  raster_.setArg(4, *in.lod);
-  raster_.setArg(5, *in.offsets);
-  raster_.setArg(6, *in.rootsQuad);
-  raster_.setArg(7, *in.rootsTri);
-  raster_.setArg(8, sceneDepth);
-  raster_.setArg(9, center);
-  for (std::uint32_t base = 0; base < in.strands; base += kMaxGroupsPerDispatch) {
-    std::uint32_t groups = std::min(kMaxGroupsPerDispatch, in.strands - base);
-    raster_.setArg(10, base);
-    dispatch(dev_, raster_, "strands", cl::NDRange(std::size_t(groups) * kLanes), cl::NDRange(kLanes), profiler);
+cl::Kernel& StrandStage::rasterKernel(int msaa, bool stats) {
+  int key = msaa * 2 + (stats ? 1 : 0);
+  auto it = raster_.find(key);
+  if (it != raster_.end()) return it->second;
+  std::string opts = "-DCLH_MSAA=" + std::to_string(msaa) + (stats ? " -DCLH_RASTER_STATS=1" : "");
+  return raster_[key] = dev_.kernel("strands.cl", "strands_raster", opts);
+}
+
+void StrandStage::raster(const Inputs& in, const Raster& r, Profiler* profiler) {
+  if (r.msaa != 1 && r.msaa != 2 && r.msaa != 4 && r.msaa != 8)
+    throw Error("MSAA must be 1, 2, 4 or 8 samples, not " + std::to_string(r.msaa));
+  cl::Kernel& k = rasterKernel(r.msaa, r.stats);
+  k.setArg(0, *in.groom);
+  k.setArg(1, *r.view);
+  k.setArg(2, *in.bundles);
+  k.setArg(3, *in.vertices);
+  k.setArg(4, *in.lod);
+  k.setArg(5, *in.offsets);
+  k.setArg(6, *in.rootsQuad);
+  k.setArg(7, *in.rootsTri);
+  k.setArg(8, *r.sceneDepth);
+  k.setArg(9, *r.gbuffer);
+  k.setArg(10, *r.counters);
+  if (r.strands == 0) return;
+  if (r.mode == DispatchMode::Persistent) {
+    // a few groups per compute unit, each walking every `groups`-th strand
+    std::uint32_t groups = std::min<std::uint32_t>(r.strands, std::max<std::uint32_t>(1, dev_.info.computeUnits) * 16);
+    k.setArg(11, 0u);
+    k.setArg(12, groups);
+    dispatch(dev_, k, "strands", cl::NDRange(std::size_t(groups) * kLanes), cl::NDRange(kLanes), profiler);
+    return;
+  }
+  k.setArg(12, 0u);
+  for (std::uint32_t base = 0; base < r.strands; base += kMaxGroupsPerDispatch) {
+    std::uint32_t groups = std::min(kMaxGroupsPerDispatch, r.strands - base);
+    k.setArg(11, base);
+    dispatch(dev_, k, "strands", cl::NDRange(std::size_t(groups) * kLanes), cl::NDRange(kLanes), profiler);
   }
 }
 
-void StrandStage::exportStrands(const Inputs& in, cl::Buffer& points, cl::Buffer& tangents,
-                                cl::Buffer& counts, Profiler* profiler) {
+void StrandStage::exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& points,
+                                cl::Buffer& tangents, cl::Buffer& counts, Profiler* profiler) {
   export_.setArg(0, *in.groom);
   export_.setArg(1, *in.bundles);
   export_.setArg(2, *in.vertices);
@@ -41,9 +64,9 @@ void StrandStage::exportStrands(const Inputs& in, cl::Buffer& points, cl::Buffer
   export_.setArg(7, points);
   export_.setArg(8, tangents);
   export_.setArg(9, counts);
-  export_.setArg(11, in.strands);
-  for (std::uint32_t base = 0; base < in.strands; base += kMaxGroupsPerDispatch) {
-    std::uint32_t groups = std::min(kMaxGroupsPerDispatch, in.strands - base);
+  export_.setArg(11, strands);
+  for (std::uint32_t base = 0; base < strands; base += kMaxGroupsPerDispatch) {
+    std::uint32_t groups = std::min(kMaxGroupsPerDispatch, strands - base);
     export_.setArg(10, base);
     dispatch(dev_, export_, "strands", cl::NDRange(std::size_t(groups) * kLanes), cl::NDRange(kLanes), profiler);
   }

@@ -1,10 +1,12 @@
 // strand_stage.h — binds and launches strands_raster / strands_export (kernels/strands.cl):
-// one work-group of 32 lanes per strand, sized from the LOD pre-pass total. Very large
-// totals are split into several dispatches (strand_base) to stay within every driver's
-// limits on global size.
+// one work-group of 32 lanes per strand. The raster kernel is built per MSAA sample count
+// (and with counters for statistics runs); the dispatch follows the chosen sizing mode.
+// Very large launches are split (strand_base) to stay within every driver's global-size
+// limits.
 #pragma once
 
 #include <cstdint>
+#include <map>
 
 #include "stages/dispatch.h"
 
@@ -12,29 +14,38 @@ namespace clhair {
 
 class StrandStage {
  public:
-  static constexpr std::uint32_t kLanes = 32;            // one logical sub-group
+  static constexpr std::uint32_t kLanes = 32;  // one logical sub-group
   static constexpr std::uint32_t kMaxGroupsPerDispatch = 1u << 22;
   explicit StrandStage(Device::Impl& dev);
 
   struct Inputs {
-    const cl::Buffer* groom;     // ClhGroomGpu
-    const cl::Buffer* bundles;   // ClhBundle[]
-    const cl::Buffer* vertices;  // ClhMeshVertex[]
-    const cl::Buffer* lod;       // uint4 per bundle
-    const cl::Buffer* offsets;   // uint, bundles + 1
-    const cl::Buffer* rootsQuad; // float2[rootSetSize]
-    const cl::Buffer* rootsTri;  // float2[rootSetSize]
-    std::uint32_t strands;       // total from the LOD pass
+    const cl::Buffer* groom;      // ClhGroomGpu
+    const cl::Buffer* bundles;    // ClhBundle[]
+    const cl::Buffer* vertices;   // ClhMeshVertex[]
+    const cl::Buffer* lod;        // uint4 per bundle
+    const cl::Buffer* offsets;    // uint, bundles + 1
+    const cl::Buffer* rootsQuad;  // float2[rootSetSize]
+    const cl::Buffer* rootsTri;   // float2[rootSetSize]
   };
-  void raster(const Inputs& in, const cl::Buffer& view, const cl::Buffer& sceneDepth,
-              cl::Buffer& center, Profiler* profiler);
+  struct Raster {
+    const cl::Buffer* view;
+    const cl::Buffer* sceneDepth;  // float per pixel
+    cl::Buffer* gbuffer;           // ulong per pixel, msaa + 1 layers
+    cl::Buffer* counters;          // uint[4], written when stats
+    int msaa = 1;
+    bool stats = false;
+    DispatchMode mode = DispatchMode::ReadBack;
+    std::uint32_t strands = 0;     // ReadBack: the exact total; otherwise an upper bound
+  };
+  void raster(const Inputs& in, const Raster& r, Profiler* profiler);
   // points/tangents: float4 * CLH_MAX_CONTROL_POINTS per strand; counts: uint per strand.
-  void exportStrands(const Inputs& in, cl::Buffer& points, cl::Buffer& tangents, cl::Buffer& counts,
-                     Profiler* profiler);
+  void exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& points,
+                     cl::Buffer& tangents, cl::Buffer& counts, Profiler* profiler);
 
  private:
+  cl::Kernel& rasterKernel(int msaa, bool stats);
   Device::Impl& dev_;
-  cl::Kernel raster_;
+  std::map<int, cl::Kernel> raster_;
   cl::Kernel export_;
 };
 

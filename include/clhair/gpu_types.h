@@ -31,12 +31,18 @@ using std::floor;
 using std::fmax;
 using std::fmin;
 using std::sqrt;
+using std::ceil;
+using std::log2;
 #define CLH_FN inline
 #endif
 
 /* ---- limits shared by host validation and kernel array sizes ----------------------- */
 #define CLH_MAX_LAYERS 64           /* layers per bundle (local-memory array in strands.cl) */
-#define CLH_MAX_CONTROL_POINTS 127  /* C_max of Lipp et al. Eq. 5 */
+/* C_max of Lipp et al. Eq. 4-5. The paper caps at 127; clhair uses 2^7 + 1 = 129 so every
+ * level nests in the next (vertex-LOD morphing, Bhokare §3.6.2, needs the points of level
+ * 2^k + 1 to be the even points of level 2^(k+1) + 1). 129 points still fit 4 per lane:
+ * the last lane owns the tip (strands.cl). */
+#define CLH_MAX_CONTROL_POINTS 129
 #define CLH_MAX_LIGHTS 16
 #define CLH_MAX_MSAA 8
 
@@ -79,7 +85,7 @@ typedef struct {
   clh_u32 vertex_count;   /* root vertices; the mesh holds layer_count * vertex_count */
   clh_u32 has_tangents;
 
-  clh_u32 control_points; /* C when LOD is off: 2^k + 1, or CLH_MAX_CONTROL_POINTS */
+  clh_u32 control_points; /* C when LOD is off: 2^k + 1 */
   clh_u32 lod_enabled;
   clh_u32 seed;
   clh_u32 root_set_size;  /* samples in each progressive blue-noise root set */

@@ -39,6 +39,10 @@ struct AppearanceParams {
   glm::vec3 rootColor{0.08f, 0.05f, 0.03f};  // linear rgb (placeholder shading)
   glm::vec3 tipColor{0.25f, 0.17f, 0.10f};
   float strandWidth = 7.0e-5f;  // world-space fibre diameter
+  // Smallest diameter, in pixels, within which a strand covers a pixel's center sample.
+  // 0 keeps the true projected width (sub-pixel strands then hit few centers; the
+  // reconstruction filter rebuilds coverage from them); 1 draws gap-free 1-pixel lines.
+  float minHitDiameterPx = 0.0f;
 };
 
 struct LodParams {
@@ -58,7 +62,7 @@ struct HairMesh {
   std::vector<float> w;                   // empty, or per layer vertex styling w
   std::vector<float> ao;                  // empty, or per layer vertex ambient occlusion
   std::int64_t strandCount = 0;           // strands at full detail, spread by face area
-  int controlPoints = 65;                 // C without LOD: 2^k + 1, or 127
+  int controlPoints = 65;                 // C without LOD: 2^k + 1 (3..129)
   std::uint32_t seed = 1;
   StyleParams style;
   AppearanceParams appearance;

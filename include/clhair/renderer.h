@@ -17,9 +17,20 @@
 
 namespace clhair {
 
+// How the strand pass is sized from the LOD pre-pass (DESIGN.md, Atomics and dispatch
+// sizing). OpenCL 1.2 has no indirect dispatch, so the host either reads the 4-byte total
+// back, launches the host-known upper bound and lets surplus groups leave at once, or
+// launches a persistent grid of a few groups per compute unit that walks the strands.
+enum class DispatchMode { Auto, ReadBack, OverLaunch, Persistent };
+const char* dispatchModeName(DispatchMode m);
+DispatchMode parseDispatchMode(const std::string& name);  // auto, readback, overlaunch, persistent
+
 struct RenderOptions {
   int lod = -1;             // -1: as each groom says; 0: off; 1: on
   float lodLambdaScale = 1.0f;
+  int msaa = 1;             // samples per pixel: 1, 2, 4 or 8 (software MSAA, averaged)
+  DispatchMode dispatch = DispatchMode::Auto;
+  bool rasterStats = false; // count pixel writes and atomics (slower; benchmark)
 };
 
 struct StageTime {
@@ -29,7 +40,11 @@ struct StageTime {
 
 struct FrameStats {
   std::uint64_t strandsDrawn = 0;
+  // with RenderOptions::rasterStats only:
   std::uint64_t segmentsDrawn = 0;
+  std::uint64_t pixelWrites = 0;     // G-buffer writes that passed coverage and depth tests
+  std::uint64_t atomicsIssued = 0;   // atom_min calls
+  std::uint64_t atomicsSkipped = 0;  // writes the plain load showed could not lower the word
 };
 
 struct Frame {

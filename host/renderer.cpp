@@ -20,6 +20,7 @@
 #include "cl/device_impl.h"
 #include "groom/blue_noise.h"
 #include "groom/groom_data.h"
+#include "clhair/lod_math.h"
 #include "stages/composite_stage.h"
 #include "stages/dispatch.h"
 #include "stages/lod_stage.h"
@@ -333,6 +334,8 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
   r.uploadScene(s);
   gpu::ClhViewGpu view = makeView(s.camera, s.width, s.height);
   view.samples = static_cast<gpu::clh_u32>(options.msaa);
+  view.cx += options.jitterX;
+  view.cy += options.jitterY;
   upload(r.dev, r.view, &view, 1);
   const glm::mat4 w2v = worldToView(s.camera);
   const DispatchMode mode = r.resolveMode(options.dispatch);
@@ -379,6 +382,17 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
   });
   for (GroomResources* g : drawn)
     frame.stats.strandsDrawn += r.lod.readTotal(r.lodParams(*g, 0.0f));
+  if (options.captureGBuffer) {
+    frame.gbufferLayers = r.layers;
+    frame.gbuffer.resize(pixels * r.layers);
+    clCall("reading the G-buffer", [&] {
+      if (drawn.empty())
+        std::fill(frame.gbuffer.begin(), frame.gbuffer.end(), ~std::uint64_t(0));
+      else
+        r.dev.queue.enqueueReadBuffer(r.gbuffer, CL_TRUE, 0, frame.gbuffer.size() * sizeof(cl_ulong), frame.gbuffer.data());
+      return 0;
+    });
+  }
   if (options.rasterStats) {
     cl_uint st[4];
     clCall("reading raster statistics", [&] {
@@ -394,25 +408,46 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
   return frame;
 }
 
-StrandSet Renderer::generateStrands(const HairMesh& mesh) {
+StrandSet Renderer::generateStrands(const HairMesh& mesh, float lod) {
   Impl& r = *impl_;
   validateHairMesh(mesh, mesh.name);
+  if (!(lod > 0.0f && lod <= 1.0f)) throw Error("strand export: LOD value " + std::to_string(lod) + " is outside (0, 1]");
   auto g = r.buildGroom(mesh);
-  // Full detail regardless of the view: LOD off, the identity view, nothing culled.
-  Scene s;
-  s.width = s.height = 1;
-  gpu::ClhViewGpu view = makeView(Camera{}, 1, 1);
-  upload(r.dev, r.view, &view, 1);
   g->params.lod_enabled = 0;
   upload(r.dev, g->groom, &g->params, 1);
-  // The LOD pass with LOD off only culls; make every bundle visible by giving it an
-  // unbounded reach so no bundle is off screen.
-  LodStage::Params lp = r.lodParams(*g, 1e30f);
-  r.lod.enqueue(lp, nullptr);
-  std::uint32_t total = r.lod.readTotal(lp);
-  if (total != g->data.totalStrands)
-    throw Error("strand export: the LOD pass kept " + std::to_string(total) + " of " +
-                std::to_string(g->data.totalStrands) + " strands");
+  std::uint32_t total = 0;
+  if (lod >= 1.0f) {
+    // Full detail regardless of the view: LOD off and an unbounded reach, so the LOD pass
+    // keeps every bundle.
+    gpu::ClhViewGpu view = makeView(Camera{}, 1, 1);
+    upload(r.dev, r.view, &view, 1);
+    LodStage::Params lp = r.lodParams(*g, 1e30f);
+    r.lod.enqueue(lp, nullptr);
+    total = r.lod.readTotal(lp);
+    if (total != g->data.totalStrands)
+      throw Error("strand export: the LOD pass kept " + std::to_string(total) + " of " +
+                  std::to_string(g->data.totalStrands) + " strands");
+  } else {
+    // Every bundle at LOD value `lod`: the records the LOD pass would write, computed here.
+    const std::size_t B = g->data.bundles.size();
+    std::vector<cl_uint4> records(B);
+    std::vector<cl_uint> offsets(B + 1, 0);
+    const auto layers = static_cast<gpu::clh_u32>(mesh.layerCount);
+    for (std::size_t b = 0; b < B; ++b) {
+      const gpu::ClhBundle& bundle = g->data.bundles[b];
+      gpu::clh_u32 n = gpu::clh_lod_strands(lod, bundle.strand_count, bundle.lod_delta);
+      float gamma = gpu::clh_lod_morph(lod, layers, mesh.lod.morphWindow);
+      std::uint32_t gammaBits;
+      std::memcpy(&gammaBits, &gamma, 4);
+      std::uint32_t lodBits;
+      std::memcpy(&lodBits, &lod, 4);
+      records[b] = {{n, gpu::clh_lod_control_points(lod, layers), lodBits, gammaBits}};
+      offsets[b + 1] = offsets[b] + n;
+    }
+    total = offsets[B];
+    upload(r.dev, g->lod, records.data(), B);
+    upload(r.dev, g->offsets, offsets.data(), B + 1);
+  }
   StrandSet out;
   if (total == 0) return out;
   const std::size_t slots = static_cast<std::size_t>(total) * CLH_MAX_CONTROL_POINTS;

@@ -31,6 +31,9 @@ struct RenderOptions {
   int msaa = 1;             // samples per pixel: 1, 2, 4 or 8 (software MSAA, averaged)
   DispatchMode dispatch = DispatchMode::Auto;
   bool rasterStats = false; // count pixel writes and atomics (slower; benchmark)
+  float jitterX = 0.0f;     // sub-pixel shift of the image plane, pixels (reference passes, tests)
+  float jitterY = 0.0f;
+  bool captureGBuffer = false;  // keep the last groom's G-buffer layers in Frame::gbuffer
 };
 
 struct StageTime {
@@ -52,6 +55,10 @@ struct Frame {
   std::vector<float> depth;  // view-space depth, +inf where nothing
   std::vector<StageTime> timings;
   FrameStats stats;
+  // With RenderOptions::captureGBuffer: the last groom's layers (msaa sample layers, then
+  // the conservative layer), width * height words each.
+  std::vector<std::uint64_t> gbuffer;
+  int gbufferLayers = 0;
 
   double stageMs(const std::string& stage) const;
   double totalMs() const;
@@ -75,8 +82,9 @@ class Renderer {
 
   Frame render(const Scene& scene, const RenderOptions& options = {});
 
-  // Runs the strand kernel in export mode for `mesh` at full detail (no LOD).
-  StrandSet generateStrands(const HairMesh& mesh);
+  // Runs the strand kernel in export mode for `mesh`. lod = 1: full detail; lod < 1: every
+  // bundle at that LOD value L (strand count, control points and morph of lod_math.h).
+  StrandSet generateStrands(const HairMesh& mesh, float lod = 1.0f);
 
   const Device& device() const;
 

@@ -1,0 +1,222 @@
+// test_lod.cpp — the LOD formulas (Lipp Eq. 1-5, Bhokare Eq. 10-12) against hand-computed
+// values, the LOD kernel's culling, delta staggering, vertex-LOD morph continuity, and
+// LOD's effect on coverage at a distance.
+#include <cmath>
+#include <cstring>
+
+#include <glm/geometric.hpp>
+
+#include "clhair/lod_math.h"
+#include "clhair/renderer.h"
+#include "groom/groom_data.h"
+#include "groom/presets.h"
+#include "test_util.h"
+
+namespace clhair {
+namespace {
+
+using namespace gpu;
+
+TEST(LodMath, LodValueEquation2) {
+  // 300 x 400 px AABB: diagonal 500 px; R_y = 1000, lambda = 1 -> 0.5
+  EXPECT_FLOAT_EQ(clh_lod_value(300.0f, 400.0f, 1000.0f, 1.0f), 0.5f);
+  EXPECT_FLOAT_EQ(clh_lod_value(300.0f, 400.0f, 1000.0f, 3.0f), 1.0f);  // clamped
+  EXPECT_FLOAT_EQ(clh_lod_value(6.0f, 8.0f, 1080.0f, 2.7f), 10.0f / 1080.0f * 2.7f);
+  EXPECT_FLOAT_EQ(clh_lod_value(0.0f, 0.0f, 1080.0f, 3.0f), 0.0f);
+}
+
+TEST(LodMath, StrandCountEquation1) {
+  // ceil(L (N + delta)), clamped to [1, N]
+  EXPECT_EQ(clh_lod_strands(0.5f, 100, 0.0f), 50u);
+  EXPECT_EQ(clh_lod_strands(0.5f, 100, 0.9f), 51u);    // ceil(50.45)
+  EXPECT_EQ(clh_lod_strands(0.001f, 100, 0.3f), 1u);   // at least one strand
+  EXPECT_EQ(clh_lod_strands(1.0f, 100, 0.99f), 100u);  // at most N
+  EXPECT_EQ(clh_lod_strands(0.25f, 0, 0.5f), 0u);      // empty bundles stay empty
+  EXPECT_EQ(clh_lod_strands(0.3f, 10, 0.5f), 4u);      // ceil(3.15)
+}
+
+TEST(LodMath, ControlPointSnappingEquations4And5) {
+  // C_raw = max(floor(sqrt(L) * 129), layers); C = 2^ceil(log2(C_raw - 1)) + 1
+  struct Case {
+    float L;
+    unsigned layers, expected;
+  };
+  const Case cases[] = {
+      {1.0f, 8, 129},                          // full detail
+      {0.25f, 8, 65},                          // floor(64.5) = 64 -> 65
+      {(65.0f / 129) * (65.0f / 129), 8, 65},  // C_raw 65 -> 65 exactly
+      {(66.0f / 129) * (66.0f / 129), 8, 129}, // C_raw 66 -> 129
+      {0.0625f, 8, 33},                        // floor(32.25) = 32 -> 33
+      {0.0f, 8, 9},                            // layers bound 8 -> 9
+      {0.0f, 2, 3},                            // at least 3
+      {0.0f, 12, 17},                          // 12 layers -> 17
+      {0.01f, 12, 17},                         // floor(12.9) = 12 -> 17
+  };
+  for (const Case& c : cases)
+    EXPECT_EQ(clh_lod_control_points(c.L, c.layers), c.expected) << "L = " << c.L << " layers = " << c.layers;
+  // the snapping table itself
+  const unsigned raw[] = {3, 4, 5, 6, 9, 10, 17, 18, 33, 34, 65, 66, 129};
+  const unsigned snapped[] = {3, 5, 5, 9, 9, 17, 17, 33, 33, 65, 65, 129, 129};
+  for (int i = 0; i < 13; ++i) EXPECT_EQ(clh_lod_snap(raw[i]), snapped[i]) << raw[i];
+}
+
+TEST(LodMath, MorphFactorIsOneExactlyWhereTheLevelSwitches) {
+  // C switches 65 -> 33 when floor(sqrt(L) 129) drops from 34 to 33
+  const float window = 0.5f;
+  float Lswitch = (34.0f / 129.0f) * (34.0f / 129.0f);
+  EXPECT_EQ(clh_lod_control_points(Lswitch * 1.0001f, 8), 65u);
+  EXPECT_EQ(clh_lod_control_points(Lswitch * 0.9999f, 8), 33u);
+  EXPECT_NEAR(clh_lod_morph(Lswitch * 1.0001f, 8, window), 1.0f, 1e-3f);
+  // halfway through the level (log2 scale) the morph is over
+  float Lmid = std::pow((std::pow(2.0f, 5.6f) + 2.0f) / 129.0f, 2.0f);
+  EXPECT_EQ(clh_lod_control_points(Lmid, 8), 65u);
+  EXPECT_FLOAT_EQ(clh_lod_morph(Lmid, 8, window), 0.0f);
+  // inside the window gamma falls linearly in log2(c - 2)
+  float Lq = std::pow((std::pow(2.0f, 5.25f) + 2.0f) / 129.0f, 2.0f);
+  EXPECT_NEAR(clh_lod_morph(Lq, 8, window), 0.5f, 1e-3f);
+  // never toward a level below the layer count
+  EXPECT_EQ(clh_lod_morph(Lswitch * 1.0001f, 40, window), 0.0f);
+  EXPECT_EQ(clh_lod_morph(1.0f, 8, window), 0.0f);
+}
+
+TEST(LodMath, DeltaStaggersTransitions) {
+  // As L decreases slowly every bundle loses at most one strand per step, and the
+  // per-bundle offsets spread the losses over many steps. Eq. 1 scales delta by L, so the
+  // spread covers a fraction L of each unit step of L N: at L >= 0.5 a step that moves
+  // L N by 0.135 changes about 0.135 / L of the bundles, never all of them; without delta
+  // every bundle changes on the same step.
+  const int bundles = 400;
+  const std::uint32_t N = 300;
+  std::vector<float> delta(bundles);
+  for (int b = 0; b < bundles; ++b) delta[b] = clh_u01(clh_hash3(1u, static_cast<std::uint32_t>(b), CLH_RNG_LOD_DELTA));
+  auto sweep = [&](bool useDelta, float Lmin) {
+    std::vector<std::uint32_t> prev(bundles);
+    for (int b = 0; b < bundles; ++b) prev[b] = clh_lod_strands(1.0f, N, useDelta ? delta[b] : 0.0f);
+    int worst = 0;
+    for (int step = 1;; ++step) {
+      float L = 1.0f - 4.5e-4f * step;
+      if (L < Lmin) break;
+      int changed = 0;
+      for (int b = 0; b < bundles; ++b) {
+        std::uint32_t n = clh_lod_strands(L, N, useDelta ? delta[b] : 0.0f);
+        EXPECT_LE(prev[b] - n, 1u) << "bundle " << b << " at L " << L;
+        changed += n != prev[b];
+        prev[b] = n;
+      }
+      worst = std::max(worst, changed);
+    }
+    return worst;
+  };
+  int staggered = sweep(true, 0.5f);
+  EXPECT_LT(staggered, bundles * 2 / 5);
+  EXPECT_EQ(sweep(false, 0.5f), bundles);
+  sweep(true, 0.05f);  // per-bundle changes stay at one strand down to small L
+}
+
+TEST(LodKernel, CullsBundlesOffScreenAndKeepsVisibleOnes) {
+  HairMesh mesh = makeGroomPreset("fur_sphere");
+  mesh.strandCount = 3000;
+  Scene s;
+  s.width = 200;
+  s.height = 100;
+  s.grooms.push_back({"fur", std::make_shared<const HairMesh>(mesh), glm::mat4(1.0f)});
+  s.camera.position = glm::vec3(0.0f, 0.0f, 0.5f);
+  s.camera.target = glm::vec3(0.0f);
+  s.camera.fovYDegrees = 30.0f;
+  Renderer r(test::sharedDevice());
+  RenderOptions o;
+  o.lod = 0;
+  EXPECT_EQ(r.render(s, o).stats.strandsDrawn, 3000u);  // fully in view: nothing culled
+  s.camera.target = glm::vec3(0.0f, 0.0f, 0.8f);        // looking away: everything culled
+  s.camera.position = glm::vec3(0.0f, 0.0f, 0.5f);
+  EXPECT_EQ(r.render(s, o).stats.strandsDrawn, 0u);
+  s.camera.target = glm::vec3(0.2f, 0.0f, 0.0f);        // half in view
+  std::uint64_t half = r.render(s, o).stats.strandsDrawn;
+  EXPECT_GT(half, 300u);
+  EXPECT_LT(half, 2700u);
+}
+
+// Max distance from each point of `fine` to the polyline `coarse`, both sampled uniformly
+// in the strand parameter: fine point k sits at k / (Cf - 1).
+float polylineGap(const float* fine, std::uint32_t cf, const float* coarse, std::uint32_t cc) {
+  float worst = 0.0f;
+  for (std::uint32_t k = 0; k < cf; ++k) {
+    float u = static_cast<float>(k) / (cf - 1) * (cc - 1);
+    std::uint32_t i = std::min<std::uint32_t>(static_cast<std::uint32_t>(u), cc - 2);
+    float t = u - i;
+    glm::vec3 a(coarse[3 * i], coarse[3 * i + 1], coarse[3 * i + 2]);
+    glm::vec3 b(coarse[3 * i + 3], coarse[3 * i + 4], coarse[3 * i + 5]);
+    glm::vec3 p(fine[3 * k], fine[3 * k + 1], fine[3 * k + 2]);
+    worst = std::max(worst, glm::length(p - (a + (b - a) * t)));
+  }
+  return worst;
+}
+
+TEST(LodMorph, StrandsChangeContinuouslyAcrossALevel) {
+  HairMesh mesh = makeGroomPreset("long_wavy");
+  mesh.strandCount = 3000;
+  Renderer r(test::sharedDevice());
+  const float Lswitch = (34.0f / 129.0f) * (34.0f / 129.0f);  // C: 65 above, 33 below
+  StrandSet above = r.generateStrands(mesh, Lswitch * 1.0002f);
+  StrandSet below = r.generateStrands(mesh, Lswitch * 0.9998f);
+  HairMesh noMorph = mesh;
+  noMorph.lod.morphWindow = 0.0f;
+  StrandSet abrupt = r.generateStrands(noMorph, Lswitch * 1.0002f);
+  ASSERT_FALSE(below.pointCounts.empty());
+  ASSERT_EQ(above.pointCounts[0], 65u);
+  ASSERT_EQ(below.pointCounts[0], 33u);
+  // compare the strands both levels draw (the first N_LOD of each bundle)
+  float worstMorph = 0.0f, worstAbrupt = 0.0f;
+  std::size_t ia = 0, ib = 0, sa = 0, sb = 0;
+  while (sa < above.pointCounts.size() && sb < below.pointCounts.size()) {
+    if (above.bundleOf[sa] != below.bundleOf[sb]) {  // N_LOD can differ by one
+      if (above.bundleOf[sa] < below.bundleOf[sb]) ia += above.pointCounts[sa++];
+      else ib += below.pointCounts[sb++];
+      continue;
+    }
+    worstMorph = std::max(worstMorph, polylineGap(&above.points[3 * ia], 65, &below.points[3 * ib], 33));
+    worstAbrupt = std::max(worstAbrupt, polylineGap(&abrupt.points[3 * ia], 65, &below.points[3 * ib], 33));
+    ia += above.pointCounts[sa++];
+    ib += below.pointCounts[sb++];
+  }
+  RecordProperty("jump_with_morph_m", std::to_string(worstMorph));
+  RecordProperty("jump_without_morph_m", std::to_string(worstAbrupt));
+  // the groom is ~0.5 m: the morph keeps the jump at float noise; without it strands jump
+  EXPECT_LT(worstMorph, 2e-5f);
+  EXPECT_GT(worstAbrupt, 20.0f * worstMorph);
+}
+
+TEST(LodCoverage, FarCoverageStaysWithinTenPercent) {
+  HairMesh mesh = makeGroomPreset("long_wavy");
+  Scene s;
+  s.width = 480;
+  s.height = 270;
+  s.grooms.push_back({"g", std::make_shared<const HairMesh>(mesh), glm::mat4(1.0f)});
+  s.camera = framePreset(s, CameraPreset::Far, 30.0f);
+  Renderer r(test::sharedDevice());
+  auto coverage = [&](int lod, std::uint64_t* strands) {
+    RenderOptions o;
+    o.lod = lod;
+    o.msaa = 4;  // coverage per pixel = fraction of samples hit
+    o.captureGBuffer = true;
+    Frame f = r.render(s, o);
+    *strands = f.stats.strandsDrawn;
+    double sum = 0.0;
+    for (std::size_t i = 0; i < f.color.rgba.size() / 4; ++i) {
+      int hits = 0;
+      for (int l = 0; l < 4; ++l) hits += f.gbuffer[l * (f.color.rgba.size() / 4) + i] != ~std::uint64_t(0);
+      sum += hits / 4.0;
+    }
+    return sum;
+  };
+  std::uint64_t nOff = 0, nOn = 0;
+  double off = coverage(0, &nOff), on = coverage(1, &nOn);
+  RecordProperty("coverage_lod_off", std::to_string(off));
+  RecordProperty("coverage_lod_on", std::to_string(on));
+  RecordProperty("strands_lod_on", std::to_string(nOn));
+  EXPECT_LT(nOn, nOff / 2) << "LOD should remove most strands at far";
+  EXPECT_LT(std::fabs(on - off) / off, 0.10) << "coverage off " << off << " on " << on;
+}
+
+}  // namespace
+}  // namespace clhair

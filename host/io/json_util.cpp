@@ -115,6 +115,11 @@ void JsonReader::rejectUnknown(std::initializer_list<const char*> known) const {
 }
 
 json readJsonFile(const std::string& path, const std::string& what) {
+  // A device or FIFO (/dev/zero, /dev/stdin) would be read forever or block.
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (!ec && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+    throw Error(path + ": is not a regular file, cannot read it as a " + what + " file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path + ": cannot open " + what + " file (" + std::strerror(errno) + ")");
   std::ostringstream ss;
@@ -136,6 +141,9 @@ json readJsonFile(const std::string& path, const std::string& what) {
     auto pos = msg.find("parse error");
     throw Error(path + ":" + std::to_string(line) + ":" + std::to_string(col) + ": malformed " +
                 what + " JSON: " + (pos == std::string::npos ? msg : msg.substr(pos)));
+  } catch (const json::exception& e) {
+    // out_of_range 406: a number beyond double range such as 1e400; no position is known.
+    throw Error(path + ": malformed " + what + " JSON: " + e.what());
   }
 }
 

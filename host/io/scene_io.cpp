@@ -31,7 +31,8 @@ glm::mat4 readTransform(const JsonReader& parent, const json& j) {
       for (int c = 0; c < 4; ++c) {
         if (!a[r * 4 + c].is_number()) t.fail("matrix", "must be 16 numbers, row-major");
         double d = a[r * 4 + c].get<double>();
-        if (!std::isfinite(d)) t.fail("matrix", "holds a non-finite number");
+        if (!std::isfinite(d) || std::fabs(d) > 3.0e38)
+          t.fail("matrix", "holds a non-finite number or one beyond float range");
         m[c][r] = static_cast<float>(d);
       }
     t.rejectUnknown({"matrix"});
@@ -180,7 +181,10 @@ Scene loadScene(const std::string& path) {
       if (file.empty()) o.fail("file", "is missing: name the groom's hair-mesh file");
       std::filesystem::path p = std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;
       std::string key = p.lexically_normal().string();
-      if (!std::filesystem::exists(p)) o.fail("file", "\"" + key + "\" does not exist");
+      std::error_code ec;
+      const bool found = std::filesystem::exists(p, ec);
+      if (ec) o.fail("file", "\"" + key + "\" cannot be checked (" + ec.message() + ")");
+      if (!found) o.fail("file", "\"" + key + "\" does not exist");
       std::shared_ptr<const HairMesh> mesh;
       if (loaded.count(key)) {
         mesh = loaded[key];

@@ -436,12 +436,13 @@ StrandSet Renderer::generateStrands(const HairMesh& mesh, float lod) {
     for (std::size_t b = 0; b < B; ++b) {
       const gpu::ClhBundle& bundle = g->data.bundles[b];
       gpu::clh_u32 n = gpu::clh_lod_strands(lod, bundle.strand_count, bundle.lod_delta);
-      float gamma = gpu::clh_lod_morph(lod, layers, mesh.lod.morphWindow);
+      const gpu::clh_u32 cmax = fullDetailControlPoints(mesh);
+      float gamma = gpu::clh_lod_morph(lod, layers, cmax, mesh.lod.morphWindow);
       std::uint32_t gammaBits;
       std::memcpy(&gammaBits, &gamma, 4);
       std::uint32_t lodBits;
       std::memcpy(&lodBits, &lod, 4);
-      records[b] = {{n, gpu::clh_lod_control_points(lod, layers), lodBits, gammaBits}};
+      records[b] = {{n, gpu::clh_lod_control_points(lod, layers, cmax), lodBits, gammaBits}};
       offsets[b + 1] = offsets[b] + n;
     }
     total = offsets[B];

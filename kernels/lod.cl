@@ -55,7 +55,8 @@ __kernel void lod_bundles(__global const ClhGroomGpu* groom_g, __global const Cl
   }
 
   uint n_lod = n_full;
-  uint C = clamp(g->control_points, 2u, (uint)CLH_MAX_CONTROL_POINTS);
+  const uint C_full = clamp(g->control_points, 3u, (uint)CLH_MAX_CONTROL_POINTS);
+  uint C = C_full;
   float L = 1.0f, gamma = 0.0f;
   bool off_screen = hi.x < 0.0f || hi.y < 0.0f || lo.x > width || lo.y > height;
   if (all_behind || (!unprojectable && off_screen)) {
@@ -64,8 +65,8 @@ __kernel void lod_bundles(__global const ClhGroomGpu* groom_g, __global const Cl
     float2 ext = hi - lo;
     L = clh_lod_value(ext.x, ext.y, height, g->lod_lambda);    /* Eq. 2 */
     n_lod = clh_lod_strands(L, n_full, bundle->lod_delta);     /* Eq. 1 */
-    C = clh_lod_control_points(L, layers);                     /* Eq. 4-5 */
-    gamma = clh_lod_morph(L, layers, g->lod_morph_window);     /* Bhokare Eq. 10-12 */
+    C = clh_lod_control_points(L, layers, C_full);                  /* Eq. 4-5, C_max = full detail */
+    gamma = clh_lod_morph(L, layers, C_full, g->lod_morph_window); /* Bhokare Eq. 10-12 */
   }
   lod_g[b] = (uint4)(n_lod, C, as_uint(L), as_uint(gamma));
   counts_g[b] = n_lod;

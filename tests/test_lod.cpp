@@ -36,7 +36,7 @@ TEST(LodMath, StrandCountEquation1) {
 }
 
 TEST(LodMath, ControlPointSnappingEquations4And5) {
-  // C_raw = max(floor(sqrt(L) * 129), layers); C = 2^ceil(log2(C_raw - 1)) + 1
+  // C_raw = max(floor(sqrt(L) * C_max), layers); C = 2^ceil(log2(C_raw - 1)) + 1, C_max = 129
   struct Case {
     float L;
     unsigned layers, expected;
@@ -53,30 +53,32 @@ TEST(LodMath, ControlPointSnappingEquations4And5) {
       {0.01f, 12, 17},                         // floor(12.9) = 12 -> 17
   };
   for (const Case& c : cases)
-    EXPECT_EQ(clh_lod_control_points(c.L, c.layers), c.expected) << "L = " << c.L << " layers = " << c.layers;
+    EXPECT_EQ(clh_lod_control_points(c.L, c.layers, 129), c.expected) << "L = " << c.L << " layers = " << c.layers;
   // the snapping table itself
   const unsigned raw[] = {3, 4, 5, 6, 9, 10, 17, 18, 33, 34, 65, 66, 129};
   const unsigned snapped[] = {3, 5, 5, 9, 9, 17, 17, 33, 33, 65, 65, 129, 129};
-  for (int i = 0; i < 13; ++i) EXPECT_EQ(clh_lod_snap(raw[i]), snapped[i]) << raw[i];
+  for (int i = 0; i < 13; ++i) EXPECT_EQ(clh_lod_snap(raw[i], 129), snapped[i]) << raw[i];
+  EXPECT_EQ(clh_lod_snap(100, 65), 65u);  // never above the groom's full detail
+  EXPECT_EQ(clh_lod_control_points(1.0f, 8, 65), 65u);
 }
 
 TEST(LodMath, MorphFactorIsOneExactlyWhereTheLevelSwitches) {
   // C switches 65 -> 33 when floor(sqrt(L) 129) drops from 34 to 33
   const float window = 0.5f;
   float Lswitch = (34.0f / 129.0f) * (34.0f / 129.0f);
-  EXPECT_EQ(clh_lod_control_points(Lswitch * 1.0001f, 8), 65u);
-  EXPECT_EQ(clh_lod_control_points(Lswitch * 0.9999f, 8), 33u);
-  EXPECT_NEAR(clh_lod_morph(Lswitch * 1.0001f, 8, window), 1.0f, 1e-3f);
+  EXPECT_EQ(clh_lod_control_points(Lswitch * 1.0001f, 8, 129), 65u);
+  EXPECT_EQ(clh_lod_control_points(Lswitch * 0.9999f, 8, 129), 33u);
+  EXPECT_NEAR(clh_lod_morph(Lswitch * 1.0001f, 8, 129, window), 1.0f, 1e-3f);
   // halfway through the level (log2 scale) the morph is over
   float Lmid = std::pow((std::pow(2.0f, 5.6f) + 2.0f) / 129.0f, 2.0f);
-  EXPECT_EQ(clh_lod_control_points(Lmid, 8), 65u);
-  EXPECT_FLOAT_EQ(clh_lod_morph(Lmid, 8, window), 0.0f);
+  EXPECT_EQ(clh_lod_control_points(Lmid, 8, 129), 65u);
+  EXPECT_FLOAT_EQ(clh_lod_morph(Lmid, 8, 129, window), 0.0f);
   // inside the window gamma falls linearly in log2(c - 2)
   float Lq = std::pow((std::pow(2.0f, 5.25f) + 2.0f) / 129.0f, 2.0f);
-  EXPECT_NEAR(clh_lod_morph(Lq, 8, window), 0.5f, 1e-3f);
+  EXPECT_NEAR(clh_lod_morph(Lq, 8, 129, window), 0.5f, 1e-3f);
   // never toward a level below the layer count
-  EXPECT_EQ(clh_lod_morph(Lswitch * 1.0001f, 40, window), 0.0f);
-  EXPECT_EQ(clh_lod_morph(1.0f, 8, window), 0.0f);
+  EXPECT_EQ(clh_lod_morph(Lswitch * 1.0001f, 40, 129, window), 0.0f);
+  EXPECT_EQ(clh_lod_morph(1.0f, 8, 129, window), 0.0f);
 }
 
 TEST(LodMath, DeltaStaggersTransitions) {
@@ -155,6 +157,7 @@ float polylineGap(const float* fine, std::uint32_t cf, const float* coarse, std:
 TEST(LodMorph, StrandsChangeContinuouslyAcrossALevel) {
   HairMesh mesh = makeGroomPreset("long_wavy");
   mesh.strandCount = 3000;
+  mesh.controlPoints = 129;  // C_max = 129: the level switch below is at C_raw = 34
   Renderer r(test::sharedDevice());
   const float Lswitch = (34.0f / 129.0f) * (34.0f / 129.0f);  // C: 65 above, 33 below
   StrandSet above = r.generateStrands(mesh, Lswitch * 1.0002f);

@@ -5,8 +5,9 @@
  * to 2^k + 1). Bhokare et al. 2024 §3.6.2: the morph factor gamma that moves a strand
  * toward the next coarser level inside a transition window, so C can halve without a
  * jump: at the point where C switches from 2^k + 1 to 2^(k-1) + 1, gamma is exactly 1.
- * C_max is CLH_MAX_CONTROL_POINTS (129, see gpu_types.h). Written in the common subset of
- * C++17 and OpenCL C like gpu_types.h.
+ * C_max is the groom's full-detail control-point count (at most CLH_MAX_CONTROL_POINTS,
+ * 129, see gpu_types.h), so LOD never draws more points than LOD off. Written in the
+ * common subset of C++17 and OpenCL C like gpu_types.h.
  */
 #ifndef CLHAIR_LOD_MATH_H
 #define CLHAIR_LOD_MATH_H
@@ -34,31 +35,31 @@ CLH_FN clh_u32 clh_lod_strands(float L, clh_u32 n_full, float delta) {
 
 /* Eq. 4 without the floor: the continuous control-point target, at least the layer count
  * and at least 3. */
-CLH_FN float clh_lod_points_continuous(float L, clh_u32 layers) {
-  float c = sqrt(clh_clamp01(L)) * (float)CLH_MAX_CONTROL_POINTS;
+CLH_FN float clh_lod_points_continuous(float L, clh_u32 layers, clh_u32 c_max) {
+  float c = sqrt(clh_clamp01(L)) * (float)c_max;
   return fmax(fmax(c, (float)layers), 3.0f);
 }
 
 /* Eq. 5: C = min(2^ceil(log2(C_raw - 1)) + 1, C_max) with C_raw = floor(continuous). */
-CLH_FN clh_u32 clh_lod_snap(clh_u32 c_raw) {
+CLH_FN clh_u32 clh_lod_snap(clh_u32 c_raw, clh_u32 c_max) {
   if (c_raw < 3u) c_raw = 3u;
   clh_u32 p = 1u;
   while (p < c_raw - 1u) p <<= 1;
   clh_u32 c = p + 1u;
-  return c > (clh_u32)CLH_MAX_CONTROL_POINTS ? (clh_u32)CLH_MAX_CONTROL_POINTS : c;
+  return c > c_max ? c_max : c;
 }
 
-CLH_FN clh_u32 clh_lod_control_points(float L, clh_u32 layers) {
-  return clh_lod_snap((clh_u32)floor(clh_lod_points_continuous(L, layers)));
+CLH_FN clh_u32 clh_lod_control_points(float L, clh_u32 layers, clh_u32 c_max) {
+  return clh_lod_snap((clh_u32)floor(clh_lod_points_continuous(L, layers, c_max)), c_max);
 }
 
 /* Bhokare Eq. 10-12 in C's terms: C = 2^k + 1 holds while the continuous target c lies in
  * [2^(k-1) + 2, 2^k + 2); with y = log2(c - 2) in [k-1, k), the strand is morphed toward
  * level k-1 by gamma = 1 - (y - (k-1)) / window inside the first `window` of the level.
  * No morph when level k-1 would have fewer points than the layers (C never goes there). */
-CLH_FN float clh_lod_morph(float L, clh_u32 layers, float window) {
-  float c = clh_lod_points_continuous(L, layers);
-  clh_u32 C = clh_lod_snap((clh_u32)floor(c));
+CLH_FN float clh_lod_morph(float L, clh_u32 layers, clh_u32 c_max, float window) {
+  float c = clh_lod_points_continuous(L, layers, c_max);
+  clh_u32 C = clh_lod_snap((clh_u32)floor(c), c_max);
   if (C < 5u || !(window > 0.0f)) return 0.0f;
   clh_u32 lower = (C - 1u) / 2u + 1u;
   if (lower < layers) return 0.0f;

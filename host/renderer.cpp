@@ -154,6 +154,7 @@ struct Renderer::Impl {
   StrandStage strands;
   ShadeStage shade;
   CompositeStage composite;
+  cl::Kernel clear;
   Profiler profiler;
 
   std::map<const HairMesh*, std::unique_ptr<GroomResources>> grooms;
@@ -171,7 +172,8 @@ struct Renderer::Impl {
         lod(dev),
         strands(dev),
         shade(dev),
-        composite(dev) {
+        composite(dev),
+        clear(dev.kernel("clear.cl", "clear_words")) {
     view = makeBuffer<gpu::ClhViewGpu>(dev, "view parameters", 1);
     scene = makeBuffer<gpu::ClhSceneGpu>(dev, "scene parameters", 1);
   }
@@ -358,9 +360,11 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
     std::uint32_t strands = mode == DispatchMode::ReadBack ? r.lod.readTotal(lp)
                                                            : static_cast<std::uint32_t>(g.data.totalStrands);
     clCall("clearing the G-buffer", [&] {
-      cl::Event e;
-      r.dev.queue.enqueueFillBuffer(r.gbuffer, ~cl_ulong(0), 0, pixels * r.layers * sizeof(cl_ulong), nullptr, &e);
-      r.profiler.add("clear", e);
+      const cl_ulong words = pixels * r.layers;
+      r.clear.setArg(0, r.gbuffer);
+      r.clear.setArg(1, ~cl_ulong(0));
+      r.clear.setArg(2, words);
+      dispatch(r.dev, r.clear, "clear", cl::NDRange(words), cl::NDRange(256), &r.profiler);
       return 0;
     });
     StrandStage::Raster rs{&r.view, &r.depth, &r.gbuffer, &r.stats, options.msaa, options.rasterStats, mode, strands};

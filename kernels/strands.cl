@@ -25,9 +25,11 @@
  * The hit diameter is the strand's projected width (at least the groom's minimum),
  * widened by N / N_LOD to compensate strands removed by LOD.
  *
- * Dispatch: group g draws strand strand_base + g and, when strand_stride > 0 (persistent
- * grid), every strand_stride-th strand after it; groups past the total leave at once
- * (over-launch). strands_export writes points and tangents instead of drawing.
+ * Dispatch: in strands_raster group g draws strand strand_base + g, and groups past the
+ * total leave at once (read-back and over-launch sizing); in strands_raster_persistent
+ * group g draws every strand_stride-th strand from g on (a persistent grid). The two are
+ * separate kernels so the common one has no loop around its barriers. strands_export
+ * writes points and tangents instead of drawing.
  */
 #include "clhair/gpu_types.h"
 #include "subgroup.h"
@@ -430,19 +432,50 @@ static inline bool clh_strand_job(__global const ClhGroomGpu* g, __global const 
   return *local_index < lod.x;
 }
 
-__kernel SG_KERNEL_ATTRS void strands_raster(
-    __global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
-    __global const ClhBundle* bundles_g, __global const ClhMeshVertex* verts_g,
-    __global const uint4* lod_g, __global const uint* offsets_g,
-    __global const float2* roots_quad_g, __global const float2* roots_tri_g,
-    __global const float* scene_depth_g, __global ulong* gbuf_g, __global uint* stats_g,
-    uint strand_base, uint strand_stride) {
-  SG_DECLARE(sg);
-  __local clh_layer_pt layers_l[CLH_MAX_LAYERS];
-  __local clh_strand strand_l[1];
-  __local float4 pts_l[CLH_MAX_CONTROL_POINTS];
-  __global const ClhGroomGpu* g = groom_g;
+typedef struct {
+  __local clh_layer_pt* layers;
+  __local clh_strand* strand;
+  __local float4* pts;
+} clh_strand_scratch;
 
+/* Assembles strand `strand` (when it exists) and draws its segments. Uniform per group. */
+static inline void clh_draw_strand(sg_ctx* sg, clh_strand_scratch scratch, clh_raster_ctx* rc,
+                                   __global const ClhGroomGpu* g, __global const ClhBundle* bundles_g,
+                                   __global const ClhMeshVertex* verts_g, __global const uint4* lod_g,
+                                   __global const uint* offsets_g, __global const float2* roots_quad_g,
+                                   __global const float2* roots_tri_g, __global const float* scene_depth_g,
+                                   __global ulong* gbuf_g, __global uint* stats_g, uint strand) {
+  uint bundle = 0u, local_index = 0u, C = 2u;
+  float gamma = 0.0f, coverage = 1.0f;
+  if (!clh_strand_job(g, lod_g, offsets_g, bundles_g, strand, &bundle, &local_index, &C, &gamma, &coverage))
+    return;
+  float4 P[CLH_PTS_CAP], T[CLH_PTS_CAP];
+  clh_lane_span span;
+  clh_assemble_strand(sg, scratch.layers, scratch.strand, scratch.pts, g, bundles_g + bundle, verts_g,
+                      roots_quad_g, roots_tri_g, bundle, local_index, C, gamma, P, T, &span);
+  rc->u6 = clh_unorm_bits(span.uv.x, 6u);
+  rc->v6 = clh_unorm_bits(span.uv.y, 6u);
+  rc->coverage = coverage;
+  const clh_mat34 to_view = clh_load_mat34(g->obj_to_view);
+  const clh_mat34 to_world = clh_load_mat34(g->obj_to_world);
+  float3 prev_view = (float3)(0.0f);
+  float4 prev_t = (float4)(0.0f);
+  float prev_w = 0.0f;
+  for (uint i = 0; i < CLH_PTS_CAP + 1u; ++i) {
+    uint k = span.first + i;
+    if (i > span.count || k >= span.C) break;
+    float4 p = (i < span.count) ? P[i] : span.next_p;
+    float4 t = (i < span.count) ? T[i] : span.next_t;
+    float3 pv = clh_xform_point(to_view, p.xyz);
+    float4 tw = (float4)(clh_xform_dir(to_world, t.xyz), t.w);
+    if (i > 0u) clh_raster_segment(rc, scene_depth_g, gbuf_g, stats_g, prev_view, pv, prev_t, tw, prev_w, p.w);
+    prev_view = pv;
+    prev_t = tw;
+    prev_w = p.w;
+  }
+}
+
+static inline clh_raster_ctx clh_raster_setup(__global const ClhGroomGpu* g, __global const ClhViewGpu* view_g) {
   clh_raster_ctx rc;
   rc.fx = view_g->fx;
   rc.fy = view_g->fy;
@@ -456,44 +489,45 @@ __kernel SG_KERNEL_ATTRS void strands_raster(
   rc.depth_far = g->depth_far;
   rc.width_px1 = view_g->fy * g->strand_width;
   rc.min_diameter = g->hit_diameter_px;
-  const clh_mat34 to_view = clh_load_mat34(g->obj_to_view);
-  const clh_mat34 to_world = clh_load_mat34(g->obj_to_world);
+  rc.coverage = 1.0f;
+  rc.u6 = rc.v6 = 0u;
+  return rc;
+}
 
-  for (uint strand = strand_base + (uint)get_group_id(0);;) {
-    uint bundle = 0u, local_index = 0u, C = 2u;
-    float gamma = 0.0f, coverage = 1.0f;
-    /* uniform per work-group: the whole group leaves together or not at all */
-    if (!clh_strand_job(g, lod_g, offsets_g, bundles_g, strand, &bundle, &local_index, &C, &gamma,
-                        &coverage))
-      return;
-    float4 P[CLH_PTS_CAP], T[CLH_PTS_CAP];
-    clh_lane_span span;
-    clh_assemble_strand(&sg, layers_l, strand_l, pts_l, g, bundles_g + bundle, verts_g,
-                        roots_quad_g, roots_tri_g, bundle, local_index, C, gamma, P, T, &span);
-    rc.u6 = clh_unorm_bits(span.uv.x, 6u);
-    rc.v6 = clh_unorm_bits(span.uv.y, 6u);
-    rc.coverage = coverage;
+#define CLH_RASTER_PARAMS                                                                          \
+  __global const ClhGroomGpu *groom_g, __global const ClhViewGpu *view_g,                          \
+      __global const ClhBundle *bundles_g, __global const ClhMeshVertex *verts_g,                  \
+      __global const uint4 *lod_g, __global const uint *offsets_g,                                 \
+      __global const float2 *roots_quad_g, __global const float2 *roots_tri_g,                     \
+      __global const float *scene_depth_g, __global ulong *gbuf_g, __global uint *stats_g,         \
+      uint strand_base, uint strand_stride
 
-    float3 prev_view = (float3)(0.0f);
-    float4 prev_t = (float4)(0.0f);
-    float prev_w = 0.0f;
-    for (uint i = 0; i < CLH_PTS_CAP + 1u; ++i) {
-      uint k = span.first + i;
-      if (i > span.count || k >= span.C) break;
-      float4 p = (i < span.count) ? P[i] : span.next_p;
-      float4 t = (i < span.count) ? T[i] : span.next_t;
-      float3 pv = clh_xform_point(to_view, p.xyz);
-      float4 tw = (float4)(clh_xform_dir(to_world, t.xyz), t.w);
-      if (i > 0u) {
-        clh_raster_segment(&rc, scene_depth_g, gbuf_g, stats_g, prev_view, pv, prev_t, tw, prev_w,
-                           p.w);
-      }
-      prev_view = pv;
-      prev_t = tw;
-      prev_w = p.w;
-    }
-    if (strand_stride == 0u) return;
-    strand += strand_stride;
+#define CLH_RASTER_PROLOGUE                                           \
+  SG_DECLARE(sg);                                                     \
+  __local clh_layer_pt layers_l[CLH_MAX_LAYERS];                      \
+  __local clh_strand strand_l[1];                                     \
+  __local float4 pts_l[CLH_MAX_CONTROL_POINTS];                       \
+  clh_strand_scratch scratch;                                         \
+  scratch.layers = layers_l;                                          \
+  scratch.strand = strand_l;                                          \
+  scratch.pts = pts_l;                                                \
+  clh_raster_ctx rc = clh_raster_setup(groom_g, view_g)
+
+/* One strand per work-group: strand_base + group (read-back and over-launch sizing). */
+__kernel SG_KERNEL_ATTRS void strands_raster(CLH_RASTER_PARAMS) {
+  CLH_RASTER_PROLOGUE;
+  (void)strand_stride;
+  clh_draw_strand(&sg, scratch, &rc, groom_g, bundles_g, verts_g, lod_g, offsets_g, roots_quad_g,
+                  roots_tri_g, scene_depth_g, gbuf_g, stats_g, strand_base + (uint)get_group_id(0));
+}
+
+/* Persistent grid: group g draws strands g, g + stride, g + 2 stride, ... below the total. */
+__kernel SG_KERNEL_ATTRS void strands_raster_persistent(CLH_RASTER_PARAMS) {
+  CLH_RASTER_PROLOGUE;
+  const uint total = groom_g->bundle_count > 0u ? offsets_g[groom_g->bundle_count] : 0u;
+  for (uint strand = strand_base + (uint)get_group_id(0); strand < total; strand += max(strand_stride, 1u)) {
+    clh_draw_strand(&sg, scratch, &rc, groom_g, bundles_g, verts_g, lod_g, offsets_g, roots_quad_g,
+                    roots_tri_g, scene_depth_g, gbuf_g, stats_g, strand);
   }
 }
 

@@ -15,6 +15,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "cl/cl_error.h"
 #include "clhair/device.h"
 #include "clhair/error.h"
 #include "clhair/hair_mesh.h"
@@ -65,23 +66,25 @@ int cmdDevices(const DeviceOptions& opts) {
 
 struct RenderFlags {
   int width = 0, height = 0, msaa = 1;
+  bool widthGiven = false, heightGiven = false;
   std::string camera, lod, dispatch = "auto";
   bool quiet = false;
 };
 
 int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std::string& out,
               const RenderFlags& f) {
-  const int width = f.width, height = f.height;
+  const int width = f.width, height = f.height;  // 0 = not given
   const std::string& camera = f.camera;
   const std::string& lod = f.lod;
   const bool quiet = f.quiet;
   Scene scene = loadScene(scenePath);
-  if (width != 0 || height != 0) {
-    if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide)
-      throw Error("resolution " + std::to_string(width) + "x" + std::to_string(height) +
-                  " is outside 1.." + std::to_string(kMaxImageSide) + " per side");
-    scene.width = width;
-    scene.height = height;
+  if (f.widthGiven || f.heightGiven) {
+    int w = f.widthGiven ? width : scene.width, h = f.heightGiven ? height : scene.height;
+    if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
+      throw Error("resolution " + std::to_string(w) + "x" + std::to_string(h) + " is outside 1.." +
+                  std::to_string(kMaxImageSide) + " per side");
+    scene.width = w;
+    scene.height = h;
   }
   if (!camera.empty()) scene.camera = framePreset(scene, parseCameraPreset(camera), 0.0f, 10.0f, scene.camera.fovYDegrees);
   RenderOptions ro;
@@ -181,6 +184,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
+  rf.widthGiven = render->count("--width") > 0;
+  rf.heightGiven = render->count("--height") > 0;
   try {
     DeviceOptions resolved = DeviceOptions::fromEnvironment(opts);
     if (*devices) return cmdDevices(resolved);
@@ -189,6 +194,9 @@ int main(int argc, char** argv) {
     if (*exportCmd) return cmdExport(resolved, groomPath, hairOut);
   } catch (const Error& e) {
     std::fprintf(stderr, "clhair: error: %s\n", e.what());
+    return 1;
+  } catch (const cl::Error& e) {
+    std::fprintf(stderr, "clhair: error: OpenCL call %s failed with %s (%d)\n", e.what(), clErrorName(e.err()), e.err());
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "clhair: error: %s\n", e.what());

@@ -9,21 +9,21 @@ namespace clhair {
 
 StrandStage::StrandStage(Device::Impl& dev)
     : dev_(dev), export_(dev.kernel("strands.cl", "strands_export")) {
-  rasterKernel(1, false);  // build the common variant up front
+  rasterKernel(1, false, false);  // build the common variant up front
 }
 
-cl::Kernel& StrandStage::rasterKernel(int msaa, bool stats) {
-  int key = msaa * 2 + (stats ? 1 : 0);
+cl::Kernel& StrandStage::rasterKernel(int msaa, bool stats, bool persistent) {
+  int key = msaa * 4 + (stats ? 2 : 0) + (persistent ? 1 : 0);
   auto it = raster_.find(key);
   if (it != raster_.end()) return it->second;
   std::string opts = "-DCLH_MSAA=" + std::to_string(msaa) + (stats ? " -DCLH_RASTER_STATS=1" : "");
-  return raster_[key] = dev_.kernel("strands.cl", "strands_raster", opts);
+  return raster_[key] = dev_.kernel("strands.cl", persistent ? "strands_raster_persistent" : "strands_raster", opts);
 }
 
 void StrandStage::raster(const Inputs& in, const Raster& r, Profiler* profiler) {
   if (r.msaa != 1 && r.msaa != 2 && r.msaa != 4 && r.msaa != 8)
     throw Error("MSAA must be 1, 2, 4 or 8 samples, not " + std::to_string(r.msaa));
-  cl::Kernel& k = rasterKernel(r.msaa, r.stats);
+  cl::Kernel& k = rasterKernel(r.msaa, r.stats, r.mode == DispatchMode::Persistent);
   k.setArg(0, *in.groom);
   k.setArg(1, *r.view);
   k.setArg(2, *in.bundles);

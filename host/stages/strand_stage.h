@@ -43,7 +43,7 @@ class StrandStage {
                      cl::Buffer& tangents, cl::Buffer& counts, Profiler* profiler);
 
  private:
-  cl::Kernel& rasterKernel(int msaa, bool stats);
+  cl::Kernel& rasterKernel(int msaa, bool stats, bool persistent);
   Device::Impl& dev_;
   std::map<int, cl::Kernel> raster_;
   cl::Kernel export_;

@@ -1,0 +1,356 @@
+// main.cpp — clhair_bench: speed of the pipeline on one device, reported side by side.
+//
+// Sections (all by default, or chosen with --only):
+//   table1    Lipp et al. Table 1 for this device: {MSAA 1, 2, 4, 8} x {LOD off, on} x
+//             {close, mid, far} x {groom 1, groom 2}; per-stage medians after warm-up,
+//             strands and segments drawn, G-buffer writes, atomics issued and skipped.
+//   dispatch  read-back vs over-launch vs persistent sizing of the strand pass.
+//   scaling   strands 16k -> 256k at a fixed view; resolution 720p -> 4K at a fixed groom.
+//   atomics   64-bit atom_min throughput with and without the load skip, and each
+//             table1 MSAA-1 raster time as a multiple of that floor.
+// Timings come from OpenCL profiling events (device time per stage), never wall clock;
+// compile time is reported apart. Output: bench.json, bench.csv and bench.md in --out,
+// tagged with device, driver and git revision; the markdown is also printed.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "cl/device_impl.h"
+#include "clhair/renderer.h"
+#include "clhair/scene.h"
+
+namespace {
+
+using namespace clhair;
+using nlohmann::json;
+
+struct Stats {
+  double median = 0, min = 0, max = 0;
+};
+
+Stats summarize(std::vector<double> v) {
+  Stats s;
+  if (v.empty()) return s;
+  std::sort(v.begin(), v.end());
+  s.min = v.front();
+  s.max = v.back();
+  s.median = v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+  return s;
+}
+
+struct Measured {
+  std::map<std::string, Stats> stages;
+  Stats total;
+  FrameStats counts;  // from a separate statistics frame
+};
+
+struct Bench {
+  Device device;
+  Renderer renderer;
+  int warmup = 1, runs = 3;
+
+  Measured measure(const Scene& scene, RenderOptions o, bool counts = true) {
+    for (int i = 0; i < warmup; ++i) renderer.render(scene, o);
+    std::map<std::string, std::vector<double>> stages;
+    std::vector<double> totals;
+    for (int i = 0; i < runs; ++i) {
+      Frame f = renderer.render(scene, o);
+      for (const StageTime& t : f.timings) stages[t.stage].push_back(t.ms);
+      totals.push_back(f.totalMs());
+    }
+    Measured m;
+    for (auto& [k, v] : stages) m.stages[k] = summarize(v);
+    m.total = summarize(totals);
+    if (counts) {
+      o.rasterStats = true;
+      m.counts = renderer.render(scene, o).stats;
+    }
+    return m;
+  }
+};
+
+std::string gitRevision() {
+  std::string cmd = std::string("git -C '") + CLHAIR_SOURCE_DIR + "' rev-parse --short HEAD 2>/dev/null";
+  FILE* p = ::popen(cmd.c_str(), "r");
+  if (!p) return "unknown";
+  char buf[64] = {};
+  std::string rev = std::fgets(buf, sizeof(buf), p) ? std::string(buf) : "unknown";
+  ::pclose(p);
+  rev.erase(std::remove(rev.begin(), rev.end(), '\n'), rev.end());
+  return rev.empty() ? "unknown" : rev;
+}
+
+std::string fmt(double v, int digits = 2) {
+  char b[64];
+  std::snprintf(b, sizeof(b), "%.*f", digits, v);
+  return b;
+}
+
+json measuredJson(const Measured& m) {
+  json j;
+  j["total_ms"] = {{"median", m.total.median}, {"min", m.total.min}, {"max", m.total.max}};
+  for (const auto& [k, s] : m.stages) j["stages_ms"][k] = {{"median", s.median}, {"min", s.min}, {"max", s.max}};
+  j["strands"] = m.counts.strandsDrawn;
+  j["segments"] = m.counts.segmentsDrawn;
+  j["pixel_writes"] = m.counts.pixelWrites;
+  j["atomics_issued"] = m.counts.atomicsIssued;
+  j["atomics_skipped"] = m.counts.atomicsSkipped;
+  return j;
+}
+
+double stageMedian(const Measured& m, const std::string& stage) {
+  auto it = m.stages.find(stage);
+  return it == m.stages.end() ? 0.0 : it->second.median;
+}
+
+// ns per 64-bit atom_min issued on this device (coherent addresses); returns {plain, skip}
+std::pair<double, double> atomicProbe(Device::Impl& d, std::size_t words, int repeats, json& out) {
+  cl::Kernel k(d.program("bench.cl"), "bench_atomic_min");
+  cl::Buffer target(d.context, CL_MEM_READ_WRITE, words * sizeof(cl_ulong));
+  const cl_uint perItem = 16;
+  const std::size_t items = words / 4;  // 4 attempts per word per pass on average
+  double result[2];
+  for (int skip = 0; skip < 2; ++skip) {
+    std::vector<double> ms;
+    for (int r = 0; r < repeats + 1; ++r) {
+      d.queue.enqueueFillBuffer(target, ~cl_ulong(0), 0, words * sizeof(cl_ulong));
+      k.setArg(0, target);
+      k.setArg(1, static_cast<cl_uint>(words));
+      k.setArg(2, perItem);
+      k.setArg(3, static_cast<cl_uint>(skip));
+      cl::Event e;
+      d.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(items), cl::NullRange, nullptr, &e);
+      e.wait();
+      double t = (e.getProfilingInfo<CL_PROFILING_COMMAND_END>() - e.getProfilingInfo<CL_PROFILING_COMMAND_START>()) * 1e-6;
+      if (r > 0) ms.push_back(t);  // the first run warms up
+    }
+    Stats s = summarize(ms);
+    double attempts = static_cast<double>(items) * perItem;
+    result[skip] = s.median * 1e6 / attempts;
+    out[skip ? "load_skip" : "plain"] = {{"median_ms", s.median}, {"attempts", attempts},
+                                         {"ns_per_attempt", result[skip]},
+                                         {"attempts_per_s", attempts / (s.median * 1e-3)}};
+  }
+  return {result[0], result[1]};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace clhair;
+  CLI::App app{"clhair_bench: speed of the clhair pipeline on one device"};
+  DeviceOptions dopts;
+  std::string out = "bench-results", only, sceneDir = std::string(CLHAIR_SOURCE_DIR) + "/bench/scenes";
+  int runs = 3, warmup = 1, width = 1920, height = 1080;
+  bool quick = false;
+  app.add_option("--device", dopts.selector, "device: P:D or a name substring");
+  app.add_option("--out", out, "folder for bench.json, bench.csv, bench.md");
+  app.add_option("--only", only, "one section: table1, dispatch, scaling, atomics");
+  app.add_option("--runs", runs, "timed runs per configuration (median reported)");
+  app.add_option("--warmup", warmup, "untimed runs first");
+  app.add_option("--width", width, "table1 width");
+  app.add_option("--height", height, "table1 height");
+  app.add_option("--scenes", sceneDir, "folder with groom1.json and groom2.json");
+  app.add_flag("--quick", quick, "smaller sweep for a fast look (640x360, 1 run, MSAA 1 and 4)");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (quick) {
+      runs = 1;
+      warmup = 1;
+      width = 640;
+      height = 360;
+    }
+    auto t0 = std::chrono::steady_clock::now();
+    Device dev = Device::open(DeviceOptions::fromEnvironment(dopts));
+    Bench b{dev, Renderer(dev), warmup, runs};
+    double compileMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    const DeviceInfo& info = dev.info();
+    json report;
+    report["device"] = info.name;
+    report["platform"] = info.platformName;
+    report["driver"] = info.driverVersion;
+    report["opencl"] = info.version;
+    report["subgroup_backend"] = subgroupBackendName(info.backend);
+    report["revision"] = gitRevision();
+    report["runs"] = runs;
+    report["warmup"] = warmup;
+    report["startup_and_compile_ms"] = compileMs;
+    std::ostringstream md, csv;
+    md << "# clhair benchmark\n\n" << "device: " << info.name << " (" << info.platformName << ", driver "
+       << info.driverVersion << "), sub-group backend " << subgroupBackendName(info.backend) << ", revision "
+       << report["revision"].get<std::string>() << "; median of " << runs << " runs after " << warmup
+       << " warm-up; device times from profiling events. Start-up incl. kernel compilation: " << fmt(compileMs, 0)
+       << " ms.\n\n";
+    csv << "section,groom,lod,msaa,distance,strands_target,width,height,dispatch,total_ms,strands_ms,lod_ms,shade_ms,"
+           "composite_ms,strands,segments,pixel_writes,atomics_issued,atomics_skipped\n";
+
+    Scene scenes[2] = {loadScene(sceneDir + "/groom1.json"), loadScene(sceneDir + "/groom2.json")};
+    const char* groomNames[2] = {"groom1 (long_wavy)", "groom2 (curly_medium)"};
+    const CameraPreset dists[3] = {CameraPreset::Close, CameraPreset::Mid, CameraPreset::Far};
+    const char* distNames[3] = {"close", "mid", "far"};
+    auto framed = [&](Scene s, CameraPreset p, int w, int h) {
+      s.width = w;
+      s.height = h;
+      s.camera = framePreset(s, p, 35.0f, 10.0f, 35.0f);
+      return s;
+    };
+    auto csvRow = [&](const std::string& section, const std::string& groom, int lod, int msaa, const std::string& dist,
+                      std::int64_t strandsTarget, int w, int h, const std::string& dispatch, const Measured& m) {
+      csv << section << ",\"" << groom << "\"," << lod << "," << msaa << "," << dist << "," << strandsTarget << "," << w
+          << "," << h << "," << dispatch << "," << m.total.median << "," << stageMedian(m, "strands") << ","
+          << stageMedian(m, "lod") << "," << stageMedian(m, "shade") << "," << stageMedian(m, "composite") << ","
+          << m.counts.strandsDrawn << "," << m.counts.segmentsDrawn << "," << m.counts.pixelWrites << ","
+          << m.counts.atomicsIssued << "," << m.counts.atomicsSkipped << "\n";
+    };
+
+    std::vector<std::pair<std::string, Measured>> msaa1Rows;  // for the atomic-floor multiples
+    if (only.empty() || only == "table1" || only == "atomics") {
+      std::vector<int> msaas = quick ? std::vector<int>{1, 4} : std::vector<int>{1, 2, 4, 8};
+      md << "## Table 1: frame time in ms, total (strand pass), " << width << "x" << height << "\n\n";
+      md << "| LOD | MSAA | " << groomNames[0] << " close | mid | far | " << groomNames[1] << " close | mid | far |\n";
+      md << "|---|---|---|---|---|---|---|---|\n";
+      json t1 = json::array();
+      std::ostringstream counts;
+      counts << "\n### Work per frame (LOD off / on, MSAA 1)\n\n| groom | distance | LOD | strands | segments | "
+                "G-buffer writes | atomics issued | skipped by the load |\n|---|---|---|---|---|---|---|---|\n";
+      for (int lod = 0; lod < 2; ++lod) {
+        for (int msaa : msaas) {
+          md << "| " << (lod ? "on" : "off") << " | " << msaa << " |";
+          for (int g = 0; g < 2; ++g) {
+            for (int d = 0; d < 3; ++d) {
+              if (only == "atomics" && msaa != 1) continue;
+              Scene s = framed(scenes[g], dists[d], width, height);
+              RenderOptions o;
+              o.lod = lod;
+              o.msaa = msaa;
+              Measured m = b.measure(s, o);
+              md << " " << fmt(m.total.median) << " (" << fmt(stageMedian(m, "strands")) << ") |";
+              json row = measuredJson(m);
+              row["groom"] = groomNames[g];
+              row["lod"] = lod == 1;
+              row["msaa"] = msaa;
+              row["distance"] = distNames[d];
+              t1.push_back(row);
+              csvRow("table1", groomNames[g], lod, msaa, distNames[d], scenes[g].grooms[0].mesh->strandCount, width,
+                     height, "auto", m);
+              if (msaa == 1) {
+                msaa1Rows.push_back({std::string(groomNames[g]) + " " + distNames[d] + (lod ? " LOD" : ""), m});
+                counts << "| " << groomNames[g] << " | " << distNames[d] << " | " << (lod ? "on" : "off") << " | "
+                       << m.counts.strandsDrawn << " | " << m.counts.segmentsDrawn << " | " << m.counts.pixelWrites
+                       << " | " << m.counts.atomicsIssued << " | " << m.counts.atomicsSkipped << " |\n";
+              }
+              std::fprintf(stderr, "table1 %s LOD %d MSAA %d %s: %.1f ms\n", groomNames[g], lod, msaa, distNames[d],
+                           m.total.median);
+            }
+          }
+          md << "\n";
+        }
+      }
+      md << counts.str();
+      // LOD speed-up at far, per groom (MSAA 1)
+      md << "\nLOD speed-up at far (MSAA 1, total frame): ";
+      for (int g = 0; g < 2; ++g) {
+        double off = 0, on = 0;
+        for (const auto& row : t1)
+          if (row["groom"] == groomNames[g] && row["distance"] == "far" && row["msaa"] == 1)
+            (row["lod"].get<bool>() ? on : off) = row["total_ms"]["median"].get<double>();
+        if (on > 0) md << groomNames[g] << " " << fmt(off / on) << "x" << (g == 0 ? ", " : "\n");
+        report["lod_far_speedup"][groomNames[g]] = on > 0 ? off / on : 0.0;
+      }
+      report["table1"] = t1;
+    }
+
+    if (only.empty() || only == "atomics") {
+      json probe;
+      auto [plain, skip] = atomicProbe(*dev.impl(), static_cast<std::size_t>(width) * height, std::max(runs, 3), probe);
+      report["atomic_probe"] = probe;
+      md << "\n## Atomic floor\n\n64-bit `atom_min` on " << width << "x" << height
+         << " words, coherent addresses, 4 attempts per word: " << fmt(plain, 3) << " ns per attempt (plain), "
+         << fmt(skip, 3) << " ns with the load skip.\n\n| configuration | strand pass ms | atomics issued | floor ms "
+                            "(issued x plain) | raster / floor |\n|---|---|---|---|---|\n";
+      for (const auto& [name, m] : msaa1Rows) {
+        double floorMs = m.counts.atomicsIssued * plain * 1e-6;
+        double ratio = floorMs > 0 ? stageMedian(m, "strands") / floorMs : 0.0;
+        md << "| " << name << " | " << fmt(stageMedian(m, "strands")) << " | " << m.counts.atomicsIssued << " | "
+           << fmt(floorMs, 3) << " | " << fmt(ratio, 1) << "x |\n";
+        report["raster_over_atomic_floor"][name] = ratio;
+      }
+    }
+
+    if (only.empty() || only == "dispatch") {
+      md << "\n## Dispatch sizing (groom1, LOD on, MSAA 1), frame ms\n\n| mode | close | mid | far |\n|---|---|---|---|\n";
+      for (DispatchMode mode : {DispatchMode::ReadBack, DispatchMode::OverLaunch, DispatchMode::Persistent}) {
+        md << "| " << dispatchModeName(mode) << " |";
+        for (int d = 0; d < 3; ++d) {
+          Scene s = framed(scenes[0], dists[d], width, height);
+          RenderOptions o;
+          o.lod = 1;
+          o.dispatch = mode;
+          Measured m = b.measure(s, o, false);
+          md << " " << fmt(m.total.median) << " (" << fmt(stageMedian(m, "strands")) << ") |";
+          report["dispatch"][dispatchModeName(mode)][distNames[d]] = measuredJson(m);
+          csvRow("dispatch", groomNames[0], 1, 1, distNames[d], scenes[0].grooms[0].mesh->strandCount, width, height,
+                 dispatchModeName(mode), m);
+          std::fprintf(stderr, "dispatch %s %s: %.1f ms\n", dispatchModeName(mode), distNames[d], m.total.median);
+        }
+        md << "\n";
+      }
+    }
+
+    if (only.empty() || only == "scaling") {
+      md << "\n## Scaling (groom1 at mid, LOD off, MSAA 1)\n\n| strands | width x height | frame ms | strand pass ms | "
+            "segments | ms per M segments | ms per megapixel |\n|---|---|---|---|---|---|---|\n";
+      std::vector<std::int64_t> counts = quick ? std::vector<std::int64_t>{16000, 64000}
+                                               : std::vector<std::int64_t>{16000, 32000, 64000, 128000, 256000};
+      std::vector<std::pair<int, int>> sizes = quick ? std::vector<std::pair<int, int>>{{1280, 720}, {1920, 1080}}
+                                                     : std::vector<std::pair<int, int>>{{1280, 720}, {1920, 1080}, {2560, 1440}, {3840, 2160}};
+      auto row = [&](std::int64_t n, int w, int h) {
+        Scene s = framed(scenes[0], CameraPreset::Mid, w, h);
+        HairMesh m = *s.grooms[0].mesh;
+        m.strandCount = n;
+        s.grooms[0].mesh = std::make_shared<const HairMesh>(m);
+        RenderOptions o;
+        o.lod = 0;
+        Measured r = b.measure(s, o);
+        double strandsMs = stageMedian(r, "strands");
+        double perSeg = r.counts.segmentsDrawn ? strandsMs / (r.counts.segmentsDrawn * 1e-6) : 0.0;
+        double perMp = r.total.median / (w * h * 1e-6);
+        md << "| " << n << " | " << w << "x" << h << " | " << fmt(r.total.median) << " | " << fmt(strandsMs) << " | "
+           << r.counts.segmentsDrawn << " | " << fmt(perSeg) << " | " << fmt(perMp) << " |\n";
+        json j = measuredJson(r);
+        j["strands_target"] = n;
+        j["width"] = w;
+        j["height"] = h;
+        j["ms_per_million_segments"] = perSeg;
+        j["ms_per_megapixel"] = perMp;
+        report["scaling"].push_back(j);
+        csvRow("scaling", groomNames[0], 0, 1, "mid", n, w, h, "auto", r);
+        std::fprintf(stderr, "scaling %lld strands %dx%d: %.1f ms\n", static_cast<long long>(n), w, h, r.total.median);
+      };
+      for (std::int64_t n : counts) row(n, 1920, 1080);
+      for (auto [w, h] : sizes) row(127000, w, h);
+    }
+
+    std::filesystem::create_directories(out);
+    std::ofstream(out + "/bench.json") << report.dump(2) << "\n";
+    std::ofstream(out + "/bench.csv") << csv.str();
+    std::ofstream(out + "/bench.md") << md.str();
+    std::printf("%s", md.str().c_str());
+    std::fprintf(stderr, "wrote %s/bench.{json,csv,md}\n", out.c_str());
+  } catch (const cl::Error& e) {
+    std::fprintf(stderr, "clhair_bench: error: OpenCL %s (%d)\n", e.what(), e.err());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "clhair_bench: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -23,6 +23,7 @@
 #include "clhair/lod_math.h"
 #include "stages/composite_stage.h"
 #include "stages/dispatch.h"
+#include "stages/filter_stage.h"
 #include "stages/lod_stage.h"
 #include "stages/opaque_stage.h"
 #include "stages/shade_stage.h"
@@ -153,6 +154,7 @@ struct Renderer::Impl {
   LodStage lod;
   StrandStage strands;
   ShadeStage shade;
+  FilterStage filter;
   CompositeStage composite;
   cl::Kernel clear;
   Profiler profiler;
@@ -162,7 +164,7 @@ struct Renderer::Impl {
   cl::Buffer rootsQuad, rootsTri;
 
   int width = 0, height = 0, layers = 0;
-  cl::Buffer color, depth, gbuffer, hair, stats;
+  cl::Buffer color, depth, gbuffer, hair, filtered, stats, filterParams;
   cl::Buffer view, scene, spheres, planes, lights;
 
   explicit Impl(Device d)
@@ -172,9 +174,11 @@ struct Renderer::Impl {
         lod(dev),
         strands(dev),
         shade(dev),
+        filter(dev),
         composite(dev),
         clear(dev.kernel("clear.cl", "clear_words")) {
     view = makeBuffer<gpu::ClhViewGpu>(dev, "view parameters", 1);
+    filterParams = makeBuffer<gpu::ClhFilterGpu>(dev, "filter parameters", 1);
     scene = makeBuffer<gpu::ClhSceneGpu>(dev, "scene parameters", 1);
   }
 
@@ -229,6 +233,7 @@ struct Renderer::Impl {
       color = makeBuffer<cl_float4>(dev, "the " + res + " colour target", n);
       depth = makeBuffer<cl_float>(dev, "the " + res + " depth target", n);
       hair = makeBuffer<cl_float4>(dev, "the " + res + " hair colour buffer", n);
+      filtered = makeBuffer<cl_float4>(dev, "the " + res + " filtered hair buffer", n);
       layers = 0;
     }
     // sample layers plus the conservative layer
@@ -239,6 +244,20 @@ struct Renderer::Impl {
     width = w;
     height = h;
     layers = msaa + 1;
+  }
+
+  void uploadFilter(const FilterParams& f) {
+    if (f.radius < 0 || f.radius > 8) throw Error("filter radius " + std::to_string(f.radius) + " is outside 0..8");
+    gpu::ClhFilterGpu g{};
+    g.radius = static_cast<gpu::clh_u32>(f.radius);
+    g.s_par = f.sPar;
+    g.s_perp = f.sPerp;
+    g.sigma_c = f.sigmaC;
+    g.depth_reject = f.depthReject;
+    g.depth_mismatch = f.depthMismatch;
+    g.strip = f.strip;
+    g.enabled = f.enabled ? 1u : 0u;
+    upload(dev, filterParams, &g, 1);
   }
 
   DispatchMode resolveMode(DispatchMode m) const {
@@ -371,7 +390,15 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
     r.strands.raster(r.strandInputs(g), rs, &r.profiler);
     r.shade.enqueue({&g.groom, &r.view, &r.scene, &r.lights, &r.gbuffer, &r.hair, s.width, s.height, options.msaa},
                     &r.profiler);
-    r.composite.enqueue({&g.groom, &r.view, &r.hair, &r.gbuffer, &r.color, &r.depth, s.width, s.height, options.msaa},
+    const FilterParams& fp = gi.hasFilter ? gi.filter : s.filter;
+    const bool filtered = options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
+    if (filtered) {
+      r.uploadFilter(fp);
+      r.filter.enqueue({&g.groom, &r.view, &r.filterParams, &r.gbuffer, &r.hair, &r.filtered, s.width, s.height},
+                       &r.profiler);
+    }
+    r.composite.enqueue({&g.groom, &r.view, filtered ? &r.filtered : &r.hair, &r.gbuffer, &r.color, &r.depth, s.width,
+                         s.height, options.msaa, filtered ? 2 : options.msaa},
                         &r.profiler);
   }
 
@@ -410,6 +437,42 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
   }
   frame.timings = r.profiler.collect();
   return frame;
+}
+
+Frame Renderer::renderReference(const Scene& scene, int spp) {
+  if (spp < 1 || spp > 65536) throw Error("reference: --spp " + std::to_string(spp) + " is outside 1..65536");
+  // true width only: no minimum hit diameter
+  Scene s = scene;
+  for (GroomInstance& g : s.grooms) {
+    if (g.mesh->appearance.minHitDiameterPx != 0.0f) {
+      HairMesh m = *g.mesh;
+      m.appearance.minHitDiameterPx = 0.0f;
+      g.mesh = std::make_shared<const HairMesh>(std::move(m));
+    }
+  }
+  RenderOptions o;
+  o.lod = 0;
+  o.msaa = 1;
+  o.filter = 0;
+  Frame sum;
+  std::vector<double> acc;
+  for (int i = 0; i < spp; ++i) {
+    // R2 sequence (Roberts 2018) around the pixel center, first sample at the center
+    const double g = 1.32471795724474602596;
+    o.jitterX = static_cast<float>(std::fmod(0.5 + i / g, 1.0) - 0.5);
+    o.jitterY = static_cast<float>(std::fmod(0.5 + i / (g * g), 1.0) - 0.5);
+    Frame f = render(s, o);
+    if (i == 0) {
+      sum = f;
+      acc.assign(f.color.rgba.begin(), f.color.rgba.end());
+    } else {
+      for (std::size_t k = 0; k < acc.size(); ++k) acc[k] += f.color.rgba[k];
+      for (std::size_t k = 0; k < sum.depth.size(); ++k) sum.depth[k] = std::min(sum.depth[k], f.depth[k]);
+      for (std::size_t t = 0; t < sum.timings.size() && t < f.timings.size(); ++t) sum.timings[t].ms += f.timings[t].ms;
+    }
+  }
+  for (std::size_t k = 0; k < acc.size(); ++k) sum.color.rgba[k] = static_cast<float>(acc[k] / spp);
+  return sum;
 }
 
 StrandSet Renderer::generateStrands(const HairMesh& mesh, float lod) {

@@ -1,8 +1,10 @@
 /* composite.cl — blends one groom's shaded hair over the render target.
  *
  * hair_g holds premultiplied RGBA; the target colour becomes hair + (1 - alpha) * target.
- * Where hair was drawn its depth (the nearest of the sample layers of the G-buffer)
- * replaces the scene depth when nearer, so the next groom is depth tested against it.
+ * Where the hair is at least half opaque its depth (the nearest word of the G-buffer's
+ * `depth_layers` first layers: the samples, plus the conservative layer after the filter)
+ * replaces the scene depth when nearer, so the next groom is depth tested against it;
+ * fainter hair does not hide what lies behind it.
  */
 #include "clhair/gpu_types.h"
 
@@ -15,7 +17,7 @@
 __kernel void composite_over(__global const ClhGroomGpu* groom_g,
                              __global const ClhViewGpu* view_g, __global const float4* hair_g,
                              __global const ulong* gbuf_g, __global float4* color_g,
-                             __global float* depth_g) {
+                             __global float* depth_g, uint depth_layers) {
   uint x = (uint)get_global_id(0), y = (uint)get_global_id(1);
   uint width = view_g->width, height = view_g->height;
   if (x >= width || y >= height) return;
@@ -24,9 +26,10 @@ __kernel void composite_over(__global const ClhGroomGpu* groom_g,
   if (!(h.w > 0.0f)) return;
   float4 c = color_g[idx];
   color_g[idx] = (float4)(h.xyz + (1.0f - h.w) * c.xyz, 1.0f);
+  if (h.w < 0.5f) return;
   size_t plane = (size_t)width * height;
   ulong word = CLH_GBUF_EMPTY;
-  for (uint s = 0; s < CLH_MSAA; ++s) word = min(word, gbuf_g[s * plane + idx]);
+  for (uint s = 0; s < min(depth_layers, (uint)CLH_MSAA + 1u); ++s) word = min(word, gbuf_g[s * plane + idx]);
   if (word != CLH_GBUF_EMPTY) {
     float z = clh_depth_decode(clh_gbuf_depth(word), groom_g->depth_near, groom_g->depth_far);
     depth_g[idx] = fmin(depth_g[idx], z);

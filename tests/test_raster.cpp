@@ -107,10 +107,12 @@ TEST(Raster, NearerGroomWinsWhateverTheOrder) {
   s.camera.target = glm::vec3(0.0f, 0.025f, 0.0f);
   s.camera.fovYDegrees = 30.0f;
   Renderer r(test::sharedDevice());
+  RenderOptions o;
+  o.filter = 0;  // opaque 1-sample hair: the visibility test itself, without blending
   s.grooms = {{"a", ma, glm::mat4(1.0f)}, {"b", mb, behind}};
-  Frame ab = r.render(s);
+  Frame ab = r.render(s, o);
   s.grooms = {{"b", mb, behind}, {"a", ma, glm::mat4(1.0f)}};
-  Frame ba = r.render(s);
+  Frame ba = r.render(s, o);
   std::size_t red = 0, blue = 0, differ = 0;
   for (std::size_t i = 0; i < ab.color.rgba.size(); i += 4) {
     red += ab.color.rgba[i] > 0.0f && ab.color.rgba[i + 2] == 0.0f;

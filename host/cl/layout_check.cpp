@@ -18,5 +18,6 @@ static_assert(sizeof(ClhLightGpu) == 32, "ClhLightGpu layout");
 static_assert(sizeof(ClhSphereGpu) == 32, "ClhSphereGpu layout");
 static_assert(sizeof(ClhPlaneGpu) == 32, "ClhPlaneGpu layout");
 static_assert(sizeof(ClhSceneGpu) == 48, "ClhSceneGpu layout");
+static_assert(sizeof(ClhFilterGpu) == 32, "ClhFilterGpu layout");
 
 }  // namespace clhair::gpu

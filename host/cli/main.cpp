@@ -4,16 +4,20 @@
 //   clhair render SCENE -o OUT.png|.exr     render a scene, print per-stage times
 //   clhair groom --preset NAME -o FILE      write a generated hair mesh
 //   clhair export-strands GROOM -o F.hair   write the generated strands as cyHair
+//   clhair compare A B [--error-map M]      PSNR, RMSE and mean FLIP of B against reference A
 //
 // Global options choose the device (--device, CLHAIR_DEVICE), force a sub-group backend
 // (--subgroup, CLHAIR_SUBGROUP) or read kernels from a source tree (--kernel-dir,
 // CLHAIR_KERNEL_DIR). Any failure prints one line "clhair: error: ..." and exits 1;
 // output files are only written when the work completed.
+#include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "cl/cl_error.h"
 #include "clhair/device.h"
@@ -23,6 +27,7 @@
 #include "clhair/scene.h"
 #include "groom/presets.h"
 #include "io/cyhair.h"
+#include "metrics/image_metrics.h"
 
 namespace {
 
@@ -65,7 +70,9 @@ int cmdDevices(const DeviceOptions& opts) {
 }
 
 struct RenderFlags {
-  int width = 0, height = 0, msaa = 1;
+  int width = 0, height = 0, msaa = 1, spp = 256;
+  bool reference = false;
+  std::string filter = "auto";
   bool widthGiven = false, heightGiven = false;
   std::string camera, lod, dispatch = "auto";
   bool quiet = false;
@@ -98,9 +105,17 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     throw Error("--msaa must be 1, 2, 4 or 8, not " + std::to_string(f.msaa));
   ro.msaa = f.msaa;
   ro.dispatch = parseDispatchMode(f.dispatch);
+  if (f.filter == "on")
+    ro.filter = 1;
+  else if (f.filter == "off")
+    ro.filter = 0;
+  else if (f.filter != "auto")
+    throw Error("--filter must be on, off or auto, not \"" + f.filter + "\"");
+  if (f.reference && (f.spp < 1 || f.spp > 65536))
+    throw Error("--spp must be 1..65536, not " + std::to_string(f.spp));
   Device dev = Device::open(opts);
   Renderer renderer(dev);
-  Frame frame = renderer.render(scene, ro);
+  Frame frame = f.reference ? renderer.renderReference(scene, f.spp) : renderer.render(scene, ro);
   writeImage(frame.color, out);
   if (!quiet) {
     std::printf("%s: %dx%d on %s (sub-group %s), %llu strands\n", out.c_str(), scene.width, scene.height,
@@ -142,6 +157,58 @@ int cmdExport(const DeviceOptions& opts, const std::string& groomPath, const std
   return 0;
 }
 
+std::string shortNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%g", v);
+  return buf;
+}
+
+struct CompareFlags {
+  std::string errorMap;
+  double ppd = kFlipDefaultPpd;
+  bool json = false;
+};
+
+// PSNR and RMSE on sRGB display values, mean LDR-FLIP, and optionally the FLIP error map:
+// magma colours for 8-bit formats, raw error values for float formats (.exr, .hdr).
+int cmdCompare(const std::string& pathA, const std::string& pathB, const CompareFlags& f) {
+  if (!(f.ppd >= kFlipMinPpd && f.ppd <= kFlipMaxPpd))
+    throw Error("--ppd " + shortNumber(f.ppd) + " is outside " + shortNumber(kFlipMinPpd) + ".." +
+                shortNumber(kFlipMaxPpd) + " (FLIP's default viewing setup is 67)");
+  Image a = readImage(pathA);
+  Image b = readImage(pathB);
+  requireSameSize(a, b, pathA, pathB);
+  ImageComparison c = compareImages(a, b, f.ppd);
+  if (!f.errorMap.empty()) {
+    std::string ext = std::filesystem::path(f.errorMap).extension().string();
+    for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    const bool raw = ext == ".exr" || ext == ".hdr";
+    writeImage(flipErrorImage(c.flip, !raw), f.errorMap);
+  }
+  const bool identical = std::isinf(c.psnr.psnrDb);
+  if (f.json) {
+    // JSON has no infinity: identical images report "psnr_db": null.
+    nlohmann::json j = {{"reference", pathA}, {"test", pathB},
+                        {"width", a.width},   {"height", a.height},
+                        {"psnr_db", nullptr}, {"rmse", c.psnr.rmse},
+                        {"mse", c.psnr.mse},  {"flip_mean", c.flip.mean},
+                        {"ppd", f.ppd},       {"error_map", nullptr}};
+    if (!identical) j["psnr_db"] = c.psnr.psnrDb;
+    if (!f.errorMap.empty()) j["error_map"] = f.errorMap;
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  std::printf("%s vs %s: %dx%d\n", pathA.c_str(), pathB.c_str(), a.width, a.height);
+  if (identical)
+    std::printf("  PSNR  inf dB      (identical in sRGB)\n");
+  else
+    std::printf("  PSNR  %.4f dB   (sRGB R, G, B; peak 1)\n", c.psnr.psnrDb);
+  std::printf("  RMSE  %.6f     (sRGB R, G, B in [0, 1])\n", c.psnr.rmse);
+  std::printf("  FLIP  %.6f     (mean LDR-FLIP, %g pixels per degree)\n", c.flip.mean, f.ppd);
+  if (!f.errorMap.empty()) std::printf("  error map  %s\n", f.errorMap.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -165,6 +232,9 @@ int main(int argc, char** argv) {
   render->add_option("--lod", rf.lod, "LOD: on, off, or auto (as each groom says)");
   render->add_option("--msaa", rf.msaa, "software MSAA samples per pixel: 1, 2, 4, 8");
   render->add_option("--dispatch", rf.dispatch, "strand dispatch sizing: auto, readback, overlaunch, persistent");
+  render->add_option("--filter", rf.filter, "reconstruction filter with MSAA 1: on, off, auto (as the scene says)");
+  render->add_flag("--reference", rf.reference, "render the ground truth: the average of --spp jittered true-width passes");
+  render->add_option("--spp", rf.spp, "samples per pixel of --reference (default 256)");
   render->add_flag("-q,--quiet", rf.quiet, "print nothing on success");
 
   auto* groom = app.add_subcommand("groom", "write a generated hair mesh");
@@ -179,6 +249,17 @@ int main(int argc, char** argv) {
   exportCmd->add_option("groom", groomPath, "hair-mesh file")->required();
   exportCmd->add_option("-o,--output", hairOut, "output .hair file")->required();
 
+  auto* compare =
+      app.add_subcommand("compare", "compare image B against reference A: PSNR, RMSE, mean FLIP");
+  std::string compareA, compareB;
+  CompareFlags cf;
+  compare->add_option("reference", compareA, "reference image")->required();
+  compare->add_option("test", compareB, "test image (same size)")->required();
+  compare->add_option("--error-map", cf.errorMap,
+                      "write the FLIP error map (.png: magma colours, .exr: raw values)");
+  compare->add_option("--ppd", cf.ppd, "FLIP pixels per degree of visual angle (default 67)");
+  compare->add_flag("--json", cf.json, "print the results as JSON");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -192,6 +273,7 @@ int main(int argc, char** argv) {
     if (*render) return cmdRender(resolved, scenePath, out, rf);
     if (*groom) return cmdGroom(preset, groomOut, strands);
     if (*exportCmd) return cmdExport(resolved, groomPath, hairOut);
+    if (*compare) return cmdCompare(compareA, compareB, cf);
   } catch (const Error& e) {
     std::fprintf(stderr, "clhair: error: %s\n", e.what());
     return 1;

@@ -19,6 +19,7 @@ cl::Event CompositeStage::enqueue(const Params& p, Profiler* profiler) {
   k.setArg(3, *p.gbuffer);
   k.setArg(4, *p.color);
   k.setArg(5, *p.depth);
+  k.setArg(6, static_cast<cl_uint>(p.depthLayers));
   return dispatch(dev_, k, "composite", cl::NDRange(p.width, p.height), cl::NDRange(8, 8), profiler);
 }
 

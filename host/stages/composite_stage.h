@@ -20,6 +20,7 @@ class CompositeStage {
     cl::Buffer* depth;
     int width, height;
     int msaa = 1;
+    int depthLayers = 1;  // G-buffer layers whose nearest word is the hair depth
   };
   cl::Event enqueue(const Params& p, Profiler* profiler);
 

@@ -156,6 +156,18 @@ typedef struct {
   clh_u32 pad0;
 } ClhSceneGpu;
 
+/* ---- reconstruction filter parameters (Lipp §3.3), 32 bytes ------------------------- */
+typedef struct {
+  clh_u32 radius;          /* window radius r in pixels: (2r + 1)^2 neighbours */
+  float s_par;             /* sigma_parallel = r * s_par (along the screen tangent) */
+  float s_perp;            /* sigma_perp = r * s_perp (across it) */
+  float sigma_c;           /* colour similarity */
+  float depth_reject;      /* neighbours farther than this relative depth are ignored */
+  float depth_mismatch;    /* a conservative strand nearer by this relative depth is blended on top */
+  float strip;             /* alpha strip: neighbours within this distance of the tangent line */
+  clh_u32 enabled;
+} ClhFilterGpu;
+
 /* ---- per-bundle LOD record written by lod.cl (one uint4 per bundle) -------------------
  * x: N_LOD strands to draw (0 = culled)     y: control points C
  * z: L as float bits (Lipp Eq. 2)            w: vertex-LOD morph factor gamma as float bits */

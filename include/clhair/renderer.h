@@ -29,6 +29,7 @@ struct RenderOptions {
   int lod = -1;             // -1: as each groom says; 0: off; 1: on
   float lodLambdaScale = 1.0f;
   int msaa = 1;             // samples per pixel: 1, 2, 4 or 8 (software MSAA, averaged)
+  int filter = -1;          // reconstruction filter with MSAA 1: -1 as the scene says, 0 off, 1 on
   DispatchMode dispatch = DispatchMode::Auto;
   bool rasterStats = false; // count pixel writes and atomics (slower; benchmark)
   float jitterX = 0.0f;     // sub-pixel shift of the image plane, pixels (reference passes, tests)
@@ -81,6 +82,13 @@ class Renderer {
   Renderer& operator=(const Renderer&) = delete;
 
   Frame render(const Scene& scene, const RenderOptions& options = {});
+
+  // The reference the real-time pipeline approximates: the average of `spp` frames, each
+  // shifted by a sub-pixel offset of a low-discrepancy sequence, in which a pixel is
+  // covered when its (shifted) center lies within a strand's true projected width;
+  // MSAA 1, no filter, no LOD, composited per pass so alpha is correct. Timings sum all
+  // passes.
+  Frame renderReference(const Scene& scene, int spp);
 
   // Runs the strand kernel in export mode for `mesh`. lod = 1: full detail; lod < 1: every
   // bundle at that LOD value L (strand count, control points and morph of lod_math.h).

@@ -44,10 +44,28 @@ struct Plane {
   glm::vec3 color{0.5f};
 };
 
+// Reconstruction filter (Lipp et al. 2026 §3.3), defaults from the paper where it gives them.
+struct FilterParams {
+  bool enabled = true;
+  int radius = 5;              // (2r + 1)^2 window
+  float sPar = 0.5f;           // sigma_parallel = radius * sPar
+  float sPerp = 0.1f;          // sigma_perp = radius * sPerp
+  float sigmaC = 0.9f;         // colour similarity
+  float depthReject = 1.45e-3f;  // relative depth beyond which neighbours are ignored
+  float depthMismatch = 5e-4f;   // relative depth: a nearer conservative strand is blended on top
+  float strip = 0.5f;          // alpha strip: neighbours within this many pixels of the tangent line
+};
+
 struct GroomInstance {
+  GroomInstance() = default;
+  GroomInstance(std::string n, std::shared_ptr<const HairMesh> m, const glm::mat4& t = glm::mat4(1.0f))
+      : name(std::move(n)), mesh(std::move(m)), transform(t) {}
+
   std::string name;
   std::shared_ptr<const HairMesh> mesh;
   glm::mat4 transform{1.0f};  // object -> world
+  bool hasFilter = false;     // true: `filter` overrides the scene's
+  FilterParams filter;
 };
 
 struct Scene {
@@ -60,6 +78,7 @@ struct Scene {
   std::vector<Sphere> spheres;
   std::vector<Plane> planes;
   std::vector<GroomInstance> grooms;
+  FilterParams filter;
 };
 
 enum class CameraPreset { Close, Mid, Far };

@@ -8,6 +8,7 @@
 #include "clhair/renderer.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -24,6 +25,7 @@
 #include "stages/composite_stage.h"
 #include "stages/dispatch.h"
 #include "stages/filter_stage.h"
+#include "stages/shadow_stage.h"
 #include "stages/lod_stage.h"
 #include "stages/opaque_stage.h"
 #include "stages/shade_stage.h"
@@ -155,6 +157,7 @@ struct Renderer::Impl {
   StrandStage strands;
   ShadeStage shade;
   FilterStage filter;
+  ShadowStage shadow;
   CompositeStage composite;
   cl::Kernel clear;
   Profiler profiler;
@@ -166,6 +169,11 @@ struct Renderer::Impl {
   int width = 0, height = 0, layers = 0;
   cl::Buffer color, depth, gbuffer, hair, filtered, stats, filterParams;
   cl::Buffer view, scene, spheres, planes, lights;
+  // deep opacity maps: one ClhShadowGpu per slot and the shared texel buffers
+  int shadowRes = 0;
+  std::array<cl::Buffer, CLH_MAX_SHADOWS> shadowOne;
+  cl::Buffer shadowAll, shadowOpaque, shadowHair, shadowOpacity;
+  cl::Buffer lightView, lightColor, lightDepth, lightGBuffer;
 
   explicit Impl(Device d)
       : device(std::move(d)),
@@ -175,9 +183,13 @@ struct Renderer::Impl {
         strands(dev),
         shade(dev),
         filter(dev),
+        shadow(dev),
         composite(dev),
         clear(dev.kernel("clear.cl", "clear_words")) {
     view = makeBuffer<gpu::ClhViewGpu>(dev, "view parameters", 1);
+    lightView = makeBuffer<gpu::ClhViewGpu>(dev, "light view parameters", 1);
+    shadowAll = makeBuffer<gpu::ClhShadowGpu>(dev, "shadow parameters", CLH_MAX_SHADOWS);
+    for (auto& b : shadowOne) b = makeBuffer<gpu::ClhShadowGpu>(dev, "shadow parameters", 1);
     filterParams = makeBuffer<gpu::ClhFilterGpu>(dev, "filter parameters", 1);
     scene = makeBuffer<gpu::ClhSceneGpu>(dev, "scene parameters", 1);
   }
@@ -206,8 +218,8 @@ struct Renderer::Impl {
     g->bundles = makeBuffer(dev, what + " bundles", g->data.bundles.size(), g->data.bundles.data());
     g->groom = makeBuffer<gpu::ClhGroomGpu>(dev, what + " parameters", 1, &g->params);
     g->lod = makeBuffer<cl_uint4>(dev, what + " LOD records", g->data.bundles.size());
-    g->counts = makeBuffer<cl_uint>(dev, what + " strand counts", g->data.bundles.size());
-    g->offsets = makeBuffer<cl_uint>(dev, what + " strand offsets", g->data.bundles.size() + 1);
+    g->counts = makeBuffer<cl_uint>(dev, what + " strand counts", 2 * g->data.bundles.size());
+    g->offsets = makeBuffer<cl_uint>(dev, what + " strand offsets", g->data.bundles.size() + 2);
     return g;
   }
 
@@ -260,6 +272,127 @@ struct Renderer::Impl {
     upload(dev, filterParams, &g, 1);
   }
 
+  void ensureShadowBuffers(int res) {
+    if (res == shadowRes) return;
+    const std::size_t plane = static_cast<std::size_t>(res) * res;
+    const std::string what = std::to_string(res) + "x" + std::to_string(res) + " deep opacity maps";
+    shadowOpaque = makeBuffer<cl_float>(dev, what, plane * CLH_MAX_SHADOWS);
+    shadowHair = makeBuffer<cl_float>(dev, what, plane * CLH_MAX_SHADOWS);
+    shadowOpacity = makeBuffer<cl_uint>(dev, what, plane * CLH_MAX_SHADOWS * CLH_DOM_LAYERS);
+    lightColor = makeBuffer<cl_float4>(dev, what, plane);
+    lightDepth = makeBuffer<cl_float>(dev, what, plane);
+    lightGBuffer = makeBuffer<cl_ulong>(dev, what, plane * 2);
+    shadowRes = res;
+  }
+
+  // Deep opacity maps of every shadowed light over all grooms (Yuksel & Keyser 2008), built
+  // with the strand kernels from the light's view (with LOD). Must run before the opaque
+  // pass, which receives hair shadows too.
+  void renderShadows(const Scene& s, const RenderOptions& cameraOptions) {
+    // the light's passes use LOD unless the caller turned it off explicitly
+    RenderOptions options = cameraOptions;
+    options.lod = cameraOptions.lod == 0 ? 0 : 1;
+    if (cameraOptions.shadowLod >= 0) options.lod = cameraOptions.shadowLod;
+    std::vector<gpu::ClhShadowGpu> params(CLH_MAX_SHADOWS);
+    int slot = 0;
+    for (const Light& light : s.lights) {
+      if (!light.shadows || s.grooms.empty() || slot >= CLH_MAX_SHADOWS) continue;
+      const int res = s.shadows.resolution;
+      ensureShadowBuffers(res);
+      const std::size_t plane = static_cast<std::size_t>(res) * res;
+      // the light's view: a pinhole at the light (directional: far away, narrow) framing all grooms
+      glm::vec3 lo(1e30f), hi(-1e30f);
+      for (const GroomInstance& gi : s.grooms) {
+        GroomResources& g = groomFor(gi.mesh);
+        for (int c = 0; c < 8; ++c) {
+          glm::vec3 corner((c & 1) ? g.data.boundsMax.x : g.data.boundsMin.x, (c & 2) ? g.data.boundsMax.y : g.data.boundsMin.y,
+                           (c & 4) ? g.data.boundsMax.z : g.data.boundsMin.z);
+          glm::vec3 w = glm::vec3(gi.transform * glm::vec4(corner, 1.0f));
+          lo = glm::min(lo, w);
+          hi = glm::max(hi, w);
+        }
+      }
+      const glm::vec3 center = 0.5f * (lo + hi);
+      const float radius = 0.5f * glm::length(hi - lo);
+      Camera cam;
+      cam.target = center;
+      if (light.type == Light::Type::Point) {
+        cam.position = light.position;
+      } else {
+        cam.position = center + glm::normalize(light.direction) * (radius * 20.0f);
+      }
+      float dist = glm::length(cam.position - center);
+      if (dist < 1e-6f) {  // a light at the groom's center: no map, the slot stays unshadowed
+        ++slot;
+        continue;
+      }
+      glm::vec3 dir = (center - cam.position) / dist;
+      cam.up = std::fabs(dir.y) > 0.95f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+      cam.fovYDegrees = std::min(150.0f, 2.0f * glm::degrees(std::atan(radius / std::max(dist - radius, radius * 0.05f))) * 1.05f);
+      gpu::ClhViewGpu lv = makeView(cam, res, res);
+      upload(dev, lightView, &lv, 1);
+      const glm::mat4 w2v = worldToView(cam);
+      const float nearZ = std::max(dist - radius, 1e-4f), farZ = dist + radius;
+
+      gpu::ClhShadowGpu& sh = params[slot];
+      std::memcpy(sh.world_to_view, lv.world_to_view, sizeof(sh.world_to_view));
+      sh.fx = lv.fx;
+      sh.fy = lv.fy;
+      sh.cx = lv.cx;
+      sh.cy = lv.cy;
+      sh.width = sh.height = static_cast<gpu::clh_u32>(res);
+      sh.offset = static_cast<gpu::clh_u32>(plane * slot);
+      sh.density = s.shadows.density;
+      for (int k = 0; k < 3; ++k) sh.bound[k] = s.shadows.layers[k];
+      sh.bias = s.shadows.bias;
+      sh.depth_near = nearZ;
+      sh.depth_far = farZ;
+      upload(dev, shadowOne[slot], &sh, 1);
+
+      // the opaque scene from the light: its depth only
+      opaque.enqueue({&scene, &lightView, &spheres, &planes, &lights, &shadowAll, &shadowOpaque, &shadowHair,
+                      &shadowOpacity, &lightColor, &lightDepth, res, res, false},
+                     &profiler);
+      clCall("copying the light's opaque depth", [&] {
+        dev.queue.enqueueCopyBuffer(lightDepth, shadowOpaque, 0, plane * slot * sizeof(float), plane * sizeof(float));
+        return 0;
+      });
+      // hair depth: the strand pass from the light into the light's G-buffer
+      clearWords(lightGBuffer, plane * 2);
+      std::vector<std::pair<GroomResources*, std::uint32_t>> passes;
+      for (const GroomInstance& gi : s.grooms) {
+        GroomResources& g = groomFor(gi.mesh);
+        if (!prepareGroomView(g, gi.transform, w2v, options, nearZ, farZ)) continue;
+        LodStage::Params lp = lodParams(g, viewReach(g, gi.transform));
+        lod.enqueue(lp, &profiler);
+        std::uint32_t total = lod.readTotal(lp);
+        passes.push_back({&g, total});
+        StrandStage::Raster rs{&lightView, &lightDepth, &lightGBuffer, &stats, 1, false, DispatchMode::ReadBack, total};
+        strands.raster(strandInputs(g), rs, &profiler);
+      }
+      shadow.resolveDepth(shadowOne[slot], lightGBuffer, shadowHair, res, res, &profiler);
+      shadow.clearOpacity(shadowOne[slot], shadowOpacity, plane, &profiler);
+      for (auto& [g, total] : passes)
+        shadow.opacity(strandInputs(*g), lightView, shadowOpaque, shadowOne[slot], shadowHair, shadowOpacity, total,
+                       &profiler);
+      ++slot;
+    }
+    if (slot > 0) upload(dev, shadowAll, params.data(), CLH_MAX_SHADOWS);
+    if (shadowRes == 0) ensureShadowBuffers(1);
+  }
+
+  void clearWords(cl::Buffer& buffer, std::size_t words) {
+    clCall("clearing the G-buffer", [&] {
+      clear.setArg(0, buffer);
+      clear.setArg(1, ~cl_ulong(0));
+      clear.setArg(2, static_cast<cl_ulong>(words));
+      dispatch(dev, clear, "clear", cl::NDRange(words), cl::NDRange(256), &profiler);
+      return 0;
+    });
+  }
+
+  bool shadowCorrection = true;  // of the frame being rendered (scene setting or option)
+
   DispatchMode resolveMode(DispatchMode m) const {
     // Measured by the benchmark (bench/README.md): read-back is the fastest on the CPU
     // device and is the default until a GPU measurement says otherwise.
@@ -290,8 +423,11 @@ struct Renderer::Impl {
         store4(li[i].pos, l.position, 1.0f);
       else
         store4(li[i].pos, l.direction, 0.0f);
-      store4(li[i].color, l.color * l.intensity, 1.0f);
+      store4(li[i].color, l.color * l.intensity, -1.0f);
     }
+    int slot = 0;
+    for (std::size_t i = 0; i < li.size(); ++i)
+      if (s.lights[i].shadows && !s.grooms.empty() && slot < CLH_MAX_SHADOWS) li[i].color[3] = static_cast<float>(slot++);
     sg.sphere_count = static_cast<gpu::clh_u32>(sp.size());
     sg.plane_count = static_cast<gpu::clh_u32>(pl.size());
     sg.light_count = static_cast<gpu::clh_u32>(li.size());
@@ -303,7 +439,7 @@ struct Renderer::Impl {
 
   // View-dependent groom parameters; returns false when the groom is entirely behind the camera.
   bool prepareGroomView(GroomResources& g, const glm::mat4& objToWorld, const glm::mat4& w2v,
-                        const RenderOptions& options) {
+                        const RenderOptions& options, float nearOverride = -1.0f, float farOverride = -1.0f) {
     gpu::ClhGroomGpu& p = g.params;
     glm::mat4 o2v = w2v * objToWorld;
     storeMat34(p.obj_to_view, o2v);
@@ -320,9 +456,15 @@ struct Renderer::Impl {
     if (zmax <= 1e-4f) return false;
     p.depth_near = std::max(zmin, 1e-4f);
     p.depth_far = std::max(zmax, p.depth_near * 1.0001f + 1e-6f);
+    if (nearOverride > 0.0f) {  // a G-buffer shared by several grooms needs one depth mapping
+      p.depth_near = nearOverride;
+      p.depth_far = farOverride;
+    }
     const HairMesh& mesh = *g.keepAlive;
     p.lod_enabled = options.lod < 0 ? (mesh.lod.enabled ? 1u : 0u) : static_cast<gpu::clh_u32>(options.lod);
     p.lod_lambda = mesh.lod.lambda * options.lodLambdaScale;
+    p.total_strands = static_cast<gpu::clh_u32>(g.data.totalStrands);
+    p.shadow_lod_correction = shadowCorrection ? 1u : 0u;
     upload(dev, g.groom, &p, 1);
     return true;
   }
@@ -367,7 +509,10 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
     upload(r.dev, r.stats, zero, 4);
   }
 
-  r.opaque.enqueue({&r.scene, &r.view, &r.spheres, &r.planes, &r.lights, &r.color, &r.depth, s.width, s.height},
+  r.shadowCorrection = options.shadowLodCorrection < 0 ? s.shadows.lodCorrection : options.shadowLodCorrection == 1;
+  r.renderShadows(s, options);
+  r.opaque.enqueue({&r.scene, &r.view, &r.spheres, &r.planes, &r.lights, &r.shadowAll, &r.shadowOpaque, &r.shadowHair,
+                    &r.shadowOpacity, &r.color, &r.depth, s.width, s.height, true},
                    &r.profiler);
   std::vector<GroomResources*> drawn;
   for (const GroomInstance& gi : s.grooms) {
@@ -378,17 +523,11 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
     r.lod.enqueue(lp, &r.profiler);
     std::uint32_t strands = mode == DispatchMode::ReadBack ? r.lod.readTotal(lp)
                                                            : static_cast<std::uint32_t>(g.data.totalStrands);
-    clCall("clearing the G-buffer", [&] {
-      const cl_ulong words = pixels * r.layers;
-      r.clear.setArg(0, r.gbuffer);
-      r.clear.setArg(1, ~cl_ulong(0));
-      r.clear.setArg(2, words);
-      dispatch(r.dev, r.clear, "clear", cl::NDRange(words), cl::NDRange(256), &r.profiler);
-      return 0;
-    });
+    r.clearWords(r.gbuffer, pixels * r.layers);
     StrandStage::Raster rs{&r.view, &r.depth, &r.gbuffer, &r.stats, options.msaa, options.rasterStats, mode, strands};
     r.strands.raster(r.strandInputs(g), rs, &r.profiler);
-    r.shade.enqueue({&g.groom, &r.view, &r.scene, &r.lights, &r.gbuffer, &r.hair, s.width, s.height, options.msaa},
+    r.shade.enqueue({&g.groom, &r.view, &r.scene, &r.lights, &r.shadowAll, &r.shadowOpaque, &r.shadowHair,
+                     &r.shadowOpacity, &r.gbuffer, &g.offsets, &r.hair, s.width, s.height, options.msaa},
                     &r.profiler);
     const FilterParams& fp = gi.hasFilter ? gi.filter : s.filter;
     const bool filtered = options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);

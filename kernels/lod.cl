@@ -5,11 +5,13 @@
  * culls bundles entirely off screen, and computes L (Eq. 2), N_LOD (Eq. 1 with the
  * bundle's delta) and C (Eq. 4-5). With LOD off L = 1, N_LOD = N and C is the groom's
  * full-detail count; gamma is the vertex-LOD morph factor (lod_math.h). Output: one uint4
- * per bundle (N_LOD, C, L bits, gamma bits) and the
- * strand count alone for the scan.
+ * per bundle (N_LOD, C, L bits, gamma bits), the strand count alone for the scan, and the
+ * full count of bundles not culled.
  *
  * scan_bundles (one work-group of SCAN_WG items): exclusive scan of the counts into
- * offsets[0..n], offsets[n] being the total the host reads back to size the strand pass.
+ * offsets[0..n], offsets[n] being the total the host reads back to size the strand pass,
+ * and offsets[n + 1] = the full-detail strand count of the bundles not culled (counts
+ * n..2n-1), so shading knows the fraction beta of visible strands LOD kept.
  */
 #include "clhair/gpu_types.h"
 #include "clhair/lod_math.h"
@@ -70,6 +72,8 @@ __kernel void lod_bundles(__global const ClhGroomGpu* groom_g, __global const Cl
   }
   lod_g[b] = (uint4)(n_lod, C, as_uint(L), as_uint(gamma));
   counts_g[b] = n_lod;
+  /* the full-detail count of every bundle not culled, for beta = drawn / visible */
+  counts_g[g->bundle_count + b] = n_lod > 0u ? n_full : 0u;
 }
 
 __kernel __attribute__((reqd_work_group_size(SCAN_WG, 1, 1))) void scan_bundles(
@@ -94,4 +98,15 @@ __kernel __attribute__((reqd_work_group_size(SCAN_WG, 1, 1))) void scan_bundles(
     barrier(CLK_LOCAL_MEM_FENCE);
   }
   if (lid == 0u) offsets_g[n] = carry;
+  /* offsets[n + 1]: the sum of counts[n .. 2n), the visible bundles' full strand count */
+  uint partial = 0u;
+  for (uint i = lid; i < n; i += SCAN_WG) partial += counts_g[n + i];
+  barrier(CLK_LOCAL_MEM_FENCE);
+  sums_l[lid] = partial;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  for (uint off = SCAN_WG / 2u; off > 0u; off >>= 1) {
+    if (lid < off) sums_l[lid] += sums_l[lid + off];
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+  if (lid == 0u) offsets_g[n + 1u] = sums_l[0];
 }

@@ -3,10 +3,13 @@
  * Writes the render target's linear colour (float4, alpha 1) and view-space depth (the
  * z of the hit in camera space, +INFINITY for background) that the hair passes test
  * against and composite over. Lambert shading with the scene's point and directional
- * lights plus a constant ambient term; no shadows.
+ * lights plus a constant ambient term; shadowed lights look up their deep opacity maps,
+ * so hair and opaque objects shadow the opaque scene. With shade = 0 only the depth is
+ * written (the opaque scene seen from a light).
  */
 #include "clhair/gpu_types.h"
 #include "clh_math.h"
+#include "shadow.h"
 
 /* Nearest hit along origin + t * dir (t > 0); returns t or INFINITY, normal and albedo. */
 static inline float opaque_trace(__global const ClhSceneGpu* scene_g,
@@ -47,8 +50,10 @@ static inline float opaque_trace(__global const ClhSceneGpu* scene_g,
 __kernel void opaque_render(__global const ClhSceneGpu* scene_g, __global const ClhViewGpu* view_g,
                             __global const ClhSphereGpu* spheres_g,
                             __global const ClhPlaneGpu* planes_g,
-                            __global const ClhLightGpu* lights_g, __global float4* color_g,
-                            __global float* depth_g) {
+                            __global const ClhLightGpu* lights_g, __global const ClhShadowGpu* shadows_g,
+                            __global const float* shadow_opaque_g, __global const float* shadow_hair_g,
+                            __global const uint* shadow_opacity_g, __global float4* color_g,
+                            __global float* depth_g, uint shade) {
   uint x = (uint)get_global_id(0), y = (uint)get_global_id(1);
   uint width = view_g->width, height = view_g->height;
   if (x >= width || y >= height) return;
@@ -66,6 +71,8 @@ __kernel void opaque_render(__global const ClhSceneGpu* scene_g, __global const 
     depth_g[idx] = INFINITY;
     return;
   }
+  depth_g[idx] = t;
+  if (shade == 0u) return;
   float3 pos = origin + t * dir;
   float3 radiance = albedo * vload3(0, scene_g->ambient);
   uint nl = min(scene_g->light_count, (uint)CLH_MAX_LIGHTS);
@@ -82,8 +89,12 @@ __kernel void opaque_render(__global const ClhSceneGpu* scene_g, __global const 
     } else {
       l = normalize(lp.xyz);
     }
-    radiance += albedo * lc * (falloff * fmax(dot(n, l), 0.0f) / CLH_PI);
+    float visibility = 1.0f;
+    int slot = clh_light_shadow_slot(lights_g + i);
+    if (slot >= 0 && slot < CLH_MAX_SHADOWS)
+      visibility = clh_shadow_transmittance(shadows_g + slot, shadow_opaque_g, shadow_hair_g, shadow_opacity_g,
+                                            pos + n * (1e-3f * t), 0.0f);
+    radiance += albedo * lc * (visibility * falloff * fmax(dot(n, l), 0.0f) / CLH_PI);
   }
   color_g[idx] = (float4)(radiance, 1.0f);
-  depth_g[idx] = t;
 }

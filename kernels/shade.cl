@@ -9,6 +9,7 @@
  */
 #include "clhair/gpu_types.h"
 #include "clh_math.h"
+#include "shadow.h"
 
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 
@@ -16,9 +17,17 @@
 #define CLH_MSAA 1
 #endif
 
+typedef struct {
+  __global const ClhShadowGpu* params;
+  __global const float* opaque;
+  __global const float* hair;
+  __global const uint* opacity;
+  float lod_shift; /* -log(beta) of this groom's LOD pass (Lipp Eq. 8), or 0 */
+} shade_shadows;
+
 static inline float3 shade_word(__global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
                                  __global const ClhSceneGpu* scene_g,
-                                 __global const ClhLightGpu* lights_g, ulong word, float2 pixel) {
+                                 __global const ClhLightGpu* lights_g, shade_shadows sh, ulong word, float2 pixel) {
   float z = clh_depth_decode(clh_gbuf_depth(word), groom_g->depth_near, groom_g->depth_far);
   float3 pv = (float3)((pixel.x - view_g->cx) / view_g->fx * z, -(pixel.y - view_g->cy) / view_g->fy * z, z);
   clh_mat34 to_world = clh_load_mat34(view_g->view_to_world);
@@ -46,6 +55,9 @@ static inline float3 shade_word(__global const ClhGroomGpu* groom_g, __global co
     } else {
       L = normalize(lp.xyz);
     }
+    int slot = clh_light_shadow_slot(lights_g + i);
+    if (slot >= 0 && slot < CLH_MAX_SHADOWS)
+      falloff *= clh_shadow_transmittance(sh.params + slot, sh.opaque, sh.hair, sh.opacity, pos, sh.lod_shift);
     float tl = dot(T, L);
     float diffuse = sqrt(fmax(1.0f - tl * tl, 0.0f));
     float3 H = normalize(L + V);
@@ -60,19 +72,43 @@ __kernel void shade_placeholder(__global const ClhGroomGpu* groom_g,
                                 __global const ClhViewGpu* view_g,
                                 __global const ClhSceneGpu* scene_g,
                                 __global const ClhLightGpu* lights_g,
-                                __global const ulong* gbuf_g, __global float4* hair_g) {
+                                __global const ClhShadowGpu* shadows_g, __global const float* shadow_opaque_g,
+                                __global const float* shadow_hair_g, __global const uint* shadow_opacity_g,
+                                __global const ulong* gbuf_g, __global const uint* offsets_g,
+                                __global float4* hair_g) {
   uint x = (uint)get_global_id(0), y = (uint)get_global_id(1);
   uint width = view_g->width, height = view_g->height;
   if (x >= width || y >= height) return;
   size_t idx = (size_t)y * width + x;
   size_t plane = (size_t)width * height;
+  shade_shadows sh;
+  sh.params = shadows_g;
+  sh.opaque = shadow_opaque_g;
+  sh.hair = shadow_hair_g;
+  sh.opacity = shadow_opacity_g;
+  /* Lipp Eq. 8 with beta the share of the hair's coverage this frame kept: the fraction
+   * of the visible bundles' strands the LOD pass drew, times the widening that
+   * compensated it (N / N_LOD, bounded by the widest hit band) at this pixel's depth */
+  sh.lod_shift = 0.0f;
+  const uint nb = groom_g->bundle_count;
+  const float drawn = nb > 0u ? (float)offsets_g[nb] : 0.0f;
+  const float visible = nb > 0u ? (float)offsets_g[nb + 1u] : 0.0f;
+  const float beta = visible > 0.0f ? drawn / visible : 1.0f;
+  const ulong w0 = gbuf_g[idx];
+  if (groom_g->shadow_lod_correction != 0u && beta > 0.0f && beta < 1.0f && w0 != CLH_GBUF_EMPTY) {
+    const float z = clh_depth_decode(clh_gbuf_depth(w0), groom_g->depth_near, groom_g->depth_far);
+    const float width_px = fmax(view_g->fy * groom_g->strand_width / z, groom_g->hit_diameter_px);
+    const float widen = fmin(1.0f / beta, CLH_MAX_HIT_DIAMETER / fmax(width_px, 1e-6f));
+    const float kept = fmin(beta * fmax(widen, 1.0f), 1.0f);
+    sh.lod_shift = -log(kept);
+  }
   float3 sum = (float3)(0.0f);
   uint hits = 0u;
   for (uint s = 0; s < CLH_MSAA; ++s) {
     ulong word = gbuf_g[s * plane + idx];
     if (word == CLH_GBUF_EMPTY) continue;
     /* positions are rebuilt at the pixel center: the depth of every sample is stored */
-    sum += shade_word(groom_g, view_g, scene_g, lights_g, word, (float2)((float)x + 0.5f, (float)y + 0.5f));
+    sum += shade_word(groom_g, view_g, scene_g, lights_g, sh, word, (float2)((float)x + 0.5f, (float)y + 0.5f));
     ++hits;
   }
   hair_g[idx] = (float4)(sum, (float)hits) / (float)CLH_MSAA;

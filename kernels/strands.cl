@@ -48,7 +48,9 @@
 #ifndef CLH_RASTER_STATS
 #define CLH_RASTER_STATS 0 /* count writes and atomics (benchmark only) */
 #endif
-#define CLH_MAX_HIT_DIAMETER 3.0f
+#ifndef CLH_RASTER_OPACITY
+#define CLH_RASTER_OPACITY 0 /* 1: build deep-opacity layers instead of the G-buffer */
+#endif
 
 #define CLH_PTS_PER_LANE ((CLH_MAX_CONTROL_POINTS - 1 + SG_SIZE - 1) / SG_SIZE)
 #define CLH_PTS_CAP (CLH_PTS_PER_LANE + 1)
@@ -274,7 +276,27 @@ typedef struct {
   float coverage;     /* LOD compensation N / N_LOD */
   uint u6, v6;
   size_t plane;       /* words per G-buffer layer */
+#if CLH_RASTER_OPACITY
+  __global const float* hair_depth_g; /* z0 per texel, at dom_offset */
+  size_t dom_offset;
+  float bound[CLH_DOM_LAYERS];
+#endif
 } clh_raster_ctx;
+
+#if CLH_RASTER_OPACITY
+/* Adds a strand's coverage of texel idx to the opacity layer its depth past z0 falls in
+ * (Yuksel & Keyser 2008); hair beyond the last layer adds to the last one. */
+static inline void clh_opacity_add(const clh_raster_ctx* rc, __global uint* opacity_g, size_t idx, float z,
+                                   float weight) {
+  const float z0 = rc->hair_depth_g[rc->dom_offset + idx];
+  const float d = z - z0;
+  int k = CLH_DOM_LAYERS - 1;
+  for (int j = CLH_DOM_LAYERS - 1; j >= 0; --j)
+    if (d < rc->bound[j]) k = j;
+  const uint add = (uint)(weight * CLH_DOM_FIXED + 0.5f);
+  if (add > 0u) atomic_add(opacity_g + rc->dom_offset * CLH_DOM_LAYERS + (size_t)k * rc->plane + idx, add);
+}
+#endif
 
 static inline void clh_gbuf_write(__global ulong* gbuf_g, __global uint* stats_g, size_t at,
                                   ulong word) {
@@ -366,6 +388,10 @@ static inline void clh_raster_segment(const clh_raster_ctx* rc, __global const f
                               CLH_MAX_HIT_DIAMETER);
   const float r = 0.5f * diameter;
   const float reach = r / cosv;
+#if CLH_RASTER_OPACITY
+  /* the share of a texel the strand covers, scaled for strands removed by LOD */
+  const float opacity_w = fmin(rc->width_px1 / zmid, 1.0f) * rc->coverage;
+#endif
 
   /* columns whose extent meets [ma, mb), restricted to where the band stays on screen */
   float lo = floor(ma), hi = ceil(mb);
@@ -386,12 +412,22 @@ static inline void clh_raster_segment(const clh_raster_ctx* rc, __global const f
     float n0 = na + (m0 - ma) * slope, n1 = na + (m1 - ma) * slope;
     int j0 = (int)floor(fmin(n0, n1)), j1 = (int)floor(fmax(n0, n1));
     float zc;
-    ulong cword = clh_segment_word(rc, (0.5f * (m0 + m1) - ma) / span_m, iza, izb, aa, ab, ea, eb, &zc);
+    const ulong cword = clh_segment_word(rc, (0.5f * (m0 + m1) - ma) / span_m, iza, izb, aa, ab, ea, eb, &zc);
+#if CLH_RASTER_OPACITY
+    (void)cword;
+#endif
     for (int j = max(j0, 0); j <= min(j1, minor_max - 1); ++j) {
       int px = xmajor ? i : j, py = xmajor ? j : i;
       size_t idx = (size_t)py * (size_t)rc->width + (size_t)px;
+#if CLH_RASTER_OPACITY
+      if (zc < scene_depth_g[idx]) clh_opacity_add(rc, (__global uint*)gbuf_g, idx, zc, opacity_w);
+#else
       if (zc < scene_depth_g[idx]) clh_gbuf_write(gbuf_g, stats_g, (size_t)CLH_MSAA * rc->plane + idx, cword);
+#endif
     }
+#if CLH_RASTER_OPACITY
+    continue; /* the opacity pass needs no samples */
+#endif
     /* samples within the hit radius */
     for (int sidx = 0; sidx < CLH_MSAA; ++sidx) {
       float2 so = clh_samples[sidx];
@@ -513,6 +549,7 @@ static inline clh_raster_ctx clh_raster_setup(__global const ClhGroomGpu* g, __g
   scratch.pts = pts_l;                                                \
   clh_raster_ctx rc = clh_raster_setup(groom_g, view_g)
 
+#if !CLH_RASTER_OPACITY
 /* One strand per work-group: strand_base + group (read-back and over-launch sizing). */
 __kernel SG_KERNEL_ATTRS void strands_raster(CLH_RASTER_PARAMS) {
   CLH_RASTER_PROLOGUE;
@@ -530,7 +567,34 @@ __kernel SG_KERNEL_ATTRS void strands_raster_persistent(CLH_RASTER_PARAMS) {
                     roots_tri_g, scene_depth_g, gbuf_g, stats_g, strand);
   }
 }
+#else
+/* Deep-opacity layers of one light (built with -DCLH_RASTER_OPACITY=1): the strands seen
+ * from the light, every texel they touch in front of the opaque scene adding coverage to
+ * the layer of its depth past z0. One strand per work-group. */
+__kernel SG_KERNEL_ATTRS void strands_opacity(
+    __global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g, __global const ClhBundle* bundles_g,
+    __global const ClhMeshVertex* verts_g, __global const uint4* lod_g, __global const uint* offsets_g,
+    __global const float2* roots_quad_g, __global const float2* roots_tri_g, __global const float* opaque_depth_g,
+    __global const ClhShadowGpu* shadow_g, __global const float* hair_depth_g, __global uint* opacity_g,
+    uint strand_base) {
+  SG_DECLARE(sg);
+  __local clh_layer_pt layers_l[CLH_MAX_LAYERS];
+  __local clh_strand strand_l[1];
+  __local float4 pts_l[CLH_MAX_CONTROL_POINTS];
+  clh_strand_scratch scratch;
+  scratch.layers = layers_l;
+  scratch.strand = strand_l;
+  scratch.pts = pts_l;
+  clh_raster_ctx rc = clh_raster_setup(groom_g, view_g);
+  rc.hair_depth_g = hair_depth_g;
+  rc.dom_offset = shadow_g->offset;
+  for (int k = 0; k < CLH_DOM_LAYERS; ++k) rc.bound[k] = shadow_g->bound[k];
+  clh_draw_strand(&sg, scratch, &rc, groom_g, bundles_g, verts_g, lod_g, offsets_g, roots_quad_g, roots_tri_g,
+                  opaque_depth_g + shadow_g->offset, (__global ulong*)opacity_g, 0, strand_base + (uint)get_group_id(0));
+}
+#endif
 
+#if !CLH_RASTER_OPACITY
 /* Writes the assembled strands: points_g/tangents_g hold CLH_MAX_CONTROL_POINTS float4 per
  * strand (object space; w = styling w / ambient occlusion), counts_g the point count. */
 __kernel SG_KERNEL_ATTRS void strands_export(
@@ -564,3 +628,4 @@ __kernel SG_KERNEL_ATTRS void strands_export(
   }
   if (sg_lane() == 0u) counts_g[strand] = span.C;
 }
+#endif

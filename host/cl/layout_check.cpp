@@ -19,5 +19,6 @@ static_assert(sizeof(ClhSphereGpu) == 32, "ClhSphereGpu layout");
 static_assert(sizeof(ClhPlaneGpu) == 32, "ClhPlaneGpu layout");
 static_assert(sizeof(ClhSceneGpu) == 48, "ClhSceneGpu layout");
 static_assert(sizeof(ClhFilterGpu) == 32, "ClhFilterGpu layout");
+static_assert(sizeof(ClhShadowGpu) == 160, "ClhShadowGpu layout");
 
 }  // namespace clhair::gpu

@@ -48,6 +48,20 @@ glm::mat4 readTransform(const JsonReader& parent, const json& j) {
   return m;
 }
 
+FilterParams readFilter(const JsonReader& parent, const json& j, FilterParams f) {
+  JsonReader o = parent.object(j, "filter");
+  f.enabled = o.boolean("enabled", f.enabled);
+  f.radius = o.integer("radius", f.radius, 0, 8);
+  f.sPar = static_cast<float>(o.number("s_parallel", f.sPar, 1e-3, 10.0));
+  f.sPerp = static_cast<float>(o.number("s_perp", f.sPerp, 1e-3, 10.0));
+  f.sigmaC = static_cast<float>(o.number("sigma_c", f.sigmaC, 1e-3, 100.0));
+  f.depthReject = static_cast<float>(o.number("depth_reject", f.depthReject, 0.0, 10.0));
+  f.depthMismatch = static_cast<float>(o.number("depth_mismatch", f.depthMismatch, 0.0, 10.0));
+  f.strip = static_cast<float>(o.number("strip", f.strip, 0.0, 8.0));
+  o.rejectUnknown({"enabled", "radius", "s_parallel", "s_perp", "sigma_c", "depth_reject", "depth_mismatch", "strip"});
+  return f;
+}
+
 void worldBounds(const Scene& s, glm::vec3& lo, glm::vec3& hi) {
   lo = glm::vec3(1e30f);
   hi = glm::vec3(-1e30f);
@@ -137,10 +151,14 @@ Scene loadScene(const std::string& path) {
       }
       light.color = l.vec3("color", light.color, 0.0, kBig);
       light.intensity = static_cast<float>(l.number("intensity", light.intensity, 0.0, kBig));
-      l.rejectUnknown({"type", "position", "direction", "color", "intensity"});
+      light.shadows = l.boolean("shadows", false);
+      l.rejectUnknown({"type", "position", "direction", "color", "intensity", "shadows"});
       s.lights.push_back(light);
     }
     if (s.lights.size() > 16) r.fail("lights", "holds " + std::to_string(s.lights.size()) + " lights, at most 16 are supported");
+    int shadowed = 0;
+    for (const Light& l : s.lights) shadowed += l.shadows;
+    if (shadowed > 4) r.fail("lights", std::to_string(shadowed) + " lights cast shadows, at most 4 can");
   }
   if (r.has("spheres")) {
     const json& a = r.require("spheres");
@@ -171,6 +189,21 @@ Scene loadScene(const std::string& path) {
     }
   }
 
+  if (r.has("shadows")) {
+    JsonReader o = r.object(r.require("shadows"), "shadows");
+    s.shadows.resolution = o.integer("resolution", s.shadows.resolution, 16, 4096);
+    if (o.has("layers")) {
+      glm::vec3 l = o.vec3("layers", glm::vec3(s.shadows.layers[0], s.shadows.layers[1], s.shadows.layers[2]), 1e-7, kBig);
+      if (!(l.x < l.y && l.y < l.z)) o.fail("layers", "must increase: three layer ends past the first hair");
+      for (int i = 0; i < 3; ++i) s.shadows.layers[i] = l[i];
+    }
+    s.shadows.density = static_cast<float>(o.number("density", s.shadows.density, 0.0, 1e6));
+    s.shadows.lodCorrection = o.boolean("lod_correction", s.shadows.lodCorrection);
+    s.shadows.bias = static_cast<float>(o.number("bias", s.shadows.bias, 0.0, 1000.0));
+    o.rejectUnknown({"resolution", "layers", "density", "lod_correction", "bias"});
+  }
+  if (r.has("filter")) s.filter = readFilter(r, r.require("filter"), s.filter);
+
   std::map<std::string, std::shared_ptr<const HairMesh>> loaded;
   if (r.has("grooms")) {
     const json& a = r.require("grooms");
@@ -195,6 +228,10 @@ Scene loadScene(const std::string& path) {
       GroomInstance g;
       g.name = o.string("name", mesh->name);
       if (o.has("transform")) g.transform = readTransform(o, o.require("transform"));
+      if (o.has("filter")) {
+        g.hasFilter = true;
+        g.filter = readFilter(o, o.require("filter"), s.filter);
+      }
       if (o.has("strands") || o.has("lod") || o.has("control_points")) {
         HairMesh copy = *mesh;
         copy.strandCount = o.integer64("strands", copy.strandCount, 0, 50'000'000);
@@ -210,7 +247,7 @@ Scene loadScene(const std::string& path) {
         mesh = std::make_shared<const HairMesh>(std::move(copy));
       }
       g.mesh = mesh;
-      o.rejectUnknown({"file", "name", "transform", "strands", "lod", "control_points"});
+      o.rejectUnknown({"file", "name", "transform", "strands", "lod", "control_points", "filter"});
       s.grooms.push_back(g);
     }
   }
@@ -242,7 +279,8 @@ Scene loadScene(const std::string& path) {
   } else {
     s.camera = framePreset(s, CameraPreset::Mid);
   }
-  r.rejectUnknown({"resolution", "camera", "background", "ambient", "lights", "spheres", "planes", "grooms"});
+  r.rejectUnknown({"resolution", "camera", "background", "ambient", "lights", "spheres", "planes", "grooms",
+                   "shadows", "filter"});
   return s;
 }
 

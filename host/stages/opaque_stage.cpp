@@ -11,8 +11,13 @@ cl::Event OpaqueStage::enqueue(const Params& p, Profiler* profiler) {
   kernel_.setArg(2, *p.spheres);
   kernel_.setArg(3, *p.planes);
   kernel_.setArg(4, *p.lights);
-  kernel_.setArg(5, *p.color);
-  kernel_.setArg(6, *p.depth);
+  kernel_.setArg(5, *p.shadows);
+  kernel_.setArg(6, *p.shadowOpaque);
+  kernel_.setArg(7, *p.shadowHair);
+  kernel_.setArg(8, *p.shadowOpacity);
+  kernel_.setArg(9, *p.color);
+  kernel_.setArg(10, *p.depth);
+  kernel_.setArg(11, static_cast<cl_uint>(p.shade ? 1 : 0));
   return dispatch(dev_, kernel_, "opaque", cl::NDRange(p.width, p.height), cl::NDRange(8, 8), profiler);
 }
 

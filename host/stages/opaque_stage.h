@@ -15,9 +15,12 @@ class OpaqueStage {
     const cl::Buffer* spheres;  // ClhSphereGpu[]
     const cl::Buffer* planes;   // ClhPlaneGpu[]
     const cl::Buffer* lights;   // ClhLightGpu[]
+    const cl::Buffer* shadows;  // ClhShadowGpu[CLH_MAX_SHADOWS]
+    const cl::Buffer* shadowOpaque, *shadowHair, *shadowOpacity;  // deep opacity maps
     cl::Buffer* color;          // float4 per pixel
     cl::Buffer* depth;          // float per pixel
     int width, height;
+    bool shade = true;          // false: depth only (a light's view)
   };
   cl::Event enqueue(const Params& p, Profiler* profiler);
 

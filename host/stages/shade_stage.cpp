@@ -17,8 +17,13 @@ cl::Event ShadeStage::enqueue(const Params& p, Profiler* profiler) {
   k.setArg(1, *p.view);
   k.setArg(2, *p.scene);
   k.setArg(3, *p.lights);
-  k.setArg(4, *p.gbuffer);
-  k.setArg(5, *p.hair);
+  k.setArg(4, *p.shadows);
+  k.setArg(5, *p.shadowOpaque);
+  k.setArg(6, *p.shadowHair);
+  k.setArg(7, *p.shadowOpacity);
+  k.setArg(8, *p.gbuffer);
+  k.setArg(9, *p.offsets);
+  k.setArg(10, *p.hair);
   return dispatch(dev_, k, "shade", cl::NDRange(p.width, p.height), cl::NDRange(8, 8), profiler);
 }
 

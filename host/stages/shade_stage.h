@@ -16,7 +16,10 @@ class ShadeStage {
     const cl::Buffer* view;
     const cl::Buffer* scene;
     const cl::Buffer* lights;
+    const cl::Buffer* shadows;  // ClhShadowGpu[CLH_MAX_SHADOWS]
+    const cl::Buffer* shadowOpaque, *shadowHair, *shadowOpacity;
     const cl::Buffer* gbuffer;  // ulong per pixel, msaa + 1 layers
+    const cl::Buffer* offsets;  // the groom's strand offsets (its total drawn at [bundles])
     cl::Buffer* hair;          // float4 per pixel
     int width, height;
     int msaa = 1;

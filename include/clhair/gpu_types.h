@@ -45,6 +45,7 @@ using std::log2;
 #define CLH_MAX_CONTROL_POINTS 129
 #define CLH_MAX_LIGHTS 16
 #define CLH_MAX_MSAA 8
+#define CLH_MAX_HIT_DIAMETER 3.0f   /* pixels: widest center-hit band (LOD compensation cap) */
 
 /* ---- hair-mesh vertex: one per (layer, root vertex), 64 bytes ------------------------
  * pos : xyz object-space position,  w: styling coordinate w (0 at root layer)
@@ -97,7 +98,8 @@ typedef struct {
 
   float hit_diameter_px;  /* center-layer hit diameter in pixels */
   float strand_width;     /* world-space strand diameter */
-  float pad1[2];
+  clh_u32 total_strands;  /* strands at full detail (all bundles) */
+  clh_u32 shadow_lod_correction; /* 1: shadow lookups shift by -log(beta) (Lipp Eq. 8) */
 
   /* styling (Bhokare §3.4 frames; functions documented in docs/hair-mesh-format.md) */
   float clump_strength;   /* 0..1: how far tips move toward the clump center */
@@ -134,8 +136,31 @@ typedef struct {
 /* ---- lights and opaque primitives ---------------------------------------------------- */
 typedef struct {
   float pos[4];   /* w = 1: point light at xyz; w = 0: directional, xyz points to the light */
-  float color[4]; /* linear rgb radiance scale (point lights: intensity at distance 1) */
+  float color[4]; /* linear rgb radiance scale (point lights: intensity at distance 1);
+                     w: shadow slot (>= 0: index into the ClhShadowGpu array), -1: no shadow */
 } ClhLightGpu;
+
+/* ---- deep opacity map of one shadowed light (Yuksel & Keyser 2008), 160 bytes -------
+ * The light's view is a pinhole camera (directional lights: a distant, narrow one). Per
+ * texel the map holds the opaque scene's depth, the nearest hair depth z0 and
+ * CLH_DOM_LAYERS opacity layers: layer k accumulates the coverage of hair between
+ * z0 + bound[k-1] and z0 + bound[k] (bound[-1] = 0), in units of 1/CLH_DOM_FIXED.   */
+#define CLH_DOM_LAYERS 3
+#define CLH_DOM_FIXED 4096.0f
+#define CLH_MAX_SHADOWS 4
+typedef struct {
+  float world_to_view[12];
+  float fx, fy, cx, cy;
+  clh_u32 width, height;
+  clh_u32 offset;     /* first texel of this light in the shared DOM buffers */
+  float density;      /* transmittance = exp(-density * accumulated coverage) */
+  float bound[4];     /* layer ends, view-depth units past z0 (3 used) */
+  float pad_shift;
+  float bias;         /* opaque shadow-map bias, view-depth units */
+  float depth_near;   /* hair depth mapping of the light's G-buffer pass */
+  float depth_far;
+  float pad[12];
+} ClhShadowGpu;
 
 typedef struct {
   float center[4]; /* w = radius */

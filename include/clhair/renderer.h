@@ -30,6 +30,8 @@ struct RenderOptions {
   float lodLambdaScale = 1.0f;
   int msaa = 1;             // samples per pixel: 1, 2, 4 or 8 (software MSAA, averaged)
   int filter = -1;          // reconstruction filter with MSAA 1: -1 as the scene says, 0 off, 1 on
+  int shadowLod = -1;       // LOD in the lights' passes: -1 on unless lod == 0, 0 off, 1 on
+  int shadowLodCorrection = -1;  // Lipp §3.2.3 depth shift: -1 as the scene says, 0 off, 1 on
   DispatchMode dispatch = DispatchMode::Auto;
   bool rasterStats = false; // count pixel writes and atomics (slower; benchmark)
   float jitterX = 0.0f;     // sub-pixel shift of the image plane, pixels (reference passes, tests)

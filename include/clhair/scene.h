@@ -30,6 +30,16 @@ struct Light {
   glm::vec3 direction{0.0f, 1.0f, 0.0f};  // directional: toward the light
   glm::vec3 color{1.0f};
   float intensity = 1.0f;
+  bool shadows = false;  // deep opacity map from this light (at most 4 lights)
+};
+
+// Deep opacity maps (Yuksel & Keyser 2008) of the shadowed lights.
+struct ShadowParams {
+  int resolution = 512;                          // texels per side
+  float layers[3] = {0.004f, 0.012f, 0.03f};     // layer ends past the first hair, world units
+  float density = 1.0f;                          // transmittance = exp(-density * coverage)
+  bool lodCorrection = true;                     // Lipp §3.2.3 depth shift under LOD
+  float bias = 2.0f;                             // opaque shadow-map bias, texels
 };
 
 struct Sphere {
@@ -79,6 +89,7 @@ struct Scene {
   std::vector<Plane> planes;
   std::vector<GroomInstance> grooms;
   FilterParams filter;
+  ShadowParams shadows;
 };
 
 enum class CameraPreset { Close, Mid, Far };

@@ -1,0 +1,70 @@
+/* shadow.h — deep-opacity-map lookups (Yuksel & Keyser 2008) for the shading kernels.
+ *
+ * A world point is projected into the light's view; at each of the four nearest texels
+ * the transmittance is 0 behind the opaque scene (shadow map with a bias in texels),
+ * else exp(-density * O(d)) with O the hair coverage accumulated from the first hair
+ * depth z0 to the point's depth past it, d: whole opacity layers before d's layer plus
+ * the linear share of that layer. d is reduced by `shift` layer-1 units: the LOD depth
+ * correction of Lipp §3.2.3, Delta = -log(beta) when LOD drew a fraction beta of the
+ * groom's strands, so strands exposed by stochastic removal are not darkened by the
+ * hair that was removed in front of them. The four texels are blended bilinearly.
+ */
+#ifndef CLHAIR_SHADOW_H
+#define CLHAIR_SHADOW_H
+
+static inline float clh_dom_texel(__global const ClhShadowGpu* sh, __global const float* opaque_g,
+                                  __global const float* hair_g, __global const uint* opacity_g, int tx,
+                                  int ty, float z, float shift) {
+  const int w = (int)sh->width, h = (int)sh->height;
+  tx = clamp(tx, 0, w - 1);
+  ty = clamp(ty, 0, h - 1);
+  const size_t plane = (size_t)w * (size_t)h;
+  const size_t t = (size_t)sh->offset + (size_t)ty * (size_t)w + (size_t)tx;
+  const float zo = opaque_g[t];
+  if (z > zo + sh->bias * zo / sh->fx) return 0.0f;
+  const float z0 = hair_g[t];
+  if (!(z0 < INFINITY)) return 1.0f;
+  const float d = z - z0 - shift * sh->bound[0];
+  if (!(d > 0.0f)) return 1.0f;
+  const size_t layers = (size_t)sh->offset * CLH_DOM_LAYERS + (size_t)ty * (size_t)w + (size_t)tx;
+  float acc = 0.0f, lo = 0.0f;
+  for (int k = 0; k < CLH_DOM_LAYERS; ++k) {
+    const float v = (float)opacity_g[layers + (size_t)k * plane] * (1.0f / CLH_DOM_FIXED);
+    const float hi = sh->bound[k];
+    if (d < hi) {
+      acc += v * (d - lo) / fmax(hi - lo, 1e-12f);
+      break;
+    }
+    acc += v;
+    lo = hi;
+  }
+  return exp(-sh->density * acc);
+}
+
+/* Fraction of the light reaching world point p (1 = unshadowed). */
+static inline float clh_shadow_transmittance(__global const ClhShadowGpu* sh, __global const float* opaque_g,
+                                             __global const float* hair_g, __global const uint* opacity_g,
+                                             float3 p, float shift) {
+  if (sh->width == 0u || sh->height == 0u) return 1.0f;
+  const clh_mat34 w2v = clh_load_mat34(sh->world_to_view);
+  const float3 pv = clh_xform_point(w2v, p);
+  if (!(pv.z > 1e-6f)) return 1.0f;
+  const float u = sh->cx + sh->fx * pv.x / pv.z - 0.5f;
+  const float v = sh->cy - sh->fy * pv.y / pv.z - 0.5f;
+  if (u < -1.0f || v < -1.0f || u > (float)sh->width || v > (float)sh->height) return 1.0f;
+  const float fu = floor(u), fv = floor(v);
+  const int x0 = (int)fu, y0 = (int)fv;
+  const float ax = u - fu, ay = v - fv;
+  const float t00 = clh_dom_texel(sh, opaque_g, hair_g, opacity_g, x0, y0, pv.z, shift);
+  const float t10 = clh_dom_texel(sh, opaque_g, hair_g, opacity_g, x0 + 1, y0, pv.z, shift);
+  const float t01 = clh_dom_texel(sh, opaque_g, hair_g, opacity_g, x0, y0 + 1, pv.z, shift);
+  const float t11 = clh_dom_texel(sh, opaque_g, hair_g, opacity_g, x0 + 1, y0 + 1, pv.z, shift);
+  return mix(mix(t00, t10, ax), mix(t01, t11, ax), ay);
+}
+
+/* The light's shadow slot, or -1 (stored in the light colour's w). */
+static inline int clh_light_shadow_slot(__global const ClhLightGpu* light) {
+  return (int)floor(light->color[3] + 0.5f);
+}
+
+#endif /* CLHAIR_SHADOW_H */

@@ -1,0 +1,152 @@
+// test_shadows.cpp — deep opacity maps: hair behind hair (seen from the light) is darker
+// than hair in front, opaque objects receive hair shadows, and the LOD depth correction
+// (Lipp §3.2.3) is inert when LOD removes nothing and never moves the image away from
+// the full-detail one.
+#include <cmath>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "clhair/renderer.h"
+#include "groom/presets.h"
+#include "test_util.h"
+
+namespace clhair {
+namespace {
+
+// Two identical dense patches, one 3 cm behind the other along the light direction (+z),
+// seen from the side (+x), so each covers its own half of the image.
+Scene twoPatches(bool shadows) {
+  HairMesh m = makeGroomPreset("tiny");
+  m.strandCount = 3000;
+  m.appearance.minHitDiameterPx = 1.0f;
+  auto mesh = std::make_shared<const HairMesh>(m);
+  Scene s;
+  s.width = 120;
+  s.height = 80;
+  s.ambient = glm::vec3(0.0f);
+  Light l;
+  l.type = Light::Type::Directional;
+  l.direction = glm::vec3(0.0f, 0.0f, 1.0f);  // light comes from +z
+  l.intensity = 3.0f;
+  l.shadows = shadows;
+  s.lights.push_back(l);
+  s.grooms.emplace_back("front", mesh, glm::mat4(1.0f));
+  s.grooms.emplace_back("back", mesh, glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, -0.06f)));
+  s.camera.position = glm::vec3(0.25f, 0.03f, -0.03f);
+  s.camera.target = glm::vec3(0.0f, 0.03f, -0.03f);
+  s.camera.fovYDegrees = 35.0f;
+  return s;
+}
+
+// mean luminance of the left (z > -0.03, the front patch) and right halves' non-background pixels
+std::pair<double, double> halves(const Frame& f, int width) {
+  double sum[2] = {0, 0};
+  int n[2] = {0, 0};
+  for (std::size_t i = 0; i < f.depth.size(); ++i) {
+    if (std::isinf(f.depth[i])) continue;
+    int half = static_cast<int>(i % width) < width / 2 ? 0 : 1;
+    sum[half] += f.color.rgba[4 * i] + f.color.rgba[4 * i + 1] + f.color.rgba[4 * i + 2];
+    ++n[half];
+  }
+  EXPECT_GT(n[0], 50);
+  EXPECT_GT(n[1], 50);
+  return {sum[0] / std::max(n[0], 1), sum[1] / std::max(n[1], 1)};
+}
+
+TEST(Shadows, HairBehindHairIsDarker) {
+  Renderer r(test::sharedDevice());
+  RenderOptions o;
+  o.filter = 0;
+  Scene lit = twoPatches(false), shadowed = twoPatches(true);
+  // the camera at +x looking at -x: image left is +z (the front patch, nearer the light)
+  auto [frontLit, backLit] = halves(r.render(lit, o), lit.width);
+  auto [frontSh, backSh] = halves(r.render(shadowed, o), shadowed.width);
+  RecordProperty("front_lit", std::to_string(frontLit));
+  RecordProperty("back_lit", std::to_string(backLit));
+  RecordProperty("front_shadowed", std::to_string(frontSh));
+  RecordProperty("back_shadowed", std::to_string(backSh));
+  EXPECT_NEAR(frontLit, backLit, 0.05 * frontLit) << "without shadows both patches look alike";
+  EXPECT_LT(backSh, 0.6 * frontSh) << "the back patch lies in the front patch's shadow";
+  EXPECT_LT(frontSh, frontLit) << "hair shadows itself too";
+}
+
+TEST(Shadows, OpaqueObjectsReceiveHairShadows) {
+  HairMesh m = makeGroomPreset("fur_sphere");
+  m.strandCount = 80000;
+  Scene s;
+  s.width = 96;
+  s.height = 96;
+  s.ambient = glm::vec3(0.0f);
+  Light l;
+  l.type = Light::Type::Directional;
+  l.direction = glm::normalize(glm::vec3(1.0f, 0.5f, 0.0f));  // low sun from +x
+  l.intensity = 2.0f;
+  s.lights.push_back(l);
+  Plane ground;
+  ground.offset = -0.15f;
+  s.planes.push_back(ground);
+  s.grooms.emplace_back("fur", std::make_shared<const HairMesh>(m));
+  // the ball (center 0.15 above the ground) casts its shadow around x = -0.3: look down at it
+  s.camera.position = glm::vec3(-0.3f, 0.5f, 0.01f);
+  s.camera.target = glm::vec3(-0.3f, -0.15f, 0.0f);
+  s.camera.fovYDegrees = 30.0f;
+  Renderer r(test::sharedDevice());
+  Frame lit = r.render(s);
+  s.lights[0].shadows = true;
+  Frame shadowed = r.render(s);
+  // ground pixels around the image center lie in the ball's shadow
+  double litSum = 0, shSum = 0;
+  int n = 0;
+  for (int y = 0; y < s.height; ++y)
+    for (int x = 0; x < s.width; ++x) {
+      std::size_t i = static_cast<std::size_t>(y) * s.width + x;
+      if (std::isinf(lit.depth[i]) || lit.depth[i] < 0.6f) continue;  // ground only
+      double dx = x - s.width / 2.0, dy = y - s.height / 2.0;
+      if (dx * dx + dy * dy > 12.0 * 12.0) continue;  // the middle of the shadow
+      litSum += lit.color.rgba[4 * i];
+      shSum += shadowed.color.rgba[4 * i];
+      ++n;
+    }
+  ASSERT_GT(n, 20);
+  // the ball is a hollow shell of fur: its shadow is partial (measured ~0.75 of the light)
+  EXPECT_LT(shSum, 0.85 * litSum) << "ground in the fur ball's shadow";
+  RecordProperty("ground_shadow_ratio", std::to_string(shSum / litSum));
+}
+
+TEST(Shadows, LodCorrectionIsInertWithoutLodAndNeverHurts) {
+  Scene s = loadScene(test::assetPath("scenes/default.json"));
+  s.width = 200;
+  s.height = 112;
+  s.camera = framePreset(s, CameraPreset::Far, 35.0f, 10.0f, 35.0f);
+  Renderer r(test::sharedDevice());
+  auto mean = [&](int lod, int correction) {
+    RenderOptions o;
+    o.lod = lod;
+    o.shadowLod = 0;
+    o.shadowLodCorrection = correction;
+    o.filter = 0;
+    o.captureGBuffer = true;
+    Frame f = r.render(s, o);
+    double sum = 0;
+    int n = 0;
+    const std::size_t pixels = f.depth.size();
+    for (std::size_t i = 0; i < pixels; ++i)
+      if (f.gbuffer[i] != ~std::uint64_t(0)) {
+        sum += f.color.rgba[4 * i] + f.color.rgba[4 * i + 1] + f.color.rgba[4 * i + 2];
+        ++n;
+      }
+    return std::make_pair(sum / std::max(n, 1), f);
+  };
+  auto [fullOn, fOn] = mean(0, 1);
+  auto [fullOff, fOff] = mean(0, 0);
+  EXPECT_TRUE(fOn.color.rgba == fOff.color.rgba) << "without LOD the correction must change nothing";
+  double lodOff = mean(1, 0).first, lodOn = mean(1, 1).first;
+  RecordProperty("far_luminance_no_lod", std::to_string(fullOn));
+  RecordProperty("far_luminance_lod_uncorrected", std::to_string(lodOff));
+  RecordProperty("far_luminance_lod_corrected", std::to_string(lodOn));
+  std::printf("[ shadows  ] far hair luminance: no LOD %.5f, LOD %.5f, LOD + correction %.5f\n", fullOn, lodOff, lodOn);
+  EXPECT_LE(std::fabs(lodOn - fullOn), std::fabs(lodOff - fullOn) + 1e-6);
+}
+
+}  // namespace
+}  // namespace clhair

@@ -111,6 +111,8 @@ void upload(Device::Impl& dev, cl::Buffer& buffer, const T* data, std::size_t co
 struct GroomResources {
   std::shared_ptr<const HairMesh> keepAlive;
   GroomData data;
+  std::vector<float> ao;     // baked or given AO per layer vertex
+  bool aoUploaded = true;    // the vertex buffer holds `ao` (else AO = 1)
   gpu::ClhGroomGpu params;
   cl::Buffer vertices, bundles, groom, lod, counts, offsets;
 };
@@ -173,7 +175,7 @@ struct Renderer::Impl {
   int shadowRes = 0;
   std::array<cl::Buffer, CLH_MAX_SHADOWS> shadowOne;
   cl::Buffer shadowAll, shadowOpaque, shadowHair, shadowOpacity;
-  cl::Buffer lightView, lightColor, lightDepth, lightGBuffer;
+  cl::Buffer lightView, lightColor, lightDepth, lightGBuffer, exportView;
 
   explicit Impl(Device d)
       : device(std::move(d)),
@@ -188,6 +190,7 @@ struct Renderer::Impl {
         clear(dev.kernel("clear.cl", "clear_words")) {
     view = makeBuffer<gpu::ClhViewGpu>(dev, "view parameters", 1);
     lightView = makeBuffer<gpu::ClhViewGpu>(dev, "light view parameters", 1);
+    exportView = makeBuffer<gpu::ClhViewGpu>(dev, "export view parameters", 1);
     shadowAll = makeBuffer<gpu::ClhShadowGpu>(dev, "shadow parameters", CLH_MAX_SHADOWS);
     for (auto& b : shadowOne) b = makeBuffer<gpu::ClhShadowGpu>(dev, "shadow parameters", 1);
     filterParams = makeBuffer<gpu::ClhFilterGpu>(dev, "filter parameters", 1);
@@ -206,9 +209,16 @@ struct Renderer::Impl {
     rootsTri = makeBuffer<glm::vec2>(dev, "root sample set", roots.triangle.size(), roots.triangle.data());
   }
 
-  std::unique_ptr<GroomResources> buildGroom(const HairMesh& mesh) {
+  // Device resources of a groom; AO is baked on the device when the mesh has none.
+  std::unique_ptr<GroomResources> buildGroom(const HairMesh& mesh, bool bake = true) {
     auto g = std::make_unique<GroomResources>();
     g->data = prepareGroom(mesh);
+    if (bake && mesh.ao.empty()) {
+      std::vector<float> ao = bakeAo(mesh);
+      for (std::size_t i = 0; i < ao.size() && i < g->data.vertices.size(); ++i) g->data.vertices[i].tan[3] = ao[i];
+    }
+    g->ao.resize(g->data.vertices.size());
+    for (std::size_t i = 0; i < g->ao.size(); ++i) g->ao[i] = g->data.vertices[i].tan[3];
     std::memset(&g->params, 0, sizeof(g->params));
     fillGroomParams(mesh, g->data, g->params);
     ensureRoots(g->data.maxBundleStrands);
@@ -221,6 +231,119 @@ struct Renderer::Impl {
     g->counts = makeBuffer<cl_uint>(dev, what + " strand counts", 2 * g->data.bundles.size());
     g->offsets = makeBuffer<cl_uint>(dev, what + " strand offsets", g->data.bundles.size() + 2);
     return g;
+  }
+
+  struct Exported {
+    std::uint32_t total = 0;
+    cl::Buffer points, tangents, counts;  // CLH_MAX_CONTROL_POINTS slots per strand
+  };
+
+  // Runs strands_export over a groom: lod = 1 full detail (the LOD pass with LOD off and an
+  // unbounded reach keeps every bundle), lod < 1 every bundle at that LOD value.
+  Exported exportStrands(GroomResources& g, const HairMesh& mesh, float lod) {
+    g.params.lod_enabled = 0;
+    upload(dev, g.groom, &g.params, 1);
+    Exported e;
+    if (lod >= 1.0f) {
+      // its own view buffer: a bake may run in the middle of a frame
+      gpu::ClhViewGpu v = makeView(Camera{}, 1, 1);
+      upload(dev, exportView, &v, 1);
+      LodStage::Params lp = lodParams(g, 1e30f);
+      lp.view = &exportView;
+      this->lod.enqueue(lp, nullptr);
+      e.total = this->lod.readTotal(lp);
+      if (e.total != g.data.totalStrands)
+        throw Error("strand export: the LOD pass kept " + std::to_string(e.total) + " of " +
+                    std::to_string(g.data.totalStrands) + " strands");
+    } else {
+      // the records the LOD pass would write, computed here
+      const std::size_t B = g.data.bundles.size();
+      std::vector<cl_uint4> records(B);
+      std::vector<cl_uint> offsets(B + 1, 0);
+      const auto layers = static_cast<gpu::clh_u32>(mesh.layerCount);
+      const gpu::clh_u32 cmax = fullDetailControlPoints(mesh);
+      const float gamma = gpu::clh_lod_morph(lod, layers, cmax, mesh.lod.morphWindow);
+      std::uint32_t gammaBits, lodBits;
+      std::memcpy(&gammaBits, &gamma, 4);
+      std::memcpy(&lodBits, &lod, 4);
+      for (std::size_t b = 0; b < B; ++b) {
+        const gpu::ClhBundle& bundle = g.data.bundles[b];
+        gpu::clh_u32 n = gpu::clh_lod_strands(lod, bundle.strand_count, bundle.lod_delta);
+        records[b] = {{n, gpu::clh_lod_control_points(lod, layers, cmax), lodBits, gammaBits}};
+        offsets[b + 1] = offsets[b] + n;
+      }
+      e.total = offsets[B];
+      upload(dev, g.lod, records.data(), B);
+      upload(dev, g.offsets, offsets.data(), B + 1);
+    }
+    if (e.total == 0) return e;
+    const std::size_t slots = static_cast<std::size_t>(e.total) * CLH_MAX_CONTROL_POINTS;
+    e.points = makeBuffer<cl_float4>(dev, "exported strand points", slots);
+    e.tangents = makeBuffer<cl_float4>(dev, "exported strand tangents", slots);
+    e.counts = makeBuffer<cl_uint>(dev, "exported strand point counts", e.total);
+    strands.exportStrands(strandInputs(g), e.total, e.points, e.tangents, e.counts, nullptr);
+    return e;
+  }
+
+  // AO per layer vertex (kernels/ao.cl): a sample of the groom's strands fills a density
+  // grid of fibre extinction, then every vertex averages the visibility of 64 directions.
+  std::vector<float> bakeAo(const HairMesh& mesh) {
+    constexpr std::int64_t kSampleStrands = 20000;
+    constexpr int kGrid = 64;
+    HairMesh sample = mesh;
+    sample.strandCount = std::min<std::int64_t>(mesh.strandCount, kSampleStrands);
+    sample.controlPoints = std::min(mesh.controlPoints, 33);
+    auto g = buildGroom(sample, false);
+    const std::size_t vertexTotal = g->data.vertices.size();
+    std::vector<float> ao(vertexTotal, 1.0f);
+    if (sample.strandCount == 0) return ao;
+    Exported e = exportStrands(*g, sample, 1.0f);
+    const glm::vec3 lo = g->data.boundsMin, hi = g->data.boundsMax;
+    const float voxel = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}) / kGrid * 1.02f;
+    cl_uint4 dims{{static_cast<cl_uint>(std::ceil((hi.x - lo.x) / voxel)) + 1, static_cast<cl_uint>(std::ceil((hi.y - lo.y) / voxel)) + 1,
+                   static_cast<cl_uint>(std::ceil((hi.z - lo.z) / voxel)) + 1, 0}};
+    const std::size_t cells = static_cast<std::size_t>(dims.s[0]) * dims.s[1] * dims.s[2];
+    cl_float4 gridLo{{lo.x, lo.y, lo.z, voxel}};
+    // each sampled strand stands for total / sampled strands of the real groom
+    const float represented = static_cast<float>(mesh.strandCount) / static_cast<float>(sample.strandCount);
+    const float scale = mesh.appearance.strandWidth * represented / (voxel * voxel * voxel);
+    cl::Buffer density = makeBuffer<cl_uint>(dev, "the AO density grid", cells);
+    cl::Buffer out = makeBuffer<cl_float>(dev, "baked AO", vertexTotal);
+    clCall("baking ambient occlusion", [&] {
+      dev.queue.enqueueFillBuffer(density, cl_uint(0), 0, cells * sizeof(cl_uint));
+      cl::Kernel vox = dev.kernel("ao.cl", "ao_voxelize");
+      vox.setArg(0, e.points);
+      vox.setArg(1, e.counts);
+      vox.setArg(2, e.total);
+      vox.setArg(3, gridLo);
+      vox.setArg(4, dims);
+      vox.setArg(5, scale);
+      vox.setArg(6, density);
+      dispatch(dev, vox, "ao", cl::NDRange(std::size_t(e.total) * CLH_MAX_CONTROL_POINTS), cl::NDRange(64), nullptr);
+      cl::Kernel bake = dev.kernel("ao.cl", "ao_bake");
+      bake.setArg(0, g->vertices);
+      bake.setArg(1, static_cast<cl_uint>(vertexTotal));
+      bake.setArg(2, g->bundles);
+      bake.setArg(3, static_cast<cl_uint>(g->data.bundles.size()));
+      bake.setArg(4, static_cast<cl_uint>(mesh.vertexCount));
+      bake.setArg(5, gridLo);
+      bake.setArg(6, dims);
+      bake.setArg(7, density);
+      bake.setArg(8, out);
+      dispatch(dev, bake, "ao", cl::NDRange(vertexTotal), cl::NDRange(64), nullptr);
+      dev.queue.enqueueReadBuffer(out, CL_TRUE, 0, vertexTotal * sizeof(float), ao.data());
+      return 0;
+    });
+    return ao;
+  }
+
+  // Uploads the groom's vertices with its AO, or with AO = 1, as the frame asks.
+  void applyAo(GroomResources& g, bool on) {
+    if (g.aoUploaded == on) return;
+    std::vector<gpu::ClhMeshVertex> v = g.data.vertices;
+    for (std::size_t i = 0; i < v.size(); ++i) v[i].tan[3] = on ? g.ao[i] : 1.0f;
+    upload(dev, g.vertices, v.data(), v.size());
+    g.aoUploaded = on;
   }
 
   GroomResources& groomFor(const std::shared_ptr<const HairMesh>& mesh) {
@@ -517,6 +640,7 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
   std::vector<GroomResources*> drawn;
   for (const GroomInstance& gi : s.grooms) {
     GroomResources& g = r.groomFor(gi.mesh);
+    r.applyAo(g, options.ambientOcclusion != 0);
     if (!r.prepareGroomView(g, gi.transform, w2v, options)) continue;
     drawn.push_back(&g);
     LodStage::Params lp = r.lodParams(g, Impl::viewReach(g, gi.transform));
@@ -618,56 +742,18 @@ StrandSet Renderer::generateStrands(const HairMesh& mesh, float lod) {
   Impl& r = *impl_;
   validateHairMesh(mesh, mesh.name);
   if (!(lod > 0.0f && lod <= 1.0f)) throw Error("strand export: LOD value " + std::to_string(lod) + " is outside (0, 1]");
-  auto g = r.buildGroom(mesh);
-  g->params.lod_enabled = 0;
-  upload(r.dev, g->groom, &g->params, 1);
-  std::uint32_t total = 0;
-  if (lod >= 1.0f) {
-    // Full detail regardless of the view: LOD off and an unbounded reach, so the LOD pass
-    // keeps every bundle.
-    gpu::ClhViewGpu view = makeView(Camera{}, 1, 1);
-    upload(r.dev, r.view, &view, 1);
-    LodStage::Params lp = r.lodParams(*g, 1e30f);
-    r.lod.enqueue(lp, nullptr);
-    total = r.lod.readTotal(lp);
-    if (total != g->data.totalStrands)
-      throw Error("strand export: the LOD pass kept " + std::to_string(total) + " of " +
-                  std::to_string(g->data.totalStrands) + " strands");
-  } else {
-    // Every bundle at LOD value `lod`: the records the LOD pass would write, computed here.
-    const std::size_t B = g->data.bundles.size();
-    std::vector<cl_uint4> records(B);
-    std::vector<cl_uint> offsets(B + 1, 0);
-    const auto layers = static_cast<gpu::clh_u32>(mesh.layerCount);
-    for (std::size_t b = 0; b < B; ++b) {
-      const gpu::ClhBundle& bundle = g->data.bundles[b];
-      gpu::clh_u32 n = gpu::clh_lod_strands(lod, bundle.strand_count, bundle.lod_delta);
-      const gpu::clh_u32 cmax = fullDetailControlPoints(mesh);
-      float gamma = gpu::clh_lod_morph(lod, layers, cmax, mesh.lod.morphWindow);
-      std::uint32_t gammaBits;
-      std::memcpy(&gammaBits, &gamma, 4);
-      std::uint32_t lodBits;
-      std::memcpy(&lodBits, &lod, 4);
-      records[b] = {{n, gpu::clh_lod_control_points(lod, layers, cmax), lodBits, gammaBits}};
-      offsets[b + 1] = offsets[b] + n;
-    }
-    total = offsets[B];
-    upload(r.dev, g->lod, records.data(), B);
-    upload(r.dev, g->offsets, offsets.data(), B + 1);
-  }
+  auto g = r.buildGroom(mesh, false);
+  Impl::Exported e = r.exportStrands(*g, mesh, lod);
   StrandSet out;
+  const std::uint32_t total = e.total;
   if (total == 0) return out;
   const std::size_t slots = static_cast<std::size_t>(total) * CLH_MAX_CONTROL_POINTS;
-  cl::Buffer points = makeBuffer<cl_float4>(r.dev, "exported strand points", slots);
-  cl::Buffer tangents = makeBuffer<cl_float4>(r.dev, "exported strand tangents", slots);
-  cl::Buffer counts = makeBuffer<cl_uint>(r.dev, "exported strand point counts", total);
-  r.strands.exportStrands(r.strandInputs(*g), total, points, tangents, counts, nullptr);
   std::vector<cl_float4> p(slots), t(slots);
   out.pointCounts.resize(total);
   clCall("reading exported strands", [&] {
-    r.dev.queue.enqueueReadBuffer(points, CL_TRUE, 0, slots * sizeof(cl_float4), p.data());
-    r.dev.queue.enqueueReadBuffer(tangents, CL_TRUE, 0, slots * sizeof(cl_float4), t.data());
-    r.dev.queue.enqueueReadBuffer(counts, CL_TRUE, 0, total * sizeof(cl_uint), out.pointCounts.data());
+    r.dev.queue.enqueueReadBuffer(e.points, CL_TRUE, 0, slots * sizeof(cl_float4), p.data());
+    r.dev.queue.enqueueReadBuffer(e.tangents, CL_TRUE, 0, slots * sizeof(cl_float4), t.data());
+    r.dev.queue.enqueueReadBuffer(e.counts, CL_TRUE, 0, total * sizeof(cl_uint), out.pointCounts.data());
     return 0;
   });
   std::vector<cl_uint> offsets(g->data.bundles.size() + 1);
@@ -689,6 +775,11 @@ StrandSet Renderer::generateStrands(const HairMesh& mesh, float lod) {
     }
   }
   return out;
+}
+
+std::vector<float> Renderer::bakeAmbientOcclusion(const HairMesh& mesh) {
+  validateHairMesh(mesh, mesh.name);
+  return impl_->bakeAo(mesh);
 }
 
 }  // namespace clhair

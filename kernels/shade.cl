@@ -40,7 +40,8 @@ static inline float3 shade_word(__global const ClhGroomGpu* groom_g, __global co
   float3 albedo = mix(vload3(0, groom_g->root_color), vload3(0, groom_g->tip_color), w);
   float3 V = normalize(vload3(0, view_g->eye) - pos);
 
-  float3 radiance = albedo * vload3(0, scene_g->ambient);
+  /* baked AO darkens the ambient (probe) light; shadowed lights have their own occlusion */
+  float3 radiance = albedo * vload3(0, scene_g->ambient) * ao;
   uint nl = min(scene_g->light_count, (uint)CLH_MAX_LIGHTS);
   for (uint i = 0; i < nl; ++i) {
     float4 lp = vload4(0, lights_g[i].pos);
@@ -65,7 +66,7 @@ static inline float3 shade_word(__global const ClhGroomGpu* groom_g, __global co
     float spec = pow(sqrt(fmax(1.0f - th * th, 0.0f)), 80.0f);
     radiance += lc * falloff * (albedo * diffuse * 0.6f + (float3)(0.12f * spec)) / CLH_PI;
   }
-  return radiance * ao;
+  return radiance;
 }
 
 __kernel void shade_placeholder(__global const ClhGroomGpu* groom_g,

@@ -12,6 +12,7 @@
 // output files are only written when the work completed.
 #include <cctype>
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -74,7 +75,7 @@ struct RenderFlags {
   bool reference = false;
   std::string filter = "auto";
   bool widthGiven = false, heightGiven = false;
-  std::string camera, lod, dispatch = "auto";
+  std::string camera, lod, dispatch = "auto", ao = "on";
   bool quiet = false;
 };
 
@@ -105,6 +106,8 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     throw Error("--msaa must be 1, 2, 4 or 8, not " + std::to_string(f.msaa));
   ro.msaa = f.msaa;
   ro.dispatch = parseDispatchMode(f.dispatch);
+  if (f.ao != "on" && f.ao != "off") throw Error("--ao must be on or off, not \"" + f.ao + "\"");
+  ro.ambientOcclusion = f.ao == "on" ? 1 : 0;
   if (f.filter == "on")
     ro.filter = 1;
   else if (f.filter == "off")
@@ -133,6 +136,21 @@ int cmdGroom(const std::string& preset, const std::string& out, long long strand
   saveHairMesh(m, out);
   std::printf("%s: %s, %d bundles, %d layers, %lld strands\n", out.c_str(), m.name.c_str(),
               static_cast<int>(m.faces.size()), m.layerCount, static_cast<long long>(m.strandCount));
+  return 0;
+}
+
+int cmdBakeAo(const DeviceOptions& opts, const std::string& groomPath, const std::string& out) {
+  HairMesh mesh = loadHairMesh(groomPath);
+  Device dev = Device::open(opts);
+  Renderer renderer(dev);
+  mesh.ao = renderer.bakeAmbientOcclusion(mesh);
+  saveHairMesh(mesh, out);
+  float lo = 1.0f, hi = 0.0f;
+  for (float a : mesh.ao) {
+    lo = std::min(lo, a);
+    hi = std::max(hi, a);
+  }
+  std::printf("%s: AO of %zu layer vertices, %.3f..%.3f\n", out.c_str(), mesh.ao.size(), lo, hi);
   return 0;
 }
 
@@ -232,6 +250,7 @@ int main(int argc, char** argv) {
   render->add_option("--lod", rf.lod, "LOD: on, off, or auto (as each groom says)");
   render->add_option("--msaa", rf.msaa, "software MSAA samples per pixel: 1, 2, 4, 8");
   render->add_option("--dispatch", rf.dispatch, "strand dispatch sizing: auto, readback, overlaunch, persistent");
+  render->add_option("--ao", rf.ao, "baked ambient occlusion: on (default) or off");
   render->add_option("--filter", rf.filter, "reconstruction filter with MSAA 1: on, off, auto (as the scene says)");
   render->add_flag("--reference", rf.reference, "render the ground truth: the average of --spp jittered true-width passes");
   render->add_option("--spp", rf.spp, "samples per pixel of --reference (default 256)");
@@ -243,6 +262,11 @@ int main(int argc, char** argv) {
   groom->add_option("--preset", preset, "long_wavy, curly_medium, fur_sphere or tiny")->required();
   groom->add_option("-o,--output", groomOut, "output hair-mesh file (.json)")->required();
   groom->add_option("--strands", strands, "override the strand count");
+
+  auto* bakeCmd = app.add_subcommand("bake-ao", "bake ambient occlusion into a hair-mesh file");
+  std::string bakeIn, bakeOut;
+  bakeCmd->add_option("groom", bakeIn, "hair-mesh file")->required();
+  bakeCmd->add_option("-o,--output", bakeOut, "output hair-mesh file with per-vertex AO")->required();
 
   auto* exportCmd = app.add_subcommand("export-strands", "write the generated strands as a cyHair .hair file");
   std::string groomPath, hairOut;
@@ -273,6 +297,7 @@ int main(int argc, char** argv) {
     if (*render) return cmdRender(resolved, scenePath, out, rf);
     if (*groom) return cmdGroom(preset, groomOut, strands);
     if (*exportCmd) return cmdExport(resolved, groomPath, hairOut);
+    if (*bakeCmd) return cmdBakeAo(resolved, bakeIn, bakeOut);
     if (*compare) return cmdCompare(compareA, compareB, cf);
   } catch (const Error& e) {
     std::fprintf(stderr, "clhair: error: %s\n", e.what());

@@ -37,6 +37,7 @@ struct RenderOptions {
   float jitterX = 0.0f;     // sub-pixel shift of the image plane, pixels (reference passes, tests)
   float jitterY = 0.0f;
   bool captureGBuffer = false;  // keep the last groom's G-buffer layers in Frame::gbuffer
+  int ambientOcclusion = 1;     // 1: baked AO (baked on first use when the mesh has none), 0: off
 };
 
 struct StageTime {
@@ -91,6 +92,10 @@ class Renderer {
   // MSAA 1, no filter, no LOD, composited per pass so alpha is correct. Timings sum all
   // passes.
   Frame renderReference(const Scene& scene, int spp);
+
+  // Ambient occlusion of every layer vertex (layer-major, 1 = open), computed on the
+  // device from the groom's own hair density and scalp (kernels/ao.cl).
+  std::vector<float> bakeAmbientOcclusion(const HairMesh& mesh);
 
   // Runs the strand kernel in export mode for `mesh`. lod = 1: full detail; lod < 1: every
   // bundle at that LOD value L (strand count, control points and morph of lod_math.h).

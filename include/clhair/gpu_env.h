@@ -117,8 +117,7 @@ CLH_FN void clh_sh9_basis(float x, float y, float z, float* b) {
 CLH_FN float clh_sh9_irradiance(const float* sh, float x, float y, float z) {
   const float c1 = 0.429043f, c2 = 0.511664f, c3 = 0.743125f, c4 = 0.886227f, c5 = 0.247708f;
   return c1 * sh[3 * 8] * (x * x - y * y) + c3 * sh[3 * 6] * z * z + c4 * sh[3 * 0] -
-         c5 * sh[3 * 6] +
-         2.0f * c1 * (sh[3 * 4] * x * y + sh[3 * 7] * x * z + sh[3 * 5] * y * z) +
+         c5 * sh[3 * 6] + 2.0f * c1 * (sh[3 * 4] * x * y + sh[3 * 7] * x * z + sh[3 * 5] * y * z) +
          2.0f * c2 * (sh[3 * 3] * x + sh[3 * 1] * y + sh[3 * 2] * z);
 }
 

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <sstream>
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
@@ -26,6 +27,7 @@
 #include "stages/dispatch.h"
 #include "stages/filter_stage.h"
 #include "stages/shadow_stage.h"
+#include "lighting/environment.h"
 #include "stages/lod_stage.h"
 #include "stages/opaque_stage.h"
 #include "stages/shade_stage.h"
@@ -474,7 +476,7 @@ struct Renderer::Impl {
 
       // the opaque scene from the light: its depth only
       opaque.enqueue({&scene, &lightView, &spheres, &planes, &lights, &shadowAll, &shadowOpaque, &shadowHair,
-                      &shadowOpacity, &lightColor, &lightDepth, res, res, false},
+                      &shadowOpacity, &envTexels(), &envLevels(), &envSh(), &lightColor, &lightDepth, res, res, false},
                      &profiler);
       clCall("copying the light's opaque depth", [&] {
         dev.queue.enqueueCopyBuffer(lightDepth, shadowOpaque, 0, plane * slot * sizeof(float), plane * sizeof(float));
@@ -516,6 +518,44 @@ struct Renderer::Impl {
 
   bool shadowCorrection = true;  // of the frame being rendered (scene setting or option)
 
+  // ---- environment lighting: rebuilt only when the scene's description changes ----
+  std::unique_ptr<Environment> env;
+  std::string envKey;
+  cl::Buffer envDummyTexels, envDummyLevels, envDummySh;
+  const cl::Buffer& envTexels() const { return env ? env->texels() : envDummyTexels; }
+  const cl::Buffer& envLevels() const { return env ? env->levels() : envDummyLevels; }
+  const cl::Buffer& envSh() const { return env ? env->sh() : envDummySh; }
+
+  static std::string envDescKey(const EnvironmentDesc& e) {
+    std::ostringstream k;
+    k << e.file << '|' << e.intensity << '|' << e.rotateYDegrees << '|' << e.sky.sunElevationDeg << ','
+      << e.sky.sunAzimuthDeg << ',' << e.sky.sunAngularDiameterDeg << ',' << e.sky.sunIrradiance << ','
+      << e.sky.gradientExponent << ',' << e.sky.groundBlend << ',' << e.sky.width;
+    for (const glm::vec3& c : {e.sky.sunColor, e.sky.zenith, e.sky.horizon, e.sky.ground}) k << ',' << c.x << ',' << c.y << ',' << c.z;
+    return k.str();
+  }
+
+  void ensureEnvironment(const EnvironmentDesc& e) {
+    if (!envDummyTexels()) {
+      envDummyTexels = makeBuffer<cl_float4>(dev, "environment placeholder", 1);
+      envDummyLevels = makeBuffer<gpu::ClhEnvLevel>(dev, "environment placeholder", 1);
+      envDummySh = makeBuffer<cl_float>(dev, "environment placeholder", CLH_ENV_SH_FLOATS);
+    }
+    if (!e.enabled) {
+      env.reset();
+      envKey.clear();
+      return;
+    }
+    const std::string key = envDescKey(e);
+    if (env && key == envKey) return;
+    Environment::Options o;
+    o.intensity = e.intensity;
+    o.rotateYDegrees = e.rotateYDegrees;
+    env = std::make_unique<Environment>(e.file.empty() ? Environment::fromSky(dev, e.sky, o)
+                                                       : Environment::fromFile(dev, e.file, o));
+    envKey = key;
+  }
+
   DispatchMode resolveMode(DispatchMode m) const {
     // Measured by the benchmark (bench/README.md): read-back is the fastest on the CPU
     // device and is the default until a GPU measurement says otherwise.
@@ -551,6 +591,8 @@ struct Renderer::Impl {
     int slot = 0;
     for (std::size_t i = 0; i < li.size(); ++i)
       if (s.lights[i].shadows && !s.grooms.empty() && slot < CLH_MAX_SHADOWS) li[i].color[3] = static_cast<float>(slot++);
+    ensureEnvironment(s.environment);
+    sg.env_levels = env ? (env->levelCount() | (s.environment.visible ? CLH_ENV_VISIBLE : 0u)) : 0u;
     sg.sphere_count = static_cast<gpu::clh_u32>(sp.size());
     sg.plane_count = static_cast<gpu::clh_u32>(pl.size());
     sg.light_count = static_cast<gpu::clh_u32>(li.size());
@@ -635,7 +677,8 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
   r.shadowCorrection = options.shadowLodCorrection < 0 ? s.shadows.lodCorrection : options.shadowLodCorrection == 1;
   r.renderShadows(s, options);
   r.opaque.enqueue({&r.scene, &r.view, &r.spheres, &r.planes, &r.lights, &r.shadowAll, &r.shadowOpaque, &r.shadowHair,
-                    &r.shadowOpacity, &r.color, &r.depth, s.width, s.height, true},
+                    &r.shadowOpacity, &r.envTexels(), &r.envLevels(), &r.envSh(), &r.color, &r.depth, s.width, s.height,
+                    true},
                    &r.profiler);
   std::vector<GroomResources*> drawn;
   for (const GroomInstance& gi : s.grooms) {
@@ -651,7 +694,8 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
     StrandStage::Raster rs{&r.view, &r.depth, &r.gbuffer, &r.stats, options.msaa, options.rasterStats, mode, strands};
     r.strands.raster(r.strandInputs(g), rs, &r.profiler);
     r.shade.enqueue({&g.groom, &r.view, &r.scene, &r.lights, &r.shadowAll, &r.shadowOpaque, &r.shadowHair,
-                     &r.shadowOpacity, &r.gbuffer, &g.offsets, &r.hair, s.width, s.height, options.msaa},
+                     &r.shadowOpacity, &r.envTexels(), &r.envLevels(), &r.envSh(), &r.gbuffer, &g.offsets, &r.hair,
+                     s.width, s.height, options.msaa},
                     &r.profiler);
     const FilterParams& fp = gi.hasFilter ? gi.filter : s.filter;
     const bool filtered = options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);

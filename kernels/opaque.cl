@@ -5,11 +5,13 @@
  * against and composite over. Lambert shading with the scene's point and directional
  * lights plus a constant ambient term; shadowed lights look up their deep opacity maps,
  * so hair and opaque objects shadow the opaque scene. With shade = 0 only the depth is
- * written (the opaque scene seen from a light).
+ * written (the opaque scene seen from a light). With an environment, the ambient term is
+ * its SH irradiance and a visible environment replaces the background colour.
  */
 #include "clhair/gpu_types.h"
 #include "clh_math.h"
 #include "shadow.h"
+#include "env_lookup.h"
 
 /* Nearest hit along origin + t * dir (t > 0); returns t or INFINITY, normal and albedo. */
 static inline float opaque_trace(__global const ClhSceneGpu* scene_g,
@@ -52,8 +54,9 @@ __kernel void opaque_render(__global const ClhSceneGpu* scene_g, __global const 
                             __global const ClhPlaneGpu* planes_g,
                             __global const ClhLightGpu* lights_g, __global const ClhShadowGpu* shadows_g,
                             __global const float* shadow_opaque_g, __global const float* shadow_hair_g,
-                            __global const uint* shadow_opacity_g, __global float4* color_g,
-                            __global float* depth_g, uint shade) {
+                            __global const uint* shadow_opacity_g, __global const float4* env_texels_g,
+                            __global const ClhEnvLevel* env_levels_g, __global const float* env_sh_g,
+                            __global float4* color_g, __global float* depth_g, uint shade) {
   uint x = (uint)get_global_id(0), y = (uint)get_global_id(1);
   uint width = view_g->width, height = view_g->height;
   if (x >= width || y >= height) return;
@@ -66,15 +69,20 @@ __kernel void opaque_render(__global const ClhSceneGpu* scene_g, __global const 
   float3 dir = clh_xform_dir(to_world, dv);
   float3 n = (float3)(0.0f, 1.0f, 0.0f), albedo = (float3)(0.0f);
   float t = opaque_trace(scene_g, spheres_g, planes_g, origin, dir, &n, &albedo);
+  const uint env_levels = scene_g->env_levels & ~CLH_ENV_VISIBLE;
   if (!(t < INFINITY)) {
-    color_g[idx] = (float4)(vload3(0, scene_g->background), 1.0f);
+    float3 bg = vload3(0, scene_g->background);
+    if (shade != 0u && env_levels > 0u && (scene_g->env_levels & CLH_ENV_VISIBLE) != 0u)
+      bg = clh_env_radiance(env_texels_g, env_levels_g, env_levels, normalize(dir), 0.0f);
+    color_g[idx] = (float4)(bg, 1.0f);
     depth_g[idx] = INFINITY;
     return;
   }
   depth_g[idx] = t;
   if (shade == 0u) return;
   float3 pos = origin + t * dir;
-  float3 radiance = albedo * vload3(0, scene_g->ambient);
+  float3 radiance = env_levels > 0u ? albedo * clh_env_irradiance(env_sh_g, n) / CLH_PI
+                                    : albedo * vload3(0, scene_g->ambient);
   uint nl = min(scene_g->light_count, (uint)CLH_MAX_LIGHTS);
   for (uint i = 0; i < nl; ++i) {
     float4 lp = vload4(0, lights_g[i].pos);

@@ -10,6 +10,7 @@
 #include "clhair/gpu_types.h"
 #include "clh_math.h"
 #include "shadow.h"
+#include "env_lookup.h"
 
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 
@@ -23,6 +24,9 @@ typedef struct {
   __global const float* hair;
   __global const uint* opacity;
   float lod_shift; /* -log(beta) of this groom's LOD pass (Lipp Eq. 8), or 0 */
+  __global const float4* env_texels;
+  __global const ClhEnvLevel* env_levels;
+  __global const float* env_sh;
 } shade_shadows;
 
 static inline float3 shade_word(__global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
@@ -40,8 +44,12 @@ static inline float3 shade_word(__global const ClhGroomGpu* groom_g, __global co
   float3 albedo = mix(vload3(0, groom_g->root_color), vload3(0, groom_g->tip_color), w);
   float3 V = normalize(vload3(0, view_g->eye) - pos);
 
-  /* baked AO darkens the ambient (probe) light; shadowed lights have their own occlusion */
-  float3 radiance = albedo * vload3(0, scene_g->ambient) * ao;
+  /* baked AO darkens the ambient (probe) light; shadowed lights have their own occlusion.
+   * With an environment: SH irradiance at the fibre normal turned toward the viewer. */
+  const uint env_levels = scene_g->env_levels & ~CLH_ENV_VISIBLE;
+  const float3 n_view = clh_normalize_or(V - dot(V, T) * T, V);
+  float3 radiance = (env_levels > 0u ? clh_env_irradiance(sh.env_sh, n_view) / CLH_PI : vload3(0, scene_g->ambient)) *
+                    albedo * ao;
   uint nl = min(scene_g->light_count, (uint)CLH_MAX_LIGHTS);
   for (uint i = 0; i < nl; ++i) {
     float4 lp = vload4(0, lights_g[i].pos);
@@ -75,8 +83,9 @@ __kernel void shade_placeholder(__global const ClhGroomGpu* groom_g,
                                 __global const ClhLightGpu* lights_g,
                                 __global const ClhShadowGpu* shadows_g, __global const float* shadow_opaque_g,
                                 __global const float* shadow_hair_g, __global const uint* shadow_opacity_g,
-                                __global const ulong* gbuf_g, __global const uint* offsets_g,
-                                __global float4* hair_g) {
+                                __global const float4* env_texels_g, __global const ClhEnvLevel* env_levels_g,
+                                __global const float* env_sh_g, __global const ulong* gbuf_g,
+                                __global const uint* offsets_g, __global float4* hair_g) {
   uint x = (uint)get_global_id(0), y = (uint)get_global_id(1);
   uint width = view_g->width, height = view_g->height;
   if (x >= width || y >= height) return;
@@ -87,6 +96,9 @@ __kernel void shade_placeholder(__global const ClhGroomGpu* groom_g,
   sh.opaque = shadow_opaque_g;
   sh.hair = shadow_hair_g;
   sh.opacity = shadow_opacity_g;
+  sh.env_texels = env_texels_g;
+  sh.env_levels = env_levels_g;
+  sh.env_sh = env_sh_g;
   /* Lipp Eq. 8 with beta the share of the hair's coverage this frame kept: the fraction
    * of the visible bundles' strands the LOD pass drew, times the widening that
    * compensated it (N / N_LOD, bounded by the widest hit band) at this pixel's depth */

@@ -203,6 +203,39 @@ Scene loadScene(const std::string& path) {
     o.rejectUnknown({"resolution", "layers", "density", "lod_correction", "bias"});
   }
   if (r.has("filter")) s.filter = readFilter(r, r.require("filter"), s.filter);
+  if (r.has("environment")) {
+    JsonReader o = r.object(r.require("environment"), "environment");
+    EnvironmentDesc& e = s.environment;
+    e.enabled = true;
+    if (o.has("file") == o.has("sky")) o.fail("file", "give exactly one of \"file\" (an equirectangular map) and \"sky\"");
+    if (o.has("file")) {
+      std::filesystem::path f = o.string("file", "");
+      if (!f.is_absolute()) f = base / f;
+      e.file = f.lexically_normal().string();
+      std::error_code ec;
+      if (!std::filesystem::exists(e.file, ec)) o.fail("file", "\"" + e.file + "\" does not exist");
+    } else {
+      JsonReader k = o.object(o.require("sky"), "sky");
+      SkyParams& sky = e.sky;
+      sky.sunElevationDeg = static_cast<float>(k.number("sun_elevation", sky.sunElevationDeg, -90.0, 90.0));
+      sky.sunAzimuthDeg = static_cast<float>(k.number("sun_azimuth", sky.sunAzimuthDeg, -360.0, 360.0));
+      sky.sunAngularDiameterDeg = static_cast<float>(k.number("sun_angular_diameter", sky.sunAngularDiameterDeg, 0.01, 45.0));
+      sky.sunColor = k.vec3("sun_color", sky.sunColor, 0.0, kBig);
+      sky.sunIrradiance = static_cast<float>(k.number("sun_irradiance", sky.sunIrradiance, 0.0, 1e6));
+      sky.zenith = k.vec3("zenith", sky.zenith, 0.0, kBig);
+      sky.horizon = k.vec3("horizon", sky.horizon, 0.0, kBig);
+      sky.ground = k.vec3("ground", sky.ground, 0.0, kBig);
+      sky.gradientExponent = static_cast<float>(k.number("gradient_exponent", sky.gradientExponent, 0.01, 100.0));
+      sky.groundBlend = static_cast<float>(k.number("ground_blend", sky.groundBlend, 0.0, 1.0));
+      sky.width = k.integer("resolution", sky.width, 16, 4096);
+      k.rejectUnknown({"sun_elevation", "sun_azimuth", "sun_angular_diameter", "sun_color", "sun_irradiance", "zenith",
+                       "horizon", "ground", "gradient_exponent", "ground_blend", "resolution"});
+    }
+    e.intensity = static_cast<float>(o.number("intensity", e.intensity, 0.0, 1e6));
+    e.rotateYDegrees = static_cast<float>(o.number("rotate_y", e.rotateYDegrees, -360.0, 360.0));
+    e.visible = o.boolean("visible", e.visible);
+    o.rejectUnknown({"file", "sky", "intensity", "rotate_y", "visible"});
+  }
 
   std::map<std::string, std::shared_ptr<const HairMesh>> loaded;
   if (r.has("grooms")) {
@@ -280,7 +313,7 @@ Scene loadScene(const std::string& path) {
     s.camera = framePreset(s, CameraPreset::Mid);
   }
   r.rejectUnknown({"resolution", "camera", "background", "ambient", "lights", "spheres", "planes", "grooms",
-                   "shadows", "filter"});
+                   "shadows", "filter", "environment"});
   return s;
 }
 

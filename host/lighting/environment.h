@@ -24,24 +24,12 @@
 
 #include "clhair/gpu_env.h"
 #include "clhair/image.h"
+#include "clhair/scene.h"
 #include "stages/dispatch.h"
 
 namespace clhair {
 
-// The procedural default sky: a sun disc, a horizon -> zenith gradient and a ground.
-struct SkyParams {
-  float sunElevationDeg = 35.0f;       // above the horizon, [-90, 90]
-  float sunAzimuthDeg = 30.0f;         // about +y: 0 = toward -z, 90 = toward +x
-  float sunAngularDiameterDeg = 3.0f;  // (0, 45]; the real sun is 0.53, wider reads better
-  glm::vec3 sunColor{1.0f, 0.95f, 0.85f};
-  float sunIrradiance = 3.0f;             // irradiance of the disc on a surface facing it
-  glm::vec3 zenith{0.20f, 0.35f, 0.75f};  // linear rgb radiance
-  glm::vec3 horizon{0.75f, 0.80f, 0.90f};
-  glm::vec3 ground{0.20f, 0.18f, 0.16f};
-  float gradientExponent = 0.5f;  // sky = mix(horizon, zenith, y^exponent)
-  float groundBlend = 0.05f;      // horizon -> ground over -y in [0, groundBlend]
-  int width = 512;                // generated map width, even, [16, 4096]
-};
+// SkyParams (the procedural default sky) is public: include/clhair/scene.h.
 
 class Environment {
  public:

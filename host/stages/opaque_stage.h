@@ -16,7 +16,8 @@ class OpaqueStage {
     const cl::Buffer* planes;   // ClhPlaneGpu[]
     const cl::Buffer* lights;   // ClhLightGpu[]
     const cl::Buffer* shadows;  // ClhShadowGpu[CLH_MAX_SHADOWS]
-    const cl::Buffer* shadowOpaque, *shadowHair, *shadowOpacity;  // deep opacity maps
+    const cl::Buffer* shadowOpaque, *shadowHair, *shadowOpacity;
+    const cl::Buffer* envTexels, *envLevels, *envSh;  // environment (dummies when none)  // deep opacity maps
     cl::Buffer* color;          // float4 per pixel
     cl::Buffer* depth;          // float per pixel
     int width, height;

@@ -21,9 +21,12 @@ cl::Event ShadeStage::enqueue(const Params& p, Profiler* profiler) {
   k.setArg(5, *p.shadowOpaque);
   k.setArg(6, *p.shadowHair);
   k.setArg(7, *p.shadowOpacity);
-  k.setArg(8, *p.gbuffer);
-  k.setArg(9, *p.offsets);
-  k.setArg(10, *p.hair);
+  k.setArg(8, *p.envTexels);
+  k.setArg(9, *p.envLevels);
+  k.setArg(10, *p.envSh);
+  k.setArg(11, *p.gbuffer);
+  k.setArg(12, *p.offsets);
+  k.setArg(13, *p.hair);
   return dispatch(dev_, k, "shade", cl::NDRange(p.width, p.height), cl::NDRange(8, 8), profiler);
 }
 

@@ -18,6 +18,7 @@ class ShadeStage {
     const cl::Buffer* lights;
     const cl::Buffer* shadows;  // ClhShadowGpu[CLH_MAX_SHADOWS]
     const cl::Buffer* shadowOpaque, *shadowHair, *shadowOpacity;
+    const cl::Buffer* envTexels, *envLevels, *envSh;  // environment (dummies when none)
     const cl::Buffer* gbuffer;  // ulong per pixel, msaa + 1 layers
     const cl::Buffer* offsets;  // the groom's strand offsets (its total drawn at [bundles])
     cl::Buffer* hair;          // float4 per pixel

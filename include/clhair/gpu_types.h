@@ -178,8 +178,10 @@ typedef struct {
   clh_u32 sphere_count;
   clh_u32 plane_count;
   clh_u32 light_count;
-  clh_u32 pad0;
+  clh_u32 env_levels;  /* prefiltered environment levels; 0: no environment (ambient instead);
+                          bit 31 set: the environment is also the background */
 } ClhSceneGpu;
+#define CLH_ENV_VISIBLE 0x80000000u
 
 /* ---- reconstruction filter parameters (Lipp §3.3), 32 bytes ------------------------- */
 typedef struct {

@@ -42,6 +42,32 @@ struct ShadowParams {
   float bias = 2.0f;                             // opaque shadow-map bias, texels
 };
 
+// The procedural default sky: a sun disc, a horizon -> zenith gradient and a ground.
+struct SkyParams {
+  float sunElevationDeg = 35.0f;       // above the horizon, [-90, 90]
+  float sunAzimuthDeg = 30.0f;         // about +y: 0 = toward -z, 90 = toward +x
+  float sunAngularDiameterDeg = 3.0f;  // (0, 45]; the real sun is 0.53, wider reads better
+  glm::vec3 sunColor{1.0f, 0.95f, 0.85f};
+  float sunIrradiance = 3.0f;             // irradiance of the disc on a surface facing it
+  glm::vec3 zenith{0.20f, 0.35f, 0.75f};  // linear rgb radiance
+  glm::vec3 horizon{0.75f, 0.80f, 0.90f};
+  glm::vec3 ground{0.20f, 0.18f, 0.16f};
+  float gradientExponent = 0.5f;  // sky = mix(horizon, zenith, y^exponent)
+  float groundBlend = 0.05f;      // horizon -> ground over -y in [0, groundBlend]
+  int width = 512;                // generated map width, even, [16, 4096]
+};
+
+// Environment ("probe") lighting: an equirectangular map or the procedural sky, prefiltered
+// at load (host/lighting/environment.h). When enabled it replaces the constant ambient.
+struct EnvironmentDesc {
+  bool enabled = false;
+  std::string file;          // equirectangular map (EXR/HDR/...), or empty for the sky
+  SkyParams sky;
+  float intensity = 1.0f;
+  float rotateYDegrees = 0.0f;
+  bool visible = false;      // drawn as the background
+};
+
 struct Sphere {
   glm::vec3 center{0.0f};
   float radius = 1.0f;
@@ -90,6 +116,7 @@ struct Scene {
   std::vector<GroomInstance> grooms;
   FilterParams filter;
   ShadowParams shadows;
+  EnvironmentDesc environment;
 };
 
 enum class CameraPreset { Close, Mid, Far };

@@ -312,7 +312,10 @@ struct Renderer::Impl {
     cl::Buffer density = makeBuffer<cl_uint>(dev, "the AO density grid", cells);
     cl::Buffer out = makeBuffer<cl_float>(dev, "baked AO", vertexTotal);
     clCall("baking ambient occlusion", [&] {
-      dev.queue.enqueueFillBuffer(density, cl_uint(0), 0, cells * sizeof(cl_uint));
+      cl::Kernel clearGrid = dev.kernel("ao.cl", "ao_clear");
+      clearGrid.setArg(0, density);
+      clearGrid.setArg(1, static_cast<cl_uint>(cells));
+      dispatch(dev, clearGrid, "ao", cl::NDRange(cells), cl::NDRange(64), nullptr);
       cl::Kernel vox = dev.kernel("ao.cl", "ao_voxelize");
       vox.setArg(0, e.points);
       vox.setArg(1, e.counts);

@@ -34,6 +34,12 @@ static inline int ao_voxel(ao_grid g, float3 p, int3* v) {
   return i.x >= 0 && i.y >= 0 && i.z >= 0 && i.x < (int)g.dims.x && i.y < (int)g.dims.y && i.z < (int)g.dims.z;
 }
 
+/* Zeroes the density grid (a kernel, so checkers see the words as written). */
+__kernel void ao_clear(__global uint* density_g, uint cells) {
+  const uint i = (uint)get_global_id(0);
+  if (i < cells) density_g[i] = 0u;
+}
+
 __kernel void ao_voxelize(__global const float4* points_g, __global const uint* counts_g, uint strands,
                           float4 grid_lo, uint4 grid_dims, float scale, __global uint* density_g) {
   const size_t gid = get_global_id(0);

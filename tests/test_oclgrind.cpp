@@ -2,7 +2,8 @@
 // --check-api, plus its always-on memory checks) over every kernel of a frame and of the
 // strand export, on a tiny groom: zero reports.
 //
-// Inputs: tests/data/oclgrind_tiny.json (48x32, one sphere, one light, the tiny groom) and
+// Inputs: tests/data/oclgrind_tiny.json (48x32, one sphere, one shadowed light, the tiny
+// groom, whose AO is baked on load) and
 // assets/grooms/tiny.hairmesh.json. Oclgrind intercepts the OpenCL API, so the CLI sees a
 // single device, "Oclgrind Simulator" (OpenCL 1.2 with 64-bit atomics, local sub-group
 // backend); --inst-counts proves that each expected kernel ran. Diagnostics go to a log file
@@ -134,9 +135,10 @@ void expectClean(const OclgrindRun& run, const std::vector<std::string>& kernels
         << run.result.output;
 }
 
-const std::vector<std::string> kFrameKernels = {"opaque_render", "lod_bundles",       "scan_bundles",
-                                                "clear_words",   "strands_raster",    "shade_placeholder",
-                                                "composite_over"};
+const std::vector<std::string> kFrameKernels = {
+    "opaque_render",  "lod_bundles",       "scan_bundles",   "clear_words",     "strands_raster",
+    "shade_placeholder", "filter_reconstruct", "composite_over", "shadow_resolve_depth", "shadow_clear",
+    "strands_opacity", "ao_clear",          "ao_voxelize",    "ao_bake"};
 const std::vector<std::string> kExportKernels = {"lod_bundles", "scan_bundles", "strands_export"};
 
 class Oclgrind : public ::testing::TestWithParam<bool> {};  // param: --uninitialized

@@ -8,6 +8,9 @@
 //   scaling   strands 16k -> 256k at a fixed view; resolution 720p -> 4K at a fixed groom.
 //   atomics   64-bit atom_min throughput with and without the load skip, and each
 //             table1 MSAA-1 raster time as a multiple of that floor.
+//   quality   Lipp Fig. 7: SWR1, SWR1+F, SWR1+F+L, MSAA 2/4/8 at close/mid/far, FLIP and
+//             PSNR against the reference (jittered true-width passes), with frame times.
+//   temporal  a 30-frame orbit: mean frame-to-frame change for SWR1, SWR1+F, MSAA 4.
 // Timings come from OpenCL profiling events (device time per stage), never wall clock;
 // compile time is reported apart. Output: bench.json, bench.csv and bench.md in --out,
 // tagged with device, driver and git revision; the markdown is also printed.
@@ -26,6 +29,7 @@
 #include "cl/device_impl.h"
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
+#include "metrics/image_metrics.h"
 
 namespace {
 
@@ -149,16 +153,19 @@ int main(int argc, char** argv) {
   CLI::App app{"clhair_bench: speed of the clhair pipeline on one device"};
   DeviceOptions dopts;
   std::string out = "bench-results", only, sceneDir = std::string(CLHAIR_SOURCE_DIR) + "/bench/scenes";
-  int runs = 3, warmup = 1, width = 1920, height = 1080;
+  int runs = 3, warmup = 1, width = 1920, height = 1080, refSpp = 64, qualityWidth = 960, qualityHeight = 540;
   bool quick = false;
   app.add_option("--device", dopts.selector, "device: P:D or a name substring");
   app.add_option("--out", out, "folder for bench.json, bench.csv, bench.md");
-  app.add_option("--only", only, "one section: table1, dispatch, scaling, atomics");
+  app.add_option("--only", only, "one section: table1, dispatch, scaling, atomics, quality, temporal");
   app.add_option("--runs", runs, "timed runs per configuration (median reported)");
   app.add_option("--warmup", warmup, "untimed runs first");
   app.add_option("--width", width, "table1 width");
   app.add_option("--height", height, "table1 height");
   app.add_option("--scenes", sceneDir, "folder with groom1.json and groom2.json");
+  app.add_option("--ref-spp", refSpp, "samples per pixel of the quality reference (default 64)");
+  app.add_option("--quality-width", qualityWidth, "quality and temporal sections: width");
+  app.add_option("--quality-height", qualityHeight, "quality and temporal sections: height");
   app.add_flag("--quick", quick, "smaller sweep for a fast look (640x360, 1 run, MSAA 1 and 4)");
   CLI11_PARSE(app, argc, argv);
   try {
@@ -337,6 +344,93 @@ int main(int argc, char** argv) {
       };
       for (std::int64_t n : counts) row(n, 1920, 1080);
       for (auto [w, h] : sizes) row(127000, w, h);
+    }
+
+    if (only.empty() || only == "quality") {
+      // Lipp Fig. 7: each configuration against the reference (average of refSpp jittered
+      // true-width passes), FLIP and PSNR, with its frame time.
+      std::filesystem::create_directories(out + "/quality");
+      const int qw = quick ? 320 : qualityWidth, qh = quick ? 180 : qualityHeight;
+      md << "\n## Quality against the reference (" << groomNames[0] << ", " << qw << "x" << qh << ", reference "
+         << refSpp << " spp)\n\nFLIP (lower is better) / PSNR dB / frame ms\n\n| configuration | close | mid | far |\n|---|---|---|---|\n";
+      struct Config {
+        const char* name;
+        int msaa, filter, lod;
+      };
+      const Config configs[] = {{"SWR1", 1, 0, 0},   {"SWR1+F", 1, 1, 0}, {"SWR1+F+L", 1, 1, 1},
+                                {"SWR MSAA 2", 2, 0, 0}, {"SWR MSAA 4", 4, 0, 0}, {"SWR MSAA 8", 8, 0, 0}};
+      std::map<std::string, std::vector<std::string>> cells;
+      json q;
+      for (int d = 0; d < 3; ++d) {
+        Scene s = framed(scenes[0], dists[d], qw, qh);
+        Frame ref = b.renderer.renderReference(s, refSpp);
+        const std::string refPath = out + "/quality/" + distNames[d] + "_reference.png";
+        writeImage(ref.color, refPath);
+        for (const Config& c : configs) {
+          RenderOptions o;
+          o.msaa = c.msaa;
+          o.filter = c.filter;
+          o.lod = c.lod;
+          Measured m = b.measure(s, o, false);
+          Frame f = b.renderer.render(s, o);
+          ImageComparison cmp = compareImages(ref.color, f.color);
+          std::string name = c.name;
+          std::string file = name;
+          for (char& ch : file)
+            if (ch == ' ' || ch == '+') ch = '_';
+          writeImage(f.color, out + "/quality/" + distNames[d] + "_" + file + ".png");
+          cells[name].push_back(fmt(cmp.flip.mean, 4) + " / " + fmt(cmp.psnr.psnrDb, 1) + " / " + fmt(m.total.median));
+          q[name][distNames[d]] = {{"flip", cmp.flip.mean}, {"psnr_db", cmp.psnr.psnrDb}, {"frame_ms", m.total.median}};
+          std::fprintf(stderr, "quality %s %s: FLIP %.4f PSNR %.1f\n", c.name, distNames[d], cmp.flip.mean, cmp.psnr.psnrDb);
+        }
+      }
+      for (const Config& c : configs) {
+        md << "| " << c.name << " |";
+        for (const std::string& cell : cells[c.name]) md << " " << cell << " |";
+        md << "\n";
+      }
+      report["quality"] = q;
+      md << "\nImages: `" << out << "/quality/`.\n";
+    }
+
+    if (only.empty() || only == "temporal") {
+      // flicker: a 30-frame orbit, the mean absolute frame-to-frame change of sRGB values
+      const int tw = quick ? 320 : qualityWidth, th = quick ? 180 : qualityHeight;
+      const int frames = quick ? 8 : 30;
+      md << "\n## Temporal stability (" << groomNames[0] << ", mid, " << frames << "-frame orbit of 0.5 deg per frame, " << tw
+         << "x" << th << ")\n\nMean absolute sRGB change between consecutive frames (lower is steadier):\n\n| configuration | flicker |\n|---|---|\n";
+      struct Config {
+        const char* name;
+        int msaa, filter;
+      };
+      for (const Config& c : {Config{"SWR1", 1, 0}, Config{"SWR1+F", 1, 1}, Config{"SWR MSAA 4", 4, 0}}) {
+        RenderOptions o;
+        o.msaa = c.msaa;
+        o.filter = c.filter;
+        o.lod = 0;
+        double total = 0.0;
+        std::vector<float> prev;
+        for (int f = 0; f < frames; ++f) {
+          Scene s = scenes[0];
+          s.width = tw;
+          s.height = th;
+          s.camera = framePreset(s, CameraPreset::Mid, 35.0f + 0.5f * f, 10.0f, 35.0f);
+          Frame fr = b.renderer.render(s, o);
+          std::vector<float> srgb(fr.color.rgba.size() / 4 * 3);
+          for (std::size_t i = 0; i < srgb.size(); ++i)
+            srgb[i] = static_cast<float>(linearToSrgbClamped(fr.color.rgba[(i / 3) * 4 + i % 3]));
+          if (!prev.empty()) {
+            double diff = 0.0;
+            for (std::size_t i = 0; i < srgb.size(); ++i) diff += std::fabs(srgb[i] - prev[i]);
+            total += diff / srgb.size();
+          }
+          prev.swap(srgb);
+        }
+        double flicker = total / (frames - 1);
+        md << "| " << c.name << " | " << fmt(flicker, 5) << " |\n";
+        report["temporal"][c.name] = flicker;
+        std::fprintf(stderr, "temporal %s: %.5f\n", c.name, flicker);
+      }
     }
 
     std::filesystem::create_directories(out);

@@ -137,7 +137,7 @@ void expectClean(const OclgrindRun& run, const std::vector<std::string>& kernels
 
 const std::vector<std::string> kFrameKernels = {
     "opaque_render",  "lod_bundles",       "scan_bundles",   "clear_words",     "strands_raster",
-    "shade_placeholder", "filter_reconstruct", "composite_over", "shadow_resolve_depth", "shadow_clear",
+    "shade_deferred", "filter_reconstruct", "composite_over", "shadow_resolve_depth", "shadow_clear",
     "strands_opacity", "ao_clear",          "ao_voxelize",    "ao_bake"};
 const std::vector<std::string> kExportKernels = {"lod_bundles", "scan_bundles", "strands_export"};
 
@@ -167,7 +167,7 @@ TEST_P(Oclgrind, RenderWithLodMsaaAndPersistentGridHasNoReports) {
   OclgrindRun run = runUnderOclgrind(dir, uninit ? "render-lod-uninit" : "render-lod", uninit,
                                      "render " + quote(scene) + " -o " + quote(out) +
                                          " --lod on --msaa 4 --dispatch persistent");
-  expectClean(run, {"lod_bundles", "scan_bundles", "strands_raster_persistent", "shade_placeholder"},
+  expectClean(run, {"lod_bundles", "scan_bundles", "strands_raster_persistent", "shade_deferred"},
               "clhair render --lod on --msaa 4 --dispatch persistent");
   EXPECT_TRUE(fs::exists(out)) << out << " was not written";
 }

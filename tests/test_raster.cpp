@@ -92,6 +92,7 @@ TEST(Raster, NearerGroomWinsWhateverTheOrder) {
   HairMesh a = makeGroomPreset("tiny");
   a.strandCount = 300;
   a.appearance.minHitDiameterPx = 1.0f;
+  a.appearance.useMelanin = false;  // colour mode: red strands here, blue ones below
   a.appearance.rootColor = a.appearance.tipColor = glm::vec3(1.0f, 0.0f, 0.0f);
   HairMesh b = a;
   b.appearance.rootColor = b.appearance.tipColor = glm::vec3(0.0f, 0.0f, 1.0f);
@@ -115,8 +116,8 @@ TEST(Raster, NearerGroomWinsWhateverTheOrder) {
   Frame ba = r.render(s, o);
   std::size_t red = 0, blue = 0, differ = 0;
   for (std::size_t i = 0; i < ab.color.rgba.size(); i += 4) {
-    red += ab.color.rgba[i] > 0.0f && ab.color.rgba[i + 2] == 0.0f;
-    blue += ab.color.rgba[i + 2] > 0.0f && ab.color.rgba[i] == 0.0f;
+    red += ab.color.rgba[i] > 2.0f * ab.color.rgba[i + 2] + 1e-4f;
+    blue += ab.color.rgba[i + 2] > 2.0f * ab.color.rgba[i] + 1e-4f;
     differ += std::memcmp(&ab.color.rgba[i], &ba.color.rgba[i], 3 * sizeof(float)) != 0;
   }
   EXPECT_GT(red, 200u);

@@ -65,9 +65,13 @@ TEST(Shadows, HairBehindHairIsDarker) {
   RecordProperty("back_lit", std::to_string(backLit));
   RecordProperty("front_shadowed", std::to_string(frontSh));
   RecordProperty("back_shadowed", std::to_string(backSh));
-  EXPECT_NEAR(frontLit, backLit, 0.05 * frontLit) << "without shadows both patches look alike";
-  EXPECT_LT(backSh, 0.6 * frontSh) << "the back patch lies in the front patch's shadow";
-  EXPECT_LT(frontSh, frontLit) << "hair shadows itself too";
+  // the BSDF is view dependent, so compare each patch with itself unshadowed: the back
+  // patch, in the front one's shadow, keeps a much smaller share of its light
+  const double frontKept = frontSh / frontLit, backKept = backSh / backLit;
+  RecordProperty("front_kept", std::to_string(frontKept));
+  RecordProperty("back_kept", std::to_string(backKept));
+  EXPECT_LT(backKept, 0.6 * frontKept) << "front keeps " << frontKept << ", back keeps " << backKept;
+  EXPECT_LT(frontKept, 1.0) << "hair shadows itself too";
 }
 
 TEST(Shadows, OpaqueObjectsReceiveHairShadows) {

@@ -176,8 +176,19 @@ void fillGroomParams(const HairMesh& m, const GroomData& data, gpu::ClhGroomGpu&
   p.flyaway_fraction = s.flyawayFraction;
   p.flyaway_amplitude = s.flyawayAmplitude;
   p.length_variation = s.lengthVariation;
-  store3(p.root_color, m.appearance.rootColor, 1.0f);
-  store3(p.tip_color, m.appearance.tipColor, 1.0f);
+  const AppearanceParams& a = m.appearance;
+  store3(p.root_color, a.rootColor, 1.0f);
+  store3(p.tip_color, a.tipColor, 1.0f);
+  p.melanin[0] = a.eumelanin[0];
+  p.melanin[1] = a.eumelanin[1];
+  p.melanin[2] = a.pheomelanin[0];
+  p.melanin[3] = a.pheomelanin[1];
+  p.bsdf[0] = a.betaM;
+  p.bsdf[1] = a.betaN;
+  p.bsdf[2] = a.cuticleTiltDeg * 3.14159265358979f / 180.0f;
+  p.bsdf[3] = a.ior;
+  p.look[0] = a.variation;
+  p.look[1] = a.useMelanin ? 1.0f : 0.0f;
 }
 
 }  // namespace clhair

@@ -175,6 +175,10 @@ HairMesh longWavy() {
   m.style.lengthVariation = 0.12f;
   m.appearance.rootColor = glm::vec3(0.045f, 0.026f, 0.014f);
   m.appearance.tipColor = glm::vec3(0.20f, 0.12f, 0.06f);
+  m.appearance.eumelanin[0] = 1.6f;  // brown, lighter toward the tips
+  m.appearance.eumelanin[1] = 0.9f;
+  m.appearance.pheomelanin[0] = m.appearance.pheomelanin[1] = 0.2f;
+  m.appearance.betaM = 0.25f;
   m.appearance.strandWidth = 7.0e-5f;
   m.lod.lambda = 3.0f;
   return m;
@@ -202,6 +206,12 @@ HairMesh curlyMedium() {
   m.style.lengthVariation = 0.2f;
   m.appearance.rootColor = glm::vec3(0.035f, 0.012f, 0.006f);
   m.appearance.tipColor = glm::vec3(0.17f, 0.055f, 0.022f);
+  m.appearance.eumelanin[0] = 1.1f;  // auburn: pheomelanin reddens
+  m.appearance.eumelanin[1] = 0.7f;
+  m.appearance.pheomelanin[0] = 1.0f;
+  m.appearance.pheomelanin[1] = 0.8f;
+  m.appearance.betaM = 0.35f;
+  m.appearance.betaN = 0.4f;
   m.appearance.strandWidth = 8.0e-5f;
   m.lod.lambda = 5.5f;
   return m;
@@ -266,6 +276,11 @@ HairMesh furSphere() {
   m.style.flyawayAmplitude = 0.004f;
   m.appearance.rootColor = glm::vec3(0.10f, 0.07f, 0.045f);
   m.appearance.tipColor = glm::vec3(0.62f, 0.46f, 0.30f);
+  m.appearance.eumelanin[0] = 1.2f;  // dark underfur, light tips
+  m.appearance.eumelanin[1] = 0.15f;
+  m.appearance.pheomelanin[0] = 0.5f;
+  m.appearance.pheomelanin[1] = 0.25f;
+  m.appearance.betaM = 0.4f;
   m.appearance.strandWidth = 4.0e-5f;
   m.lod.lambda = 2.0f;
   return m;
@@ -300,6 +315,8 @@ HairMesh tinyPatch() {
   m.style.flyawayFraction = 0.1f;
   m.style.flyawayAmplitude = 0.003f;
   m.style.lengthVariation = 0.2f;
+  m.appearance.eumelanin[0] = 0.6f;
+  m.appearance.eumelanin[1] = 0.3f;
   m.appearance.rootColor = glm::vec3(0.3f, 0.2f, 0.1f);
   m.appearance.tipColor = glm::vec3(0.8f, 0.6f, 0.3f);
   return m;

@@ -8,7 +8,7 @@ ShadeStage::ShadeStage(Device::Impl& dev) : dev_(dev) { kernel(1); }
 cl::Kernel& ShadeStage::kernel(int msaa) {
   auto it = kernels_.find(msaa);
   if (it != kernels_.end()) return it->second;
-  return kernels_[msaa] = dev_.kernel("shade.cl", "shade_placeholder", "-DCLH_MSAA=" + std::to_string(msaa));
+  return kernels_[msaa] = dev_.kernel("shade.cl", "shade_deferred", "-DCLH_MSAA=" + std::to_string(msaa));
 }
 
 cl::Event ShadeStage::enqueue(const Params& p, Profiler* profiler) {

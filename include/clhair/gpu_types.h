@@ -76,7 +76,7 @@ typedef struct {
   float uv[8];
 } ClhBundle;
 
-/* ---- per-groom parameters for one view, 256 bytes ------------------------------------- */
+/* ---- per-groom parameters for one view, 288 bytes ------------------------------------- */
 typedef struct {
   float obj_to_view[12];  /* 3x4 row-major: object space -> view space (+z forward) */
   float obj_to_world[12]; /* 3x4 row-major: object space -> world space */
@@ -115,10 +115,14 @@ typedef struct {
   float flyaway_amplitude;
   float length_variation; /* strands are shortened by up to this fraction */
 
-  /* appearance */
+  /* appearance (shade.cl): the fibre's absorption comes from melanin concentrations
+   * (Chiang et al. 2016) blended root to tip over w, or, when use_melanin is 0, from the
+   * root/tip colours; each strand varies its melanin by up to +-variation (hashed from uv) */
   float root_color[4];
   float tip_color[4];
-  float pad2[4];
+  float melanin[4];       /* eumelanin root, tip; pheomelanin root, tip */
+  float bsdf[4];          /* beta_m, beta_n, cuticle tilt (radians), index of refraction */
+  float look[4];          /* variation, use_melanin (0/1), unused, unused */
 } ClhGroomGpu;
 
 /* ---- camera for one view, 128 bytes ------------------------------------------------

@@ -36,9 +36,20 @@ struct StyleParams {
 };
 
 struct AppearanceParams {
-  glm::vec3 rootColor{0.08f, 0.05f, 0.03f};  // linear rgb (placeholder shading)
+  // Fibre colour: melanin concentrations (Chiang et al. 2016; ~0.3 blond, ~1.3 brown, ~8
+  // black eumelanin; pheomelanin reddens), blended from root to tip. With useMelanin
+  // false the absorption is derived from rootColor/tipColor instead.
+  bool useMelanin = true;
+  float eumelanin[2] = {1.3f, 1.0f};    // root, tip
+  float pheomelanin[2] = {0.1f, 0.1f};  // root, tip
+  glm::vec3 rootColor{0.08f, 0.05f, 0.03f};  // linear rgb: colour mode, and cyHair export
   glm::vec3 tipColor{0.25f, 0.17f, 0.10f};
-  float strandWidth = 7.0e-5f;  // world-space fibre diameter
+  float betaM = 0.3f;            // longitudinal roughness
+  float betaN = 0.3f;            // azimuthal roughness
+  float cuticleTiltDeg = 2.0f;   // scale tilt alpha
+  float ior = 1.55f;             // keratin
+  float variation = 0.2f;        // per-strand melanin varies by up to +-20 %
+  float strandWidth = 7.0e-5f;   // world-space fibre diameter
   // Smallest diameter, in pixels, within which a strand covers a pixel's center sample.
   // 0 keeps the true projected width (sub-pixel strands then hit few centers; the
   // reconstruction filter rebuilds coverage from them); 1 draws gap-free 1-pixel lines.

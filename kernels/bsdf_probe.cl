@@ -1,0 +1,58 @@
+/* bsdf_probe.cl — test kernel for the real-time hair BSDF (kernels/common/hair_bsdf.h).
+ *
+ * Evaluates the device model for an array of records so tests/test_bsdf.cpp can compare it
+ * with the double-precision CPU reference (tests/reference/chiang_reference.cpp).
+ * Input record i: BSDF_PROBE_IN floats at rec_g[BSDF_PROBE_IN * i]:
+ *    0..2 sigma_a   3 beta_m   4 beta_n   5 alpha (radians)   6 eta   7 unused
+ *    8..10 t (unit)   12..14 wo (unit, to the eye)   16..18 wi (unit, to the light)
+ *    (11, 15, 19 unused)
+ * Output: BSDF_PROBE_OUT float4 per record at out_g[BSDF_PROBE_OUT * i]:
+ *    0 (f_R, cos theta_i)   1 (f_TT, 0)   2 (f_TRT, 0)   3 (diffuse f, diffuse albedo.g)
+ *    4 (clh_hair_bsdf: the full one-call f, clh_hair_eval_cos luminance)
+ *    5 (env spec_weight, ggx_alpha)
+ * Every f is without the cosine. Work-items past `count` do nothing.
+ */
+#include "hair_bsdf.h"
+
+#define BSDF_PROBE_IN 20
+#define BSDF_PROBE_OUT 6
+
+__kernel void bsdf_probe_eval(__global const float* rec_g, uint count, __global float4* out_g) {
+  uint i = (uint)get_global_id(0);
+  if (i >= count) return;
+  __global const float* r = rec_g + (size_t)i * BSDF_PROBE_IN;
+  clh_hair_material m;
+  m.sigma_a = vload3(0, r);
+  m.beta_m = r[3];
+  m.beta_n = r[4];
+  m.alpha = r[5];
+  m.eta = r[6];
+  float3 t = vload3(0, r + 8);
+  float3 wo = vload3(0, r + 12);
+  float3 wi = vload3(0, r + 16);
+
+  clh_hair_view hv = clh_hair_prepare(&m, t, wo);
+  float3 fr, ftt, ftrt;
+  clh_hair_eval_lobes(&hv, wi, &fr, &ftt, &ftrt);
+  float3 fd = clh_hair_diffuse(&hv);
+  clh_hair_env env = clh_hair_env_terms(&hv);
+
+  __global float4* o = out_g + (size_t)i * BSDF_PROBE_OUT;
+  o[0] = (float4)(fr, clh_hair_cos_theta(t, wi));
+  o[1] = (float4)(ftt, 0.0f);
+  o[2] = (float4)(ftrt, 0.0f);
+  o[3] = (float4)(fd, clh_hair_diffuse_albedo(&hv).y);
+  o[4] = (float4)(clh_hair_bsdf(&m, t, wo, wi),
+                  dot(clh_hair_eval_cos(&hv, wi), (float3)(0.2126f, 0.7152f, 0.0722f)));
+  o[5] = (float4)(env.spec_weight, env.ggx_alpha);
+}
+
+/* sigma_a helpers on the device: record i holds (eumelanin, pheomelanin, beta_n, unused,
+ * colour rgb, unused); out 2 float4: sigma_a from melanin, sigma_a from colour. */
+__kernel void bsdf_probe_sigma(__global const float* rec_g, uint count, __global float4* out_g) {
+  uint i = (uint)get_global_id(0);
+  if (i >= count) return;
+  __global const float* r = rec_g + (size_t)i * 8;
+  out_g[2 * (size_t)i] = (float4)(clh_hair_sigma_a_from_melanin(r[0], r[1]), 0.0f);
+  out_g[2 * (size_t)i + 1] = (float4)(clh_hair_sigma_a_from_color(vload3(0, r + 4), r[2]), 0.0f);
+}

@@ -1,0 +1,431 @@
+/* hair_bsdf.h — real-time far-field hair BSDF for the deferred shading pass.
+ *
+ * A float, closed-form evaluation of the h-averaged Chiang et al. 2016 model (the G-buffer
+ * stores no offset h across the fibre), in the spirit of Pekelis et al. 2015 and Lipp et al.
+ * §3.4: R, TT and TRT lobes plus a Kajiya-Kay-like diffuse term that carries the p >= 3
+ * energy. docs/hair-shading.md derives every approximation and lists the measured errors
+ * against the double-precision reference in tests/reference/chiang_reference.cpp.
+ *
+ * Inputs: a clh_hair_material, a unit fibre tangent t (root to tip), unit wo (to the eye)
+ * and wi (to the light). Output: f(wo, wi) WITHOUT the cosine: reflected radiance is
+ *     L_o = f * cos(theta_i) * E_light,   cos(theta_i) = sqrt(1 - dot(t, wi)^2)
+ * (clh_hair_cos_theta). Energy: ∫ f cos(theta_i) dw_i <= 1 for every wo.
+ *
+ * Model, per lobe p (the longitudinal part does not depend on h, so it factors out exactly):
+ *   f = Σ_{p=0..2} M_p(theta_i, theta_o) Ñ_p(phi; theta_o) / cos(theta_i) + Ā_3 / pi²
+ *   M_p : d'Eon's Bessel form with Chiang's variances and cuticle tilt on theta_o (pbrt-v4
+ *         convention), I0 by Abramowitz & Stegun 9.8.1-2 — same function as the reference.
+ *   Ñ_0 : R. Zero-roughness limit  ¼ |cos(phi/2)| F(cos theta_o |cos(phi/2)|)  (exact
+ *         change of variables h = -sin(phi/2)), blurred by the logistic with a 3-tap rule.
+ *   Ñ_1 : TT. Zero-roughness limit by inverting Phi_1(h) in closed form
+ *         (tan gamma_o = sin x / (cos x - 1/eta'), x = (pi - phi)/2), 3-tap logistic blur.
+ *   Ñ_2 : TRT. Its phase Phi_2(h) has caustics, so it is approximated as piecewise linear on
+ *         4 fixed gamma_o panels; each panel is one analytic lobe (a box convolved with the
+ *         logistic = a difference of two logistic CDFs).
+ *   Ā_3 : p >= 3 energy from the same 4 panels, spread as a constant f (Kajiya-Kay diffuse).
+ * All stay valid for beta_m in [0.1, 1], beta_n in [0.15, 0.6] (fitted and tested at 0.2-0.5),
+ * eta in [1.4, 1.7] (panels were placed for eta = 1.55).
+ *
+ * Typical use in a shading kernel:
+ *   clh_hair_view hv = clh_hair_prepare(&mat, t, wo);          // once per pixel
+ *   for each light: L += clh_hair_eval_cos(&hv, wi) * E;       // = f cos(theta_i) E
+ */
+#ifndef CLHAIR_HAIR_BSDF_H
+#define CLHAIR_HAIR_BSDF_H
+
+#define CLH_HAIR_PI 3.14159265358979323846f
+
+typedef struct {
+  float3 sigma_a; /* absorption per unit fibre radius, per RGB channel */
+  float beta_m;   /* longitudinal roughness, 0..1 */
+  float beta_n;   /* azimuthal roughness, 0..1 */
+  float alpha;    /* cuticle tilt in radians (about 2 degrees for human hair) */
+  float eta;      /* index of refraction of the fibre, 1.55 for keratin */
+} clh_hair_material;
+
+/* Everything that depends on the material and wo only: computed once per pixel. */
+typedef struct {
+  float3 t;          /* unit tangent */
+  float3 n;          /* unit fibre normal facing wo (wo projected on the normal plane) */
+  float3 sigma_path; /* sigma_a / cos(theta_t): 2 cos(gamma_t) * this is the optical depth */
+  float3 trt_w[4];   /* TRT panel weights ½ Δh A_2 (h_mid) */
+  float3 mass[4];    /* h-averaged energies Ā_0..Ā_3 (panel estimates) */
+  float trt_phi[5];  /* TRT phase Phi_2 at the panel breakpoints */
+  float sin_o, cos_o;
+  float sin_o_tilt[3], cos_o_tilt[3]; /* theta_o shifted by -2a, a, 4a for R, TT, TRT */
+  float v[3];        /* longitudinal variances of R, TT, TRT */
+  float cos_shift[3]; /* cos of the tilt shifts */
+  float eta, inv_eta_p, s, blur, trim;
+} clh_hair_view;
+
+/* ---- small helpers ------------------------------------------------------------------- */
+
+static inline float clh_hair_sqrt0(float x) { return sqrt(fmax(x, 0.0f)); }
+
+/* Unpolarised dielectric Fresnel reflectance from air at cos(theta) (no TIR from outside). */
+static inline float clh_hair_fresnel(float cos_i, float eta) {
+  cos_i = clamp(cos_i, 0.0f, 1.0f);
+  float sin_t2 = (1.0f - cos_i * cos_i) / (eta * eta);
+  float cos_t = clh_hair_sqrt0(1.0f - sin_t2);
+  float r_par = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+  float r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+  return 0.5f * (r_par * r_par + r_perp * r_perp);
+}
+
+/* e^{-x} I0(x) for x >= 0, Abramowitz & Stegun 9.8.1 / 9.8.2 (relative error < 2e-7). */
+static inline float clh_hair_i0e(float x) {
+  if (x < 3.75f) {
+    float y = (x / 3.75f) * (x / 3.75f);
+    float i0 = 1.0f + y * (3.5156229f + y * (3.0899424f + y * (1.2067492f +
+               y * (0.2659732f + y * (0.0360768f + y * 0.0045813f)))));
+    return i0 * exp(-x);
+  }
+  float y = 3.75f / x;
+  float p = 0.39894228f + y * (0.01328592f + y * (0.00225319f + y * (-0.00157565f +
+            y * (0.00916281f + y * (-0.02057706f + y * (0.02635537f + y * (-0.01647633f +
+            y * 0.00392377f)))))));
+  return p * rsqrt(x);
+}
+
+/* Longitudinal lobe M_p (d'Eon et al. 2011; Chiang Eq. 3), normalised over cos(theta_i):
+ * M = exp(-b) I0(a) / (2 v sinh(1/v)) with a = cos_i cos_o / v, b = sin_i sin_o / v,
+ * written as exp((cos(theta_i + theta_o) - 1) / v) I0e(a) / (v (1 - e^{-2/v})) so that
+ * nothing overflows for small v. */
+static inline float clh_hair_mp(float sin_i, float cos_i, float sin_o, float cos_o, float v) {
+  float a = cos_i * cos_o / v;
+  float e = (cos_i * cos_o - sin_i * sin_o - 1.0f) / v;
+  return exp(e) * clh_hair_i0e(a) / (v * (1.0f - exp(-2.0f / v)));
+}
+
+/* Logistic CDF with scale s. */
+static inline float clh_hair_lcdf(float x, float s) { return 1.0f / (1.0f + exp(-x / s)); }
+
+/* |x| smoothed over a logistic of scale k: E|x + X| = |x| + 2k ln(1 + e^{-|x|/k}). */
+static inline float clh_hair_softabs(float x, float k) {
+  float ax = fabs(x);
+  return ax + 2.0f * k * log(1.0f + exp(-ax / k));
+}
+
+/* Wraps an angle to [0, pi] for the even, 2pi-periodic azimuthal functions. */
+static inline float clh_hair_fold(float phi) {
+  phi = fabs(phi);
+  phi = phi > CLH_HAIR_PI ? 2.0f * CLH_HAIR_PI - phi : phi;
+  return clamp(phi, 0.0f, CLH_HAIR_PI);
+}
+
+/* ---- roughness mappings (Chiang Eq. 7-8) ----------------------------------------------- */
+
+static inline float clh_hair_v0(float bm) {
+  float b2 = bm * bm, b4 = b2 * b2, b5 = b4 * bm, b10 = b5 * b5, b20 = b10 * b10;
+  float r = 0.726f * bm + 0.812f * b2 + 3.7f * b20;
+  return r * r;
+}
+
+static inline float clh_hair_logistic_s(float bn) {
+  float b2 = bn * bn, b4 = b2 * b2, b5 = b4 * bn, b10 = b5 * b5, b22 = b10 * b10 * b2;
+  return 0.626657069f * (0.265f * bn + 1.194f * b2 + 5.372f * b22);
+}
+
+/* ---- absorption from melanin or from a colour ------------------------------------------ */
+
+/* sigma_a from eumelanin / pheomelanin concentrations (Chiang Eq. 11, pbrt-v4 RGB values). */
+static inline float3 clh_hair_sigma_a_from_melanin(float eumelanin, float pheomelanin) {
+  return fmax(eumelanin, 0.0f) * (float3)(0.419f, 0.697f, 1.37f) +
+         fmax(pheomelanin, 0.0f) * (float3)(0.187f, 0.4f, 1.05f);
+}
+
+/* sigma_a that yields roughly colour c after multiple scattering (Chiang Eq. 9). */
+static inline float3 clh_hair_sigma_a_from_color(float3 c, float bn) {
+  float b2 = bn * bn, b3 = b2 * bn, b4 = b2 * b2, b5 = b4 * bn;
+  float d = 5.969f - 0.215f * bn + 2.532f * b2 - 10.73f * b3 + 5.574f * b4 + 0.245f * b5;
+  float3 l = log(clamp(c, (float3)(1e-4f), (float3)(1.0f))) / d;
+  return l * l;
+}
+
+/* ---- the azimuthal lobes -------------------------------------------------------------- */
+
+/* R in the zero-roughness limit at |phi| in [0, pi]; the kink at phi = pi is pre-smoothed
+ * over 0.3 s (fitted, docs/hair-shading.md). */
+static inline float clh_hair_r_delta(const clh_hair_view* hv, float phi) {
+  float u = clh_hair_softabs(CLH_HAIR_PI - phi, 0.3f * hv->s);
+  float c = sin(0.5f * fmin(u, CLH_HAIR_PI));
+  return 0.25f * c * clh_hair_fresnel(hv->cos_o * c, hv->eta);
+}
+
+/* TT in the zero-roughness limit at |phi| in [0, pi]: ½ A_1(h) / |dPhi_1/dh| at the single
+ * root h of Phi_1(h) = phi (h >= 0 branch; the h < 0 branch gives -phi). */
+static inline float3 clh_hair_tt_delta(const clh_hair_view* hv, float phi) {
+  float x = 0.5f * (CLH_HAIR_PI - phi); /* gamma_o - gamma_t */
+  float den = cos(x) - hv->inv_eta_p;
+  if (!(den > 1e-6f)) return (float3)(0.0f);
+  float go = atan2(sin(x), den);
+  float cos_go = cos(go);
+  float sin_gt = sin(go) * hv->inv_eta_p;
+  float cos_gt = clh_hair_sqrt0(1.0f - sin_gt * sin_gt);
+  float f = clh_hair_fresnel(hv->cos_o * cos_go, hv->eta);
+  float3 a1 = (1.0f - f) * (1.0f - f) * exp(-2.0f * cos_gt * hv->sigma_path);
+  /* 1 / |dPhi/dh| = 1 / (2/cos_go - 2/(eta' cos_gt)), written without the 1/cos_go pole */
+  float eta_p_cgt = cos_gt / hv->inv_eta_p;
+  float jac = cos_go * eta_p_cgt / (2.0f * fmax(eta_p_cgt - cos_go, 1e-6f));
+  return 0.5f * a1 * jac;
+}
+
+/* 3-tap blur with the logistic: nodes 0, ±sqrt(3) sigma, weights 2/3, 1/6 (exact for a
+ * Gaussian kernel up to degree 5; the logistic's variance is pi² s² / 3). */
+static inline float clh_hair_n_r(const clh_hair_view* hv, float phi) {
+  return (2.0f / 3.0f) * clh_hair_r_delta(hv, phi) +
+         (1.0f / 6.0f) * (clh_hair_r_delta(hv, clh_hair_fold(phi + hv->blur)) +
+                          clh_hair_r_delta(hv, clh_hair_fold(phi - hv->blur)));
+}
+
+static inline float3 clh_hair_n_tt(const clh_hair_view* hv, float phi) {
+  return (2.0f / 3.0f) * clh_hair_tt_delta(hv, phi) +
+         (1.0f / 6.0f) * (clh_hair_tt_delta(hv, clh_hair_fold(phi + hv->blur)) +
+                          clh_hair_tt_delta(hv, clh_hair_fold(phi - hv->blur)));
+}
+
+/* One TRT panel: the logistic averaged over the phase interval [p0, p1]. */
+static inline float clh_hair_box(float d, float p0, float p1, float s) {
+  float lo = fmin(p0, p1), hi = fmax(p0, p1);
+  float w = fmax(hi - lo, 1e-4f);
+  return (clh_hair_lcdf(d - lo, s) - clh_hair_lcdf(d - lo - w, s)) / w;
+}
+
+static inline float3 clh_hair_n_trt(const clh_hair_view* hv, float phi) {
+  float3 r = (float3)(0.0f);
+  for (int k = 0; k < 4; ++k) {
+    float p0 = hv->trt_phi[k], p1 = hv->trt_phi[k + 1];
+    /* panels of h > 0 at phi and their mirror images (h < 0) at -phi */
+    r += hv->trt_w[k] * (clh_hair_box(phi, p0, p1, hv->s) + clh_hair_box(-phi, p0, p1, hv->s));
+  }
+  return r * hv->trim;
+}
+
+/* ---- per-pixel preparation ------------------------------------------------------------ */
+
+/* TRT/diffuse panels on gamma_o in [0, pi/2] (breakpoints 0, 0.5942, 1.0038, 1.3361, pi/2,
+ * placed by minimising the TRT error over theta_o and sigma_a; docs/hair-shading.md). */
+__constant float clh_hair_panel_h[5] = {0.0f, 0.5598461f, 0.8435181f, 0.9725850f, 1.0f};
+__constant float clh_hair_panel_hm[4] = {0.2927485f, 0.7166590f, 0.9207311f, 0.9931226f};
+__constant float clh_hair_panel_cm[4] = {0.9561895f, 0.6974237f, 0.3901977f, 0.1170790f};
+
+/* Out-parameter form: Oclgrind's LLVM lacks the noalias-scope intrinsic clang emits when a
+ * struct returned by value is inlined. clh_hair_prepare below wraps it. */
+static inline void clh_hair_prepare_to(clh_hair_view* out, const clh_hair_material* m, float3 t, float3 wo) {
+  clh_hair_view hv;
+  hv.t = t;
+  hv.eta = m->eta;
+  float sin_o = clamp(dot(t, wo), -1.0f, 1.0f);
+  float3 wp = wo - sin_o * t;
+  float l2 = dot(wp, wp);
+  float cos_o = clamp(sqrt(l2), 1e-4f, 1.0f);
+  hv.sin_o = sin_o;
+  hv.cos_o = cos_o;
+  if (l2 > 1e-12f) {
+    hv.n = wp * rsqrt(l2);
+  } else { /* looking along the fibre: any normal */
+    float3 ax = fabs(t.x) < 0.9f ? (float3)(1.0f, 0.0f, 0.0f) : (float3)(0.0f, 1.0f, 0.0f);
+    hv.n = normalize(ax - dot(ax, t) * t);
+  }
+
+  /* longitudinal terms; tilt on theta_o: R -2a, TT +a, TRT +4a (pbrt-v4 convention) */
+  float v0 = fmax(clh_hair_v0(clamp(m->beta_m, 0.05f, 1.0f)), 1e-4f);
+  hv.v[0] = v0;
+  hv.v[1] = 0.25f * v0;
+  hv.v[2] = 4.0f * v0;
+  const float shift[3] = {-2.0f * m->alpha, m->alpha, 4.0f * m->alpha};
+  for (int p = 0; p < 3; ++p) {
+    float cs = cos(shift[p]), sn = sin(shift[p]);
+    hv.cos_shift[p] = cs;
+    hv.sin_o_tilt[p] = sin_o * cs + cos_o * sn;
+    hv.cos_o_tilt[p] = fabs(cos_o * cs - sin_o * sn);
+  }
+
+  /* azimuthal terms */
+  hv.s = clh_hair_logistic_s(clamp(m->beta_n, 0.1f, 1.0f));
+  hv.blur = CLH_HAIR_PI * hv.s; /* sqrt(3) x the logistic's std. dev. pi s / sqrt(3) */
+  hv.trim = 1.0f / (clh_hair_lcdf(CLH_HAIR_PI, hv.s) - clh_hair_lcdf(-CLH_HAIR_PI, hv.s));
+  float eta_p = clh_hair_sqrt0(m->eta * m->eta - sin_o * sin_o) / cos_o;
+  hv.inv_eta_p = 1.0f / eta_p;
+  float sin_t = sin_o / m->eta;
+  float cos_t = clh_hair_sqrt0(1.0f - sin_t * sin_t);
+  hv.sigma_path = fmax(m->sigma_a, (float3)(0.0f)) / cos_t;
+
+  /* panels: TRT phase at the breakpoints, attenuations at the panel midpoints */
+  for (int k = 0; k < 5; ++k) {
+    float h = clh_hair_panel_h[k];
+    hv.trt_phi[k] = 4.0f * asin(h * hv.inv_eta_p) - 2.0f * asin(h);
+  }
+  for (int p = 0; p < 4; ++p) hv.mass[p] = (float3)(0.0f);
+  for (int k = 0; k < 4; ++k) {
+    float hm = clh_hair_panel_hm[k];
+    float dh = clh_hair_panel_h[k + 1] - clh_hair_panel_h[k];
+    float sin_gt = hm * hv.inv_eta_p;
+    float cos_gt = clh_hair_sqrt0(1.0f - sin_gt * sin_gt);
+    float f = clh_hair_fresnel(cos_o * clh_hair_panel_cm[k], m->eta);
+    float3 T = exp(-2.0f * cos_gt * hv.sigma_path);
+    float3 a1 = (1.0f - f) * (1.0f - f) * T;
+    float3 a2 = a1 * T * f;
+    float3 a3 = a2 * f * T / (1.0f - f * T);
+    hv.trt_w[k] = 0.5f * dh * a2;
+    hv.mass[0] += (float3)(dh * f);
+    hv.mass[1] += dh * a1;
+    hv.mass[2] += dh * a2;
+    hv.mass[3] += dh * a3;
+  }
+  *out = hv;
+}
+
+static inline clh_hair_view clh_hair_prepare(const clh_hair_material* m, float3 t, float3 wo) {
+  clh_hair_view hv;
+  clh_hair_prepare_to(&hv, m, t, wo);
+  return hv;
+}
+
+/* ---- evaluation ----------------------------------------------------------------------- */
+
+/* cos(theta_i): the cosine the caller multiplies f by. */
+static inline float clh_hair_cos_theta(float3 t, float3 wi) {
+  float3 wp = wi - dot(t, wi) * t; /* |wi_perp| is accurate near the fibre axis */
+  return fmin(length(wp), 1.0f);
+}
+
+/* Diffuse (multiple-scattering) term: a constant f = Ā_3 / pi², so that f cos(theta_i)
+ * integrates to Ā_3 over the sphere (∫ cos(theta) dw = pi²) — Kajiya-Kay's diffuse lobe
+ * carrying exactly the energy the reference puts into p >= 3. */
+static inline float3 clh_hair_diffuse_albedo(const clh_hair_view* hv) { return hv->mass[3]; }
+
+static inline float3 clh_hair_diffuse(const clh_hair_view* hv) {
+  return hv->mass[3] * (1.0f / (CLH_HAIR_PI * CLH_HAIR_PI));
+}
+
+/* The three specular lobes times cos(theta_i), i.e. M_p Ñ_p (what a light loop needs; no
+ * division, so it stays exact as wi approaches the fibre axis). Returns cos(theta_i). */
+static inline float clh_hair_lobes_cos(const clh_hair_view* hv, float3 wi, float3* r, float3* tt,
+                                       float3* trt) {
+  float sin_i = clamp(dot(hv->t, wi), -1.0f, 1.0f);
+  float3 wp = wi - sin_i * hv->t;
+  float l2 = dot(wp, wp);
+  float cos_i = fmin(sqrt(l2), 1.0f); /* |wi_perp|: no cancellation near the fibre axis */
+  float cos_phi = l2 > 1e-12f ? clamp(dot(wp, hv->n) * rsqrt(l2), -1.0f, 1.0f) : 1.0f;
+  float phi = acos(cos_phi); /* the h-averaged lobes are even in phi */
+  float m0 = clh_hair_mp(sin_i, cos_i, hv->sin_o_tilt[0], hv->cos_o_tilt[0], hv->v[0]);
+  float m1 = clh_hair_mp(sin_i, cos_i, hv->sin_o_tilt[1], hv->cos_o_tilt[1], hv->v[1]);
+  float m2 = clh_hair_mp(sin_i, cos_i, hv->sin_o_tilt[2], hv->cos_o_tilt[2], hv->v[2]);
+  *r = (float3)(m0 * clh_hair_n_r(hv, phi));
+  *tt = m1 * clh_hair_n_tt(hv, phi);
+  *trt = m2 * clh_hair_n_trt(hv, phi);
+  return cos_i;
+}
+
+/* The three specular lobes separately as f (1/cos(theta_i) included; cos clamped at 1e-7). */
+static inline void clh_hair_eval_lobes(const clh_hair_view* hv, float3 wi, float3* r, float3* tt,
+                                       float3* trt) {
+  float inv_cos = 1.0f / fmax(clh_hair_lobes_cos(hv, wi, r, tt, trt), 1e-7f);
+  *r *= inv_cos;
+  *tt *= inv_cos;
+  *trt *= inv_cos;
+}
+
+/* R + TT + TRT only (no diffuse), f without the cosine. */
+static inline float3 clh_hair_eval_specular(const clh_hair_view* hv, float3 wi) {
+  float3 r, tt, trt;
+  clh_hair_eval_lobes(hv, wi, &r, &tt, &trt);
+  return r + tt + trt;
+}
+
+/* f cos(theta_i) for a light: the preferred call in a shading loop,
+ *   L += clh_hair_eval_cos(&hv, wi) * E_light. */
+static inline float3 clh_hair_eval_cos(const clh_hair_view* hv, float3 wi) {
+  float3 r, tt, trt;
+  float cos_i = clh_hair_lobes_cos(hv, wi, &r, &tt, &trt);
+  return r + tt + trt + clh_hair_diffuse(hv) * cos_i;
+}
+
+/* Full f: R + TT + TRT + diffuse. */
+static inline float3 clh_hair_eval(const clh_hair_view* hv, float3 wi) {
+  return clh_hair_eval_specular(hv, wi) + clh_hair_diffuse(hv);
+}
+
+/* One-call form for a single light. */
+static inline float3 clh_hair_bsdf(const clh_hair_material* m, float3 t, float3 wo, float3 wi) {
+  clh_hair_view hv = clh_hair_prepare(m, t, wo);
+  return clh_hair_eval(&hv, wi);
+}
+
+/* ---- environment (probe) lighting, Lipp §3.4 -------------------------------------------
+ * R and TRT as one GGX lobe around the mirror direction of wo about the view-facing fibre
+ * normal n; TT and diffuse for an irradiance (SH) lookup. Radiance from a probe is then
+ *   spec_weight * prefiltered(refl_dir, ggx_alpha)      (split-sum style, no extra cosine)
+ * + diffuse_albedo * E(n) / pi  (+ tt_weight * E(-n) / pi, a crude forward-scatter term),
+ * with E(n) the cosine-weighted irradiance about n.
+ * ggx_alpha matches the mean cosine E[dot(wi, refl_dir)] of the h-averaged R+TRT lobes to
+ * that of a GGX lobe at normal incidence (docs/hair-shading.md). */
+typedef struct {
+  float3 spec_weight;    /* Ā_R + Ā_TRT (h-averaged energies at this theta_o) */
+  float3 tt_weight;      /* Ā_TT */
+  float3 diffuse_albedo; /* Ā_3 */
+  float3 n;              /* view-facing fibre normal */
+  float3 refl_dir;       /* mirror of wo about n (theta_i = -theta_o, phi = 0) */
+  float ggx_alpha;
+} clh_hair_env;
+
+/* Mean cosine of a GGX reflection lobe is 2 (1/c + a² ln(a²)/c²) - 1, c = 1 - a²; its
+ * inverse is fitted as a = sqrt(x) (0.31679 + 0.74467 x - 0.44206 x² + 0.38109 x³),
+ * x = 1 - mean cosine (max error 0.004 in a). */
+static inline float clh_hair_ggx_alpha_from_mean_cos(float mu) {
+  float x = clamp(1.0f - mu, 1e-6f, 1.0f);
+  return clamp(sqrt(x) * (0.31679f + x * (0.74467f + x * (-0.44206f + x * 0.38109f))), 0.002f,
+               1.0f);
+}
+
+static inline void clh_hair_env_terms_to(clh_hair_env* out, const clh_hair_view* hv) {
+  clh_hair_env e;
+  e.spec_weight = hv->mass[0] + hv->mass[2];
+  e.tt_weight = hv->mass[1];
+  e.diffuse_albedo = hv->mass[3];
+  e.n = hv->n;
+  e.refl_dir = hv->cos_o * hv->n - hv->sin_o * hv->t; /* wo = sin_o t + cos_o n */
+  /* E[cos phi] of each azimuthal lobe: panel-wise box averages of cos, times the logistic's
+   * characteristic function at 1, pi s / sinh(pi s). R's phase is -2 gamma_o, and
+   * cos(2 gamma_o) = 1 - 2 h² averages to 1 - 2 (h0² + h0 h1 + h1²) / 3 over a panel. */
+  float lam = CLH_HAIR_PI * hv->s / sinh(CLH_HAIR_PI * hv->s);
+  float c_r = 0.0f, w_r = 0.0f;
+  float3 c_trt = (float3)(0.0f), w_trt = (float3)(0.0f);
+  for (int k = 0; k < 4; ++k) {
+    float h0 = clh_hair_panel_h[k], h1 = clh_hair_panel_h[k + 1];
+    float dh = h1 - h0;
+    float f = clh_hair_fresnel(hv->cos_o * clh_hair_panel_cm[k], hv->eta);
+    float cr = 1.0f - (2.0f / 3.0f) * (h0 * h0 + h0 * h1 + h1 * h1);
+    float p0 = hv->trt_phi[k], p1 = hv->trt_phi[k + 1];
+    float ct = fabs(p1 - p0) > 1e-4f ? (sin(p1) - sin(p0)) / (p1 - p0) : cos(p0);
+    c_r += dh * f * cr;
+    w_r += dh * f;
+    c_trt += hv->trt_w[k] * ct;
+    w_trt += hv->trt_w[k];
+  }
+  float cos_phi_r = lam * c_r / fmax(w_r, 1e-8f);
+  float lum_trt = dot(w_trt, (float3)(0.2126f, 0.7152f, 0.0722f));
+  float cos_phi_trt = lam * dot(c_trt, (float3)(0.2126f, 0.7152f, 0.0722f)) / fmax(lum_trt, 1e-12f);
+  /* mean cosine to refl_dir of a lobe at theta_i = -theta_o + delta:
+   * E[cos delta] (sin² theta_o + cos² theta_o E[cos phi]). delta is treated as a von Mises
+   * angle of concentration k = 1/v about the tilt shift, E[cos delta] = I1(k)/I0(k) cos(shift),
+   * with I1/I0 ~ k / (0.5 + sqrt(k² + 2.25)) (exact slopes at 0 and infinity, <2% error). */
+  float s2 = hv->sin_o * hv->sin_o, c2 = hv->cos_o * hv->cos_o;
+  float k0 = 1.0f / hv->v[0], k2 = 1.0f / hv->v[2];
+  float a_r = k0 / (0.5f + sqrt(k0 * k0 + 2.25f)), a_trt = k2 / (0.5f + sqrt(k2 * k2 + 2.25f));
+  float mu_r = a_r * hv->cos_shift[0] * (s2 + c2 * cos_phi_r);
+  float mu_trt = a_trt * hv->cos_shift[2] * (s2 + c2 * cos_phi_trt);
+  float wr = w_r, wt = 2.0f * lum_trt;
+  float mu = (wr * mu_r + wt * mu_trt) / fmax(wr + wt, 1e-8f);
+  e.ggx_alpha = clh_hair_ggx_alpha_from_mean_cos(mu);
+  *out = e;
+}
+
+static inline clh_hair_env clh_hair_env_terms(const clh_hair_view* hv) {
+  clh_hair_env e;
+  clh_hair_env_terms_to(&e, hv);
+  return e;
+}
+
+#endif /* CLHAIR_HAIR_BSDF_H */

@@ -1,10 +1,13 @@
 // renderer.cpp — the frame loop: opaque scene, then per groom lod -> scan -> strands ->
 // shade -> composite, over one render target; plus strand export.
 //
-// Device resources of a groom (its hair-mesh records, LOD and scan buffers) are uploaded
-// once per mesh and kept while the Renderer lives; target-sized buffers are reallocated
-// only when the resolution changes. Every size is checked against the device's maximum
-// allocation before anything is created.
+// A groom is a hair mesh (strands generated per frame, kernels/strands.cl) or explicit
+// strands (a StrandGroom, kernels/strands_explicit.cl); both fill the same G-buffer and
+// share shading, filter and compositing. Device resources of a groom (hair-mesh records
+// or strand tables, LOD and scan buffers) are uploaded once per mesh or StrandGroom and
+// kept while the Renderer lives; target-sized buffers are reallocated only when the
+// resolution changes. Every size is checked against the device's maximum allocation
+// before anything is created.
 #include "clhair/renderer.h"
 
 #include <algorithm>
@@ -21,10 +24,12 @@
 #include "cl/cl_error.h"
 #include "cl/device_impl.h"
 #include "groom/blue_noise.h"
+#include "groom/explicit_data.h"
 #include "groom/groom_data.h"
 #include "clhair/lod_math.h"
 #include "stages/composite_stage.h"
 #include "stages/dispatch.h"
+#include "stages/explicit_stage.h"
 #include "stages/filter_stage.h"
 #include "stages/shadow_stage.h"
 #include "lighting/environment.h"
@@ -119,6 +124,36 @@ struct GroomResources {
   cl::Buffer vertices, bundles, groom, lod, counts, offsets;
 };
 
+// An explicit groom on the device: strand tables in LOD order (explicit_data.h) plus the
+// per-chunk LOD records and their scan. The host keeps everything but the points.
+struct ExplicitResources {
+  std::shared_ptr<const StrandGroom> keepAlive;
+  ExplicitData data;
+  gpu::ClhGroomGpu params;
+  cl::Buffer points, strandOffsets, uv, chunks, chunkBounds, groom, lod, counts, offsets;
+};
+
+std::uint64_t bufferBytes(const cl::Buffer& b) {
+  if (!b()) return 0;
+  return clCall("reading a buffer size", [&] { return static_cast<std::uint64_t>(b.getInfo<CL_MEM_SIZE>()); });
+}
+
+// Depth range of the view-space box of object bounds [lo, hi]; false when all of it lies
+// behind the camera.
+bool depthRange(const glm::vec3& lo, const glm::vec3& hi, const glm::mat4& o2v, float& nearZ, float& farZ) {
+  float zmin = 1e30f, zmax = -1e30f;
+  for (int c = 0; c < 8; ++c) {
+    glm::vec3 corner((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
+    float z = (o2v * glm::vec4(corner, 1.0f)).z;
+    zmin = std::min(zmin, z);
+    zmax = std::max(zmax, z);
+  }
+  if (zmax <= 1e-4f) return false;
+  nearZ = std::max(zmin, 1e-4f);
+  farZ = std::max(zmax, nearZ * 1.0001f + 1e-6f);
+  return true;
+}
+
 }  // namespace
 
 const char* dispatchModeName(DispatchMode m) {
@@ -163,10 +198,13 @@ struct Renderer::Impl {
   FilterStage filter;
   ShadowStage shadow;
   CompositeStage composite;
+  ExplicitStage explicitStage;
   cl::Kernel clear;
   Profiler profiler;
 
   std::map<const HairMesh*, std::unique_ptr<GroomResources>> grooms;
+  std::map<const StrandGroom*, std::unique_ptr<ExplicitResources>> explicitGrooms;
+  bool trueWidthOnly = false;  // reference passes: explicit grooms ignore their minimum hit diameter
   RootSets roots;
   cl::Buffer rootsQuad, rootsTri;
 
@@ -189,6 +227,7 @@ struct Renderer::Impl {
         filter(dev),
         shadow(dev),
         composite(dev),
+        explicitStage(dev),
         clear(dev.kernel("clear.cl", "clear_words")) {
     view = makeBuffer<gpu::ClhViewGpu>(dev, "view parameters", 1);
     lightView = makeBuffer<gpu::ClhViewGpu>(dev, "light view parameters", 1);
@@ -431,10 +470,10 @@ struct Renderer::Impl {
       // the light's view: a pinhole at the light (directional: far away, narrow) framing all grooms
       glm::vec3 lo(1e30f), hi(-1e30f);
       for (const GroomInstance& gi : s.grooms) {
-        GroomResources& g = groomFor(gi.mesh);
+        glm::vec3 blo, bhi;
+        groomBounds(gi, blo, bhi);
         for (int c = 0; c < 8; ++c) {
-          glm::vec3 corner((c & 1) ? g.data.boundsMax.x : g.data.boundsMin.x, (c & 2) ? g.data.boundsMax.y : g.data.boundsMin.y,
-                           (c & 4) ? g.data.boundsMax.z : g.data.boundsMin.z);
+          glm::vec3 corner((c & 1) ? bhi.x : blo.x, (c & 2) ? bhi.y : blo.y, (c & 4) ? bhi.z : blo.z);
           glm::vec3 w = glm::vec3(gi.transform * glm::vec4(corner, 1.0f));
           lo = glm::min(lo, w);
           hi = glm::max(hi, w);
@@ -488,7 +527,19 @@ struct Renderer::Impl {
       // hair depth: the strand pass from the light into the light's G-buffer
       clearWords(lightGBuffer, plane * 2);
       std::vector<std::pair<GroomResources*, std::uint32_t>> passes;
+      std::vector<std::pair<ExplicitResources*, std::uint32_t>> explicitPasses;
       for (const GroomInstance& gi : s.grooms) {
+        if (gi.strands) {
+          ExplicitResources& e = explicitFor(gi.strands);
+          if (!prepareExplicitView(e, gi.transform, w2v, options, nearZ, farZ)) continue;
+          const ExplicitStage::Inputs in = explicitInputs(e);
+          explicitStage.lod(in, lightView, &profiler);
+          const std::uint32_t total = explicitStage.readTotal(in);
+          explicitPasses.push_back({&e, total});
+          StrandStage::Raster rs{&lightView, &lightDepth, &lightGBuffer, &stats, 1, false, DispatchMode::ReadBack, total};
+          explicitStage.raster(in, rs, &profiler);
+          continue;
+        }
         GroomResources& g = groomFor(gi.mesh);
         if (!prepareGroomView(g, gi.transform, w2v, options, nearZ, farZ)) continue;
         LodStage::Params lp = lodParams(g, viewReach(g, gi.transform));
@@ -503,6 +554,9 @@ struct Renderer::Impl {
       for (auto& [g, total] : passes)
         shadow.opacity(strandInputs(*g), lightView, shadowOpaque, shadowOne[slot], shadowHair, shadowOpacity, total,
                        &profiler);
+      for (auto& [e, total] : explicitPasses)
+        explicitStage.opacity(explicitInputs(*e), lightView, shadowOpaque, shadowOne[slot], shadowHair, shadowOpacity,
+                              total, &profiler);
       ++slot;
     }
     if (slot > 0) upload(dev, shadowAll, params.data(), CLH_MAX_SHADOWS);
@@ -612,18 +666,7 @@ struct Renderer::Impl {
     glm::mat4 o2v = w2v * objToWorld;
     storeMat34(p.obj_to_view, o2v);
     storeMat34(p.obj_to_world, objToWorld);
-    float zmin = 1e30f, zmax = -1e30f;
-    for (int c = 0; c < 8; ++c) {
-      glm::vec3 corner((c & 1) ? g.data.boundsMax.x : g.data.boundsMin.x,
-                       (c & 2) ? g.data.boundsMax.y : g.data.boundsMin.y,
-                       (c & 4) ? g.data.boundsMax.z : g.data.boundsMin.z);
-      float z = (o2v * glm::vec4(corner, 1.0f)).z;
-      zmin = std::min(zmin, z);
-      zmax = std::max(zmax, z);
-    }
-    if (zmax <= 1e-4f) return false;
-    p.depth_near = std::max(zmin, 1e-4f);
-    p.depth_far = std::max(zmax, p.depth_near * 1.0001f + 1e-6f);
+    if (!depthRange(g.data.boundsMin, g.data.boundsMax, o2v, p.depth_near, p.depth_far)) return false;
     if (nearOverride > 0.0f) {  // a G-buffer shared by several grooms needs one depth mapping
       p.depth_near = nearOverride;
       p.depth_far = farOverride;
@@ -635,6 +678,110 @@ struct Renderer::Impl {
     p.shadow_lod_correction = shadowCorrection ? 1u : 0u;
     upload(dev, g.groom, &p, 1);
     return true;
+  }
+
+  // ---- explicit grooms ----
+
+  // Device tables of a StrandGroom (explicit_data.h); every buffer is checked against the
+  // device's largest allocation before it is created.
+  std::unique_ptr<ExplicitResources> buildExplicit(const StrandGroom& sg) {
+    const std::string what = "groom \"" + sg.name + "\"";
+    validateStrandGroom(sg, what);
+    auto e = std::make_unique<ExplicitResources>();
+    e->data = prepareExplicit(sg);
+    ExplicitData& d = e->data;
+    gpu::ClhGroomGpu& p = e->params;
+    std::memset(&p, 0, sizeof(p));
+    {
+      // appearance and LOD fields exactly as a hair mesh fills them (groom_data.cpp), from a
+      // mesh that carries only those; no styling
+      HairMesh look;
+      look.layerCount = 2;
+      look.seed = sg.seed;
+      look.appearance = sg.appearance;
+      look.lod = sg.lod;
+      fillGroomParams(look, GroomData{}, p);
+    }
+    p.bundle_count = static_cast<gpu::clh_u32>(d.chunks.size());
+    p.layer_count = 0;
+    p.vertex_count = 0;
+    p.has_tangents = 0;
+    p.control_points = CLH_MAX_CONTROL_POINTS;  // C_full of the chunk LOD: step 1
+    p.total_strands = static_cast<gpu::clh_u32>(d.totalStrands);
+    const std::size_t K = d.chunks.size();
+    e->points = makeBuffer<cl_float4>(dev, what + " strand points (" + std::to_string(d.totalPoints) + ")",
+                                      d.points.size(), reinterpret_cast<const cl_float4*>(d.points.data()));
+    e->strandOffsets = makeBuffer(dev, what + " strand offsets", d.strandOffsets.size(), d.strandOffsets.data());
+    e->uv = d.uv.empty() ? makeBuffer<cl_uint>(dev, what + " root uv", 1)
+                         : makeBuffer(dev, what + " root uv", d.uv.size(), d.uv.data());
+    e->chunks = makeBuffer<cl_uint4>(dev, what + " chunk table", K, reinterpret_cast<const cl_uint4*>(d.chunks.data()));
+    e->chunkBounds = makeBuffer<cl_float4>(dev, what + " chunk bounds", 2 * K,
+                                           reinterpret_cast<const cl_float4*>(d.chunkBounds.data()));
+    e->groom = makeBuffer<gpu::ClhGroomGpu>(dev, what + " parameters", 1, &p);
+    e->lod = makeBuffer<cl_uint4>(dev, what + " LOD records", K);
+    e->counts = makeBuffer<cl_uint>(dev, what + " strand counts", 2 * K);
+    e->offsets = makeBuffer<cl_uint>(dev, what + " strand offsets per chunk", K + 2);
+    std::vector<glm::vec4>().swap(d.points);  // on the device now
+    return e;
+  }
+
+  ExplicitResources& explicitFor(const std::shared_ptr<const StrandGroom>& sg) {
+    auto it = explicitGrooms.find(sg.get());
+    if (it != explicitGrooms.end()) return *it->second;
+    auto e = buildExplicit(*sg);
+    e->keepAlive = sg;
+    ExplicitResources& ref = *e;
+    explicitGrooms[sg.get()] = std::move(e);
+    return ref;
+  }
+
+  ExplicitStage::Inputs explicitInputs(ExplicitResources& e) {
+    return {&e.groom, &e.points, &e.strandOffsets, &e.uv, &e.chunks, &e.chunkBounds, &e.lod, &e.counts, &e.offsets,
+            static_cast<std::uint32_t>(e.data.chunks.size()), static_cast<std::uint32_t>(e.data.totalStrands),
+            static_cast<std::uint32_t>(e.data.totalPoints), !e.data.uv.empty()};
+  }
+
+  // View-dependent parameters of an explicit groom, like prepareGroomView.
+  bool prepareExplicitView(ExplicitResources& e, const glm::mat4& objToWorld, const glm::mat4& w2v,
+                           const RenderOptions& options, float nearOverride = -1.0f, float farOverride = -1.0f) {
+    gpu::ClhGroomGpu& p = e.params;
+    const glm::mat4 o2v = w2v * objToWorld;
+    storeMat34(p.obj_to_view, o2v);
+    storeMat34(p.obj_to_world, objToWorld);
+    if (!depthRange(e.data.boundsMin, e.data.boundsMax, o2v, p.depth_near, p.depth_far)) return false;
+    if (nearOverride > 0.0f) {
+      p.depth_near = nearOverride;
+      p.depth_far = farOverride;
+    }
+    const StrandGroom& sg = *e.keepAlive;
+    p.lod_enabled = options.lod < 0 ? (sg.lod.enabled ? 1u : 0u) : static_cast<gpu::clh_u32>(options.lod);
+    p.lod_lambda = sg.lod.lambda * options.lodLambdaScale;
+    p.hit_diameter_px = trueWidthOnly ? 0.0f : sg.appearance.minHitDiameterPx;
+    p.shadow_lod_correction = shadowCorrection ? 1u : 0u;
+    upload(dev, e.groom, &p, 1);
+    return true;
+  }
+
+  // Object-space bounds of a groom instance's geometry (building its resources if needed).
+  void groomBounds(const GroomInstance& gi, glm::vec3& lo, glm::vec3& hi) {
+    if (gi.strands) {
+      const ExplicitResources& e = explicitFor(gi.strands);
+      lo = e.data.boundsMin;
+      hi = e.data.boundsMax;
+    } else {
+      const GroomResources& g = groomFor(gi.mesh);
+      lo = g.data.boundsMin;
+      hi = g.data.boundsMax;
+    }
+  }
+
+  std::uint32_t readWord(const cl::Buffer& buffer, std::size_t index) {
+    std::uint32_t v = 0;
+    clCall("reading a strand total", [&] {
+      dev.queue.enqueueReadBuffer(buffer, CL_TRUE, index * sizeof(std::uint32_t), sizeof(std::uint32_t), &v);
+      return 0;
+    });
+    return v;
   }
 
   // The styling reach in view units: the object-space margin times the largest axis scale.
@@ -683,31 +830,48 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
                     &r.shadowOpacity, &r.envTexels(), &r.envLevels(), &r.envSh(), &r.color, &r.depth, s.width, s.height,
                     true},
                    &r.profiler);
-  std::vector<GroomResources*> drawn;
+  // per drawn groom: its chunk/bundle scan and the index of the drawn total in it
+  std::vector<std::pair<const cl::Buffer*, std::size_t>> drawn;
   for (const GroomInstance& gi : s.grooms) {
-    GroomResources& g = r.groomFor(gi.mesh);
-    r.applyAo(g, options.ambientOcclusion != 0);
-    if (!r.prepareGroomView(g, gi.transform, w2v, options)) continue;
-    drawn.push_back(&g);
-    LodStage::Params lp = r.lodParams(g, Impl::viewReach(g, gi.transform));
-    r.lod.enqueue(lp, &r.profiler);
-    std::uint32_t strands = mode == DispatchMode::ReadBack ? r.lod.readTotal(lp)
-                                                           : static_cast<std::uint32_t>(g.data.totalStrands);
-    r.clearWords(r.gbuffer, pixels * r.layers);
-    StrandStage::Raster rs{&r.view, &r.depth, &r.gbuffer, &r.stats, options.msaa, options.rasterStats, mode, strands};
-    r.strands.raster(r.strandInputs(g), rs, &r.profiler);
-    r.shade.enqueue({&g.groom, &r.view, &r.scene, &r.lights, &r.shadowAll, &r.shadowOpaque, &r.shadowHair,
-                     &r.shadowOpacity, &r.envTexels(), &r.envLevels(), &r.envSh(), &r.gbuffer, &g.offsets, &r.hair,
+    const cl::Buffer* groomParams = nullptr;
+    const cl::Buffer* groomOffsets = nullptr;
+    StrandStage::Raster rs{&r.view, &r.depth, &r.gbuffer, &r.stats, options.msaa, options.rasterStats, mode, 0};
+    if (gi.strands) {
+      ExplicitResources& e = r.explicitFor(gi.strands);
+      if (!r.prepareExplicitView(e, gi.transform, w2v, options)) continue;
+      const ExplicitStage::Inputs in = r.explicitInputs(e);
+      drawn.push_back({&e.offsets, in.chunkCount});
+      r.explicitStage.lod(in, r.view, &r.profiler);
+      rs.strands = mode == DispatchMode::ReadBack ? r.explicitStage.readTotal(in) : in.strandCount;
+      r.clearWords(r.gbuffer, pixels * r.layers);
+      r.explicitStage.raster(in, rs, &r.profiler);
+      groomParams = &e.groom;
+      groomOffsets = &e.offsets;
+    } else {
+      GroomResources& g = r.groomFor(gi.mesh);
+      r.applyAo(g, options.ambientOcclusion != 0);
+      if (!r.prepareGroomView(g, gi.transform, w2v, options)) continue;
+      drawn.push_back({&g.offsets, g.data.bundles.size()});
+      LodStage::Params lp = r.lodParams(g, Impl::viewReach(g, gi.transform));
+      r.lod.enqueue(lp, &r.profiler);
+      rs.strands = mode == DispatchMode::ReadBack ? r.lod.readTotal(lp) : static_cast<std::uint32_t>(g.data.totalStrands);
+      r.clearWords(r.gbuffer, pixels * r.layers);
+      r.strands.raster(r.strandInputs(g), rs, &r.profiler);
+      groomParams = &g.groom;
+      groomOffsets = &g.offsets;
+    }
+    r.shade.enqueue({groomParams, &r.view, &r.scene, &r.lights, &r.shadowAll, &r.shadowOpaque, &r.shadowHair,
+                     &r.shadowOpacity, &r.envTexels(), &r.envLevels(), &r.envSh(), &r.gbuffer, groomOffsets, &r.hair,
                      s.width, s.height, options.msaa},
                     &r.profiler);
     const FilterParams& fp = gi.hasFilter ? gi.filter : s.filter;
     const bool filtered = options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
     if (filtered) {
       r.uploadFilter(fp);
-      r.filter.enqueue({&g.groom, &r.view, &r.filterParams, &r.gbuffer, &r.hair, &r.filtered, s.width, s.height},
+      r.filter.enqueue({groomParams, &r.view, &r.filterParams, &r.gbuffer, &r.hair, &r.filtered, s.width, s.height},
                        &r.profiler);
     }
-    r.composite.enqueue({&g.groom, &r.view, filtered ? &r.filtered : &r.hair, &r.gbuffer, &r.color, &r.depth, s.width,
+    r.composite.enqueue({groomParams, &r.view, filtered ? &r.filtered : &r.hair, &r.gbuffer, &r.color, &r.depth, s.width,
                          s.height, options.msaa, filtered ? 2 : options.msaa},
                         &r.profiler);
   }
@@ -721,8 +885,8 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
     r.dev.queue.enqueueReadBuffer(r.depth, CL_TRUE, 0, pixels * sizeof(float), frame.depth.data());
     return 0;
   });
-  for (GroomResources* g : drawn)
-    frame.stats.strandsDrawn += r.lod.readTotal(r.lodParams(*g, 0.0f));
+  for (const auto& [offsets, index] : drawn)
+    if (index > 0) frame.stats.strandsDrawn += r.readWord(*offsets, index);
   if (options.captureGBuffer) {
     frame.gbufferLayers = r.layers;
     frame.gbuffer.resize(pixels * r.layers);
@@ -754,12 +918,18 @@ Frame Renderer::renderReference(const Scene& scene, int spp) {
   // true width only: no minimum hit diameter
   Scene s = scene;
   for (GroomInstance& g : s.grooms) {
-    if (g.mesh->appearance.minHitDiameterPx != 0.0f) {
+    if (g.mesh && g.mesh->appearance.minHitDiameterPx != 0.0f) {
       HairMesh m = *g.mesh;
       m.appearance.minHitDiameterPx = 0.0f;
       g.mesh = std::make_shared<const HairMesh>(std::move(m));
     }
   }
+  // explicit grooms keep their (large) device tables: the passes ignore their minimum
+  struct TrueWidth {
+    bool& flag;
+    explicit TrueWidth(bool& f) : flag(f) { flag = true; }
+    ~TrueWidth() { flag = false; }
+  } trueWidth(impl_->trueWidthOnly);
   RenderOptions o;
   o.lod = 0;
   o.msaa = 1;
@@ -822,6 +992,84 @@ StrandSet Renderer::generateStrands(const HairMesh& mesh, float lod) {
     }
   }
   return out;
+}
+
+StrandSet Renderer::generateStrands(const StrandGroom& groom, float lod) {
+  Impl& r = *impl_;
+  if (!(lod > 0.0f && lod <= 1.0f)) throw Error("strand export: LOD value " + std::to_string(lod) + " is outside (0, 1]");
+  auto e = r.buildExplicit(groom);
+  e->params.lod_enabled = 0;
+  upload(r.dev, e->groom, &e->params, 1);
+  // the records lod_chunks would write with every chunk at LOD value `lod`
+  const std::size_t K = e->data.chunks.size();
+  const gpu::clh_u32 cfull = CLH_MAX_CONTROL_POINTS;
+  const gpu::clh_u32 C = gpu::clh_lod_control_points(lod, 3u, cfull);
+  const float gamma = gpu::clh_lod_morph(lod, 3u, cfull, groom.lod.morphWindow);
+  std::uint32_t lodBits, gammaBits;
+  std::memcpy(&lodBits, &lod, 4);
+  std::memcpy(&gammaBits, &gamma, 4);
+  std::vector<cl_uint4> records(K);
+  std::vector<cl_uint> offsets(K + 2, 0);
+  for (std::size_t c = 0; c < K; ++c) {
+    const glm::uvec4& chunk = e->data.chunks[c];
+    float delta;
+    std::memcpy(&delta, &chunk.z, 4);
+    const gpu::clh_u32 n = gpu::clh_lod_strands(lod, chunk.y, delta);
+    records[c] = {{n, C, lodBits, gammaBits}};
+    offsets[c + 1] = offsets[c] + n;
+  }
+  offsets[K + 1] = static_cast<cl_uint>(e->data.totalStrands);
+  upload(r.dev, e->lod, records.data(), K);
+  upload(r.dev, e->offsets, offsets.data(), K + 2);
+  const std::uint32_t total = offsets[K];
+  const ExplicitStage::Inputs in = r.explicitInputs(*e);
+  const std::size_t P = e->data.totalPoints, S = e->data.totalStrands;
+  cl::Buffer points = makeBuffer<cl_float4>(r.dev, "exported strand points", P);
+  cl::Buffer tangents = makeBuffer<cl_float4>(r.dev, "exported strand tangents", P);
+  std::vector<cl_uint> counts(S, 0);
+  cl::Buffer countBuf = makeBuffer<cl_uint>(r.dev, "exported strand point counts", S, counts.data());
+  r.explicitStage.exportStrands(in, total, points, tangents, countBuf, nullptr);
+  std::vector<cl_float4> p(P), t(P);
+  clCall("reading exported strands", [&] {
+    r.dev.queue.enqueueReadBuffer(points, CL_TRUE, 0, P * sizeof(cl_float4), p.data());
+    r.dev.queue.enqueueReadBuffer(tangents, CL_TRUE, 0, P * sizeof(cl_float4), t.data());
+    r.dev.queue.enqueueReadBuffer(countBuf, CL_TRUE, 0, S * sizeof(cl_uint), counts.data());
+    return 0;
+  });
+  StrandSet out;
+  for (std::size_t st = 0; st < S; ++st) {
+    const std::uint32_t M = counts[st];
+    if (M == 0) continue;
+    const std::uint32_t first = e->data.strandOffsets[st];
+    out.pointCounts.push_back(M);
+    out.bundleOf.push_back(static_cast<std::uint32_t>(st / kChunkStrands));
+    out.sourceStrand.push_back(e->data.sourceStrand[st]);
+    for (std::uint32_t j = 0; j < M; ++j) {
+      const cl_float4& q = p[first + j];
+      const cl_float4& tq = t[first + j];
+      out.points.insert(out.points.end(), {q.s[0], q.s[1], q.s[2]});
+      out.tangents.insert(out.tangents.end(), {tq.s[0], tq.s[1], tq.s[2]});
+      out.w.push_back(q.s[3]);
+    }
+  }
+  return out;
+}
+
+std::uint64_t Renderer::groomDeviceBytes(const GroomInstance& groom) {
+  Impl& r = *impl_;
+  if (groom.strands) {
+    const ExplicitResources& e = r.explicitFor(groom.strands);
+    std::uint64_t sum = 0;
+    for (const cl::Buffer* b : {&e.points, &e.strandOffsets, &e.uv, &e.chunks, &e.chunkBounds, &e.groom, &e.lod,
+                                &e.counts, &e.offsets})
+      sum += bufferBytes(*b);
+    return sum;
+  }
+  if (!groom.mesh) throw Error("groom \"" + groom.name + "\" has neither a hair mesh nor strands");
+  const GroomResources& g = r.groomFor(groom.mesh);
+  std::uint64_t sum = 0;
+  for (const cl::Buffer* b : {&g.vertices, &g.bundles, &g.groom, &g.lod, &g.counts, &g.offsets}) sum += bufferBytes(*b);
+  return sum;
 }
 
 std::vector<float> Renderer::bakeAmbientOcclusion(const HairMesh& mesh) {

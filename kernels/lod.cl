@@ -8,6 +8,11 @@
  * per bundle (N_LOD, C, L bits, gamma bits), the strand count alone for the scan, and the
  * full count of bundles not culled.
  *
+ * lod_chunks (one work-item per chunk of an explicit groom, strands_explicit.cl): the same
+ * record from the chunk's object-space AABB (its 8 corners projected, no styling reach),
+ * with 3 as the least control-point count; chunks play the role of bundles, so
+ * scan_bundles and the strand dispatch sizing are shared.
+ *
  * scan_bundles (one work-group of SCAN_WG items): exclusive scan of the counts into
  * offsets[0..n], offsets[n] being the total the host reads back to size the strand pass,
  * and offsets[n + 1] = the full-detail strand count of the bundles not culled (counts
@@ -74,6 +79,57 @@ __kernel void lod_bundles(__global const ClhGroomGpu* groom_g, __global const Cl
   counts_g[b] = n_lod;
   /* the full-detail count of every bundle not culled, for beta = drawn / visible */
   counts_g[g->bundle_count + b] = n_lod > 0u ? n_full : 0u;
+}
+
+/* bounds_g: 2 float4 per chunk (AABB min, max); chunks_g: uint4 (first strand, strand
+ * count, LOD delta bits, 0). */
+__kernel void lod_chunks(__global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
+                         __global const float4* bounds_g, __global const uint4* chunks_g,
+                         __global uint4* lod_g, __global uint* counts_g) {
+  uint c = (uint)get_global_id(0);
+  __global const ClhGroomGpu* g = groom_g;
+  if (c >= g->bundle_count) return;
+  const uint4 chunk = chunks_g[c];
+  const uint n_full = chunk.y;
+  const float3 blo = bounds_g[2u * c].xyz, bhi = bounds_g[2u * c + 1u].xyz;
+  clh_mat34 to_view = clh_load_mat34(g->obj_to_view);
+  float fx = view_g->fx, fy = view_g->fy, cx = view_g->cx, cy = view_g->cy;
+  float width = (float)view_g->width, height = (float)view_g->height;
+
+  /* as in lod_bundles: corners at or behind the camera plane keep the chunk at full detail
+   * unless all of them are behind the camera */
+  float2 lo = (float2)(INFINITY), hi = (float2)(-INFINITY);
+  bool all_behind = true, unprojectable = false;
+  for (uint k = 0; k < 8u; ++k) {
+    float3 corner = (float3)((k & 1u) ? bhi.x : blo.x, (k & 2u) ? bhi.y : blo.y, (k & 4u) ? bhi.z : blo.z);
+    float3 p = clh_xform_point(to_view, corner);
+    if (p.z >= 0.0f) all_behind = false;
+    if (p.z <= 1e-4f) {
+      unprojectable = true;
+      continue;
+    }
+    float2 s = (float2)(cx + fx * p.x / p.z, cy - fy * p.y / p.z);
+    lo = fmin(lo, s);
+    hi = fmax(hi, s);
+  }
+
+  uint n_lod = n_full;
+  const uint C_full = clamp(g->control_points, 3u, (uint)CLH_MAX_CONTROL_POINTS);
+  uint C = C_full;
+  float L = 1.0f, gamma = 0.0f;
+  bool off_screen = hi.x < 0.0f || hi.y < 0.0f || lo.x > width || lo.y > height;
+  if (all_behind || (!unprojectable && off_screen)) {
+    n_lod = 0u;
+  } else if (g->lod_enabled != 0u && !unprojectable) {
+    float2 ext = hi - lo;
+    L = clh_lod_value(ext.x, ext.y, height, g->lod_lambda);          /* Eq. 2 */
+    n_lod = clh_lod_strands(L, n_full, as_float(chunk.z));           /* Eq. 1 */
+    C = clh_lod_control_points(L, 3u, C_full);                       /* Eq. 4-5 */
+    gamma = clh_lod_morph(L, 3u, C_full, g->lod_morph_window);       /* Bhokare Eq. 10-12 */
+  }
+  lod_g[c] = (uint4)(n_lod, C, as_uint(L), as_uint(gamma));
+  counts_g[c] = n_lod;
+  counts_g[g->bundle_count + c] = n_lod > 0u ? n_full : 0u;
 }
 
 __kernel __attribute__((reqd_work_group_size(SCAN_WG, 1, 1))) void scan_bundles(

@@ -184,6 +184,68 @@ TEST_P(Oclgrind, ExportStrandsHasNoReports) {
   EXPECT_TRUE(fs::exists(out)) << out << " was not written";
 }
 
+// An explicit strand groom (kernels/strands_explicit.cl): the tiny groom's strands written to
+// a .hair file (export-strands, not under Oclgrind) and rendered in the scene of
+// oclgrind_tiny.json with LOD on; optimised, once more with MSAA 4 on the persistent grid.
+TEST_P(Oclgrind, RenderStrandFileHasNoReports) {
+  if (!haveOclgrind()) GTEST_SKIP() << "oclgrind not installed";
+  const bool uninit = GetParam();
+  const std::string dir = scratchDir();
+  CommandResult ex = runCli("export-strands " + quote(assetPath("grooms/tiny.hairmesh.json")) + " -o " +
+                            quote(dir + "/tiny.hair"));
+  ASSERT_EQ(ex.exitCode, 0) << ex.output;
+  {
+    std::ifstream in(sourceDir() + "/tests/data/oclgrind_tiny.json");
+    std::string scene((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string from = "{\"file\": \"../../assets/grooms/tiny.hairmesh.json\"}";
+    const std::size_t at = scene.find(from);
+    ASSERT_NE(at, std::string::npos) << "tests/data/oclgrind_tiny.json changed its groom line";
+    scene.replace(at, from.size(), "{\"strands_file\": \"tiny.hair\", \"lod\": {\"enabled\": true}}");
+    std::ofstream(dir + "/scene.json") << scene;
+  }
+  const std::string out = dir + "/strands.png";
+  OclgrindRun run = runUnderOclgrind(dir, uninit ? "strands-uninit" : "strands", uninit,
+                                     "render " + quote(dir + "/scene.json") + " -o " + quote(out));
+  expectClean(run, {"lod_chunks", "scan_bundles", "strands_explicit_raster", "strands_explicit_opacity"},
+              "clhair render (strand file)");
+  EXPECT_TRUE(fs::exists(out)) << out << " was not written";
+  if (uninit) return;
+  OclgrindRun grid = runUnderOclgrind(dir, "strands-persistent", false,
+                                      "render " + quote(dir + "/scene.json") + " -o " + quote(dir + "/grid.png") +
+                                          " --msaa 4 --dispatch persistent");
+  expectClean(grid, {"lod_chunks", "strands_explicit_raster_persistent"},
+              "clhair render (strand file) --msaa 4 --dispatch persistent");
+}
+
+// The export variant of the explicit kernel through this test binary's own
+// ExplicitKernel tests (test_explicit.cpp: strands of 2..300 points, several 128-segment
+// rounds, point skipping, vertex-LOD morph), which also check it against the CPU reference;
+// unoptimised, only the point-skipping and morph test (the slow simulation).
+TEST_P(Oclgrind, ExplicitStrandExportHasNoReports) {
+  if (!haveOclgrind()) GTEST_SKIP() << "oclgrind not installed";
+  const bool uninit = GetParam();
+  const std::string dir = scratchDir();
+  const std::string logPath = dir + "/oclgrind-explicit-export.log";
+  const std::string self = fs::read_symlink("/proc/self/exe").string();
+  OclgrindRun run;
+  run.result = runCommand("oclgrind --data-races --check-api --inst-counts --max-errors 1000000" +
+                          std::string(uninit ? " --uninitialized" : "") + " --build-options " +
+                          quote(std::string(uninit ? "-cl-opt-disable " : "") + "-DCLH_ATOMIC_LOAD_SKIP=0") +
+                          " --log " + quote(logPath) + " " + quote(self) + " --gtest_filter=" +
+                          quote(uninit ? "ExplicitKernel.PointSkipping*" : "ExplicitKernel.*"));
+  run.log = readFile(logPath);
+  // Not the exit code: a test binary under Oclgrind 21.10 aborts after its last test while
+  // static objects are destroyed (the shared Device outlives Oclgrind's runtime; any test
+  // does it, e.g. Render.EmptySceneIsExactlyTheBackground), which is not a kernel report.
+  EXPECT_NE(run.result.output.find(uninit ? "[  PASSED  ] 1 test" : "[  PASSED  ] 2 tests"), std::string::npos)
+      << run.result.output;
+  EXPECT_NE(run.result.output.find("Instructions executed for kernel 'strands_explicit_export'"), std::string::npos)
+      << run.result.output;
+  std::string kept;
+  for (const Report& r : parseReports(run.log)) kept += r.text + "\n";
+  EXPECT_TRUE(kept.empty()) << "oclgrind reported:\n" << kept.substr(0, 20000);
+}
+
 INSTANTIATE_TEST_SUITE_P(Checks, Oclgrind, ::testing::Bool(),
                          [](const ::testing::TestParamInfo<bool>& info) {
                            return std::string(info.param ? "OptDisabled_Uninit" : "Optimised");

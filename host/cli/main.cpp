@@ -85,7 +85,9 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
   const std::string& camera = f.camera;
   const std::string& lod = f.lod;
   const bool quiet = f.quiet;
-  Scene scene = loadScene(scenePath);
+  // the device first: strand files are checked against its largest allocation as they load
+  Device dev = Device::open(opts);
+  Scene scene = loadScene(scenePath, dev.info().maxAlloc);
   if (f.widthGiven || f.heightGiven) {
     int w = f.widthGiven ? width : scene.width, h = f.heightGiven ? height : scene.height;
     if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
@@ -116,7 +118,6 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     throw Error("--filter must be on, off or auto, not \"" + f.filter + "\"");
   if (f.reference && (f.spp < 1 || f.spp > 65536))
     throw Error("--spp must be 1..65536, not " + std::to_string(f.spp));
-  Device dev = Device::open(opts);
   Renderer renderer(dev);
   Frame frame = f.reference ? renderer.renderReference(scene, f.spp) : renderer.render(scene, ro);
   writeImage(frame.color, out);

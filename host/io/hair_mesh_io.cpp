@@ -12,6 +12,7 @@
 #include "clhair/error.h"
 #include "clhair/gpu_types.h"
 #include "clhair/hair_mesh.h"
+#include "io/appearance_io.h"
 #include "io/json_util.h"
 
 namespace clhair {
@@ -81,41 +82,6 @@ void readStyle(const JsonReader& r, const json& j, StyleParams& s) {
                    "frizz_frequency", "flyaway_fraction", "flyaway_amplitude", "length_variation"});
 }
 
-void readAppearance(const JsonReader& r, const json& j, AppearanceParams& a) {
-  JsonReader o = r.object(j, "appearance");
-  a.rootColor = o.vec3("root_color", a.rootColor, 0.0, 1.0);
-  a.tipColor = o.vec3("tip_color", a.tipColor, 0.0, 1.0);
-  if (o.has("eumelanin") || o.has("pheomelanin")) a.useMelanin = true;
-  else if (o.has("root_color") || o.has("tip_color")) a.useMelanin = false;
-  a.useMelanin = o.boolean("use_melanin", a.useMelanin);
-  auto pair = [&](const char* key, float* v) {
-    if (!o.has(key)) return;
-    const json& e = o.require(key);
-    if (e.is_number()) {
-      v[0] = v[1] = static_cast<float>(o.number(key, v[0], 0.0, 100.0));
-      return;
-    }
-    if (!e.is_array() || e.size() != 2 || !e[0].is_number() || !e[1].is_number())
-      o.fail(key, "must be a number or [root, tip]");
-    for (int i = 0; i < 2; ++i) {
-      double d = e[i].get<double>();
-      if (!std::isfinite(d) || d < 0.0 || d > 100.0) o.fail(key, "values must lie in 0..100");
-      v[i] = static_cast<float>(d);
-    }
-  };
-  pair("eumelanin", a.eumelanin);
-  pair("pheomelanin", a.pheomelanin);
-  a.betaM = static_cast<float>(o.number("beta_m", a.betaM, 0.02, 1.0));
-  a.betaN = static_cast<float>(o.number("beta_n", a.betaN, 0.02, 1.0));
-  a.cuticleTiltDeg = static_cast<float>(o.number("cuticle_tilt", a.cuticleTiltDeg, -10.0, 10.0));
-  a.ior = static_cast<float>(o.number("ior", a.ior, 1.01, 3.0));
-  a.variation = static_cast<float>(o.number("variation", a.variation, 0.0, 0.9));
-  a.strandWidth = o.number("strand_width", a.strandWidth, 1e-9, 1e3);
-  a.minHitDiameterPx = o.number("min_hit_diameter_px", a.minHitDiameterPx, 0.0, 3.0);
-  o.rejectUnknown({"root_color", "tip_color", "use_melanin", "eumelanin", "pheomelanin", "beta_m", "beta_n",
-                   "cuticle_tilt", "ior", "variation", "strand_width", "min_hit_diameter_px"});
-}
-
 void readLod(const JsonReader& r, const json& j, LodParams& lod) {
   JsonReader o = r.object(j, "lod");
   lod.enabled = o.boolean("enabled", lod.enabled);
@@ -155,6 +121,41 @@ std::string layout(const json& j) {
 }
 
 }  // namespace
+
+void readAppearance(const JsonReader& r, const json& j, AppearanceParams& a) {
+  JsonReader o = r.object(j, "appearance");
+  a.rootColor = o.vec3("root_color", a.rootColor, 0.0, 1.0);
+  a.tipColor = o.vec3("tip_color", a.tipColor, 0.0, 1.0);
+  if (o.has("eumelanin") || o.has("pheomelanin")) a.useMelanin = true;
+  else if (o.has("root_color") || o.has("tip_color")) a.useMelanin = false;
+  a.useMelanin = o.boolean("use_melanin", a.useMelanin);
+  auto pair = [&](const char* key, float* v) {
+    if (!o.has(key)) return;
+    const json& e = o.require(key);
+    if (e.is_number()) {
+      v[0] = v[1] = static_cast<float>(o.number(key, v[0], 0.0, 100.0));
+      return;
+    }
+    if (!e.is_array() || e.size() != 2 || !e[0].is_number() || !e[1].is_number())
+      o.fail(key, "must be a number or [root, tip]");
+    for (int i = 0; i < 2; ++i) {
+      double d = e[i].get<double>();
+      if (!std::isfinite(d) || d < 0.0 || d > 100.0) o.fail(key, "values must lie in 0..100");
+      v[i] = static_cast<float>(d);
+    }
+  };
+  pair("eumelanin", a.eumelanin);
+  pair("pheomelanin", a.pheomelanin);
+  a.betaM = static_cast<float>(o.number("beta_m", a.betaM, 0.02, 1.0));
+  a.betaN = static_cast<float>(o.number("beta_n", a.betaN, 0.02, 1.0));
+  a.cuticleTiltDeg = static_cast<float>(o.number("cuticle_tilt", a.cuticleTiltDeg, -10.0, 10.0));
+  a.ior = static_cast<float>(o.number("ior", a.ior, 1.01, 3.0));
+  a.variation = static_cast<float>(o.number("variation", a.variation, 0.0, 0.9));
+  a.strandWidth = o.number("strand_width", a.strandWidth, 1e-9, 1e3);
+  a.minHitDiameterPx = o.number("min_hit_diameter_px", a.minHitDiameterPx, 0.0, 3.0);
+  o.rejectUnknown({"root_color", "tip_color", "use_melanin", "eumelanin", "pheomelanin", "beta_m", "beta_n",
+                   "cuticle_tilt", "ior", "variation", "strand_width", "min_hit_diameter_px"});
+}
 
 void validateHairMesh(const HairMesh& m, const std::string& where) {
   auto fail = [&](const std::string& what) { throw Error(where + ": " + what); };

@@ -1,4 +1,8 @@
 // scene_io.cpp — the JSON scene format (docs/scene-format.md) and camera presets.
+//
+// A groom entry names a hair mesh ("file") or a strand file ("strands_file": cyHair .hair
+// or USC-HairSalon .data, read with a byte limit before anything is allocated); each file
+// is read once per scene however many entries use it.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -11,6 +15,7 @@
 #include "clhair/error.h"
 #include "clhair/gpu_types.h"
 #include "clhair/scene.h"
+#include "io/appearance_io.h"
 #include "io/json_util.h"
 
 namespace clhair {
@@ -62,11 +67,68 @@ FilterParams readFilter(const JsonReader& parent, const json& j, FilterParams f)
   return f;
 }
 
+// A groom entry with "strands_file": the file (read once per scene), its placement (scale,
+// up axis, then the entry's transform), appearance, LOD and filter.
+GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& base, const FilterParams& sceneFilter,
+                              std::uint64_t maxBytes,
+                              std::map<std::string, std::shared_ptr<const StrandGroom>>& loaded) {
+  const std::string file = o.string("strands_file", "");
+  if (file.empty()) o.fail("strands_file", "is empty: name a .hair or .data strand file");
+  std::filesystem::path p = std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;
+  const std::string key = p.lexically_normal().string();
+  std::error_code ec;
+  const bool found = std::filesystem::exists(p, ec);
+  if (ec) o.fail("strands_file", "\"" + key + "\" cannot be checked (" + ec.message() + ")");
+  if (!found) o.fail("strands_file", "\"" + key + "\" does not exist");
+  // the entry's look, from the defaults: entries naming the same file may differ
+  AppearanceParams look;
+  LodParams lod;
+  if (o.has("appearance")) readAppearance(o, o.require("appearance"), look);
+  if (o.has("lod")) {
+    JsonReader l = o.object(o.require("lod"), "lod");
+    lod.enabled = l.boolean("enabled", lod.enabled);
+    lod.lambda = static_cast<float>(l.number("lambda", lod.lambda, 1e-3, 1e3));
+    lod.morphWindow = static_cast<float>(l.number("morph_window", lod.morphWindow, 0.0, 1.0));
+    l.rejectUnknown({"enabled", "lambda", "morph_window"});
+  }
+  const float scale = static_cast<float>(o.number("scale", 1.0, 1e-6, 1e6));
+  const std::string up = o.string("up", "y");
+  if (up != "y" && up != "z") o.fail("up", "is \"" + up + "\", expected \"y\" or \"z\"");
+  // the first entry of a file takes it as read; later ones copy it (the points too)
+  StrandGroom groom;
+  auto it = loaded.find(key);
+  if (it != loaded.end()) {
+    groom = *it->second;
+  } else {
+    try {
+      groom = loadStrandGroom(key, maxBytes);
+    } catch (const Error& e) {
+      o.fail("strands_file", e.what());
+    }
+  }
+  groom.appearance = look;
+  groom.lod = lod;
+  auto shared = std::make_shared<const StrandGroom>(std::move(groom));
+  if (it == loaded.end()) loaded[key] = shared;
+  GroomInstance g;
+  g.name = o.string("name", shared->name);
+  g.strands = shared;
+  glm::mat4 placement = o.has("transform") ? readTransform(o, o.require("transform")) : glm::mat4(1.0f);
+  g.transform = placement * strandFileTransform(scale, up == "z");
+  if (o.has("filter")) {
+    g.hasFilter = true;
+    g.filter = readFilter(o, o.require("filter"), sceneFilter);
+  }
+  o.rejectUnknown({"strands_file", "name", "transform", "scale", "up", "appearance", "lod", "filter"});
+  return g;
+}
+
 void worldBounds(const Scene& s, glm::vec3& lo, glm::vec3& hi) {
   lo = glm::vec3(1e30f);
   hi = glm::vec3(-1e30f);
   for (const GroomInstance& g : s.grooms) {
-    for (const glm::vec3& p : g.mesh->positions) {
+    const std::vector<glm::vec3>& points = g.strands ? g.strands->points : g.mesh->positions;
+    for (const glm::vec3& p : points) {
       glm::vec3 w = glm::vec3(g.transform * glm::vec4(p, 1.0f));
       lo = glm::min(lo, w);
       hi = glm::max(hi, w);
@@ -111,7 +173,7 @@ Camera framePreset(const Scene& scene, CameraPreset preset, float azimuthDeg, fl
   return cam;
 }
 
-Scene loadScene(const std::string& path) {
+Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
   json root = readJsonFile(path, "scene");
   JsonReader r(path, root);
   Scene s;
@@ -238,11 +300,18 @@ Scene loadScene(const std::string& path) {
   }
 
   std::map<std::string, std::shared_ptr<const HairMesh>> loaded;
+  std::map<std::string, std::shared_ptr<const StrandGroom>> loadedStrands;
   if (r.has("grooms")) {
     const json& a = r.require("grooms");
     if (!a.is_array()) r.fail("grooms", "must be an array");
     for (std::size_t i = 0; i < a.size(); ++i) {
       JsonReader o = r.object(a[i], "grooms[" + std::to_string(i) + "]");
+      if (o.has("file") == o.has("strands_file"))
+        o.fail("file", "give exactly one of \"file\" (a hair mesh) and \"strands_file\" (a .hair or .data strand file)");
+      if (o.has("strands_file")) {
+        s.grooms.push_back(readStrandGroom(o, base, s.filter, maxStrandBytes, loadedStrands));
+        continue;
+      }
       std::string file = o.string("file", "");
       if (file.empty()) o.fail("file", "is missing: name the groom's hair-mesh file");
       std::filesystem::path p = std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;

@@ -1,7 +1,7 @@
 // renderer.h — the public entry point: render a Scene on a Device into a Frame.
 //
-// A Renderer owns the programs, the per-groom device resources (uploaded once per mesh)
-// and the buffers sized to the render target. render() runs, for every groom in turn,
+// A Renderer owns the programs, the per-groom device resources (uploaded once per hair mesh
+// or StrandGroom) and the buffers sized to the render target. render() runs, for every groom in turn,
 // lod -> scan + sizing -> strands -> shade -> composite over the opaque scene, and returns
 // colour, alpha, depth and per-stage times taken from OpenCL profiling events.
 #pragma once
@@ -74,7 +74,8 @@ struct StrandSet {
   std::vector<float> points;               // xyz per point, object space
   std::vector<float> tangents;             // xyz per point
   std::vector<float> w;                    // styling w per point
-  std::vector<std::uint32_t> bundleOf;     // bundle of each strand
+  std::vector<std::uint32_t> bundleOf;     // bundle of each strand (explicit strands: LOD chunk)
+  std::vector<std::uint32_t> sourceStrand; // explicit strands only: index in the StrandGroom
 };
 
 class Renderer {
@@ -100,6 +101,17 @@ class Renderer {
   // Runs the strand kernel in export mode for `mesh`. lod = 1: full detail; lod < 1: every
   // bundle at that LOD value L (strand count, control points and morph of lod_math.h).
   StrandSet generateStrands(const HairMesh& mesh, float lod = 1.0f);
+
+  // Runs the explicit-strand kernel in export mode: the strands as they are drawn, in the
+  // renderer's LOD order (sourceStrand maps back). lod = 1: every strand and point;
+  // lod < 1: every chunk at that LOD value L (strand subset, point skipping and morph).
+  StrandSet generateStrands(const StrandGroom& groom, float lod = 1.0f);
+
+  // Bytes of the device buffers the renderer keeps for this groom (uploading it first if
+  // needed): hair mesh records or strand tables, parameters, LOD records and scan. Not
+  // included: the blue-noise root sets all hair-mesh grooms share (at most 1 MiB) and the
+  // target-sized buffers.
+  std::uint64_t groomDeviceBytes(const GroomInstance& groom);
 
   const Device& device() const;
 

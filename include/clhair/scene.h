@@ -1,10 +1,12 @@
 // scene.h — what one frame shows: camera, lights, opaque primitives and grooms.
 //
 // Scenes are JSON files (docs/scene-format.md). Groom files are resolved relative to the
-// scene file; a camera can be given explicitly or as a preset that frames all grooms at
-// about 60 % (close), 20 % (mid) or 5 % (far) of the image height.
+// scene file; a groom is a hair mesh or a strand file (cyHair .hair, USC-HairSalon .data).
+// A camera can be given explicitly or as a preset that frames all grooms at about 60 %
+// (close), 20 % (mid) or 5 % (far) of the image height.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -13,6 +15,7 @@
 #include <glm/vec3.hpp>
 
 #include "clhair/hair_mesh.h"
+#include "clhair/strand_groom.h"
 
 namespace clhair {
 
@@ -92,14 +95,18 @@ struct FilterParams {
   float strip = 0.5f;          // alpha strip: neighbours within this many pixels of the tangent line
 };
 
+// Exactly one of `mesh` and `strands` is set.
 struct GroomInstance {
   GroomInstance() = default;
   GroomInstance(std::string n, std::shared_ptr<const HairMesh> m, const glm::mat4& t = glm::mat4(1.0f))
       : name(std::move(n)), mesh(std::move(m)), transform(t) {}
+  GroomInstance(std::string n, std::shared_ptr<const StrandGroom> s, const glm::mat4& t = glm::mat4(1.0f))
+      : name(std::move(n)), strands(std::move(s)), transform(t) {}
 
   std::string name;
-  std::shared_ptr<const HairMesh> mesh;
-  glm::mat4 transform{1.0f};  // object -> world
+  std::shared_ptr<const HairMesh> mesh;        // a hair mesh: strands generated per frame
+  std::shared_ptr<const StrandGroom> strands;  // explicit strands, uploaded once
+  glm::mat4 transform{1.0f};  // object -> world (strand files: includes the file's scale and up axis)
   bool hasFilter = false;     // true: `filter` overrides the scene's
   FilterParams filter;
 };
@@ -129,6 +136,12 @@ CameraPreset parseCameraPreset(const std::string& name);
 // Largest accepted image side; larger requests are refused as absurd.
 constexpr int kMaxImageSide = 16384;
 
-Scene loadScene(const std::string& path);
+// Strand files larger than this (as CyHair arrays in memory) are refused by default.
+constexpr std::uint64_t kDefaultStrandFileLimit = 2ull << 30;
+
+// Loads a scene and every groom file it names. Strand files are checked against
+// `maxStrandBytes` before anything is allocated: pass the device's largest allocation
+// (Device::info().maxAlloc) when a device is open.
+Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes = kDefaultStrandFileLimit);
 
 }  // namespace clhair

@@ -1,0 +1,118 @@
+// explicit_data.cpp — strand order, chunk table and packed points of an explicit groom.
+#include "groom/explicit_data.h"
+
+#include <algorithm>
+#include <cstring>
+#include <numeric>
+
+#include <glm/common.hpp>
+
+#include "clhair/gpu_types.h"
+
+namespace clhair {
+
+static_assert(sizeof(glm::vec4) == 16 && sizeof(glm::uvec4) == 16, "device tables are float4 / uint4");
+
+namespace {
+
+// 10 bits of x spread to every third bit (Morton order).
+std::uint32_t spread3(std::uint32_t x) {
+  x &= 0x3FFu;
+  x = (x | (x << 16)) & 0x030000FFu;
+  x = (x | (x << 8)) & 0x0300F00Fu;
+  x = (x | (x << 4)) & 0x030C30C3u;
+  x = (x | (x << 2)) & 0x09249249u;
+  return x;
+}
+
+std::uint32_t quantize(float v, float lo, float extent) {
+  float t = extent > 0.0f ? (v - lo) / extent : 0.0f;
+  t = std::min(std::max(t, 0.0f), 1.0f);
+  return static_cast<std::uint32_t>(t * 1023.0f + 0.5f);
+}
+
+std::uint32_t unorm16(float v) {
+  v = std::min(std::max(v, 0.0f), 1.0f);
+  return static_cast<std::uint32_t>(v * 65535.0f + 0.5f);
+}
+
+}  // namespace
+
+ExplicitData prepareExplicit(const StrandGroom& g, std::uint32_t chunkStrands) {
+  ExplicitData out;
+  const std::size_t S = g.pointCounts.size();
+  std::vector<std::uint64_t> first(S + 1, 0);
+  for (std::size_t s = 0; s < S; ++s) first[s + 1] = first[s] + g.pointCounts[s];
+  out.totalStrands = S;
+  out.totalPoints = first[S];
+
+  // Morton order of the roots over their bounding box; ties keep the file order.
+  glm::vec3 rlo(1e30f), rhi(-1e30f);
+  for (std::size_t s = 0; s < S; ++s) {
+    rlo = glm::min(rlo, g.points[first[s]]);
+    rhi = glm::max(rhi, g.points[first[s]]);
+  }
+  const glm::vec3 ext = rhi - rlo;
+  std::vector<std::uint32_t> code(S);
+  for (std::size_t s = 0; s < S; ++s) {
+    const glm::vec3& p = g.points[first[s]];
+    code[s] = spread3(quantize(p.x, rlo.x, ext.x)) | spread3(quantize(p.y, rlo.y, ext.y)) << 1 |
+              spread3(quantize(p.z, rlo.z, ext.z)) << 2;
+  }
+  std::vector<std::uint32_t> order(S);
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return code[a] < code[b]; });
+
+  // chunks of consecutive strands, shuffled inside (Fisher-Yates on a fixed hash stream)
+  const std::size_t K = (S + chunkStrands - 1) / chunkStrands;
+  for (std::size_t c = 0; c < K; ++c) {
+    const std::size_t b = c * chunkStrands, n = std::min<std::size_t>(chunkStrands, S - b);
+    for (std::size_t i = n; i > 1; --i) {
+      const std::uint32_t h = gpu::clh_hash3(g.seed, static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(i));
+      std::swap(order[b + i - 1], order[b + h % i]);
+    }
+  }
+  out.sourceStrand = order;
+
+  out.points.resize(out.totalPoints);
+  out.strandOffsets.resize(S + 1);
+  if (!g.rootUv.empty()) out.uv.resize(S);
+  std::uint32_t at = 0;
+  for (std::size_t s = 0; s < S; ++s) {
+    const std::uint32_t src = order[s];
+    const std::uint32_t n = g.pointCounts[src];
+    out.strandOffsets[s] = at;
+    for (std::uint32_t k = 0; k < n; ++k) {
+      const glm::vec3& p = g.points[first[src] + k];
+      out.points[at + k] = glm::vec4(p, static_cast<float>(k) / static_cast<float>(n - 1));
+    }
+    if (!g.rootUv.empty()) out.uv[s] = unorm16(g.rootUv[src].x) | unorm16(g.rootUv[src].y) << 16;
+    at += n;
+  }
+  out.strandOffsets[S] = at;
+
+  out.chunks.resize(K);
+  out.chunkBounds.resize(2 * K);
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (std::size_t c = 0; c < K; ++c) {
+    const std::size_t b = c * chunkStrands, n = std::min<std::size_t>(chunkStrands, S - b);
+    glm::vec3 clo(1e30f), chi(-1e30f);
+    for (std::uint32_t i = out.strandOffsets[b]; i < out.strandOffsets[b + n]; ++i) {
+      clo = glm::min(clo, glm::vec3(out.points[i]));
+      chi = glm::max(chi, glm::vec3(out.points[i]));
+    }
+    const float delta = gpu::clh_u01(gpu::clh_hash3(g.seed, static_cast<std::uint32_t>(c), CLH_RNG_LOD_DELTA));
+    std::uint32_t deltaBits;
+    std::memcpy(&deltaBits, &delta, 4);
+    out.chunks[c] = glm::uvec4(static_cast<std::uint32_t>(b), static_cast<std::uint32_t>(n), deltaBits, 0u);
+    out.chunkBounds[2 * c] = glm::vec4(clo, 0.0f);
+    out.chunkBounds[2 * c + 1] = glm::vec4(chi, 0.0f);
+    lo = glm::min(lo, clo);
+    hi = glm::max(hi, chi);
+  }
+  out.boundsMin = lo;
+  out.boundsMax = hi;
+  return out;
+}
+
+}  // namespace clhair

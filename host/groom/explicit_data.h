@@ -1,0 +1,47 @@
+// explicit_data.h — a StrandGroom turned into the device tables of kernels/strands_explicit.cl.
+//
+// Order (once per groom, deterministic): strands are sorted along a Morton curve of their
+// root positions and cut into chunks of kChunkStrands consecutive strands, then shuffled
+// inside each chunk. A chunk plays the role of a hair-mesh bundle for LOD (Lipp §3.2): it is
+// small on screen when its strands are (spatially coherent chunks keep culling and a
+// per-region L), and because its strands are in random order the first N_LOD of them are a
+// uniform sample of the chunk.
+//
+// Tables (all sizes pinned by static_asserts):
+//   points         float4 per stored point, strand after strand in the new order:
+//                  xyz object space, w = k / (n - 1) for point k of an n-point strand
+//   strandOffsets  uint, strands + 1: strand s owns points [offsets[s], offsets[s + 1])
+//   uv             uint per strand: unorm16 u | unorm16 v << 16 (only when the groom has root uv)
+//   chunks         uint4 per chunk: x first strand, y strand count, z LOD delta (float
+//                  bits, Lipp Eq. 1), w 0
+//   chunkBounds    float4 pair per chunk: object-space AABB min (w 0), max (w 0)
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "clhair/strand_groom.h"
+
+namespace clhair {
+
+constexpr std::uint32_t kChunkStrands = 64;
+
+struct ExplicitData {
+  std::vector<glm::vec4> points;
+  std::vector<std::uint32_t> strandOffsets;
+  std::vector<std::uint32_t> uv;            // empty when the groom has no root uv
+  std::vector<std::uint32_t> sourceStrand;  // new order -> index in the StrandGroom
+  std::vector<glm::uvec4> chunks;
+  std::vector<glm::vec4> chunkBounds;       // 2 per chunk
+  glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // object space, all points
+  std::uint64_t totalStrands = 0;
+  std::uint64_t totalPoints = 0;
+};
+
+// Expects a validated groom (validateStrandGroom).
+ExplicitData prepareExplicit(const StrandGroom& groom, std::uint32_t chunkStrands = kChunkStrands);
+
+}  // namespace clhair

@@ -1,0 +1,145 @@
+// strand_groom_io.cpp — StrandGroom from strand files (cyHair, USC-HairSalon), its
+// validation and the per-file placement transform.
+//
+// The readers (cyhair_read.cpp, usc_hair.cpp) already refuse truncated files, counts that
+// do not add up, non-finite numbers, zero strands and sizes beyond the caller's limit,
+// before allocating. Here single-point strands are dropped (nothing to draw) and the
+// result is validated like any StrandGroom built in memory.
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+
+#include "clhair/error.h"
+#include "clhair/strand_groom.h"
+#include "io/cyhair.h"
+#include "io/usc_hair.h"
+
+namespace clhair {
+
+namespace {
+
+bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+bool inUnit(const glm::vec3& v) {
+  return v.x >= 0.0f && v.x <= 1.0f && v.y >= 0.0f && v.y <= 1.0f && v.z >= 0.0f && v.z <= 1.0f;
+}
+
+StrandGroom fromCyHair(const CyHair& h, std::uint64_t* skipped) {
+  StrandGroom g;
+  const std::size_t strands = h.segments.size();
+  std::size_t kept = 0, keptPoints = 0;
+  for (std::uint32_t seg : h.segments)
+    if (seg >= 1) {
+      ++kept;
+      keptPoints += seg + 1;
+    }
+  g.pointCounts.reserve(kept);
+  g.points.reserve(keptPoints);
+  if (!h.thickness.empty()) g.thickness.reserve(keptPoints);
+  if (!h.colors.empty()) g.colors.reserve(keptPoints);
+  std::size_t at = 0;  // first point of the current strand
+  for (std::size_t s = 0; s < strands; ++s) {
+    const std::size_t n = static_cast<std::size_t>(h.segments[s]) + 1;
+    if (n >= 2) {
+      g.pointCounts.push_back(static_cast<std::uint32_t>(n));
+      for (std::size_t k = at; k < at + n; ++k) {
+        g.points.emplace_back(h.points[3 * k], h.points[3 * k + 1], h.points[3 * k + 2]);
+        if (!h.thickness.empty()) g.thickness.push_back(h.thickness[k]);
+        if (!h.colors.empty()) g.colors.emplace_back(h.colors[3 * k], h.colors[3 * k + 1], h.colors[3 * k + 2]);
+      }
+    }
+    at += n;
+  }
+  if (skipped) *skipped = strands - kept;
+  return g;
+}
+
+std::string lowerExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+}  // namespace
+
+void validateStrandGroom(const StrandGroom& g, const std::string& where) {
+  auto fail = [&](const std::string& what) { throw Error(where + ": " + what); };
+  if (g.pointCounts.empty()) fail("has no strands");
+  std::uint64_t total = 0;
+  for (std::size_t s = 0; s < g.pointCounts.size(); ++s) {
+    if (g.pointCounts[s] < 2)
+      fail("strand " + std::to_string(s) + " has " + std::to_string(g.pointCounts[s]) +
+           " point(s), need at least 2");
+    total += g.pointCounts[s];
+  }
+  if (total > kMaxStrandPoints)
+    fail(std::to_string(total) + " points, at most " + std::to_string(kMaxStrandPoints) + " are supported");
+  if (total != g.points.size())
+    fail("the strands' point counts add up to " + std::to_string(total) + " but " +
+         std::to_string(g.points.size()) + " points are given");
+  if (!g.thickness.empty() && g.thickness.size() != g.points.size())
+    fail(std::to_string(g.thickness.size()) + " thickness values for " + std::to_string(g.points.size()) + " points");
+  if (!g.colors.empty() && g.colors.size() != g.points.size())
+    fail(std::to_string(g.colors.size()) + " colours for " + std::to_string(g.points.size()) + " points");
+  if (!g.rootUv.empty() && g.rootUv.size() != g.pointCounts.size())
+    fail(std::to_string(g.rootUv.size()) + " root uv pairs for " + std::to_string(g.pointCounts.size()) + " strands");
+  for (std::size_t i = 0; i < g.points.size(); ++i)
+    if (!finite3(g.points[i])) fail("point " + std::to_string(i) + " is not finite");
+  for (std::size_t i = 0; i < g.thickness.size(); ++i)
+    if (!std::isfinite(g.thickness[i])) fail("thickness " + std::to_string(i) + " is not finite");
+  for (std::size_t i = 0; i < g.colors.size(); ++i)
+    if (!finite3(g.colors[i])) fail("colour " + std::to_string(i) + " is not finite");
+  for (std::size_t s = 0; s < g.rootUv.size(); ++s) {
+    const glm::vec2 uv = g.rootUv[s];
+    if (!(uv.x >= 0.0f && uv.x <= 1.0f && uv.y >= 0.0f && uv.y <= 1.0f))
+      fail("root uv of strand " + std::to_string(s) + " is outside [0, 1]");
+  }
+  const AppearanceParams& a = g.appearance;
+  if (!inUnit(a.rootColor) || !inUnit(a.tipColor)) fail("appearance colours must be linear rgb in [0, 1]");
+  if (!(a.strandWidth >= 1e-9f && a.strandWidth <= 1e3f)) fail("appearance strand_width must be in 1e-9..1e3");
+  if (!(a.minHitDiameterPx >= 0.0f && a.minHitDiameterPx <= 3.0f))
+    fail("appearance min_hit_diameter_px must be in 0..3");
+  if (!(g.lod.lambda >= 1e-3f && g.lod.lambda <= 1e3f)) fail("lod lambda must be in 0.001..1000");
+  if (!(g.lod.morphWindow >= 0.0f && g.lod.morphWindow <= 1.0f)) fail("lod morph_window must be in 0..1");
+}
+
+StrandGroom loadStrandGroom(const std::string& path, std::uint64_t maxBytes, std::uint64_t* skippedStrands) {
+  const std::string ext = lowerExtension(path);
+  StrandGroom g;
+  std::uint64_t skipped = 0;
+  if (ext == ".hair") {
+    g = fromCyHair(readCyHair(path, maxBytes), &skipped);
+  } else if (ext == ".data") {
+    UscHair u = readUscHair(path, maxBytes);
+    g = fromCyHair(u.hair, &skipped);
+    skipped += u.skippedStrands;
+  } else {
+    throw Error(path + ": unknown strand file type \"" + ext +
+                "\"; expected .hair (cyHair) or .data (USC-HairSalon)");
+  }
+  if (g.pointCounts.empty())
+    throw Error(path + ": no strand has 2 or more points (" + std::to_string(skipped) +
+                " single-point strands), nothing to draw");
+  g.name = std::filesystem::path(path).stem().string();
+  validateStrandGroom(g, path);
+  if (skippedStrands) *skippedStrands = skipped;
+  return g;
+}
+
+glm::mat4 strandFileTransform(float scale, bool upZ) {
+  glm::mat4 m(scale);
+  m[3][3] = 1.0f;
+  if (upZ) {
+    // (x, y, z) -> (x, z, -y): +z becomes +y, a rotation (handedness kept)
+    glm::mat4 r(0.0f);
+    r[0][0] = 1.0f;   // x -> x
+    r[1][2] = -1.0f;  // y -> -z
+    r[2][1] = 1.0f;   // z -> y
+    r[3][3] = 1.0f;
+    m = r * m;
+  }
+  return m;
+}
+
+}  // namespace clhair

@@ -1,0 +1,60 @@
+// strand_groom.h — a groom given as explicit strands (a cyHair `.hair` or USC-HairSalon
+// `.data` file, or strands built in memory), rendered through the same raster, shading,
+// filter and compositing passes as a hair mesh.
+//
+// Strand s owns pointCounts[s] consecutive entries of `points` (root first); every strand
+// has at least 2 points. Optional per-point thickness and colour are kept from the file
+// but not drawn yet (the G-buffer word holds no colour; the fibre width is the groom's
+// `appearance.strandWidth`). Optional per-strand root uv in [0, 1]^2 fills the G-buffer's
+// u, v fields; without it they come from a per-strand hash. The styling coordinate w of a
+// stored point k of an n-point strand is k / (n - 1). The renderer reorders the strands
+// once (docs/scene-format.md, "Strand files") for LOD; a StrandGroom itself is never changed.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "clhair/hair_mesh.h"
+
+namespace clhair {
+
+struct StrandGroom {
+  std::string name;
+  std::vector<std::uint32_t> pointCounts;  // per strand, each >= 2
+  std::vector<glm::vec3> points;           // object space, strand after strand
+  std::vector<float> thickness;            // empty, or per point (kept, not drawn)
+  std::vector<glm::vec3> colors;           // empty, or per point linear rgb (kept, not drawn)
+  std::vector<glm::vec2> rootUv;           // empty, or per strand in [0, 1]
+  std::uint32_t seed = 1;                  // root-uv hash, LOD offsets, LOD order
+  AppearanceParams appearance;
+  LodParams lod;                           // morphWindow: Bhokare Eq. 10 on point skipping
+};
+
+// Largest point count the strand tables can address (32-bit offsets).
+constexpr std::uint64_t kMaxStrandPoints = 0xFFFFFFF0ull;
+
+// Throws clhair::Error naming `where` and the offending element when the groom is not
+// renderable: no strands, a strand of fewer than 2 points, counts that do not add up to
+// the points, optional arrays of the wrong length, non-finite numbers, uv outside [0, 1],
+// appearance or LOD parameters out of range, more than kMaxStrandPoints points.
+void validateStrandGroom(const StrandGroom& groom, const std::string& where);
+
+// Reads a strand file by extension: `.hair` (cyHair) or `.data` (USC-HairSalon). Sizes are
+// checked against `maxBytes` (pass the device's largest allocation) before anything is
+// allocated. Strands of a single point (legal in cyHair, skipped by the USC reader) are
+// left out and counted in *skippedStrands when given. The result has the default
+// appearance and LOD parameters and the file's stem as its name. Errors are one line that
+// names the file.
+StrandGroom loadStrandGroom(const std::string& path, std::uint64_t maxBytes,
+                            std::uint64_t* skippedStrands = nullptr);
+
+// The per-file placement of a strand file in a scene: uniform `scale`, then the file's up
+// axis (`upZ`: +z up, as USC-HairSalon files are) turned to clhair's +y up.
+glm::mat4 strandFileTransform(float scale, bool upZ);
+
+}  // namespace clhair

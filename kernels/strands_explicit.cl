@@ -1,0 +1,355 @@
+/* strands_explicit.cl — stored strands (cyHair / USC-HairSalon files, StrandGroom) drawn
+ * through the same rasteriser as generated ones: one work-group (one logical sub-group of
+ * SG_SIZE lanes) per strand.
+ *
+ * Inputs (host/groom/explicit_data.h has the tables): the groom record (ClhGroomGpu, with
+ * bundle_count = chunk count and control_points = the full-detail C of the LOD formulas),
+ * the points (float4: object-space xyz, styling w), the strand offsets (strand s owns
+ * points [offsets[s], offsets[s+1])), optional packed root uv (unorm16 u | v << 16), the
+ * chunk table (uint4: first strand, strand count, LOD delta bits, 0), and per chunk the LOD
+ * record of lod_chunks (uint4: N_LOD, C, L bits, gamma bits) with its scan (scan_bundles:
+ * chunk_count + 2 entries, [chunk_count] = strands to draw).
+ *
+ * Drawn strand g is the (g - scan[c])-th strand of the chunk c that holds it, drawn only
+ * when it is among the chunk's first N_LOD (the chunk's strands are in random order, so
+ * that is a uniform sample); its hit diameter is widened by N / N_LOD like strands.cl.
+ * Vertex LOD skips points: every step-th stored point is drawn plus the tip, step = 2^k
+ * with (C - 1) step = C_full - 1 (C from Lipp Eq. 4-5), halved while the strand would keep
+ * fewer than 3 points. Inside the transition window (gamma > 0, Bhokare Eq. 10-12) the odd
+ * drawn points move toward the midpoint of their neighbours, so a level hands over to the
+ * next without a jump; tangents are then taken from the moved points.
+ *
+ * Assembly: the drawn points are processed in rounds of CLH_X_ROUND segments. Within a
+ * round lane i owns points [i*S, i*S + S) (the last lane also the round's last point),
+ * S = ceil(segments / SG_SIZE), like strands.cl. Each lane loads its run of stored points;
+ * neighbouring lanes exchange first/last points and tangents with sub-group shuffles, and
+ * the round's edge lanes take the point beyond the round from global memory as the
+ * shuffle's fill value. Tangents are central differences inside and Bhokare's reflection
+ * rule (Eq. 5-6) at the root and the tip, as in strands.cl. The G-buffer word means the
+ * same as for generated strands: u, v from the stored root uv or a per-strand hash, w from
+ * the point, AO 1.
+ *
+ * Kernels: strands_explicit_raster (group g draws strand strand_base + g; read-back and
+ * over-launch sizing), strands_explicit_raster_persistent (group g draws every
+ * strand_stride-th strand from g), strands_explicit_opacity (-DCLH_RASTER_OPACITY=1: deep
+ * opacity layers of one light), strands_explicit_export (drawn points and tangents, tests).
+ */
+#include "clhair/gpu_types.h"
+#include "subgroup.h"
+#include "clh_math.h"
+#include "raster.h"
+
+#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
+#pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
+
+#define CLH_X_PER_LANE 4
+#define CLH_X_ROUND (SG_SIZE * CLH_X_PER_LANE) /* segments per round */
+#define CLH_X_CAP (CLH_X_PER_LANE + 1)         /* points a lane can own in a round */
+
+/* The stored strand tables of one groom. */
+typedef struct {
+  __global const float4* points;
+  __global const uint* strand_offsets;
+  __global const uint* uv;
+  __global const uint4* chunks;
+  uint strand_count;
+  uint point_count;
+  uint has_uv;
+} clh_x_tables;
+
+/* What a work-group draws. */
+typedef struct {
+  uint strand;     /* index into the strand tables */
+  uint first;      /* its first stored point */
+  uint n;          /* stored points */
+  uint step;       /* drawn point j is stored point min(j * step, n - 1) */
+  uint M;          /* drawn points */
+  float coverage;  /* N / N_LOD of its chunk */
+  float gamma;     /* vertex-LOD morph toward step * 2 */
+} clh_x_job;
+
+/* Largest c with offsets[c] <= strand. */
+static inline uint clh_x_find_chunk(__global const uint* offsets_g, uint chunk_count, uint strand) {
+  uint lo = 0u, hi = chunk_count;
+  while (hi - lo > 1u) {
+    uint mid = (lo + hi) >> 1;
+    if (offsets_g[mid] <= strand) {
+      lo = mid;
+    } else {
+      hi = mid;
+    }
+  }
+  return lo;
+}
+
+/* The strand drawn by draw index `index`; false when there is none (uniform per group). */
+static inline bool clh_x_find_job(__global const ClhGroomGpu* g, const clh_x_tables* tb,
+                                  __global const uint4* lod_g, __global const uint* offsets_g,
+                                  uint index, clh_x_job* job) {
+  const uint K = g->bundle_count;
+  if (K == 0u || index >= offsets_g[K]) return false;
+  const uint c = clh_x_find_chunk(offsets_g, K, index);
+  const uint4 lod = lod_g[c];
+  const uint4 chunk = tb->chunks[c];
+  const uint slot = index - offsets_g[c];
+  if (slot >= lod.x || slot >= chunk.y) return false;
+  const uint s = chunk.x + slot;
+  if (s >= tb->strand_count) return false;
+  const uint first = min(tb->strand_offsets[s], tb->point_count);
+  const uint last = clamp(tb->strand_offsets[s + 1u], first, tb->point_count);
+  const uint n = last - first;
+  if (n < 2u) return false;
+  const uint c_full = clamp(g->control_points, 3u, (uint)CLH_MAX_CONTROL_POINTS);
+  const uint C = clamp(lod.y, 3u, c_full);
+  uint step = 1u;
+  while ((C - 1u) * step < c_full - 1u) step <<= 1;
+  float gamma = clamp(as_float(lod.w), 0.0f, 1.0f);
+  while (step > 1u && n - 1u < 2u * step) {
+    step >>= 1;
+    gamma = 0.0f; /* the strand is already at its coarsest level */
+  }
+  if (n - 1u < 4u * step) gamma = 0.0f; /* the next level would keep fewer than 3 points */
+  job->strand = s;
+  job->first = first;
+  job->n = n;
+  job->step = step;
+  job->M = (n - 1u + step - 1u) / step + 1u;
+  job->coverage = lod.x > 0u ? fmax((float)chunk.y / (float)lod.x, 1.0f) : 1.0f;
+  job->gamma = gamma;
+  return true;
+}
+
+/* Drawn point j of the job (bounds-safe). */
+static inline float4 clh_x_point(const clh_x_tables* tb, const clh_x_job* job, uint j) {
+  const uint k = min(j * job->step, job->n - 1u);
+  return tb->points[min(job->first + k, tb->point_count - 1u)];
+}
+
+/* Reflects the neighbour tangent t about the end segment direction q (Bhokare Eq. 5-6). */
+static inline float3 clh_x_end_tangent(float3 q, float3 t_neighbour) {
+  return 2.0f * q * dot(t_neighbour, q) - t_neighbour;
+}
+
+/* The lane's share of one round. */
+typedef struct {
+  uint first;    /* round-local index of the lane's first point */
+  uint count;    /* points it owns */
+  uint points;   /* points in the round */
+  uint base;     /* drawn index of the round's first point */
+  float4 next_p; /* the next lane's first point and final tangent */
+  float4 next_t;
+} clh_x_span;
+
+/* Loads and finishes the round starting at drawn point `base` into P, T (tangent, AO in
+ * w). Every lane must call it. */
+static inline void clh_x_round(sg_ctx* sg, const clh_x_tables* tb, const clh_x_job* job, uint base,
+                               float4* P, float4* T, clh_x_span* span) {
+  const uint lane = sg_lane();
+  const uint M = job->M;
+  const uint E = min(base + (uint)CLH_X_ROUND, M - 1u); /* the round's last drawn point */
+  const uint Cr = E - base + 1u;
+  const uint S = (Cr - 1u + SG_SIZE - 1u) / SG_SIZE;
+  const uint first = lane * S;
+  const uint end = (lane == (uint)(SG_SIZE - 1)) ? Cr : min(first + S, Cr);
+  const uint count = end > first ? min(end - first, (uint)CLH_X_CAP) : 0u;
+  const uint k0 = base + first;
+  for (uint i = 0; i < CLH_X_CAP; ++i) {
+    P[i] = (float4)(0.0f);
+    T[i] = (float4)(0.0f, 0.0f, 0.0f, 1.0f);
+    if (i < count) P[i] = clh_x_point(tb, job, k0 + i);
+  }
+  /* the points just outside the round, from memory: the fills of the edge lanes */
+  const float4 halo_prev = (lane == 0u && base > 0u) ? clh_x_point(tb, job, base - 1u) : (float4)(0.0f);
+  const float4 halo_next =
+      (lane == (uint)(SG_SIZE - 1) && E + 1u < M) ? clh_x_point(tb, job, E + 1u) : (float4)(0.0f);
+  const uint last = count > 0u ? count - 1u : 0u;
+
+  /* exchange 1: neighbour points */
+  float4 prev_p = sg_shuffle_up1_f4(sg, P[last], halo_prev);
+  float4 next_p = sg_shuffle_down1_f4(sg, P[0], halo_next);
+
+  if (job->gamma > 0.0f) {
+    /* vertex-LOD transition (Bhokare Eq. 11): odd drawn points (and their w) move toward
+     * the midpoint of their neighbours, which the coarser level keeps (even points, or the
+     * tip). The neighbours of an odd point are never moved, so this works in place; the
+     * edge lanes morph the point beyond the round themselves, then the edges are
+     * exchanged again. */
+    for (uint i = 0; i < CLH_X_CAP; ++i) {
+      uint k = k0 + i;
+      if (i < count && (k & 1u) == 1u && k + 1u < M) {
+        float4 a = i > 0u ? P[i - 1u] : prev_p;
+        float4 c = i + 1u < count ? P[i + 1u] : next_p;
+        P[i] = mix(P[i], 0.5f * (a + c), job->gamma);
+      }
+    }
+    float4 hp = halo_prev, hn = halo_next;
+    if (lane == 0u && base > 0u && ((base - 1u) & 1u) == 1u)
+      hp = mix(halo_prev, 0.5f * (clh_x_point(tb, job, base - 2u) + P[0]), job->gamma);
+    if (lane == (uint)(SG_SIZE - 1) && E + 2u < M && ((E + 1u) & 1u) == 1u)
+      hn = mix(halo_next, 0.5f * (P[last] + clh_x_point(tb, job, E + 2u)), job->gamma);
+    prev_p = sg_shuffle_up1_f4(sg, P[last], hp);
+    next_p = sg_shuffle_down1_f4(sg, P[0], hn);
+  }
+
+  /* interior tangents: central differences */
+  for (uint i = 0; i < CLH_X_CAP; ++i) {
+    uint k = k0 + i;
+    if (i < count && k > 0u && k + 1u < M) {
+      float3 a = (i > 0u ? P[i - 1u] : prev_p).xyz;
+      float3 c = (i + 1u < count ? P[i + 1u] : next_p).xyz;
+      T[i].xyz = clh_normalize_or(c - a, CLH_UP);
+    }
+  }
+  /* exchange 2: interior tangents next to the end points */
+  const float4 prev_t = sg_shuffle_up1_f4(sg, T[last], (float4)(0.0f));
+  const float4 next_t0 = sg_shuffle_down1_f4(sg, T[0], (float4)(0.0f));
+  if (count > 0u && k0 == 0u) { /* root, Bhokare Eq. 6 */
+    float3 p1 = (count > 1u ? P[1] : next_p).xyz;
+    float3 q = clh_normalize_or(p1 - P[0].xyz, CLH_UP);
+    float3 t1 = (M == 2u) ? q : (count > 1u ? T[1] : next_t0).xyz;
+    T[0].xyz = clh_normalize_or(clh_x_end_tangent(q, t1), q);
+  }
+  if (count > 0u && M - 1u >= k0 && M - 1u < k0 + count) { /* tip, Bhokare Eq. 5 */
+    uint i = M - 1u - k0;
+    float3 pm = (i > 0u ? P[i - 1u] : prev_p).xyz;
+    float3 q = clh_normalize_or(P[i].xyz - pm, CLH_UP);
+    float3 tm = (M == 2u) ? q : (i > 0u ? T[i - 1u] : prev_t).xyz;
+    T[i].xyz = clh_normalize_or(clh_x_end_tangent(q, tm), q);
+  }
+  /* last exchange: the next lane's first tangent, now final */
+  span->next_t = sg_shuffle_down1_f4(sg, T[0], (float4)(0.0f, 0.0f, 0.0f, 1.0f));
+  span->next_p = next_p;
+  span->first = first;
+  span->count = count;
+  span->points = Cr;
+  span->base = base;
+}
+
+/* Draws strand `index` (when it exists). Uniform per group. */
+static inline void clh_x_draw(sg_ctx* sg, clh_raster_ctx* rc, __global const ClhGroomGpu* g,
+                              const clh_x_tables* tb, __global const uint4* lod_g,
+                              __global const uint* offsets_g, __global const float* scene_depth_g,
+                              __global ulong* gbuf_g, __global uint* stats_g, uint index) {
+  clh_x_job job;
+  if (!clh_x_find_job(g, tb, lod_g, offsets_g, index, &job)) return;
+  float u, v;
+  if (tb->has_uv != 0u) {
+    const uint packed = tb->uv[job.strand];
+    u = (float)(packed & 0xFFFFu) / 65535.0f;
+    v = (float)(packed >> 16) / 65535.0f;
+  } else {
+    const uint h = clh_hash2(g->seed, job.strand);
+    u = clh_u01(h);
+    v = clh_u01(clh_hash(h));
+  }
+  rc->u6 = clh_unorm_bits(u, 6u);
+  rc->v6 = clh_unorm_bits(v, 6u);
+  rc->coverage = job.coverage;
+  const clh_mat34 to_view = clh_load_mat34(g->obj_to_view);
+  const clh_mat34 to_world = clh_load_mat34(g->obj_to_world);
+  for (uint base = 0u; base + 1u < job.M; base += (uint)CLH_X_ROUND) {
+    float4 P[CLH_X_CAP], T[CLH_X_CAP];
+    clh_x_span span;
+    clh_x_round(sg, tb, &job, base, P, T, &span);
+    float3 prev_view = (float3)(0.0f);
+    float4 prev_t = (float4)(0.0f);
+    float prev_w = 0.0f;
+    for (uint i = 0; i < CLH_X_CAP + 1u; ++i) {
+      uint k = span.first + i;
+      if (i > span.count || k >= span.points) break;
+      float4 p = (i < span.count) ? P[i] : span.next_p;
+      float4 t = (i < span.count) ? T[i] : span.next_t;
+      float3 pv = clh_xform_point(to_view, p.xyz);
+      float4 tw = (float4)(clh_xform_dir(to_world, t.xyz), t.w);
+      if (i > 0u) clh_raster_segment(rc, scene_depth_g, gbuf_g, stats_g, prev_view, pv, prev_t, tw, prev_w, p.w);
+      prev_view = pv;
+      prev_t = tw;
+      prev_w = p.w;
+    }
+  }
+}
+
+#define CLH_X_PARAMS                                                                               \
+  __global const ClhGroomGpu *groom_g, __global const ClhViewGpu *view_g,                          \
+      __global const float4 *points_g, __global const uint *strand_offsets_g,                      \
+      __global const uint *uv_g, __global const uint4 *chunks_g, __global const uint4 *lod_g,      \
+      __global const uint *offsets_g, uint strand_count, uint point_count, uint has_uv
+
+#define CLH_X_TABLES(tb)                  \
+  clh_x_tables tb;                        \
+  tb.points = points_g;                   \
+  tb.strand_offsets = strand_offsets_g;   \
+  tb.uv = uv_g;                           \
+  tb.chunks = chunks_g;                   \
+  tb.strand_count = strand_count;         \
+  tb.point_count = point_count;           \
+  tb.has_uv = has_uv
+
+#if !CLH_RASTER_OPACITY
+/* One strand per work-group: strand_base + group (read-back and over-launch sizing). */
+__kernel SG_KERNEL_ATTRS void strands_explicit_raster(CLH_X_PARAMS, __global const float* scene_depth_g,
+                                                      __global ulong* gbuf_g, __global uint* stats_g,
+                                                      uint strand_base) {
+  SG_DECLARE(sg);
+  CLH_X_TABLES(tb);
+  clh_raster_ctx rc;
+  clh_raster_setup(&rc, groom_g, view_g);
+  clh_x_draw(&sg, &rc, groom_g, &tb, lod_g, offsets_g, scene_depth_g, gbuf_g, stats_g,
+             strand_base + (uint)get_group_id(0));
+}
+
+/* Persistent grid: group g draws strands g, g + stride, g + 2 stride, ... below the total. */
+__kernel SG_KERNEL_ATTRS void strands_explicit_raster_persistent(CLH_X_PARAMS,
+                                                                 __global const float* scene_depth_g,
+                                                                 __global ulong* gbuf_g, __global uint* stats_g,
+                                                                 uint strand_stride) {
+  SG_DECLARE(sg);
+  CLH_X_TABLES(tb);
+  clh_raster_ctx rc;
+  clh_raster_setup(&rc, groom_g, view_g);
+  const uint total = groom_g->bundle_count > 0u ? offsets_g[groom_g->bundle_count] : 0u;
+  for (uint index = (uint)get_group_id(0); index < total; index += max(strand_stride, 1u))
+    clh_x_draw(&sg, &rc, groom_g, &tb, lod_g, offsets_g, scene_depth_g, gbuf_g, stats_g, index);
+}
+
+/* Writes the drawn strands: strand s's drawn points and tangents (w: styling w / AO) at
+ * out_points_g/out_tangents_g[offsets[s] + j], its drawn point count at out_counts_g[s]. */
+__kernel SG_KERNEL_ATTRS void strands_explicit_export(CLH_X_PARAMS, __global float4* out_points_g,
+                                                      __global float4* out_tangents_g,
+                                                      __global uint* out_counts_g, uint strand_base) {
+  SG_DECLARE(sg);
+  CLH_X_TABLES(tb);
+  (void)view_g;
+  clh_x_job job;
+  if (!clh_x_find_job(groom_g, &tb, lod_g, offsets_g, strand_base + (uint)get_group_id(0), &job)) return;
+  for (uint base = 0u; base + 1u < job.M; base += (uint)CLH_X_ROUND) {
+    float4 P[CLH_X_CAP], T[CLH_X_CAP];
+    clh_x_span span;
+    clh_x_round(&sg, &tb, &job, base, P, T, &span);
+    for (uint i = 0; i < CLH_X_CAP; ++i) {
+      uint j = span.base + span.first + i;
+      if (i < span.count && j < job.n) {
+        out_points_g[job.first + j] = P[i];
+        out_tangents_g[job.first + j] = T[i];
+      }
+    }
+  }
+  if (sg_lane() == 0u) out_counts_g[job.strand] = job.M;
+}
+#else
+/* Deep-opacity layers of one light (built with -DCLH_RASTER_OPACITY=1), like strands_opacity. */
+__kernel SG_KERNEL_ATTRS void strands_explicit_opacity(CLH_X_PARAMS, __global const float* opaque_depth_g,
+                                                       __global const ClhShadowGpu* shadow_g,
+                                                       __global const float* hair_depth_g,
+                                                       __global uint* opacity_g, uint strand_base) {
+  SG_DECLARE(sg);
+  CLH_X_TABLES(tb);
+  clh_raster_ctx rc;
+  clh_raster_setup(&rc, groom_g, view_g);
+  rc.hair_depth_g = hair_depth_g;
+  rc.dom_offset = shadow_g->offset;
+  for (int k = 0; k < CLH_DOM_LAYERS; ++k) rc.bound[k] = shadow_g->bound[k];
+  clh_x_draw(&sg, &rc, groom_g, &tb, lod_g, offsets_g, opaque_depth_g + shadow_g->offset,
+             (__global ulong*)opacity_g, 0, strand_base + (uint)get_group_id(0));
+}
+#endif

@@ -206,10 +206,10 @@ HairMesh curlyMedium() {
   m.style.lengthVariation = 0.2f;
   m.appearance.rootColor = glm::vec3(0.035f, 0.012f, 0.006f);
   m.appearance.tipColor = glm::vec3(0.17f, 0.055f, 0.022f);
-  m.appearance.eumelanin[0] = 1.1f;  // auburn: pheomelanin reddens
-  m.appearance.eumelanin[1] = 0.7f;
-  m.appearance.pheomelanin[0] = 1.0f;
-  m.appearance.pheomelanin[1] = 0.8f;
+  m.appearance.eumelanin[0] = 2.2f;  // auburn: pheomelanin reddens
+  m.appearance.eumelanin[1] = 1.4f;
+  m.appearance.pheomelanin[0] = 1.4f;
+  m.appearance.pheomelanin[1] = 1.1f;
   m.appearance.betaM = 0.35f;
   m.appearance.betaN = 0.4f;
   m.appearance.strandWidth = 8.0e-5f;

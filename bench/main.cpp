@@ -11,6 +11,7 @@
 //   quality   Lipp Fig. 7: SWR1, SWR1+F, SWR1+F+L, MSAA 2/4/8 at close/mid/far, FLIP and
 //             PSNR against the reference (jittered true-width passes), with frame times.
 //   temporal  a 30-frame orbit: mean frame-to-frame change for SWR1, SWR1+F, MSAA 4.
+//   explicit  the hair mesh vs the same strands as a cyHair file: device bytes, frame times.
 // Timings come from OpenCL profiling events (device time per stage), never wall clock;
 // compile time is reported apart. Output: bench.json, bench.csv and bench.md in --out,
 // tagged with device, driver and git revision; the markdown is also printed.
@@ -29,6 +30,8 @@
 #include "cl/device_impl.h"
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
+#include "clhair/strand_groom.h"
+#include "io/cyhair.h"
 #include "metrics/image_metrics.h"
 
 namespace {
@@ -157,7 +160,7 @@ int main(int argc, char** argv) {
   bool quick = false;
   app.add_option("--device", dopts.selector, "device: P:D or a name substring");
   app.add_option("--out", out, "folder for bench.json, bench.csv, bench.md");
-  app.add_option("--only", only, "one section: table1, dispatch, scaling, atomics, quality, temporal");
+  app.add_option("--only", only, "one section: table1, dispatch, scaling, atomics, quality, temporal, explicit");
   app.add_option("--runs", runs, "timed runs per configuration (median reported)");
   app.add_option("--warmup", warmup, "untimed runs first");
   app.add_option("--width", width, "table1 width");
@@ -220,42 +223,52 @@ int main(int argc, char** argv) {
 
     std::vector<std::pair<std::string, Measured>> msaa1Rows;  // for the atomic-floor multiples
     if (only.empty() || only == "table1" || only == "atomics") {
-      std::vector<int> msaas = quick ? std::vector<int>{1, 4} : std::vector<int>{1, 2, 4, 8};
+      // rows: software MSAA 1 (filter off), SWR1+F (the reconstruction filter), MSAA 2, 4, 8
+      struct Row {
+        int msaa;
+        bool filter;
+        const char* label;
+      };
+      std::vector<Row> rows = quick ? std::vector<Row>{{1, false, "1"}, {1, true, "1+F"}, {4, false, "4"}}
+                                    : std::vector<Row>{{1, false, "1"}, {1, true, "1+F"}, {2, false, "2"}, {4, false, "4"}, {8, false, "8"}};
       md << "## Table 1: frame time in ms, total (strand pass), " << width << "x" << height << "\n\n";
       md << "| LOD | MSAA | " << groomNames[0] << " close | mid | far | " << groomNames[1] << " close | mid | far |\n";
       md << "|---|---|---|---|---|---|---|---|\n";
       json t1 = json::array();
       std::ostringstream counts;
-      counts << "\n### Work per frame (LOD off / on, MSAA 1)\n\n| groom | distance | LOD | strands | segments | "
+      counts << "\n### Work per frame (LOD off / on, MSAA 1, no filter)\n\n| groom | distance | LOD | strands | segments | "
                 "G-buffer writes | atomics issued | skipped by the load |\n|---|---|---|---|---|---|---|---|\n";
       for (int lod = 0; lod < 2; ++lod) {
-        for (int msaa : msaas) {
-          md << "| " << (lod ? "on" : "off") << " | " << msaa << " |";
+        for (const Row& rowSpec : rows) {
+          const int msaa = rowSpec.msaa;
+          md << "| " << (lod ? "on" : "off") << " | " << rowSpec.label << " |";
           for (int g = 0; g < 2; ++g) {
             for (int d = 0; d < 3; ++d) {
-              if (only == "atomics" && msaa != 1) continue;
+              if (only == "atomics" && (msaa != 1 || rowSpec.filter)) continue;
               Scene s = framed(scenes[g], dists[d], width, height);
               RenderOptions o;
               o.lod = lod;
               o.msaa = msaa;
+              o.filter = rowSpec.filter ? 1 : 0;
               Measured m = b.measure(s, o);
               md << " " << fmt(m.total.median) << " (" << fmt(stageMedian(m, "strands")) << ") |";
               json row = measuredJson(m);
               row["groom"] = groomNames[g];
               row["lod"] = lod == 1;
               row["msaa"] = msaa;
+              row["filter"] = rowSpec.filter;
               row["distance"] = distNames[d];
               t1.push_back(row);
-              csvRow("table1", groomNames[g], lod, msaa, distNames[d], scenes[g].grooms[0].mesh->strandCount, width,
-                     height, "auto", m);
-              if (msaa == 1) {
+              csvRow(rowSpec.filter ? "table1+F" : "table1", groomNames[g], lod, msaa, distNames[d],
+                     scenes[g].grooms[0].mesh->strandCount, width, height, "auto", m);
+              if (msaa == 1 && !rowSpec.filter) {
                 msaa1Rows.push_back({std::string(groomNames[g]) + " " + distNames[d] + (lod ? " LOD" : ""), m});
                 counts << "| " << groomNames[g] << " | " << distNames[d] << " | " << (lod ? "on" : "off") << " | "
                        << m.counts.strandsDrawn << " | " << m.counts.segmentsDrawn << " | " << m.counts.pixelWrites
                        << " | " << m.counts.atomicsIssued << " | " << m.counts.atomicsSkipped << " |\n";
               }
-              std::fprintf(stderr, "table1 %s LOD %d MSAA %d %s: %.1f ms\n", groomNames[g], lod, msaa, distNames[d],
-                           m.total.median);
+              std::fprintf(stderr, "table1 %s LOD %d MSAA %s %s: %.1f ms\n", groomNames[g], lod, rowSpec.label,
+                           distNames[d], m.total.median);
             }
           }
           md << "\n";
@@ -263,14 +276,17 @@ int main(int argc, char** argv) {
       }
       md << counts.str();
       // LOD speed-up at far, per groom (MSAA 1)
-      md << "\nLOD speed-up at far (MSAA 1, total frame): ";
-      for (int g = 0; g < 2; ++g) {
-        double off = 0, on = 0;
-        for (const auto& row : t1)
-          if (row["groom"] == groomNames[g] && row["distance"] == "far" && row["msaa"] == 1)
-            (row["lod"].get<bool>() ? on : off) = row["total_ms"]["median"].get<double>();
-        if (on > 0) md << groomNames[g] << " " << fmt(off / on) << "x" << (g == 0 ? ", " : "\n");
-        report["lod_far_speedup"][groomNames[g]] = on > 0 ? off / on : 0.0;
+      for (bool filtered : {false, true}) {
+        md << "\nLOD speed-up at far (" << (filtered ? "SWR1+F" : "SWR1") << ", total frame): ";
+        for (int g = 0; g < 2; ++g) {
+          double off = 0, on = 0;
+          for (const auto& row : t1)
+            if (row["groom"] == groomNames[g] && row["distance"] == "far" && row["msaa"] == 1 &&
+                row["filter"].get<bool>() == filtered)
+              (row["lod"].get<bool>() ? on : off) = row["total_ms"]["median"].get<double>();
+          if (on > 0) md << groomNames[g] << " " << fmt(off / on) << "x" << (g == 0 ? ", " : "\n");
+          report["lod_far_speedup"][filtered ? "SWR1+F" : "SWR1"][groomNames[g]] = on > 0 ? off / on : 0.0;
+        }
       }
       report["table1"] = t1;
     }
@@ -430,6 +446,44 @@ int main(int argc, char** argv) {
         md << "| " << c.name << " | " << fmt(flicker, 5) << " |\n";
         report["temporal"][c.name] = flicker;
         std::fprintf(stderr, "temporal %s: %.5f\n", c.name, flicker);
+      }
+    }
+
+    if (only.empty() || only == "explicit") {
+      // Bhokare §4: the groom as a hair mesh vs the same strands exported to cyHair and read
+      // back as an explicit strand groom: device bytes and frame time of each
+      std::filesystem::create_directories(out);
+      const std::string hairPath = out + "/groom1.hair";
+      const HairMesh& mesh = *scenes[0].grooms[0].mesh;
+      StrandSet set = b.renderer.generateStrands(mesh);
+      {
+        CyHair h;
+        for (std::uint32_t c : set.pointCounts) h.segments.push_back(c - 1);
+        h.points = set.points;
+        h.defaultThickness = mesh.appearance.strandWidth;
+        writeCyHair(h, hairPath);
+      }
+      auto strands = std::make_shared<const StrandGroom>(loadStrandGroom(hairPath, dev.info().maxAlloc));
+      StrandGroom sg = *strands;
+      sg.appearance = mesh.appearance;
+      sg.lod = mesh.lod;
+      strands = std::make_shared<const StrandGroom>(std::move(sg));
+      md << "\n## Hair mesh vs explicit strands (" << groomNames[0] << ", " << width << "x" << height
+         << ")\n\n| representation | device bytes | close, LOD off ms | far, LOD on ms |\n|---|---|---|---|\n";
+      for (int explicitStrands = 0; explicitStrands < 2; ++explicitStrands) {
+        Scene s = scenes[0];
+        if (explicitStrands) s.grooms[0] = GroomInstance(s.grooms[0].name, strands, s.grooms[0].transform);
+        std::uint64_t bytes = b.renderer.groomDeviceBytes(s.grooms[0]);
+        RenderOptions o;
+        o.lod = 0;
+        Measured close = b.measure(framed(s, CameraPreset::Close, width, height), o, false);
+        o.lod = 1;
+        Measured far = b.measure(framed(s, CameraPreset::Far, width, height), o, false);
+        const char* name = explicitStrands ? "cyHair strands" : "hair mesh";
+        md << "| " << name << " | " << bytes << " | " << fmt(close.total.median) << " | " << fmt(far.total.median) << " |\n";
+        report["explicit"][name] = {{"device_bytes", bytes}, {"close_ms", close.total.median}, {"far_lod_ms", far.total.median}};
+        std::fprintf(stderr, "explicit %s: %llu bytes, close %.1f ms, far %.1f ms\n", name,
+                     static_cast<unsigned long long>(bytes), close.total.median, far.total.median);
       }
     }
 

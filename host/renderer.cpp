@@ -518,7 +518,7 @@ struct Renderer::Impl {
 
       // the opaque scene from the light: its depth only
       opaque.enqueue({&scene, &lightView, &spheres, &planes, &lights, &shadowAll, &shadowOpaque, &shadowHair,
-                      &shadowOpacity, &envTexels(), &envLevels(), &envSh(), &lightColor, &lightDepth, res, res, false},
+                      &shadowOpacity, &envTexels(), &envLevels(), &envSh(), &background, &lightColor, &lightDepth, res, res, false},
                      &profiler);
       clCall("copying the light's opaque depth", [&] {
         dev.queue.enqueueCopyBuffer(lightDepth, shadowOpaque, 0, plane * slot * sizeof(float), plane * sizeof(float));
@@ -592,6 +592,29 @@ struct Renderer::Impl {
     return k.str();
   }
 
+  // ---- background image: read and uploaded when the path changes ----
+  std::string backgroundPath;
+  int backgroundWidth = 0, backgroundHeight = 0;
+  cl::Buffer background;
+
+  void ensureBackground(const std::string& path) {
+    if (path.empty()) {
+      if (!background()) background = makeBuffer<cl_float4>(dev, "background placeholder", 1);
+      backgroundPath.clear();
+      backgroundWidth = backgroundHeight = 0;
+      return;
+    }
+    if (path == backgroundPath) return;
+    Image img = readImage(path);
+    for (float v : img.rgba)
+      if (!std::isfinite(v)) throw Error(path + ": background image holds a non-finite value");
+    background = makeBuffer<cl_float4>(dev, "background image " + path, img.rgba.size() / 4,
+                                       reinterpret_cast<const cl_float4*>(img.rgba.data()));
+    backgroundPath = path;
+    backgroundWidth = img.width;
+    backgroundHeight = img.height;
+  }
+
   void ensureEnvironment(const EnvironmentDesc& e) {
     if (!envDummyTexels()) {
       envDummyTexels = makeBuffer<cl_float4>(dev, "environment placeholder", 1);
@@ -649,6 +672,9 @@ struct Renderer::Impl {
     for (std::size_t i = 0; i < li.size(); ++i)
       if (s.lights[i].shadows && !s.grooms.empty() && slot < CLH_MAX_SHADOWS) li[i].color[3] = static_cast<float>(slot++);
     ensureEnvironment(s.environment);
+    ensureBackground(s.backgroundImage);
+    sg.bg_width = static_cast<gpu::clh_u32>(backgroundWidth);
+    sg.bg_height = static_cast<gpu::clh_u32>(backgroundHeight);
     sg.env_levels = env ? (env->levelCount() | (s.environment.visible ? CLH_ENV_VISIBLE : 0u)) : 0u;
     sg.sphere_count = static_cast<gpu::clh_u32>(sp.size());
     sg.plane_count = static_cast<gpu::clh_u32>(pl.size());
@@ -827,7 +853,7 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
   r.shadowCorrection = options.shadowLodCorrection < 0 ? s.shadows.lodCorrection : options.shadowLodCorrection == 1;
   r.renderShadows(s, options);
   r.opaque.enqueue({&r.scene, &r.view, &r.spheres, &r.planes, &r.lights, &r.shadowAll, &r.shadowOpaque, &r.shadowHair,
-                    &r.shadowOpacity, &r.envTexels(), &r.envLevels(), &r.envSh(), &r.color, &r.depth, s.width, s.height,
+                    &r.shadowOpacity, &r.envTexels(), &r.envLevels(), &r.envSh(), &r.background, &r.color, &r.depth, s.width, s.height,
                     true},
                    &r.profiler);
   // per drawn groom: its chunk/bundle scan and the index of the drawn total in it

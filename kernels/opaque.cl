@@ -6,7 +6,8 @@
  * lights plus a constant ambient term; shadowed lights look up their deep opacity maps,
  * so hair and opaque objects shadow the opaque scene. With shade = 0 only the depth is
  * written (the opaque scene seen from a light). With an environment, the ambient term is
- * its SH irradiance and a visible environment replaces the background colour.
+ * its SH irradiance and a visible environment replaces the background colour; a
+ * background image, when given, is stretched over the frame behind everything.
  */
 #include "clhair/gpu_types.h"
 #include "clh_math.h"
@@ -56,7 +57,8 @@ __kernel void opaque_render(__global const ClhSceneGpu* scene_g, __global const 
                             __global const float* shadow_opaque_g, __global const float* shadow_hair_g,
                             __global const uint* shadow_opacity_g, __global const float4* env_texels_g,
                             __global const ClhEnvLevel* env_levels_g, __global const float* env_sh_g,
-                            __global float4* color_g, __global float* depth_g, uint shade) {
+                            __global const float4* background_g, __global float4* color_g,
+                            __global float* depth_g, uint shade) {
   uint x = (uint)get_global_id(0), y = (uint)get_global_id(1);
   uint width = view_g->width, height = view_g->height;
   if (x >= width || y >= height) return;
@@ -74,6 +76,19 @@ __kernel void opaque_render(__global const ClhSceneGpu* scene_g, __global const 
     float3 bg = vload3(0, scene_g->background);
     if (shade != 0u && env_levels > 0u && (scene_g->env_levels & CLH_ENV_VISIBLE) != 0u)
       bg = clh_env_radiance(env_texels_g, env_levels_g, env_levels, normalize(dir), 0.0f);
+    if (shade != 0u && scene_g->bg_width > 0u && scene_g->bg_height > 0u) {
+      /* the background image stretched over the frame, bilinear, clamped at the borders */
+      const int bw = (int)scene_g->bg_width, bh = (int)scene_g->bg_height;
+      const float u = ((float)x + 0.5f) / (float)width * (float)bw - 0.5f;
+      const float v = ((float)y + 0.5f) / (float)height * (float)bh - 0.5f;
+      const float fu = floor(u), fv = floor(v);
+      const int x0 = clamp((int)fu, 0, bw - 1), x1 = clamp((int)fu + 1, 0, bw - 1);
+      const int y0 = clamp((int)fv, 0, bh - 1), y1 = clamp((int)fv + 1, 0, bh - 1);
+      const float ax = u - fu, ay = v - fv;
+      const float3 t0 = mix(background_g[(size_t)y0 * bw + x0].xyz, background_g[(size_t)y0 * bw + x1].xyz, ax);
+      const float3 t1 = mix(background_g[(size_t)y1 * bw + x0].xyz, background_g[(size_t)y1 * bw + x1].xyz, ax);
+      bg = mix(t0, t1, ay);
+    }
     color_g[idx] = (float4)(bg, 1.0f);
     depth_g[idx] = INFINITY;
     return;

@@ -76,6 +76,47 @@ TEST(Composite, OpaqueHairHidesTheBackground) {
   }
 }
 
+TEST(Composite, HairOverABackgroundImage) {
+  // a background image of the frame's size shows through exactly where nothing is drawn
+  const std::string dir = test::scratchDir();
+  Image bg;
+  bg.width = 160;
+  bg.height = 90;
+  bg.rgba.resize(static_cast<std::size_t>(bg.width) * bg.height * 4);
+  for (std::size_t i = 0; i < bg.rgba.size(); i += 4) {
+    bg.rgba[i] = static_cast<float>((i / 4) % 160) / 159.0f;
+    bg.rgba[i + 1] = static_cast<float>((i / 4) / 160) / 89.0f;
+    bg.rgba[i + 2] = 0.5f;
+    bg.rgba[i + 3] = 1.0f;
+  }
+  writeImage(bg, dir + "/bg.exr");
+  Image stored = readImage(dir + "/bg.exr");  // half floats: compare against what was stored
+  Scene s = baseScene(3000, 0.0f);
+  s.spheres.clear();
+  s.backgroundImage = dir + "/bg.exr";
+  Renderer r(test::sharedDevice());
+  RenderOptions o;
+  o.captureGBuffer = true;
+  Frame f = r.render(s, o);
+  const std::size_t n = f.depth.size();
+  std::size_t same = 0, hair = 0, empty = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    bool equal = true;
+    // the stretch is the identity at equal sizes, up to float rounding of the texel position
+    for (int c = 0; c < 3; ++c) equal = equal && std::fabs(f.color.rgba[4 * i + c] - stored.rgba[4 * i + c]) < 1e-5f;
+    // pixels no strand touches (both layers empty) show the image exactly
+    if (f.gbuffer[i] == ~std::uint64_t(0) && f.gbuffer[n + i] == ~std::uint64_t(0)) {
+      ++empty;
+      same += equal;
+    } else {
+      hair += !equal;
+    }
+  }
+  EXPECT_GT(hair, 50u) << "hair covers part of the image";
+  EXPECT_GT(empty, n / 2);
+  EXPECT_EQ(same, empty) << "every pixel without hair shows the background image";
+}
+
 TEST(Reference, ConvergesAsSamplesGrow) {
   Scene s = baseScene(4000, 0.0f);
   s.width = 96;

@@ -17,7 +17,7 @@ static_assert(sizeof(ClhViewGpu) == 144, "ClhViewGpu layout");
 static_assert(sizeof(ClhLightGpu) == 32, "ClhLightGpu layout");
 static_assert(sizeof(ClhSphereGpu) == 32, "ClhSphereGpu layout");
 static_assert(sizeof(ClhPlaneGpu) == 32, "ClhPlaneGpu layout");
-static_assert(sizeof(ClhSceneGpu) == 48, "ClhSceneGpu layout");
+static_assert(sizeof(ClhSceneGpu) == 64, "ClhSceneGpu layout");
 static_assert(sizeof(ClhFilterGpu) == 32, "ClhFilterGpu layout");
 static_assert(sizeof(ClhShadowGpu) == 160, "ClhShadowGpu layout");
 

@@ -191,6 +191,14 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
     s.height = static_cast<int>(h);
   }
   s.background = r.vec3("background", s.background, 0.0, kBig);
+  if (r.has("background_image")) {
+    std::filesystem::path f = r.string("background_image", "");
+    if (f.empty()) r.fail("background_image", "is empty");
+    if (!f.is_absolute()) f = base / f;
+    s.backgroundImage = f.lexically_normal().string();
+    std::error_code ec;
+    if (!std::filesystem::exists(s.backgroundImage, ec)) r.fail("background_image", "\"" + s.backgroundImage + "\" does not exist");
+  }
   s.ambient = r.vec3("ambient", s.ambient, 0.0, kBig);
 
   if (r.has("lights")) {
@@ -382,7 +390,7 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
     s.camera = framePreset(s, CameraPreset::Mid);
   }
   r.rejectUnknown({"resolution", "camera", "background", "ambient", "lights", "spheres", "planes", "grooms",
-                   "shadows", "filter", "environment"});
+                   "shadows", "filter", "environment", "background_image"});
   return s;
 }
 

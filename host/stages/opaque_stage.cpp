@@ -18,9 +18,10 @@ cl::Event OpaqueStage::enqueue(const Params& p, Profiler* profiler) {
   kernel_.setArg(9, *p.envTexels);
   kernel_.setArg(10, *p.envLevels);
   kernel_.setArg(11, *p.envSh);
-  kernel_.setArg(12, *p.color);
-  kernel_.setArg(13, *p.depth);
-  kernel_.setArg(14, static_cast<cl_uint>(p.shade ? 1 : 0));
+  kernel_.setArg(12, *p.background);
+  kernel_.setArg(13, *p.color);
+  kernel_.setArg(14, *p.depth);
+  kernel_.setArg(15, static_cast<cl_uint>(p.shade ? 1 : 0));
   return dispatch(dev_, kernel_, "opaque", cl::NDRange(p.width, p.height), cl::NDRange(8, 8), profiler);
 }
 

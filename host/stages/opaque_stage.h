@@ -16,8 +16,9 @@ class OpaqueStage {
     const cl::Buffer* planes;   // ClhPlaneGpu[]
     const cl::Buffer* lights;   // ClhLightGpu[]
     const cl::Buffer* shadows;  // ClhShadowGpu[CLH_MAX_SHADOWS]
-    const cl::Buffer* shadowOpaque, *shadowHair, *shadowOpacity;
-    const cl::Buffer* envTexels, *envLevels, *envSh;  // environment (dummies when none)  // deep opacity maps
+    const cl::Buffer* shadowOpaque, *shadowHair, *shadowOpacity;  // deep opacity maps
+    const cl::Buffer* envTexels, *envLevels, *envSh;  // environment (dummies when none)
+    const cl::Buffer* background;  // float4 texels of the background image (dummy when none)
     cl::Buffer* color;          // float4 per pixel
     cl::Buffer* depth;          // float per pixel
     int width, height;

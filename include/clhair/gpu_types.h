@@ -184,6 +184,9 @@ typedef struct {
   clh_u32 light_count;
   clh_u32 env_levels;  /* prefiltered environment levels; 0: no environment (ambient instead);
                           bit 31 set: the environment is also the background */
+  clh_u32 bg_width;    /* background image texels (0: none), stretched over the frame */
+  clh_u32 bg_height;
+  clh_u32 pad1, pad2;
 } ClhSceneGpu;
 #define CLH_ENV_VISIBLE 0x80000000u
 

@@ -116,6 +116,7 @@ struct Scene {
   int height = 720;
   Camera camera;
   glm::vec3 background{0.05f, 0.06f, 0.08f};
+  std::string backgroundImage;  // an image behind everything, stretched over the frame
   glm::vec3 ambient{0.05f};
   std::vector<Light> lights;
   std::vector<Sphere> spheres;

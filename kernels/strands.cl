@@ -277,23 +277,8 @@ static inline void clh_draw_strand(sg_ctx* sg, clh_strand_scratch scratch, clh_r
   rc->u6 = clh_unorm_bits(span.uv.x, 6u);
   rc->v6 = clh_unorm_bits(span.uv.y, 6u);
   rc->coverage = coverage;
-  const clh_mat34 to_view = clh_load_mat34(g->obj_to_view);
-  const clh_mat34 to_world = clh_load_mat34(g->obj_to_world);
-  float3 prev_view = (float3)(0.0f);
-  float4 prev_t = (float4)(0.0f);
-  float prev_w = 0.0f;
-  for (uint i = 0; i < CLH_PTS_CAP + 1u; ++i) {
-    uint k = span.first + i;
-    if (i > span.count || k >= span.C) break;
-    float4 p = (i < span.count) ? P[i] : span.next_p;
-    float4 t = (i < span.count) ? T[i] : span.next_t;
-    float3 pv = clh_xform_point(to_view, p.xyz);
-    float4 tw = (float4)(clh_xform_dir(to_world, t.xyz), t.w);
-    if (i > 0u) clh_raster_segment(rc, scene_depth_g, gbuf_g, stats_g, prev_view, pv, prev_t, tw, prev_w, p.w);
-    prev_view = pv;
-    prev_t = tw;
-    prev_w = p.w;
-  }
+  clh_raster_lane(rc, scene_depth_g, gbuf_g, stats_g, clh_load_mat34(g->obj_to_view), clh_load_mat34(g->obj_to_world),
+                  P, T, span.first, span.count, span.C, span.next_p, span.next_t);
 }
 
 

@@ -251,21 +251,8 @@ static inline void clh_x_draw(sg_ctx* sg, clh_raster_ctx* rc, __global const Clh
     float4 P[CLH_X_CAP], T[CLH_X_CAP];
     clh_x_span span;
     clh_x_round(sg, tb, &job, base, P, T, &span);
-    float3 prev_view = (float3)(0.0f);
-    float4 prev_t = (float4)(0.0f);
-    float prev_w = 0.0f;
-    for (uint i = 0; i < CLH_X_CAP + 1u; ++i) {
-      uint k = span.first + i;
-      if (i > span.count || k >= span.points) break;
-      float4 p = (i < span.count) ? P[i] : span.next_p;
-      float4 t = (i < span.count) ? T[i] : span.next_t;
-      float3 pv = clh_xform_point(to_view, p.xyz);
-      float4 tw = (float4)(clh_xform_dir(to_world, t.xyz), t.w);
-      if (i > 0u) clh_raster_segment(rc, scene_depth_g, gbuf_g, stats_g, prev_view, pv, prev_t, tw, prev_w, p.w);
-      prev_view = pv;
-      prev_t = tw;
-      prev_w = p.w;
-    }
+    clh_raster_lane(rc, scene_depth_g, gbuf_g, stats_g, to_view, to_world, P, T, span.first, span.count, span.points,
+                    span.next_p, span.next_t);
   }
 }
 

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "clhair/error.h"
+#include "io/binary_file.h"
 #include "io/cyhair.h"
 
 namespace clhair {
@@ -79,39 +80,6 @@ std::string showBytes(const unsigned char* p, std::size_t n) {
   return out;
 }
 
-// A regular file opened for reading, its size known before the first byte is read.
-class InputFile {
- public:
-  explicit InputFile(const std::string& path) : path_(path) {
-    std::error_code ec;
-    auto status = std::filesystem::status(path, ec);
-    if (ec || !std::filesystem::exists(status))
-      throw Error(path + ": cannot open cyHair file (" +
-                  (ec ? ec.message() : std::string("no such file")) + ")");
-    if (!std::filesystem::is_regular_file(status))
-      throw Error(path + ": is not a regular file, cannot read it as a cyHair file");
-    size_ = std::filesystem::file_size(path, ec);
-    if (ec) throw Error(path + ": cannot read the size of the cyHair file (" + ec.message() + ")");
-    in_.open(path, std::ios::binary);
-    if (!in_) throw Error(path + ": cannot open cyHair file (" + std::strerror(errno) + ")");
-  }
-
-  std::uint64_t size() const { return size_; }
-
-  // Reads exactly n bytes; the file shrinking under us is the only way this fails after
-  // the size checks, and it is reported as such.
-  void read(unsigned char* dst, std::size_t n, const char* what) {
-    in_.read(reinterpret_cast<char*>(dst), static_cast<std::streamsize>(n));
-    if (static_cast<std::size_t>(in_.gcount()) != n)
-      throw Error(path_ + ": file ended early while reading the " + what +
-                  " (was it changed while being read?)");
-  }
-
- private:
-  std::string path_;
-  std::ifstream in_;
-  std::uint64_t size_ = 0;
-};
 
 // Calls decode(index, bytes) for `count` elements of `elemBytes` each, reading at most
 // kChunkBytes at a time.
@@ -165,7 +133,7 @@ void readFloats(InputFile& f, const std::string& path, const CyHair& h, std::uin
 }  // namespace
 
 CyHair readCyHair(const std::string& path, std::uint64_t maxBytes) {
-  InputFile f(path);
+  InputFile f(path, "cyHair");
   if (f.size() < kHeaderBytes)
     throw Error(path + ": is " + std::to_string(f.size()) + " bytes, shorter than the " +
                 std::to_string(kHeaderBytes) + "-byte cyHair header");

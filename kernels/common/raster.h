@@ -88,21 +88,23 @@ static inline void clh_opacity_add(const clh_raster_ctx* rc, __global uint* opac
 }
 #endif
 
-static inline void clh_gbuf_write(__global ulong* gbuf_g, __global uint* stats_g, size_t at,
+/* counts (CLH_RASTER_STATS): the lane's private tallies, summed into the global counters
+ * once per lane run (clh_raster_lane), so counting adds no contention per write */
+static inline void clh_gbuf_write(__global ulong* gbuf_g, uint* counts, size_t at,
                                   ulong word) {
 #if CLH_RASTER_STATS
-  atomic_inc(stats_g + 0);
+  counts[0] += 1u;
 #endif
 #if CLH_ATOMIC_LOAD_SKIP
   if (word >= gbuf_g[at]) {
 #if CLH_RASTER_STATS
-    atomic_inc(stats_g + 2);
+    counts[2] += 1u;
 #endif
     return;
   }
 #endif
 #if CLH_RASTER_STATS
-  atomic_inc(stats_g + 1);
+  counts[1] += 1u;
 #endif
   atom_min(gbuf_g + at, word);
 }
@@ -126,7 +128,7 @@ static inline ulong clh_segment_word(const clh_raster_ctx* rc, float t, float iz
  * belongs to the segment when its major coordinate lies in [start, end), so consecutive
  * segments of a strand never hit a sample twice. */
 static inline void clh_raster_segment(const clh_raster_ctx* rc, __global const float* scene_depth_g,
-                                      __global ulong* gbuf_g, __global uint* stats_g, float3 pa,
+                                      __global ulong* gbuf_g, uint* counts, float3 pa,
                                       float3 pb, float4 ta, float4 tb, float wa, float wb) {
   if (pa.z < rc->near_z && pb.z < rc->near_z) return;
   if (pa.z < rc->near_z || pb.z < rc->near_z) {
@@ -151,7 +153,7 @@ static inline void clh_raster_segment(const clh_raster_ctx* rc, __global const f
   float len = sqrt(dx * dx + dy * dy);
   if (!(len > 1e-6f) || !(len < 1e7f)) return;
 #if CLH_RASTER_STATS
-  atomic_inc(stats_g + 3);
+  counts[3] += 1u;
 #endif
 
   bool xmajor = fabs(dx) >= fabs(dy);
@@ -212,7 +214,7 @@ static inline void clh_raster_segment(const clh_raster_ctx* rc, __global const f
 #if CLH_RASTER_OPACITY
       if (zc < scene_depth_g[idx]) clh_opacity_add(rc, (__global uint*)gbuf_g, idx, zc, opacity_w);
 #else
-      if (zc < scene_depth_g[idx]) clh_gbuf_write(gbuf_g, stats_g, (size_t)CLH_MSAA * rc->plane + idx, cword);
+      if (zc < scene_depth_g[idx]) clh_gbuf_write(gbuf_g, counts, (size_t)CLH_MSAA * rc->plane + idx, cword);
 #endif
     }
 #if CLH_RASTER_OPACITY
@@ -234,8 +236,8 @@ static inline void clh_raster_segment(const clh_raster_ctx* rc, __global const f
         float z;
         ulong word = clh_segment_word(rc, (ms - ma) / span_m, iza, izb, aa, ab, ea, eb, &z);
         if (!(z < scene_depth_g[idx])) continue;
-        clh_gbuf_write(gbuf_g, stats_g, (size_t)sidx * rc->plane + idx, word);
-        if (j < j0 || j > j1) clh_gbuf_write(gbuf_g, stats_g, (size_t)CLH_MSAA * rc->plane + idx, word);
+        clh_gbuf_write(gbuf_g, counts, (size_t)sidx * rc->plane + idx, word);
+        if (j < j0 || j > j1) clh_gbuf_write(gbuf_g, counts, (size_t)CLH_MSAA * rc->plane + idx, word);
       }
     }
   }
@@ -260,6 +262,38 @@ static inline void clh_raster_setup(clh_raster_ctx* rcp, __global const ClhGroom
   rc.coverage = 1.0f;
   rc.u6 = rc.v6 = 0u;
   *rcp = rc;
+}
+
+/* Draws a lane's run of a strand: segments (k, k + 1) for its `count` points from
+ * `first` on (positions with styling w in P[i].w, tangents with AO in T[i].w, object
+ * space), the last one closed by the next lane's first point next_p/next_t; no segment
+ * reaches past point total - 1. */
+static inline void clh_raster_lane(clh_raster_ctx* rc, __global const float* scene_depth_g, __global ulong* gbuf_g,
+                                   __global uint* stats_g, clh_mat34 to_view, clh_mat34 to_world, const float4* P,
+                                   const float4* T, uint first, uint count, uint total, float4 next_p,
+                                   float4 next_t) {
+  float3 prev_view = (float3)(0.0f);
+  float4 prev_t = (float4)(0.0f);
+  float prev_w = 0.0f;
+  uint counts[4] = {0u, 0u, 0u, 0u};
+  for (uint i = 0; i <= count; ++i) {
+    if (first + i >= total) break;
+    const float4 p = (i < count) ? P[i] : next_p;
+    const float4 t = (i < count) ? T[i] : next_t;
+    const float3 pv = clh_xform_point(to_view, p.xyz);
+    const float4 tw = (float4)(clh_xform_dir(to_world, t.xyz), t.w);
+    if (i > 0u) clh_raster_segment(rc, scene_depth_g, gbuf_g, counts, prev_view, pv, prev_t, tw, prev_w, p.w);
+    prev_view = pv;
+    prev_t = tw;
+    prev_w = p.w;
+  }
+#if CLH_RASTER_STATS
+  for (int c = 0; c < 4; ++c)
+    if (counts[c] > 0u) atomic_add(stats_g + c, counts[c]);
+#else
+  (void)stats_g;
+  (void)counts;
+#endif
 }
 
 #endif /* CLHAIR_RASTER_H */

@@ -26,6 +26,25 @@
 #define SCAN_WG 256
 #endif
 
+/* The LOD record (N_LOD, C, L bits, gamma bits) of a bundle or chunk of n_full strands
+ * from its screen AABB [lo, hi]: culled (N_LOD = 0) when every corner is behind the
+ * camera or the box is off screen; full detail when LOD is off or some corner cannot be
+ * projected; otherwise Eq. 1-5 and the morph factor. */
+static inline uint4 clh_lod_record(__global const ClhGroomGpu* g, float2 lo, float2 hi, bool all_behind,
+                                   bool unprojectable, float width, float height, uint n_full, float delta,
+                                   uint min_points) {
+  const uint C_full = clamp(g->control_points, 3u, (uint)CLH_MAX_CONTROL_POINTS);
+  bool off_screen = hi.x < 0.0f || hi.y < 0.0f || lo.x > width || lo.y > height;
+  if (all_behind || (!unprojectable && off_screen)) return (uint4)(0u, C_full, as_uint(1.0f), as_uint(0.0f));
+  if (g->lod_enabled == 0u || unprojectable) return (uint4)(n_full, C_full, as_uint(1.0f), as_uint(0.0f));
+  float2 ext = hi - lo;
+  float L = clh_lod_value(ext.x, ext.y, height, g->lod_lambda);                 /* Eq. 2 */
+  uint n_lod = clh_lod_strands(L, n_full, delta);                              /* Eq. 1 */
+  uint C = clh_lod_control_points(L, min_points, C_full);                      /* Eq. 4-5, C_max = full detail */
+  float gamma = clh_lod_morph(L, min_points, C_full, g->lod_morph_window);     /* Bhokare Eq. 10-12 */
+  return (uint4)(n_lod, C, as_uint(L), as_uint(gamma));
+}
+
 __kernel void lod_bundles(__global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
                           __global const ClhBundle* bundles_g,
                           __global const ClhMeshVertex* verts_g, float reach,
@@ -61,21 +80,9 @@ __kernel void lod_bundles(__global const ClhGroomGpu* groom_g, __global const Cl
     }
   }
 
-  uint n_lod = n_full;
-  const uint C_full = clamp(g->control_points, 3u, (uint)CLH_MAX_CONTROL_POINTS);
-  uint C = C_full;
-  float L = 1.0f, gamma = 0.0f;
-  bool off_screen = hi.x < 0.0f || hi.y < 0.0f || lo.x > width || lo.y > height;
-  if (all_behind || (!unprojectable && off_screen)) {
-    n_lod = 0u;
-  } else if (g->lod_enabled != 0u && !unprojectable) {
-    float2 ext = hi - lo;
-    L = clh_lod_value(ext.x, ext.y, height, g->lod_lambda);    /* Eq. 2 */
-    n_lod = clh_lod_strands(L, n_full, bundle->lod_delta);     /* Eq. 1 */
-    C = clh_lod_control_points(L, layers, C_full);                  /* Eq. 4-5, C_max = full detail */
-    gamma = clh_lod_morph(L, layers, C_full, g->lod_morph_window); /* Bhokare Eq. 10-12 */
-  }
-  lod_g[b] = (uint4)(n_lod, C, as_uint(L), as_uint(gamma));
+  const uint4 rec = clh_lod_record(g, lo, hi, all_behind, unprojectable, width, height, n_full, bundle->lod_delta, layers);
+  const uint n_lod = rec.x;
+  lod_g[b] = rec;
   counts_g[b] = n_lod;
   /* the full-detail count of every bundle not culled, for beta = drawn / visible */
   counts_g[g->bundle_count + b] = n_lod > 0u ? n_full : 0u;
@@ -113,21 +120,9 @@ __kernel void lod_chunks(__global const ClhGroomGpu* groom_g, __global const Clh
     hi = fmax(hi, s);
   }
 
-  uint n_lod = n_full;
-  const uint C_full = clamp(g->control_points, 3u, (uint)CLH_MAX_CONTROL_POINTS);
-  uint C = C_full;
-  float L = 1.0f, gamma = 0.0f;
-  bool off_screen = hi.x < 0.0f || hi.y < 0.0f || lo.x > width || lo.y > height;
-  if (all_behind || (!unprojectable && off_screen)) {
-    n_lod = 0u;
-  } else if (g->lod_enabled != 0u && !unprojectable) {
-    float2 ext = hi - lo;
-    L = clh_lod_value(ext.x, ext.y, height, g->lod_lambda);          /* Eq. 2 */
-    n_lod = clh_lod_strands(L, n_full, as_float(chunk.z));           /* Eq. 1 */
-    C = clh_lod_control_points(L, 3u, C_full);                       /* Eq. 4-5 */
-    gamma = clh_lod_morph(L, 3u, C_full, g->lod_morph_window);       /* Bhokare Eq. 10-12 */
-  }
-  lod_g[c] = (uint4)(n_lod, C, as_uint(L), as_uint(gamma));
+  const uint4 rec = clh_lod_record(g, lo, hi, all_behind, unprojectable, width, height, n_full, as_float(chunk.z), 3u);
+  const uint n_lod = rec.x;
+  lod_g[c] = rec;
   counts_g[c] = n_lod;
   counts_g[g->bundle_count + c] = n_lod > 0u ? n_full : 0u;
 }

@@ -56,20 +56,6 @@ typedef struct {
   float2 uv;     /* the strand's root styling coordinates */
 } clh_lane_span;
 
-/* Largest b with offsets[b] <= strand: the bundle that holds the strand. */
-static inline uint clh_find_bundle(__global const uint* offsets_g, uint bundle_count, uint strand) {
-  uint lo = 0u, hi = bundle_count;
-  while (hi - lo > 1u) {
-    uint mid = (lo + hi) >> 1;
-    if (offsets_g[mid] <= strand) {
-      lo = mid;
-    } else {
-      hi = mid;
-    }
-  }
-  return lo;
-}
-
 /* Reflects the neighbour tangent t about the end segment direction q (Bhokare Eq. 5-6). */
 static inline float3 clh_end_tangent(float3 q, float3 t_neighbour) {
   return 2.0f * q * dot(t_neighbour, q) - t_neighbour;
@@ -243,7 +229,7 @@ static inline bool clh_strand_job(__global const ClhGroomGpu* g, __global const 
                                   float* gamma, float* coverage) {
   uint bundle_count = g->bundle_count;
   if (bundle_count == 0u || strand >= offsets_g[bundle_count]) return false;
-  uint b = clh_find_bundle(offsets_g, bundle_count, strand);
+  uint b = clh_find_range(offsets_g, bundle_count, strand);
   uint4 lod = lod_g[b];
   *bundle = b;
   *local_index = strand - offsets_g[b];

@@ -68,27 +68,13 @@ typedef struct {
   float gamma;     /* vertex-LOD morph toward step * 2 */
 } clh_x_job;
 
-/* Largest c with offsets[c] <= strand. */
-static inline uint clh_x_find_chunk(__global const uint* offsets_g, uint chunk_count, uint strand) {
-  uint lo = 0u, hi = chunk_count;
-  while (hi - lo > 1u) {
-    uint mid = (lo + hi) >> 1;
-    if (offsets_g[mid] <= strand) {
-      lo = mid;
-    } else {
-      hi = mid;
-    }
-  }
-  return lo;
-}
-
 /* The strand drawn by draw index `index`; false when there is none (uniform per group). */
 static inline bool clh_x_find_job(__global const ClhGroomGpu* g, const clh_x_tables* tb,
                                   __global const uint4* lod_g, __global const uint* offsets_g,
                                   uint index, clh_x_job* job) {
   const uint K = g->bundle_count;
   if (K == 0u || index >= offsets_g[K]) return false;
-  const uint c = clh_x_find_chunk(offsets_g, K, index);
+  const uint c = clh_find_range(offsets_g, K, index);
   const uint4 lod = lod_g[c];
   const uint4 chunk = tb->chunks[c];
   const uint slot = index - offsets_g[c];

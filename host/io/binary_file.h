@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cerrno>
+#include <cstdio>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -52,5 +53,33 @@ class InputFile {
   std::uint64_t size_ = 0;
   std::uint64_t offset_ = 0;
 };
+
+// Little-endian decoding of the binary formats' fields, independent of the host's order.
+inline std::uint32_t loadU32(const unsigned char* p) {
+  return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 | std::uint32_t(p[3]) << 24;
+}
+
+inline std::uint16_t loadU16(const unsigned char* p) { return static_cast<std::uint16_t>(p[0] | p[1] << 8); }
+
+inline std::int32_t loadI32(const unsigned char* p) {
+  const std::uint32_t u = loadU32(p);
+  std::int32_t i;
+  std::memcpy(&i, &u, sizeof(i));
+  return i;
+}
+
+inline float loadF32(const unsigned char* p) {
+  const std::uint32_t bits = loadU32(p);
+  float f;
+  std::memcpy(&f, &bits, sizeof(f));
+  return f;
+}
+
+// A float as error messages show it ("nan", "inf", "1e+30").
+inline std::string showFloat(float v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%g", static_cast<double>(v));
+  return buf;
+}
 
 }  // namespace clhair

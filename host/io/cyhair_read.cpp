@@ -32,28 +32,6 @@ constexpr std::uint32_t kKnownBits =
     kSegmentsBit | kPointsBit | kThicknessBit | kTransparencyBit | kColorsBit;
 constexpr std::size_t kChunkBytes = 1 << 20;
 
-std::uint32_t loadU32(const unsigned char* p) {
-  return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 |
-         std::uint32_t(p[3]) << 24;
-}
-
-std::uint16_t loadU16(const unsigned char* p) {
-  return static_cast<std::uint16_t>(p[0] | p[1] << 8);
-}
-
-float loadF32(const unsigned char* p) {
-  std::uint32_t bits = loadU32(p);
-  float f;
-  std::memcpy(&f, &bits, sizeof(f));
-  return f;
-}
-
-std::string showFloat(float v) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%g", static_cast<double>(v));
-  return buf;
-}
-
 // "1 strand", "2 strands".
 std::string count(std::uint64_t n, const char* noun) {
   return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
@@ -79,7 +57,6 @@ std::string showBytes(const unsigned char* p, std::size_t n) {
   }
   return out;
 }
-
 
 // Calls decode(index, bytes) for `count` elements of `elemBytes` each, reading at most
 // kChunkBytes at a time.

@@ -28,28 +28,6 @@ namespace {
 constexpr std::uint64_t kPointBytes = 12;
 constexpr std::size_t kChunkPoints = (1 << 20) / kPointBytes;
 
-std::int32_t loadI32(const unsigned char* p) {
-  const std::uint32_t u = std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 |
-                          std::uint32_t(p[2]) << 16 | std::uint32_t(p[3]) << 24;
-  std::int32_t i;
-  std::memcpy(&i, &u, sizeof(i));
-  return i;
-}
-
-float loadF32(const unsigned char* p) {
-  const std::int32_t bits = loadI32(p);
-  float f;
-  std::memcpy(&f, &bits, sizeof(f));
-  return f;
-}
-
-std::string showFloat(float v) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%g", static_cast<double>(v));
-  return buf;
-}
-
-
 }  // namespace
 
 UscHair readUscHair(const std::string& path, std::uint64_t maxBytes) {

@@ -296,4 +296,19 @@ static inline void clh_raster_lane(clh_raster_ctx* rc, __global const float* sce
 #endif
 }
 
+/* Largest i < count with offsets[i] <= index: the bundle (or chunk) whose range of the
+ * exclusive prefix sum `offsets` holds draw index `index`. */
+static inline uint clh_find_range(__global const uint* offsets_g, uint count, uint index) {
+  uint lo = 0u, hi = count;
+  while (hi - lo > 1u) {
+    uint mid = (lo + hi) >> 1;
+    if (offsets_g[mid] <= index) {
+      lo = mid;
+    } else {
+      hi = mid;
+    }
+  }
+  return lo;
+}
+
 #endif /* CLHAIR_RASTER_H */

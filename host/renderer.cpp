@@ -637,9 +637,15 @@ struct Renderer::Impl {
   }
 
   DispatchMode resolveMode(DispatchMode m) const {
-    // Measured by the benchmark (bench/README.md): read-back is the fastest on the CPU
-    // device and is the default until a GPU measurement says otherwise.
-    return m == DispatchMode::Auto ? DispatchMode::ReadBack : m;
+    // CPU devices: the benchmark's dispatch section (bench/README.md) measured read-back
+    // and over-launch within 1 % of each other on PoCL with persistent slowest, and
+    // read-back launches exactly the drawn strands, so it is the CPU default. GPUs:
+    // not measured yet; over-launch avoids the host round trip between the pre-pass and
+    // the strand pass (a pipeline bubble per groom on a discrete GPU), and surplus
+    // work-groups leave after one load. Re-run `clhair_bench --only dispatch` on a GPU
+    // and change this if it disagrees.
+    if (m != DispatchMode::Auto) return m;
+    return dev.info.isGpu ? DispatchMode::OverLaunch : DispatchMode::ReadBack;
   }
 
   void uploadScene(const Scene& s) {

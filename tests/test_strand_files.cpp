@@ -408,6 +408,25 @@ TEST(StrandFileUsc, RoundTripsThroughCyHair) {
   EXPECT_EQ(r.points, u.hair.points);
 }
 
+TEST(StrandFileUsc, WriterRoundTripsPointsAndRejectsMismatchedArrays) {
+  const std::string dir = test::scratchDir();
+  CyHair h;
+  h.segments = {1, 3};
+  for (int i = 0; i < 6 * 3; ++i) h.points.push_back(0.25f * i - 1.0f);
+  h.thickness.assign(6, 0.5f);  // not representable in the format: dropped
+  writeUscHair(h, dir + "/two.data");
+  EXPECT_EQ(std::filesystem::file_size(dir + "/two.data"), 4u + 2u * 4u + 6u * 12u);
+  const UscHair u = readUscHair(dir + "/two.data", kNoLimit);
+  EXPECT_EQ(u.skippedStrands, 0u);
+  EXPECT_EQ(u.hair.segments, h.segments);
+  EXPECT_EQ(u.hair.points, h.points);
+  EXPECT_TRUE(u.hair.thickness.empty());
+
+  h.points.pop_back();
+  expectError([&] { writeUscHair(h, dir + "/bad.data"); }, dir + "/bad.data", {"point array does not match"});
+  EXPECT_FALSE(std::filesystem::exists(dir + "/bad.data"));
+}
+
 TEST(StrandFileUsc, RejectsShortFileAndBadStrandCounts) {
   const std::string dir = test::scratchDir();
   expectUscError(writeFile(dir, "short.data", "ab"), {"is 2 bytes", "strand count"});

@@ -3,7 +3,7 @@
 //   clhair devices                          list OpenCL devices and what clhair would use
 //   clhair render SCENE -o OUT.png|.exr     render a scene, print per-stage times
 //   clhair groom --preset NAME -o FILE      write a generated hair mesh
-//   clhair export-strands GROOM -o F.hair   write the generated strands as cyHair
+//   clhair export-strands GROOM -o F.hair   write the generated strands as cyHair (or F.data: USC)
 //   clhair compare A B [--error-map M]      PSNR, RMSE and mean FLIP of B against reference A
 //
 // Global options choose the device (--device, CLHAIR_DEVICE), force a sub-group backend
@@ -28,6 +28,7 @@
 #include "clhair/scene.h"
 #include "groom/presets.h"
 #include "io/cyhair.h"
+#include "io/usc_hair.h"
 #include "metrics/image_metrics.h"
 
 namespace {
@@ -171,7 +172,12 @@ int cmdExport(const DeviceOptions& opts, const std::string& groomPath, const std
   }
   h.defaultThickness = mesh.appearance.strandWidth;
   h.info = "clhair export-strands: " + mesh.name;
-  writeCyHair(h, out);
+  std::string ext = std::filesystem::path(out).extension().string();
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  if (ext == ".data")
+    writeUscHair(h, out);  // points only: the format has no colour or thickness
+  else
+    writeCyHair(h, out);
   std::printf("%s: %zu strands, %zu points\n", out.c_str(), s.pointCounts.size(), s.points.size() / 3);
   return 0;
 }
@@ -269,10 +275,11 @@ int main(int argc, char** argv) {
   bakeCmd->add_option("groom", bakeIn, "hair-mesh file")->required();
   bakeCmd->add_option("-o,--output", bakeOut, "output hair-mesh file with per-vertex AO")->required();
 
-  auto* exportCmd = app.add_subcommand("export-strands", "write the generated strands as a cyHair .hair file");
+  auto* exportCmd = app.add_subcommand(
+      "export-strands", "write the generated strands as a cyHair .hair file (USC-HairSalon when the name ends in .data)");
   std::string groomPath, hairOut;
   exportCmd->add_option("groom", groomPath, "hair-mesh file")->required();
-  exportCmd->add_option("-o,--output", hairOut, "output .hair file")->required();
+  exportCmd->add_option("-o,--output", hairOut, "output .hair or .data file")->required();
 
   auto* compare =
       app.add_subcommand("compare", "compare image B against reference A: PSNR, RMSE, mean FLIP");

@@ -29,4 +29,10 @@ struct UscHair {
 // per kept point). Pass the device's largest allocation as `maxBytes`.
 UscHair readUscHair(const std::string& path, std::uint64_t maxBytes);
 
+// Writes the strands' points (segments + 1 per strand) as a USC-HairSalon file; thickness,
+// transparency and colours have no place in the format and are dropped. The file is
+// replaced atomically. Throws clhair::Error for arrays that do not match the segments or
+// counts beyond int32.
+void writeUscHair(const CyHair& hair, const std::string& path);
+
 }  // namespace clhair

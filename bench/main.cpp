@@ -374,9 +374,12 @@ int main(int argc, char** argv) {
       struct Config {
         const char* name;
         int msaa, filter, lod;
+        bool promote;  // the filter's strand connection (Lipp §3.3.2)
       };
-      const Config configs[] = {{"SWR1", 1, 0, 0},   {"SWR1+F", 1, 1, 0}, {"SWR1+F+L", 1, 1, 1},
-                                {"SWR MSAA 2", 2, 0, 0}, {"SWR MSAA 4", 4, 0, 0}, {"SWR MSAA 8", 8, 0, 0}};
+      const Config configs[] = {{"SWR1", 1, 0, 0, true},           {"SWR1+F", 1, 1, 0, true},
+                                {"SWR1+F+L", 1, 1, 1, true},       {"SWR1+F, no promotion", 1, 1, 0, false},
+                                {"SWR MSAA 2", 2, 0, 0, true},     {"SWR MSAA 4", 4, 0, 0, true},
+                                {"SWR MSAA 8", 8, 0, 0, true}};
       std::map<std::string, std::vector<std::string>> cells;
       json q;
       for (int d = 0; d < 3; ++d) {
@@ -396,8 +399,11 @@ int main(int argc, char** argv) {
           o.msaa = c.msaa;
           o.filter = c.filter;
           o.lod = c.lod;
-          Measured m = b.measure(s, o, false);
-          Frame f = b.renderer.render(s, o);
+          Scene sc = s;
+          sc.filter.promote = c.promote;
+          for (GroomInstance& g : sc.grooms) g.filter.promote = c.promote;
+          Measured m = b.measure(sc, o, false);
+          Frame f = b.renderer.render(sc, o);
           ImageComparison cmp = compareImages(ref.color, f.color);
           // the same measures restricted to the hair's pixels
           double flipHair = 0.0, mseHair = 0.0;
@@ -417,7 +423,7 @@ int main(int argc, char** argv) {
           std::string name = c.name;
           std::string file = name;
           for (char& ch : file)
-            if (ch == ' ' || ch == '+') ch = '_';
+            if (ch == ' ' || ch == '+' || ch == ',') ch = '_';
           writeImage(f.color, out + "/quality/" + distNames[d] + "_" + file + ".png");
           cells[name].push_back(fmt(flipHair, 4) + " / " + fmt(psnrHair, 1) + " / " + fmt(m.total.median));
           q[name][distNames[d]] = {{"flip_hair", flipHair}, {"psnr_hair_db", psnrHair}, {"flip", cmp.flip.mean},

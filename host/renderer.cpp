@@ -435,7 +435,7 @@ struct Renderer::Impl {
     g.depth_reject = f.depthReject;
     g.depth_mismatch = f.depthMismatch;
     g.strip = f.strip;
-    g.enabled = f.enabled ? 1u : 0u;
+    g.promote = f.promote ? 1u : 0u;
     upload(dev, filterParams, &g, 1);
   }
 

@@ -20,6 +20,8 @@
  *    well), so alpha is about 1 inside dense hair and about the strand's sub-pixel
  *    coverage along an isolated strand; for a strand blended over a center hit only hits
  *    at its own depth count, which gives its own coverage.
+ * With promote = 0 conservative-only pixels stay empty (the conservative layer still guides
+ * alpha and the overlay of nearer strands).
  * Neighbours whose depth differs from the reference by more than depth_reject (relative)
  * give it no colour, so colour never crosses a depth edge. Colour distances use c / (1 + c) so
  * HDR radiance compares like display values.
@@ -56,7 +58,7 @@ __kernel void filter_reconstruct(__global const ClhGroomGpu* groom_g, __global c
   const size_t idx = (size_t)y * (size_t)width + (size_t)x;
   const ulong gp = gbuf_g[idx], ap = gbuf_g[plane + idx];
   const bool is_center = gp != CLH_GBUF_EMPTY, is_cons = ap != CLH_GBUF_EMPTY;
-  if (!is_center && !is_cons) {
+  if (!is_center && (!is_cons || filter_g->promote == 0u)) {
     out_g[idx] = (float4)(0.0f);
     return;
   }

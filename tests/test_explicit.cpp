@@ -524,9 +524,18 @@ TEST(ExplicitScene, StrandFilesLoadWithTheirPlacement) {
                          {"scale", 2.0},
                          {"transform", {{"translate", {1.0, 0.0, 0.0}}}},
                          {"appearance", {{"strand_width", 1e-4}, {"min_hit_diameter_px", 1.0}}},
-                         {"lod", {{"enabled", true}, {"lambda", 2.0}}}});
+                         {"lod", {{"enabled", true}, {"lambda", 2.0}}},
+                         {"filter", {{"promote", false}}}});
+  j["filter"] = {{"radius", 3}, {"s_perp", 0.2}};
   writeBytes(dir + "/scene.json", j.dump());
   Scene s = loadScene(dir + "/scene.json");
+  EXPECT_EQ(s.filter.radius, 3);
+  EXPECT_FLOAT_EQ(s.filter.sPerp, 0.2f);
+  EXPECT_TRUE(s.filter.promote);
+  EXPECT_FALSE(s.grooms[0].hasFilter);
+  ASSERT_TRUE(s.grooms[1].hasFilter);
+  EXPECT_FALSE(s.grooms[1].filter.promote);
+  EXPECT_EQ(s.grooms[1].filter.radius, 3);  // the groom's filter starts from the scene's
   ASSERT_EQ(s.grooms.size(), 2u);
   ASSERT_TRUE(s.grooms[0].strands && !s.grooms[0].mesh);
   EXPECT_EQ(s.grooms[0].strands->pointCounts, std::vector<std::uint32_t>({4, 4, 4}));

@@ -33,7 +33,7 @@ struct Synthetic {
   void cons(int x, int y, clh_u64 w) { gbuf[W * H + y * W + x] = std::min(gbuf[W * H + y * W + x], w); }
 };
 
-std::vector<cl_float4> runFilter(const Synthetic& s) {
+std::vector<cl_float4> runFilter(const Synthetic& s, bool promote = true) {
   Device& dev = test::sharedDevice();
   Device::Impl& d = *dev.impl();
   ClhGroomGpu groom{};
@@ -55,7 +55,7 @@ std::vector<cl_float4> runFilter(const Synthetic& s) {
   f.depth_reject = 1.45e-3f;
   f.depth_mismatch = 5e-4f;
   f.strip = 0.5f;
-  f.enabled = 1;
+  f.promote = promote ? 1u : 0u;
   auto buf = [&](const void* data, std::size_t bytes) {
     return cl::Buffer(d.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, bytes, const_cast<void*>(data));
   };
@@ -101,6 +101,38 @@ TEST(Filter, DashedIsolatedStrandComesOutConnected) {
   EXPECT_GT(covered, 50);
   // far from the strand nothing is drawn
   EXPECT_EQ(out[30 * W + 2].s[3], 0.0f);
+}
+
+TEST(Filter, WithoutPromotionOnlyCenterHitsAreDrawn) {
+  // the dashed strand of the test above with promotion off: the conservative-only pixels
+  // stay empty, the center hits keep the strand colour with the same strip alpha
+  Synthetic s;
+  const float tx = 2.0f / std::sqrt(5.0f), ty = -1.0f / std::sqrt(5.0f);
+  const clh_u64 w = Synthetic::word(1.5f, tx, ty);
+  std::vector<std::pair<int, int>> centers;
+  for (int x = 2; x < 44; ++x) {
+    float y0 = 6.0f + 0.5f * x, y1 = 6.0f + 0.5f * (x + 1);
+    for (int y = static_cast<int>(std::floor(y0)); y <= static_cast<int>(std::floor(y1)); ++y) s.cons(x, y, w);
+    if (x % 4 == 0) {
+      const int y = static_cast<int>(std::floor(6.0f + 0.5f * (x + 0.5f)));
+      s.center(x, y, w, 0.6f, 0.3f, 0.1f);
+      centers.push_back({x, y});
+    }
+  }
+  const std::vector<cl_float4> promoted = runFilter(s, true), plain = runFilter(s, false);
+  int drawn = 0;
+  for (int i = 0; i < W * H; ++i) {
+    const bool isCenter = s.gbuf[i] != CLH_GBUF_EMPTY;
+    if (!isCenter) {
+      EXPECT_EQ(plain[i].s[3], 0.0f) << "conservative-only pixel " << i << " drawn without promotion";
+      continue;
+    }
+    ++drawn;
+    EXPECT_FLOAT_EQ(plain[i].s[3], promoted[i].s[3]);
+    EXPECT_GT(plain[i].s[3], 0.0f);
+    EXPECT_NEAR(plain[i].s[0] / plain[i].s[3], 0.6f, 1e-4f);
+  }
+  EXPECT_EQ(drawn, static_cast<int>(centers.size()));
 }
 
 TEST(Filter, DensePatchKeepsAlphaOneAndWeightsNormalise) {

@@ -63,7 +63,9 @@ FilterParams readFilter(const JsonReader& parent, const json& j, FilterParams f)
   f.depthReject = static_cast<float>(o.number("depth_reject", f.depthReject, 0.0, 10.0));
   f.depthMismatch = static_cast<float>(o.number("depth_mismatch", f.depthMismatch, 0.0, 10.0));
   f.strip = static_cast<float>(o.number("strip", f.strip, 0.0, 8.0));
-  o.rejectUnknown({"enabled", "radius", "s_parallel", "s_perp", "sigma_c", "depth_reject", "depth_mismatch", "strip"});
+  f.promote = o.boolean("promote", f.promote);
+  o.rejectUnknown({"enabled", "radius", "s_parallel", "s_perp", "sigma_c", "depth_reject", "depth_mismatch", "strip",
+                   "promote"});
   return f;
 }
 

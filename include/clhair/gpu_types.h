@@ -199,7 +199,7 @@ typedef struct {
   float depth_reject;      /* neighbours farther than this relative depth are ignored */
   float depth_mismatch;    /* a conservative strand nearer by this relative depth is blended on top */
   float strip;             /* alpha strip: neighbours within this distance of the tangent line */
-  clh_u32 enabled;
+  clh_u32 promote;         /* 1: conservative-only pixels are promoted (§3.3.2), 0: left empty */
 } ClhFilterGpu;
 
 /* ---- per-bundle LOD record written by lod.cl (one uint4 per bundle) -------------------

@@ -93,6 +93,7 @@ struct FilterParams {
   float depthReject = 1.45e-3f;  // relative depth beyond which neighbours are ignored
   float depthMismatch = 5e-4f;   // relative depth: a nearer conservative strand is blended on top
   float strip = 0.5f;          // alpha strip: neighbours within this many pixels of the tangent line
+  bool promote = true;         // promote conservative-only pixels (Lipp §3.3.2); off: only center hits are drawn
 };
 
 // Exactly one of `mesh` and `strands` is set.

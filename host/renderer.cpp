@@ -526,8 +526,17 @@ struct Renderer::Impl {
       });
       // hair depth: the strand pass from the light into the light's G-buffer
       clearWords(lightGBuffer, plane * 2);
-      std::vector<std::pair<GroomResources*, std::uint32_t>> passes;
-      std::vector<std::pair<ExplicitResources*, std::uint32_t>> explicitPasses;
+      // per drawn instance: its resources and drawn total. Instances of one mesh or strand
+      // file share resources (parameters, LOD records), so a resource seen twice is
+      // prepared again for each instance before its opacity pass.
+      struct Pass {
+        const GroomInstance* instance;
+        GroomResources* mesh;
+        ExplicitResources* explicitGroom;
+        std::uint32_t total;
+      };
+      std::vector<Pass> passes;
+      std::map<const void*, int> uses;
       for (const GroomInstance& gi : s.grooms) {
         if (gi.strands) {
           ExplicitResources& e = explicitFor(gi.strands);
@@ -535,7 +544,8 @@ struct Renderer::Impl {
           const ExplicitStage::Inputs in = explicitInputs(e);
           explicitStage.lod(in, lightView, &profiler);
           const std::uint32_t total = explicitStage.readTotal(in);
-          explicitPasses.push_back({&e, total});
+          passes.push_back({&gi, nullptr, &e, total});
+          ++uses[&e];
           StrandStage::Raster rs{&lightView, &lightDepth, &lightGBuffer, &stats, 1, false, DispatchMode::ReadBack, total};
           explicitStage.raster(in, rs, &profiler);
           continue;
@@ -545,18 +555,34 @@ struct Renderer::Impl {
         LodStage::Params lp = lodParams(g, viewReach(g, gi.transform));
         lod.enqueue(lp, &profiler);
         std::uint32_t total = lod.readTotal(lp);
-        passes.push_back({&g, total});
+        passes.push_back({&gi, &g, nullptr, total});
+        ++uses[&g];
         StrandStage::Raster rs{&lightView, &lightDepth, &lightGBuffer, &stats, 1, false, DispatchMode::ReadBack, total};
         strands.raster(strandInputs(g), rs, &profiler);
       }
       shadow.resolveDepth(shadowOne[slot], lightGBuffer, shadowHair, res, res, &profiler);
       shadow.clearOpacity(shadowOne[slot], shadowOpacity, plane, &profiler);
-      for (auto& [g, total] : passes)
-        shadow.opacity(strandInputs(*g), lightView, shadowOpaque, shadowOne[slot], shadowHair, shadowOpacity, total,
-                       &profiler);
-      for (auto& [e, total] : explicitPasses)
-        explicitStage.opacity(explicitInputs(*e), lightView, shadowOpaque, shadowOne[slot], shadowHair, shadowOpacity,
-                              total, &profiler);
+      for (Pass& p : passes) {
+        if (p.explicitGroom) {
+          const ExplicitStage::Inputs in = explicitInputs(*p.explicitGroom);
+          if (uses[p.explicitGroom] > 1) {
+            prepareExplicitView(*p.explicitGroom, p.instance->transform, w2v, options, nearZ, farZ);
+            explicitStage.lod(in, lightView, &profiler);
+            p.total = explicitStage.readTotal(in);
+          }
+          explicitStage.opacity(in, lightView, shadowOpaque, shadowOne[slot], shadowHair, shadowOpacity, p.total,
+                                &profiler);
+          continue;
+        }
+        if (uses[p.mesh] > 1) {
+          prepareGroomView(*p.mesh, p.instance->transform, w2v, options, nearZ, farZ);
+          LodStage::Params lp = lodParams(*p.mesh, viewReach(*p.mesh, p.instance->transform));
+          lod.enqueue(lp, &profiler);
+          p.total = lod.readTotal(lp);
+        }
+        shadow.opacity(strandInputs(*p.mesh), lightView, shadowOpaque, shadowOne[slot], shadowHair, shadowOpacity,
+                       p.total, &profiler);
+      }
       ++slot;
     }
     if (slot > 0) upload(dev, shadowAll, params.data(), CLH_MAX_SHADOWS);

@@ -1,7 +1,7 @@
 // test_shadows.cpp — deep opacity maps: hair behind hair (seen from the light) is darker
 // than hair in front, opaque objects receive hair shadows, and the LOD depth correction
 // (Lipp §3.2.3) is inert when LOD removes nothing and never moves the image away from
-// the full-detail one.
+// the full-detail one. Instances of one mesh each cast their own shadow.
 #include <cmath>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -72,6 +72,24 @@ TEST(Shadows, HairBehindHairIsDarker) {
   RecordProperty("back_kept", std::to_string(backKept));
   EXPECT_LT(backKept, 0.6 * frontKept) << "front keeps " << frontKept << ", back keeps " << backKept;
   EXPECT_LT(frontKept, 1.0) << "hair shadows itself too";
+}
+
+TEST(Shadows, InstancesOfOneMeshCastTheirOwnShadows) {
+  // twoPatches draws one mesh twice; the same scene with a copy of the mesh per instance
+  // (separate device resources) must give the same image: each instance adds its own
+  // opacity to the deep opacity map, at its own place
+  Renderer r(test::sharedDevice());
+  RenderOptions o;
+  o.filter = 0;
+  Scene shared = twoPatches(true), copies = twoPatches(true);
+  copies.grooms[1].mesh = std::make_shared<const HairMesh>(*copies.grooms[1].mesh);
+  ASSERT_EQ(shared.grooms[0].mesh, shared.grooms[1].mesh);
+  ASSERT_NE(copies.grooms[0].mesh, copies.grooms[1].mesh);
+  const Frame a = r.render(copies, o), b = r.render(shared, o);
+  ASSERT_EQ(a.color.rgba.size(), b.color.rgba.size());
+  std::size_t differing = 0;
+  for (std::size_t i = 0; i < a.color.rgba.size(); ++i) differing += a.color.rgba[i] != b.color.rgba[i];
+  EXPECT_EQ(differing, 0u) << "a shared mesh's instances shadowed differently from separate copies";
 }
 
 TEST(Shadows, OpaqueObjectsReceiveHairShadows) {

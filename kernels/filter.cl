@@ -22,6 +22,8 @@
  *    at its own depth count, which gives its own coverage.
  * With promote = 0 conservative-only pixels stay empty (the conservative layer still guides
  * alpha and the overlay of nearer strands).
+ * Neighbours whose spatial weight is below exp(-24) are skipped (the window is mostly
+ * such pixels when sigma_perp is small), which changes no float average.
  * Neighbours whose depth differs from the reference by more than depth_reject (relative)
  * give it no colour, so colour never crosses a depth edge. Colour distances use c / (1 + c) so
  * HDR radiance compares like display values.
@@ -114,9 +116,11 @@ __kernel void filter_reconstruct(__global const ClhGroomGpu* groom_g, __global c
           if (aq != CLH_GBUF_EMPTY && (overlay ? fabs(za - z_ref) <= reject : za >= z_ref - reject)) h_cons += 1.0f;
         }
       }
-      if (!q_hit) continue;
+      const float e_spatial = d_par * d_par * inv_par2 + d_perp2 * inv_perp2;
+      /* exp(-24) < 4e-11: such a neighbour cannot change a float average */
+      if (!q_hit || e_spatial > 24.0f) continue;
       const float3 c_q = hair_g[q].xyz;
-      float w = exp(-d_par * d_par * inv_par2 - d_perp2 * inv_perp2);
+      float w = exp(-e_spatial);
       if (!(fabs(zq - z_ref) <= reject)) {
         any_sum += w * c_q;
         any_wsum += w;

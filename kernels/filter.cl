@@ -23,7 +23,8 @@
  * With promote = 0 conservative-only pixels stay empty (the conservative layer still guides
  * alpha and the overlay of nearer strands).
  * Neighbours whose spatial weight is below exp(-24) are skipped (the window is mostly
- * such pixels when sigma_perp is small), which changes no float average.
+ * such pixels when sigma_perp is small): negligible next to any nearer neighbour; a
+ * promoted pixel with only such neighbours stays empty.
  * Neighbours whose depth differs from the reference by more than depth_reject (relative)
  * give it no colour, so colour never crosses a depth edge. Colour distances use c / (1 + c) so
  * HDR radiance compares like display values.

@@ -118,7 +118,7 @@ __kernel void filter_reconstruct(__global const ClhGroomGpu* groom_g, __global c
         }
       }
       const float e_spatial = d_par * d_par * inv_par2 + d_perp2 * inv_perp2;
-      /* exp(-24) < 4e-11: such a neighbour cannot change a float average */
+      /* exp(-24) < 4e-11: negligible beside any nearer neighbour */
       if (!q_hit || e_spatial > 24.0f) continue;
       const float3 c_q = hair_g[q].xyz;
       float w = exp(-e_spatial);

@@ -664,7 +664,7 @@ struct Renderer::Impl {
 
   DispatchMode resolveMode(DispatchMode m) const {
     // CPU devices: the benchmark's dispatch section (bench/README.md) measured read-back
-    // and over-launch within 1 % of each other on PoCL with persistent slowest, and
+    // and over-launch level within noise on PoCL, persistent no better (two runs), and
     // read-back launches exactly the drawn strands, so it is the CPU default. GPUs:
     // not measured yet; over-launch avoids the host round trip between the pre-pass and
     // the strand pass (a pipeline bubble per groom on a discrete GPU), and surplus

@@ -406,20 +406,15 @@ int main(int argc, char** argv) {
           Frame f = b.renderer.render(sc, o);
           ImageComparison cmp = compareImages(ref.color, f.color);
           // the same measures restricted to the hair's pixels
-          double flipHair = 0.0, mseHair = 0.0;
+          const double psnrHair = computePsnr(ref.color, f.color, &hairMask).psnrDb;
+          double flipHair = 0.0;
           std::size_t nHair = 0;
-          for (std::size_t i = 0; i < hairMask.size(); ++i) {
-            if (!hairMask[i]) continue;
-            ++nHair;
-            flipHair += cmp.flip.error[i];
-            for (int c = 0; c < 3; ++c) {
-              double d = linearToSrgbClamped(ref.color.rgba[4 * i + c]) - linearToSrgbClamped(f.color.rgba[4 * i + c]);
-              mseHair += d * d;
+          for (std::size_t i = 0; i < hairMask.size(); ++i)
+            if (hairMask[i]) {
+              ++nHair;
+              flipHair += cmp.flip.error[i];
             }
-          }
           flipHair /= std::max<std::size_t>(nHair, 1);
-          mseHair /= std::max<std::size_t>(3 * nHair, 1);
-          const double psnrHair = mseHair > 0.0 ? 10.0 * std::log10(1.0 / mseHair) : INFINITY;
           std::string name = c.name;
           std::string file = name;
           for (char& ch : file)

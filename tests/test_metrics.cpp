@@ -173,6 +173,18 @@ TEST(MetricsPsnr, HandComputedCases) {
   EXPECT_NEAR(r.psnrDb, 13.97940009, 1e-4);
 }
 
+TEST(MetricsPsnr, MaskRestrictsThePixelsCompared) {
+  // the one red pixel of the case above alone: MSE = 1/3; the other three alone: MSE = 0
+  Image black = solid(2, 2, 0.0f, 0.0f, 0.0f);
+  Image oneRed = black;
+  oneRed.pixel(1, 0)[0] = 1.0f;
+  const std::vector<char> red = {0, 1, 0, 0}, others = {1, 0, 1, 1};
+  EXPECT_NEAR(computePsnr(black, oneRed, &red).mse, 1.0 / 3.0, 1e-12);
+  EXPECT_TRUE(std::isinf(computePsnr(black, oneRed, &others).psnrDb));
+  const std::vector<char> wrongSize = {1, 1};
+  EXPECT_THROW(computePsnr(black, oneRed, &wrongSize), Error);
+}
+
 TEST(MetricsPsnr, UsesDisplayValuesAndIgnoresAlpha) {
   Image a = solid(4, 3, 1.0f, 0.5f, 0.0f);
   Image b = solid(4, 3, 7.0f, 0.5f, -2.0f);  // clamps to the same display colour

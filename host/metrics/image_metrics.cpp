@@ -36,18 +36,24 @@ void requireSameSize(const Image& a, const Image& b, const std::string& nameA,
   if (a.width <= 0 || a.height <= 0) throw Error(nameA + " is empty; nothing to compare");
 }
 
-PsnrResult computePsnr(const Image& reference, const Image& test) {
+PsnrResult computePsnr(const Image& reference, const Image& test, const std::vector<char>* mask) {
   requireSameSize(reference, test, "the reference", "the test image");
   const std::size_t pixels = static_cast<std::size_t>(reference.width) * reference.height;
+  if (mask && mask->size() != pixels)
+    throw Error("PSNR mask has " + std::to_string(mask->size()) + " entries for " + std::to_string(pixels) + " pixels");
   double sum = 0.0;
-  for (std::size_t p = 0; p < pixels; ++p)
+  std::size_t counted = 0;
+  for (std::size_t p = 0; p < pixels; ++p) {
+    if (mask && !(*mask)[p]) continue;
+    ++counted;
     for (int c = 0; c < 3; ++c) {
       double d = linearToSrgbClamped(reference.rgba[p * 4 + c]) -
                  linearToSrgbClamped(test.rgba[p * 4 + c]);
       sum += d * d;
     }
+  }
   PsnrResult r;
-  r.mse = sum / static_cast<double>(pixels * 3);
+  r.mse = counted > 0 ? sum / static_cast<double>(counted * 3) : 0.0;
   r.rmse = std::sqrt(r.mse);
   r.psnrDb = r.mse > 0.0 ? 10.0 * std::log10(1.0 / r.mse) : std::numeric_limits<double>::infinity();
   return r;

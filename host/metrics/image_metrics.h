@@ -8,6 +8,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "clhair/image.h"
 #include "metrics/flip.h"
@@ -20,7 +21,9 @@ struct PsnrResult {
   double psnrDb = 0.0;  // 10 log10(1 / mse); +infinity when mse == 0
 };
 
-PsnrResult computePsnr(const Image& reference, const Image& test);
+// With `mask` (one entry per pixel, non-zero = counted) only those pixels are compared; an
+// empty mask selection gives mse 0.
+PsnrResult computePsnr(const Image& reference, const Image& test, const std::vector<char>* mask = nullptr);
 
 struct ImageComparison {
   PsnrResult psnr;

@@ -28,6 +28,7 @@
 #include "clhair/scene.h"
 #include "groom/presets.h"
 #include "io/cyhair.h"
+#include "io/json_util.h"
 #include "io/usc_hair.h"
 #include "metrics/image_metrics.h"
 
@@ -172,9 +173,7 @@ int cmdExport(const DeviceOptions& opts, const std::string& groomPath, const std
   }
   h.defaultThickness = mesh.appearance.strandWidth;
   h.info = "clhair export-strands: " + mesh.name;
-  std::string ext = std::filesystem::path(out).extension().string();
-  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  if (ext == ".data")
+  if (lowerExtension(out) == ".data")
     writeUscHair(h, out);  // points only: the format has no colour or thickness
   else
     writeCyHair(h, out);
@@ -205,8 +204,7 @@ int cmdCompare(const std::string& pathA, const std::string& pathB, const Compare
   requireSameSize(a, b, pathA, pathB);
   ImageComparison c = compareImages(a, b, f.ppd);
   if (!f.errorMap.empty()) {
-    std::string ext = std::filesystem::path(f.errorMap).extension().string();
-    for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    const std::string ext = lowerExtension(f.errorMap);
     const bool raw = ext == ".exr" || ext == ".hdr";
     writeImage(flipErrorImage(c.flip, !raw), f.errorMap);
   }

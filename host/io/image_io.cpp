@@ -9,6 +9,7 @@
 
 #include "clhair/error.h"
 #include "clhair/image.h"
+#include "io/json_util.h"
 
 namespace clhair {
 
@@ -31,8 +32,7 @@ void writeImage(const Image& image, const std::string& path) {
   if (image.width <= 0 || image.height <= 0 ||
       image.rgba.size() != static_cast<std::size_t>(image.width) * image.height * 4)
     throw Error(path + ": refusing to write an empty or inconsistent image");
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  const std::string ext = lowerExtension(path);
   // The temporary keeps the extension so OpenImageIO picks the right writer.
   std::filesystem::path target(path);
   std::filesystem::path tmp = target.parent_path() /

@@ -1,6 +1,7 @@
 // json_util.cpp — strict JSON getters, file reading with positions, atomic writes.
 #include "io/json_util.h"
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -145,6 +146,12 @@ json readJsonFile(const std::string& path, const std::string& what) {
     // out_of_range 406: a number beyond double range such as 1e400; no position is known.
     throw Error(path + ": malformed " + what + " JSON: " + e.what());
   }
+}
+
+std::string lowerExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
 }
 
 void writeTextAtomically(const std::string& path, const std::string& text) {

@@ -45,4 +45,7 @@ nlohmann::json readJsonFile(const std::string& path, const std::string& what);
 // Writes text to path.tmp-<pid> then renames it over `path`.
 void writeTextAtomically(const std::string& path, const std::string& text);
 
+// The file name's extension in lower case, with its dot (".hair"), or "" when it has none.
+std::string lowerExtension(const std::string& path);
+
 }  // namespace clhair

@@ -13,6 +13,7 @@
 #include "clhair/error.h"
 #include "clhair/strand_groom.h"
 #include "io/cyhair.h"
+#include "io/json_util.h"
 #include "io/usc_hair.h"
 
 namespace clhair {
@@ -53,12 +54,6 @@ StrandGroom fromCyHair(const CyHair& h, std::uint64_t* skipped) {
   }
   if (skipped) *skipped = strands - kept;
   return g;
-}
-
-std::string lowerExtension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
 }
 
 }  // namespace

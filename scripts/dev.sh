@@ -35,7 +35,11 @@ jobs=$(nproc 2>/dev/null || echo 2)
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DCLHAIR_WERROR=ON > build-configure.log 2>&1 ||
   { cat build-configure.log; exit 1; }
 rm -f build-configure.log
-cmake --build build -j"$jobs"
+if [[ "$mode" == demo ]]; then
+  cmake --build build -j"$jobs" --target clhair   # the renderer only: tests and benchmark are not needed
+else
+  cmake --build build -j"$jobs"
+fi
 export POCL_CACHE_DIR="${POCL_CACHE_DIR:-$PWD/build/pocl-cache}"
 
 if [[ "$mode" == demo ]]; then

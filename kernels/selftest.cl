@@ -1,8 +1,9 @@
 /* selftest.cl — small kernels that check the device against the host's assumptions.
  *
- * selftest_subgroup: one work-group of SG_SIZE lanes exercises every operation of the
- *   sub-group layer, twice in a row so both halves of the __local ping-pong are used;
- *   the host compares the SELFTEST_WORDS words per lane with its CPU model.
+ * selftest_subgroup: one work-group (SG_STRANDS strands of SG_SIZE lanes) exercises every
+ *   operation of the sub-group layer, twice in a row so both halves of the __local
+ *   ping-pong are used; the host compares the SELFTEST_WORDS words per work-item with its
+ *   CPU model.
  * selftest_layout: writes sizeof() of every struct of gpu_types.h (host pins the same).
  * selftest_gbuffer: packs G-buffer words from float inputs with the shared helpers.
  */
@@ -14,8 +15,8 @@
 __kernel SG_KERNEL_ATTRS void selftest_subgroup(__global uint* out_g) {
   SG_DECLARE(sg);
   uint lane = sg_lane();
-  uint x = lane * 7u + 3u;
-  uint y = lane * 13u + 100u;
+  uint x = lane * 7u + 3u + sg_slot() * 1000u; /* each strand slot exchanges its own values */
+  uint y = lane * 13u + 100u + sg_slot() * 1000u;
   uint4 x4 = (uint4)(x, x + 1u, x + 2u, x + 3u);
   uint4 fill4 = (uint4)(1u, 2u, 3u, 4u);
   uint r0 = sg_shuffle_up1(&sg, x, 0xF00Du);
@@ -25,7 +26,7 @@ __kernel SG_KERNEL_ATTRS void selftest_subgroup(__global uint* out_g) {
   uint4 r4 = sg_shuffle_down1_u4(&sg, x4, fill4);
   uint r5 = sg_shuffle_up1(&sg, y, 0xF00Du);
   uint r6 = sg_shuffle_down1(&sg, y, 0xBEEFu);
-  __global uint* o = out_g + lane * SELFTEST_WORDS;
+  __global uint* o = out_g + get_local_id(0) * SELFTEST_WORDS;
   o[0] = r0;
   o[1] = r1;
   o[2] = r2;

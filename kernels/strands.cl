@@ -64,7 +64,7 @@ static inline float3 clh_end_tangent(float3 q, float3 t_neighbour) {
 
 /* Tangent k of the fine level from raw points in local memory (central differences, the
  * reflection rule at the ends). */
-static inline float3 clh_fine_tangent(__local const float4* pts_l, uint k, uint C) {
+static inline float3 clh_fine_tangent(SG_SHARED const float4* pts_l, uint k, uint C) {
   if (k > 0u && k + 1u < C) return clh_normalize_or(pts_l[k + 1u].xyz - pts_l[k - 1u].xyz, CLH_UP);
   if (k == 0u) {
     float3 q = clh_normalize_or(pts_l[1].xyz - pts_l[0].xyz, CLH_UP);
@@ -77,7 +77,7 @@ static inline float3 clh_fine_tangent(__local const float4* pts_l, uint k, uint 
 }
 
 /* Tangent of the coarse level (the even points) at even index e. */
-static inline float3 clh_coarse_tangent(__local const float4* pts_l, uint e, uint C) {
+static inline float3 clh_coarse_tangent(SG_SHARED const float4* pts_l, uint e, uint C) {
   if (e > 0u && e + 1u < C) return clh_normalize_or(pts_l[e + 2u].xyz - pts_l[e - 2u].xyz, CLH_UP);
   if (e == 0u) {
     float3 q = clh_normalize_or(pts_l[2].xyz - pts_l[0].xyz, CLH_UP);
@@ -90,8 +90,8 @@ static inline float3 clh_coarse_tangent(__local const float4* pts_l, uint e, uin
 }
 
 /* Cooperative assembly of one strand. Every lane must call it. */
-static inline void clh_assemble_strand(sg_ctx* sg, __local clh_layer_pt* layers_l,
-                                       __local clh_strand* strand_l, __local float4* pts_l,
+static inline void clh_assemble_strand(sg_ctx* sg, SG_SHARED clh_layer_pt* layers_l,
+                                       SG_SHARED clh_strand* strand_l, SG_SHARED float4* pts_l,
                                        __global const ClhGroomGpu* g,
                                        __global const ClhBundle* b,
                                        __global const ClhMeshVertex* verts_g,
@@ -136,7 +136,7 @@ static inline void clh_assemble_strand(sg_ctx* sg, __local clh_layer_pt* layers_
       layers_l[l] = lay[i];
     }
   }
-  barrier(CLK_LOCAL_MEM_FENCE);
+  sg_barrier();
   const clh_strand s = *strand_l;
 
   /* ---- pass 2: styled control points ---------------------------------------------- */
@@ -163,7 +163,7 @@ static inline void clh_assemble_strand(sg_ctx* sg, __local clh_layer_pt* layers_
      * (Eq. 11-12) and tangents blended between this level and the coarser one */
     for (uint i = 0; i < CLH_PTS_CAP; ++i)
       if (i < count) pts_l[first + i] = P[i];
-    barrier(CLK_LOCAL_MEM_FENCE);
+    sg_barrier();
     for (uint i = 0; i < CLH_PTS_CAP; ++i) {
       uint k = first + i;
       if (i < count) {
@@ -240,9 +240,9 @@ static inline bool clh_strand_job(__global const ClhGroomGpu* g, __global const 
 }
 
 typedef struct {
-  __local clh_layer_pt* layers;
-  __local clh_strand* strand;
-  __local float4* pts;
+  SG_SHARED clh_layer_pt* layers;
+  SG_SHARED clh_strand* strand;
+  SG_SHARED float4* pts;
 } clh_strand_scratch;
 
 /* Assembles strand `strand` (when it exists) and draws its segments. Uniform per group. */
@@ -263,8 +263,7 @@ static inline void clh_draw_strand(sg_ctx* sg, clh_strand_scratch scratch, clh_r
   rc->u6 = clh_unorm_bits(span.uv.x, 6u);
   rc->v6 = clh_unorm_bits(span.uv.y, 6u);
   rc->coverage = coverage;
-  clh_raster_lane(rc, scene_depth_g, gbuf_g, stats_g, clh_load_mat34(g->obj_to_view), clh_load_mat34(g->obj_to_world),
-                  P, T, span.first, span.count, span.C, span.next_p, span.next_t);
+  clh_raster_lane(rc, scene_depth_g, gbuf_g, stats_g, g, P, T, span.first, span.count, span.C, span.next_p, span.next_t);
 }
 
 
@@ -278,9 +277,9 @@ static inline void clh_draw_strand(sg_ctx* sg, clh_strand_scratch scratch, clh_r
 
 #define CLH_RASTER_PROLOGUE                                           \
   SG_DECLARE(sg);                                                     \
-  __local clh_layer_pt layers_l[CLH_MAX_LAYERS];                      \
-  __local clh_strand strand_l[1];                                     \
-  __local float4 pts_l[CLH_MAX_CONTROL_POINTS];                       \
+  SG_SHARED clh_layer_pt layers_l[CLH_MAX_LAYERS];                      \
+  SG_SHARED clh_strand strand_l[1];                                     \
+  SG_SHARED float4 pts_l[CLH_MAX_CONTROL_POINTS];                       \
   clh_strand_scratch scratch;                                         \
   scratch.layers = layers_l;                                          \
   scratch.strand = strand_l;                                          \
@@ -294,14 +293,15 @@ __kernel SG_KERNEL_ATTRS void strands_raster(CLH_RASTER_PARAMS) {
   CLH_RASTER_PROLOGUE;
   (void)strand_stride;
   clh_draw_strand(&sg, scratch, &rc, groom_g, bundles_g, verts_g, lod_g, offsets_g, roots_quad_g,
-                  roots_tri_g, scene_depth_g, gbuf_g, stats_g, strand_base + (uint)get_group_id(0));
+                  roots_tri_g, scene_depth_g, gbuf_g, stats_g, sg_strand_index(strand_base));
 }
 
 /* Persistent grid: group g draws strands g, g + stride, g + 2 stride, ... below the total. */
 __kernel SG_KERNEL_ATTRS void strands_raster_persistent(CLH_RASTER_PARAMS) {
   CLH_RASTER_PROLOGUE;
   const uint total = groom_g->bundle_count > 0u ? offsets_g[groom_g->bundle_count] : 0u;
-  for (uint strand = strand_base + (uint)get_group_id(0); strand < total; strand += max(strand_stride, 1u)) {
+  for (uint strand = sg_strand_index(strand_base); strand < total;
+       strand += SG_STRAND_STRIDE(max(strand_stride, 1u))) {
     clh_draw_strand(&sg, scratch, &rc, groom_g, bundles_g, verts_g, lod_g, offsets_g, roots_quad_g,
                     roots_tri_g, scene_depth_g, gbuf_g, stats_g, strand);
   }
@@ -317,9 +317,9 @@ __kernel SG_KERNEL_ATTRS void strands_opacity(
     __global const ClhShadowGpu* shadow_g, __global const float* hair_depth_g, __global uint* opacity_g,
     uint strand_base) {
   SG_DECLARE(sg);
-  __local clh_layer_pt layers_l[CLH_MAX_LAYERS];
-  __local clh_strand strand_l[1];
-  __local float4 pts_l[CLH_MAX_CONTROL_POINTS];
+  SG_SHARED clh_layer_pt layers_l[CLH_MAX_LAYERS];
+  SG_SHARED clh_strand strand_l[1];
+  SG_SHARED float4 pts_l[CLH_MAX_CONTROL_POINTS];
   clh_strand_scratch scratch;
   scratch.layers = layers_l;
   scratch.strand = strand_l;
@@ -330,7 +330,7 @@ __kernel SG_KERNEL_ATTRS void strands_opacity(
   rc.dom_offset = shadow_g->offset;
   for (int k = 0; k < CLH_DOM_LAYERS; ++k) rc.bound[k] = shadow_g->bound[k];
   clh_draw_strand(&sg, scratch, &rc, groom_g, bundles_g, verts_g, lod_g, offsets_g, roots_quad_g, roots_tri_g,
-                  opaque_depth_g + shadow_g->offset, (__global ulong*)opacity_g, 0, strand_base + (uint)get_group_id(0));
+                  opaque_depth_g + shadow_g->offset, (__global ulong*)opacity_g, 0, sg_strand_index(strand_base));
 }
 #endif
 
@@ -344,10 +344,10 @@ __kernel SG_KERNEL_ATTRS void strands_export(
     __global const float2* roots_tri_g, __global float4* points_g, __global float4* tangents_g,
     __global uint* counts_g, uint strand_base, uint strand_capacity) {
   SG_DECLARE(sg);
-  __local clh_layer_pt layers_l[CLH_MAX_LAYERS];
-  __local clh_strand strand_l[1];
-  __local float4 pts_l[CLH_MAX_CONTROL_POINTS];
-  uint strand = strand_base + (uint)get_group_id(0);
+  SG_SHARED clh_layer_pt layers_l[CLH_MAX_LAYERS];
+  SG_SHARED clh_strand strand_l[1];
+  SG_SHARED float4 pts_l[CLH_MAX_CONTROL_POINTS];
+  uint strand = sg_strand_index(strand_base);
   uint bundle = 0u, local_index = 0u, C = 2u;
   float gamma = 0.0f, coverage = 1.0f;
   if (strand >= strand_capacity ||

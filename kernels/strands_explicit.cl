@@ -111,11 +111,6 @@ static inline float4 clh_x_point(const clh_x_tables* tb, const clh_x_job* job, u
   return tb->points[min(job->first + k, tb->point_count - 1u)];
 }
 
-/* Reflects the neighbour tangent t about the end segment direction q (Bhokare Eq. 5-6). */
-static inline float3 clh_x_end_tangent(float3 q, float3 t_neighbour) {
-  return 2.0f * q * dot(t_neighbour, q) - t_neighbour;
-}
-
 /* The lane's share of one round. */
 typedef struct {
   uint first;    /* round-local index of the lane's first point */
@@ -183,7 +178,7 @@ static inline void clh_x_round(sg_ctx* sg, const clh_x_tables* tb, const clh_x_j
     if (i < count && k > 0u && k + 1u < M) {
       float3 a = (i > 0u ? P[i - 1u] : prev_p).xyz;
       float3 c = (i + 1u < count ? P[i + 1u] : next_p).xyz;
-      T[i].xyz = clh_normalize_or(c - a, CLH_UP);
+      T[i].xyz = clh_unit_or(c - a, CLH_UP);
     }
   }
   /* exchange 2: interior tangents next to the end points */
@@ -191,16 +186,16 @@ static inline void clh_x_round(sg_ctx* sg, const clh_x_tables* tb, const clh_x_j
   const float4 next_t0 = sg_shuffle_down1_f4(sg, T[0], (float4)(0.0f));
   if (count > 0u && k0 == 0u) { /* root, Bhokare Eq. 6 */
     float3 p1 = (count > 1u ? P[1] : next_p).xyz;
-    float3 q = clh_normalize_or(p1 - P[0].xyz, CLH_UP);
+    float3 q = clh_unit_or(p1 - P[0].xyz, CLH_UP);
     float3 t1 = (M == 2u) ? q : (count > 1u ? T[1] : next_t0).xyz;
-    T[0].xyz = clh_normalize_or(clh_x_end_tangent(q, t1), q);
+    T[0].xyz = clh_end_tangent_unit(q, t1);
   }
   if (count > 0u && M - 1u >= k0 && M - 1u < k0 + count) { /* tip, Bhokare Eq. 5 */
     uint i = M - 1u - k0;
     float3 pm = (i > 0u ? P[i - 1u] : prev_p).xyz;
-    float3 q = clh_normalize_or(P[i].xyz - pm, CLH_UP);
+    float3 q = clh_unit_or(P[i].xyz - pm, CLH_UP);
     float3 tm = (M == 2u) ? q : (i > 0u ? T[i - 1u] : prev_t).xyz;
-    T[i].xyz = clh_normalize_or(clh_x_end_tangent(q, tm), q);
+    T[i].xyz = clh_end_tangent_unit(q, tm);
   }
   /* last exchange: the next lane's first tangent, now final */
   span->next_t = sg_shuffle_down1_f4(sg, T[0], (float4)(0.0f, 0.0f, 0.0f, 1.0f));
@@ -231,13 +226,11 @@ static inline void clh_x_draw(sg_ctx* sg, clh_raster_ctx* rc, __global const Clh
   rc->u6 = clh_unorm_bits(u, 6u);
   rc->v6 = clh_unorm_bits(v, 6u);
   rc->coverage = job.coverage;
-  const clh_mat34 to_view = clh_load_mat34(g->obj_to_view);
-  const clh_mat34 to_world = clh_load_mat34(g->obj_to_world);
   for (uint base = 0u; base + 1u < job.M; base += (uint)CLH_X_ROUND) {
     float4 P[CLH_X_CAP], T[CLH_X_CAP];
     clh_x_span span;
     clh_x_round(sg, tb, &job, base, P, T, &span);
-    clh_raster_lane(rc, scene_depth_g, gbuf_g, stats_g, to_view, to_world, P, T, span.first, span.count, span.points,
+    clh_raster_lane(rc, scene_depth_g, gbuf_g, stats_g, g, P, T, span.first, span.count, span.points,
                     span.next_p, span.next_t);
   }
 }
@@ -268,7 +261,7 @@ __kernel SG_KERNEL_ATTRS void strands_explicit_raster(CLH_X_PARAMS, __global con
   clh_raster_ctx rc;
   clh_raster_setup(&rc, groom_g, view_g);
   clh_x_draw(&sg, &rc, groom_g, &tb, lod_g, offsets_g, scene_depth_g, gbuf_g, stats_g,
-             strand_base + (uint)get_group_id(0));
+             sg_strand_index(strand_base));
 }
 
 /* Persistent grid: group g draws strands g, g + stride, g + 2 stride, ... below the total. */
@@ -281,7 +274,7 @@ __kernel SG_KERNEL_ATTRS void strands_explicit_raster_persistent(CLH_X_PARAMS,
   clh_raster_ctx rc;
   clh_raster_setup(&rc, groom_g, view_g);
   const uint total = groom_g->bundle_count > 0u ? offsets_g[groom_g->bundle_count] : 0u;
-  for (uint index = (uint)get_group_id(0); index < total; index += max(strand_stride, 1u))
+  for (uint index = sg_strand_index(0u); index < total; index += SG_STRAND_STRIDE(max(strand_stride, 1u)))
     clh_x_draw(&sg, &rc, groom_g, &tb, lod_g, offsets_g, scene_depth_g, gbuf_g, stats_g, index);
 }
 
@@ -294,7 +287,7 @@ __kernel SG_KERNEL_ATTRS void strands_explicit_export(CLH_X_PARAMS, __global flo
   CLH_X_TABLES(tb);
   (void)view_g;
   clh_x_job job;
-  if (!clh_x_find_job(groom_g, &tb, lod_g, offsets_g, strand_base + (uint)get_group_id(0), &job)) return;
+  if (!clh_x_find_job(groom_g, &tb, lod_g, offsets_g, sg_strand_index(strand_base), &job)) return;
   for (uint base = 0u; base + 1u < job.M; base += (uint)CLH_X_ROUND) {
     float4 P[CLH_X_CAP], T[CLH_X_CAP];
     clh_x_span span;
@@ -323,6 +316,6 @@ __kernel SG_KERNEL_ATTRS void strands_explicit_opacity(CLH_X_PARAMS, __global co
   rc.dom_offset = shadow_g->offset;
   for (int k = 0; k < CLH_DOM_LAYERS; ++k) rc.bound[k] = shadow_g->bound[k];
   clh_x_draw(&sg, &rc, groom_g, &tb, lod_g, offsets_g, opaque_depth_g + shadow_g->offset,
-             (__global ulong*)opacity_g, 0, strand_base + (uint)get_group_id(0));
+             (__global ulong*)opacity_g, 0, sg_strand_index(strand_base));
 }
 #endif

@@ -7,16 +7,18 @@
 namespace clhair {
 namespace {
 
-constexpr int kLanes = 32;
 constexpr int kWords = 16;
 
-// The CPU model of selftest_subgroup (kernels/selftest.cl).
-std::vector<cl_uint> model() {
-  std::vector<cl_uint> m(kLanes * kWords, 0);
-  auto x = [](int l) { return static_cast<cl_uint>(l * 7 + 3); };
-  auto y = [](int l) { return static_cast<cl_uint>(l * 13 + 100); };
-  for (int l = 0; l < kLanes; ++l) {
-    cl_uint* o = &m[l * kWords];
+// The CPU model of selftest_subgroup (kernels/selftest.cl): `strands` strands of `lanes`
+// lanes, each strand exchanging its own values.
+std::vector<cl_uint> model(int lanes, int strands) {
+  const int kLanes = lanes;
+  std::vector<cl_uint> m(std::size_t(lanes) * strands * kWords, 0);
+  for (int item = 0; item < lanes * strands; ++item) {
+    const int l = item % lanes, slot = item / lanes;
+    auto x = [slot](int i) { return static_cast<cl_uint>(i * 7 + 3 + slot * 1000); };
+    auto y = [slot](int i) { return static_cast<cl_uint>(i * 13 + 100 + slot * 1000); };
+    cl_uint* o = &m[std::size_t(item) * kWords];
     o[0] = l == 0 ? 0xF00Du : x(l - 1);
     o[1] = l == kLanes - 1 ? 0xBEEFu : x(l + 1);
     o[2] = x(0);
@@ -27,7 +29,7 @@ std::vector<cl_uint> model() {
     o[11] = l == 0 ? 0xF00Du : y(l - 1);
     o[12] = l == kLanes - 1 ? 0xBEEFu : y(l + 1);
     o[13] = static_cast<cl_uint>(l);
-    o[14] = kLanes;
+    o[14] = static_cast<cl_uint>(lanes * strands);
   }
   return m;
 }
@@ -35,10 +37,11 @@ std::vector<cl_uint> model() {
 std::vector<cl_uint> runOn(Device& dev, SubgroupBackend b) {
   auto& d = *dev.impl();
   cl::Kernel k(d.programFor(b, "selftest.cl", ""), "selftest_subgroup");
-  std::vector<cl_uint> out(kLanes * kWords, 0xDEADBEEFu);
+  const std::size_t group = d.tuningFor(b).groupSize();
+  std::vector<cl_uint> out(group * kWords, 0xDEADBEEFu);
   cl::Buffer buf(d.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, out.size() * sizeof(cl_uint), out.data());
   k.setArg(0, buf);
-  d.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(kLanes), cl::NDRange(kLanes));
+  d.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(group), cl::NDRange(group));
   d.queue.enqueueReadBuffer(buf, CL_TRUE, 0, out.size() * sizeof(cl_uint), out.data());
   return out;
 }
@@ -52,16 +55,18 @@ TEST_P(SubgroupBackends, ShufflesMatchCpuModel) {
     GTEST_SKIP() << "backend " << subgroupBackendName(GetParam()) << " is not offered by " << dev.info().name
                  << " (its kernels are compile-checked by CrossCompile tests)";
   std::vector<cl_uint> got = runOn(dev, GetParam());
-  std::vector<cl_uint> want = model();
-  for (int l = 0; l < kLanes; ++l)
+  const StrandTuning t = dev.impl()->tuningFor(GetParam());
+  std::vector<cl_uint> want = model(static_cast<int>(t.lanes), static_cast<int>(t.strandsPerGroup));
+  ASSERT_EQ(got.size(), want.size());
+  for (std::size_t i = 0; i < got.size() / kWords; ++i)
     for (int w = 0; w < 15; ++w)
-      EXPECT_EQ(got[l * kWords + w], want[l * kWords + w]) << "lane " << l << " word " << w;
+      EXPECT_EQ(got[i * kWords + w], want[i * kWords + w]) << "work-item " << i << " word " << w;
   EXPECT_EQ(dev.selfTest(GetParam()), "");
 }
 
 INSTANTIATE_TEST_SUITE_P(All, SubgroupBackends,
                          ::testing::Values(SubgroupBackend::Local, SubgroupBackend::Khr, SubgroupBackend::Intel,
-                                           SubgroupBackend::NvPtx, SubgroupBackend::Amd),
+                                           SubgroupBackend::NvPtx, SubgroupBackend::Amd, SubgroupBackend::Single),
                          [](const auto& info) { return std::string(subgroupBackendName(info.param)); });
 
 TEST(Subgroup, ForcedBackendThatFailsIsRefused) {

@@ -6,13 +6,13 @@
 
 #include "cl/cl_error.h"
 #include "cl/device_impl.h"
+#include "cl/tuning.h"
 
 namespace clhair {
 
 namespace {
 
 constexpr int kSelftestWords = 16;
-constexpr int kSgSize = 32;
 constexpr cl_device_info kComputeCapabilityMajorNv = 0x4000;
 
 std::string envOr(const char* name, const std::string& given) {
@@ -70,6 +70,8 @@ DeviceInfo describe(const cl::Platform& platform, const cl::Device& device, int 
                      vendor.find("amd") != std::string::npos))
     info.candidates.push_back(SubgroupBackend::Amd);
   info.candidates.push_back(SubgroupBackend::Local);
+  // CPUs: one work-item per strand first (DESIGN.md, "Lanes per strand")
+  if (!info.isGpu) info.candidates.insert(info.candidates.begin(), SubgroupBackend::Single);
   return info;
 }
 
@@ -123,22 +125,34 @@ const char* subgroupBackendName(SubgroupBackend b) {
       return "nvptx";
     case SubgroupBackend::Amd:
       return "amd";
+    case SubgroupBackend::Single:
+      return "single";
   }
   return "?";
 }
 
 SubgroupBackend parseSubgroupBackend(const std::string& name) {
   for (SubgroupBackend b : {SubgroupBackend::Local, SubgroupBackend::Khr, SubgroupBackend::Intel,
-                            SubgroupBackend::NvPtx, SubgroupBackend::Amd})
+                            SubgroupBackend::NvPtx, SubgroupBackend::Amd, SubgroupBackend::Single})
     if (name == subgroupBackendName(b)) return b;
   throw Error("unknown sub-group backend \"" + name +
-              "\"; expected one of: local, khr, intel, nvptx, amd");
+              "\"; expected one of: local, khr, intel, nvptx, amd, single");
 }
 
 DeviceOptions DeviceOptions::fromEnvironment(DeviceOptions given) {
   given.selector = envOr("CLHAIR_DEVICE", given.selector);
   given.subgroup = envOr("CLHAIR_SUBGROUP", given.subgroup);
   given.kernelDir = envOr("CLHAIR_KERNEL_DIR", given.kernelDir);
+  if (given.strandsPerGroup == 0) {
+    std::string spg = envOr("CLHAIR_STRANDS_PER_GROUP", "");
+    if (!spg.empty()) {
+      char* end = nullptr;
+      unsigned long v = std::strtoul(spg.c_str(), &end, 10);
+      if (end == spg.c_str() || *end != '\0' || v == 0 || v > 256)
+        throw Error("CLHAIR_STRANDS_PER_GROUP=\"" + spg + "\": expected a whole number from 1 to 256");
+      given.strandsPerGroup = static_cast<std::uint32_t>(v);
+    }
+  }
   return given;
 }
 
@@ -190,6 +204,7 @@ Device Device::open(const DeviceOptions& options) {
   impl->info = chosen->info;
   impl->sources = KernelSources(options.kernelDir);
   impl->kernelWarningsAsErrors = options.kernelWarningsAsErrors;
+  impl->strandsPerGroupOverride = options.strandsPerGroup;
   const char* dbg = std::getenv("CLHAIR_DEBUG_SYNC");
   impl->debugFinish = dbg && std::string(dbg) == "1";
   clCall("creating the OpenCL context on " + impl->info.name, [&] {
@@ -206,16 +221,14 @@ Device Device::open(const DeviceOptions& options) {
     if (!why.empty())
       throw Error(std::string("forced sub-group backend \"") + subgroupBackendName(b) +
                   "\" fails its self-test on " + impl->info.name + ": " + why);
-    impl->info.backend = b;
-    impl->info.backendNote = "forced";
+    impl->useBackend(b, "forced");
     return dev;
   }
   std::string notes;
   for (SubgroupBackend b : impl->info.candidates) {
     std::string why = dev.selfTest(b);
     if (why.empty()) {
-      impl->info.backend = b;
-      impl->info.backendNote = notes.empty() ? "self-test passed" : notes;
+      impl->useBackend(b, notes.empty() ? "self-test passed" : notes);
       return dev;
     }
     notes += std::string(subgroupBackendName(b)) + " failed (" + why + "); ";
@@ -232,10 +245,10 @@ Device Device::withBackend(SubgroupBackend b) const {
   impl->context = impl_->context;
   impl->queue = impl_->queue;
   impl->info = impl_->info;
-  impl->info.backend = b;
-  impl->info.backendNote = "selected";
   impl->sources = impl_->sources;
   impl->kernelWarningsAsErrors = impl_->kernelWarningsAsErrors;
+  impl->strandsPerGroupOverride = impl_->strandsPerGroupOverride;
+  impl->useBackend(b, "selected");
   impl->debugFinish = impl_->debugFinish;
   return Device(impl);
 }
@@ -245,32 +258,36 @@ std::string Device::selfTest(SubgroupBackend b) const {
   try {
     cl::Program program = d.programFor(b, "selftest.cl", "");
     cl::Kernel k(program, "selftest_subgroup");
+    const StrandTuning t = d.tuningFor(b);
+    const cl_uint lanes = t.lanes, group = t.groupSize();
     size_t wg = k.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(d.device);
-    if (wg < static_cast<size_t>(kSgSize))
-      return "kernel work-group limit " + std::to_string(wg) + " < " + std::to_string(kSgSize);
-    std::vector<cl_uint> out(kSgSize * kSelftestWords, 0xDEADu);
+    if (wg < group)
+      return "kernel work-group limit " + std::to_string(wg) + " < " + std::to_string(group);
+    std::vector<cl_uint> out(std::size_t(group) * kSelftestWords, 0xDEADu);
     cl::Buffer buf(d.context, CL_MEM_READ_WRITE, out.size() * sizeof(cl_uint));
     d.queue.enqueueWriteBuffer(buf, CL_TRUE, 0, out.size() * sizeof(cl_uint), out.data());
     k.setArg(0, buf);
-    d.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(kSgSize), cl::NDRange(kSgSize));
+    d.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(group), cl::NDRange(group));
     d.queue.enqueueReadBuffer(buf, CL_TRUE, 0, out.size() * sizeof(cl_uint), out.data());
-    for (cl_uint lane = 0; lane < static_cast<cl_uint>(kSgSize); ++lane) {
-      const cl_uint* o = &out[lane * kSelftestWords];
-      auto xOf = [](cl_uint l) { return l * 7u + 3u; };
-      auto yOf = [](cl_uint l) { return l * 13u + 100u; };
-      cl_uint expect[13];
+    for (cl_uint item = 0; item < group; ++item) {
+      const cl_uint* o = &out[item * kSelftestWords];
+      const cl_uint lane = item % lanes, slot = item / lanes;
+      auto xOf = [slot](cl_uint l) { return l * 7u + 3u + slot * 1000u; };
+      auto yOf = [slot](cl_uint l) { return l * 13u + 100u + slot * 1000u; };
+      cl_uint expect[14];
       expect[0] = lane == 0 ? 0xF00Du : xOf(lane - 1);
-      expect[1] = lane == kSgSize - 1 ? 0xBEEFu : xOf(lane + 1);
+      expect[1] = lane == lanes - 1 ? 0xBEEFu : xOf(lane + 1);
       expect[2] = xOf(0);
       for (cl_uint c = 0; c < 4; ++c) {
         expect[3 + c] = lane == 0 ? 1u + c : xOf(lane - 1) + c;
-        expect[7 + c] = lane == kSgSize - 1 ? 1u + c : xOf(lane + 1) + c;
+        expect[7 + c] = lane == lanes - 1 ? 1u + c : xOf(lane + 1) + c;
       }
       expect[11] = lane == 0 ? 0xF00Du : yOf(lane - 1);
-      expect[12] = lane == kSgSize - 1 ? 0xBEEFu : yOf(lane + 1);
-      for (int w = 0; w < 13; ++w)
+      expect[12] = lane == lanes - 1 ? 0xBEEFu : yOf(lane + 1);
+      expect[13] = lane;
+      for (int w = 0; w < 14; ++w)
         if (o[w] != expect[w])
-          return "lane " + std::to_string(lane) + " word " + std::to_string(w) + " is " +
+          return "work-item " + std::to_string(item) + " word " + std::to_string(w) + " is " +
                  std::to_string(o[w]) + ", expected " + std::to_string(expect[w]);
     }
     return {};
@@ -296,7 +313,8 @@ std::string Device::Impl::buildOptions(SubgroupBackend backend, const std::strin
       opts = "-cl-std=CL1.2";
       break;
   }
-  opts += " -DSG_SIZE=" + std::to_string(kSgSize);
+  const StrandTuning t = tuningFor(backend);
+  opts += " -DSG_SIZE=" + std::to_string(t.lanes) + " -DSG_STRANDS=" + std::to_string(t.strandsPerGroup);
   opts += " -DSG_BACKEND=" + std::to_string(static_cast<int>(backend));
   if ((backend == SubgroupBackend::Intel || backend == SubgroupBackend::Khr) &&
       hasExtension(ext, "cl_intel_required_subgroup_size"))
@@ -311,6 +329,18 @@ std::string Device::Impl::buildOptions(SubgroupBackend backend, const std::strin
   if (kernelWarningsAsErrors) opts += " -Werror";
   if (!extra.empty()) opts += " " + extra;
   return opts;
+}
+
+StrandTuning Device::Impl::tuningFor(SubgroupBackend backend) const {
+  return strandTuning(info, backend, strandsPerGroupOverride);
+}
+
+void Device::Impl::useBackend(SubgroupBackend backend, const std::string& note) {
+  const StrandTuning t = tuningFor(backend);
+  info.backend = backend;
+  info.backendNote = note;
+  info.lanesPerStrand = t.lanes;
+  info.strandsPerGroup = t.strandsPerGroup;
 }
 
 cl::Program Device::Impl::programFor(SubgroupBackend backend, const std::string& file,

@@ -12,6 +12,7 @@
 
 #include "cl/kernel_sources.h"
 #include "cl/opencl.h"
+#include "cl/tuning.h"
 #include "clhair/device.h"
 
 namespace clhair {
@@ -25,6 +26,14 @@ struct Device::Impl {
   KernelSources sources;
   bool kernelWarningsAsErrors = false;
   bool debugFinish = false;  // finish() after every dispatch (CLHAIR_DEBUG_SYNC=1)
+  std::uint32_t strandsPerGroupOverride = 0;  // DeviceOptions::strandsPerGroup
+
+  // The strand kernels' launch shape for `backend` (host/cl/tuning.h).
+  StrandTuning tuningFor(SubgroupBackend backend) const;
+  // The launch shape of the chosen backend.
+  StrandTuning tuning() const { return tuningFor(info.backend); }
+  // Makes `backend` the one programs are built for, with its tuning, in `info`.
+  void useBackend(SubgroupBackend backend, const std::string& note);
 
   // Build options for `backend` (sub-group defines, -cl-std) plus `extra`.
   std::string buildOptions(SubgroupBackend backend, const std::string& extra) const;

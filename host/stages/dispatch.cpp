@@ -1,6 +1,8 @@
 // dispatch.cpp — launching kernels and summing profiled times.
 #include "stages/dispatch.h"
 
+#include <algorithm>
+
 #include "cl/cl_error.h"
 
 namespace clhair {
@@ -62,6 +64,28 @@ cl::Event dispatch(Device::Impl& dev, cl::Kernel& kernel, const std::string& sta
   if (dev.debugFinish) clCall(stage + ": finish after " + name, [&] { return dev.queue.finish(); });
   if (profiler) profiler->add(stage, event);
   return event;
+}
+
+void dispatchStrands(Device::Impl& dev, cl::Kernel& kernel, const std::string& stage,
+                     std::uint32_t strands, cl_uint baseArg, Profiler* profiler) {
+  const StrandTuning t = dev.tuning();
+  for (std::uint32_t base = 0; base < strands; base += kMaxStrandsPerDispatch) {
+    const std::uint32_t count = std::min(kMaxStrandsPerDispatch, strands - base);
+    const std::size_t groups = (count + t.strandsPerGroup - 1) / t.strandsPerGroup;
+    clCall(stage + ": setting the first strand", [&] { return kernel.setArg(baseArg, base); });
+    dispatch(dev, kernel, stage, cl::NDRange(groups * t.groupSize()), cl::NDRange(t.groupSize()), profiler);
+  }
+}
+
+void dispatchStrandsPersistent(Device::Impl& dev, cl::Kernel& kernel, const std::string& stage,
+                               std::uint32_t strands, cl_uint groupsArg, Profiler* profiler) {
+  if (strands == 0) return;
+  const StrandTuning t = dev.tuning();
+  const std::uint32_t needed = (strands + t.strandsPerGroup - 1) / t.strandsPerGroup;
+  const std::uint32_t groups = std::min<std::uint32_t>(needed, std::max<std::uint32_t>(1, dev.info.computeUnits) * 16);
+  clCall(stage + ": setting the grid size", [&] { return kernel.setArg(groupsArg, groups); });
+  dispatch(dev, kernel, stage, cl::NDRange(std::size_t(groups) * t.groupSize()), cl::NDRange(t.groupSize()),
+           profiler);
 }
 
 }  // namespace clhair

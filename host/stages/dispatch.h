@@ -29,4 +29,17 @@ std::size_t roundUp(std::size_t n, std::size_t multiple);
 cl::Event dispatch(Device::Impl& dev, cl::Kernel& kernel, const std::string& stage,
                    cl::NDRange global, cl::NDRange local, Profiler* profiler);
 
+// Launches a strand kernel over `strands` draw indices in the device's launch shape
+// (host/cl/tuning.h): work-groups of lanes x strands-per-group items, split into
+// dispatches of at most kMaxStrandsPerDispatch strands (every driver's global-size
+// limits), each told its first strand through argument `baseArg`.
+constexpr std::uint32_t kMaxStrandsPerDispatch = 1u << 22;
+void dispatchStrands(Device::Impl& dev, cl::Kernel& kernel, const std::string& stage,
+                     std::uint32_t strands, cl_uint baseArg, Profiler* profiler);
+// A persistent grid for up to `strands` strands: a few work-groups per compute unit, each
+// walking the strands of its slots in steps of the grid; the grid's group count goes to
+// argument `groupsArg`.
+void dispatchStrandsPersistent(Device::Impl& dev, cl::Kernel& kernel, const std::string& stage,
+                               std::uint32_t strands, cl_uint groupsArg, Profiler* profiler);
+
 }  // namespace clhair

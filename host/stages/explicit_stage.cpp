@@ -77,19 +77,11 @@ void ExplicitStage::raster(const Inputs& in, const StrandStage::Raster& r, Profi
   k.setArg(12, *r.gbuffer);
   k.setArg(13, *r.counters);
   if (r.strands == 0) return;
-  const std::uint32_t lanes = StrandStage::kLanes;
   if (persistent) {
-    // a few groups per compute unit, each walking every `groups`-th strand
-    std::uint32_t groups = std::min<std::uint32_t>(r.strands, std::max<std::uint32_t>(1, dev_.info.computeUnits) * 16);
-    k.setArg(14, groups);
-    dispatch(dev_, k, "strands", cl::NDRange(std::size_t(groups) * lanes), cl::NDRange(lanes), profiler);
+    dispatchStrandsPersistent(dev_, k, "strands", r.strands, 14, profiler);
     return;
   }
-  for (std::uint32_t base = 0; base < r.strands; base += StrandStage::kMaxGroupsPerDispatch) {
-    std::uint32_t groups = std::min(StrandStage::kMaxGroupsPerDispatch, r.strands - base);
-    k.setArg(14, base);
-    dispatch(dev_, k, "strands", cl::NDRange(std::size_t(groups) * lanes), cl::NDRange(lanes), profiler);
-  }
+  dispatchStrands(dev_, k, "strands", r.strands, 14, profiler);
 }
 
 void ExplicitStage::opacity(const Inputs& in, const cl::Buffer& lightView, const cl::Buffer& opaqueDepth,
@@ -102,12 +94,7 @@ void ExplicitStage::opacity(const Inputs& in, const cl::Buffer& lightView, const
   k.setArg(12, shadow);
   k.setArg(13, hairDepth);
   k.setArg(14, opacity);
-  for (std::uint32_t base = 0; base < strands; base += StrandStage::kMaxGroupsPerDispatch) {
-    std::uint32_t groups = std::min(StrandStage::kMaxGroupsPerDispatch, strands - base);
-    k.setArg(15, base);
-    dispatch(dev_, k, "shadow", cl::NDRange(std::size_t(groups) * StrandStage::kLanes),
-             cl::NDRange(StrandStage::kLanes), profiler);
-  }
+  dispatchStrands(dev_, k, "shadow", strands, 15, profiler);
 }
 
 void ExplicitStage::exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& outPoints,
@@ -118,12 +105,7 @@ void ExplicitStage::exportStrands(const Inputs& in, std::uint32_t strands, cl::B
   k.setArg(11, outPoints);
   k.setArg(12, outTangents);
   k.setArg(13, outCounts);
-  for (std::uint32_t base = 0; base < strands; base += StrandStage::kMaxGroupsPerDispatch) {
-    std::uint32_t groups = std::min(StrandStage::kMaxGroupsPerDispatch, strands - base);
-    k.setArg(14, base);
-    dispatch(dev_, k, "strands", cl::NDRange(std::size_t(groups) * StrandStage::kLanes),
-             cl::NDRange(StrandStage::kLanes), profiler);
-  }
+  dispatchStrands(dev_, k, "strands", strands, 14, profiler);
 }
 
 }  // namespace clhair

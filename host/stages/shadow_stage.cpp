@@ -42,12 +42,7 @@ void ShadowStage::opacity(const StrandStage::Inputs& in, const cl::Buffer& light
   opacity_.setArg(9, shadow);
   opacity_.setArg(10, hairDepth);
   opacity_.setArg(11, opacity);
-  for (std::uint32_t base = 0; base < strands; base += StrandStage::kMaxGroupsPerDispatch) {
-    std::uint32_t groups = std::min(StrandStage::kMaxGroupsPerDispatch, strands - base);
-    opacity_.setArg(12, base);
-    dispatch(dev_, opacity_, "shadow", cl::NDRange(std::size_t(groups) * StrandStage::kLanes),
-             cl::NDRange(StrandStage::kLanes), profiler);
-  }
+  dispatchStrands(dev_, opacity_, "shadow", strands, 12, profiler);
 }
 
 }  // namespace clhair

@@ -37,19 +37,12 @@ void StrandStage::raster(const Inputs& in, const Raster& r, Profiler* profiler) 
   k.setArg(10, *r.counters);
   if (r.strands == 0) return;
   if (r.mode == DispatchMode::Persistent) {
-    // a few groups per compute unit, each walking every `groups`-th strand
-    std::uint32_t groups = std::min<std::uint32_t>(r.strands, std::max<std::uint32_t>(1, dev_.info.computeUnits) * 16);
     k.setArg(11, 0u);
-    k.setArg(12, groups);
-    dispatch(dev_, k, "strands", cl::NDRange(std::size_t(groups) * kLanes), cl::NDRange(kLanes), profiler);
+    dispatchStrandsPersistent(dev_, k, "strands", r.strands, 12, profiler);
     return;
   }
   k.setArg(12, 0u);
-  for (std::uint32_t base = 0; base < r.strands; base += kMaxGroupsPerDispatch) {
-    std::uint32_t groups = std::min(kMaxGroupsPerDispatch, r.strands - base);
-    k.setArg(11, base);
-    dispatch(dev_, k, "strands", cl::NDRange(std::size_t(groups) * kLanes), cl::NDRange(kLanes), profiler);
-  }
+  dispatchStrands(dev_, k, "strands", r.strands, 11, profiler);
 }
 
 void StrandStage::exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& points,
@@ -65,11 +58,7 @@ void StrandStage::exportStrands(const Inputs& in, std::uint32_t strands, cl::Buf
   export_.setArg(8, tangents);
   export_.setArg(9, counts);
   export_.setArg(11, strands);
-  for (std::uint32_t base = 0; base < strands; base += kMaxGroupsPerDispatch) {
-    std::uint32_t groups = std::min(kMaxGroupsPerDispatch, strands - base);
-    export_.setArg(10, base);
-    dispatch(dev_, export_, "strands", cl::NDRange(std::size_t(groups) * kLanes), cl::NDRange(kLanes), profiler);
-  }
+  dispatchStrands(dev_, export_, "strands", strands, 10, profiler);
 }
 
 }  // namespace clhair

@@ -1,8 +1,6 @@
 // strand_stage.h — binds and launches strands_raster / strands_export (kernels/strands.cl):
-// one work-group of 32 lanes per strand. The raster kernel is built per MSAA sample count
+// strands in the device's launch shape (dispatchStrands). The raster kernel is built per MSAA sample count
 // (and with counters for statistics runs); the dispatch follows the chosen sizing mode.
-// Very large launches are split (strand_base) to stay within every driver's global-size
-// limits.
 #pragma once
 
 #include <cstdint>
@@ -14,8 +12,6 @@ namespace clhair {
 
 class StrandStage {
  public:
-  static constexpr std::uint32_t kLanes = 32;  // one logical sub-group
-  static constexpr std::uint32_t kMaxGroupsPerDispatch = 1u << 22;
   explicit StrandStage(Device::Impl& dev);
 
   struct Inputs {

@@ -14,10 +14,10 @@
 
 namespace clhair {
 
-enum class SubgroupBackend { Local = 0, Khr = 1, Intel = 2, NvPtx = 3, Amd = 4 };
+enum class SubgroupBackend { Local = 0, Khr = 1, Intel = 2, NvPtx = 3, Amd = 4, Single = 5 };
 
 const char* subgroupBackendName(SubgroupBackend b);
-// Parses "local", "khr", "intel", "nvptx", "amd"; throws clhair::Error otherwise.
+// Parses "local", "khr", "intel", "nvptx", "amd", "single"; throws clhair::Error otherwise.
 SubgroupBackend parseSubgroupBackend(const std::string& name);
 
 struct DeviceOptions {
@@ -25,7 +25,9 @@ struct DeviceOptions {
   std::string subgroup;        // "" or "auto", or a backend name to force
   std::string kernelDir;       // developer override: source tree to read kernels from
   bool kernelWarningsAsErrors = false;
-  // Values not given here are taken from CLHAIR_DEVICE, CLHAIR_SUBGROUP, CLHAIR_KERNEL_DIR.
+  std::uint32_t strandsPerGroup = 0;  // 0: the tuning table; else strands per work-group
+  // Values not given here are taken from CLHAIR_DEVICE, CLHAIR_SUBGROUP, CLHAIR_KERNEL_DIR,
+  // CLHAIR_STRANDS_PER_GROUP.
   static DeviceOptions fromEnvironment(DeviceOptions given);
 };
 
@@ -45,6 +47,8 @@ struct DeviceInfo {
   std::uint32_t computeUnits = 0;
   std::vector<SubgroupBackend> candidates;  // backends this device may run, best first
   SubgroupBackend backend = SubgroupBackend::Local;  // chosen (after the self-test)
+  std::uint32_t lanesPerStrand = 32;   // work-items per strand for `backend` (host/cl/tuning.h)
+  std::uint32_t strandsPerGroup = 1;   // strands per work-group for `backend`
   std::string backendNote;  // why this backend (fallback reasons)
 };
 

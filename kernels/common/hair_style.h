@@ -9,6 +9,8 @@
 #ifndef CLHAIR_HAIR_STYLE_H
 #define CLHAIR_HAIR_STYLE_H
 
+/* include after subgroup.h: SG_SHARED says where a strand's layer samples live */
+
 /* One strand's sample on one layer: the bilinear interpolation of the layer's quad. */
 typedef struct {
   float4 pos; /* xyz position, w: styling w */
@@ -128,7 +130,7 @@ static inline clh_strand clh_strand_setup(__global const ClhGroomGpu* g, __globa
 /* Point k of C on the base spline: Hermite between the layer samples bracketing the
  * strand parameter (uniform in the strand's length fraction). Returns the position with
  * styling w in .w; writes the derivative along the strand and the interpolated frame. */
-static inline float4 clh_base_point(__local const clh_layer_pt* layers_l, uint layer_count, uint k,
+static inline float4 clh_base_point(SG_SHARED const clh_layer_pt* layers_l, uint layer_count, uint k,
                              uint C, float length, float3* deriv, float3* du, float3* dv,
                              float* ao) {
   float x = ((float)k / (float)(C - 1u)) * length * (float)(layer_count - 1u);

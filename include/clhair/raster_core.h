@@ -1,0 +1,390 @@
+/* raster_core.h — drawing one strand segment into the visibility layers, written once in
+ * the common subset of C++17 and OpenCL C (like gpu_types.h) so the strand kernels and the
+ * benchmark's CPU floor (host/groom/cpu_raster.cpp) run the same instructions and can be
+ * compared word for word.
+ *
+ * A segment (view-space endpoints with world tangents, styling w and AO) is walked along
+ * its major axis one column (x-major) or row (y-major) at a time:
+ *   - the conservative layer (index CLH_MSAA) receives every pixel the segment touches;
+ *   - sample layer s receives the pixel when sample position s lies within half the hit
+ *     diameter of the segment (CLH_MSAA = 1: the pixel center; 2/4/8: the Direct3D
+ *     standard patterns), and a sample belongs to the segment when its major coordinate
+ *     lies in [start, end), so consecutive segments never hit a sample twice. Every
+ *     sample hit also marks the conservative layer, which therefore contains all samples.
+ * The hit diameter is the strand's projected width at the segment's middle, at least the
+ * groom's minimum, widened by the LOD compensation and capped at CLH_MAX_HIT_DIAMETER.
+ * Writes are 64-bit atomic minima of the G-buffer word after a depth test against the
+ * scene depth, skipped when a plain load shows they cannot lower the word. With
+ * CLH_RASTER_OPACITY (device only) the conservative pixels add the strand's coverage to
+ * the deep-opacity layer of their depth instead (Yuksel & Keyser 2008).
+ *
+ * Speed (DESIGN.md, "Vectorizable kernels"): scalar arithmetic only, no vector types and no
+ * library calls besides floor/ceil/sqrt; one G-buffer word per column, evaluated at the
+ * column's centre clamped to the segment and shared by the conservative pixels and the
+ * centre sample (MSAA 1); the tangent is octahedral-encoded without normalising it (the
+ * encoding divides by its L1 norm anyway), and only the attributes that need it are
+ * divided by the interpolated 1/z. Float contraction is off so every compiler rounds the
+ * same way.
+ */
+#ifndef CLHAIR_RASTER_CORE_H
+#define CLHAIR_RASTER_CORE_H
+
+#include "clhair/gpu_types.h"
+
+#ifdef CLH_DEVICE_CODE
+#pragma OPENCL FP_CONTRACT OFF
+#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
+#pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
+#define CLH_GLOBAL __global
+#else
+#define CLH_GLOBAL
+namespace clhair {
+namespace gpu {
+#endif
+
+#ifndef CLH_ATOMIC_LOAD_SKIP
+#define CLH_ATOMIC_LOAD_SKIP 1 /* plain load before the atomic (DESIGN.md, Atomics) */
+#endif
+#ifndef CLH_MSAA
+#define CLH_MSAA 1
+#endif
+#ifndef CLH_RASTER_STATS
+#define CLH_RASTER_STATS 0 /* count writes and atomics (benchmark only) */
+#endif
+#ifndef CLH_RASTER_OPACITY
+#define CLH_RASTER_OPACITY 0 /* 1: build deep-opacity layers instead of the G-buffer */
+#endif
+#if CLH_RASTER_OPACITY && !defined(CLH_DEVICE_CODE)
+#error "the opacity pass exists on the device only"
+#endif
+
+/* One end of a segment: view-space position, world tangent (any length), AO, styling w. */
+typedef struct {
+  float x, y, z;
+  float tx, ty, tz;
+  float ao, w;
+} ClhRasterVertex;
+
+/* Per-view (and per-strand: coverage, u6, v6) raster constants. */
+typedef struct {
+  float fx, fy, cx, cy;
+  clh_i32 width, height;
+  float near_z;
+  float depth_near, depth_far;
+  float width_px1;    /* strand diameter in pixels at view depth 1 */
+  float min_diameter; /* smallest hit diameter, pixels */
+  float coverage;     /* LOD compensation N / N_LOD */
+  clh_u32 u6, v6;
+  clh_u64 plane;      /* words per G-buffer layer */
+#if CLH_RASTER_OPACITY
+  __global const float* hair_depth_g; /* z0 per texel, at dom_offset */
+  clh_u64 dom_offset;
+  float bound[CLH_DOM_LAYERS];
+#endif
+} clh_raster_ctx;
+
+/* The raster constants of one view and groom (coverage 1, u and v 0 until a strand sets
+ * them). */
+CLH_FN void clh_raster_init(clh_raster_ctx* rc, float fx, float fy, float cx, float cy, clh_u32 width,
+                            clh_u32 height, float depth_near, float depth_far, float strand_width,
+                            float hit_diameter_px) {
+  rc->fx = fx;
+  rc->fy = fy;
+  rc->cx = cx;
+  rc->cy = cy;
+  rc->width = (clh_i32)width;
+  rc->height = (clh_i32)height;
+  rc->plane = (clh_u64)width * (clh_u64)height;
+  rc->near_z = 1e-4f;
+  rc->depth_near = depth_near;
+  rc->depth_far = depth_far;
+  rc->width_px1 = fy * strand_width;
+  rc->min_diameter = hit_diameter_px;
+  rc->coverage = 1.0f;
+  rc->u6 = 0u;
+  rc->v6 = 0u;
+}
+
+/* Sample positions within the pixel (Direct3D 2x/4x/8x patterns, y down). */
+#if CLH_MSAA == 1
+#define CLH_SAMPLE_X(s) 0.5f
+#define CLH_SAMPLE_Y(s) 0.5f
+#elif defined(CLH_DEVICE_CODE)
+#if CLH_MSAA == 2
+__constant float clh_samples_xy[4] = {0.75f, 0.75f, 0.25f, 0.25f};
+#elif CLH_MSAA == 4
+__constant float clh_samples_xy[8] = {0.375f, 0.125f, 0.875f, 0.375f, 0.125f, 0.625f, 0.625f, 0.875f};
+#elif CLH_MSAA == 8
+__constant float clh_samples_xy[16] = {0.5625f, 0.3125f, 0.4375f, 0.6875f, 0.8125f, 0.5625f,
+                                       0.3125f, 0.1875f, 0.1875f, 0.8125f, 0.0625f, 0.4375f,
+                                       0.6875f, 0.9375f, 0.9375f, 0.0625f};
+#else
+#error "CLH_MSAA must be 1, 2, 4 or 8"
+#endif
+#define CLH_SAMPLE_X(s) clh_samples_xy[2 * (s)]
+#define CLH_SAMPLE_Y(s) clh_samples_xy[2 * (s) + 1]
+#else
+#error "the CPU raster supports CLH_MSAA 1 only"
+#endif
+
+/* ---- the atomic write ----------------------------------------------------------------- */
+
+/* counts (CLH_RASTER_STATS): writes, atomics, skipped by the load, segments drawn */
+CLH_FN void clh_gbuf_write(CLH_GLOBAL clh_u64* gbuf, clh_u32* counts, clh_u64 at, clh_u64 word) {
+#if CLH_RASTER_STATS
+  counts[0] += 1u;
+#else
+  (void)counts;
+#endif
+#if CLH_ATOMIC_LOAD_SKIP
+#ifdef CLH_DEVICE_CODE
+  const clh_u64 seen = gbuf[at];
+#else
+  const clh_u64 seen = __atomic_load_n(gbuf + at, __ATOMIC_RELAXED);
+#endif
+  if (word >= seen) {
+#if CLH_RASTER_STATS
+    counts[2] += 1u;
+#endif
+    return;
+  }
+#endif
+#if CLH_RASTER_STATS
+  counts[1] += 1u;
+#endif
+#ifdef CLH_DEVICE_CODE
+  atom_min(gbuf + at, word);
+#else
+  clh_u64 cur = __atomic_load_n(gbuf + at, __ATOMIC_RELAXED);
+  while (word < cur &&
+         !__atomic_compare_exchange_n(gbuf + at, &cur, word, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
+  }
+#endif
+}
+
+#if CLH_RASTER_OPACITY
+/* Adds a strand's coverage of texel idx to the opacity layer its depth past z0 falls in
+ * (Yuksel & Keyser 2008); hair beyond the last layer adds to the last one. */
+static inline void clh_opacity_add(const clh_raster_ctx* rc, __global uint* opacity_g, clh_u64 idx, float z,
+                                   float weight) {
+  const float z0 = rc->hair_depth_g[rc->dom_offset + idx];
+  const float d = z - z0;
+  int k = CLH_DOM_LAYERS - 1;
+  for (int j = CLH_DOM_LAYERS - 1; j >= 0; --j)
+    if (d < rc->bound[j]) k = j;
+  const uint add = (uint)(weight * CLH_DOM_FIXED + 0.5f);
+  if (add > 0u) atomic_add(opacity_g + rc->dom_offset * CLH_DOM_LAYERS + (clh_u64)k * rc->plane + idx, add);
+}
+#endif
+
+/* ---- the segment ---------------------------------------------------------------------- */
+
+/* A segment ready to walk: major/minor screen coordinates of its ends (ma <= mb), 1/z and
+ * the attributes divided by z at both ends. */
+typedef struct {
+  float ma, na, iza, izb;
+  float ta[3], tb[3]; /* tangents / z */
+  float aoa, aob, wa, wb;
+  float inv_span;     /* 1 / (mb - ma) */
+  float span;
+} clh_seg;
+
+CLH_FN float clh_lerpf(float a, float b, float t) { return a + (b - a) * t; }
+
+/* The G-buffer word at screen parameter t of the segment (perspective-correct attributes);
+ * its view depth through *z. */
+CLH_FN clh_u64 clh_segment_word(const clh_raster_ctx* rc, const clh_seg* s, float t, float* z) {
+  const float iz = clh_lerpf(s->iza, s->izb, t);
+  const float zz = 1.0f / iz;
+  *z = zz;
+  /* the tangent's length does not matter to the octahedral code: no division by iz */
+  const float tx = clh_lerpf(s->ta[0], s->tb[0], t);
+  const float ty = clh_lerpf(s->ta[1], s->tb[1], t);
+  const float tz = clh_lerpf(s->ta[2], s->tb[2], t);
+  const float l1 = fabs(tx) + fabs(ty) + fabs(tz);
+  const clh_u32 oct = (l1 > 1e-30f && l1 < 1e30f) ? clh_oct_encode(tx, ty, tz) : clh_oct_encode(0.0f, 1.0f, 0.0f);
+  const float w = clh_lerpf(s->wa, s->wb, t) * zz;
+  const float ao = clh_lerpf(s->aoa, s->aob, t) * zz;
+  return clh_gbuf_pack(clh_depth_encode(zz, rc->depth_near, rc->depth_far), oct, rc->u6, rc->v6,
+                       clh_unorm_bits(w, 6u), clh_unorm_bits(ao, 6u));
+}
+
+/* Draws the segment a-b. */
+CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float* scene_depth,
+                               CLH_GLOBAL clh_u64* gbuf, clh_u32* counts, ClhRasterVertex a,
+                               ClhRasterVertex b) {
+  const float near_z = rc->near_z;
+  if (a.z < near_z && b.z < near_z) return;
+  if (a.z < near_z || b.z < near_z) { /* clip at the near plane */
+    const float t = (near_z - a.z) / (b.z - a.z);
+    ClhRasterVertex c;
+    c.x = clh_lerpf(a.x, b.x, t);
+    c.y = clh_lerpf(a.y, b.y, t);
+    c.z = clh_lerpf(a.z, b.z, t);
+    c.tx = clh_lerpf(a.tx, b.tx, t);
+    c.ty = clh_lerpf(a.ty, b.ty, t);
+    c.tz = clh_lerpf(a.tz, b.tz, t);
+    c.ao = clh_lerpf(a.ao, b.ao, t);
+    c.w = clh_lerpf(a.w, b.w, t);
+    if (a.z < near_z) {
+      a = c;
+    } else {
+      b = c;
+    }
+  }
+  const float iza = 1.0f / a.z, izb = 1.0f / b.z;
+  const float xa = rc->cx + rc->fx * a.x * iza, ya = rc->cy - rc->fy * a.y * iza;
+  const float xb = rc->cx + rc->fx * b.x * izb, yb = rc->cy - rc->fy * b.y * izb;
+  const float dx = xb - xa, dy = yb - ya;
+  const float len = sqrt(dx * dx + dy * dy);
+  if (!(len > 1e-6f) || !(len < 1e7f)) return;
+#if CLH_RASTER_STATS
+  counts[3] += 1u;
+#endif
+
+  const bool xmajor = fabs(dx) >= fabs(dy);
+  /* order the ends along the major axis */
+  const float m0 = xmajor ? xa : ya, m1 = xmajor ? xb : yb;
+  const bool flip = m0 > m1;
+  const ClhRasterVertex lo_v = flip ? b : a, hi_v = flip ? a : b;
+  clh_seg s;
+  s.ma = flip ? m1 : m0;
+  const float mb = flip ? m0 : m1;
+  s.na = xmajor ? (flip ? yb : ya) : (flip ? xb : xa);
+  const float nb = xmajor ? (flip ? ya : yb) : (flip ? xa : xb);
+  s.iza = flip ? izb : iza;
+  s.izb = flip ? iza : izb;
+  s.ta[0] = lo_v.tx * s.iza;
+  s.ta[1] = lo_v.ty * s.iza;
+  s.ta[2] = lo_v.tz * s.iza;
+  s.tb[0] = hi_v.tx * s.izb;
+  s.tb[1] = hi_v.ty * s.izb;
+  s.tb[2] = hi_v.tz * s.izb;
+  s.aoa = lo_v.ao * s.iza;
+  s.aob = hi_v.ao * s.izb;
+  s.wa = lo_v.w * s.iza;
+  s.wb = hi_v.w * s.izb;
+  s.span = mb - s.ma;
+  s.inv_span = 1.0f / s.span;
+
+  const clh_i32 major_max = xmajor ? rc->width : rc->height;
+  const clh_i32 minor_max = xmajor ? rc->height : rc->width;
+  const float slope = (nb - s.na) * s.inv_span;
+  const float cosv = s.span / len; /* minor-axis offsets times cosv = perpendicular distance */
+
+  /* hit radius: projected width at the segment's middle, widened for LOD, at least the minimum */
+  const float zmid = 2.0f / (iza + izb);
+  float diameter = rc->width_px1 / zmid;
+  diameter = diameter > rc->min_diameter ? diameter : rc->min_diameter;
+  diameter *= rc->coverage;
+  diameter = diameter < CLH_MAX_HIT_DIAMETER ? diameter : CLH_MAX_HIT_DIAMETER;
+  const float r = 0.5f * diameter;
+  const float reach = r / cosv;
+#if CLH_RASTER_OPACITY
+  /* the share of a texel the strand covers, scaled for strands removed by LOD */
+  const float opacity_w = fmin(rc->width_px1 / zmid, 1.0f) * rc->coverage;
+#endif
+
+  /* columns whose extent meets [ma, mb), restricted to where the band stays on screen */
+  float lo = floor(s.ma), hi = ceil(mb);
+  if (fabs(slope) > 1e-12f) {
+    const float c0 = s.ma + (-2.0f - reach - s.na) / slope;
+    const float c1 = s.ma + ((float)minor_max + 2.0f + reach - s.na) / slope;
+    const float cmin = c0 < c1 ? c0 : c1, cmax = c0 < c1 ? c1 : c0;
+    lo = fmax(lo, floor(cmin));
+    hi = fmin(hi, ceil(cmax));
+  } else if (s.na < -2.0f - reach || s.na > (float)minor_max + 2.0f + reach) {
+    return;
+  }
+  const clh_i32 i0 = lo > 0.0f ? (clh_i32)lo : 0;
+  const clh_i32 i1 = hi < (float)major_max ? (clh_i32)hi : major_max; /* exclusive */
+  const clh_u64 width = (clh_u64)rc->width;
+  for (clh_i32 i = i0; i < i1; ++i) {
+    /* conservative: the rows the segment crosses within this column */
+    const float e0 = (float)i > s.ma ? (float)i : s.ma;
+    const float e1 = (float)i + 1.0f < mb ? (float)i + 1.0f : mb;
+    if (!(e1 >= e0)) continue;
+    const float n0 = s.na + (e0 - s.ma) * slope, n1 = s.na + (e1 - s.ma) * slope;
+    const clh_i32 j0 = (clh_i32)floor(n0 < n1 ? n0 : n1), j1 = (clh_i32)floor(n0 < n1 ? n1 : n0);
+    /* one word per column: at the column's centre, clamped to the segment */
+    const float mc = (float)i + 0.5f;
+    float tc = (mc - s.ma) * s.inv_span;
+    tc = tc < 0.0f ? 0.0f : (tc > 1.0f ? 1.0f : tc);
+    float zc;
+    const clh_u64 cword = clh_segment_word(rc, &s, tc, &zc);
+    const clh_i32 jc0 = j0 > 0 ? j0 : 0, jc1 = j1 < minor_max - 1 ? j1 : minor_max - 1;
+    for (clh_i32 j = jc0; j <= jc1; ++j) {
+      const clh_u64 idx = xmajor ? (clh_u64)j * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j;
+#if CLH_RASTER_OPACITY
+      if (zc < scene_depth[idx]) clh_opacity_add(rc, (__global uint*)gbuf, idx, zc, opacity_w);
+#else
+      if (zc < scene_depth[idx]) clh_gbuf_write(gbuf, counts, (clh_u64)CLH_MSAA * rc->plane + idx, cword);
+#endif
+    }
+#if !CLH_RASTER_OPACITY /* the opacity pass needs no samples */
+    /* samples within the hit radius */
+    for (int sidx = 0; sidx < CLH_MSAA; ++sidx) {
+      const float om = xmajor ? CLH_SAMPLE_X(sidx) : CLH_SAMPLE_Y(sidx);
+      const float on = xmajor ? CLH_SAMPLE_Y(sidx) : CLH_SAMPLE_X(sidx);
+      const float ms = (float)i + om;
+      if (ms < s.ma || ms >= mb) continue;
+      const float nl = s.na + (ms - s.ma) * slope;
+      const float flo = ceil(nl - reach - on), fhi = floor(nl + reach - on);
+      const clh_i32 jlo = flo > 0.0f ? (clh_i32)flo : 0;
+      const clh_i32 jhi = fhi < (float)(minor_max - 1) ? (clh_i32)fhi : minor_max - 1;
+      if (jlo > jhi) continue;
+      float z = zc;
+      clh_u64 word = cword;
+      if (CLH_MSAA > 1) word = clh_segment_word(rc, &s, (ms - s.ma) * s.inv_span, &z);
+      for (clh_i32 j = jlo; j <= jhi; ++j) {
+        if (!(fabs((float)j + on - nl) * cosv < r)) continue;
+        const clh_u64 idx = xmajor ? (clh_u64)j * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j;
+        if (!(z < scene_depth[idx])) continue;
+        clh_gbuf_write(gbuf, counts, (clh_u64)sidx * rc->plane + idx, word);
+        if (j < j0 || j > j1) clh_gbuf_write(gbuf, counts, (clh_u64)CLH_MSAA * rc->plane + idx, word);
+      }
+    }
+#endif
+  }
+}
+
+/* ---- strand geometry shared by the stored-strand kernel and the CPU floor -------------- */
+
+/* A 3x4 row-major affine transform applied to a point / a direction. */
+CLH_FN void clh_xform3(const float* m, float x, float y, float z, float w, float* out) {
+  out[0] = m[0] * x + m[1] * y + m[2] * z + m[3] * w;
+  out[1] = m[4] * x + m[5] * y + m[6] * z + m[7] * w;
+  out[2] = m[8] * x + m[9] * y + m[10] * z + m[11] * w;
+}
+
+/* v / |v|, or the fallback when v is (nearly) zero or not finite. */
+CLH_FN void clh_normalize3(float* v, const float* fallback) {
+  const float l2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+  if (l2 > 1e-30f && l2 < 1e30f) {
+    const float inv = 1.0f / sqrt(l2);
+    v[0] *= inv;
+    v[1] *= inv;
+    v[2] *= inv;
+  } else {
+    v[0] = fallback[0];
+    v[1] = fallback[1];
+    v[2] = fallback[2];
+  }
+}
+
+/* The end tangent: the neighbour's tangent t reflected about the end segment's unit
+ * direction q (Bhokare Eq. 5-6), normalised (q when degenerate); written to t. */
+CLH_FN void clh_end_tangent3(const float* q, float* t) {
+  const float d = t[0] * q[0] + t[1] * q[1] + t[2] * q[2];
+  t[0] = 2.0f * q[0] * d - t[0];
+  t[1] = 2.0f * q[1] * d - t[1];
+  t[2] = 2.0f * q[2] * d - t[2];
+  clh_normalize3(t, q);
+}
+
+#ifndef CLH_DEVICE_CODE
+}  // namespace gpu
+}  // namespace clhair
+#endif
+
+#endif /* CLHAIR_RASTER_CORE_H */

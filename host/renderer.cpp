@@ -893,6 +893,7 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
   for (const GroomInstance& gi : s.grooms) {
     const cl::Buffer* groomParams = nullptr;
     const cl::Buffer* groomOffsets = nullptr;
+    const gpu::ClhGroomGpu* groomRecord = nullptr;
     StrandStage::Raster rs{&r.view, &r.depth, &r.gbuffer, &r.stats, options.msaa, options.rasterStats, mode, 0};
     if (gi.strands) {
       ExplicitResources& e = r.explicitFor(gi.strands);
@@ -905,6 +906,7 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
       r.explicitStage.raster(in, rs, &r.profiler);
       groomParams = &e.groom;
       groomOffsets = &e.offsets;
+      groomRecord = &e.params;
     } else {
       GroomResources& g = r.groomFor(gi.mesh);
       r.applyAo(g, options.ambientOcclusion != 0);
@@ -917,6 +919,18 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
       r.strands.raster(r.strandInputs(g), rs, &r.profiler);
       groomParams = &g.groom;
       groomOffsets = &g.offsets;
+      groomRecord = &g.params;
+    }
+    if (options.captureGBuffer) {  // the raster's inputs, before compositing changes the depth
+      const auto* gb = reinterpret_cast<const std::uint8_t*>(groomRecord);
+      const auto* vb = reinterpret_cast<const std::uint8_t*>(&view);
+      frame.rasterGroom.assign(gb, gb + sizeof(gpu::ClhGroomGpu));
+      frame.rasterView.assign(vb, vb + sizeof(gpu::ClhViewGpu));
+      frame.rasterDepth.resize(pixels);
+      clCall("reading the depth the hair was tested against", [&] {
+        r.dev.queue.enqueueReadBuffer(r.depth, CL_TRUE, 0, pixels * sizeof(float), frame.rasterDepth.data());
+        return 0;
+      });
     }
     r.shade.enqueue({groomParams, &r.view, &r.scene, &r.lights, &r.shadowAll, &r.shadowOpaque, &r.shadowHair,
                      &r.shadowOpacity, &r.envTexels(), &r.envLevels(), &r.envSh(), &r.gbuffer, groomOffsets, &r.hair,

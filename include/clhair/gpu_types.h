@@ -14,6 +14,9 @@
 
 #if defined(__OPENCL_VERSION__) || defined(__OPENCL_C_VERSION__)
 #define CLH_DEVICE_CODE 1
+/* No fused multiply-add contraction: the shared helpers round the same on every device and
+ * on the host (the CPU floor of the benchmark compares G-buffer words exactly). */
+#pragma OPENCL FP_CONTRACT OFF
 typedef uint clh_u32;
 typedef int clh_i32;
 typedef ulong clh_u64;

@@ -32,7 +32,6 @@
 #include "clhair/gpu_types.h"
 
 #ifdef CLH_DEVICE_CODE
-#pragma OPENCL FP_CONTRACT OFF
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
 #define CLH_GLOBAL __global

@@ -63,6 +63,11 @@ struct Frame {
   // the conservative layer), width * height words each.
   std::vector<std::uint64_t> gbuffer;
   int gbufferLayers = 0;
+  // Also with captureGBuffer: what the last groom's strand pass read, for CPU re-runs of
+  // it (host/groom/cpu_raster.h): its groom and view records (ClhGroomGpu and ClhViewGpu
+  // of gpu_types.h, as bytes) and the scene depth its pixels were tested against.
+  std::vector<std::uint8_t> rasterGroom, rasterView;
+  std::vector<float> rasterDepth;
 
   double stageMs(const std::string& stage) const;
   double totalMs() const;

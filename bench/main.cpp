@@ -12,11 +12,17 @@
 //             PSNR against the reference (jittered true-width passes), with frame times.
 //   temporal  a 30-frame orbit: mean frame-to-frame change for SWR1, SWR1+F, MSAA 4.
 //   explicit  the hair mesh vs the same strands as a cyHair file: device bytes, frame times.
-// Timings come from OpenCL profiling events (device time per stage), never wall clock;
+//   floor     the strand pass against an in-run floor: the same raster as plain
+//             multithreaded C++ (host/groom/cpu_raster.h, checked word for word against
+//             the device's G-buffer), the pass's cores used (CPU time / wall time), and the
+//             default scene's frame as wall clock next to the device-time sum.
+// Stage timings come from OpenCL profiling events (device time per stage); frames are also
+// timed by wall clock (what a user waits for: uploads, read-backs and host work included);
 // compile time is reported apart. Output: bench.json, bench.csv and bench.md in --out,
 // tagged with device, driver and git revision; the markdown is also printed.
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -31,6 +37,8 @@
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
 #include "clhair/strand_groom.h"
+#include "groom/cpu_raster.h"
+#include "groom/explicit_data.h"
 #include "io/cyhair.h"
 #include "metrics/image_metrics.h"
 
@@ -53,9 +61,17 @@ Stats summarize(std::vector<double> v) {
   return s;
 }
 
+double cpuSeconds() {
+  timespec t{};
+  ::clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
 struct Measured {
   std::map<std::string, Stats> stages;
-  Stats total;
+  Stats total;  // sum of the stages' device times
+  Stats wall;   // render() call, wall clock
+  Stats cores;  // process CPU time / wall time during render()
   FrameStats counts;  // from a separate statistics frame
 };
 
@@ -67,15 +83,22 @@ struct Bench {
   Measured measure(const Scene& scene, RenderOptions o, bool counts = true) {
     for (int i = 0; i < warmup; ++i) renderer.render(scene, o);
     std::map<std::string, std::vector<double>> stages;
-    std::vector<double> totals;
+    std::vector<double> totals, walls, cores;
     for (int i = 0; i < runs; ++i) {
+      const double c0 = cpuSeconds();
+      const auto t0 = std::chrono::steady_clock::now();
       Frame f = renderer.render(scene, o);
+      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      walls.push_back(wall * 1e3);
+      cores.push_back(wall > 0.0 ? (cpuSeconds() - c0) / wall : 0.0);
       for (const StageTime& t : f.timings) stages[t.stage].push_back(t.ms);
       totals.push_back(f.totalMs());
     }
     Measured m;
     for (auto& [k, v] : stages) m.stages[k] = summarize(v);
     m.total = summarize(totals);
+    m.wall = summarize(walls);
+    m.cores = summarize(cores);
     if (counts) {
       o.rasterStats = true;
       m.counts = renderer.render(scene, o).stats;
@@ -104,6 +127,8 @@ std::string fmt(double v, int digits = 2) {
 json measuredJson(const Measured& m) {
   json j;
   j["total_ms"] = {{"median", m.total.median}, {"min", m.total.min}, {"max", m.total.max}};
+  j["wall_ms"] = {{"median", m.wall.median}, {"min", m.wall.min}, {"max", m.wall.max}};
+  j["cores_used"] = m.cores.median;
   for (const auto& [k, s] : m.stages) j["stages_ms"][k] = {{"median", s.median}, {"min", s.min}, {"max", s.max}};
   j["strands"] = m.counts.strandsDrawn;
   j["segments"] = m.counts.segmentsDrawn;
@@ -160,7 +185,7 @@ int main(int argc, char** argv) {
   bool quick = false;
   app.add_option("--device", dopts.selector, "device: P:D or a name substring");
   app.add_option("--out", out, "folder for bench.json, bench.csv, bench.md");
-  app.add_option("--only", only, "one section: table1, dispatch, scaling, atomics, quality, temporal, explicit");
+  app.add_option("--only", only, "one section: table1, dispatch, scaling, atomics, quality, temporal, explicit, floor");
   app.add_option("--runs", runs, "timed runs per configuration (median reported)");
   app.add_option("--warmup", warmup, "untimed runs first");
   app.add_option("--width", width, "table1 width");
@@ -221,6 +246,30 @@ int main(int argc, char** argv) {
           << m.counts.atomicsIssued << "," << m.counts.atomicsSkipped << "\n";
     };
 
+    // groom1's generated strands exported to cyHair and read back (once), with the mesh's
+    // appearance and LOD settings: the explicit-strand twin of groom1
+    std::shared_ptr<const StrandGroom> exported;
+    auto exportedGroom1 = [&]() {
+      if (exported) return exported;
+      std::filesystem::create_directories(out);
+      const std::string hairPath = out + "/groom1.hair";
+      const HairMesh& mesh = *scenes[0].grooms[0].mesh;
+      StrandSet set = b.renderer.generateStrands(mesh);
+      {
+        CyHair h;
+        for (std::uint32_t c : set.pointCounts) h.segments.push_back(c - 1);
+        h.points = set.points;
+        h.defaultThickness = mesh.appearance.strandWidth;
+        writeCyHair(h, hairPath);
+      }
+      auto strands = std::make_shared<const StrandGroom>(loadStrandGroom(hairPath, dev.info().maxAlloc));
+      StrandGroom sg = *strands;
+      sg.appearance = mesh.appearance;
+      sg.lod = mesh.lod;
+      exported = std::make_shared<const StrandGroom>(std::move(sg));
+      return exported;
+    };
+
     std::vector<std::pair<std::string, Measured>> msaa1Rows;  // for the atomic-floor multiples
     if (only.empty() || only == "table1" || only == "atomics") {
       // rows: software MSAA 1 (filter off), SWR1+F (the reconstruction filter), MSAA 2, 4, 8
@@ -251,7 +300,8 @@ int main(int argc, char** argv) {
               o.msaa = msaa;
               o.filter = rowSpec.filter ? 1 : 0;
               Measured m = b.measure(s, o);
-              md << " " << fmt(m.total.median) << " (" << fmt(stageMedian(m, "strands")) << ") |";
+              md << " " << fmt(m.wall.median) << " (" << fmt(m.total.median) << "; " << fmt(stageMedian(m, "strands"))
+             << ") |";
               json row = measuredJson(m);
               row["groom"] = groomNames[g];
               row["lod"] = lod == 1;
@@ -309,7 +359,8 @@ int main(int argc, char** argv) {
     }
 
     if (only.empty() || only == "dispatch") {
-      md << "\n## Dispatch sizing (groom1, LOD on, MSAA 1), frame ms\n\n| mode | close | mid | far |\n|---|---|---|---|\n";
+      md << "\n## Dispatch sizing (groom1, LOD on, MSAA 1): frame wall ms (device-time sum; strands)\n\n"
+            "| mode | close | mid | far |\n|---|---|---|---|\n";
       for (DispatchMode mode : {DispatchMode::ReadBack, DispatchMode::OverLaunch, DispatchMode::Persistent}) {
         md << "| " << dispatchModeName(mode) << " |";
         for (int d = 0; d < 3; ++d) {
@@ -318,11 +369,13 @@ int main(int argc, char** argv) {
           o.lod = 1;
           o.dispatch = mode;
           Measured m = b.measure(s, o, false);
-          md << " " << fmt(m.total.median) << " (" << fmt(stageMedian(m, "strands")) << ") |";
+          md << " " << fmt(m.wall.median) << " (" << fmt(m.total.median) << "; " << fmt(stageMedian(m, "strands"))
+             << ") |";
           report["dispatch"][dispatchModeName(mode)][distNames[d]] = measuredJson(m);
           csvRow("dispatch", groomNames[0], 1, 1, distNames[d], scenes[0].grooms[0].mesh->strandCount, width, height,
                  dispatchModeName(mode), m);
-          std::fprintf(stderr, "dispatch %s %s: %.1f ms\n", dispatchModeName(mode), distNames[d], m.total.median);
+          std::fprintf(stderr, "dispatch %s %s: wall %.1f ms, device %.1f ms\n", dispatchModeName(mode), distNames[d],
+                       m.wall.median, m.total.median);
         }
         md << "\n";
       }
@@ -479,22 +532,7 @@ int main(int argc, char** argv) {
     if (only.empty() || only == "explicit") {
       // Bhokare §4: the groom as a hair mesh vs the same strands exported to cyHair and read
       // back as an explicit strand groom: device bytes and frame time of each
-      std::filesystem::create_directories(out);
-      const std::string hairPath = out + "/groom1.hair";
-      const HairMesh& mesh = *scenes[0].grooms[0].mesh;
-      StrandSet set = b.renderer.generateStrands(mesh);
-      {
-        CyHair h;
-        for (std::uint32_t c : set.pointCounts) h.segments.push_back(c - 1);
-        h.points = set.points;
-        h.defaultThickness = mesh.appearance.strandWidth;
-        writeCyHair(h, hairPath);
-      }
-      auto strands = std::make_shared<const StrandGroom>(loadStrandGroom(hairPath, dev.info().maxAlloc));
-      StrandGroom sg = *strands;
-      sg.appearance = mesh.appearance;
-      sg.lod = mesh.lod;
-      strands = std::make_shared<const StrandGroom>(std::move(sg));
+      std::shared_ptr<const StrandGroom> strands = exportedGroom1();
       md << "\n## Hair mesh vs explicit strands (" << groomNames[0] << ", " << width << "x" << height
          << ")\n\n| representation | device bytes | close, LOD off ms | far, LOD on ms |\n|---|---|---|---|\n";
       for (int explicitStrands = 0; explicitStrands < 2; ++explicitStrands) {
@@ -512,6 +550,77 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "explicit %s: %llu bytes, close %.1f ms, far %.1f ms\n", name,
                      static_cast<unsigned long long>(bytes), close.total.median, far.total.median);
       }
+    }
+
+    if (only.empty() || only == "floor") {
+      // the strand pass against the same work as plain C++ on as many threads as the device
+      // has compute units (LOD off, MSAA 1, filter off)
+      std::shared_ptr<const StrandGroom> strands = exportedGroom1();
+      const ExplicitData data = prepareExplicit(*strands);
+      const unsigned threads = std::max(1u, dev.info().computeUnits);
+      md << "\n## Strand pass vs the C++ floor (" << groomNames[0] << ", " << width << "x" << height
+         << ", LOD off, MSAA 1; floor: " << threads << " threads)\n\n"
+         << "| distance | C++ floor ms | explicit strands ms (x floor) | generated strands ms (x floor) | "
+            "cores used: explicit / generated | floor words differing |\n|---|---|---|---|---|---|\n";
+      for (int d = 0; d < 3; ++d) {
+        Scene sx = scenes[0];
+        sx.grooms[0] = GroomInstance(sx.grooms[0].name, strands, sx.grooms[0].transform);
+        sx = framed(sx, dists[d], width, height);
+        Scene sg = framed(scenes[0], dists[d], width, height);
+        sx.camera = sg.camera;  // the same view for both
+        RenderOptions o;
+        o.lod = 0;
+        o.filter = 0;
+        o.rasterOnly = true;
+        Measured mx = b.measure(sx, o, false);
+        Measured mg = b.measure(sg, o, false);
+        // the floor: inputs captured from the device's own pass, then timed on the CPU
+        RenderOptions oc = o;
+        oc.captureGBuffer = true;
+        const Frame f = b.renderer.render(sx, oc);
+        CpuRasterInputs in;
+        in.groom = f.rasterGroom.data();
+        in.view = f.rasterView.data();
+        in.sceneDepth = f.rasterDepth.data();
+        in.strands = &data;
+        std::vector<std::uint64_t> cpu;
+        std::vector<double> ms;
+        for (int i = 0; i < warmup + runs; ++i) {
+          const auto t0 = std::chrono::steady_clock::now();
+          cpuRasterExplicit(in, threads, cpu);
+          if (i >= warmup) ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        }
+        std::size_t differ = 0;
+        for (std::size_t i = 0; i < cpu.size() && i < f.gbuffer.size(); ++i) differ += cpu[i] != f.gbuffer[i];
+        if (cpu.size() != f.gbuffer.size()) differ = std::max(cpu.size(), f.gbuffer.size());
+        const double fl = summarize(ms).median;
+        const double ex = stageMedian(mx, "strands"), ge = stageMedian(mg, "strands");
+        md << "| " << distNames[d] << " | " << fmt(fl) << " | " << fmt(ex) << " (" << fmt(ex / fl) << "x) | " << fmt(ge)
+           << " (" << fmt(ge / fl) << "x) | " << fmt(mx.cores.median) << " / " << fmt(mg.cores.median) << " | " << differ
+           << " |\n";
+        report["floor"][distNames[d]] = {{"floor_ms", fl},
+                                         {"explicit", measuredJson(mx)},
+                                         {"generated", measuredJson(mg)},
+                                         {"explicit_x_floor", ex / fl},
+                                         {"generated_x_floor", ge / fl},
+                                         {"floor_words_differing", differ}};
+        std::fprintf(stderr, "floor %s: C++ %.1f ms, explicit %.1f ms (%.2fx, %.2f cores), generated %.1f ms (%.2fx, %.2f cores), %zu words differ\n",
+                     distNames[d], fl, ex, ex / fl, mx.cores.median, ge, ge / fl, mg.cores.median, differ);
+      }
+      // the default scene's whole frame: wall clock next to the device-time sum
+      Scene def = loadScene(std::string(CLHAIR_SOURCE_DIR) + "/assets/scenes/default.json");
+      def.width = width;
+      def.height = height;
+      Measured m = b.measure(def, RenderOptions{}, false);
+      md << "\n### Default scene frame (" << width << "x" << height << ")\n\n| wall ms | device-time sum ms | cores used |";
+      for (const auto& [k, st] : m.stages) md << " " << k << " |";
+      md << "\n|---|---|---|";
+      for (std::size_t i = 0; i < m.stages.size(); ++i) md << "---|";
+      md << "\n| " << fmt(m.wall.median) << " | " << fmt(m.total.median) << " | " << fmt(m.cores.median) << " |";
+      for (const auto& [k, st] : m.stages) md << " " << fmt(st.median) << " |";
+      md << "\n";
+      report["default_frame"] = measuredJson(m);
+      std::fprintf(stderr, "default frame: wall %.1f ms, device %.1f ms\n", m.wall.median, m.total.median);
     }
 
     std::filesystem::create_directories(out);

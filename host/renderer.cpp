@@ -932,6 +932,7 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
         return 0;
       });
     }
+    if (options.rasterOnly) continue;
     r.shade.enqueue({groomParams, &r.view, &r.scene, &r.lights, &r.shadowAll, &r.shadowOpaque, &r.shadowHair,
                      &r.shadowOpacity, &r.envTexels(), &r.envLevels(), &r.envSh(), &r.gbuffer, groomOffsets, &r.hair,
                      s.width, s.height, options.msaa},

@@ -70,6 +70,7 @@ typedef struct {
   clh_i32 width, height;
   float near_z;
   float depth_near, depth_far;
+  float depth_scale;  /* CLH_DEPTH_MAX_CODE / (depth_far - depth_near): one division less per column */
   float width_px1;    /* strand diameter in pixels at view depth 1 */
   float min_diameter; /* smallest hit diameter, pixels */
   float coverage;     /* LOD compensation N / N_LOD */
@@ -97,6 +98,7 @@ CLH_FN void clh_raster_init(clh_raster_ctx* rc, float fx, float fy, float cx, fl
   rc->near_z = 1e-4f;
   rc->depth_near = depth_near;
   rc->depth_far = depth_far;
+  rc->depth_scale = (float)CLH_DEPTH_MAX_CODE / (depth_far - depth_near);
   rc->width_px1 = fy * strand_width;
   rc->min_diameter = hit_diameter_px;
   rc->coverage = 1.0f;
@@ -161,6 +163,21 @@ CLH_FN void clh_gbuf_write(CLH_GLOBAL clh_u64* gbuf, clh_u32* counts, clh_u64 at
 #endif
 }
 
+/* The pixel step of the walk: the segment's word at this column is `word` once computed
+ * (*have set), with depth code `dcode` and view depth z known before it. Loads the current
+ * word first: when it holds a strictly nearer depth the candidate cannot lower it, so
+ * neither the scene depth nor the candidate's full word is needed (in dense hair most
+ * pixels end here). Otherwise the scene depth test, the word (computed once per column)
+ * and the atomic. The final word per pixel is the minimum over the candidates that pass
+ * the scene depth test, whatever the order, as without the early test. */
+typedef struct {
+  float t;        /* screen parameter of the column's word */
+  float z;        /* its view depth */
+  clh_u32 dcode;  /* its depth code */
+  int have;       /* word computed */
+  clh_u64 word;
+} clh_col_word;
+
 #if CLH_RASTER_OPACITY
 /* Adds a strand's coverage of texel idx to the opacity layer its depth past z0 falls in
  * (Yuksel & Keyser 2008); hair beyond the last layer adds to the last one. */
@@ -190,6 +207,13 @@ typedef struct {
 
 CLH_FN float clh_lerpf(float a, float b, float t) { return a + (b - a) * t; }
 
+/* The depth code of view depth z (the mapping of clh_depth_encode with its division by
+ * the range folded into depth_scale). */
+CLH_FN clh_u32 clh_raster_depth_code(const clh_raster_ctx* rc, float z) {
+  const float c = (z - rc->depth_near) * rc->depth_scale + 0.5f;
+  return c >= (float)CLH_DEPTH_MAX_CODE ? CLH_DEPTH_MAX_CODE : (c > 0.0f ? (clh_u32)c : 0u);
+}
+
 /* The G-buffer word at screen parameter t of the segment (perspective-correct attributes);
  * its view depth through *z. */
 CLH_FN clh_u64 clh_segment_word(const clh_raster_ctx* rc, const clh_seg* s, float t, float* z) {
@@ -204,8 +228,43 @@ CLH_FN clh_u64 clh_segment_word(const clh_raster_ctx* rc, const clh_seg* s, floa
   const clh_u32 oct = (l1 > 1e-30f && l1 < 1e30f) ? clh_oct_encode(tx, ty, tz) : clh_oct_encode(0.0f, 1.0f, 0.0f);
   const float w = clh_lerpf(s->wa, s->wb, t) * zz;
   const float ao = clh_lerpf(s->aoa, s->aob, t) * zz;
-  return clh_gbuf_pack(clh_depth_encode(zz, rc->depth_near, rc->depth_far), oct, rc->u6, rc->v6,
+  return clh_gbuf_pack(clh_raster_depth_code(rc, zz), oct, rc->u6, rc->v6,
                        clh_unorm_bits(w, 6u), clh_unorm_bits(ao, 6u));
+}
+
+CLH_FN void clh_col_init(const clh_raster_ctx* rc, const clh_seg* s, float t, clh_col_word* c) {
+  c->t = t;
+  c->z = 1.0f / clh_lerpf(s->iza, s->izb, t);
+  c->dcode = clh_raster_depth_code(rc, c->z);
+  c->have = 0;
+  c->word = 0;
+}
+
+CLH_FN void clh_col_write(const clh_raster_ctx* rc, const clh_seg* s, CLH_GLOBAL const float* scene_depth,
+                          CLH_GLOBAL clh_u64* gbuf, clh_u32* counts, clh_u64 layer_at, clh_u64 idx, clh_col_word* c) {
+#if CLH_ATOMIC_LOAD_SKIP
+#ifdef CLH_DEVICE_CODE
+  const clh_u64 seen = gbuf[layer_at + idx];
+#else
+  const clh_u64 seen = __atomic_load_n(gbuf + layer_at + idx, __ATOMIC_RELAXED);
+#endif
+  if ((clh_u32)(seen >> 40) < c->dcode) { /* something strictly nearer is there already */
+#if CLH_RASTER_STATS
+    if (c->z < scene_depth[idx]) {
+      counts[0] += 1u;
+      counts[2] += 1u;
+    }
+#endif
+    return;
+  }
+#endif
+  if (!(c->z < scene_depth[idx])) return;
+  if (!c->have) {
+    float z;
+    c->word = clh_segment_word(rc, s, c->t, &z);
+    c->have = 1;
+  }
+  clh_gbuf_write(gbuf, counts, layer_at + idx, c->word);
 }
 
 /* Draws the segment a-b. */
@@ -309,15 +368,16 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
     const float mc = (float)i + 0.5f;
     float tc = (mc - s.ma) * s.inv_span;
     tc = tc < 0.0f ? 0.0f : (tc > 1.0f ? 1.0f : tc);
-    float zc;
-    const clh_u64 cword = clh_segment_word(rc, &s, tc, &zc);
+    clh_col_word col;
+    clh_col_init(rc, &s, tc, &col);
     const clh_i32 jc0 = j0 > 0 ? j0 : 0, jc1 = j1 < minor_max - 1 ? j1 : minor_max - 1;
+    const clh_u64 cons_at = (clh_u64)CLH_MSAA * rc->plane;
     for (clh_i32 j = jc0; j <= jc1; ++j) {
       const clh_u64 idx = xmajor ? (clh_u64)j * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j;
 #if CLH_RASTER_OPACITY
-      if (zc < scene_depth[idx]) clh_opacity_add(rc, (__global uint*)gbuf, idx, zc, opacity_w);
+      if (col.z < scene_depth[idx]) clh_opacity_add(rc, (__global uint*)gbuf, idx, col.z, opacity_w);
 #else
-      if (zc < scene_depth[idx]) clh_gbuf_write(gbuf, counts, (clh_u64)CLH_MSAA * rc->plane + idx, cword);
+      clh_col_write(rc, &s, scene_depth, gbuf, counts, cons_at, idx, &col);
 #endif
     }
 #if !CLH_RASTER_OPACITY /* the opacity pass needs no samples */
@@ -332,15 +392,13 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
       const clh_i32 jlo = flo > 0.0f ? (clh_i32)flo : 0;
       const clh_i32 jhi = fhi < (float)(minor_max - 1) ? (clh_i32)fhi : minor_max - 1;
       if (jlo > jhi) continue;
-      float z = zc;
-      clh_u64 word = cword;
-      if (CLH_MSAA > 1) word = clh_segment_word(rc, &s, (ms - s.ma) * s.inv_span, &z);
+      clh_col_word sw = col; /* MSAA 1: the sample is the column's centre */
+      if (CLH_MSAA > 1) clh_col_init(rc, &s, (ms - s.ma) * s.inv_span, &sw);
       for (clh_i32 j = jlo; j <= jhi; ++j) {
         if (!(fabs((float)j + on - nl) * cosv < r)) continue;
         const clh_u64 idx = xmajor ? (clh_u64)j * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j;
-        if (!(z < scene_depth[idx])) continue;
-        clh_gbuf_write(gbuf, counts, (clh_u64)sidx * rc->plane + idx, word);
-        if (j < j0 || j > j1) clh_gbuf_write(gbuf, counts, (clh_u64)CLH_MSAA * rc->plane + idx, word);
+        clh_col_write(rc, &s, scene_depth, gbuf, counts, (clh_u64)sidx * rc->plane, idx, &sw);
+        if (j < j0 || j > j1) clh_col_write(rc, &s, scene_depth, gbuf, counts, cons_at, idx, &sw);
       }
     }
 #endif

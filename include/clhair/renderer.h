@@ -37,6 +37,7 @@ struct RenderOptions {
   float jitterX = 0.0f;     // sub-pixel shift of the image plane, pixels (reference passes, tests)
   float jitterY = 0.0f;
   bool captureGBuffer = false;  // keep the last groom's G-buffer layers in Frame::gbuffer
+  bool rasterOnly = false;      // stop each groom after its strand pass (benchmark: cores used)
   int ambientOcclusion = 1;     // 1: baked AO (baked on first use when the mesh has none), 0: off
 };
 

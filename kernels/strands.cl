@@ -34,6 +34,7 @@
 #include "clhair/gpu_types.h"
 #include "subgroup.h"
 #include "clh_math.h"
+#include "clhair/fast_math.h"
 #include "hair_style.h"
 #include "raster.h"
 

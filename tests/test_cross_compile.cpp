@@ -41,24 +41,29 @@ struct CrossRow {
 };
 
 const CrossRow kRows[] = {
-    {"nvptx_sm70", "-target nvptx64-nvidia-nvcl -march=sm_70 -cl-std=CL1.2 -DSG_BACKEND=3", "",
+    {"nvptx_sm70", "-target nvptx64-nvidia-nvcl -march=sm_70 -cl-std=CL1.2 -DSG_BACKEND=3 -DSG_SIZE=32", "",
      "-S", "ptx", "shfl.sync.", nullptr},
     {"nvptx_sm60_legacy",
-     "-target nvptx64-nvidia-nvcl -march=sm_60 -cl-std=CL1.2 -DSG_BACKEND=3 -DSG_PTX_LEGACY_SHFL=1",
+     "-target nvptx64-nvidia-nvcl -march=sm_60 -cl-std=CL1.2 -DSG_BACKEND=3 -DSG_PTX_LEGACY_SHFL=1 -DSG_SIZE=32",
      "", "-S", "ptx", "shfl.", "shfl.sync"},
     {"amd_gfx1030",
-     "-target amdgcn-amd-amdhsa -mcpu=gfx1030 -nogpulib -cl-std=CL1.2 -DSG_BACKEND=4", "", "-c",
+     "-target amdgcn-amd-amdhsa -mcpu=gfx1030 -nogpulib -cl-std=CL1.2 -DSG_BACKEND=4 -DSG_SIZE=32", "", "-c",
      "o", nullptr, nullptr},
     {"amd_gfx906_wave64",
-     "-target amdgcn-amd-amdhsa -mcpu=gfx906 -nogpulib -cl-std=CL1.2 -DSG_BACKEND=4", "", "-c", "o",
+     "-target amdgcn-amd-amdhsa -mcpu=gfx906 -nogpulib -cl-std=CL1.2 -DSG_BACKEND=4 -DSG_SIZE=32", "", "-c", "o",
      nullptr, nullptr},
-    {"spir64_khr", "-target spir64 -cl-std=CL3.0 -DSG_BACKEND=1",
+    {"spir64_khr", "-target spir64 -cl-std=CL3.0 -DSG_BACKEND=1 -DSG_SIZE=32",
      "+cl_khr_subgroups,+__opencl_c_subgroups,+cl_khr_subgroup_shuffle_relative", "-c -emit-llvm",
      "bc", nullptr, nullptr},
-    {"spir64_intel", "-target spir64 -cl-std=CL1.2 -DSG_BACKEND=2 -DSG_INTEL_REQD_SIZE=1",
+    {"spir64_intel", "-target spir64 -cl-std=CL1.2 -DSG_BACKEND=2 -DSG_INTEL_REQD_SIZE=1 -DSG_SIZE=32",
      "+cl_intel_subgroups", "-c -emit-llvm", "bc", nullptr, nullptr},
-    {"spir64_local", "-target spir64 -cl-std=CL1.2 -DSG_BACKEND=0", "", "-c -emit-llvm", "bc",
+    {"spir64_local", "-target spir64 -cl-std=CL1.2 -DSG_BACKEND=0 -DSG_SIZE=32", "", "-c -emit-llvm", "bc",
      nullptr, nullptr},
+    // the CPU mapping: one lane per strand, several strands per work-group
+    {"spir64_single", "-target spir64 -cl-std=CL1.2 -DSG_BACKEND=5 -DSG_SIZE=1 -DSG_STRANDS=32", "",
+     "-c -emit-llvm", "bc", nullptr, nullptr},
+    {"nvptx_single", "-target nvptx64-nvidia-nvcl -march=sm_70 -cl-std=CL1.2 -DSG_BACKEND=5 -DSG_SIZE=1 -DSG_STRANDS=32",
+     "", "-S", "ptx", nullptr, nullptr},
 };
 
 // kernels/*.cl of the source tree, sorted so test names are stable.
@@ -98,7 +103,7 @@ fs::path compileKernel(const std::string& file, const CrossRow& row, const std::
   std::string cmd = "clang-15 -x cl -cl-no-stdinc -Xclang -finclude-default-header " +
                     std::string("-I") + quote(sourceDir() + "/kernels/common") + " -I" +
                     quote(sourceDir() + "/include") +
-                    " -Wall -Werror -O2 -DSG_SIZE=32 -Xclang -cl-ext=" + ext + " " + row.flags +
+                    " -Wall -Werror -O2 -Xclang -cl-ext=" + ext + " " + row.flags +
                     " " + defines + " " + row.output + " -o " + quote(out.string()) + " " +
                     quote(src.string());
   CommandResult r = runCommand(cmd);

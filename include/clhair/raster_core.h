@@ -371,7 +371,9 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
     clh_col_word col;
     clh_col_init(rc, &s, tc, &col);
     const clh_i32 jc0 = j0 > 0 ? j0 : 0, jc1 = j1 < minor_max - 1 ? j1 : minor_max - 1;
+#if !CLH_RASTER_OPACITY
     const clh_u64 cons_at = (clh_u64)CLH_MSAA * rc->plane;
+#endif
     for (clh_i32 j = jc0; j <= jc1; ++j) {
       const clh_u64 idx = xmajor ? (clh_u64)j * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j;
 #if CLH_RASTER_OPACITY

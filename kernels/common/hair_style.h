@@ -9,7 +9,8 @@
 #ifndef CLHAIR_HAIR_STYLE_H
 #define CLHAIR_HAIR_STYLE_H
 
-/* include after subgroup.h: SG_SHARED says where a strand's layer samples live */
+/* include after subgroup.h (SG_SHARED: where a strand's layer samples live) and
+ * clhair/fast_math.h (styling without pow/sin/cos library calls per point) */
 
 /* One strand's sample on one layer: the bilinear interpolation of the layer's quad. */
 typedef struct {
@@ -162,13 +163,15 @@ static inline float3 clh_style_offset(__global const ClhGroomGpu* g, const clh_s
 
   float3 off = (float3)(0.0f);
   if (g->clump_strength > 0.0f) {
-    off += (g->clump_strength * pow(wc, g->clump_shape)) *
+    off += (g->clump_strength * clh_fast_pow(wc, g->clump_shape)) *
            (du * s->clump_duv.x + dv * s->clump_duv.y);
   }
   if (g->curl_amplitude > 0.0f) {
     float ramp = clh_smoothstep01(wc / 0.15f);
     float theta = 2.0f * CLH_PI * g->curl_frequency * wc + s->phase;
-    off += (g->curl_amplitude * ramp) * (cos(theta) * e1 + (g->curl_helix * sin(theta)) * e2);
+    float st, ct;
+    clh_fast_sincos(theta, &st, &ct);
+    off += (g->curl_amplitude * ramp) * (ct * e1 + (g->curl_helix * st) * e2);
   }
   if (s->frizz > 0.0f) {
     float x = wc * g->frizz_frequency;

@@ -216,6 +216,32 @@ TEST(Cli, UnknownSubgroupBackend) {
       {"\"bogus\"", "local"}, out);
 }
 
+TEST(Cli, ParseErrorsAreOneErrorLineAndExitOne) {
+  const std::string dir = scratchDir();
+  writeJson(dir + "/scene.json", sceneWith(assetPath("grooms/tiny.hairmesh.json")));
+  const std::string out = dir + "/out.png";
+  const std::string render = "render " + quote(dir + "/scene.json") + " -o " + quote(out);
+  const struct {
+    std::string args;
+    std::vector<std::string> fragments;
+  } cases[] = {{render + " --width abc", {"--width", "abc"}},
+               {render + " --no-such-flag", {"--no-such-flag"}},
+               {"render -o " + quote(out), {"scene"}},
+               {"", {"subcommand"}}};
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.args);
+    const CommandResult r = runCli(c.args);
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    expectRefused(r, c.fragments, out);
+    EXPECT_EQ(r.output.rfind("clhair: error:", 0), 0u) << "not the only line:\n" << r.output;
+  }
+  for (const std::string help : {"--help", "render --help"}) {
+    const CommandResult r = runCli(help);
+    EXPECT_EQ(r.exitCode, 0) << help << ":\n" << r.output;
+    EXPECT_NE(r.output.find("Usage"), std::string::npos) << r.output;
+  }
+}
+
 // ---- end to end ---------------------------------------------------------------------------
 
 // Pixels (x, y) whose colours differ between two images of equal size.

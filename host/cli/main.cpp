@@ -36,6 +36,14 @@ namespace {
 
 using namespace clhair;
 
+// A message on one line: line breaks become "; ".
+std::string oneLine(std::string text) {
+  while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
+  for (std::size_t p = text.find('\n'); p != std::string::npos; p = text.find('\n', p))
+    text.replace(p, 1, "; ");
+  return text;
+}
+
 std::string mib(std::uint64_t bytes) { return std::to_string(bytes >> 20) + " MiB"; }
 
 int cmdDevices(const DeviceOptions& opts) {
@@ -293,7 +301,11 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help is the one "error" that succeeds; every other parse failure is reported like
+    // any other error: one line, exit 1 (not CLI11's own codes and two-line message).
+    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);
+    std::fprintf(stderr, "clhair: error: %s (see clhair --help)\n", oneLine(e.what()).c_str());
+    return 1;
   }
   rf.widthGiven = render->count("--width") > 0;
   rf.heightGiven = render->count("--height") > 0;

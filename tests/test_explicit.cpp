@@ -649,6 +649,33 @@ TEST(ExplicitCli, MalformedStrandFilesAreRefusedWithOneLine) {
   }
 }
 
+// Bytes after the strand data: both formats render, with one warning line naming the file
+// and the byte count.
+TEST(ExplicitCli, TrailingBytesWarnOnceInBothFormats) {
+  const std::string dir = test::scratchDir();
+  Bytes usc;
+  usc.u32(1).u32(3);
+  for (int i = 0; i < 9; ++i) usc.f32(0.01f * static_cast<float>(i));
+  const struct {
+    std::string name, bytes;
+  } cases[] = {{"extra.hair", validCyHair() + "abcde"}, {"extra.data", usc.data + "abcde"}};
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    writeBytes(dir + "/" + c.name, c.bytes);
+    writeBytes(dir + "/scene.json", sceneWithStrands(c.name).dump());
+    const std::string out = dir + "/out_" + c.name + ".png";
+    test::CommandResult r = test::runCli("render " + test::quote(dir + "/scene.json") + " -o " + test::quote(out));
+    SCOPED_TRACE("output was:\n" + r.output);
+    EXPECT_EQ(r.exitCode, 0);
+    EXPECT_TRUE(fs::exists(out));
+    ASSERT_EQ(countOf(r.output, "clhair: warning:"), 1u);
+    const std::size_t begin = r.output.find("clhair: warning:");
+    const std::string line = r.output.substr(begin, r.output.find('\n', begin) - begin);
+    EXPECT_NE(line.find(c.name), std::string::npos) << line;
+    EXPECT_NE(line.find("5 bytes"), std::string::npos) << line;
+  }
+}
+
 TEST(ExplicitCli, RendersAStrandFileIdenticallyWithOneAndTwoPoclThreads) {
   const std::string dir = test::scratchDir();
   Renderer r(test::sharedDevice());

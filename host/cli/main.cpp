@@ -98,6 +98,7 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
   // the device first: strand files are checked against its largest allocation as they load
   Device dev = Device::open(opts);
   Scene scene = loadScene(scenePath, dev.info().maxAlloc);
+  for (const std::string& w : scene.warnings) std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
   if (f.widthGiven || f.heightGiven) {
     int w = f.widthGiven ? width : scene.width, h = f.heightGiven ? height : scene.height;
     if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)

@@ -73,7 +73,8 @@ FilterParams readFilter(const JsonReader& parent, const json& j, FilterParams f)
 // up axis, then the entry's transform), appearance, LOD and filter.
 GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& base, const FilterParams& sceneFilter,
                               std::uint64_t maxBytes,
-                              std::map<std::string, std::shared_ptr<const StrandGroom>>& loaded) {
+                              std::map<std::string, std::shared_ptr<const StrandGroom>>& loaded,
+                              std::vector<std::string>& warnings) {
   const std::string file = o.string("strands_file", "");
   if (file.empty()) o.fail("strands_file", "is empty: name a .hair or .data strand file");
   std::filesystem::path p = std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;
@@ -103,7 +104,9 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
     groom = *it->second;
   } else {
     try {
-      groom = loadStrandGroom(key, maxBytes);
+      std::vector<std::string> notes;
+      groom = loadStrandGroom(key, maxBytes, nullptr, &notes);
+      for (const std::string& n : notes) warnings.push_back(o.file() + ": " + o.path("strands_file") + ": " + n);
     } catch (const Error& e) {
       o.fail("strands_file", e.what());
     }
@@ -319,7 +322,7 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
       if (o.has("file") == o.has("strands_file"))
         o.fail("file", "give exactly one of \"file\" (a hair mesh) and \"strands_file\" (a .hair or .data strand file)");
       if (o.has("strands_file")) {
-        s.grooms.push_back(readStrandGroom(o, base, s.filter, maxStrandBytes, loadedStrands));
+        s.grooms.push_back(readStrandGroom(o, base, s.filter, maxStrandBytes, loadedStrands, s.warnings));
         continue;
       }
       std::string file = o.string("file", "");

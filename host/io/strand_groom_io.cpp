@@ -99,16 +99,20 @@ void validateStrandGroom(const StrandGroom& g, const std::string& where) {
   if (!(g.lod.morphWindow >= 0.0f && g.lod.morphWindow <= 1.0f)) fail("lod morph_window must be in 0..1");
 }
 
-StrandGroom loadStrandGroom(const std::string& path, std::uint64_t maxBytes, std::uint64_t* skippedStrands) {
+StrandGroom loadStrandGroom(const std::string& path, std::uint64_t maxBytes, std::uint64_t* skippedStrands,
+                            std::vector<std::string>* warnings) {
   const std::string ext = lowerExtension(path);
   StrandGroom g;
-  std::uint64_t skipped = 0;
+  std::uint64_t skipped = 0, trailing = 0;
   if (ext == ".hair") {
-    g = fromCyHair(readCyHair(path, maxBytes), &skipped);
+    const CyHair h = readCyHair(path, maxBytes);
+    g = fromCyHair(h, &skipped);
+    trailing = h.trailingBytes;
   } else if (ext == ".data") {
     UscHair u = readUscHair(path, maxBytes);
     g = fromCyHair(u.hair, &skipped);
     skipped += u.skippedStrands;
+    trailing = u.hair.trailingBytes;
   } else {
     throw Error(path + ": unknown strand file type \"" + ext +
                 "\"; expected .hair (cyHair) or .data (USC-HairSalon)");
@@ -119,6 +123,10 @@ StrandGroom loadStrandGroom(const std::string& path, std::uint64_t maxBytes, std
   g.name = std::filesystem::path(path).stem().string();
   validateStrandGroom(g, path);
   if (skippedStrands) *skippedStrands = skipped;
+  if (trailing > 0 && warnings)
+    warnings->push_back(path + ": " + std::to_string(trailing) + " byte" + (trailing == 1 ? "" : "s") +
+                        " after the end of the strand data, ignored (is the file complete and of the " +
+                        "type its extension says?)");
   return g;
 }
 

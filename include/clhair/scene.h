@@ -126,6 +126,9 @@ struct Scene {
   FilterParams filter;
   ShadowParams shadows;
   EnvironmentDesc environment;
+  // Problems found while loading that do not stop the scene from rendering, one line each
+  // naming the file (the CLI prints them as "clhair: warning: ...").
+  std::vector<std::string> warnings;
 };
 
 enum class CameraPreset { Close, Mid, Far };

@@ -49,9 +49,11 @@ void validateStrandGroom(const StrandGroom& groom, const std::string& where);
 // allocated. Strands of a single point (legal in cyHair, skipped by the USC reader) are
 // left out and counted in *skippedStrands when given. The result has the default
 // appearance and LOD parameters and the file's stem as its name. Errors are one line that
-// names the file.
+// names the file. Problems that do not stop the file from being drawn (bytes after the end
+// of its data) are appended to *warnings when given, one line each naming the file.
 StrandGroom loadStrandGroom(const std::string& path, std::uint64_t maxBytes,
-                            std::uint64_t* skippedStrands = nullptr);
+                            std::uint64_t* skippedStrands = nullptr,
+                            std::vector<std::string>* warnings = nullptr);
 
 // The per-file placement of a strand file in a scene: uniform `scale`, then the file's up
 // axis (`upZ`: +z up, as USC-HairSalon files are) turned to clhair's +y up.

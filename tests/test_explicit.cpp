@@ -27,6 +27,7 @@
 #include <vector>
 
 #include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
 #include <nlohmann/json.hpp>
 
 #include "clhair/lod_math.h"
@@ -550,6 +551,15 @@ TEST(ExplicitScene, StrandFilesLoadWithTheirPlacement) {
   EXPECT_NEAR(w.x, 1.6f, 1e-6f);
   EXPECT_NEAR(w.y, 1.0f, 1e-6f);
   EXPECT_NEAR(w.z, -0.8f, 1e-6f);
+  // x up: the file's +x becomes +y, its +y becomes -x, a rotation (determinant 1)
+  j["grooms"][1]["up"] = "x";
+  writeBytes(dir + "/scene_x.json", j.dump());
+  const glm::mat4 mx = loadScene(dir + "/scene_x.json").grooms[1].transform;
+  const glm::vec4 wx = mx * glm::vec4(0.3f, 0.4f, 0.5f, 1.0f);  // -> (2 * -0.4 + 1, 2 * 0.3, 2 * 0.5)
+  EXPECT_NEAR(wx.x, 0.2f, 1e-6f);
+  EXPECT_NEAR(wx.y, 0.6f, 1e-6f);
+  EXPECT_NEAR(wx.z, 1.0f, 1e-6f);
+  EXPECT_NEAR(glm::determinant(glm::mat3(mx)), 8.0f, 1e-5f);  // scale 2 cubed, no mirror
   // a limit below the file's arrays refuses it before reading them
   try {
     loadScene(dir + "/scene.json", 100);
@@ -639,8 +649,8 @@ TEST(ExplicitCli, MalformedStrandFilesAreRefusedWithOneLine) {
   }
   {
     json s = sceneWithStrands("ok.hair");
-    s["grooms"][0]["up"] = "x";
-    expectRefused(dir, "", "", s, {"scene.json", "grooms[0].up", "\"x\""});
+    s["grooms"][0]["up"] = "w";
+    expectRefused(dir, "", "", s, {"scene.json", "grooms[0].up", "\"w\"", "\"x\", \"y\" or \"z\""});
   }
   {
     json s = sceneWithStrands("ok.hair");

@@ -96,7 +96,7 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
   }
   const float scale = static_cast<float>(o.number("scale", 1.0, 1e-6, 1e6));
   const std::string up = o.string("up", "y");
-  if (up != "y" && up != "z") o.fail("up", "is \"" + up + "\", expected \"y\" or \"z\"");
+  if (up != "x" && up != "y" && up != "z") o.fail("up", "is \"" + up + "\", expected \"x\", \"y\" or \"z\"");
   // the first entry of a file takes it as read; later ones copy it (the points too)
   StrandGroom groom;
   auto it = loaded.find(key);
@@ -119,7 +119,7 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
   g.name = o.string("name", shared->name);
   g.strands = shared;
   glm::mat4 placement = o.has("transform") ? readTransform(o, o.require("transform")) : glm::mat4(1.0f);
-  g.transform = placement * strandFileTransform(scale, up == "z");
+  g.transform = placement * strandFileTransform(scale, up == "x" ? UpAxis::X : up == "z" ? UpAxis::Z : UpAxis::Y);
   if (o.has("filter")) {
     g.hasFilter = true;
     g.filter = readFilter(o, o.require("filter"), sceneFilter);

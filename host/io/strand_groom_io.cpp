@@ -130,16 +130,24 @@ StrandGroom loadStrandGroom(const std::string& path, std::uint64_t maxBytes, std
   return g;
 }
 
-glm::mat4 strandFileTransform(float scale, bool upZ) {
+glm::mat4 strandFileTransform(float scale, UpAxis up) {
   glm::mat4 m(scale);
   m[3][3] = 1.0f;
-  if (upZ) {
-    // (x, y, z) -> (x, z, -y): +z becomes +y, a rotation (handedness kept)
-    glm::mat4 r(0.0f);
+  // r[i] is the image of file axis i (glm is column-major); both are rotations, so the
+  // handedness of the data is kept
+  glm::mat4 r(0.0f);
+  r[3][3] = 1.0f;
+  if (up == UpAxis::Z) {
+    // (x, y, z) -> (x, z, -y): +z becomes +y
     r[0][0] = 1.0f;   // x -> x
     r[1][2] = -1.0f;  // y -> -z
     r[2][1] = 1.0f;   // z -> y
-    r[3][3] = 1.0f;
+    m = r * m;
+  } else if (up == UpAxis::X) {
+    // (x, y, z) -> (-y, x, z): +x becomes +y
+    r[0][1] = 1.0f;   // x -> y
+    r[1][0] = -1.0f;  // y -> -x
+    r[2][2] = 1.0f;   // z -> z
     m = r * m;
   }
   return m;

@@ -55,8 +55,14 @@ StrandGroom loadStrandGroom(const std::string& path, std::uint64_t maxBytes,
                             std::uint64_t* skippedStrands = nullptr,
                             std::vector<std::string>* warnings = nullptr);
 
-// The per-file placement of a strand file in a scene: uniform `scale`, then the file's up
-// axis (`upZ`: +z up, as USC-HairSalon files are) turned to clhair's +y up.
-glm::mat4 strandFileTransform(float scale, bool upZ);
+// The up axis of a strand file's data: clhair is +y up; many USC-HairSalon files are +z up,
+// some scanned or simulated data sets +x up.
+enum class UpAxis { X, Y, Z };
+
+// The per-file placement of a strand file in a scene: uniform `scale`, then a rotation that
+// turns the file's up axis into clhair's +y (handedness kept):
+//   Y: identity;  Z: (x, y, z) -> (x, z, -y), -90 degrees about +x;
+//   X: (x, y, z) -> (-y, x, z), +90 degrees about +z.
+glm::mat4 strandFileTransform(float scale, UpAxis up);
 
 }  // namespace clhair

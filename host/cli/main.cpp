@@ -107,7 +107,8 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     scene.width = w;
     scene.height = h;
   }
-  if (!camera.empty()) scene.camera = framePreset(scene, parseCameraPreset(camera), 0.0f, 10.0f, scene.camera.fovYDegrees);
+  // the scene's viewing angle is kept: the preset changes only the distance and framing
+  if (!camera.empty()) scene.camera = reframeCamera(scene, parseCameraPreset(camera));
   RenderOptions ro;
   if (lod == "on")
     ro.lod = 1;

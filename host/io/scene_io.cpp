@@ -154,8 +154,10 @@ CameraPreset parseCameraPreset(const std::string& name) {
   throw Error("unknown camera preset \"" + name + "\"; expected close, mid or far");
 }
 
-Camera framePreset(const Scene& scene, CameraPreset preset, float azimuthDeg, float elevationDeg,
-                   float fovYDeg) {
+namespace {
+
+// Frames the grooms' bounds from unit direction `dir` (target -> eye).
+Camera frameAlong(const Scene& scene, CameraPreset preset, glm::vec3 dir, float fovYDeg, glm::vec3 up) {
   glm::vec3 lo, hi;
   worldBounds(scene, lo, hi);
   const float fraction = preset == CameraPreset::Close ? 0.6f : preset == CameraPreset::Mid ? 0.2f : 0.05f;
@@ -168,14 +170,32 @@ Camera framePreset(const Scene& scene, CameraPreset preset, float azimuthDeg, fl
   float size = std::max(extent.y, horizontal);
   float tanHalf = std::tan(glm::radians(fovYDeg) * 0.5f);
   float distance = std::max(size / (2.0f * fraction * tanHalf), glm::length(extent));
-  float az = glm::radians(azimuthDeg), el = glm::radians(elevationDeg);
-  glm::vec3 dir(std::sin(az) * std::cos(el), std::sin(el), std::cos(az) * std::cos(el));
   Camera cam;
   cam.fovYDegrees = fovYDeg;
   cam.target = center;
   cam.position = center + dir * distance;
-  cam.up = glm::vec3(0, 1, 0);
+  cam.up = up;
   return cam;
+}
+
+}  // namespace
+
+Camera framePreset(const Scene& scene, CameraPreset preset, float azimuthDeg, float elevationDeg,
+                   float fovYDeg) {
+  float az = glm::radians(azimuthDeg), el = glm::radians(elevationDeg);
+  glm::vec3 dir(std::sin(az) * std::cos(el), std::sin(el), std::cos(az) * std::cos(el));
+  return frameAlong(scene, preset, dir, fovYDeg, glm::vec3(0, 1, 0));
+}
+
+Camera reframeCamera(const Scene& scene, CameraPreset preset) {
+  const Camera& c = scene.camera;
+  glm::vec3 dir = c.position - c.target;
+  const float len = glm::length(dir);
+  // loadScene refuses a camera whose target is its position; a Scene built in code may
+  // still hold one, and then the default preset direction is used
+  const float el = glm::radians(10.0f);
+  dir = len > 0.0f && std::isfinite(len) ? dir / len : glm::vec3(0.0f, std::sin(el), std::cos(el));
+  return frameAlong(scene, preset, dir, c.fovYDegrees, c.up);
 }
 
 Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {

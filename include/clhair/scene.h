@@ -136,6 +136,10 @@ enum class CameraPreset { Close, Mid, Far };
 // the direction given by azimuth (degrees about +y, 0 looks along -z) and elevation.
 Camera framePreset(const Scene& scene, CameraPreset preset, float azimuthDeg = 0.0f,
                    float elevationDeg = 10.0f, float fovYDeg = 35.0f);
+// The same framing seen from the direction of the scene's camera (from its target toward
+// its position), keeping its field of view and up vector: a preset chosen after loading
+// (`clhair render --camera`) changes the distance and the framing, not the viewing angle.
+Camera reframeCamera(const Scene& scene, CameraPreset preset);
 CameraPreset parseCameraPreset(const std::string& name);
 
 // Largest accepted image side; larger requests are refused as absurd.

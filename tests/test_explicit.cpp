@@ -686,6 +686,57 @@ TEST(ExplicitCli, TrailingBytesWarnOnceInBothFormats) {
   }
 }
 
+// Pixels that are not the background colour.
+double hairFraction(const Image& img, glm::vec3 background) {
+  std::size_t n = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const float* p = img.pixel(x, y);
+      n += std::fabs(p[0] - background.x) + std::fabs(p[1] - background.y) + std::fabs(p[2] - background.z) > 0.03f;
+    }
+  return static_cast<double>(n) / (static_cast<double>(img.width) * img.height);
+}
+
+// One finite but absurd vertex (x = 1e30) must not make a camera preset frame it: the hair
+// is framed as without it, and one warning names the strand.
+TEST(ExplicitCli, PresetFramingIgnoresAnOutlierVertexAndNamesItsStrand) {
+  const std::string dir = test::scratchDir();
+  Renderer r(test::sharedDevice());
+  HairMesh mesh = makeGroomPreset("tiny");
+  mesh.strandCount = 300;
+  CyHair h = toCyHair(r.generateStrands(mesh), mesh.appearance.strandWidth);
+  writeCyHair(h, dir + "/clean.hair");
+  // strand 7's third point
+  std::size_t first = 0;
+  for (std::size_t s = 0; s < 7; ++s) first += h.segments[s] + 1;
+  h.points[3 * (first + 2)] = 1e30f;
+  writeCyHair(h, dir + "/outlier.hair");
+  const glm::vec3 background(0.0f, 0.0f, 1.0f);
+  auto render = [&](const std::string& file) {
+    json s = {{"resolution", {96, 64}},
+              {"background", {background.x, background.y, background.z}},
+              {"camera", {{"preset", "close"}, {"azimuth", 30}}},
+              {"lights", {{{"type", "directional"}, {"direction", {0.4, 0.8, 0.5}}}}},
+              {"grooms", {{{"strands_file", file}}}}};
+    writeBytes(dir + "/" + file + ".json", s.dump());
+    const std::string out = dir + "/" + file + ".png";
+    test::CommandResult c = test::runCli("render " + test::quote(dir + "/" + file + ".json") + " -o " + test::quote(out));
+    EXPECT_EQ(c.exitCode, 0) << c.output;
+    return std::make_pair(c.output, readImage(out));
+  };
+  const auto clean = render("clean.hair");
+  const auto bad = render("outlier.hair");
+  EXPECT_EQ(countOf(clean.first, "clhair: warning:"), 0u) << clean.first;
+  const double cleanHair = hairFraction(clean.second, background), badHair = hairFraction(bad.second, background);
+  ASSERT_GT(cleanHair, 0.05) << "the clean groom hardly shows; see " << dir;
+  EXPECT_GT(badHair, 0.5 * cleanHair) << "the outlier took over the framing; see " << dir;
+  ASSERT_EQ(countOf(bad.first, "clhair: warning:"), 1u) << bad.first;
+  const std::size_t begin = bad.first.find("clhair: warning:");
+  const std::string line = bad.first.substr(begin, bad.first.find('\n', begin) - begin);
+  EXPECT_NE(line.find("strand 7 "), std::string::npos) << line;
+  EXPECT_NE(line.find("1e+30"), std::string::npos) << line;
+}
+
 TEST(ExplicitCli, RendersAStrandFileIdenticallyWithOneAndTwoPoclThreads) {
   const std::string dir = test::scratchDir();
   Renderer r(test::sharedDevice());

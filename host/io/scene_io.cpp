@@ -5,10 +5,13 @@
 // is read once per scene however many entries use it.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <map>
 
 #include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
 #include <glm/trigonometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -128,20 +131,95 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
   return g;
 }
 
-void worldBounds(const Scene& s, glm::vec3& lo, glm::vec3& hi) {
-  lo = glm::vec3(1e30f);
-  hi = glm::vec3(-1e30f);
-  for (const GroomInstance& g : s.grooms) {
-    const std::vector<glm::vec3>& points = g.strands ? g.strands->points : g.mesh->positions;
-    for (const glm::vec3& p : points) {
-      glm::vec3 w = glm::vec3(g.transform * glm::vec4(p, 1.0f));
-      lo = glm::min(lo, w);
-      hi = glm::max(hi, w);
+const std::vector<glm::vec3>& groomPoints(const GroomInstance& g) {
+  return g.strands ? g.strands->points : g.mesh->positions;
+}
+
+std::string showVec(const glm::vec3& v) {
+  char buf[96];
+  std::snprintf(buf, sizeof(buf), "(%g, %g, %g)", v.x, v.y, v.z);
+  return buf;
+}
+
+// The box that camera presets frame: the bounds of the grooms' world points that are not
+// outliers. The 0.5 % and 99.5 % percentiles per axis (over at most about a million
+// points, evenly strided) give a core box; a point counts when it lies within one core
+// size (the largest axis extent) of that box. For an ordinary groom every point does, so
+// the framing is its exact bounds; a stray vertex (a broken file's 1e30) is left out, and
+// described in *warnings (one line per groom, naming its first such strand) when given.
+void framingBounds(const Scene& s, glm::vec3& lo, glm::vec3& hi, std::vector<std::string>* warnings,
+                   const std::string& where) {
+  lo = glm::vec3(-0.5f);
+  hi = glm::vec3(0.5f);
+  std::size_t total = 0;
+  for (const GroomInstance& g : s.grooms) total += groomPoints(g).size();
+  if (total == 0) return;
+  const std::size_t stride = std::max<std::size_t>(1, total / 1'000'000);
+  std::vector<float> axis[3];
+  for (auto& a : axis) a.reserve(total / stride + s.grooms.size());
+  for (const GroomInstance& g : s.grooms)
+    for (std::size_t i = 0; i < groomPoints(g).size(); i += stride) {
+      const glm::vec3 w = glm::vec3(g.transform * glm::vec4(groomPoints(g)[i], 1.0f));
+      for (int c = 0; c < 3; ++c) axis[c].push_back(w[c]);
+    }
+  glm::vec3 coreLo, coreHi;
+  for (int c = 0; c < 3; ++c) {
+    std::vector<float>& a = axis[c];
+    const std::size_t n = a.size();
+    const std::size_t k0 = static_cast<std::size_t>(0.005 * static_cast<double>(n - 1));
+    const std::size_t k1 = static_cast<std::size_t>(std::ceil(0.995 * static_cast<double>(n - 1)));
+    std::nth_element(a.begin(), a.begin() + k0, a.end());
+    coreLo[c] = a[k0];
+    std::nth_element(a.begin(), a.begin() + k1, a.end());
+    coreHi[c] = a[k1];
+  }
+  const glm::vec3 coreExtent = coreHi - coreLo;
+  float margin = std::max(coreExtent.x, std::max(coreExtent.y, coreExtent.z));
+  // a core of one point (or of points in one place) still admits nearby ones
+  margin = std::max(margin, 1e-6f * std::max(1.0f, std::max(glm::length(coreLo), glm::length(coreHi))));
+  const glm::vec3 acceptLo = coreLo - margin, acceptHi = coreHi + margin;
+
+  glm::vec3 blo(std::numeric_limits<float>::max()), bhi(-std::numeric_limits<float>::max());
+  for (std::size_t gi = 0; gi < s.grooms.size(); ++gi) {
+    const GroomInstance& g = s.grooms[gi];
+    const std::vector<glm::vec3>& points = groomPoints(g);
+    std::size_t strand = 0, strandEnd = g.strands && !g.strands->pointCounts.empty() ? g.strands->pointCounts[0] : 0;
+    std::size_t outlierStrands = 0, firstOutlier = 0, lastCounted = ~std::size_t(0);
+    glm::vec3 firstPoint(0.0f);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (g.strands)
+        while (i >= strandEnd && strand + 1 < g.strands->pointCounts.size()) strandEnd += g.strands->pointCounts[++strand];
+      const glm::vec3 w = glm::vec3(g.transform * glm::vec4(points[i], 1.0f));
+      const bool inside = glm::all(glm::greaterThanEqual(w, acceptLo)) && glm::all(glm::lessThanEqual(w, acceptHi));
+      if (inside) {
+        blo = glm::min(blo, w);
+        bhi = glm::max(bhi, w);
+        continue;
+      }
+      const std::size_t id = g.strands ? strand : i;
+      if (id == lastCounted) continue;
+      if (outlierStrands == 0) {
+        firstOutlier = id;
+        firstPoint = w;
+      }
+      ++outlierStrands;
+      lastCounted = id;
+    }
+    if (outlierStrands > 0 && warnings) {
+      const std::string what = g.strands ? "strand" : "hair-mesh layer vertex";
+      std::string msg = where + ": grooms[" + std::to_string(gi) + "] (\"" + g.name + "\"): " + what + " " +
+                        std::to_string(firstOutlier) + " has a point at " + showVec(firstPoint) +
+                        ", far outside the rest of the hair (" + showVec(coreLo) + " to " + showVec(coreHi) +
+                        "); camera presets frame the hair without it";
+      if (outlierStrands > 1)
+        msg += " (and " + std::to_string(outlierStrands - 1) + " more " + what + (outlierStrands > 2 ? "s" : "") +
+               " like it)";
+      warnings->push_back(msg);
     }
   }
-  if (s.grooms.empty()) {
-    lo = glm::vec3(-0.5f);
-    hi = glm::vec3(0.5f);
+  if (blo.x <= bhi.x) {
+    lo = blo;
+    hi = bhi;
   }
 }
 
@@ -159,7 +237,7 @@ namespace {
 // Frames the grooms' bounds from unit direction `dir` (target -> eye).
 Camera frameAlong(const Scene& scene, CameraPreset preset, glm::vec3 dir, float fovYDeg, glm::vec3 up) {
   glm::vec3 lo, hi;
-  worldBounds(scene, lo, hi);
+  framingBounds(scene, lo, hi, nullptr, "");
   const float fraction = preset == CameraPreset::Close ? 0.6f : preset == CameraPreset::Mid ? 0.2f : 0.05f;
   glm::vec3 center = 0.5f * (lo + hi);
   glm::vec3 extent = hi - lo;
@@ -387,6 +465,10 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
     }
   }
 
+  if (!s.grooms.empty()) {
+    glm::vec3 lo, hi;
+    framingBounds(s, lo, hi, &s.warnings, path);
+  }
   if (r.has("camera")) {
     JsonReader c = r.object(r.require("camera"), "camera");
     float fov = static_cast<float>(c.number("fov", 35.0, 1.0, 170.0));

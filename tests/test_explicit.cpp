@@ -737,6 +737,45 @@ TEST(ExplicitCli, PresetFramingIgnoresAnOutlierVertexAndNamesItsStrand) {
   EXPECT_NE(line.find("1e+30"), std::string::npos) << line;
 }
 
+// A file in centimetres without "scale" draws fibres ~100 times too thin for its size; the
+// CLI says so once and suggests "scale". The same file with "scale": 0.01, and the metre
+// file even at the far preset on a small image, give no warning; a groom seen from so far
+// that it covers less than a pixel does.
+TEST(ExplicitCli, WarnsAboutGroomsInTheWrongUnits) {
+  const std::string dir = test::scratchDir();
+  Renderer r(test::sharedDevice());
+  HairMesh mesh = makeGroomPreset("tiny");
+  mesh.strandCount = 300;
+  CyHair h = toCyHair(r.generateStrands(mesh), mesh.appearance.strandWidth);
+  writeCyHair(h, dir + "/metres.hair");
+  for (float& v : h.points) v *= 100.0f;
+  writeCyHair(h, dir + "/cm.hair");
+  auto render = [&](const std::string& name, json groom, json camera) {
+    json s = {{"resolution", {96, 64}}, {"camera", camera}, {"grooms", {groom}}};
+    writeBytes(dir + "/" + name + ".json", s.dump());
+    test::CommandResult c = test::runCli("render " + test::quote(dir + "/" + name + ".json") + " -o " +
+                                         test::quote(dir + "/" + name + ".png"));
+    EXPECT_EQ(c.exitCode, 0) << c.output;
+    return c.output;
+  };
+  const json close = {{"preset", "close"}};
+  const std::string cm = render("cm", {{"strands_file", "cm.hair"}}, close);
+  ASSERT_EQ(countOf(cm, "clhair: warning:"), 1u) << cm;
+  const std::size_t begin = cm.find("clhair: warning:");
+  const std::string line = cm.substr(begin, cm.find('\n', begin) - begin);
+  for (const char* f : {"cm.json", "grooms[0]", "\"cm\"", "\"scale\"", "pixels wide"})
+    EXPECT_NE(line.find(f), std::string::npos) << "missing " << f << ": " << line;
+
+  const std::string scaled = render("scaled", {{"strands_file", "cm.hair"}, {"scale", 0.01}}, close);
+  EXPECT_EQ(countOf(scaled, "clhair: warning:"), 0u) << scaled;
+  const std::string far = render("far", {{"strands_file", "metres.hair"}}, {{"preset", "far"}});
+  EXPECT_EQ(countOf(far, "clhair: warning:"), 0u) << far;
+  const std::string tiny = render("tiny", {{"strands_file", "metres.hair"}},
+                                  {{"position", {0.0, 0.0, 200.0}}, {"target", {0.0, 0.0, 0.0}}});
+  ASSERT_EQ(countOf(tiny, "clhair: warning:"), 1u) << tiny;
+  EXPECT_NE(tiny.find("pixels of the 96x64 image"), std::string::npos) << tiny;
+}
+
 TEST(ExplicitCli, RendersAStrandFileIdenticallyWithOneAndTwoPoclThreads) {
   const std::string dir = test::scratchDir();
   Renderer r(test::sharedDevice());

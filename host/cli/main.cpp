@@ -109,6 +109,7 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
   }
   // the scene's viewing angle is kept: the preset changes only the distance and framing
   if (!camera.empty()) scene.camera = reframeCamera(scene, parseCameraPreset(camera));
+  for (const std::string& w : viewWarnings(scene, scenePath)) std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
   RenderOptions ro;
   if (lod == "on")
     ro.lod = 1;

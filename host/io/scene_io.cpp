@@ -225,6 +225,49 @@ void framingBounds(const Scene& s, glm::vec3& lo, glm::vec3& hi, std::vector<std
 
 }  // namespace
 
+std::vector<std::string> viewWarnings(const Scene& scene, const std::string& where) {
+  // Human hair is 20..180 um thick on grooms 0.05..1.5 m across, so width / size is 5e-5 or
+  // more (3e-5 would be 70 um fibres on a groom 2.3 m across), while the same file in
+  // centimetres is 100 times lower; 50 units is 50 m in clhair's metres.
+  constexpr float kMinWidthRatio = 3e-5f, kMaxSize = 50.0f, kMinPixels = 1.0f;
+  std::vector<std::string> out;
+  const Camera& c = scene.camera;
+  const glm::vec3 forward = glm::normalize(c.target - c.position);
+  const float fy = 0.5f * static_cast<float>(scene.height) / std::tan(glm::radians(c.fovYDegrees) * 0.5f);
+  for (std::size_t i = 0; i < scene.grooms.size(); ++i) {
+    const GroomInstance& g = scene.grooms[i];
+    Scene one;
+    one.grooms.push_back(g);
+    glm::vec3 lo, hi;
+    framingBounds(one, lo, hi, nullptr, "");
+    const glm::vec3 ext = hi - lo;
+    const float size = std::max(ext.x, std::max(ext.y, ext.z));
+    const float width = g.strands ? g.strands->appearance.strandWidth : g.mesh->appearance.strandWidth;
+    const float depth = glm::dot(0.5f * (lo + hi) - c.position, forward);
+    const std::string hint = g.strands ? "\"scale\" (0.01 for a file in centimetres)"
+                                       : "\"transform\": {\"scale\": ...} (0.01 for centimetres)";
+    std::string msg;
+    char buf[256];
+    if (size > 0.0f && (width < kMinWidthRatio * size || size > kMaxSize)) {
+      std::snprintf(buf, sizeof(buf), "is %g units across with fibres %g wide (%.2g of its size; human hair is about 1e-4)",
+                    static_cast<double>(size), static_cast<double>(width), static_cast<double>(width / size));
+      msg = buf;
+      if (depth > 0.0f) {
+        std::snprintf(buf, sizeof(buf), ", so its fibres are %.2g pixels wide here", static_cast<double>(width * fy / depth));
+        msg += buf;
+      }
+      msg += ": are its units right? set " + hint;
+    } else if (depth > 0.0f && size * fy / depth < kMinPixels) {
+      std::snprintf(buf, sizeof(buf), "covers only %.2g pixels of the %dx%d image (%g units across, %g away)",
+                    static_cast<double>(size * fy / depth), scene.width, scene.height, static_cast<double>(size),
+                    static_cast<double>(depth));
+      msg = std::string(buf) + ": is it in the units you expect? check " + hint + " or the camera";
+    }
+    if (!msg.empty()) out.push_back(where + ": grooms[" + std::to_string(i) + "] (\"" + g.name + "\") " + msg);
+  }
+  return out;
+}
+
 CameraPreset parseCameraPreset(const std::string& name) {
   if (name == "close") return CameraPreset::Close;
   if (name == "mid") return CameraPreset::Mid;

@@ -142,6 +142,13 @@ Camera framePreset(const Scene& scene, CameraPreset preset, float azimuthDeg = 0
 Camera reframeCamera(const Scene& scene, CameraPreset preset);
 CameraPreset parseCameraPreset(const std::string& name);
 
+// Warnings about the grooms' scale in the scene's final view (camera and resolution as they
+// will render), one line per groom at most, starting with `where` (the scene file): a
+// groom whose fibres are implausibly thin for its size (fibre width below 3e-5 of the
+// groom's extent: a centimetre or millimetre file without "scale") or that is implausibly
+// large (over 50 units across), or that covers less than a pixel of the image.
+std::vector<std::string> viewWarnings(const Scene& scene, const std::string& where);
+
 // Largest accepted image side; larger requests are refused as absurd.
 constexpr int kMaxImageSide = 16384;
 

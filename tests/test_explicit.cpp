@@ -776,6 +776,85 @@ TEST(ExplicitCli, WarnsAboutGroomsInTheWrongUnits) {
   EXPECT_NE(tiny.find("pixels of the 96x64 image"), std::string::npos) << tiny;
 }
 
+// cyHair per-point colours and thicknesses: drawn with "use_file_color", otherwise ignored
+// with one warning. Colours: the root half of every strand blue, the tip half green (the
+// groom's own brown melanin makes red the strongest channel), so blue- and green-dominated
+// hair pixels both appear only when colour reaches the shading per point. Thickness: ten
+// times the default width covers clearly more pixel centers than the default width.
+TEST(ExplicitCli, FileColoursAndThicknessesAreDrawnWhenAsked) {
+  const std::string dir = test::scratchDir();
+  Renderer r(test::sharedDevice());
+  HairMesh mesh = makeGroomPreset("tiny");
+  mesh.strandCount = 300;
+  CyHair h = toCyHair(r.generateStrands(mesh), mesh.appearance.strandWidth);
+  for (std::uint32_t seg : h.segments)
+    for (std::uint32_t k = 0; k <= seg; ++k) {
+      const bool root = 2 * k < seg;
+      h.colors.insert(h.colors.end(), {0.02f, root ? 0.02f : 0.6f, root ? 0.6f : 0.02f});
+    }
+  writeCyHair(h, dir + "/colour.hair");
+  h.thickness.assign(h.points.size() / 3, mesh.appearance.strandWidth);
+  writeCyHair(h, dir + "/thin.hair");
+  h.thickness.assign(h.points.size() / 3, 10.0f * mesh.appearance.strandWidth);
+  writeCyHair(h, dir + "/thick.hair");
+
+  struct Result {
+    std::string output;
+    double hair = 0.0, blue = 0.0, green = 0.0, red = 0.0;  // fractions of the image
+  };
+  auto render = [&](const std::string& name, const std::string& file, bool use, const std::string& options = "") {
+    json groom = {{"strands_file", file}};
+    if (use) groom["appearance"] = {{"use_file_color", true}};
+    json s = {{"resolution", {96, 64}},
+              {"background", {0.0, 0.0, 0.0}},
+              {"camera", {{"preset", "close"}, {"azimuth", 30}}},
+              {"lights", {{{"type", "directional"}, {"direction", {0.4, 0.8, 0.5}}, {"intensity", 3}}}},
+              {"grooms", {groom}}};
+    writeBytes(dir + "/" + name + ".json", s.dump());
+    const std::string out = dir + "/" + name + ".png";
+    test::CommandResult c =
+        test::runCli("render " + test::quote(dir + "/" + name + ".json") + " -o " + test::quote(out) + options);
+    EXPECT_EQ(c.exitCode, 0) << c.output;
+    Result res;
+    res.output = c.output;
+    const Image img = readImage(out);
+    const double n = static_cast<double>(img.width) * img.height;
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x) {
+        const float* p = img.pixel(x, y);
+        if (p[0] + p[1] + p[2] < 0.03f) continue;
+        res.hair += 1.0 / n;
+        if (p[2] > 1.5f * p[0] && p[2] > 1.5f * p[1]) res.blue += 1.0 / n;
+        if (p[1] > 1.5f * p[0] && p[1] > 1.5f * p[2]) res.green += 1.0 / n;
+        if (p[0] > 1.5f * p[1] && p[0] > 1.5f * p[2]) res.red += 1.0 / n;
+      }
+    return res;
+  };
+  const Result ignored = render("ignored", "colour.hair", false);
+  const Result used = render("used", "colour.hair", true);
+  ASSERT_GT(ignored.hair, 0.05) << "see " << dir;
+  EXPECT_EQ(countOf(ignored.output, "clhair: warning:"), 1u) << ignored.output;
+  EXPECT_NE(ignored.output.find("per-point colours, ignored"), std::string::npos) << ignored.output;
+  EXPECT_NE(ignored.output.find("use_file_color"), std::string::npos) << ignored.output;
+  EXPECT_EQ(ignored.blue + ignored.green, 0.0) << "the groom's brown drew blue or green; see " << dir;
+  EXPECT_GT(ignored.red, 0.2 * ignored.hair);
+
+  EXPECT_EQ(countOf(used.output, "clhair: warning:"), 0u) << used.output;
+  EXPECT_EQ(used.red, 0.0) << "see " << dir;
+  EXPECT_GT(used.blue, 0.1 * used.hair) << "no blue roots; see " << dir;
+  EXPECT_GT(used.green, 0.1 * used.hair) << "no green tips; see " << dir;
+
+  // without the filter a pixel shows hair only where a fibre covers its center, so the
+  // covered fraction grows with the fibres' width
+  const Result thin = render("thin", "thin.hair", true, " --filter off");
+  const Result thick = render("thick", "thick.hair", true, " --filter off");
+  EXPECT_GT(thick.hair, 1.5 * thin.hair) << "file thickness not drawn; see " << dir;
+  const Result thickIgnored = render("thick_ignored", "thick.hair", false, " --filter off");
+  EXPECT_NE(thickIgnored.output.find("per-point colours and thicknesses, ignored"), std::string::npos)
+      << thickIgnored.output;
+  EXPECT_LT(thickIgnored.hair, 1.2 * thin.hair) << "thickness drawn although not asked for; see " << dir;
+}
+
 TEST(ExplicitCli, RendersAStrandFileIdenticallyWithOneAndTwoPoclThreads) {
   const std::string dir = test::scratchDir();
   Renderer r(test::sharedDevice());

@@ -89,7 +89,7 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
   // the entry's look, from the defaults: entries naming the same file may differ
   AppearanceParams look;
   LodParams lod;
-  if (o.has("appearance")) readAppearance(o, o.require("appearance"), look);
+  if (o.has("appearance")) readAppearance(o, o.require("appearance"), look, true);
   if (o.has("lod")) {
     JsonReader l = o.object(o.require("lod"), "lod");
     lod.enabled = l.boolean("enabled", lod.enabled);
@@ -114,6 +114,18 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
       o.fail("strands_file", e.what());
     }
   }
+  // per-point colours and thicknesses are drawn only when asked for; say so either way
+  const bool fileLook = !groom.colors.empty() || !groom.thickness.empty();
+  const std::string arrays = !groom.colors.empty() && !groom.thickness.empty() ? "colours and thicknesses"
+                             : !groom.colors.empty()                            ? "colours"
+                                                                                : "thicknesses";
+  if (fileLook && !look.useFileColor && it == loaded.end())
+    warnings.push_back(o.file() + ": " + o.path("strands_file") + ": " + key + " has per-point " + arrays +
+                       ", ignored: the groom's appearance is used (set \"appearance\": {\"use_file_color\": true} " +
+                       "to draw them)");
+  if (!fileLook && look.useFileColor)
+    warnings.push_back(o.file() + ": " + o.path("appearance.use_file_color") + ": " + key +
+                       " has no per-point colours or thicknesses, the groom's appearance is used");
   groom.appearance = look;
   groom.lod = lod;
   auto shared = std::make_shared<const StrandGroom>(std::move(groom));

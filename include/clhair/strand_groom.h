@@ -4,8 +4,8 @@
 //
 // Strand s owns pointCounts[s] consecutive entries of `points` (root first); every strand
 // has at least 2 points. Optional per-point thickness and colour are kept from the file
-// but not drawn yet (the G-buffer word holds no colour; the fibre width is the groom's
-// `appearance.strandWidth`). Optional per-strand root uv in [0, 1]^2 fills the G-buffer's
+// and drawn when `appearance.useFileColor` is set (otherwise the fibre width is
+// `appearance.strandWidth` and the colour the appearance's). Optional per-strand root uv in [0, 1]^2 fills the G-buffer's
 // u, v fields; without it they come from a per-strand hash. The styling coordinate w of a
 // stored point k of an n-point strand is k / (n - 1). The renderer reorders the strands
 // once (docs/scene-format.md, "Strand files") for LOD; a StrandGroom itself is never changed.
@@ -27,8 +27,8 @@ struct StrandGroom {
   std::string name;
   std::vector<std::uint32_t> pointCounts;  // per strand, each >= 2
   std::vector<glm::vec3> points;           // object space, strand after strand
-  std::vector<float> thickness;            // empty, or per point (kept, not drawn)
-  std::vector<glm::vec3> colors;           // empty, or per point linear rgb (kept, not drawn)
+  std::vector<float> thickness;            // empty, or per point (drawn with useFileColor)
+  std::vector<glm::vec3> colors;           // empty, or per point linear rgb (drawn with useFileColor)
   std::vector<glm::vec2> rootUv;           // empty, or per strand in [0, 1]
   std::uint32_t seed = 1;                  // root-uv hash, LOD offsets, LOD order
   AppearanceParams appearance;

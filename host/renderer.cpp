@@ -20,6 +20,7 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 #include <glm/mat4x4.hpp>
+#include <glm/matrix.hpp>
 
 #include "cl/cl_error.h"
 #include "cl/device_impl.h"
@@ -767,6 +768,11 @@ struct Renderer::Impl {
     p.control_points = CLH_MAX_CONTROL_POINTS;  // C_full of the chunk LOD: step 1
     p.total_strands = static_cast<gpu::clh_u32>(d.totalStrands);
     const std::size_t K = d.chunks.size();
+    // per-point file colour and thickness follow the points in the same buffer
+    // (kernels/strands_explicit.cl reads them at point_count + k)
+    p.look[2] = d.fileColor ? 1.0f : 0.0f;
+    if (!d.fileLook.empty()) d.points.insert(d.points.end(), d.fileLook.begin(), d.fileLook.end());
+    std::vector<glm::vec4>().swap(d.fileLook);
     e->points = makeBuffer<cl_float4>(dev, what + " strand points (" + std::to_string(d.totalPoints) + ")",
                                       d.points.size(), reinterpret_cast<const cl_float4*>(d.points.data()));
     e->strandOffsets = makeBuffer(dev, what + " strand offsets", d.strandOffsets.size(), d.strandOffsets.data());
@@ -816,6 +822,12 @@ struct Renderer::Impl {
     p.lod_lambda = sg.lod.lambda * options.lodLambdaScale;
     p.hit_diameter_px = trueWidthOnly ? 0.0f : sg.appearance.minHitDiameterPx;
     p.shadow_lod_correction = shadowCorrection ? 1u : 0u;
+    if (e.data.fileThickness) {
+      // file thickness is in object units: scale it like the points (uniform part)
+      const float scale = std::cbrt(std::fabs(glm::determinant(glm::mat3(objToWorld))));
+      p.look[3] = scale;
+      p.strand_width = std::max(e.data.meanThickness * scale, 1e-9f);  // LOD and shadow estimates
+    }
     upload(dev, e.groom, &p, 1);
     return true;
   }

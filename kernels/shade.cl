@@ -68,11 +68,17 @@ static inline float3 shade_word(__global const ClhGroomGpu* groom_g, __global co
   const float3 T = (float3)(tv[0], tv[1], tv[2]);
   const float u = clh_unorm_value(clh_gbuf_u(word), 6u), v = clh_unorm_value(clh_gbuf_v(word), 6u);
   const float w = clh_unorm_value(clh_gbuf_w(word), 6u);
-  const float ao = clh_unorm_value(clh_gbuf_ao(word), 6u);
+  const bool file_color = groom_g->look[2] > 0.5f; /* u, v, AO fields hold rgb (gpu_types.h) */
+  const float ao = file_color ? 1.0f : clh_unorm_value(clh_gbuf_ao(word), 6u);
   const float3 V = normalize(vload3(0, view_g->eye) - pos);
 
   clh_hair_material mat;
   shade_material(groom_g, u, v, w, &mat);
+  if (file_color) {
+    const float3 c = (float3)(clh_file_color_value(clh_gbuf_u(word)), clh_file_color_value(clh_gbuf_v(word)),
+                              clh_file_color_value(clh_gbuf_ao(word)));
+    mat.sigma_a = clh_hair_sigma_a_from_color(c, groom_g->bsdf[1]);
+  }
   clh_hair_view hv;
   clh_hair_prepare_to(&hv, &mat, T, V);
 

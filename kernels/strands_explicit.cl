@@ -27,7 +27,8 @@
  * shuffle's fill value. Tangents are central differences inside and Bhokare's reflection
  * rule (Eq. 5-6) at the root and the tip, as in strands.cl. The G-buffer word means the
  * same as for generated strands: u, v from the stored root uv or a per-strand hash, w from
- * the point, AO 1.
+ * the point, AO 1; with per-point file colour (look[2]) u, v and AO hold the colour instead
+ * (clh_x_file_look). The points table then holds twice point_count entries.
  *
  * Kernels: strands_explicit_raster (group g draws strand strand_base + g; read-back and
  * over-launch sizing), strands_explicit_raster_persistent (group g draws every
@@ -206,6 +207,31 @@ static inline void clh_x_round(sg_ctx* sg, const clh_x_tables* tb, const clh_x_j
   span->base = base;
 }
 
+/* Per-point colour and thickness of a strand file (groom look[2] = 1: colour, look[3] > 0:
+ * thickness times that object -> world scale), stored after the points as float4 linear
+ * rgb and thickness. A lane's run is drawn with their means over its points: the colour in
+ * the word's u, v and AO fields (gpu_types.h; AO through the tangents' w), the width in the
+ * raster's pixels per unit depth. */
+static inline void clh_x_file_look(clh_raster_ctx* rc, __global const ClhGroomGpu* g, const clh_x_tables* tb,
+                                   const clh_x_job* job, clh_x_span* span, float4* T) {
+  if (span->count == 0u) return;
+  float4 sum = (float4)(0.0f);
+  for (uint i = 0; i < CLH_X_CAP; ++i)
+    if (i < span->count) {
+      const uint k = min((span->base + span->first + i) * job->step, job->n - 1u);
+      sum += tb->points[tb->point_count + min(job->first + k, tb->point_count - 1u)];
+    }
+  const float4 a = sum / (float)span->count;
+  if (g->look[2] > 0.5f) {
+    rc->u6 = clh_file_color_code(a.x);
+    rc->v6 = clh_file_color_code(a.y);
+    const float b = clh_unorm_value(clh_file_color_code(a.z), 6u);
+    for (uint i = 0; i < CLH_X_CAP; ++i) T[i].w = b;
+    span->next_t.w = b;
+  }
+  if (g->look[3] > 0.0f) rc->width_px1 = rc->fy * a.w * g->look[3];
+}
+
 /* Draws strand `index` (when it exists). Uniform per group. */
 static inline void clh_x_draw(sg_ctx* sg, clh_raster_ctx* rc, __global const ClhGroomGpu* g,
                               const clh_x_tables* tb, __global const uint4* lod_g,
@@ -230,6 +256,7 @@ static inline void clh_x_draw(sg_ctx* sg, clh_raster_ctx* rc, __global const Clh
     float4 P[CLH_X_CAP], T[CLH_X_CAP];
     clh_x_span span;
     clh_x_round(sg, tb, &job, base, P, T, &span);
+    if (g->look[2] > 0.5f || g->look[3] > 0.0f) clh_x_file_look(rc, g, tb, &job, &span, T);
     clh_raster_lane(rc, scene_depth_g, gbuf_g, stats_g, g, P, T, span.first, span.count, span.points,
                     span.next_p, span.next_t);
   }

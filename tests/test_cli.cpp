@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -216,6 +217,32 @@ TEST(Cli, UnknownSubgroupBackend) {
       {"\"bogus\"", "local"}, out);
 }
 
+TEST(Cli, ParseErrorsAreOneErrorLineAndExitOne) {
+  const std::string dir = scratchDir();
+  writeJson(dir + "/scene.json", sceneWith(assetPath("grooms/tiny.hairmesh.json")));
+  const std::string out = dir + "/out.png";
+  const std::string render = "render " + quote(dir + "/scene.json") + " -o " + quote(out);
+  const struct {
+    std::string args;
+    std::vector<std::string> fragments;
+  } cases[] = {{render + " --width abc", {"--width", "abc"}},
+               {render + " --no-such-flag", {"--no-such-flag"}},
+               {"render -o " + quote(out), {"scene"}},
+               {"", {"subcommand"}}};
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.args);
+    const CommandResult r = runCli(c.args);
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    expectRefused(r, c.fragments, out);
+    EXPECT_EQ(r.output.rfind("clhair: error:", 0), 0u) << "not the only line:\n" << r.output;
+  }
+  for (const std::string help : {"--help", "render --help"}) {
+    const CommandResult r = runCli(help);
+    EXPECT_EQ(r.exitCode, 0) << help << ":\n" << r.output;
+    EXPECT_NE(r.output.find("Usage"), std::string::npos) << r.output;
+  }
+}
+
 // ---- end to end ---------------------------------------------------------------------------
 
 // Pixels (x, y) whose colours differ between two images of equal size.
@@ -276,6 +303,64 @@ TEST(Cli, DefaultSceneShowsHairOverTheOpaqueScene) {
         for (int x = cx; x < cx + k; ++x) cornerDiffs += pixelDiffers(a, b, x, y) ? 1 : 0;
   EXPECT_EQ(cornerDiffs, 0u) << "the background changed in the corners; compare " << withHair
                              << " and " << without;
+}
+
+// Fraction of pixels whose colours differ by more than `tolerance` in some channel.
+double fractionDiffering(const Image& a, const Image& b, float tolerance) {
+  std::size_t n = 0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x)
+      for (int c = 0; c < 3; ++c)
+        if (std::fabs(a.pixel(x, y)[c] - b.pixel(x, y)[c]) > tolerance) {
+          ++n;
+          break;
+        }
+  return static_cast<double>(n) / (static_cast<double>(a.width) * a.height);
+}
+
+// --camera close|mid|far keeps the viewing angle of the scene's camera (a preset's azimuth
+// and elevation, or an explicit camera's direction) and changes only distance and framing.
+TEST(Cli, CameraOptionKeepsTheScenesViewingAngle) {
+  const std::string dir = scratchDir();
+  const float az = 90.0f, el = 30.0f;
+  json base = sceneWith(assetPath("grooms/tiny.hairmesh.json"));
+  base["resolution"] = {96, 64};
+  auto render = [&](const std::string& name, const json& camera, const std::string& option) {
+    json s = base;
+    s["camera"] = camera;
+    writeJson(dir + "/" + name + ".json", s);
+    const std::string out = dir + "/" + name + ".png";
+    const CommandResult r = runCli("render " + quote(dir + "/" + name + ".json") + " -o " + quote(out) + option);
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    return readImage(out);
+  };
+  // what the scene itself asks for: a close preset from (90, 30)
+  const Image expected = render("close", {{"preset", "close"}, {"azimuth", az}, {"elevation", el}}, "");
+  const Image fromPreset =
+      render("mid", {{"preset", "mid"}, {"azimuth", az}, {"elevation", el}}, " --camera close");
+  // an explicit camera looking from the same direction
+  const double a = az * 3.14159265358979 / 180.0, e = el * 3.14159265358979 / 180.0;
+  const std::vector<double> target = {0.0, 0.02, 0.0};
+  const std::vector<double> position = {0.3 * std::sin(a) * std::cos(e), 0.02 + 0.3 * std::sin(e),
+                                        0.3 * std::cos(a) * std::cos(e)};
+  const Image fromExplicit =
+      render("explicit", {{"position", position}, {"target", target}, {"fov", 35}}, " --camera close");
+  // the angle the option used to impose whatever the scene said
+  const Image oldDefault = render("default", {{"preset", "close"}, {"azimuth", 0}, {"elevation", 10}}, "");
+
+  EXPECT_GT(fractionDiffering(expected, oldDefault, 0.02f), 0.05)
+      << "the two viewing angles look alike, the test cannot tell them apart";
+  EXPECT_LT(fractionDiffering(expected, fromPreset, 0.02f), 0.01) << "see " << dir;
+  EXPECT_LT(fractionDiffering(expected, fromExplicit, 0.02f), 0.01) << "see " << dir;
+
+  // the camera itself: the same direction, the preset's distance
+  Scene s = loadScene(dir + "/explicit.json");
+  const Camera want = framePreset(s, CameraPreset::Close, az, el, 35.0f);
+  const Camera got = reframeCamera(s, CameraPreset::Close);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(got.position[i], want.position[i], 1e-5f) << i;
+    EXPECT_NEAR(got.target[i], want.target[i], 1e-6f) << i;
+  }
 }
 
 TEST(Cli, GeneratedPresetGroomRenders) {

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "clhair/error.h"
+#include "clhair/strand_groom.h"
 #include "io/cyhair.h"
 #include "io/usc_hair.h"
 #include "test_util.h"
@@ -200,6 +201,8 @@ TEST(StrandFileCyHair, IgnoresTrailingBytesAndKeepsSinglePointStrands) {
   const CyHair r = readCyHair(writeFile(dir, "trailing.hair", b.data), kNoLimit);
   EXPECT_EQ(r.segments, (std::vector<std::uint32_t>{0, 1}));
   EXPECT_EQ(r.points.size(), 9u);
+  EXPECT_EQ(r.trailingBytes, 26u);
+  EXPECT_EQ(readCyHair(writeFile(dir, "exact.hair", validTwoStrands().data), kNoLimit).trailingBytes, 0u);
 }
 
 TEST(StrandFileCyHair, ReadsAtExactlyTheByteLimit) {
@@ -470,14 +473,46 @@ TEST(StrandFileUsc, RejectsNonFiniteCoordinates) {
   expectUscError(writeFile(dir, "inf.data", data), {"strand 2 point 1 y is inf"});
 }
 
-TEST(StrandFileUsc, RejectsNoUsableStrandsAndTrailingBytes) {
+TEST(StrandFileUsc, RejectsNoUsableStrands) {
   const std::string dir = test::scratchDir();
   Bytes single;
   single.i32(2).i32(1).f32(0.0f).f32(0.0f).f32(0.0f).i32(0);
   expectUscError(writeFile(dir, "single.data", single.data),
                  {"none of its 2 strands has 2 or more points"});
-  expectUscError(writeFile(dir, "trailing.data", validUsc().data + "xyz"),
-                 {"has 3 bytes after the last of its 3 strands"});
+}
+
+// Trailing bytes are read past and counted, as by the cyHair reader.
+TEST(StrandFileUsc, CountsTrailingBytesLikeCyHair) {
+  const std::string dir = test::scratchDir();
+  const UscHair u = readUscHair(writeFile(dir, "trailing.data", validUsc().data + "xyz"), kNoLimit);
+  EXPECT_EQ(u.hair.trailingBytes, 3u);
+  EXPECT_EQ(u.hair.segments, (std::vector<std::uint32_t>{1, 2}));
+  EXPECT_EQ(readUscHair(writeFile(dir, "exact.data", validUsc().data), kNoLimit).hair.trailingBytes, 0u);
+}
+
+// Both formats: a file with trailing bytes loads, with one warning naming the file and the
+// byte count; a file without them gives none.
+TEST(StrandFileLoad, TrailingBytesWarnOnceForBothFormats) {
+  const std::string dir = test::scratchDir();
+  const struct {
+    std::string name, data, count;
+  } cases[] = {{"trailing.hair", validTwoStrands().data + "0123456789", "10 bytes"},
+               {"trailing.data", validUsc().data + "xyz", "3 bytes"}};
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    const std::string path = writeFile(dir, c.name, c.data);
+    std::vector<std::string> warnings;
+    const StrandGroom g = loadStrandGroom(path, kNoLimit, nullptr, &warnings);
+    EXPECT_EQ(g.pointCounts.size(), 2u);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find(path), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[0].find(c.count), std::string::npos) << warnings[0];
+    EXPECT_EQ(warnings[0].find('\n'), std::string::npos) << warnings[0];
+  }
+  std::vector<std::string> none;
+  loadStrandGroom(writeFile(dir, "exact.hair", validTwoStrands().data), kNoLimit, nullptr, &none);
+  loadStrandGroom(writeFile(dir, "exact.data", validUsc().data), kNoLimit, nullptr, &none);
+  EXPECT_TRUE(none.empty()) << none.front();
 }
 
 TEST(StrandFileUsc, RefusesMoreThanTheByteLimit) {

@@ -36,6 +36,14 @@ namespace {
 
 using namespace clhair;
 
+// A message on one line: line breaks become "; ".
+std::string oneLine(std::string text) {
+  while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
+  for (std::size_t p = text.find('\n'); p != std::string::npos; p = text.find('\n', p))
+    text.replace(p, 1, "; ");
+  return text;
+}
+
 std::string mib(std::uint64_t bytes) { return std::to_string(bytes >> 20) + " MiB"; }
 
 int cmdDevices(const DeviceOptions& opts) {
@@ -90,6 +98,7 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
   // the device first: strand files are checked against its largest allocation as they load
   Device dev = Device::open(opts);
   Scene scene = loadScene(scenePath, dev.info().maxAlloc);
+  for (const std::string& w : scene.warnings) std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
   if (f.widthGiven || f.heightGiven) {
     int w = f.widthGiven ? width : scene.width, h = f.heightGiven ? height : scene.height;
     if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
@@ -98,7 +107,9 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     scene.width = w;
     scene.height = h;
   }
-  if (!camera.empty()) scene.camera = framePreset(scene, parseCameraPreset(camera), 0.0f, 10.0f, scene.camera.fovYDegrees);
+  // the scene's viewing angle is kept: the preset changes only the distance and framing
+  if (!camera.empty()) scene.camera = reframeCamera(scene, parseCameraPreset(camera));
+  for (const std::string& w : viewWarnings(scene, scenePath)) std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
   RenderOptions ro;
   if (lod == "on")
     ro.lod = 1;
@@ -293,7 +304,11 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help is the one "error" that succeeds; every other parse failure is reported like
+    // any other error: one line, exit 1 (not CLI11's own codes and two-line message).
+    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);
+    std::fprintf(stderr, "clhair: error: %s (see clhair --help)\n", oneLine(e.what()).c_str());
+    return 1;
   }
   rf.widthGiven = render->count("--width") > 0;
   rf.heightGiven = render->count("--height") > 0;

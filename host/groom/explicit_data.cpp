@@ -2,6 +2,7 @@
 #include "groom/explicit_data.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <numeric>
 
@@ -75,6 +76,10 @@ ExplicitData prepareExplicit(const StrandGroom& g, std::uint32_t chunkStrands) {
   out.sourceStrand = order;
 
   out.points.resize(out.totalPoints);
+  out.fileColor = g.appearance.useFileColor && !g.colors.empty();
+  out.fileThickness = g.appearance.useFileColor && !g.thickness.empty();
+  if (out.fileColor || out.fileThickness) out.fileLook.resize(out.totalPoints);
+  double thicknessSum = 0.0;
   out.strandOffsets.resize(S + 1);
   if (!g.rootUv.empty()) out.uv.resize(S);
   std::uint32_t at = 0;
@@ -85,11 +90,19 @@ ExplicitData prepareExplicit(const StrandGroom& g, std::uint32_t chunkStrands) {
     for (std::uint32_t k = 0; k < n; ++k) {
       const glm::vec3& p = g.points[first[src] + k];
       out.points[at + k] = glm::vec4(p, static_cast<float>(k) / static_cast<float>(n - 1));
+      if (!out.fileLook.empty()) {
+        const std::size_t i = first[src] + k;
+        const glm::vec3 c = out.fileColor ? g.colors[i] : g.appearance.rootColor;
+        const float t = out.fileThickness ? std::fabs(g.thickness[i]) : 0.0f;
+        out.fileLook[at + k] = glm::vec4(c, t);
+        thicknessSum += t;
+      }
     }
     if (!g.rootUv.empty()) out.uv[s] = unorm16(g.rootUv[src].x) | unorm16(g.rootUv[src].y) << 16;
     at += n;
   }
   out.strandOffsets[S] = at;
+  if (out.fileThickness) out.meanThickness = static_cast<float>(thicknessSum / static_cast<double>(at));
 
   out.chunks.resize(K);
   out.chunkBounds.resize(2 * K);

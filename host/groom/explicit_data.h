@@ -15,6 +15,11 @@
 //   chunks         uint4 per chunk: x first strand, y strand count, z LOD delta (float
 //                  bits, Lipp Eq. 1), w 0
 //   chunkBounds    float4 pair per chunk: object-space AABB min (w 0), max (w 0)
+//   fileLook       float4 per stored point in the order of `points`, only when the groom's
+//                  appearance says useFileColor and it has per-point colours or thickness:
+//                  linear rgb (the appearance's root colour where the file has none) and
+//                  thickness (object units, 0 where the file has none); uploaded after the
+//                  points in the same buffer (kernels/strands_explicit.cl)
 #pragma once
 
 #include <cstdint>
@@ -36,6 +41,9 @@ struct ExplicitData {
   std::vector<std::uint32_t> sourceStrand;  // new order -> index in the StrandGroom
   std::vector<glm::uvec4> chunks;
   std::vector<glm::vec4> chunkBounds;       // 2 per chunk
+  std::vector<glm::vec4> fileLook;          // empty, or per point (see above)
+  bool fileColor = false, fileThickness = false;
+  float meanThickness = 0.0f;               // object units, when fileThickness
   glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // object space, all points
   std::uint64_t totalStrands = 0;
   std::uint64_t totalPoints = 0;

@@ -11,6 +11,8 @@
 namespace clhair {
 
 // Reads `j` (the value of key "appearance" of `parent`) over the values already in `a`.
-void readAppearance(const JsonReader& parent, const nlohmann::json& j, AppearanceParams& a);
+// `strandFile`: the entry names a strand file, which may also say "use_file_color".
+void readAppearance(const JsonReader& parent, const nlohmann::json& j, AppearanceParams& a,
+                    bool strandFile = false);
 
 }  // namespace clhair

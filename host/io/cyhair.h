@@ -11,7 +11,7 @@
 // file size and a caller's byte limit before anything is allocated, every float must be
 // finite, and the segment counts must add up to the point count. Strands of 0 segments (a
 // single point) are legal in the format and kept. Bytes after the last array are ignored,
-// as Yuksel's own loader does.
+// as Yuksel's own loader does, and counted in `trailingBytes` so that a caller can warn.
 #pragma once
 
 #include <cstdint>
@@ -30,6 +30,7 @@ struct CyHair {
   float defaultTransparency = 0.0f;
   float defaultColor[3] = {1.0f, 1.0f, 1.0f};
   std::string info;
+  std::uint64_t trailingBytes = 0;      // read: bytes after the last array (not written)
 };
 
 inline std::uint64_t strandCount(const CyHair& hair) { return hair.segments.size(); }

@@ -205,6 +205,7 @@ CyHair readCyHair(const std::string& path, std::uint64_t maxBytes) {
   if (flags & kTransparencyBit)
     readFloats(f, path, h, points, nullptr, "transparency array", h.transparency);
   if (flags & kColorsBit) readFloats(f, path, h, points, kRgb, "colour array", h.colors);
+  h.trailingBytes = f.size() - expected;
   return h;
 }
 

@@ -122,7 +122,7 @@ std::string layout(const json& j) {
 
 }  // namespace
 
-void readAppearance(const JsonReader& r, const json& j, AppearanceParams& a) {
+void readAppearance(const JsonReader& r, const json& j, AppearanceParams& a, bool strandFile) {
   JsonReader o = r.object(j, "appearance");
   a.rootColor = o.vec3("root_color", a.rootColor, 0.0, 1.0);
   a.tipColor = o.vec3("tip_color", a.tipColor, 0.0, 1.0);
@@ -153,6 +153,12 @@ void readAppearance(const JsonReader& r, const json& j, AppearanceParams& a) {
   a.variation = static_cast<float>(o.number("variation", a.variation, 0.0, 0.9));
   a.strandWidth = o.number("strand_width", a.strandWidth, 1e-9, 1e3);
   a.minHitDiameterPx = o.number("min_hit_diameter_px", a.minHitDiameterPx, 0.0, 3.0);
+  if (strandFile) {
+    a.useFileColor = o.boolean("use_file_color", a.useFileColor);
+    o.rejectUnknown({"root_color", "tip_color", "use_melanin", "eumelanin", "pheomelanin", "beta_m", "beta_n",
+                     "cuticle_tilt", "ior", "variation", "strand_width", "min_hit_diameter_px", "use_file_color"});
+    return;
+  }
   o.rejectUnknown({"root_color", "tip_color", "use_melanin", "eumelanin", "pheomelanin", "beta_m", "beta_n",
                    "cuticle_tilt", "ior", "variation", "strand_width", "min_hit_diameter_px"});
 }

@@ -5,10 +5,13 @@
 // is read once per scene however many entries use it.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <map>
 
 #include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
 #include <glm/trigonometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -73,7 +76,8 @@ FilterParams readFilter(const JsonReader& parent, const json& j, FilterParams f)
 // up axis, then the entry's transform), appearance, LOD and filter.
 GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& base, const FilterParams& sceneFilter,
                               std::uint64_t maxBytes,
-                              std::map<std::string, std::shared_ptr<const StrandGroom>>& loaded) {
+                              std::map<std::string, std::shared_ptr<const StrandGroom>>& loaded,
+                              std::vector<std::string>& warnings) {
   const std::string file = o.string("strands_file", "");
   if (file.empty()) o.fail("strands_file", "is empty: name a .hair or .data strand file");
   std::filesystem::path p = std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;
@@ -85,7 +89,7 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
   // the entry's look, from the defaults: entries naming the same file may differ
   AppearanceParams look;
   LodParams lod;
-  if (o.has("appearance")) readAppearance(o, o.require("appearance"), look);
+  if (o.has("appearance")) readAppearance(o, o.require("appearance"), look, true);
   if (o.has("lod")) {
     JsonReader l = o.object(o.require("lod"), "lod");
     lod.enabled = l.boolean("enabled", lod.enabled);
@@ -95,7 +99,7 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
   }
   const float scale = static_cast<float>(o.number("scale", 1.0, 1e-6, 1e6));
   const std::string up = o.string("up", "y");
-  if (up != "y" && up != "z") o.fail("up", "is \"" + up + "\", expected \"y\" or \"z\"");
+  if (up != "x" && up != "y" && up != "z") o.fail("up", "is \"" + up + "\", expected \"x\", \"y\" or \"z\"");
   // the first entry of a file takes it as read; later ones copy it (the points too)
   StrandGroom groom;
   auto it = loaded.find(key);
@@ -103,11 +107,25 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
     groom = *it->second;
   } else {
     try {
-      groom = loadStrandGroom(key, maxBytes);
+      std::vector<std::string> notes;
+      groom = loadStrandGroom(key, maxBytes, nullptr, &notes);
+      for (const std::string& n : notes) warnings.push_back(o.file() + ": " + o.path("strands_file") + ": " + n);
     } catch (const Error& e) {
       o.fail("strands_file", e.what());
     }
   }
+  // per-point colours and thicknesses are drawn only when asked for; say so either way
+  const bool fileLook = !groom.colors.empty() || !groom.thickness.empty();
+  const std::string arrays = !groom.colors.empty() && !groom.thickness.empty() ? "colours and thicknesses"
+                             : !groom.colors.empty()                            ? "colours"
+                                                                                : "thicknesses";
+  if (fileLook && !look.useFileColor && it == loaded.end())
+    warnings.push_back(o.file() + ": " + o.path("strands_file") + ": " + key + " has per-point " + arrays +
+                       ", ignored: the groom's appearance is used (set \"appearance\": {\"use_file_color\": true} " +
+                       "to draw them)");
+  if (!fileLook && look.useFileColor)
+    warnings.push_back(o.file() + ": " + o.path("appearance.use_file_color") + ": " + key +
+                       " has no per-point colours or thicknesses, the groom's appearance is used");
   groom.appearance = look;
   groom.lod = lod;
   auto shared = std::make_shared<const StrandGroom>(std::move(groom));
@@ -116,7 +134,7 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
   g.name = o.string("name", shared->name);
   g.strands = shared;
   glm::mat4 placement = o.has("transform") ? readTransform(o, o.require("transform")) : glm::mat4(1.0f);
-  g.transform = placement * strandFileTransform(scale, up == "z");
+  g.transform = placement * strandFileTransform(scale, up == "x" ? UpAxis::X : up == "z" ? UpAxis::Z : UpAxis::Y);
   if (o.has("filter")) {
     g.hasFilter = true;
     g.filter = readFilter(o, o.require("filter"), sceneFilter);
@@ -125,24 +143,142 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
   return g;
 }
 
-void worldBounds(const Scene& s, glm::vec3& lo, glm::vec3& hi) {
-  lo = glm::vec3(1e30f);
-  hi = glm::vec3(-1e30f);
-  for (const GroomInstance& g : s.grooms) {
-    const std::vector<glm::vec3>& points = g.strands ? g.strands->points : g.mesh->positions;
-    for (const glm::vec3& p : points) {
-      glm::vec3 w = glm::vec3(g.transform * glm::vec4(p, 1.0f));
-      lo = glm::min(lo, w);
-      hi = glm::max(hi, w);
+const std::vector<glm::vec3>& groomPoints(const GroomInstance& g) {
+  return g.strands ? g.strands->points : g.mesh->positions;
+}
+
+std::string showVec(const glm::vec3& v) {
+  char buf[96];
+  std::snprintf(buf, sizeof(buf), "(%g, %g, %g)", v.x, v.y, v.z);
+  return buf;
+}
+
+// The box that camera presets frame: the bounds of the grooms' world points that are not
+// outliers. The 0.5 % and 99.5 % percentiles per axis (over at most about a million
+// points, evenly strided) give a core box; a point counts when it lies within one core
+// size (the largest axis extent) of that box. For an ordinary groom every point does, so
+// the framing is its exact bounds; a stray vertex (a broken file's 1e30) is left out, and
+// described in *warnings (one line per groom, naming its first such strand) when given.
+void framingBounds(const Scene& s, glm::vec3& lo, glm::vec3& hi, std::vector<std::string>* warnings,
+                   const std::string& where) {
+  lo = glm::vec3(-0.5f);
+  hi = glm::vec3(0.5f);
+  std::size_t total = 0;
+  for (const GroomInstance& g : s.grooms) total += groomPoints(g).size();
+  if (total == 0) return;
+  const std::size_t stride = std::max<std::size_t>(1, total / 1'000'000);
+  std::vector<float> axis[3];
+  for (auto& a : axis) a.reserve(total / stride + s.grooms.size());
+  for (const GroomInstance& g : s.grooms)
+    for (std::size_t i = 0; i < groomPoints(g).size(); i += stride) {
+      const glm::vec3 w = glm::vec3(g.transform * glm::vec4(groomPoints(g)[i], 1.0f));
+      for (int c = 0; c < 3; ++c) axis[c].push_back(w[c]);
+    }
+  glm::vec3 coreLo, coreHi;
+  for (int c = 0; c < 3; ++c) {
+    std::vector<float>& a = axis[c];
+    const std::size_t n = a.size();
+    const std::size_t k0 = static_cast<std::size_t>(0.005 * static_cast<double>(n - 1));
+    const std::size_t k1 = static_cast<std::size_t>(std::ceil(0.995 * static_cast<double>(n - 1)));
+    std::nth_element(a.begin(), a.begin() + k0, a.end());
+    coreLo[c] = a[k0];
+    std::nth_element(a.begin(), a.begin() + k1, a.end());
+    coreHi[c] = a[k1];
+  }
+  const glm::vec3 coreExtent = coreHi - coreLo;
+  float margin = std::max(coreExtent.x, std::max(coreExtent.y, coreExtent.z));
+  // a core of one point (or of points in one place) still admits nearby ones
+  margin = std::max(margin, 1e-6f * std::max(1.0f, std::max(glm::length(coreLo), glm::length(coreHi))));
+  const glm::vec3 acceptLo = coreLo - margin, acceptHi = coreHi + margin;
+
+  glm::vec3 blo(std::numeric_limits<float>::max()), bhi(-std::numeric_limits<float>::max());
+  for (std::size_t gi = 0; gi < s.grooms.size(); ++gi) {
+    const GroomInstance& g = s.grooms[gi];
+    const std::vector<glm::vec3>& points = groomPoints(g);
+    std::size_t strand = 0, strandEnd = g.strands && !g.strands->pointCounts.empty() ? g.strands->pointCounts[0] : 0;
+    std::size_t outlierStrands = 0, firstOutlier = 0, lastCounted = ~std::size_t(0);
+    glm::vec3 firstPoint(0.0f);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (g.strands)
+        while (i >= strandEnd && strand + 1 < g.strands->pointCounts.size()) strandEnd += g.strands->pointCounts[++strand];
+      const glm::vec3 w = glm::vec3(g.transform * glm::vec4(points[i], 1.0f));
+      const bool inside = glm::all(glm::greaterThanEqual(w, acceptLo)) && glm::all(glm::lessThanEqual(w, acceptHi));
+      if (inside) {
+        blo = glm::min(blo, w);
+        bhi = glm::max(bhi, w);
+        continue;
+      }
+      const std::size_t id = g.strands ? strand : i;
+      if (id == lastCounted) continue;
+      if (outlierStrands == 0) {
+        firstOutlier = id;
+        firstPoint = w;
+      }
+      ++outlierStrands;
+      lastCounted = id;
+    }
+    if (outlierStrands > 0 && warnings) {
+      const std::string what = g.strands ? "strand" : "hair-mesh layer vertex";
+      std::string msg = where + ": grooms[" + std::to_string(gi) + "] (\"" + g.name + "\"): " + what + " " +
+                        std::to_string(firstOutlier) + " has a point at " + showVec(firstPoint) +
+                        ", far outside the rest of the hair (" + showVec(coreLo) + " to " + showVec(coreHi) +
+                        "); camera presets frame the hair without it";
+      if (outlierStrands > 1)
+        msg += " (and " + std::to_string(outlierStrands - 1) + " more " + what + (outlierStrands > 2 ? "s" : "") +
+               " like it)";
+      warnings->push_back(msg);
     }
   }
-  if (s.grooms.empty()) {
-    lo = glm::vec3(-0.5f);
-    hi = glm::vec3(0.5f);
+  if (blo.x <= bhi.x) {
+    lo = blo;
+    hi = bhi;
   }
 }
 
 }  // namespace
+
+std::vector<std::string> viewWarnings(const Scene& scene, const std::string& where) {
+  // Human hair is 20..180 um thick on grooms 0.05..1.5 m across, so width / size is 5e-5 or
+  // more (3e-5 would be 70 um fibres on a groom 2.3 m across), while the same file in
+  // centimetres is 100 times lower; 50 units is 50 m in clhair's metres.
+  constexpr float kMinWidthRatio = 3e-5f, kMaxSize = 50.0f, kMinPixels = 1.0f;
+  std::vector<std::string> out;
+  const Camera& c = scene.camera;
+  const glm::vec3 forward = glm::normalize(c.target - c.position);
+  const float fy = 0.5f * static_cast<float>(scene.height) / std::tan(glm::radians(c.fovYDegrees) * 0.5f);
+  for (std::size_t i = 0; i < scene.grooms.size(); ++i) {
+    const GroomInstance& g = scene.grooms[i];
+    Scene one;
+    one.grooms.push_back(g);
+    glm::vec3 lo, hi;
+    framingBounds(one, lo, hi, nullptr, "");
+    const glm::vec3 ext = hi - lo;
+    const float size = std::max(ext.x, std::max(ext.y, ext.z));
+    const float width = g.strands ? g.strands->appearance.strandWidth : g.mesh->appearance.strandWidth;
+    const float depth = glm::dot(0.5f * (lo + hi) - c.position, forward);
+    const std::string hint = g.strands ? "\"scale\" (0.01 for a file in centimetres)"
+                                       : "\"transform\": {\"scale\": ...} (0.01 for centimetres)";
+    std::string msg;
+    char buf[256];
+    if (size > 0.0f && (width < kMinWidthRatio * size || size > kMaxSize)) {
+      std::snprintf(buf, sizeof(buf), "is %g units across with fibres %g wide (%.2g of its size; human hair is about 1e-4)",
+                    static_cast<double>(size), static_cast<double>(width), static_cast<double>(width / size));
+      msg = buf;
+      if (depth > 0.0f) {
+        std::snprintf(buf, sizeof(buf), ", so its fibres are %.2g pixels wide here", static_cast<double>(width * fy / depth));
+        msg += buf;
+      }
+      msg += ": are its units right? set " + hint;
+    } else if (depth > 0.0f && size * fy / depth < kMinPixels) {
+      std::snprintf(buf, sizeof(buf), "covers only %.2g pixels of the %dx%d image (%g units across, %g away)",
+                    static_cast<double>(size * fy / depth), scene.width, scene.height, static_cast<double>(size),
+                    static_cast<double>(depth));
+      msg = std::string(buf) + ": is it in the units you expect? check " + hint + " or the camera";
+    }
+    if (!msg.empty()) out.push_back(where + ": grooms[" + std::to_string(i) + "] (\"" + g.name + "\") " + msg);
+  }
+  return out;
+}
 
 CameraPreset parseCameraPreset(const std::string& name) {
   if (name == "close") return CameraPreset::Close;
@@ -151,10 +287,12 @@ CameraPreset parseCameraPreset(const std::string& name) {
   throw Error("unknown camera preset \"" + name + "\"; expected close, mid or far");
 }
 
-Camera framePreset(const Scene& scene, CameraPreset preset, float azimuthDeg, float elevationDeg,
-                   float fovYDeg) {
+namespace {
+
+// Frames the grooms' bounds from unit direction `dir` (target -> eye).
+Camera frameAlong(const Scene& scene, CameraPreset preset, glm::vec3 dir, float fovYDeg, glm::vec3 up) {
   glm::vec3 lo, hi;
-  worldBounds(scene, lo, hi);
+  framingBounds(scene, lo, hi, nullptr, "");
   const float fraction = preset == CameraPreset::Close ? 0.6f : preset == CameraPreset::Mid ? 0.2f : 0.05f;
   glm::vec3 center = 0.5f * (lo + hi);
   glm::vec3 extent = hi - lo;
@@ -165,14 +303,32 @@ Camera framePreset(const Scene& scene, CameraPreset preset, float azimuthDeg, fl
   float size = std::max(extent.y, horizontal);
   float tanHalf = std::tan(glm::radians(fovYDeg) * 0.5f);
   float distance = std::max(size / (2.0f * fraction * tanHalf), glm::length(extent));
-  float az = glm::radians(azimuthDeg), el = glm::radians(elevationDeg);
-  glm::vec3 dir(std::sin(az) * std::cos(el), std::sin(el), std::cos(az) * std::cos(el));
   Camera cam;
   cam.fovYDegrees = fovYDeg;
   cam.target = center;
   cam.position = center + dir * distance;
-  cam.up = glm::vec3(0, 1, 0);
+  cam.up = up;
   return cam;
+}
+
+}  // namespace
+
+Camera framePreset(const Scene& scene, CameraPreset preset, float azimuthDeg, float elevationDeg,
+                   float fovYDeg) {
+  float az = glm::radians(azimuthDeg), el = glm::radians(elevationDeg);
+  glm::vec3 dir(std::sin(az) * std::cos(el), std::sin(el), std::cos(az) * std::cos(el));
+  return frameAlong(scene, preset, dir, fovYDeg, glm::vec3(0, 1, 0));
+}
+
+Camera reframeCamera(const Scene& scene, CameraPreset preset) {
+  const Camera& c = scene.camera;
+  glm::vec3 dir = c.position - c.target;
+  const float len = glm::length(dir);
+  // loadScene refuses a camera whose target is its position; a Scene built in code may
+  // still hold one, and then the default preset direction is used
+  const float el = glm::radians(10.0f);
+  dir = len > 0.0f && std::isfinite(len) ? dir / len : glm::vec3(0.0f, std::sin(el), std::cos(el));
+  return frameAlong(scene, preset, dir, c.fovYDegrees, c.up);
 }
 
 Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
@@ -319,7 +475,7 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
       if (o.has("file") == o.has("strands_file"))
         o.fail("file", "give exactly one of \"file\" (a hair mesh) and \"strands_file\" (a .hair or .data strand file)");
       if (o.has("strands_file")) {
-        s.grooms.push_back(readStrandGroom(o, base, s.filter, maxStrandBytes, loadedStrands));
+        s.grooms.push_back(readStrandGroom(o, base, s.filter, maxStrandBytes, loadedStrands, s.warnings));
         continue;
       }
       std::string file = o.string("file", "");
@@ -364,6 +520,10 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
     }
   }
 
+  if (!s.grooms.empty()) {
+    glm::vec3 lo, hi;
+    framingBounds(s, lo, hi, &s.warnings, path);
+  }
   if (r.has("camera")) {
     JsonReader c = r.object(r.require("camera"), "camera");
     float fov = static_cast<float>(c.number("fov", 35.0, 1.0, 170.0));

@@ -99,16 +99,20 @@ void validateStrandGroom(const StrandGroom& g, const std::string& where) {
   if (!(g.lod.morphWindow >= 0.0f && g.lod.morphWindow <= 1.0f)) fail("lod morph_window must be in 0..1");
 }
 
-StrandGroom loadStrandGroom(const std::string& path, std::uint64_t maxBytes, std::uint64_t* skippedStrands) {
+StrandGroom loadStrandGroom(const std::string& path, std::uint64_t maxBytes, std::uint64_t* skippedStrands,
+                            std::vector<std::string>* warnings) {
   const std::string ext = lowerExtension(path);
   StrandGroom g;
-  std::uint64_t skipped = 0;
+  std::uint64_t skipped = 0, trailing = 0;
   if (ext == ".hair") {
-    g = fromCyHair(readCyHair(path, maxBytes), &skipped);
+    const CyHair h = readCyHair(path, maxBytes);
+    g = fromCyHair(h, &skipped);
+    trailing = h.trailingBytes;
   } else if (ext == ".data") {
     UscHair u = readUscHair(path, maxBytes);
     g = fromCyHair(u.hair, &skipped);
     skipped += u.skippedStrands;
+    trailing = u.hair.trailingBytes;
   } else {
     throw Error(path + ": unknown strand file type \"" + ext +
                 "\"; expected .hair (cyHair) or .data (USC-HairSalon)");
@@ -119,19 +123,31 @@ StrandGroom loadStrandGroom(const std::string& path, std::uint64_t maxBytes, std
   g.name = std::filesystem::path(path).stem().string();
   validateStrandGroom(g, path);
   if (skippedStrands) *skippedStrands = skipped;
+  if (trailing > 0 && warnings)
+    warnings->push_back(path + ": " + std::to_string(trailing) + " byte" + (trailing == 1 ? "" : "s") +
+                        " after the end of the strand data, ignored (is the file complete and of the " +
+                        "type its extension says?)");
   return g;
 }
 
-glm::mat4 strandFileTransform(float scale, bool upZ) {
+glm::mat4 strandFileTransform(float scale, UpAxis up) {
   glm::mat4 m(scale);
   m[3][3] = 1.0f;
-  if (upZ) {
-    // (x, y, z) -> (x, z, -y): +z becomes +y, a rotation (handedness kept)
-    glm::mat4 r(0.0f);
+  // r[i] is the image of file axis i (glm is column-major); both are rotations, so the
+  // handedness of the data is kept
+  glm::mat4 r(0.0f);
+  r[3][3] = 1.0f;
+  if (up == UpAxis::Z) {
+    // (x, y, z) -> (x, z, -y): +z becomes +y
     r[0][0] = 1.0f;   // x -> x
     r[1][2] = -1.0f;  // y -> -z
     r[2][1] = 1.0f;   // z -> y
-    r[3][3] = 1.0f;
+    m = r * m;
+  } else if (up == UpAxis::X) {
+    // (x, y, z) -> (-y, x, z): +x becomes +y
+    r[0][1] = 1.0f;   // x -> y
+    r[1][0] = -1.0f;  // y -> -x
+    r[2][2] = 1.0f;   // z -> z
     m = r * m;
   }
   return m;

@@ -100,13 +100,10 @@ UscHair readUscHair(const std::string& path, std::uint64_t maxBytes) {
       first += n;
     }
   }
-  if (f.offset() != f.size())
-    throw Error(path + ": has " + std::to_string(f.size() - f.offset()) +
-                " bytes after the last of its " + std::to_string(strands) +
-                " strands (is it a USC-HairSalon .data file?)");
   if (h.segments.empty())
     throw Error(path + ": none of its " + std::to_string(strands) +
                 " strands has 2 or more points, the file holds no renderable hair");
+  h.trailingBytes = f.size() - f.offset();
   return out;
 }
 

@@ -7,8 +7,9 @@
 // fewer than points per strand, no per-point thickness, transparency or colour, and info
 // "USC-HairSalon".
 //
-// Because the format has no signature, its exact size is the only evidence that a file was
-// read as intended: bytes after the last strand are an error, unlike for cyHair.
+// Bytes after the last strand are not an error (as for cyHair): they are counted in the
+// result's `hair.trailingBytes` so that a caller can warn, since the format has no
+// signature and a file of another kind may also parse.
 #pragma once
 
 #include <cstdint>
@@ -24,8 +25,7 @@ struct UscHair {
 };
 
 // Throws clhair::Error, one line naming the file, for a file too short for its counts, a
-// negative count, a non-finite coordinate, no strand of 2 or more points, trailing bytes,
-// or arrays that would take more than `maxBytes` in memory (4 bytes per kept strand plus 12
+// negative count, a non-finite coordinate, no strand of 2 or more points, or arrays that would take more than `maxBytes` in memory (4 bytes per kept strand plus 12
 // per kept point). Pass the device's largest allocation as `maxBytes`.
 UscHair readUscHair(const std::string& path, std::uint64_t maxBytes);
 

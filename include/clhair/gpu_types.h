@@ -125,7 +125,10 @@ typedef struct {
   float tip_color[4];
   float melanin[4];       /* eumelanin root, tip; pheomelanin root, tip */
   float bsdf[4];          /* beta_m, beta_n, cuticle tilt (radians), index of refraction */
-  float look[4];          /* variation, use_melanin (0/1), unused, unused */
+  float look[4];          /* variation, use_melanin (0/1), file colour (0/1: explicit grooms
+                           * whose G-buffer words carry per-point colour, see below), file
+                           * thickness scale (0: none; else object -> world scale of the
+                           * per-point thickness) */
 } ClhGroomGpu;
 
 /* ---- camera for one view, 128 bytes ------------------------------------------------
@@ -281,6 +284,19 @@ CLH_FN clh_u64 clh_gbuf_pack(clh_u32 depth24, clh_u32 oct16, clh_u32 u6, clh_u32
   return ((clh_u64)(depth24 & 0xFFFFFFu) << 40) | ((clh_u64)(oct16 & 0xFFFFu) << 24) |
          ((clh_u64)(u6 & 63u) << 18) | ((clh_u64)(v6 & 63u) << 12) |
          ((clh_u64)(w6 & 63u) << 6) | (clh_u64)(ao6 & 63u);
+}
+
+/* ---- file colour in the G-buffer word (explicit grooms with look[2] = 1) ---------------
+ * A strand file's per-point colour replaces the styling and AO fields, which such a groom
+ * does not need (its colour is given, its AO is 1):
+ *  bits 23..18  red     bits 17..12  green     bits 11..6  w (unchanged)     bits 5..0  blue
+ * Each channel is the 6-bit code of sqrt(linear colour), which spends the codes where dark
+ * hair colours lie (linear 0.05 has steps of about 0.006).                               */
+CLH_FN clh_u32 clh_file_color_code(float linear) { return clh_unorm_bits(sqrt(clh_clamp01(linear)), 6u); }
+
+CLH_FN float clh_file_color_value(clh_u32 code) {
+  const float s = clh_unorm_value(code, 6u);
+  return s * s;
 }
 
 CLH_FN clh_u32 clh_gbuf_depth(clh_u64 word) { return (clh_u32)(word >> 40) & 0xFFFFFFu; }

@@ -54,6 +54,10 @@ struct AppearanceParams {
   // 0 keeps the true projected width (sub-pixel strands then hit few centers; the
   // reconstruction filter rebuilds coverage from them); 1 draws gap-free 1-pixel lines.
   float minHitDiameterPx = 0.0f;
+  // Strand files only: draw the file's per-point colours (linear rgb, instead of the
+  // melanin or root/tip colours) and thicknesses (file units, scaled like the points,
+  // instead of strandWidth) when it has them.
+  bool useFileColor = false;
 };
 
 struct LodParams {

@@ -126,6 +126,9 @@ struct Scene {
   FilterParams filter;
   ShadowParams shadows;
   EnvironmentDesc environment;
+  // Problems found while loading that do not stop the scene from rendering, one line each
+  // naming the file (the CLI prints them as "clhair: warning: ...").
+  std::vector<std::string> warnings;
 };
 
 enum class CameraPreset { Close, Mid, Far };
@@ -133,7 +136,18 @@ enum class CameraPreset { Close, Mid, Far };
 // the direction given by azimuth (degrees about +y, 0 looks along -z) and elevation.
 Camera framePreset(const Scene& scene, CameraPreset preset, float azimuthDeg = 0.0f,
                    float elevationDeg = 10.0f, float fovYDeg = 35.0f);
+// The same framing seen from the direction of the scene's camera (from its target toward
+// its position), keeping its field of view and up vector: a preset chosen after loading
+// (`clhair render --camera`) changes the distance and the framing, not the viewing angle.
+Camera reframeCamera(const Scene& scene, CameraPreset preset);
 CameraPreset parseCameraPreset(const std::string& name);
+
+// Warnings about the grooms' scale in the scene's final view (camera and resolution as they
+// will render), one line per groom at most, starting with `where` (the scene file): a
+// groom whose fibres are implausibly thin for its size (fibre width below 3e-5 of the
+// groom's extent: a centimetre or millimetre file without "scale") or that is implausibly
+// large (over 50 units across), or that covers less than a pixel of the image.
+std::vector<std::string> viewWarnings(const Scene& scene, const std::string& where);
 
 // Largest accepted image side; larger requests are refused as absurd.
 constexpr int kMaxImageSide = 16384;

@@ -4,8 +4,8 @@
 //
 // Strand s owns pointCounts[s] consecutive entries of `points` (root first); every strand
 // has at least 2 points. Optional per-point thickness and colour are kept from the file
-// but not drawn yet (the G-buffer word holds no colour; the fibre width is the groom's
-// `appearance.strandWidth`). Optional per-strand root uv in [0, 1]^2 fills the G-buffer's
+// and drawn when `appearance.useFileColor` is set (otherwise the fibre width is
+// `appearance.strandWidth` and the colour the appearance's). Optional per-strand root uv in [0, 1]^2 fills the G-buffer's
 // u, v fields; without it they come from a per-strand hash. The styling coordinate w of a
 // stored point k of an n-point strand is k / (n - 1). The renderer reorders the strands
 // once (docs/scene-format.md, "Strand files") for LOD; a StrandGroom itself is never changed.
@@ -27,8 +27,8 @@ struct StrandGroom {
   std::string name;
   std::vector<std::uint32_t> pointCounts;  // per strand, each >= 2
   std::vector<glm::vec3> points;           // object space, strand after strand
-  std::vector<float> thickness;            // empty, or per point (kept, not drawn)
-  std::vector<glm::vec3> colors;           // empty, or per point linear rgb (kept, not drawn)
+  std::vector<float> thickness;            // empty, or per point (drawn with useFileColor)
+  std::vector<glm::vec3> colors;           // empty, or per point linear rgb (drawn with useFileColor)
   std::vector<glm::vec2> rootUv;           // empty, or per strand in [0, 1]
   std::uint32_t seed = 1;                  // root-uv hash, LOD offsets, LOD order
   AppearanceParams appearance;
@@ -49,12 +49,20 @@ void validateStrandGroom(const StrandGroom& groom, const std::string& where);
 // allocated. Strands of a single point (legal in cyHair, skipped by the USC reader) are
 // left out and counted in *skippedStrands when given. The result has the default
 // appearance and LOD parameters and the file's stem as its name. Errors are one line that
-// names the file.
+// names the file. Problems that do not stop the file from being drawn (bytes after the end
+// of its data) are appended to *warnings when given, one line each naming the file.
 StrandGroom loadStrandGroom(const std::string& path, std::uint64_t maxBytes,
-                            std::uint64_t* skippedStrands = nullptr);
+                            std::uint64_t* skippedStrands = nullptr,
+                            std::vector<std::string>* warnings = nullptr);
 
-// The per-file placement of a strand file in a scene: uniform `scale`, then the file's up
-// axis (`upZ`: +z up, as USC-HairSalon files are) turned to clhair's +y up.
-glm::mat4 strandFileTransform(float scale, bool upZ);
+// The up axis of a strand file's data: clhair is +y up; many USC-HairSalon files are +z up,
+// some scanned or simulated data sets +x up.
+enum class UpAxis { X, Y, Z };
+
+// The per-file placement of a strand file in a scene: uniform `scale`, then a rotation that
+// turns the file's up axis into clhair's +y (handedness kept):
+//   Y: identity;  Z: (x, y, z) -> (x, z, -y), -90 degrees about +x;
+//   X: (x, y, z) -> (-y, x, z), +90 degrees about +z.
+glm::mat4 strandFileTransform(float scale, UpAxis up);
 
 }  // namespace clhair

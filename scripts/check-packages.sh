@@ -54,16 +54,26 @@ collect() {
   } | sort -u | while read -r f; do [[ -e "$f" && ! -d "$f" ]] && echo "$f"; done
 }
 
-owner_of() {  # package owning a file, trying the merged-/usr aliases dpkg may have recorded
-  local f="$1" p
-  for cand in "$f" "${f#/usr}" "$(readlink -f "$f")" "$(readlink -f "$f" | sed 's|^/usr||')"; do
-    [[ -n "$cand" ]] || continue
-    p=$(dpkg-query -S "$cand" 2>/dev/null | head -n1 | cut -d: -f1) || true
-    if [[ -n "$p" && "$p" != *", "* && "$p" != "diversion by"* ]]; then
-      echo "$p"
-      return
-    fi
-  done
+# "file<TAB>package" for each file on stdin that a package owns, read from dpkg's file
+# lists in one pass (the path as given, without a leading /usr, and both forms of its real
+# path: merged-/usr systems list files under either)
+owners() {
+  local q
+  q=$(mktemp)
+  while read -r f; do
+    local r
+    r=$(readlink -f "$f")
+    printf '%s\t%s\t%s\t%s\t%s\n' "$f" "$f" "${f#/usr}" "$r" "${r#/usr}"
+  done >"$q"
+  awk -F'\t' '
+    FILENAME ~ /\.list$/ {
+      if (FNR == 1) { pkg = FILENAME; sub(/.*\//, "", pkg); sub(/\.list$/, "", pkg); sub(/:.*/, "", pkg) }
+      if (!($0 in own)) own[$0] = pkg
+      next
+    }
+    { for (i = 2; i <= 5; ++i) if ($i in own) { print $1 "\t" own[$i]; break } }
+  ' /var/lib/dpkg/info/*.list "$q"
+  rm -f "$q"
 }
 
 check() {
@@ -91,16 +101,14 @@ check() {
 
   local missing=0 f pkg
   declare -A seen=()
-  while read -r f; do
-    pkg=$(owner_of "$f")
-    [[ -n "$pkg" ]] || continue  # not from a package (built here, generated)
+  while IFS=$'\t' read -r f pkg; do  # files no package owns (built here) are not listed
     [[ -n "${seen[$pkg]:-}" ]] && continue
     seen[$pkg]=1
     if ! grep -qxF "$pkg" "$closure"; then
       echo "check-packages: $pkg (owner of $f) is used by the build but is not in $list nor a dependency of its packages" >&2
       missing=1
     fi
-  done <"$files"
+  done < <(owners <"$files")
   if ((missing)); then exit 1; fi
   echo "check-packages: ${#seen[@]} packages used, all covered by $list"
 }

@@ -57,11 +57,14 @@ namespace gpu {
 #error "the opacity pass exists on the device only"
 #endif
 
-/* One end of a segment: view-space position, world tangent (any length), AO, styling w. */
+/* One end of a segment: view-space position, world tangent (any length), AO, styling w,
+ * and its projection (clh_raster_project, once per vertex: a vertex ends one segment and
+ * starts the next). */
 typedef struct {
   float x, y, z;
   float tx, ty, tz;
   float ao, w;
+  float iz, sx, sy; /* 1 / z and the screen position, when z >= near */
 } ClhRasterVertex;
 
 /* Per-view (and per-strand: coverage, u6, v6) raster constants. */
@@ -207,6 +210,21 @@ typedef struct {
 
 CLH_FN float clh_lerpf(float a, float b, float t) { return a + (b - a) * t; }
 
+/* floor and ceiling to int for |x| < 2^30, without a library call */
+CLH_FN clh_i32 clh_floor_i(float x) {
+  const clh_i32 i = (clh_i32)x;
+  return i - ((float)i > x ? 1 : 0);
+}
+CLH_FN clh_i32 clh_ceil_i(float x) { return -clh_floor_i(-x); }
+
+/* Projects v (view space) to the screen; vertices behind the near plane are clipped by
+ * the segment that uses them. */
+CLH_FN void clh_raster_project(const clh_raster_ctx* rc, ClhRasterVertex* v) {
+  v->iz = v->z >= rc->near_z ? 1.0f / v->z : 0.0f;
+  v->sx = rc->cx + rc->fx * v->x * v->iz;
+  v->sy = rc->cy - rc->fy * v->y * v->iz;
+}
+
 /* The depth code of view depth z (the mapping of clh_depth_encode with its division by
  * the range folded into depth_scale). */
 CLH_FN clh_u32 clh_raster_depth_code(const clh_raster_ctx* rc, float z) {
@@ -284,15 +302,16 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
     c.tz = clh_lerpf(a.tz, b.tz, t);
     c.ao = clh_lerpf(a.ao, b.ao, t);
     c.w = clh_lerpf(a.w, b.w, t);
+    clh_raster_project(rc, &c);
     if (a.z < near_z) {
       a = c;
     } else {
       b = c;
     }
   }
-  const float iza = 1.0f / a.z, izb = 1.0f / b.z;
-  const float xa = rc->cx + rc->fx * a.x * iza, ya = rc->cy - rc->fy * a.y * iza;
-  const float xb = rc->cx + rc->fx * b.x * izb, yb = rc->cy - rc->fy * b.y * izb;
+  const float iza = a.iz, izb = b.iz;
+  const float xa = a.sx, ya = a.sy;
+  const float xb = b.sx, yb = b.sy;
   const float dx = xb - xa, dy = yb - ya;
   const float len = sqrt(dx * dx + dy * dy);
   if (!(len > 1e-6f) || !(len < 1e7f)) return;
@@ -330,28 +349,33 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
   const float slope = (nb - s.na) * s.inv_span;
   const float cosv = s.span / len; /* minor-axis offsets times cosv = perpendicular distance */
 
-  /* hit radius: projected width at the segment's middle, widened for LOD, at least the minimum */
-  const float zmid = 2.0f / (iza + izb);
-  float diameter = rc->width_px1 / zmid;
+  /* hit radius: projected width at the segment's middle (1 / z_mid is the mean of the ends'
+   * 1 / z), widened for LOD, at least the minimum */
+  const float izmid = 0.5f * (iza + izb);
+  float diameter = rc->width_px1 * izmid;
   diameter = diameter > rc->min_diameter ? diameter : rc->min_diameter;
   diameter *= rc->coverage;
   diameter = diameter < CLH_MAX_HIT_DIAMETER ? diameter : CLH_MAX_HIT_DIAMETER;
   const float r = 0.5f * diameter;
-  const float reach = r / cosv;
+  const float reach = r * len * s.inv_span; /* r / cosv */
 #if CLH_RASTER_OPACITY
   /* the share of a texel the strand covers, scaled for strands removed by LOD */
-  const float opacity_w = fmin(rc->width_px1 / zmid, 1.0f) * rc->coverage;
+  const float opacity_w = fmin(rc->width_px1 * izmid, 1.0f) * rc->coverage;
 #endif
 
-  /* columns whose extent meets [ma, mb), restricted to where the band stays on screen */
+  /* columns whose extent meets [ma, mb), restricted to where the band stays on screen
+   * (only segments that leave the screen's band need the intersections) */
   float lo = floor(s.ma), hi = ceil(mb);
-  if (fabs(slope) > 1e-12f) {
-    const float c0 = s.ma + (-2.0f - reach - s.na) / slope;
-    const float c1 = s.ma + ((float)minor_max + 2.0f + reach - s.na) / slope;
+  const float band_lo = -2.0f - reach, band_hi = (float)minor_max + 2.0f + reach;
+  const bool inside = s.na >= band_lo && s.na <= band_hi && nb >= band_lo && nb <= band_hi;
+  if (!inside && fabs(slope) > 1e-12f) {
+    const float inv_slope = 1.0f / slope;
+    const float c0 = s.ma + (band_lo - s.na) * inv_slope;
+    const float c1 = s.ma + (band_hi - s.na) * inv_slope;
     const float cmin = c0 < c1 ? c0 : c1, cmax = c0 < c1 ? c1 : c0;
     lo = fmax(lo, floor(cmin));
     hi = fmin(hi, ceil(cmax));
-  } else if (s.na < -2.0f - reach || s.na > (float)minor_max + 2.0f + reach) {
+  } else if (!inside) {
     return;
   }
   const clh_i32 i0 = lo > 0.0f ? (clh_i32)lo : 0;
@@ -363,7 +387,7 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
     const float e1 = (float)i + 1.0f < mb ? (float)i + 1.0f : mb;
     if (!(e1 >= e0)) continue;
     const float n0 = s.na + (e0 - s.ma) * slope, n1 = s.na + (e1 - s.ma) * slope;
-    const clh_i32 j0 = (clh_i32)floor(n0 < n1 ? n0 : n1), j1 = (clh_i32)floor(n0 < n1 ? n1 : n0);
+    const clh_i32 j0 = clh_floor_i(n0 < n1 ? n0 : n1), j1 = clh_floor_i(n0 < n1 ? n1 : n0);
     /* one word per column: at the column's centre, clamped to the segment */
     const float mc = (float)i + 0.5f;
     float tc = (mc - s.ma) * s.inv_span;
@@ -390,9 +414,9 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
       const float ms = (float)i + om;
       if (ms < s.ma || ms >= mb) continue;
       const float nl = s.na + (ms - s.ma) * slope;
-      const float flo = ceil(nl - reach - on), fhi = floor(nl + reach - on);
-      const clh_i32 jlo = flo > 0.0f ? (clh_i32)flo : 0;
-      const clh_i32 jhi = fhi < (float)(minor_max - 1) ? (clh_i32)fhi : minor_max - 1;
+      const clh_i32 flo = clh_ceil_i(nl - reach - on), fhi = clh_floor_i(nl + reach - on);
+      const clh_i32 jlo = flo > 0 ? flo : 0;
+      const clh_i32 jhi = fhi < minor_max - 1 ? fhi : minor_max - 1;
       if (jlo > jhi) continue;
       clh_col_word sw = col; /* MSAA 1: the sample is the column's centre */
       if (CLH_MSAA > 1) clh_col_init(rc, &s, (ms - s.ma) * s.inv_span, &sw);

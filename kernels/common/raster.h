@@ -65,6 +65,7 @@ static inline void clh_raster_lane(clh_raster_ctx* rc, __global const float* sce
     v.tz = o[2];
     v.ao = t.w;
     v.w = p.w;
+    clh_raster_project(rc, &v);
     if (i > 0u) clh_raster_segment(rc, scene_depth_g, gbuf_g, counts, prev, v);
     prev = v;
   }

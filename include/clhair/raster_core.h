@@ -394,19 +394,49 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
     tc = tc < 0.0f ? 0.0f : (tc > 1.0f ? 1.0f : tc);
     clh_col_word col;
     clh_col_init(rc, &s, tc, &col);
+#if CLH_RASTER_OPACITY
     const clh_i32 jc0 = j0 > 0 ? j0 : 0, jc1 = j1 < minor_max - 1 ? j1 : minor_max - 1;
-#if !CLH_RASTER_OPACITY
-    const clh_u64 cons_at = (clh_u64)CLH_MSAA * rc->plane;
-#endif
     for (clh_i32 j = jc0; j <= jc1; ++j) {
       const clh_u64 idx = xmajor ? (clh_u64)j * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j;
-#if CLH_RASTER_OPACITY
       if (col.z < scene_depth[idx]) clh_opacity_add(rc, (__global uint*)gbuf, idx, col.z, opacity_w);
-#else
-      clh_col_write(rc, &s, scene_depth, gbuf, counts, cons_at, idx, &col);
-#endif
     }
-#if !CLH_RASTER_OPACITY /* the opacity pass needs no samples */
+#else
+    const clh_u64 cons_at = (clh_u64)CLH_MSAA * rc->plane;
+    if (CLH_MSAA == 1 && reach <= 1.0f && j1 - j0 <= 1) {
+      /* Thin strands, MSAA 1 (the common case): a fixed-trip path without data-dependent
+       * loop counts. The conservative rows are j0 and j1 (equal or adjacent: |slope| <= 1);
+       * visiting j1 == j0 twice is harmless, the loaded word rejects the repeat. A pixel
+       * centre within reach <= 1 of the line lies in row jA = floor(nl - 1/2) or jA + 1. */
+      if (j0 >= 0 && j0 < minor_max) {
+        const clh_u64 idx = xmajor ? (clh_u64)j0 * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j0;
+        clh_col_write(rc, &s, scene_depth, gbuf, counts, cons_at, idx, &col);
+      }
+#if CLH_RASTER_STATS
+      if (j1 != j0) /* counted once */
+#endif
+        if (j1 >= 0 && j1 < minor_max) {
+          const clh_u64 idx = xmajor ? (clh_u64)j1 * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j1;
+          clh_col_write(rc, &s, scene_depth, gbuf, counts, cons_at, idx, &col);
+        }
+      const float ms = (float)i + 0.5f;
+      if (ms >= s.ma && ms < mb) {
+        const float nl = s.na + (ms - s.ma) * slope;
+        const clh_i32 ja = clh_floor_i(nl - 0.5f);
+        for (clh_i32 j = ja; j <= ja + 1; ++j) {
+          if (!(fabs((float)j + 0.5f - nl) * cosv < r) || j < 0 || j >= minor_max) continue;
+          const clh_u64 idx = xmajor ? (clh_u64)j * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j;
+          clh_col_write(rc, &s, scene_depth, gbuf, counts, 0u, idx, &col);
+          if (j < j0 || j > j1) clh_col_write(rc, &s, scene_depth, gbuf, counts, cons_at, idx, &col);
+        }
+      }
+      continue;
+    }
+    /* the general walk: wide strands (LOD compensation), MSAA samples */
+    const clh_i32 jc0 = j0 > 0 ? j0 : 0, jc1 = j1 < minor_max - 1 ? j1 : minor_max - 1;
+    for (clh_i32 j = jc0; j <= jc1; ++j) {
+      const clh_u64 idx = xmajor ? (clh_u64)j * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j;
+      clh_col_write(rc, &s, scene_depth, gbuf, counts, cons_at, idx, &col);
+    }
     /* samples within the hit radius */
     for (int sidx = 0; sidx < CLH_MSAA; ++sidx) {
       const float om = xmajor ? CLH_SAMPLE_X(sidx) : CLH_SAMPLE_Y(sidx);

@@ -12,6 +12,7 @@
  *    5 (env spec_weight, ggx_alpha)
  * Every f is without the cosine. Work-items past `count` do nothing.
  */
+#include "clhair/fast_math.h"
 #include "hair_bsdf.h"
 
 #define BSDF_PROBE_IN 20

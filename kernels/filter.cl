@@ -31,6 +31,7 @@
  */
 #include "clhair/gpu_types.h"
 #include "clh_math.h"
+#include "clhair/fast_math.h"
 
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 
@@ -121,7 +122,7 @@ __kernel void filter_reconstruct(__global const ClhGroomGpu* groom_g, __global c
       /* exp(-24) < 4e-11: negligible beside any nearer neighbour */
       if (!q_hit || e_spatial > 24.0f) continue;
       const float3 c_q = hair_g[q].xyz;
-      float w = exp(-e_spatial);
+      float w = clh_fast_exp(-e_spatial); /* fast_math.h: no library call in the window loop */
       if (!(fabs(zq - z_ref) <= reject)) {
         any_sum += w * c_q;
         any_wsum += w;
@@ -129,7 +130,7 @@ __kernel void filter_reconstruct(__global const ClhGroomGpu* groom_g, __global c
       }
       if (own_colour) {
         const float3 dc = c_p_disp - filter_display(c_q);
-        w *= exp(-dot(dc, dc) * inv_c2);
+        w *= clh_fast_exp(-dot(dc, dc) * inv_c2);
       }
       sum += w * c_q;
       wsum += w;

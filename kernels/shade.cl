@@ -19,6 +19,7 @@
 #include "clh_math.h"
 #include "shadow.h"
 #include "env_lookup.h"
+#include "clhair/fast_math.h"
 #include "hair_bsdf.h"
 
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable

@@ -35,6 +35,19 @@
 
 #define CLH_HAIR_PI 3.14159265358979323846f
 
+/* Elementary functions of the per-light loop as straight-line arithmetic
+ * (clhair/fast_math.h: relative errors below 1e-6, far under the model's own errors in
+ * docs/hair-shading.md): the built-ins' argument reduction dominated shading on CPUs. */
+static inline float clh_hair_exp(float x) { return clh_fast_exp(x); }
+static inline float3 clh_hair_exp3(float3 x) {
+  return (float3)(clh_fast_exp(x.x), clh_fast_exp(x.y), clh_fast_exp(x.z));
+}
+static inline float clh_hair_sin(float x) {
+  float s, c;
+  clh_fast_sincos(x, &s, &c);
+  return s;
+}
+
 typedef struct {
   float3 sigma_a; /* absorption per unit fibre radius, per RGB channel */
   float beta_m;   /* longitudinal roughness, 0..1 */
@@ -78,7 +91,7 @@ static inline float clh_hair_i0e(float x) {
     float y = (x / 3.75f) * (x / 3.75f);
     float i0 = 1.0f + y * (3.5156229f + y * (3.0899424f + y * (1.2067492f +
                y * (0.2659732f + y * (0.0360768f + y * 0.0045813f)))));
-    return i0 * exp(-x);
+    return i0 * clh_hair_exp(-x);
   }
   float y = 3.75f / x;
   float p = 0.39894228f + y * (0.01328592f + y * (0.00225319f + y * (-0.00157565f +
@@ -94,16 +107,16 @@ static inline float clh_hair_i0e(float x) {
 static inline float clh_hair_mp(float sin_i, float cos_i, float sin_o, float cos_o, float v) {
   float a = cos_i * cos_o / v;
   float e = (cos_i * cos_o - sin_i * sin_o - 1.0f) / v;
-  return exp(e) * clh_hair_i0e(a) / (v * (1.0f - exp(-2.0f / v)));
+  return clh_hair_exp(e) * clh_hair_i0e(a) / (v * (1.0f - clh_hair_exp(-2.0f / v)));
 }
 
 /* Logistic CDF with scale s. */
-static inline float clh_hair_lcdf(float x, float s) { return 1.0f / (1.0f + exp(-x / s)); }
+static inline float clh_hair_lcdf(float x, float s) { return 1.0f / (1.0f + clh_hair_exp(-x / s)); }
 
 /* |x| smoothed over a logistic of scale k: E|x + X| = |x| + 2k ln(1 + e^{-|x|/k}). */
 static inline float clh_hair_softabs(float x, float k) {
   float ax = fabs(x);
-  return ax + 2.0f * k * log(1.0f + exp(-ax / k));
+  return ax + 2.0f * k * 0.693147181f * clh_fast_log2(1.0f + clh_hair_exp(-ax / k));
 }
 
 /* Wraps an angle to [0, pi] for the even, 2pi-periodic azimuthal functions. */
@@ -148,7 +161,7 @@ static inline float3 clh_hair_sigma_a_from_color(float3 c, float bn) {
  * over 0.3 s (fitted, docs/hair-shading.md). */
 static inline float clh_hair_r_delta(const clh_hair_view* hv, float phi) {
   float u = clh_hair_softabs(CLH_HAIR_PI - phi, 0.3f * hv->s);
-  float c = sin(0.5f * fmin(u, CLH_HAIR_PI));
+  float c = clh_hair_sin(0.5f * fmin(u, CLH_HAIR_PI));
   return 0.25f * c * clh_hair_fresnel(hv->cos_o * c, hv->eta);
 }
 
@@ -156,14 +169,17 @@ static inline float clh_hair_r_delta(const clh_hair_view* hv, float phi) {
  * root h of Phi_1(h) = phi (h >= 0 branch; the h < 0 branch gives -phi). */
 static inline float3 clh_hair_tt_delta(const clh_hair_view* hv, float phi) {
   float x = 0.5f * (CLH_HAIR_PI - phi); /* gamma_o - gamma_t */
-  float den = cos(x) - hv->inv_eta_p;
+  float sin_x, cos_x;
+  clh_fast_sincos(x, &sin_x, &cos_x);
+  float den = cos_x - hv->inv_eta_p;
   if (!(den > 1e-6f)) return (float3)(0.0f);
-  float go = atan2(sin(x), den);
-  float cos_go = cos(go);
-  float sin_gt = sin(go) * hv->inv_eta_p;
+  /* gamma_o = atan2(sin x, den): its cosine and sine directly */
+  float inv_len = rsqrt(sin_x * sin_x + den * den);
+  float cos_go = den * inv_len;
+  float sin_gt = sin_x * inv_len * hv->inv_eta_p;
   float cos_gt = clh_hair_sqrt0(1.0f - sin_gt * sin_gt);
   float f = clh_hair_fresnel(hv->cos_o * cos_go, hv->eta);
-  float3 a1 = (1.0f - f) * (1.0f - f) * exp(-2.0f * cos_gt * hv->sigma_path);
+  float3 a1 = (1.0f - f) * (1.0f - f) * clh_hair_exp3(-2.0f * cos_gt * hv->sigma_path);
   /* 1 / |dPhi/dh| = 1 / (2/cos_go - 2/(eta' cos_gt)), written without the 1/cos_go pole */
   float eta_p_cgt = cos_gt / hv->inv_eta_p;
   float jac = cos_go * eta_p_cgt / (2.0f * fmax(eta_p_cgt - cos_go, 1e-6f));

@@ -4,6 +4,10 @@
 #   scripts/dev.sh demo   install what is missing, build, render the default scene to clhair-default.png
 #   scripts/dev.sh test   install what is missing, build, run the whole test suite, then a
 #                         brief libFuzzer run of the file readers (clang build in ./build-fuzz)
+#   scripts/dev.sh intel  also install Intel's CPU OpenCL runtime from PyPI into
+#                         ./build/intel-ocl (a virtual environment; no system file changes)
+#                         and write ./build/intel-ocl/env.sh, which registers it next to
+#                         PoCL; `test` then also runs the sub-group and raster tests on it
 #
 # Packages come from scripts/debian-packages.txt. The build goes to ./build (Release,
 # warnings as errors); PoCL's compiled-kernel cache goes to ./build/pocl-cache.
@@ -11,9 +15,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 mode="${1:-}"
 case "$mode" in
-  demo | test) ;;
+  demo | test | intel) ;;
   *)
-    echo "usage: scripts/dev.sh demo|test" >&2
+    echo "usage: scripts/dev.sh demo|test|intel" >&2
     exit 2
     ;;
 esac
@@ -31,6 +35,39 @@ if ((${#missing[@]})); then
   "${sudo_cmd[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
+if [[ "$mode" == intel ]]; then
+  # Intel's CPU runtime (real sub-groups: the khr and intel backends) in a virtual
+  # environment. The loader finds it through OCL_ICD_VENDORS, a folder holding its .icd
+  # next to a copy of the system's ones. LD_LIBRARY_PATH must name its lib folder too:
+  # clhair links Debian's libtbb.so.12 (through OpenImageIO), and once that soname is
+  # loaded the runtime's newer TBB is never opened and the runtime drops its platform
+  # silently (clinfo, which links no TBB, lists it either way).
+  venv="$PWD/build/intel-ocl"
+  mkdir -p build
+  command -v python3 >/dev/null || { echo "python3 is needed for the Intel runtime" >&2; exit 1; }
+  if [[ ! -x "$venv/bin/pip" ]]; then
+    python3 -m venv "$venv" 2>/dev/null || {
+      sudo_cmd=()
+      if [[ $(id -u) -ne 0 ]]; then sudo_cmd=(sudo); fi
+      "${sudo_cmd[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends python3-venv
+      python3 -m venv "$venv"
+    }
+  fi
+  "$venv/bin/pip" install -q intel-opencl-rt intel-cmplr-lib-rt
+  lib=$(ls "$venv"/lib/libintelocl.so* 2>/dev/null | grep -v gdb | head -n1)
+  [[ -n "$lib" ]] || { echo "intel-opencl-rt installed no libintelocl.so" >&2; exit 1; }
+  mkdir -p "$venv/vendors"
+  cp /etc/OpenCL/vendors/*.icd "$venv/vendors/" 2>/dev/null || true
+  echo "$lib" >"$venv/vendors/intel-cpu.icd"
+  cat >"$venv/env.sh" <<ENV
+# source this: Intel's CPU OpenCL runtime next to the system's drivers
+export OCL_ICD_VENDORS="$venv/vendors"
+export LD_LIBRARY_PATH="$venv/lib\${LD_LIBRARY_PATH:+:\$LD_LIBRARY_PATH}"
+ENV
+  echo "Intel CPU runtime registered: source $venv/env.sh (then clhair devices lists it)"
+  exit 0
+fi
+
 jobs=$(nproc 2>/dev/null || echo 2)
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DCLHAIR_WERROR=ON > build-configure.log 2>&1 ||
   { cat build-configure.log; exit 1; }
@@ -41,12 +78,26 @@ else
   cmake --build build -j"$jobs"
 fi
 export POCL_CACHE_DIR="${POCL_CACHE_DIR:-$PWD/build/pocl-cache}"
+export CLHAIR_CACHE_DIR="${CLHAIR_CACHE_DIR:-$PWD/build/clhair-cache}"
 
 if [[ "$mode" == demo ]]; then
   ./build/clhair render assets/scenes/default.json -o clhair-default.png
   echo "wrote $PWD/clhair-default.png"
 else
   (cd build && ctest --output-on-failure -j2 --timeout 600)
+  # on Intel's CPU runtime too, when `scripts/dev.sh intel` registered it
+  if [[ -f build/intel-ocl/env.sh ]]; then
+    (
+      # shellcheck disable=SC1091
+      source build/intel-ocl/env.sh
+      if ./build/clhair devices 2>/dev/null | grep -q "Intel(R) OpenCL"; then
+        CLHAIR_DEVICE="Intel(R) OpenCL" ./build/tests/clhair_tests \
+          --gtest_filter='*Subgroup*:CpuRaster*:Strands*:FastMath*:BinaryCache*:GBuffer*'
+      else
+        echo "build/intel-ocl/env.sh exists but the Intel runtime does not load: skipped" >&2
+      fi
+    )
+  fi
   # a brief libFuzzer run of every file reader on its seed corpus (clang build, 10 s each)
   if command -v clang++-15 >/dev/null; then
     CC=clang-15 CXX=clang++-15 cmake -S . -B build-fuzz -DCLHAIR_FUZZ=ON -DCLHAIR_BUILD_BENCH=OFF \

@@ -38,9 +38,11 @@ inline std::string scratchDir() {
 }
 
 // Compiled kernels are cached inside the build folder (for this process and the CLI runs
-// it starts) unless POCL_CACHE_DIR is already set.
+// it starts) unless POCL_CACHE_DIR / CLHAIR_CACHE_DIR are already set.
 inline void usePoclCacheInBuild() {
   if (!std::getenv("POCL_CACHE_DIR")) ::setenv("POCL_CACHE_DIR", CLHAIR_TEST_POCL_CACHE, 0);
+  if (!std::getenv("CLHAIR_CACHE_DIR"))
+    ::setenv("CLHAIR_CACHE_DIR", (std::string(CLHAIR_TEST_POCL_CACHE) + "/../clhair-cache").c_str(), 0);
 }
 
 // The default device of this process, opened once (kernel warnings are errors in tests).

@@ -205,6 +205,7 @@ Device Device::open(const DeviceOptions& options) {
   impl->sources = KernelSources(options.kernelDir);
   impl->kernelWarningsAsErrors = options.kernelWarningsAsErrors;
   impl->strandsPerGroupOverride = options.strandsPerGroup;
+  impl->binaries = BinaryCache(options.cacheDir);
   const char* dbg = std::getenv("CLHAIR_DEBUG_SYNC");
   impl->debugFinish = dbg && std::string(dbg) == "1";
   clCall("creating the OpenCL context on " + impl->info.name, [&] {
@@ -248,6 +249,7 @@ Device Device::withBackend(SubgroupBackend b) const {
   impl->sources = impl_->sources;
   impl->kernelWarningsAsErrors = impl_->kernelWarningsAsErrors;
   impl->strandsPerGroupOverride = impl_->strandsPerGroupOverride;
+  impl->binaries = impl_->binaries;
   impl->useBackend(b, "selected");
   impl->debugFinish = impl_->debugFinish;
   return Device(impl);
@@ -353,6 +355,17 @@ cl::Program Device::Impl::programFor(SubgroupBackend backend, const std::string&
     if (it != programs_.end()) return it->second;
   }
   std::string text = sources.program(file);
+  const std::string cacheKey = BinaryCache::key(info.platformName, info.name, info.driverVersion, options, text);
+  if (auto binary = binaries.load(cacheKey)) {
+    try {  // a binary the driver does not take back is rebuilt from source below
+      cl::Program cached(context, {device}, cl::Program::Binaries{*binary});
+      cached.build({device}, options.c_str());
+      std::lock_guard<std::mutex> lock(mutex_);
+      programs_[key] = cached;
+      return cached;
+    } catch (const cl::Error&) {
+    }
+  }
   cl::Program program(context, text);
   try {
     program.build({device}, options.c_str());
@@ -364,6 +377,11 @@ cl::Program Device::Impl::programFor(SubgroupBackend backend, const std::string&
     }
     throw Error("building " + file + " for " + info.name + " failed with " +
                 clErrorName(e.err()) + " (options: " + options + ")\n--- build log ---\n" + log);
+  }
+  try {
+    const std::vector<std::vector<unsigned char>> bins = program.getInfo<CL_PROGRAM_BINARIES>();
+    if (bins.size() == 1) binaries.store(cacheKey, bins[0]);
+  } catch (const cl::Error&) {  // a driver without binaries just compiles every time
   }
   std::lock_guard<std::mutex> lock(mutex_);
   programs_[key] = program;

@@ -10,6 +10,7 @@
 #include <mutex>
 #include <string>
 
+#include "cl/binary_cache.h"
 #include "cl/kernel_sources.h"
 #include "cl/opencl.h"
 #include "cl/tuning.h"
@@ -27,6 +28,7 @@ struct Device::Impl {
   bool kernelWarningsAsErrors = false;
   bool debugFinish = false;  // finish() after every dispatch (CLHAIR_DEBUG_SYNC=1)
   std::uint32_t strandsPerGroupOverride = 0;  // DeviceOptions::strandsPerGroup
+  BinaryCache binaries;                        // compiled programs between runs
 
   // The strand kernels' launch shape for `backend` (host/cl/tuning.h).
   StrandTuning tuningFor(SubgroupBackend backend) const;

@@ -348,6 +348,9 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
   const clh_i32 minor_max = xmajor ? rc->height : rc->width;
   const float slope = (nb - s.na) * s.inv_span;
   const float cosv = s.span / len; /* minor-axis offsets times cosv = perpendicular distance */
+#if CLH_RASTER_OPACITY
+  (void)cosv;
+#endif
 
   /* hit radius: projected width at the segment's middle (1 / z_mid is the mean of the ends'
    * 1 / z), widened for LOD, at least the minimum */

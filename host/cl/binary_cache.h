@@ -1,0 +1,37 @@
+// binary_cache.h — compiled OpenCL programs kept on disk between runs.
+//
+// Some drivers compile for a long time and keep nothing (Intel's CPU runtime: 40-90 s for
+// clhair's kernels on every start). After a build the program's binary is stored under a
+// key that names everything it depends on — platform, device, driver version, build
+// options and the full expanded source text — so any change makes a new entry and a stale
+// binary is never used. A binary the driver refuses is ignored (and rebuilt from source).
+// Writes go to a temporary file that is renamed into place, so concurrent processes never
+// read a half-written entry. The folder is CLHAIR_CACHE_DIR, else $XDG_CACHE_HOME/clhair,
+// else ~/.cache/clhair; CLHAIR_CACHE_DIR=off disables the cache.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace clhair {
+
+class BinaryCache {
+ public:
+  // folder "" : the default location; "off": no caching.
+  explicit BinaryCache(std::string folder = {});
+
+  bool enabled() const { return !folder_.empty(); }
+  const std::string& folder() const { return folder_; }
+  // The entry's file name for a program (hex digest of every input).
+  static std::string key(const std::string& platform, const std::string& device, const std::string& driver,
+                         const std::string& options, const std::string& source);
+  std::optional<std::vector<unsigned char>> load(const std::string& key) const;
+  // Best effort: a cache that cannot be written only costs the next run a compile.
+  void store(const std::string& key, const std::vector<unsigned char>& binary) const;
+
+ private:
+  std::string folder_;
+};
+
+}  // namespace clhair

@@ -889,6 +889,7 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
   const DispatchMode mode = r.resolveMode(options.dispatch);
   const std::size_t pixels = static_cast<std::size_t>(s.width) * s.height;
   Frame frame;
+  r.profiler.hostTiming = options.stageCores;
   if (options.rasterStats) {
     const cl_uint zero[4] = {0, 0, 0, 0};
     upload(r.dev, r.stats, zero, 4);

@@ -2,10 +2,34 @@
 #include "stages/dispatch.h"
 
 #include <algorithm>
+#include <chrono>
+#include <ctime>
 
 #include "cl/cl_error.h"
 
 namespace clhair {
+
+namespace {
+double processCpuMs() {
+  timespec t{};
+  ::clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
+}
+}  // namespace
+
+void Profiler::addHost(const std::string& stage, double wallMs, double cpuMs) {
+  for (StageTime& t : host_)
+    if (t.stage == stage) {
+      t.wallMs += wallMs;
+      t.cpuMs += cpuMs;
+      return;
+    }
+  StageTime t;
+  t.stage = stage;
+  t.wallMs = wallMs;
+  t.cpuMs = cpuMs;
+  host_.push_back(t);
+}
 
 std::vector<StageTime> Profiler::collect() {
   std::vector<StageTime> out;
@@ -28,6 +52,13 @@ std::vector<StageTime> Profiler::collect() {
     if (!found) out.push_back({stage, ms});
   }
   events_.clear();
+  for (StageTime& t : out)
+    for (const StageTime& h : host_)
+      if (h.stage == t.stage) {
+        t.wallMs = h.wallMs;
+        t.cpuMs = h.cpuMs;
+      }
+  host_.clear();
   return out;
 }
 
@@ -56,12 +87,19 @@ cl::Event dispatch(Device::Impl& dev, cl::Kernel& kernel, const std::string& sta
   cl::NDRange rounded = global.dimensions() == 1   ? cl::NDRange(g[0])
                         : global.dimensions() == 2 ? cl::NDRange(g[0], g[1])
                                                    : cl::NDRange(g[0], g[1], g[2]);
+  const bool timed = profiler && profiler->hostTiming;
+  if (timed) clCall(stage + ": finish before " + name, [&] { return dev.queue.finish(); });
+  const double c0 = timed ? processCpuMs() : 0.0;
+  const auto t0 = std::chrono::steady_clock::now();
   cl::Event event;
   clCall(stage + ": enqueue " + name, [&] {
     dev.queue.enqueueNDRangeKernel(kernel, cl::NullRange, rounded, local, nullptr, &event);
     return 0;
   });
-  if (dev.debugFinish) clCall(stage + ": finish after " + name, [&] { return dev.queue.finish(); });
+  if (dev.debugFinish || timed) clCall(stage + ": finish after " + name, [&] { return dev.queue.finish(); });
+  if (timed)
+    profiler->addHost(stage, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(),
+                      processCpuMs() - c0);
   if (profiler) profiler->add(stage, event);
   return event;
 }

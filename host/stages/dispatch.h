@@ -15,12 +15,17 @@ namespace clhair {
 class Profiler {
  public:
   void add(const std::string& stage, const cl::Event& e) { events_.emplace_back(stage, e); }
+  // Host timing (RenderOptions::stageCores): dispatch() then waits for each dispatch and
+  // adds its wall and process CPU time to the stage.
+  bool hostTiming = false;
+  void addHost(const std::string& stage, double wallMs, double cpuMs);
   // Waits for every event and sums the device time per stage, in first-seen order.
   std::vector<StageTime> collect();
   void clear() { events_.clear(); }
 
  private:
   std::vector<std::pair<std::string, cl::Event>> events_;
+  std::vector<StageTime> host_;
 };
 
 std::size_t roundUp(std::size_t n, std::size_t multiple);

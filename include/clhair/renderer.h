@@ -38,12 +38,16 @@ struct RenderOptions {
   float jitterY = 0.0f;
   bool captureGBuffer = false;  // keep the last groom's G-buffer layers in Frame::gbuffer
   bool rasterOnly = false;      // stop each groom after its strand pass (benchmark: cores used)
+  bool stageCores = false;      // wait for every dispatch and time it on the host (StageTime::cpuMs)
   int ambientOcclusion = 1;     // 1: baked AO (baked on first use when the mesh has none), 0: off
 };
 
 struct StageTime {
   std::string stage;
   double ms = 0.0;  // sum of the stage's profiled dispatches in this frame
+  // With RenderOptions::stageCores: wall and process CPU time of the stage's dispatches,
+  // each waited for on its own (CPU devices: cpuMs / wallMs = cores the stage used).
+  double wallMs = 0.0, cpuMs = 0.0;
 };
 
 struct FrameStats {

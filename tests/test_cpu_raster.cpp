@@ -4,9 +4,9 @@
 // Both compile the same segment code (include/clhair/raster_core.h) without float
 // contraction, so on a device that rounds like the host's IEEE single precision (PoCL's
 // CPU device: correctly rounded division and sqrt) every G-buffer word must be equal.
-// A synthetic groom whose point counts cross the kernel's round boundaries, partly behind
-// an opaque sphere (so the depth test matters), at a size that is not a multiple of any
-// work-group size.
+// The tests' synthetic groom (point counts across the kernel's round boundaries) partly
+// behind an opaque sphere (so the depth test matters), at a frame size that is not a
+// multiple of any work-group size.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -18,37 +18,16 @@
 #include "clhair/strand_groom.h"
 #include "groom/cpu_raster.h"
 #include "groom/explicit_data.h"
+#include "synthetic_groom.h"
 #include "test_util.h"
 
 namespace clhair {
 namespace {
 
-StrandGroom waveGroom(std::size_t strands) {
-  static const std::uint32_t kCounts[] = {2, 3, 5, 17, 33, 65, 100, 131, 260};
-  std::mt19937 rng(777);
-  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
-  StrandGroom g;
-  g.name = "waves";
-  for (std::size_t s = 0; s < strands; ++s) {
-    const std::uint32_t n = kCounts[s % std::size(kCounts)];
-    const float theta = 6.2831853f * u01(rng), phi = 1.2f * u01(rng);
-    const glm::vec3 dir(std::sin(phi) * std::cos(theta), std::cos(phi), std::sin(phi) * std::sin(theta));
-    const glm::vec3 side = glm::normalize(glm::cross(dir, glm::vec3(0.3f, 0.1f, 1.0f)));
-    const float phase = 6.283f * u01(rng);
-    g.pointCounts.push_back(n);
-    for (std::uint32_t k = 0; k < n; ++k) {
-      const float t = static_cast<float>(k) / static_cast<float>(n - 1);
-      g.points.push_back(0.09f * dir + 0.2f * t * dir + 0.02f * std::sin(9.0f * t + phase) * side +
-                         glm::vec3(0.0f, -0.12f * t * t, 0.0f));
-    }
-  }
-  return g;
-}
-
 TEST(CpuRaster, FloorEqualsDeviceGBufferWordForWord) {
   Device& dev = test::sharedDevice();
   Renderer r(dev);
-  auto groom = std::make_shared<const StrandGroom>(waveGroom(3001));
+  auto groom = std::make_shared<const StrandGroom>(test::syntheticGroom(3001));
   Scene s;
   s.width = 333;
   s.height = 217;

@@ -37,6 +37,7 @@
 #include "groom/groom_data.h"
 #include "groom/presets.h"
 #include "io/cyhair.h"
+#include "synthetic_groom.h"
 #include "test_util.h"
 
 namespace clhair {
@@ -46,31 +47,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 // ---- helpers ----------------------------------------------------------------------------
-
-// A groom of `strands` wavy strands over a sphere cap, point counts cycling through values
-// around the kernel's lane and round boundaries.
-StrandGroom syntheticGroom(std::size_t strands) {
-  static const std::uint32_t kCounts[] = {2, 3, 4, 5, 9, 17, 31, 33, 64, 65, 100, 129, 130, 131, 200, 258, 300};
-  std::mt19937 rng(12345);
-  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
-  StrandGroom g;
-  g.name = "synthetic";
-  g.lod.morphWindow = 0.5f;
-  for (std::size_t s = 0; s < strands; ++s) {
-    const std::uint32_t n = kCounts[s % std::size(kCounts)];
-    const float theta = 2.0f * 3.14159265f * u01(rng), phi = 0.6f * u01(rng);
-    const glm::vec3 dir(std::sin(phi) * std::cos(theta), std::cos(phi), std::sin(phi) * std::sin(theta));
-    const glm::vec3 side = glm::normalize(glm::cross(dir, glm::vec3(0.3f, 0.1f, 1.0f)));
-    const float phase = 6.283f * u01(rng);
-    g.pointCounts.push_back(n);
-    for (std::uint32_t k = 0; k < n; ++k) {
-      const float t = static_cast<float>(k) / static_cast<float>(n - 1);
-      g.points.push_back(0.1f * dir + 0.15f * t * dir + 0.01f * std::sin(12.0f * t + phase) * side +
-                         glm::vec3(0.0f, -0.05f * t * t, 0.0f));
-    }
-  }
-  return g;
-}
 
 StrandGroom groomFromStrandSet(const StrandSet& s) {
   StrandGroom g;
@@ -242,7 +218,7 @@ Scene sceneAround(GroomInstance groom, int w, int h) {
 // ---- the kernel against the CPU reference -----------------------------------------------
 
 TEST(ExplicitKernel, FullDetailDrawsEveryStoredPointWithReferenceTangents) {
-  StrandGroom g = syntheticGroom(150);  // 3 chunks, the last of 22 strands
+  StrandGroom g = test::syntheticGroom(150);  // 3 chunks, the last of 22 strands
   Renderer r(test::sharedDevice());
   StrandSet e = r.generateStrands(g, 1.0f);
   ASSERT_EQ(e.pointCounts.size(), g.pointCounts.size());
@@ -253,7 +229,7 @@ TEST(ExplicitKernel, FullDetailDrawsEveryStoredPointWithReferenceTangents) {
 }
 
 TEST(ExplicitKernel, PointSkippingAndMorphMatchTheReference) {
-  StrandGroom g = syntheticGroom(150);
+  StrandGroom g = test::syntheticGroom(150);
   Renderer r(test::sharedDevice());
   // L = 0.3: C 65, step 2, no morph; Lq: C 65 with gamma 0.5 (inside the window); 0.02: step 8
   const float Lq = std::pow((std::pow(2.0f, 5.25f) + 2.0f) / 129.0f, 2.0f);
@@ -397,7 +373,7 @@ TEST(ExplicitLod, FarDrawsFewerStrandsAndPointsAndKeepsCoverage) {
 }
 
 TEST(ExplicitLod, ChunksOffScreenAreCulled) {
-  StrandGroom g = syntheticGroom(640);
+  StrandGroom g = test::syntheticGroom(640);
   Scene s;
   s.width = 160;
   s.height = 120;
@@ -419,7 +395,7 @@ TEST(ExplicitLod, ChunksOffScreenAreCulled) {
 // ---- determinism and dispatch sizing ------------------------------------------------------
 
 TEST(ExplicitRender, FramesAreBitIdenticalAcrossRunsRenderersAndDispatchModes) {
-  StrandGroom g = syntheticGroom(400);
+  StrandGroom g = test::syntheticGroom(400);
   g.appearance.minHitDiameterPx = 1.0f;
   Scene s = sceneAround(GroomInstance("g", std::make_shared<const StrandGroom>(std::move(g))), 120, 90);
   s.camera = framePreset(s, CameraPreset::Close, 20.0f, 10.0f);

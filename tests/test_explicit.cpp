@@ -1,11 +1,17 @@
 // test_explicit.cpp — explicit strand grooms (include/clhair/strand_groom.h,
 // kernels/strands_explicit.cl): the kernel against a CPU reference, the hair-mesh ->
 // cyHair -> StrandGroom round trip rendered both ways, LOD, determinism, device bytes,
-// scene loading and the CLI's refusal of malformed strand files.
+// scene loading and the CLI's refusal of malformed strand files (cyHair, USC-HairSalon,
+// TressFX).
 //
 // Inputs are built here: a synthetic groom with fixed seeds and point counts chosen to hit
 // every edge of the kernel's lane layout (2 and 3 points, runs that are not multiples of
 // 32, strands longer than one 128-segment round), and grooms generated from the presets.
+// The TressFX round trip (export-strands .tfx, resampled to 16 points) compares the file's
+// points with the same resampling done here, within 1e-6 of the groom's size (the file
+// stores float32; both sides run the same code), and its frame with a frame of those
+// strands built in memory: points that far apart move a 200-pixel-wide groom by under
+// 1e-3 px, so at least 99.9 % of the pixels must be within 1/255 and RMSE below 1e-3.
 // Round-trip tolerance (sRGB values in [0, 1]): without shadows at least 99 % of the
 // pixels within 1/255 and RMSE below 2e-3 (measured on PoCL: identical frames). Both paths
 // draw the same float32 points with the same tangent arithmetic, w = k / (n - 1) and AO 1;
@@ -37,6 +43,7 @@
 #include "groom/groom_data.h"
 #include "groom/presets.h"
 #include "io/cyhair.h"
+#include "io/tressfx.h"
 #include "synthetic_groom.h"
 #include "test_util.h"
 
@@ -322,6 +329,67 @@ TEST(ExplicitRoundTrip, ShadowsOfTheStrandFileMatchTheHairMesh) {
   EXPECT_GE(d.within, 0.90);
   EXPECT_LT(d.rmse, 0.01);
   reportRoundTrip(rt, d, "with deep opacity shadows");
+}
+
+// ---- round trip: hair mesh -> export-strands .tfx -> StrandGroom --------------------------
+
+TEST(ExplicitRoundTrip, TressFxExportReadsBackAsTheResampledStrandsAndRendersLikeThem) {
+  const std::string dir = test::scratchDir();
+  const std::string groomPath = test::assetPath("grooms/tiny.hairmesh.json");
+  const std::string file = dir + "/tiny.tfx";
+  test::CommandResult ex = test::runCli("export-strands " + test::quote(groomPath) + " -o " + test::quote(file));
+  ASSERT_EQ(ex.exitCode, 0) << ex.output;
+
+  const HairMesh mesh = loadHairMesh(groomPath);
+  Renderer r(test::sharedDevice());
+  const StrandSet set = r.generateStrands(mesh);
+  const CyHair generated = toCyHair(set, mesh.appearance.strandWidth);
+  const std::uint32_t n = tressFxVertexCount(generated);
+  ASSERT_EQ(n, 16u);  // 17 control points: the file is resampled, not a copy
+  const CyHair expected = resampleStrands(generated, n);
+  const std::uint64_t maxAlloc = test::sharedDevice().info().maxAlloc;
+  const TressFxHair t = readTressFx(file, maxAlloc);
+  ASSERT_EQ(t.hair.segments, expected.segments);
+  ASSERT_EQ(t.hair.points.size(), expected.points.size());
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (std::size_t i = 0; i < expected.points.size(); i += 3) {
+    const glm::vec3 p(expected.points[i], expected.points[i + 1], expected.points[i + 2]);
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const float tolerance = 1e-6f * glm::length(hi - lo);
+  std::size_t off = 0;
+  for (std::size_t i = 0; i < expected.points.size(); ++i)
+    off += std::fabs(t.hair.points[i] - expected.points[i]) > tolerance;
+  EXPECT_EQ(off, 0u) << "coordinates further than " << tolerance << " from the resampled strands";
+  EXPECT_TRUE(t.strandUv.empty());
+
+  auto placed = [&](StrandGroom g) {
+    g.name = "tiny";
+    g.appearance = mesh.appearance;
+    g.seed = mesh.seed;
+    return GroomInstance("tiny", std::make_shared<const StrandGroom>(std::move(g)));
+  };
+  StrandGroom memory;
+  for (std::uint32_t seg : expected.segments) memory.pointCounts.push_back(seg + 1);
+  for (std::size_t i = 0; i < expected.points.size(); i += 3)
+    memory.points.emplace_back(expected.points[i], expected.points[i + 1], expected.points[i + 2]);
+  Scene a = sceneAround(placed(std::move(memory)), 200, 150);
+  a.camera = framePreset(a, CameraPreset::Close, 30.0f, 15.0f);
+  Scene b = a;
+  b.grooms[0] = placed(loadStrandGroom(file, maxAlloc));
+  RenderOptions o;
+  o.lod = 0;
+  RoundTrip rt;
+  rt.dir = dir;
+  rt.mesh = r.render(a, o);
+  rt.strands = r.render(b, o);
+  EXPECT_GT(rt.strands.stats.strandsDrawn, 0u);
+  EXPECT_EQ(rt.mesh.stats.strandsDrawn, rt.strands.stats.strandsDrawn);
+  ImageDiff d = diffImages(rt.mesh.color, rt.strands.color);
+  EXPECT_GE(d.within, 0.999);
+  EXPECT_LT(d.rmse, 1e-3);
+  reportRoundTrip(rt, d, "TressFX file against the same strands in memory");
 }
 
 // ---- LOD ------------------------------------------------------------------------------------
@@ -635,16 +703,54 @@ TEST(ExplicitCli, MalformedStrandFilesAreRefusedWithOneLine) {
   }
 }
 
-// Bytes after the strand data: both formats render, with one warning line naming the file
+// A TressFX 4.0 file of `strands` strands of 4 vertices near the origin (every coordinate
+// from 0 to 0.03), the value at float index `nanAt` of the positions replaced by NaN.
+std::string validTressFx(std::uint32_t strands = 3, int nanAt = -1) {
+  Bytes b;
+  b.f32(4.0f).u32(strands).u32(4).u32(160);
+  for (int i = 0; i < 4 + 32; ++i) b.u32(0);
+  for (std::uint32_t i = 0; i < strands * 4 * 4; ++i)
+    b.f32(static_cast<int>(i) == nanAt ? std::nanf("") : i % 4 == 3 ? 1.0f : 0.005f * static_cast<float>(i % 7));
+  return b.data;
+}
+
+TEST(ExplicitCli, MalformedTressFxFilesAreRefusedWithOneLine) {
+  const std::string dir = test::scratchDir();
+  auto with = [](std::vector<std::string> extra) {
+    extra.insert(extra.begin(), {"scene.json", "grooms[0].strands_file"});
+    return extra;
+  };
+  const std::string valid = validTressFx();
+  expectRefused(dir, "header.tfx", valid.substr(0, 100), sceneWithStrands("header.tfx"),
+                with({"header.tfx", "is 100 bytes", "160-byte header"}));
+  expectRefused(dir, "data.tfx", valid.substr(0, valid.size() - 5), sceneWithStrands("data.tfx"),
+                with({"data.tfx", "truncated", "vertex positions"}));
+  expectRefused(dir, "nan.tfx", validTressFx(3, 21), sceneWithStrands("nan.tfx"),
+                with({"nan.tfx", "strand 1 vertex 1 y is nan", "finite"}));
+  std::string huge = valid;
+  huge.replace(4, 4, Bytes().u32(0xFFFFFFFFu).data);
+  expectRefused(dir, "huge.tfx", huge, sceneWithStrands("huge.tfx"),
+                with({"huge.tfx", "truncated", "4294967295 strands"}));
+  std::string version = valid;
+  version.replace(0, 4, Bytes().f32(2.5f).data);
+  expectRefused(dir, "version.tfx", version, sceneWithStrands("version.tfx"),
+                with({"version.tfx", "version field is 2.5", "3.x or 4.x"}));
+  expectRefused(dir, "text.tfx", "numStrands 3\nis sorted 1\n", sceneWithStrands("text.tfx"),
+                with({"text.tfx", "text layout is not supported"}));
+}
+
+// Bytes after the strand data: every format renders, with one warning line naming the file
 // and the byte count.
-TEST(ExplicitCli, TrailingBytesWarnOnceInBothFormats) {
+TEST(ExplicitCli, TrailingBytesWarnOnceInEveryFormat) {
   const std::string dir = test::scratchDir();
   Bytes usc;
   usc.u32(1).u32(3);
   for (int i = 0; i < 9; ++i) usc.f32(0.01f * static_cast<float>(i));
   const struct {
     std::string name, bytes;
-  } cases[] = {{"extra.hair", validCyHair() + "abcde"}, {"extra.data", usc.data + "abcde"}};
+  } cases[] = {{"extra.hair", validCyHair() + "abcde"},
+               {"extra.data", usc.data + "abcde"},
+               {"extra.tfx", validTressFx() + "abcde"}};
   for (const auto& c : cases) {
     SCOPED_TRACE(c.name);
     writeBytes(dir + "/" + c.name, c.bytes);

@@ -1,4 +1,4 @@
-// test_strand_files.cpp — the cyHair and USC-HairSalon strand readers.
+// test_strand_files.cpp — the cyHair, USC-HairSalon and TressFX strand readers and writers.
 //
 // Files are built byte by byte in the test's scratch folder, so every field a hostile or
 // broken file could hold is under the test's control. Round trips go through writeCyHair
@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <limits>
@@ -19,6 +20,7 @@
 #include "clhair/error.h"
 #include "clhair/strand_groom.h"
 #include "io/cyhair.h"
+#include "io/tressfx.h"
 #include "io/usc_hair.h"
 #include "test_util.h"
 
@@ -521,6 +523,248 @@ TEST(StrandFileUsc, RefusesMoreThanTheByteLimit) {
   // Kept: 2 strands * 4 bytes + 5 points * 12 bytes = 68 bytes.
   EXPECT_EQ(readUscHair(path, 68).hair.points.size(), 15u);
   expectUscError(path, {"up to strand 2 already need 68 bytes", "67-byte limit"}, 67);
+}
+
+// ---- TressFX --------------------------------------------------------------------------------
+
+// Point k of strand s in the files below.
+float tfxCoord(std::uint32_t s, std::uint32_t k, int c) { return 0.1f * s + (c == 0 ? 0.01f * k : c == 1 ? -0.02f * k : 0.5f); }
+
+// A TressFX 4.0 file: `strands` strands of `perStrand` vertices (xyz from tfxCoord, w 0 for
+// the first two), then strand uv (0.25 s mod 1, 0.75) when `uv`.
+Bytes tfx4(std::uint32_t strands, std::uint32_t perStrand, bool uv, float version = 4.0f) {
+  Bytes b;
+  const std::uint32_t uvOffset = 160 + 16 * strands * perStrand;
+  b.f32(version).u32(strands).u32(perStrand).u32(160).u32(uv ? uvOffset : 0).u32(0).u32(0).u32(0);
+  for (int i = 0; i < 32; ++i) b.u32(0);
+  for (std::uint32_t s = 0; s < strands; ++s)
+    for (std::uint32_t k = 0; k < perStrand; ++k)
+      b.f32(tfxCoord(s, k, 0)).f32(tfxCoord(s, k, 1)).f32(tfxCoord(s, k, 2)).f32(k < 2 ? 0.0f : 1.0f);
+  if (uv)
+    for (std::uint32_t s = 0; s < strands; ++s) b.f32(std::fmod(0.25f * s, 1.0f)).f32(0.75f);
+  return b;
+}
+
+// The same strands in the TressFX 3.0 layout: a 296-byte header, float xyz, strand uv after.
+Bytes tfx3(std::uint32_t strands, std::uint32_t perStrand, bool uv) {
+  Bytes b;
+  const std::uint32_t uvOffset = 296 + 12 * strands * perStrand;
+  b.f32(3.0f).u32(strands).u32(perStrand).u32(0).u32(1);  // no follow hairs, both ends pinned
+  for (int i = 0; i < 31; ++i) b.u32(0);
+  b.u32(296).u32(0).u32(uv ? uvOffset : 0).u32(0).u32(0).u32(0);
+  for (int i = 0; i < 32; ++i) b.u32(0);
+  for (std::uint32_t s = 0; s < strands; ++s)
+    for (std::uint32_t k = 0; k < perStrand; ++k) b.f32(tfxCoord(s, k, 0)).f32(tfxCoord(s, k, 1)).f32(tfxCoord(s, k, 2));
+  if (uv)
+    for (std::uint32_t s = 0; s < strands; ++s) b.f32(std::fmod(0.25f * s, 1.0f)).f32(0.75f);
+  return b;
+}
+
+// Replaces the 4 bytes at `offset` with `v`.
+std::string patched(std::string data, std::size_t offset, float v) {
+  data.replace(offset, 4, Bytes().f32(v).data);
+  return data;
+}
+
+std::string patchedU32(std::string data, std::size_t offset, std::uint32_t v) {
+  data.replace(offset, 4, Bytes().u32(v).data);
+  return data;
+}
+
+void expectTfxError(const std::string& path, const std::vector<std::string>& fragments,
+                    std::uint64_t maxBytes = kNoLimit) {
+  expectError([&] { readTressFx(path, maxBytes); }, path, fragments);
+}
+
+void expectTfxStrands(const TressFxHair& t, std::uint32_t strands, std::uint32_t perStrand, bool uv) {
+  EXPECT_EQ(t.hair.segments, std::vector<std::uint32_t>(strands, perStrand - 1));
+  ASSERT_EQ(t.hair.points.size(), 3u * strands * perStrand);
+  for (std::uint32_t s = 0; s < strands; ++s)
+    for (std::uint32_t k = 0; k < perStrand; ++k)
+      for (int c = 0; c < 3; ++c)
+        EXPECT_EQ(t.hair.points[3 * (s * perStrand + k) + c], tfxCoord(s, k, c)) << s << " " << k << " " << c;
+  ASSERT_EQ(t.strandUv.size(), uv ? 2u * strands : 0u);
+  for (std::uint32_t s = 0; uv && s < strands; ++s) {
+    EXPECT_EQ(t.strandUv[2 * s], std::fmod(0.25f * s, 1.0f));
+    EXPECT_EQ(t.strandUv[2 * s + 1], 0.75f);
+  }
+  EXPECT_TRUE(t.hair.thickness.empty() && t.hair.colors.empty() && t.hair.transparency.empty());
+  EXPECT_EQ(t.hair.trailingBytes, 0u);
+}
+
+TEST(StrandFileTressFx, ReadsVersion4PositionsAndStrandUv) {
+  const std::string dir = test::scratchDir();
+  const TressFxHair t = readTressFx(writeFile(dir, "v4.tfx", tfx4(3, 5, true).data), kNoLimit);
+  EXPECT_EQ(t.version, 4.0f);
+  expectTfxStrands(t, 3, 5, true);
+  expectTfxStrands(readTressFx(writeFile(dir, "v4nouv.tfx", tfx4(2, 4, false).data), kNoLimit), 2, 4, false);
+  // 4.x minor versions share the layout
+  EXPECT_EQ(readTressFx(writeFile(dir, "v41.tfx", tfx4(1, 4, false, 4.1f).data), kNoLimit).version, 4.1f);
+}
+
+TEST(StrandFileTressFx, ReadsVersion3Layout) {
+  const std::string dir = test::scratchDir();
+  const TressFxHair t = readTressFx(writeFile(dir, "v3.tfx", tfx3(3, 4, true).data), kNoLimit);
+  EXPECT_EQ(t.version, 3.0f);
+  expectTfxStrands(t, 3, 4, true);
+  // Read as 4.x (16-byte vertices at byte 160) these bytes would give other points.
+  expectTfxStrands(readTressFx(writeFile(dir, "v3nouv.tfx", tfx3(2, 8, false).data), kNoLimit), 2, 8, false);
+}
+
+TEST(StrandFileTressFx, WriterRoundTripsAndPinsTheFirstTwoVertices) {
+  const std::string dir = test::scratchDir();
+  TressFxHair t;
+  t.hair.segments = {3, 3};
+  for (int i = 0; i < 8 * 3; ++i) t.hair.points.push_back(0.125f * i - 1.0f);
+  t.hair.colors.assign(8 * 3, 0.5f);  // no place in the format: dropped
+  t.strandUv = {0.1f, 0.2f, 0.3f, 0.4f};
+  const std::string path = dir + "/two.tfx";
+  writeTressFx(t, path);
+  EXPECT_EQ(std::filesystem::file_size(path), 160u + 8u * 16u + 2u * 8u);
+  const TressFxHair r = readTressFx(path, kNoLimit);
+  EXPECT_EQ(r.version, 4.0f);
+  EXPECT_EQ(r.hair.segments, t.hair.segments);
+  EXPECT_EQ(r.hair.points, t.hair.points);
+  EXPECT_EQ(r.strandUv, t.strandUv);
+  EXPECT_TRUE(r.hair.colors.empty());
+  // w (inverse mass) of strand 1's vertices: 0, 0, 1, 1
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (int k = 0; k < 4; ++k) {
+    float w;
+    std::memcpy(&w, bytes.data() + 160 + 16 * (4 + k) + 12, 4);
+    EXPECT_EQ(w, k < 2 ? 0.0f : 1.0f) << "vertex " << k;
+  }
+
+  t.hair.segments = {3, 2};
+  t.hair.points.resize(7 * 3);
+  expectError([&] { writeTressFx(t, dir + "/uneven.tfx"); }, dir + "/uneven.tfx",
+              {"strand 1 has 3 points but strand 0 has 4", "resample"});
+  EXPECT_FALSE(std::filesystem::exists(dir + "/uneven.tfx"));
+}
+
+TEST(StrandFileTressFx, ResamplingKeepsRootAndTipAndSpacesPointsEvenly) {
+  CyHair h;
+  // An L: 3 units along x, then 1 along y (length 4), and a single-point strand.
+  h.segments = {2, 0};
+  h.points = {0, 0, 0, 3, 0, 0, 3, 1, 0, 7, 7, 7};
+  const CyHair r = resampleStrands(h, 5);
+  EXPECT_EQ(r.segments, (std::vector<std::uint32_t>{4, 4}));
+  EXPECT_EQ(r.points, (std::vector<float>{0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0, 0, 3, 1, 0,  //
+                                          7, 7, 7, 7, 7, 7, 7, 7, 7, 7, 7, 7, 7, 7, 7}));
+  const CyHair two = resampleStrands(h, 2);
+  EXPECT_EQ(std::vector<float>(two.points.begin(), two.points.begin() + 6), (std::vector<float>{0, 0, 0, 3, 1, 0}));
+  // the count: the largest power of two in 4..64 not above the longest strand
+  const struct {
+    std::uint32_t points, expected;
+  } cases[] = {{2, 4}, {3, 4}, {5, 4}, {8, 8}, {9, 8}, {33, 32}, {64, 64}, {65, 64}, {129, 64}};
+  for (const auto& c : cases) {
+    CyHair one;
+    one.segments = {1, c.points - 1};
+    EXPECT_EQ(tressFxVertexCount(one), c.expected) << c.points << " points";
+  }
+}
+
+TEST(StrandFileTressFx, RejectsTruncatedHeaders) {
+  const std::string dir = test::scratchDir();
+  expectTfxError(writeFile(dir, "tiny.tfx", std::string(2, '\0')), {"is 2 bytes", "version field"});
+  expectTfxError(writeFile(dir, "h4.tfx", tfx4(1, 4, false).data.substr(0, 159)),
+                 {"is 159 bytes", "160-byte header", "TressFX 4.x"});
+  expectTfxError(writeFile(dir, "h3.tfx", tfx3(1, 4, false).data.substr(0, 295)),
+                 {"is 295 bytes", "296-byte header", "TressFX 3.x"});
+}
+
+TEST(StrandFileTressFx, RejectsEveryArrayThatRunsPastTheFile) {
+  const std::string dir = test::scratchDir();
+  const std::string v4 = tfx4(2, 4, true).data;
+  expectTfxError(writeFile(dir, "uv.tfx", v4.substr(0, v4.size() - 1)),
+                 {"truncated", "2 strands of 4 vertices", "strand uv", "file's 303 bytes"});
+  const std::string noUv = tfx4(2, 4, false).data;
+  expectTfxError(writeFile(dir, "pos.tfx", noUv.substr(0, noUv.size() - 1)),
+                 {"truncated", "vertex positions (8 x 16 bytes from byte 160)", "file's 287 bytes"});
+  expectTfxError(writeFile(dir, "pos3.tfx", tfx3(2, 4, false).data.substr(0, 296 + 95)),
+                 {"truncated", "vertex positions (8 x 12 bytes from byte 296)"});
+  // arrays the reader does not use must fit too: vertex colours (4.x byte 28), offset past the end
+  expectTfxError(writeFile(dir, "colour.tfx", patchedU32(noUv, 28, 200)), {"truncated", "vertex colours"});
+  expectTfxError(writeFile(dir, "guide.tfx", patchedU32(tfx3(2, 4, false).data, 160, 1u << 30)),
+                 {"truncated", "guide strand indices"});
+}
+
+TEST(StrandFileTressFx, RejectsNonFiniteFloats) {
+  const std::string dir = test::scratchDir();
+  const std::string v4 = tfx4(2, 4, true).data;
+  // strand 1 vertex 2: 160 + 16 * 6; y is 4 bytes in, w 12
+  expectTfxError(writeFile(dir, "y.tfx", patched(v4, 160 + 16 * 6 + 4, kNaN)),
+                 {"vertex positions: strand 1 vertex 2 y is nan"});
+  expectTfxError(writeFile(dir, "w.tfx", patched(v4, 160 + 16 * 6 + 12, kInf)),
+                 {"strand 1 vertex 2 w (inverse mass) is inf"});
+  expectTfxError(writeFile(dir, "uv.tfx", patched(v4, 160 + 16 * 8 + 8 + 4, -kInf)), {"strand uv: strand 1 v is -inf"});
+  expectTfxError(writeFile(dir, "z3.tfx", patched(tfx3(2, 4, false).data, 296 + 12 * 5 + 8, kNaN)),
+                 {"strand 1 vertex 1 z is nan"});
+}
+
+TEST(StrandFileTressFx, RefusesHugeCountsQuickly) {
+  const std::string dir = test::scratchDir();
+  const auto start = std::chrono::steady_clock::now();
+  // 2^32 - 1 strands of 2^32 - 1 vertices: 2^68 bytes of positions, from a 300-byte file
+  std::string data = patchedU32(patchedU32(tfx4(2, 4, false).data, 4, 0xFFFFFFFFu), 8, 0xFFFFFFFFu);
+  expectTfxError(writeFile(dir, "huge.tfx", data), {"truncated", "4294967295 strands of 4294967295 vertices"});
+  data = patchedU32(patchedU32(tfx3(2, 4, false).data, 4, 0xFFFFFFFFu), 8, 64);
+  expectTfxError(writeFile(dir, "huge3.tfx", data), {"truncated", "4294967295 strands of 64 vertices"});
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 0.5);
+}
+
+TEST(StrandFileTressFx, RejectsUnknownVersionsAndTheTextLayout) {
+  const std::string dir = test::scratchDir();
+  const std::string v4 = tfx4(2, 4, false).data;
+  expectTfxError(writeFile(dir, "v2.tfx", patched(v4, 0, 2.0f)), {"version field is 2", "expected 3.x or 4.x"});
+  expectTfxError(writeFile(dir, "v5.tfx", patched(v4, 0, 5.0f)), {"version field is 5", "expected 3.x or 4.x"});
+  expectTfxError(writeFile(dir, "vnan.tfx", patched(v4, 0, kNaN)), {"version field is nan"});
+  expectTfxError(writeFile(dir, "text.tfx", "numStrands 2\nis sorted 1\n"),
+                 {"\"numS\"", "text layout is not supported", "3.x and 4.x"});
+}
+
+TEST(StrandFileTressFx, RejectsEmptyShortStrandsAndOffsetsIntoTheHeader) {
+  const std::string dir = test::scratchDir();
+  const std::string v4 = tfx4(2, 4, true).data;
+  expectTfxError(writeFile(dir, "zero.tfx", patchedU32(v4, 4, 0)), {"0 strands"});
+  expectTfxError(writeFile(dir, "one.tfx", patchedU32(v4, 8, 1)), {"1 vertices per strand", "at least 2"});
+  expectTfxError(writeFile(dir, "nopos.tfx", patchedU32(v4, 12, 0)), {"no offset for the vertex positions"});
+  expectTfxError(writeFile(dir, "inside.tfx", patchedU32(v4, 12, 8)), {"vertex positions", "inside the 160-byte header"});
+  expectTfxError(writeFile(dir, "uvinside.tfx", patchedU32(v4, 16, 4)), {"strand uv", "inside the 160-byte header"});
+}
+
+TEST(StrandFileTressFx, RefusesMoreThanTheByteLimit) {
+  const std::string dir = test::scratchDir();
+  const std::string path = writeFile(dir, "two.tfx", tfx4(2, 4, true).data);
+  // 2 strands * (4 + 8 uv) + 8 points * 12 = 120 bytes
+  EXPECT_EQ(readTressFx(path, 120).hair.points.size(), 24u);
+  expectTfxError(path, {"2 strands of 4 vertices need 120 bytes", "119-byte limit"}, 119);
+}
+
+// As a groom: trailing bytes warn once, strand uv in [0, 1] become root uv, uv outside are
+// dropped with one warning.
+TEST(StrandFileLoad, TressFxTrailingBytesAndStrandUv) {
+  const std::string dir = test::scratchDir();
+  std::vector<std::string> warnings;
+  const StrandGroom g = loadStrandGroom(writeFile(dir, "extra.tfx", tfx4(3, 4, true).data + "xyzw"), kNoLimit,
+                                        nullptr, &warnings);
+  EXPECT_EQ(g.pointCounts, std::vector<std::uint32_t>(3, 4));
+  ASSERT_EQ(g.rootUv.size(), 3u);
+  EXPECT_EQ(g.rootUv[1], glm::vec2(0.25f, 0.75f));
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("extra.tfx: 4 bytes after the end"), std::string::npos) << warnings[0];
+
+  warnings.clear();
+  const std::string outside = patched(tfx4(3, 4, true).data, 160 + 16 * 12 + 8, 1.5f);  // strand 1 u
+  const StrandGroom o = loadStrandGroom(writeFile(dir, "outside.tfx", outside), kNoLimit, nullptr, &warnings);
+  EXPECT_TRUE(o.rootUv.empty());
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("strand 1 has uv (1.5, 0.75) outside [0, 1]"), std::string::npos) << warnings[0];
+
+  warnings.clear();
+  loadStrandGroom(writeFile(dir, "exact.tfx", tfx4(3, 4, false).data), kNoLimit, nullptr, &warnings);
+  EXPECT_TRUE(warnings.empty());
 }
 
 }  // namespace

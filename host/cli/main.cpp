@@ -3,7 +3,8 @@
 //   clhair devices                          list OpenCL devices and what clhair would use
 //   clhair render SCENE -o OUT.png|.exr     render a scene, print per-stage times
 //   clhair groom --preset NAME -o FILE      write a generated hair mesh
-//   clhair export-strands GROOM -o F.hair   write the generated strands as cyHair (or F.data: USC)
+//   clhair export-strands GROOM -o F.hair   write the generated strands as cyHair (F.data: USC,
+//                                           F.tfx: TressFX 4.0, resampled to 4..64 points)
 //   clhair compare A B [--error-map M]      PSNR, RMSE and mean FLIP of B against reference A
 //
 // Global options choose the device (--device, CLHAIR_DEVICE), force a sub-group backend
@@ -29,6 +30,7 @@
 #include "groom/presets.h"
 #include "io/cyhair.h"
 #include "io/json_util.h"
+#include "io/tressfx.h"
 #include "io/usc_hair.h"
 #include "metrics/image_metrics.h"
 
@@ -184,7 +186,18 @@ int cmdExport(const DeviceOptions& opts, const std::string& groomPath, const std
   }
   h.defaultThickness = mesh.appearance.strandWidth;
   h.info = "clhair export-strands: " + mesh.name;
-  if (lowerExtension(out) == ".data")
+  const std::string ext = lowerExtension(out);
+  if (ext == ".tfx") {
+    // TressFX needs one point count for all strands, and AMD's runtime a power of two in
+    // 4..64: resample along the arc length (points only, like USC-HairSalon).
+    TressFxHair t;
+    const std::uint32_t n = tressFxVertexCount(h);
+    t.hair = resampleStrands(h, n);
+    writeTressFx(t, out);
+    std::printf("%s: %zu strands, resampled to %u points each (TressFX 4.0)\n", out.c_str(), s.pointCounts.size(), n);
+    return 0;
+  }
+  if (ext == ".data")
     writeUscHair(h, out);  // points only: the format has no colour or thickness
   else
     writeCyHair(h, out);
@@ -285,10 +298,12 @@ int main(int argc, char** argv) {
   bakeCmd->add_option("-o,--output", bakeOut, "output hair-mesh file with per-vertex AO")->required();
 
   auto* exportCmd = app.add_subcommand(
-      "export-strands", "write the generated strands as a cyHair .hair file (USC-HairSalon when the name ends in .data)");
+      "export-strands",
+      "write the generated strands as a cyHair .hair file (USC-HairSalon when the name ends in .data, "
+      "TressFX 4.0 for .tfx)");
   std::string groomPath, hairOut;
   exportCmd->add_option("groom", groomPath, "hair-mesh file")->required();
-  exportCmd->add_option("-o,--output", hairOut, "output .hair or .data file")->required();
+  exportCmd->add_option("-o,--output", hairOut, "output .hair, .data or .tfx file")->required();
 
   auto* compare =
       app.add_subcommand("compare", "compare image B against reference A: PSNR, RMSE, mean FLIP");

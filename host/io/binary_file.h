@@ -3,6 +3,7 @@
 // Every failure is one clhair::Error line naming the file and its format (`kind`).
 #pragma once
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdint>
@@ -10,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "clhair/error.h"
 
@@ -47,6 +49,14 @@ class InputFile {
     offset_ += n;
   }
 
+  // Moves to an absolute byte offset (formats whose header points at its arrays); callers
+  // check the offset against size() first.
+  void seek(std::uint64_t offset, const std::string& what) {
+    in_.seekg(static_cast<std::streamoff>(offset), std::ios::beg);
+    if (!in_) throw Error(path_ + ": cannot seek to " + what + " at byte " + std::to_string(offset));
+    offset_ = offset;
+  }
+
  private:
   std::string path_;
   std::ifstream in_;
@@ -73,6 +83,49 @@ inline float loadF32(const unsigned char* p) {
   float f;
   std::memcpy(&f, &bits, sizeof(f));
   return f;
+}
+
+// Calls decode(index, bytes) for `count` consecutive elements of `elemBytes` each, reading at
+// most about 1 MB at a time, so memory follows the data actually read.
+template <typename Decode>
+void readElements(InputFile& f, std::uint64_t count, std::size_t elemBytes, const std::string& what,
+                  Decode decode) {
+  constexpr std::size_t kChunkBytes = 1 << 20;
+  std::vector<unsigned char> buf;
+  const std::uint64_t perChunk = std::max<std::uint64_t>(1, kChunkBytes / elemBytes);
+  for (std::uint64_t first = 0; first < count;) {
+    const std::size_t n = static_cast<std::size_t>(std::min(perChunk, count - first));
+    buf.resize(n * elemBytes);
+    f.read(buf.data(), buf.size(), what);
+    for (std::size_t k = 0; k < n; ++k) decode(first + k, buf.data() + k * elemBytes);
+    first += n;
+  }
+}
+
+// Little-endian encoding for the writers.
+inline void appendU32(std::string& out, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((v >> (8 * i)) & 0xFFu));
+}
+
+inline void appendF32(std::string& out, float v) {
+  std::uint32_t bits;
+  std::memcpy(&bits, &v, sizeof(bits));
+  appendU32(out, bits);
+}
+
+// The first bytes of a file as text for an error message, non-printable bytes as \xNN.
+inline std::string showBytes(const unsigned char* p, std::size_t n) {
+  std::string out;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (p[i] >= 0x20 && p[i] < 0x7f && p[i] != '"' && p[i] != '\\') {
+      out += static_cast<char>(p[i]);
+    } else {
+      char buf[8];
+      std::snprintf(buf, sizeof(buf), "\\x%02x", p[i]);
+      out += buf;
+    }
+  }
+  return out;
 }
 
 // A float as error messages show it ("nan", "inf", "1e+30").

@@ -30,7 +30,6 @@ constexpr std::uint32_t kSegmentsBit = 1u, kPointsBit = 2u, kThicknessBit = 4u,
                         kTransparencyBit = 8u, kColorsBit = 16u;
 constexpr std::uint32_t kKnownBits =
     kSegmentsBit | kPointsBit | kThicknessBit | kTransparencyBit | kColorsBit;
-constexpr std::size_t kChunkBytes = 1 << 20;
 
 // "1 strand", "2 strands".
 std::string count(std::uint64_t n, const char* noun) {
@@ -41,37 +40,6 @@ std::string hex(std::uint32_t v) {
   char buf[16];
   std::snprintf(buf, sizeof(buf), "0x%x", v);
   return buf;
-}
-
-// The first bytes of a file as text, non-printable bytes as \xNN.
-std::string showBytes(const unsigned char* p, std::size_t n) {
-  std::string out;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (p[i] >= 0x20 && p[i] < 0x7f && p[i] != '"' && p[i] != '\\') {
-      out += static_cast<char>(p[i]);
-    } else {
-      char buf[8];
-      std::snprintf(buf, sizeof(buf), "\\x%02x", p[i]);
-      out += buf;
-    }
-  }
-  return out;
-}
-
-// Calls decode(index, bytes) for `count` elements of `elemBytes` each, reading at most
-// kChunkBytes at a time.
-template <typename Decode>
-void readElements(InputFile& f, std::uint64_t count, std::size_t elemBytes, const char* what,
-                  Decode decode) {
-  std::vector<unsigned char> buf;
-  const std::uint64_t perChunk = kChunkBytes / elemBytes;
-  for (std::uint64_t first = 0; first < count;) {
-    const std::size_t n = static_cast<std::size_t>(std::min(perChunk, count - first));
-    buf.resize(n * elemBytes);
-    f.read(buf.data(), buf.size(), what);
-    for (std::size_t k = 0; k < n; ++k) decode(first + k, buf.data() + k * elemBytes);
-    first += n;
-  }
 }
 
 // The strand holding point p (used only to word an error message).

@@ -79,7 +79,7 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
                               std::map<std::string, std::shared_ptr<const StrandGroom>>& loaded,
                               std::vector<std::string>& warnings) {
   const std::string file = o.string("strands_file", "");
-  if (file.empty()) o.fail("strands_file", "is empty: name a .hair or .data strand file");
+  if (file.empty()) o.fail("strands_file", "is empty: name a .hair, .data or .tfx strand file");
   std::filesystem::path p = std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;
   const std::string key = p.lexically_normal().string();
   std::error_code ec;
@@ -473,7 +473,7 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
     for (std::size_t i = 0; i < a.size(); ++i) {
       JsonReader o = r.object(a[i], "grooms[" + std::to_string(i) + "]");
       if (o.has("file") == o.has("strands_file"))
-        o.fail("file", "give exactly one of \"file\" (a hair mesh) and \"strands_file\" (a .hair or .data strand file)");
+        o.fail("file", "give exactly one of \"file\" (a hair mesh) and \"strands_file\" (a .hair, .data or .tfx strand file)");
       if (o.has("strands_file")) {
         s.grooms.push_back(readStrandGroom(o, base, s.filter, maxStrandBytes, loadedStrands, s.warnings));
         continue;

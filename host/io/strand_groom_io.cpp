@@ -1,7 +1,7 @@
-// strand_groom_io.cpp — StrandGroom from strand files (cyHair, USC-HairSalon), its
+// strand_groom_io.cpp — StrandGroom from strand files (cyHair, USC-HairSalon, TressFX), its
 // validation and the per-file placement transform.
 //
-// The readers (cyhair_read.cpp, usc_hair.cpp) already refuse truncated files, counts that
+// The readers (cyhair_read.cpp, usc_hair.cpp, tressfx_read.cpp) already refuse truncated files, counts that
 // do not add up, non-finite numbers, zero strands and sizes beyond the caller's limit,
 // before allocating. Here single-point strands are dropped (nothing to draw) and the
 // result is validated like any StrandGroom built in memory.
@@ -12,8 +12,10 @@
 
 #include "clhair/error.h"
 #include "clhair/strand_groom.h"
+#include "io/binary_file.h"
 #include "io/cyhair.h"
 #include "io/json_util.h"
+#include "io/tressfx.h"
 #include "io/usc_hair.h"
 
 namespace clhair {
@@ -54,6 +56,25 @@ StrandGroom fromCyHair(const CyHair& h, std::uint64_t* skipped) {
   }
   if (skipped) *skipped = strands - kept;
   return g;
+}
+
+// A TressFX file's strand uv become the groom's root uv when all lie in [0, 1] (the range
+// the G-buffer stores); otherwise they are left out with one warning naming the first.
+void rootUvFromFile(const std::vector<float>& uv, const std::string& path, StrandGroom& g,
+                    std::vector<std::string>* warnings) {
+  if (uv.empty()) return;
+  for (std::size_t s = 0; s < uv.size() / 2; ++s) {
+    const float u = uv[2 * s], v = uv[2 * s + 1];
+    if (!(u >= 0.0f && u <= 1.0f && v >= 0.0f && v <= 1.0f)) {
+      if (warnings)
+        warnings->push_back(path + ": strand " + std::to_string(s) + " has uv (" + showFloat(u) + ", " +
+                            showFloat(v) + ") outside [0, 1]; the file's strand uv are ignored and " +
+                            "hashed per strand instead");
+      return;
+    }
+  }
+  g.rootUv.reserve(uv.size() / 2);
+  for (std::size_t s = 0; s < uv.size() / 2; ++s) g.rootUv.emplace_back(uv[2 * s], uv[2 * s + 1]);
 }
 
 }  // namespace
@@ -113,9 +134,14 @@ StrandGroom loadStrandGroom(const std::string& path, std::uint64_t maxBytes, std
     g = fromCyHair(u.hair, &skipped);
     skipped += u.skippedStrands;
     trailing = u.hair.trailingBytes;
+  } else if (ext == ".tfx") {
+    const TressFxHair t = readTressFx(path, maxBytes);
+    g = fromCyHair(t.hair, &skipped);  // every strand has 2 or more points: none skipped
+    trailing = t.hair.trailingBytes;
+    rootUvFromFile(t.strandUv, path, g, warnings);
   } else {
     throw Error(path + ": unknown strand file type \"" + ext +
-                "\"; expected .hair (cyHair) or .data (USC-HairSalon)");
+                "\"; expected .hair (cyHair), .data (USC-HairSalon) or .tfx (TressFX)");
   }
   if (g.pointCounts.empty())
     throw Error(path + ": no strand has 2 or more points (" + std::to_string(skipped) +

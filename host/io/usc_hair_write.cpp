@@ -4,18 +4,11 @@
 #include <limits>
 
 #include "clhair/error.h"
+#include "io/binary_file.h"
 #include "io/json_util.h"
 #include "io/usc_hair.h"
 
 namespace clhair {
-
-namespace {
-
-void putU32(std::string& out, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((v >> (8 * i)) & 0xFFu));
-}
-
-}  // namespace
 
 void writeUscHair(const CyHair& hair, const std::string& path) {
   constexpr std::uint64_t kMaxCount = static_cast<std::uint64_t>(std::numeric_limits<std::int32_t>::max());
@@ -28,14 +21,14 @@ void writeUscHair(const CyHair& hair, const std::string& path) {
   if (hair.points.size() != points * 3) throw Error(path + ": point array does not match the segment counts");
   std::string out;
   out.reserve(4 + 4 * hair.segments.size() + 12 * points);
-  putU32(out, static_cast<std::uint32_t>(hair.segments.size()));
+  appendU32(out, static_cast<std::uint32_t>(hair.segments.size()));
   std::size_t at = 0;
   for (std::uint32_t s : hair.segments) {
-    putU32(out, s + 1u);
+    appendU32(out, s + 1u);
     for (std::uint64_t k = 0; k < 3 * (s + std::uint64_t(1)); ++k, ++at) {
       std::uint32_t bits;
       std::memcpy(&bits, &hair.points[at], sizeof(bits));
-      putU32(out, bits);
+      appendU32(out, bits);
     }
   }
   writeTextAtomically(path, out);

@@ -1,5 +1,5 @@
-// strand_groom.h — a groom given as explicit strands (a cyHair `.hair` or USC-HairSalon
-// `.data` file, or strands built in memory), rendered through the same raster, shading,
+// strand_groom.h — a groom given as explicit strands (a cyHair `.hair`, USC-HairSalon
+// `.data` or TressFX `.tfx` file, or strands built in memory), rendered through the same raster, shading,
 // filter and compositing passes as a hair mesh.
 //
 // Strand s owns pointCounts[s] consecutive entries of `points` (root first); every strand
@@ -44,13 +44,14 @@ constexpr std::uint64_t kMaxStrandPoints = 0xFFFFFFF0ull;
 // appearance or LOD parameters out of range, more than kMaxStrandPoints points.
 void validateStrandGroom(const StrandGroom& groom, const std::string& where);
 
-// Reads a strand file by extension: `.hair` (cyHair) or `.data` (USC-HairSalon). Sizes are
+// Reads a strand file by extension: `.hair` (cyHair), `.data` (USC-HairSalon) or `.tfx`
+// (TressFX 3.x/4.x binary; its strand uv become rootUv when all lie in [0, 1]). Sizes are
 // checked against `maxBytes` (pass the device's largest allocation) before anything is
 // allocated. Strands of a single point (legal in cyHair, skipped by the USC reader) are
 // left out and counted in *skippedStrands when given. The result has the default
 // appearance and LOD parameters and the file's stem as its name. Errors are one line that
 // names the file. Problems that do not stop the file from being drawn (bytes after the end
-// of its data) are appended to *warnings when given, one line each naming the file.
+// of its data, TressFX strand uv outside [0, 1]) are appended to *warnings when given, one line each naming the file.
 StrandGroom loadStrandGroom(const std::string& path, std::uint64_t maxBytes,
                             std::uint64_t* skippedStrands = nullptr,
                             std::vector<std::string>* warnings = nullptr);

@@ -173,6 +173,18 @@ TEST(MetricsPsnr, HandComputedCases) {
   EXPECT_NEAR(r.psnrDb, 13.97940009, 1e-4);
 }
 
+TEST(MetricsCompare, WithinOneCodeCountsPixelsOffByAtMostOneCode) {
+  // 4 pixels of sRGB code 100; against it: unchanged, +1 in red, -1 in blue, +2 in green
+  Codes base{4, 1, std::vector<int>(12, 100)};
+  Codes test = base;
+  test.rgb[3] = 101;
+  test.rgb[8] = 99;
+  test.rgb[10] = 102;
+  const ImageComparison c = compareImages(toImage(base), toImage(test));
+  EXPECT_DOUBLE_EQ(c.withinOneCode, 0.75);
+  EXPECT_DOUBLE_EQ(compareImages(toImage(base), toImage(base)).withinOneCode, 1.0);
+}
+
 TEST(MetricsPsnr, MaskRestrictsThePixelsCompared) {
   // the one red pixel of the case above alone: MSE = 1/3; the other three alone: MSE = 0
   Image black = solid(2, 2, 0.0f, 0.0f, 0.0f);

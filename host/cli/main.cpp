@@ -239,7 +239,8 @@ int cmdCompare(const std::string& pathA, const std::string& pathB, const Compare
                         {"width", a.width},   {"height", a.height},
                         {"psnr_db", nullptr}, {"rmse", c.psnr.rmse},
                         {"mse", c.psnr.mse},  {"flip_mean", c.flip.mean},
-                        {"ppd", f.ppd},       {"error_map", nullptr}};
+                        {"ppd", f.ppd},       {"error_map", nullptr},
+                        {"within_one_code", c.withinOneCode}};
     if (!identical) j["psnr_db"] = c.psnr.psnrDb;
     if (!f.errorMap.empty()) j["error_map"] = f.errorMap;
     std::cout << j.dump(2) << "\n";
@@ -252,6 +253,7 @@ int cmdCompare(const std::string& pathA, const std::string& pathB, const Compare
     std::printf("  PSNR  %.4f dB   (sRGB R, G, B; peak 1)\n", c.psnr.psnrDb);
   std::printf("  RMSE  %.6f     (sRGB R, G, B in [0, 1])\n", c.psnr.rmse);
   std::printf("  FLIP  %.6f     (mean LDR-FLIP, %g pixels per degree)\n", c.flip.mean, f.ppd);
+  std::printf("  within 1/255  %.4f %% of pixels (largest sRGB channel difference)\n", 100.0 * c.withinOneCode);
   if (!f.errorMap.empty()) std::printf("  error map  %s\n", f.errorMap.c_str());
   return 0;
 }

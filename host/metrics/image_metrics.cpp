@@ -63,6 +63,16 @@ ImageComparison compareImages(const Image& reference, const Image& test, double 
   ImageComparison c;
   c.psnr = computePsnr(reference, test);
   c.flip = computeFlip(reference, test, pixelsPerDegree);
+  const std::size_t pixels = std::min(reference.rgba.size(), test.rgba.size()) / 4;
+  std::size_t within = 0;
+  for (std::size_t i = 0; i < pixels; ++i) {
+    double worst = 0.0;
+    for (int k = 0; k < 3; ++k)
+      worst = std::max(worst, std::abs(linearToSrgbClamped(reference.rgba[i * 4 + k]) -
+                                       linearToSrgbClamped(test.rgba[i * 4 + k])));
+    within += worst <= 1.0 / 255.0 + 1e-4;
+  }
+  c.withinOneCode = pixels ? static_cast<double>(within) / static_cast<double>(pixels) : 1.0;
   c.pixelsPerDegree = pixelsPerDegree;
   return c;
 }

@@ -28,6 +28,9 @@ PsnrResult computePsnr(const Image& reference, const Image& test, const std::vec
 struct ImageComparison {
   PsnrResult psnr;
   FlipResult flip;
+  // Share of pixels whose largest sRGB channel difference is at most 1/255 (plus a rounding
+  // allowance of 1e-4): for 8-bit images, "equal up to one code".
+  double withinOneCode = 0.0;
   double pixelsPerDegree = kFlipDefaultPpd;
 };
 

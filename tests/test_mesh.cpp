@@ -203,7 +203,8 @@ TEST(Mesh, MeshCastsIntoTheDeepOpacityMaps) {
       sumMesh += meshShadow.color.rgba[4 * i + c];
       sumPlane += planeShadow.color.rgba[4 * i + c];
       sumUnlit += unlit.color.rgba[4 * i + c];
-      dmax = std::max(dmax, static_cast<double>(std::fabs(meshShadow.color.rgba[4 * i + c] - planeShadow.color.rgba[4 * i + c])));
+      const float d = std::fabs(meshShadow.color.rgba[4 * i + c] - planeShadow.color.rgba[4 * i + c]);
+      dmax = std::max(dmax, static_cast<double>(d));
     }
     close += dmax <= 1e-4;
   }
@@ -261,7 +262,9 @@ TEST(Mesh, SceneReadsMeshesRelativeToTheSceneWithScaleAndUpAxis) {
   fs::create_directories(dir + "/sub");
   writeText(dir + "/sub/tri.obj", "v 0 0 0\nv 100 0 0\nv 0 0 100\nf 1 2 3\n");
   writeText(dir + "/scene.json",
-            json{{"meshes", {{{"file", "sub/tri.obj"}, {"scale", 0.01}, {"up", "z"}, {"color", {0.2, 0.3, 0.4}}}}}}.dump());
+            json{{"meshes",
+                  {{{"file", "sub/tri.obj"}, {"scale", 0.01}, {"up", "z"}, {"color", {0.2, 0.3, 0.4}}}}}}
+                .dump());
   const Scene s = loadScene(dir + "/scene.json");
   ASSERT_EQ(s.meshes.size(), 1u);
   EXPECT_EQ(s.meshes[0].name, "tri");
@@ -298,7 +301,8 @@ void expectMeshRefused(const std::string& dir, const std::string& meshFile, cons
   const std::size_t end = r.output.find('\n', begin);
   const std::string line = r.output.substr(begin, end == std::string::npos ? std::string::npos : end - begin);
   EXPECT_NE(line.find("scene.json: mesh \"" + meshFile + "\""), std::string::npos) << line;
-  for (const std::string& f : fragments) EXPECT_NE(line.find(f), std::string::npos) << "lacks \"" << f << "\": " << line;
+  for (const std::string& f : fragments)
+    EXPECT_NE(line.find(f), std::string::npos) << "lacks \"" << f << "\": " << line;
   if (end != std::string::npos) {
     EXPECT_TRUE(std::all_of(r.output.begin() + static_cast<std::ptrdiff_t>(end), r.output.end(),
                             [](unsigned char c) { return std::isspace(c); }))

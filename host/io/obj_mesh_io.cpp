@@ -59,7 +59,9 @@ ScanResult scanObj(const std::string& text, const MeshLimits& limits, const std:
         errno = 0;
         char* stop = nullptr;
         const double v = std::strtod(t.c_str(), &stop);
-        if (stop != t.c_str() + t.size()) fail("vertex " + std::to_string(r.vertices + 1) + " has a non-numeric coordinate \"" + t.substr(0, 32) + "\"");
+        if (stop != t.c_str() + t.size())
+          fail("vertex " + std::to_string(r.vertices + 1) + " has a non-numeric coordinate \"" + t.substr(0, 32) +
+               "\"");
         if (!std::isfinite(v) || std::fabs(v) > std::numeric_limits<float>::max())
           fail("vertex " + std::to_string(r.vertices + 1) + " has a non-finite coordinate (" + t.substr(0, 32) + ")");
       }
@@ -128,7 +130,8 @@ void validateTriangleMesh(const TriangleMesh& mesh, const std::string& where, co
   }
   for (std::size_t i = 0; i < mesh.indices.size(); ++i)
     if (mesh.indices[i] >= mesh.positions.size())
-      throw Error(where + ": triangle " + std::to_string(i / 3) + " names vertex " + std::to_string(mesh.indices[i] + 1) +
+      throw Error(where + ": triangle " + std::to_string(i / 3) + " names vertex " +
+                  std::to_string(mesh.indices[i] + 1) +
                   " of " + std::to_string(mesh.positions.size()));
 }
 
@@ -139,7 +142,8 @@ TriangleMesh loadTriangleMesh(const std::string& path, const MeshLimits& limits,
     throw Error(label + ": PLY meshes are not supported; convert it to OBJ (e.g. with Blender or MeshLab)");
   if (ext != ".obj") throw Error(label + ": expected a Wavefront .obj mesh, not \"" + ext + "\"");
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw Error(label + ": \"" + path + "\" does not exist or is not a file");
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw Error(label + ": \"" + path + "\" does not exist or is not a file");
   const std::uint64_t size = std::filesystem::file_size(path, ec);
   if (ec) throw Error(label + ": cannot read its size (" + ec.message() + ")");
   if (size > limits.maxFileBytes)

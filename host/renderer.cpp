@@ -35,6 +35,7 @@
 #include "stages/shadow_stage.h"
 #include "lighting/environment.h"
 #include "stages/lod_stage.h"
+#include "stages/mesh_stage.h"
 #include "stages/opaque_stage.h"
 #include "stages/shade_stage.h"
 #include "stages/strand_stage.h"
@@ -193,6 +194,7 @@ struct Renderer::Impl {
   Device device;
   Device::Impl& dev;
   OpaqueStage opaque;
+  MeshStage meshStage;
   LodStage lod;
   StrandStage strands;
   ShadeStage shade;
@@ -212,6 +214,10 @@ struct Renderer::Impl {
   int width = 0, height = 0, layers = 0;
   cl::Buffer color, depth, gbuffer, hair, filtered, stats, filterParams;
   cl::Buffer view, scene, spheres, planes, lights;
+  // the scene's triangle meshes in world space, rebuilt when the scene's meshes change
+  cl::Buffer meshVertices, meshNormals, meshTriangles, meshColors, meshWords;
+  std::uint32_t meshVertexCount = 0, meshTriangleCount = 0, meshColorCount = 0;
+  std::vector<MeshInstance> uploadedMeshes;
   // deep opacity maps: one ClhShadowGpu per slot and the shared texel buffers
   int shadowRes = 0;
   std::array<cl::Buffer, CLH_MAX_SHADOWS> shadowOne;
@@ -222,6 +228,7 @@ struct Renderer::Impl {
       : device(std::move(d)),
         dev(*device.impl()),
         opaque(dev),
+        meshStage(dev),
         lod(dev),
         strands(dev),
         shade(dev),
@@ -521,6 +528,7 @@ struct Renderer::Impl {
       opaque.enqueue({&scene, &lightView, &spheres, &planes, &lights, &shadowAll, &shadowOpaque, &shadowHair,
                       &shadowOpacity, &envTexels(), &envLevels(), &envSh(), &background, &lightColor, &lightDepth, res, res, false},
                      &profiler);
+      drawMeshes(lightView, lightColor, lightDepth, res, res, false);  // meshes cast into the maps too
       clCall("copying the light's opaque depth", [&] {
         dev.queue.enqueueCopyBuffer(lightDepth, shadowOpaque, 0, plane * slot * sizeof(float), plane * sizeof(float));
         return 0;
@@ -716,6 +724,81 @@ struct Renderer::Impl {
     spheres = makeBuffer(dev, "spheres", sp.size(), sp.data());
     planes = makeBuffer(dev, "planes", pl.size(), pl.data());
     lights = makeBuffer(dev, "lights", li.size(), li.data());
+    uploadMeshes(s);
+  }
+
+  // World-space vertices, normals (area-weighted averages of the triangles' normals) and
+  // triangles of every mesh instance, uploaded when the scene's meshes change; every
+  // buffer is checked against the device's largest allocation (makeBuffer).
+  void uploadMeshes(const Scene& s) {
+    // the instances as uploaded (holding their meshes, so an address is never reused)
+    const bool same = meshColors() && s.meshes.size() == uploadedMeshes.size() &&
+                      std::equal(s.meshes.begin(), s.meshes.end(), uploadedMeshes.begin(),
+                                 [](const MeshInstance& a, const MeshInstance& b) {
+                                   return a.mesh == b.mesh && a.transform == b.transform && a.color == b.color;
+                                 });
+    if (same) return;
+    std::uint64_t vertices = 0, triangles = 0;
+    for (const MeshInstance& m : s.meshes) {
+      if (!m.mesh) throw Error("mesh \"" + m.name + "\" has no geometry");
+      validateTriangleMesh(*m.mesh, "mesh \"" + m.name + "\"");
+      vertices += m.mesh->positions.size();
+      triangles += m.mesh->indices.size() / 3;
+    }
+    if (vertices > 0xFFFFFFFFull || triangles > 0xFFFFFFFFull)
+      throw Error("the scene's meshes hold " + std::to_string(vertices) + " vertices and " + std::to_string(triangles) +
+                  " triangles; at most 2^32 - 1 of each are supported");
+    std::vector<cl_float4> pos, nrm;
+    std::vector<cl_uint4> tri;
+    std::vector<cl_float4> col;
+    pos.reserve(vertices);
+    nrm.reserve(vertices);
+    tri.reserve(triangles);
+    for (std::size_t i = 0; i < s.meshes.size(); ++i) {
+      const MeshInstance& m = s.meshes[i];
+      const auto base = static_cast<cl_uint>(pos.size());
+      std::vector<glm::vec3> world(m.mesh->positions.size()), normal(m.mesh->positions.size(), glm::vec3(0.0f));
+      for (std::size_t v = 0; v < world.size(); ++v) world[v] = glm::vec3(m.transform * glm::vec4(m.mesh->positions[v], 1.0f));
+      const std::vector<std::uint32_t>& idx = m.mesh->indices;
+      for (std::size_t t = 0; t + 2 < idx.size(); t += 3) {
+        const glm::vec3 n = glm::cross(world[idx[t + 1]] - world[idx[t]], world[idx[t + 2]] - world[idx[t]]);
+        for (int k = 0; k < 3; ++k) normal[idx[t + k]] += n;
+        tri.push_back({{base + idx[t], base + idx[t + 1], base + idx[t + 2], static_cast<cl_uint>(i)}});
+      }
+      for (std::size_t v = 0; v < world.size(); ++v) {
+        const float len = glm::length(normal[v]);
+        const glm::vec3 n = len > 0.0f && std::isfinite(len) ? normal[v] / len : glm::vec3(0.0f);
+        pos.push_back({{world[v].x, world[v].y, world[v].z, 1.0f}});
+        nrm.push_back({{n.x, n.y, n.z, 0.0f}});
+      }
+      col.push_back({{m.color.x, m.color.y, m.color.z, 1.0f}});
+    }
+    meshVertices = makeBuffer(dev, "mesh vertices (" + std::to_string(pos.size()) + ")", pos.size(), pos.data());
+    meshNormals = makeBuffer(dev, "mesh normals (" + std::to_string(nrm.size()) + ")", nrm.size(), nrm.data());
+    meshTriangles = makeBuffer(dev, "mesh triangles (" + std::to_string(tri.size()) + ")", tri.size(), tri.data());
+    meshColors = makeBuffer(dev, "mesh colours", col.size(), col.data());
+    meshVertexCount = static_cast<std::uint32_t>(pos.size());
+    meshTriangleCount = static_cast<std::uint32_t>(tri.size());
+    meshColorCount = static_cast<std::uint32_t>(col.size());
+    uploadedMeshes = s.meshes;
+  }
+
+  // The scene's meshes over the analytic scene already in `color` / `depth` (a view of
+  // width x height: the camera's or a light's); shade = false writes depth only.
+  void drawMeshes(const cl::Buffer& v, cl::Buffer& colorOut, cl::Buffer& depthOut, int w, int h, bool shade) {
+    if (meshTriangleCount == 0) return;
+    // one word buffer for the camera's and the lights' views: sized for the larger
+    std::size_t pixels = std::max(static_cast<std::size_t>(w) * static_cast<std::size_t>(h),
+                                  static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+    pixels = std::max(pixels, static_cast<std::size_t>(shadowRes) * static_cast<std::size_t>(shadowRes));
+    if (bufferBytes(meshWords) < pixels * sizeof(cl_ulong))
+      meshWords = makeBuffer<cl_ulong>(dev, "the mesh depth words (" + std::to_string(pixels) + " pixels)", pixels);
+    meshStage.enqueue({&scene, &v,
+                       {&meshVertices, &meshNormals, &meshTriangles, &meshColors, meshVertexCount, meshTriangleCount,
+                        meshColorCount},
+                       &lights, &shadowAll, &shadowOpaque, &shadowHair, &shadowOpacity, &envSh(), &meshWords, &colorOut,
+                       &depthOut, w, h, shade},
+                      &profiler);
   }
 
   // View-dependent groom parameters; returns false when the groom is entirely behind the camera.
@@ -901,6 +984,7 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
                     &r.shadowOpacity, &r.envTexels(), &r.envLevels(), &r.envSh(), &r.background, &r.color, &r.depth, s.width, s.height,
                     true},
                    &r.profiler);
+  r.drawMeshes(r.view, r.color, r.depth, s.width, s.height, true);
   // per drawn groom: its chunk/bundle scan and the index of the drawn total in it
   std::vector<std::pair<const cl::Buffer*, std::size_t>> drawn;
   for (const GroomInstance& gi : s.grooms) {

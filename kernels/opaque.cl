@@ -5,7 +5,8 @@
  * against and composite over. Lambert shading with the scene's point and directional
  * lights plus a constant ambient term; shadowed lights look up their deep opacity maps,
  * so hair and opaque objects shadow the opaque scene. With shade = 0 only the depth is
- * written (the opaque scene seen from a light). With an environment, the ambient term is
+ * written (the opaque scene seen from a light). Triangle meshes are drawn over this
+ * result by mesh.cl with the same shading (opaque_shade.h). With an environment, the ambient term is
  * its SH irradiance and a visible environment replaces the background colour; a
  * background image, when given, is stretched over the frame behind everything.
  */
@@ -13,6 +14,7 @@
 #include "clh_math.h"
 #include "shadow.h"
 #include "env_lookup.h"
+#include "opaque_shade.h"
 
 /* Nearest hit along origin + t * dir (t > 0); returns t or INFINITY, normal and albedo. */
 static inline float opaque_trace(__global const ClhSceneGpu* scene_g,
@@ -96,28 +98,7 @@ __kernel void opaque_render(__global const ClhSceneGpu* scene_g, __global const 
   depth_g[idx] = t;
   if (shade == 0u) return;
   float3 pos = origin + t * dir;
-  float3 radiance = env_levels > 0u ? albedo * clh_env_irradiance(env_sh_g, n) / CLH_PI
-                                    : albedo * vload3(0, scene_g->ambient);
-  uint nl = min(scene_g->light_count, (uint)CLH_MAX_LIGHTS);
-  for (uint i = 0; i < nl; ++i) {
-    float4 lp = vload4(0, lights_g[i].pos);
-    float3 lc = vload3(0, lights_g[i].color);
-    float3 l;
-    float falloff = 1.0f;
-    if (lp.w > 0.5f) {
-      float3 d = lp.xyz - pos;
-      float d2 = fmax(dot(d, d), 1e-8f);
-      l = d * rsqrt(d2);
-      falloff = 1.0f / d2;
-    } else {
-      l = normalize(lp.xyz);
-    }
-    float visibility = 1.0f;
-    int slot = clh_light_shadow_slot(lights_g + i);
-    if (slot >= 0 && slot < CLH_MAX_SHADOWS)
-      visibility = clh_shadow_transmittance(shadows_g + slot, shadow_opaque_g, shadow_hair_g, shadow_opacity_g,
-                                            pos + n * (1e-3f * t), 0.0f);
-    radiance += albedo * lc * (visibility * falloff * fmax(dot(n, l), 0.0f) / CLH_PI);
-  }
-  color_g[idx] = (float4)(radiance, 1.0f);
+  color_g[idx] = (float4)(clh_opaque_shade(scene_g, lights_g, shadows_g, shadow_opaque_g, shadow_hair_g,
+                                           shadow_opacity_g, env_sh_g, pos, n, albedo, t),
+                          1.0f);
 }

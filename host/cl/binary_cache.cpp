@@ -53,6 +53,10 @@ std::string BinaryCache::key(const std::string& platform, const std::string& dev
   return digest(all) + ".clbin";
 }
 
+bool BinaryCache::cacheablePlatform(const std::string& platformName) {
+  return platformName.find("Oclgrind") == std::string::npos;
+}
+
 std::optional<std::vector<unsigned char>> BinaryCache::load(const std::string& key) const {
   if (!enabled()) return std::nullopt;
   std::ifstream in(fs::path(folder_) / key, std::ios::binary);

@@ -7,7 +7,9 @@
 // binary is never used. A binary the driver refuses is ignored (and rebuilt from source).
 // Writes go to a temporary file that is renamed into place, so concurrent processes never
 // read a half-written entry. The folder is CLHAIR_CACHE_DIR, else $XDG_CACHE_HOME/clhair,
-// else ~/.cache/clhair; CLHAIR_CACHE_DIR=off disables the cache.
+// else ~/.cache/clhair; CLHAIR_CACHE_DIR=off disables the cache. Simulators whose build
+// options come from their own environment (Oclgrind: OCLGRIND_BUILD_OPTIONS, which the key
+// cannot see) are never cached (cacheablePlatform).
 #pragma once
 
 #include <optional>
@@ -27,6 +29,8 @@ class BinaryCache {
   static std::string key(const std::string& platform, const std::string& device, const std::string& driver,
                          const std::string& options, const std::string& source);
   std::optional<std::vector<unsigned char>> load(const std::string& key) const;
+  // False for platforms whose builds depend on more than the key holds.
+  static bool cacheablePlatform(const std::string& platformName);
   // Best effort: a cache that cannot be written only costs the next run a compile.
   void store(const std::string& key, const std::vector<unsigned char>& binary) const;
 

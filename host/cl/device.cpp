@@ -205,7 +205,7 @@ Device Device::open(const DeviceOptions& options) {
   impl->sources = KernelSources(options.kernelDir);
   impl->kernelWarningsAsErrors = options.kernelWarningsAsErrors;
   impl->strandsPerGroupOverride = options.strandsPerGroup;
-  impl->binaries = BinaryCache(options.cacheDir);
+  impl->binaries = BinaryCache(BinaryCache::cacheablePlatform(impl->info.platformName) ? options.cacheDir : "off");
   const char* dbg = std::getenv("CLHAIR_DEBUG_SYNC");
   impl->debugFinish = dbg && std::string(dbg) == "1";
   clCall("creating the OpenCL context on " + impl->info.name, [&] {

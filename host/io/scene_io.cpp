@@ -2,7 +2,9 @@
 //
 // A groom entry names a hair mesh ("file") or a strand file ("strands_file": cyHair .hair
 // or USC-HairSalon .data, read with a byte limit before anything is allocated); each file
-// is read once per scene however many entries use it.
+// is read once per scene however many entries use it. A mesh entry names an OBJ file (a
+// head), read and checked the same way: once per file, against the device's largest
+// allocation, every error one line naming the scene and the file as the entry wrote it.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -141,6 +143,40 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
   }
   o.rejectUnknown({"strands_file", "name", "transform", "scale", "up", "appearance", "lod", "filter"});
   return g;
+}
+
+// A "meshes" entry: the OBJ file (read once per scene), its placement (scale, up axis, then
+// transform, as for strand files) and its colour.
+MeshInstance readMesh(const JsonReader& o, const std::filesystem::path& base, std::uint64_t maxBytes,
+                      std::map<std::string, std::shared_ptr<const TriangleMesh>>& loaded) {
+  const std::string file = o.string("file", "");
+  if (file.empty()) o.fail("file", "is missing: name the mesh's .obj file");
+  const std::string label = o.file() + ": mesh \"" + file + "\"";
+  std::filesystem::path p = std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;
+  const std::string key = p.lexically_normal().string();
+  std::error_code ec;
+  const bool found = std::filesystem::exists(p, ec);
+  if (ec) throw Error(label + ": \"" + key + "\" cannot be checked (" + ec.message() + ")");
+  if (!found) throw Error(label + ": \"" + key + "\" does not exist");
+  MeshInstance m;
+  auto it = loaded.find(key);
+  if (it != loaded.end()) {
+    m.mesh = it->second;
+  } else {
+    MeshLimits limits;
+    limits.maxBufferBytes = maxBytes;
+    m.mesh = std::make_shared<const TriangleMesh>(loadTriangleMesh(key, limits, label));
+    loaded[key] = m.mesh;
+  }
+  m.name = o.string("name", m.mesh->name);
+  const float scale = static_cast<float>(o.number("scale", 1.0, 1e-6, 1e6));
+  const std::string up = o.string("up", "y");
+  if (up != "x" && up != "y" && up != "z") o.fail("up", "is \"" + up + "\", expected \"x\", \"y\" or \"z\"");
+  glm::mat4 placement = o.has("transform") ? readTransform(o, o.require("transform")) : glm::mat4(1.0f);
+  m.transform = placement * strandFileTransform(scale, up == "x" ? UpAxis::X : up == "z" ? UpAxis::Z : UpAxis::Y);
+  m.color = o.vec3("color", m.color, 0.0, 1.0);
+  o.rejectUnknown({"file", "name", "transform", "scale", "up", "color"});
+  return m;
 }
 
 const std::vector<glm::vec3>& groomPoints(const GroomInstance& g) {
@@ -417,6 +453,14 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
     }
   }
 
+  if (r.has("meshes")) {
+    const json& a = r.require("meshes");
+    if (!a.is_array()) r.fail("meshes", "must be an array");
+    std::map<std::string, std::shared_ptr<const TriangleMesh>> loadedMeshes;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      s.meshes.push_back(readMesh(r.object(a[i], "meshes[" + std::to_string(i) + "]"), base, maxStrandBytes, loadedMeshes));
+  }
+
   if (r.has("shadows")) {
     JsonReader o = r.object(r.require("shadows"), "shadows");
     s.shadows.resolution = o.integer("resolution", s.shadows.resolution, 16, 4096);
@@ -551,7 +595,7 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
   } else {
     s.camera = framePreset(s, CameraPreset::Mid);
   }
-  r.rejectUnknown({"resolution", "camera", "background", "ambient", "lights", "spheres", "planes", "grooms",
+  r.rejectUnknown({"resolution", "camera", "background", "ambient", "lights", "spheres", "planes", "meshes", "grooms",
                    "shadows", "filter", "environment", "background_image"});
   return s;
 }

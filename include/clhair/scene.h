@@ -1,7 +1,9 @@
-// scene.h — what one frame shows: camera, lights, opaque primitives and grooms.
+// scene.h — what one frame shows: camera, lights, opaque primitives, triangle meshes and
+// grooms.
 //
-// Scenes are JSON files (docs/scene-format.md). Groom files are resolved relative to the
-// scene file; a groom is a hair mesh or a strand file (cyHair .hair, USC-HairSalon .data).
+// Scenes are JSON files (docs/scene-format.md). Groom and mesh files are resolved relative
+// to the scene file; a groom is a hair mesh or a strand file (cyHair .hair, USC-HairSalon
+// .data), a mesh an OBJ file (a head, a body).
 // A camera can be given explicitly or as a preset that frames all grooms at about 60 %
 // (close), 20 % (mid) or 5 % (far) of the image height.
 #pragma once
@@ -16,6 +18,7 @@
 
 #include "clhair/hair_mesh.h"
 #include "clhair/strand_groom.h"
+#include "clhair/triangle_mesh.h"
 
 namespace clhair {
 
@@ -83,6 +86,14 @@ struct Plane {
   glm::vec3 color{0.5f};
 };
 
+// An opaque triangle mesh placed in the scene, shaded like the spheres and planes.
+struct MeshInstance {
+  std::string name;
+  std::shared_ptr<const TriangleMesh> mesh;
+  glm::mat4 transform{1.0f};  // object -> world (includes the entry's scale and up axis)
+  glm::vec3 color{0.5f};      // linear albedo
+};
+
 // Reconstruction filter (Lipp et al. 2026 §3.3), defaults from the paper where it gives them.
 struct FilterParams {
   bool enabled = true;
@@ -122,6 +133,7 @@ struct Scene {
   std::vector<Light> lights;
   std::vector<Sphere> spheres;
   std::vector<Plane> planes;
+  std::vector<MeshInstance> meshes;
   std::vector<GroomInstance> grooms;
   FilterParams filter;
   ShadowParams shadows;
@@ -155,9 +167,9 @@ constexpr int kMaxImageSide = 16384;
 // Strand files larger than this (as CyHair arrays in memory) are refused by default.
 constexpr std::uint64_t kDefaultStrandFileLimit = 2ull << 30;
 
-// Loads a scene and every groom file it names. Strand files are checked against
-// `maxStrandBytes` before anything is allocated: pass the device's largest allocation
-// (Device::info().maxAlloc) when a device is open.
+// Loads a scene and every groom and mesh file it names. Strand and mesh files are checked
+// against `maxStrandBytes` before anything is allocated: pass the device's largest
+// allocation (Device::info().maxAlloc) when a device is open.
 Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes = kDefaultStrandFileLimit);
 
 }  // namespace clhair

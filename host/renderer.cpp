@@ -297,8 +297,7 @@ struct Renderer::Impl {
       // its own view buffer: a bake may run in the middle of a frame
       gpu::ClhViewGpu v = makeView(Camera{}, 1, 1);
       upload(dev, exportView, &v, 1);
-      LodStage::Params lp = lodParams(g, 1e30f);
-      lp.view = &exportView;
+      LodStage::Params lp = lodParams(g, 1e30f, exportView);
       this->lod.enqueue(lp, nullptr);
       e.total = this->lod.readTotal(lp);
       if (e.total != g.data.totalStrands)
@@ -463,7 +462,10 @@ struct Renderer::Impl {
   // Deep opacity maps of every shadowed light over all grooms (Yuksel & Keyser 2008), built
   // with the strand kernels from the light's view (with LOD). Must run before the opaque
   // pass, which receives hair shadows too.
+  std::uint64_t shadowStrands = 0;  // drawn by the last renderShadows (FrameStats)
+
   void renderShadows(const Scene& s, const RenderOptions& cameraOptions) {
+    shadowStrands = 0;
     // the light's passes use LOD unless the caller turned it off explicitly
     RenderOptions options = cameraOptions;
     options.lod = cameraOptions.lod == 0 ? 0 : 1;
@@ -554,6 +556,7 @@ struct Renderer::Impl {
           explicitStage.lod(in, lightView, &profiler);
           const std::uint32_t total = explicitStage.readTotal(in);
           passes.push_back({&gi, nullptr, &e, total});
+        shadowStrands += total;
           ++uses[&e];
           StrandStage::Raster rs{&lightView, &lightDepth, &lightGBuffer, &stats, 1, false, DispatchMode::ReadBack, total};
           explicitStage.raster(in, rs, &profiler);
@@ -561,10 +564,11 @@ struct Renderer::Impl {
         }
         GroomResources& g = groomFor(gi.mesh);
         if (!prepareGroomView(g, gi.transform, w2v, options, nearZ, farZ)) continue;
-        LodStage::Params lp = lodParams(g, viewReach(g, gi.transform));
+        LodStage::Params lp = lodParams(g, viewReach(g, gi.transform), lightView);
         lod.enqueue(lp, &profiler);
         std::uint32_t total = lod.readTotal(lp);
         passes.push_back({&gi, &g, nullptr, total});
+        shadowStrands += total;
         ++uses[&g];
         StrandStage::Raster rs{&lightView, &lightDepth, &lightGBuffer, &stats, 1, false, DispatchMode::ReadBack, total};
         strands.raster(strandInputs(g), rs, &profiler);
@@ -585,7 +589,7 @@ struct Renderer::Impl {
         }
         if (uses[p.mesh] > 1) {
           prepareGroomView(*p.mesh, p.instance->transform, w2v, options, nearZ, farZ);
-          LodStage::Params lp = lodParams(*p.mesh, viewReach(*p.mesh, p.instance->transform));
+          LodStage::Params lp = lodParams(*p.mesh, viewReach(*p.mesh, p.instance->transform), lightView);
           lod.enqueue(lp, &profiler);
           p.total = lod.readTotal(lp);
         }
@@ -948,8 +952,9 @@ struct Renderer::Impl {
     return {&g.groom, &g.bundles, &g.vertices, &g.lod, &g.offsets, &rootsQuad, &rootsTri};
   }
 
-  LodStage::Params lodParams(GroomResources& g, float reach) {
-    return {&g.groom, &view, &g.bundles, &g.vertices, reach, &g.lod, &g.counts, &g.offsets,
+  // LOD in the view `viewBuffer` (the camera's, or a light's for the shadow passes).
+  LodStage::Params lodParams(GroomResources& g, float reach, const cl::Buffer& viewBuffer) {
+    return {&g.groom, &viewBuffer, &g.bundles, &g.vertices, reach, &g.lod, &g.counts, &g.offsets,
             static_cast<std::uint32_t>(g.data.bundles.size())};
   }
 };
@@ -1009,7 +1014,7 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
       r.applyAo(g, options.ambientOcclusion != 0);
       if (!r.prepareGroomView(g, gi.transform, w2v, options)) continue;
       drawn.push_back({&g.offsets, g.data.bundles.size()});
-      LodStage::Params lp = r.lodParams(g, Impl::viewReach(g, gi.transform));
+      LodStage::Params lp = r.lodParams(g, Impl::viewReach(g, gi.transform), r.view);
       r.lod.enqueue(lp, &r.profiler);
       rs.strands = mode == DispatchMode::ReadBack ? r.lod.readTotal(lp) : static_cast<std::uint32_t>(g.data.totalStrands);
       r.clearWords(r.gbuffer, pixels * r.layers);
@@ -1057,6 +1062,7 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
   });
   for (const auto& [offsets, index] : drawn)
     if (index > 0) frame.stats.strandsDrawn += r.readWord(*offsets, index);
+  frame.stats.shadowStrandsDrawn = r.shadowStrands;
   if (options.captureGBuffer) {
     frame.gbufferLayers = r.layers;
     frame.gbuffer.resize(pixels * r.layers);

@@ -92,6 +92,31 @@ TEST(Shadows, InstancesOfOneMeshCastTheirOwnShadows) {
   EXPECT_EQ(differing, 0u) << "a shared mesh's instances shadowed differently from separate copies";
 }
 
+TEST(Shadows, LightPassLodFollowsTheLightsViewNotTheCameras) {
+  // The strands drawn into a deep opacity map are chosen by LOD in the light's view, so
+  // the camera's lens and resolution change nothing there. (The hair-mesh path once ran
+  // this LOD with the camera's view: its shadow maps drew a fraction of the strands the
+  // light's view asks for, while a strand file of the same groom drew all of them.)
+  Renderer r(test::sharedDevice());
+  RenderOptions o;
+  o.filter = 0;
+  o.lod = 1;
+  o.lodLambdaScale = 0.25f;  // small enough that LOD drops strands in the light's view
+  auto drawn = [&](float fov, int camW, int camH) {
+    Scene s = twoPatches(true);
+    s.camera.fovYDegrees = fov;
+    s.width = camW;
+    s.height = camH;
+    return r.render(s, o).stats.shadowStrandsDrawn;
+  };
+  const std::uint64_t wide = drawn(35.0f, 120, 80), narrow = drawn(8.0f, 120, 80), big = drawn(35.0f, 360, 240);
+  RecordProperty("shadow_strands", std::to_string(wide));
+  EXPECT_GT(wide, 0u);
+  EXPECT_LT(wide, 6000u) << "LOD should drop strands in the light's view (2 patches x 3000)";
+  EXPECT_EQ(narrow, wide) << "the camera's field of view changed the shadow pass";
+  EXPECT_EQ(big, wide) << "the camera's resolution changed the shadow pass";
+}
+
 TEST(Shadows, OpaqueObjectsReceiveHairShadows) {
   HairMesh m = makeGroomPreset("fur_sphere");
   m.strandCount = 80000;

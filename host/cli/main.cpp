@@ -137,9 +137,12 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
   Frame frame = f.reference ? renderer.renderReference(scene, f.spp) : renderer.render(scene, ro);
   writeImage(frame.color, out);
   if (!quiet) {
-    std::printf("%s: %dx%d on %s (sub-group %s), %llu strands\n", out.c_str(), scene.width, scene.height,
+    std::printf("%s: %dx%d on %s (sub-group %s), %llu strands", out.c_str(), scene.width, scene.height,
                 dev.info().name.c_str(), subgroupBackendName(dev.info().backend),
                 static_cast<unsigned long long>(frame.stats.strandsDrawn));
+    if (frame.stats.shadowStrandsDrawn > 0)
+      std::printf(" (%llu into shadow maps)", static_cast<unsigned long long>(frame.stats.shadowStrandsDrawn));
+    std::printf("\n");
     for (const StageTime& t : frame.timings) std::printf("  %-10s %9.2f ms\n", t.stage.c_str(), t.ms);
     std::printf("  %-10s %9.2f ms\n", "total", frame.totalMs());
   }

@@ -52,6 +52,7 @@ struct StageTime {
 
 struct FrameStats {
   std::uint64_t strandsDrawn = 0;
+  std::uint64_t shadowStrandsDrawn = 0;  // strands drawn into the deep opacity maps, all lights
   // with RenderOptions::rasterStats only:
   std::uint64_t segmentsDrawn = 0;
   std::uint64_t pixelWrites = 0;     // G-buffer writes that passed coverage and depth tests

@@ -464,6 +464,61 @@ struct Renderer::Impl {
   // pass, which receives hair shadows too.
   std::uint64_t shadowStrands = 0;  // drawn by the last renderShadows (FrameStats)
 
+  // Everything the deep opacity maps depend on, to reuse them while it stays the same: the
+  // bytes of the lights, shadow settings, opaque primitives, transforms and options, and
+  // the identity of every groom and mesh (held, so an address is never reused).
+  struct ShadowKey {
+    std::vector<unsigned char> bytes;
+    std::vector<std::shared_ptr<const void>> held;
+    bool operator==(const ShadowKey& o) const { return bytes == o.bytes && held == o.held; }
+  };
+  ShadowKey lastShadowKey;
+  bool shadowsValid = false;
+
+  ShadowKey shadowKey(const Scene& s, const RenderOptions& o) const {
+    ShadowKey k;
+    auto put = [&k](const void* p, std::size_t n) {
+      const auto* b = static_cast<const unsigned char*>(p);
+      k.bytes.insert(k.bytes.end(), b, b + n);
+    };
+    auto putValue = [&put](const auto& v) { put(&v, sizeof v); };
+    for (const Light& l : s.lights) {
+      putValue(l.type);
+      putValue(l.position);
+      putValue(l.direction);
+      putValue(l.shadows);
+    }
+    putValue(s.shadows.resolution);
+    putValue(s.shadows.layers);
+    putValue(s.shadows.density);
+    putValue(s.shadows.lodCorrection);
+    putValue(s.shadows.bias);
+    for (const Sphere& sp : s.spheres) {
+      putValue(sp.center);
+      putValue(sp.radius);
+    }
+    for (const Plane& pl : s.planes) put(&pl, sizeof pl);
+    for (const MeshInstance& m : s.meshes) {
+      k.held.push_back(m.mesh);
+      putValue(m.transform);
+    }
+    for (const GroomInstance& g : s.grooms) {
+      k.held.push_back(g.mesh);
+      k.held.push_back(g.strands);
+      putValue(g.transform);
+    }
+    putValue(o.lod);
+    putValue(o.shadowLod);
+    putValue(o.lodLambdaScale);
+    putValue(o.shadowLodCorrection);
+    putValue(o.ambientOcclusion);
+    putValue(trueWidthOnly);
+    putValue(shadowCorrection);
+    const std::size_t counts[4] = {s.lights.size(), s.spheres.size(), s.planes.size(), s.grooms.size()};
+    putValue(counts);
+    return k;
+  }
+
   void renderShadows(const Scene& s, const RenderOptions& cameraOptions) {
     shadowStrands = 0;
     // the light's passes use LOD unless the caller turned it off explicitly
@@ -984,7 +1039,15 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
   }
 
   r.shadowCorrection = options.shadowLodCorrection < 0 ? s.shadows.lodCorrection : options.shadowLodCorrection == 1;
-  r.renderShadows(s, options);
+  {
+    Impl::ShadowKey key = r.shadowKey(s, options);
+    if (!options.reuseShadows || !r.shadowsValid || !(key == r.lastShadowKey)) {
+      r.shadowsValid = false;  // until the passes are enqueued
+      r.renderShadows(s, options);
+      r.lastShadowKey = std::move(key);
+      r.shadowsValid = true;
+    }
+  }
   r.opaque.enqueue({&r.scene, &r.view, &r.spheres, &r.planes, &r.lights, &r.shadowAll, &r.shadowOpaque, &r.shadowHair,
                     &r.shadowOpacity, &r.envTexels(), &r.envLevels(), &r.envSh(), &r.background, &r.color, &r.depth, s.width, s.height,
                     true},

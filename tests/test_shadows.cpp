@@ -117,6 +117,48 @@ TEST(Shadows, LightPassLodFollowsTheLightsViewNotTheCameras) {
   EXPECT_EQ(big, wide) << "the camera's resolution changed the shadow pass";
 }
 
+TEST(Shadows, MapsAreReusedWhileTheirInputsStayAndRebuiltWhenOneChanges) {
+  // RenderOptions::reuseShadows keeps the deep opacity maps of the previous frame when
+  // nothing they depend on changed: the second frame of a still scene skips the shadow
+  // passes and equals a frame that rebuilt them; moving a light or a groom, or changing a
+  // shadow setting, rebuilds them, so every frame equals a fresh renderer's.
+  Renderer r(test::sharedDevice());
+  RenderOptions o;
+  o.filter = 0;
+  auto hasShadowStage = [](const Frame& f) {
+    for (const StageTime& t : f.timings)
+      if (t.stage == "shadow") return true;
+    return false;
+  };
+  Scene s = twoPatches(true);
+  const Frame first = r.render(s, o);
+  const Frame second = r.render(s, o);
+  EXPECT_TRUE(hasShadowStage(first));
+  EXPECT_FALSE(hasShadowStage(second)) << "a still scene rebuilt its shadow maps";
+  RenderOptions rebuild = o;
+  rebuild.reuseShadows = false;
+  const Frame rebuilt = r.render(s, rebuild);
+  EXPECT_TRUE(hasShadowStage(rebuilt));
+  EXPECT_TRUE(second.color.rgba == rebuilt.color.rgba) << "reused maps differ from rebuilt ones";
+
+  // each change against a fresh renderer that never saw the earlier scene
+  auto freshEquals = [&](const Scene& changed, const char* what) {
+    const Frame reused = r.render(changed, o);
+    EXPECT_TRUE(hasShadowStage(reused)) << what << ": the shadow maps were not rebuilt";
+    Renderer fresh(test::sharedDevice());
+    EXPECT_TRUE(reused.color.rgba == fresh.render(changed, o).color.rgba) << what << ": stale shadows";
+  };
+  Scene moved = s;
+  moved.lights[0].direction = glm::normalize(glm::vec3(0.3f, 0.2f, 1.0f));
+  freshEquals(moved, "light moved");
+  Scene groomMoved = moved;
+  groomMoved.grooms[1].transform = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.01f, -0.06f));
+  freshEquals(groomMoved, "groom moved");
+  Scene denser = groomMoved;
+  denser.shadows.density = 3.0f;
+  freshEquals(denser, "shadow density changed");
+}
+
 TEST(Shadows, OpaqueObjectsReceiveHairShadows) {
   HairMesh m = makeGroomPreset("fur_sphere");
   m.strandCount = 80000;

@@ -39,6 +39,10 @@ struct RenderOptions {
   bool captureGBuffer = false;  // keep the last groom's G-buffer layers in Frame::gbuffer
   bool rasterOnly = false;      // stop each groom after its strand pass (benchmark: cores used)
   bool stageCores = false;      // wait for every dispatch and time it on the host (StageTime::cpuMs)
+  // Keep the deep opacity maps of the previous frame when nothing they depend on changed
+  // (lights, shadow settings, grooms and their transforms, opaque objects, LOD options; the
+  // camera does not enter them). false: rebuild them every frame.
+  bool reuseShadows = true;
   int ambientOcclusion = 1;     // 1: baked AO (baked on first use when the mesh has none), 0: off
 };
 

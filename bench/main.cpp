@@ -644,11 +644,7 @@ int main(int argc, char** argv) {
         RenderOptions oc = o;
         oc.captureGBuffer = true;
         const Frame f = b.renderer.render(sx, oc);
-        CpuRasterInputs in;
-        in.groom = f.rasterGroom.data();
-        in.view = f.rasterView.data();
-        in.sceneDepth = f.rasterDepth.data();
-        in.strands = &data;
+        const CpuRasterInputs in = cpuRasterInputs(f, data);
         std::vector<std::uint64_t> cpu;
         std::vector<double> ms;
         for (int i = 0; i < warmup + runs; ++i) {

@@ -44,11 +44,7 @@ TEST(CpuRaster, FloorEqualsDeviceGBufferWordForWord) {
   ASSERT_FALSE(f.rasterGroom.empty());
 
   const ExplicitData data = prepareExplicit(*groom);
-  CpuRasterInputs in;
-  in.groom = f.rasterGroom.data();
-  in.view = f.rasterView.data();
-  in.sceneDepth = f.rasterDepth.data();
-  in.strands = &data;
+  const CpuRasterInputs in = cpuRasterInputs(f, data);
   std::vector<std::uint64_t> cpu;
   cpuRasterExplicit(in, 2, cpu);
   ASSERT_EQ(cpu.size(), f.gbuffer.size());

@@ -95,6 +95,15 @@ void drawStrand(const clh_raster_ctx& base, const ClhGroomGpu& g, const Explicit
 
 }  // namespace
 
+CpuRasterInputs cpuRasterInputs(const Frame& frame, const ExplicitData& strands) {
+  CpuRasterInputs in;
+  in.groom = frame.rasterGroom.empty() ? nullptr : frame.rasterGroom.data();
+  in.view = frame.rasterView.empty() ? nullptr : frame.rasterView.data();
+  in.sceneDepth = frame.rasterDepth.empty() ? nullptr : frame.rasterDepth.data();
+  in.strands = &strands;
+  return in;
+}
+
 void cpuRasterExplicit(const CpuRasterInputs& in, unsigned threads, std::vector<std::uint64_t>& gbuffer) {
   if (!in.groom || !in.view || !in.sceneDepth || !in.strands)
     throw Error("CPU raster: groom, view, scene depth and strands are all needed");

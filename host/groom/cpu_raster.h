@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "clhair/renderer.h"
 #include "groom/explicit_data.h"
 
 namespace clhair {
@@ -21,6 +22,10 @@ struct CpuRasterInputs {
   const float* sceneDepth = nullptr;    // width * height (Frame::rasterDepth)
   const ExplicitData* strands = nullptr;
 };
+
+// The inputs a frame rendered with RenderOptions::captureGBuffer recorded, with the
+// groom's stored strands (both must outlive the result).
+CpuRasterInputs cpuRasterInputs(const Frame& frame, const ExplicitData& strands);
 
 // Clears `gbuffer` to two layers (centre, conservative) of width * height empty words and
 // draws every strand with `threads` threads (0: hardware concurrency).

@@ -268,7 +268,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   DeviceOptions opts;
   app.add_option("--device", opts.selector, "device: P:D indices or a name substring (env CLHAIR_DEVICE)");
-  app.add_option("--subgroup", opts.subgroup, "force a sub-group backend: local, khr, intel, nvptx, amd (env CLHAIR_SUBGROUP)");
+  app.add_option("--subgroup", opts.subgroup, "force a sub-group backend: single, local, khr, intel, nvptx, amd (env CLHAIR_SUBGROUP)");
   app.add_option("--kernel-dir", opts.kernelDir, "read kernels from this source tree (env CLHAIR_KERNEL_DIR)");
 
   auto* devices = app.add_subcommand("devices", "list OpenCL devices and their capabilities");

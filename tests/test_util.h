@@ -62,6 +62,20 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 
+// The one "clhair: error: ..." line of a command's output; a test failure (and "") when
+// the output holds none or several.
+inline std::string onlyErrorLine(const std::string& output) {
+  const std::string tag = "clhair: error:";
+  std::size_t count = 0;
+  for (std::size_t at = output.find(tag); at != std::string::npos; at = output.find(tag, at + 1)) ++count;
+  if (count != 1) {
+    ADD_FAILURE() << "expected exactly one \"" << tag << "\" line, found " << count;
+    return {};
+  }
+  const std::size_t begin = output.find(tag), end = output.find('\n', begin);
+  return output.substr(begin, end == std::string::npos ? std::string::npos : end - begin);
+}
+
 // Runs a shell command, capturing both streams.
 inline CommandResult runCommand(const std::string& cmd) {
   usePoclCacheInBuild();

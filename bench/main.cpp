@@ -24,7 +24,6 @@
 // tagged with device, driver and git revision; the markdown is also printed.
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -36,6 +35,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cl/device_impl.h"
+#include "stages/dispatch.h"
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
 #include "clhair/strand_groom.h"
@@ -63,12 +63,6 @@ Stats summarize(std::vector<double> v) {
   return s;
 }
 
-double cpuSeconds() {
-  timespec t{};
-  ::clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
 struct Measured {
   std::map<std::string, Stats> stages;
   Stats total;  // sum of the stages' device times
@@ -87,12 +81,12 @@ struct Bench {
     std::map<std::string, std::vector<double>> stages;
     std::vector<double> totals, walls, cores;
     for (int i = 0; i < runs; ++i) {
-      const double c0 = cpuSeconds();
+      const double c0 = processCpuMs();
       const auto t0 = std::chrono::steady_clock::now();
       Frame f = renderer.render(scene, o);
       const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       walls.push_back(wall * 1e3);
-      cores.push_back(wall > 0.0 ? (cpuSeconds() - c0) / wall : 0.0);
+      cores.push_back(wall > 0.0 ? (processCpuMs() - c0) * 1e-3 / wall : 0.0);
       for (const StageTime& t : f.timings) stages[t.stage].push_back(t.ms);
       totals.push_back(f.totalMs());
     }

@@ -459,9 +459,6 @@ struct Renderer::Impl {
     shadowRes = res;
   }
 
-  // Deep opacity maps of every shadowed light over all grooms (Yuksel & Keyser 2008), built
-  // with the strand kernels from the light's view (with LOD). Must run before the opaque
-  // pass, which receives hair shadows too.
   std::uint64_t shadowStrands = 0;  // drawn by the last renderShadows (FrameStats)
 
   // Everything the deep opacity maps depend on, to reuse them while it stays the same: the
@@ -519,6 +516,9 @@ struct Renderer::Impl {
     return k;
   }
 
+  // Deep opacity maps of every shadowed light over all grooms (Yuksel & Keyser 2008), built
+  // with the strand kernels from the light's view (with LOD). Must run before the opaque
+  // pass, which receives hair shadows too.
   void renderShadows(const Scene& s, const RenderOptions& cameraOptions) {
     shadowStrands = 0;
     // the light's passes use LOD unless the caller turned it off explicitly
@@ -611,7 +611,7 @@ struct Renderer::Impl {
           explicitStage.lod(in, lightView, &profiler);
           const std::uint32_t total = explicitStage.readTotal(in);
           passes.push_back({&gi, nullptr, &e, total});
-        shadowStrands += total;
+          shadowStrands += total;
           ++uses[&e];
           StrandStage::Raster rs{&lightView, &lightDepth, &lightGBuffer, &stats, 1, false, DispatchMode::ReadBack, total};
           explicitStage.raster(in, rs, &profiler);

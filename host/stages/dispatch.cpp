@@ -9,13 +9,11 @@
 
 namespace clhair {
 
-namespace {
 double processCpuMs() {
   timespec t{};
   ::clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
   return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
 }
-}  // namespace
 
 void Profiler::addHost(const std::string& stage, double wallMs, double cpuMs) {
   for (StageTime& t : host_)

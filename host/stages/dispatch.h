@@ -30,6 +30,9 @@ class Profiler {
 
 std::size_t roundUp(std::size_t n, std::size_t multiple);
 
+// CPU time of this process (every thread, the OpenCL runtime's included), in ms.
+double processCpuMs();
+
 // 1D or 2D dispatch: `global` is rounded up to a multiple of `local` per dimension.
 cl::Event dispatch(Device::Impl& dev, cl::Kernel& kernel, const std::string& stage,
                    cl::NDRange global, cl::NDRange local, Profiler* profiler);

@@ -121,11 +121,7 @@ static inline uint sg_shuffle_up1(sg_ctx* c, uint x, uint fill) {
   (void)x;
   return fill;
 }
-static inline uint sg_shuffle_down1(sg_ctx* c, uint x, uint fill) {
-  (void)c;
-  (void)x;
-  return fill;
-}
+static inline uint sg_shuffle_down1(sg_ctx* c, uint x, uint fill) { return sg_shuffle_up1(c, x, fill); }
 static inline uint sg_broadcast0(sg_ctx* c, uint x) {
   (void)c;
   return x;
@@ -135,11 +131,7 @@ static inline uint4 sg_shuffle_up1_u4(sg_ctx* c, uint4 x, uint4 fill) {
   (void)x;
   return fill;
 }
-static inline uint4 sg_shuffle_down1_u4(sg_ctx* c, uint4 x, uint4 fill) {
-  (void)c;
-  (void)x;
-  return fill;
-}
+static inline uint4 sg_shuffle_down1_u4(sg_ctx* c, uint4 x, uint4 fill) { return sg_shuffle_up1_u4(c, x, fill); }
 
 #elif SG_BACKEND == SG_BACKEND_LOCAL
 

@@ -47,24 +47,25 @@ std::vector<cl_float4> runFilter(const Synthetic& s, bool promote = true) {
   view.width = W;
   view.height = H;
   view.samples = 1;
-  ClhFilterGpu f{};
+  FilterParams f;
   f.radius = 5;
-  f.s_par = 0.5f;
-  f.s_perp = 0.1f;
-  f.sigma_c = 0.9f;
-  f.depth_reject = 1.45e-3f;
-  f.depth_mismatch = 5e-4f;
+  f.sPar = 0.5f;
+  f.sPerp = 0.1f;
+  f.sigmaC = 0.9f;
+  f.depthReject = 1.45e-3f;
+  f.depthMismatch = 5e-4f;
   f.strip = 0.5f;
-  f.promote = promote ? 1u : 0u;
+  f.promote = promote;
   auto buf = [&](const void* data, std::size_t bytes) {
     return cl::Buffer(d.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, bytes, const_cast<void*>(data));
   };
-  cl::Buffer bg = buf(&groom, sizeof(groom)), bv = buf(&view, sizeof(view)), bf = buf(&f, sizeof(f));
+  cl::Buffer bg = buf(&groom, sizeof(groom)), bv = buf(&view, sizeof(view));
   cl::Buffer gb = buf(s.gbuf.data(), s.gbuf.size() * 8), hair = buf(s.colour.data(), s.colour.size() * 16);
   std::vector<cl_float4> out(W * H + 3, cl_float4{{-7, -7, -7, -7}});  // canaries at the end
   cl::Buffer bo = buf(out.data(), out.size() * 16);
   FilterStage stage(d);
-  stage.enqueue({&bg, &bv, &bf, &gb, &hair, &bo, W, H}, nullptr);
+  // the stage checks every buffer against the W x H target: the canaries lie beyond it
+  stage.enqueue(f, {{&bv, W, H}, &bg, &gb, &hair, &bo}, nullptr);
   d.queue.enqueueReadBuffer(bo, CL_TRUE, 0, out.size() * 16, out.data());
   for (int i = W * H; i < W * H + 3; ++i) EXPECT_EQ(out[i].s[0], -7.0f) << "canary overwritten";
   out.resize(W * H);

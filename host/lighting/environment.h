@@ -25,7 +25,7 @@
 #include "clhair/gpu_env.h"
 #include "clhair/image.h"
 #include "clhair/scene.h"
-#include "stages/dispatch.h"
+#include "cl/dispatch.h"
 
 namespace clhair {
 

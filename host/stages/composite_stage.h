@@ -4,7 +4,7 @@
 
 #include <map>
 
-#include "stages/dispatch.h"
+#include "stages/stage_inputs.h"
 
 namespace clhair {
 
@@ -12,13 +12,12 @@ class CompositeStage {
  public:
   explicit CompositeStage(Device::Impl& dev);
   struct Params {
-    const cl::Buffer* groom;
-    const cl::Buffer* view;
-    const cl::Buffer* hair;
-    const cl::Buffer* gbuffer;  // ulong per pixel, msaa + 1 layers
-    cl::Buffer* color;
-    cl::Buffer* depth;
-    int width, height;
+    ViewTarget target;
+    const cl::Buffer* groom = nullptr;    // ClhGroomGpu
+    const cl::Buffer* hair = nullptr;     // premultiplied hair RGBA, float4 per pixel
+    const cl::Buffer* gbuffer = nullptr;  // ulong per pixel, msaa + 1 layers
+    cl::Buffer* color = nullptr;          // float4 per pixel
+    cl::Buffer* depth = nullptr;          // float per pixel
     int msaa = 1;
     int depthLayers = 1;  // G-buffer layers whose nearest word is the hair depth
   };

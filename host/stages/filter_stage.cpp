@@ -1,18 +1,36 @@
 // filter_stage.cpp — see filter_stage.h.
 #include "stages/filter_stage.h"
 
+#include "cl/buffers.h"
+
 namespace clhair {
 
-FilterStage::FilterStage(Device::Impl& dev) : dev_(dev), kernel_(dev.kernel("filter.cl", "filter_reconstruct")) {}
+FilterStage::FilterStage(Device::Impl& dev)
+    : dev_(dev),
+      kernel_(dev.kernel("filter.cl", "filter_reconstruct")),
+      params_(makeBuffer<gpu::ClhFilterGpu>(dev, "filter parameters", 1)) {}
 
-cl::Event FilterStage::enqueue(const Params& p, Profiler* profiler) {
-  kernel_.setArg(0, *p.groom);
-  kernel_.setArg(1, *p.view);
-  kernel_.setArg(2, *p.filter);
-  kernel_.setArg(3, *p.gbuffer);
-  kernel_.setArg(4, *p.hair);
-  kernel_.setArg(5, *p.out);
-  return dispatch(dev_, kernel_, "filter", cl::NDRange(p.width, p.height), cl::NDRange(8, 8), profiler);
+cl::Event FilterStage::enqueue(const FilterParams& f, const Params& p, Profiler* profiler) {
+  if (f.radius < 0 || f.radius > 8) throw Error("filter radius " + std::to_string(f.radius) + " is outside 0..8");
+  gpu::ClhFilterGpu g{};
+  g.radius = static_cast<gpu::clh_u32>(f.radius);
+  g.s_par = f.sPar;
+  g.s_perp = f.sPerp;
+  g.sigma_c = f.sigmaC;
+  g.depth_reject = f.depthReject;
+  g.depth_mismatch = f.depthMismatch;
+  g.strip = f.strip;
+  g.promote = f.promote ? 1u : 0u;
+  upload(dev_, params_, &g, 1);
+  const std::uint64_t pixels = p.target.pixels();
+  KernelArgs(kernel_, "filter")
+      .buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
+      .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
+      .buffer("filter parameters", params_, sizeof(gpu::ClhFilterGpu))
+      .buffer("G-buffer", *p.gbuffer, 2 * pixels * sizeof(cl_ulong))
+      .buffer("hair colour", *p.hair, pixels * 4 * sizeof(float))
+      .buffer("filtered colour", *p.out, pixels * 4 * sizeof(float));
+  return dispatch(dev_, kernel_, "filter", cl::NDRange(p.target.width, p.target.height), cl::NDRange(8, 8), profiler);
 }
 
 }  // namespace clhair

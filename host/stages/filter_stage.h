@@ -1,9 +1,11 @@
 // filter_stage.h — binds and launches filter_reconstruct (kernels/filter.cl): strand
 // reconnection, oriented bilateral and alpha from the center and conservative layers
-// (Lipp §3.3), one work-item per pixel, into premultiplied RGBA.
+// (Lipp §3.3), one work-item per pixel, into premultiplied RGBA. The stage owns the
+// filter's parameter record and uploads it when the settings change.
 #pragma once
 
-#include "stages/dispatch.h"
+#include "clhair/scene.h"
+#include "stages/stage_inputs.h"
 
 namespace clhair {
 
@@ -11,19 +13,19 @@ class FilterStage {
  public:
   explicit FilterStage(Device::Impl& dev);
   struct Params {
-    const cl::Buffer* groom;
-    const cl::Buffer* view;
-    const cl::Buffer* filter;   // ClhFilterGpu
-    const cl::Buffer* gbuffer;  // 2 layers: center, conservative
-    const cl::Buffer* hair;     // shaded center colour, float4 per pixel
-    cl::Buffer* out;            // premultiplied RGBA, float4 per pixel
-    int width, height;
+    ViewTarget target;
+    const cl::Buffer* groom = nullptr;    // ClhGroomGpu
+    const cl::Buffer* gbuffer = nullptr;  // 2 layers: center, conservative
+    const cl::Buffer* hair = nullptr;     // shaded center colour, float4 per pixel
+    cl::Buffer* out = nullptr;            // premultiplied RGBA, float4 per pixel
   };
-  cl::Event enqueue(const Params& p, Profiler* profiler);
+  // Checks and uploads `settings` (radius 0..8), then filters.
+  cl::Event enqueue(const FilterParams& settings, const Params& p, Profiler* profiler);
 
  private:
   Device::Impl& dev_;
   cl::Kernel kernel_;
+  cl::Buffer params_;
 };
 
 }  // namespace clhair

@@ -1,7 +1,7 @@
 // lod_stage.cpp — see lod_stage.h.
 #include "stages/lod_stage.h"
 
-#include "cl/cl_error.h"
+#include "clhair/gpu_types.h"
 
 namespace clhair {
 
@@ -10,31 +10,28 @@ LodStage::LodStage(Device::Impl& dev)
       lod_(dev.kernel("lod.cl", "lod_bundles", "-DSCAN_WG=" + std::to_string(kScanWorkGroup))),
       scan_(dev.kernel("lod.cl", "scan_bundles", "-DSCAN_WG=" + std::to_string(kScanWorkGroup))) {}
 
-void LodStage::enqueue(const Params& p, Profiler* profiler) {
-  if (p.bundleCount == 0) return;
-  lod_.setArg(0, *p.groom);
-  lod_.setArg(1, *p.view);
-  lod_.setArg(2, *p.bundles);
-  lod_.setArg(3, *p.vertices);
-  lod_.setArg(4, p.reach);
-  lod_.setArg(5, *p.lod);
-  lod_.setArg(6, *p.counts);
-  dispatch(dev_, lod_, "lod", cl::NDRange(p.bundleCount), cl::NDRange(64), profiler);
-  scan_.setArg(0, *p.counts);
-  scan_.setArg(1, *p.offsets);
-  scan_.setArg(2, p.bundleCount);
-  dispatch(dev_, scan_, "lod", cl::NDRange(kScanWorkGroup), cl::NDRange(kScanWorkGroup), profiler);
+void enqueueScan(Device::Impl& dev, cl::Kernel& scan, const cl::Buffer& counts, const cl::Buffer& offsets,
+                 std::uint32_t n, Profiler* profiler) {
+  KernelArgs(scan, "lod")
+      .buffer("counts", counts, std::uint64_t(n) * sizeof(cl_uint))
+      .buffer("offsets", offsets, (std::uint64_t(n) + 1) * sizeof(cl_uint))
+      .value("count", static_cast<cl_uint>(n));
+  dispatch(dev, scan, "lod", cl::NDRange(LodStage::kScanWorkGroup), cl::NDRange(LodStage::kScanWorkGroup), profiler);
 }
 
-std::uint32_t LodStage::readTotal(const Params& p) {
-  if (p.bundleCount == 0) return 0;
-  std::uint32_t total = 0;
-  clCall("lod: reading the strand total", [&] {
-    dev_.queue.enqueueReadBuffer(*p.offsets, CL_TRUE, sizeof(std::uint32_t) * p.bundleCount,
-                                 sizeof(std::uint32_t), &total);
-    return 0;
-  });
-  return total;
+void LodStage::enqueue(const Params& p, Profiler* profiler) {
+  if (p.bundleCount == 0) return;
+  const std::uint64_t B = p.bundleCount;
+  KernelArgs(lod_, "lod")
+      .buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
+      .buffer("view", *p.view, sizeof(gpu::ClhViewGpu))
+      .buffer("bundles", *p.bundles, B * sizeof(gpu::ClhBundle))
+      .buffer("vertices", *p.vertices, p.vertexTotal * sizeof(gpu::ClhMeshVertex))
+      .value("reach", p.reach)
+      .buffer("LOD records", *p.lod, B * 4 * sizeof(cl_uint))
+      .buffer("counts", *p.counts, B * sizeof(cl_uint));
+  dispatch(dev_, lod_, "lod", cl::NDRange(p.bundleCount), cl::NDRange(64), profiler);
+  enqueueScan(dev_, scan_, *p.counts, *p.offsets, p.bundleCount, profiler);
 }
 
 }  // namespace clhair

@@ -1,11 +1,13 @@
-// lod_stage.h — binds and launches the LOD pre-pass and the scan (kernels/lod.cl), then
-// reads back the 4-byte strand total that sizes the strand dispatch (DESIGN.md, Atomics
-// and dispatch sizing: read-back).
+// lod_stage.h — binds and launches the LOD pre-pass and the scan (kernels/lod.cl) of a
+// hair mesh: one LOD record per bundle, the strand counts, and their exclusive scan with
+// the drawn total after the last bundle (the layout is in include/clhair/gpu_types.h).
+// readTotal is the blocking 4-byte read that sizes a read-back strand dispatch (DESIGN.md,
+// Atomics and dispatch sizing).
 #pragma once
 
 #include <cstdint>
 
-#include "stages/dispatch.h"
+#include "cl/dispatch.h"
 
 namespace clhair {
 
@@ -14,25 +16,28 @@ class LodStage {
   static constexpr int kScanWorkGroup = 256;
   explicit LodStage(Device::Impl& dev);
   struct Params {
-    const cl::Buffer* groom;     // ClhGroomGpu
-    const cl::Buffer* view;      // ClhViewGpu
-    const cl::Buffer* bundles;   // ClhBundle[bundleCount]
-    const cl::Buffer* vertices;  // ClhMeshVertex[layers * vertices]
-    float reach;                 // largest styling offset, object units
-    cl::Buffer* lod;             // uint4[bundleCount]
-    cl::Buffer* counts;          // uint[bundleCount]
-    cl::Buffer* offsets;         // uint[bundleCount + 1]
-    std::uint32_t bundleCount;
+    const cl::Buffer* groom = nullptr;     // ClhGroomGpu
+    const cl::Buffer* view = nullptr;      // ClhViewGpu
+    const cl::Buffer* bundles = nullptr;   // ClhBundle[bundleCount]
+    const cl::Buffer* vertices = nullptr;  // ClhMeshVertex[vertexTotal]
+    float reach = 0.0f;                    // largest styling offset, view units
+    cl::Buffer* lod = nullptr;             // one record per bundle
+    cl::Buffer* counts = nullptr;          // uint per bundle
+    cl::Buffer* offsets = nullptr;         // uint, bundleCount + 1 (the total last)
+    std::uint32_t bundleCount = 0;
+    std::size_t vertexTotal = 0;
   };
   // Enqueues both kernels; the total stays on the device in offsets[bundleCount].
   void enqueue(const Params& p, Profiler* profiler);
-  // Blocking 4-byte read of the total (read-back sizing).
-  std::uint32_t readTotal(const Params& p);
 
  private:
   Device::Impl& dev_;
   cl::Kernel lod_;
   cl::Kernel scan_;
 };
+
+// Binds and launches the scan of `n` counts into `offsets` (n + 1 words).
+void enqueueScan(Device::Impl& dev, cl::Kernel& scan, const cl::Buffer& counts, const cl::Buffer& offsets,
+                 std::uint32_t n, Profiler* profiler);
 
 }  // namespace clhair

@@ -1,9 +1,6 @@
 // mesh_stage.cpp — see mesh_stage.h.
 #include "stages/mesh_stage.h"
 
-#include "cl/cl_error.h"
-#include "clhair/error.h"
-
 namespace clhair {
 
 MeshStage::MeshStage(Device::Impl& dev)
@@ -15,45 +12,41 @@ MeshStage::MeshStage(Device::Impl& dev)
 void MeshStage::enqueue(const Params& p, Profiler* profiler) {
   const Geometry& g = p.geometry;
   if (g.triangleCount == 0) return;
-  const std::size_t pixels = static_cast<std::size_t>(p.width) * static_cast<std::size_t>(p.height);
-  const std::size_t wordBytes =
-      clCall("mesh pass: reading the word buffer's size", [&] { return p.words->getInfo<CL_MEM_SIZE>(); });
-  if (wordBytes < pixels * sizeof(cl_ulong))
-    throw Error("mesh pass: the word buffer holds " + std::to_string(wordBytes / sizeof(cl_ulong)) + " pixels, the " +
-                std::to_string(p.width) + "x" + std::to_string(p.height) + " view needs " + std::to_string(pixels));
-  clear_.setArg(0, *p.words);
-  clear_.setArg(1, ~cl_ulong(0));
-  clear_.setArg(2, static_cast<cl_ulong>(pixels));
+  const std::uint64_t pixels = p.target.pixels();
+  const std::uint64_t vertexBytes = std::uint64_t(g.vertexCount) * 4 * sizeof(float);
+  const std::uint64_t triangleBytes = std::uint64_t(g.triangleCount) * 4 * sizeof(cl_uint);
+  KernelArgs(clear_, "mesh")
+      .buffer("mesh depth words", *p.words, pixels * sizeof(cl_ulong))
+      .value("value", ~cl_ulong(0))
+      .value("count", static_cast<cl_ulong>(pixels));
   dispatch(dev_, clear_, "mesh", cl::NDRange(pixels), cl::NDRange(256), profiler);
 
-  raster_.setArg(0, *p.view);
-  raster_.setArg(1, *g.vertices);
-  raster_.setArg(2, *g.triangles);
-  raster_.setArg(3, static_cast<cl_uint>(g.triangleCount));
-  raster_.setArg(4, static_cast<cl_uint>(g.vertexCount));
-  raster_.setArg(5, *p.words);
+  KernelArgs(raster_, "mesh")
+      .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
+      .buffer("vertices", *g.vertices, vertexBytes)
+      .buffer("triangles", *g.triangles, triangleBytes)
+      .value("triangle count", static_cast<cl_uint>(g.triangleCount))
+      .value("vertex count", static_cast<cl_uint>(g.vertexCount))
+      .buffer("mesh depth words", *p.words, pixels * sizeof(cl_ulong));
   dispatch(dev_, raster_, "mesh", cl::NDRange(g.triangleCount), cl::NDRange(64), profiler);
 
-  resolve_.setArg(0, *p.scene);
-  resolve_.setArg(1, *p.view);
-  resolve_.setArg(2, *g.vertices);
-  resolve_.setArg(3, *g.normals);
-  resolve_.setArg(4, *g.triangles);
-  resolve_.setArg(5, *g.colors);
-  resolve_.setArg(6, static_cast<cl_uint>(g.triangleCount));
-  resolve_.setArg(7, static_cast<cl_uint>(g.vertexCount));
-  resolve_.setArg(8, static_cast<cl_uint>(g.colorCount));
-  resolve_.setArg(9, *p.lights);
-  resolve_.setArg(10, *p.shadows);
-  resolve_.setArg(11, *p.shadowOpaque);
-  resolve_.setArg(12, *p.shadowHair);
-  resolve_.setArg(13, *p.shadowOpacity);
-  resolve_.setArg(14, *p.envSh);
-  resolve_.setArg(15, *p.words);
-  resolve_.setArg(16, *p.color);
-  resolve_.setArg(17, *p.depth);
-  resolve_.setArg(18, static_cast<cl_uint>(p.shade ? 1 : 0));
-  dispatch(dev_, resolve_, "mesh", cl::NDRange(p.width, p.height), cl::NDRange(8, 8), profiler);
+  KernelArgs a(resolve_, "mesh");
+  a.buffer("scene", *p.lighting.scene, sizeof(gpu::ClhSceneGpu))
+      .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
+      .buffer("vertices", *g.vertices, vertexBytes)
+      .buffer("normals", *g.normals, vertexBytes)
+      .buffer("triangles", *g.triangles, triangleBytes)
+      .buffer("colours", *g.colors, std::uint64_t(g.colorCount) * 4 * sizeof(float))
+      .value("triangle count", static_cast<cl_uint>(g.triangleCount))
+      .value("vertex count", static_cast<cl_uint>(g.vertexCount))
+      .value("colour count", static_cast<cl_uint>(g.colorCount));
+  bindLightsAndShadows(a, p.lighting);
+  a.buffer("environment SH", *p.lighting.env.sh, CLH_ENV_SH_FLOATS * sizeof(float))
+      .buffer("mesh depth words", *p.words, pixels * sizeof(cl_ulong))
+      .buffer("colour", *p.color, pixels * 4 * sizeof(float))
+      .buffer("depth", *p.depth, pixels * sizeof(float))
+      .value("shade", static_cast<cl_uint>(p.shade ? 1 : 0));
+  dispatch(dev_, resolve_, "mesh", cl::NDRange(p.target.width, p.target.height), cl::NDRange(8, 8), profiler);
 }
 
 }  // namespace clhair

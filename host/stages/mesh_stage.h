@@ -10,7 +10,7 @@
 
 #include <cstdint>
 
-#include "stages/dispatch.h"
+#include "stages/stage_inputs.h"
 
 namespace clhair {
 
@@ -18,25 +18,20 @@ class MeshStage {
  public:
   explicit MeshStage(Device::Impl& dev);
   struct Geometry {
-    const cl::Buffer* vertices;   // float4 per vertex, world space
-    const cl::Buffer* normals;    // float4 per vertex, world space (zero: use the face's)
-    const cl::Buffer* triangles;  // uint4 per triangle
-    const cl::Buffer* colors;     // float4 per mesh instance
-    std::uint32_t vertexCount, triangleCount, colorCount;
+    const cl::Buffer* vertices = nullptr;   // float4 per vertex, world space
+    const cl::Buffer* normals = nullptr;    // float4 per vertex, world space (zero: use the face's)
+    const cl::Buffer* triangles = nullptr;  // uint4 per triangle
+    const cl::Buffer* colors = nullptr;     // float4 per mesh instance
+    std::uint32_t vertexCount = 0, triangleCount = 0, colorCount = 0;
   };
   struct Params {
-    const cl::Buffer* scene;    // ClhSceneGpu
-    const cl::Buffer* view;     // ClhViewGpu
+    ViewTarget target;
+    LightingInputs lighting;
     Geometry geometry;
-    const cl::Buffer* lights;   // ClhLightGpu[]
-    const cl::Buffer* shadows;  // ClhShadowGpu[CLH_MAX_SHADOWS]
-    const cl::Buffer* shadowOpaque, *shadowHair, *shadowOpacity;  // deep opacity maps
-    const cl::Buffer* envSh;    // environment SH (a dummy when none)
-    cl::Buffer* words;          // ulong per pixel, scratch
-    cl::Buffer* color;          // float4 per pixel
-    cl::Buffer* depth;          // float per pixel, the analytic scene's depth on entry
-    int width, height;
-    bool shade = true;          // false: depth only (a light's view)
+    cl::Buffer* words = nullptr;  // ulong per pixel, scratch
+    cl::Buffer* color = nullptr;  // float4 per pixel
+    cl::Buffer* depth = nullptr;  // float per pixel, the analytic scene's depth on entry
+    bool shade = true;            // false: depth only (a light's view)
   };
   void enqueue(const Params& p, Profiler* profiler);
 

@@ -2,7 +2,7 @@
 // spheres and planes into the target colour and depth, one work-item per pixel.
 #pragma once
 
-#include "stages/dispatch.h"
+#include "stages/stage_inputs.h"
 
 namespace clhair {
 
@@ -10,19 +10,16 @@ class OpaqueStage {
  public:
   explicit OpaqueStage(Device::Impl& dev);
   struct Params {
-    const cl::Buffer* scene;    // ClhSceneGpu
-    const cl::Buffer* view;     // ClhViewGpu
-    const cl::Buffer* spheres;  // ClhSphereGpu[]
-    const cl::Buffer* planes;   // ClhPlaneGpu[]
-    const cl::Buffer* lights;   // ClhLightGpu[]
-    const cl::Buffer* shadows;  // ClhShadowGpu[CLH_MAX_SHADOWS]
-    const cl::Buffer* shadowOpaque, *shadowHair, *shadowOpacity;  // deep opacity maps
-    const cl::Buffer* envTexels, *envLevels, *envSh;  // environment (dummies when none)
-    const cl::Buffer* background;  // float4 texels of the background image (dummy when none)
-    cl::Buffer* color;          // float4 per pixel
-    cl::Buffer* depth;          // float per pixel
-    int width, height;
-    bool shade = true;          // false: depth only (a light's view)
+    ViewTarget target;
+    LightingInputs lighting;
+    const cl::Buffer* spheres = nullptr;     // ClhSphereGpu[sphereCount]
+    const cl::Buffer* planes = nullptr;      // ClhPlaneGpu[planeCount]
+    std::uint32_t sphereCount = 0, planeCount = 0;
+    const cl::Buffer* background = nullptr;  // float4[backgroundTexels] (a placeholder when none)
+    std::size_t backgroundTexels = 1;
+    cl::Buffer* color = nullptr;             // float4 per pixel
+    cl::Buffer* depth = nullptr;             // float per pixel
+    bool shade = true;                       // false: depth only (a light's view)
   };
   cl::Event enqueue(const Params& p, Profiler* profiler);
 

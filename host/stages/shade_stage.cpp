@@ -13,21 +13,17 @@ cl::Kernel& ShadeStage::kernel(int msaa) {
 
 cl::Event ShadeStage::enqueue(const Params& p, Profiler* profiler) {
   cl::Kernel& k = kernel(p.msaa);
-  k.setArg(0, *p.groom);
-  k.setArg(1, *p.view);
-  k.setArg(2, *p.scene);
-  k.setArg(3, *p.lights);
-  k.setArg(4, *p.shadows);
-  k.setArg(5, *p.shadowOpaque);
-  k.setArg(6, *p.shadowHair);
-  k.setArg(7, *p.shadowOpacity);
-  k.setArg(8, *p.envTexels);
-  k.setArg(9, *p.envLevels);
-  k.setArg(10, *p.envSh);
-  k.setArg(11, *p.gbuffer);
-  k.setArg(12, *p.offsets);
-  k.setArg(13, *p.hair);
-  return dispatch(dev_, k, "shade", cl::NDRange(p.width, p.height), cl::NDRange(8, 8), profiler);
+  const std::uint64_t pixels = p.target.pixels();
+  KernelArgs a(k, "shade");
+  a.buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
+      .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
+      .buffer("scene", *p.lighting.scene, sizeof(gpu::ClhSceneGpu));
+  bindLightsAndShadows(a, p.lighting);
+  bindEnvironment(a, p.lighting.env);
+  a.buffer("G-buffer", *p.gbuffer, pixels * static_cast<std::uint64_t>(p.msaa + 1) * sizeof(cl_ulong))
+      .buffer("strand offsets", *p.offsets, (p.totalIndex + 1) * sizeof(cl_uint))
+      .buffer("hair colour", *p.hair, pixels * 4 * sizeof(float));
+  return dispatch(dev_, k, "shade", cl::NDRange(p.target.width, p.target.height), cl::NDRange(8, 8), profiler);
 }
 
 }  // namespace clhair

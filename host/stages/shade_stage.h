@@ -4,7 +4,7 @@
 
 #include <map>
 
-#include "stages/dispatch.h"
+#include "stages/stage_inputs.h"
 
 namespace clhair {
 
@@ -12,17 +12,13 @@ class ShadeStage {
  public:
   explicit ShadeStage(Device::Impl& dev);
   struct Params {
-    const cl::Buffer* groom;
-    const cl::Buffer* view;
-    const cl::Buffer* scene;
-    const cl::Buffer* lights;
-    const cl::Buffer* shadows;  // ClhShadowGpu[CLH_MAX_SHADOWS]
-    const cl::Buffer* shadowOpaque, *shadowHair, *shadowOpacity;
-    const cl::Buffer* envTexels, *envLevels, *envSh;  // environment (dummies when none)
-    const cl::Buffer* gbuffer;  // ulong per pixel, msaa + 1 layers
-    const cl::Buffer* offsets;  // the groom's strand offsets (its total drawn at [bundles])
-    cl::Buffer* hair;          // float4 per pixel
-    int width, height;
+    ViewTarget target;
+    LightingInputs lighting;
+    const cl::Buffer* groom = nullptr;    // ClhGroomGpu of the groom being drawn
+    const cl::Buffer* offsets = nullptr;  // its strand scan (the drawn total at [totalIndex])
+    std::size_t totalIndex = 0;
+    const cl::Buffer* gbuffer = nullptr;  // ulong per pixel, msaa + 1 layers
+    cl::Buffer* hair = nullptr;           // float4 per pixel
     int msaa = 1;
   };
   cl::Event enqueue(const Params& p, Profiler* profiler);

@@ -1,31 +1,28 @@
-// shadow_stage.h — binds the deep-opacity-map kernels (kernels/shadow.cl and the
-// opacity variant of kernels/strands.cl). The renderer drives the passes per shadowed
-// light: the light's view of the opaque scene and of the hair (strands_raster) give the
-// depth maps, shadow_resolve_depth keeps the nearest hair depth, strands_opacity fills the
-// opacity layers.
+// shadow_stage.h — binds the deep-opacity-map kernels of kernels/shadow.cl: the nearest
+// hair depth per texel from a light's 2-layer G-buffer, and the clear of the opacity
+// layers. The strand kernels' opacity variants are bound by StrandStage / ExplicitStage;
+// ShadowPass (host/frame/shadow_pass.h) drives the passes per shadowed light.
 #pragma once
 
 #include <cstdint>
 
-#include "stages/dispatch.h"
-#include "stages/strand_stage.h"
+#include "cl/dispatch.h"
 
 namespace clhair {
 
 class ShadowStage {
  public:
   explicit ShadowStage(Device::Impl& dev);
-  // shadow: one ClhShadowGpu; gbuffer: the light's 2-layer G-buffer
-  void resolveDepth(const cl::Buffer& shadow, const cl::Buffer& gbuffer, cl::Buffer& hairDepth, int width, int height,
+  // shadow: one ClhShadowGpu (its offset selects the slot); gbuffer: the light's 2-layer
+  // G-buffer of res x res texels; hairDepth: all slots (`slotTexels` apart).
+  void resolveDepth(const cl::Buffer& shadow, const cl::Buffer& gbuffer, cl::Buffer& hairDepth, int res,
+                    std::size_t allTexels, Profiler* profiler);
+  void clearOpacity(const cl::Buffer& shadow, cl::Buffer& opacity, std::size_t slotTexels, std::size_t allTexels,
                     Profiler* profiler);
-  void clearOpacity(const cl::Buffer& shadow, cl::Buffer& opacity, std::size_t texels, Profiler* profiler);
-  void opacity(const StrandStage::Inputs& in, const cl::Buffer& lightView, const cl::Buffer& opaqueDepth,
-               const cl::Buffer& shadow, const cl::Buffer& hairDepth, cl::Buffer& opacity, std::uint32_t strands,
-               Profiler* profiler);
 
  private:
   Device::Impl& dev_;
-  cl::Kernel resolve_, clear_, opacity_;
+  cl::Kernel resolve_, clear_;
 };
 
 }  // namespace clhair

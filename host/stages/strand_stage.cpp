@@ -3,12 +3,14 @@
 
 #include <algorithm>
 
-#include "clhair/error.h"
+#include "clhair/gpu_types.h"
 
 namespace clhair {
 
 StrandStage::StrandStage(Device::Impl& dev)
-    : dev_(dev), export_(dev.kernel("strands.cl", "strands_export")) {
+    : dev_(dev),
+      export_(dev.kernel("strands.cl", "strands_export")),
+      opacity_(dev.kernel("strands.cl", "strands_opacity", "-DCLH_RASTER_OPACITY=1")) {
   rasterKernel(1, false, false);  // build the common variant up front
 }
 
@@ -20,45 +22,60 @@ cl::Kernel& StrandStage::rasterKernel(int msaa, bool stats, bool persistent) {
   return raster_[key] = dev_.kernel("strands.cl", persistent ? "strands_raster_persistent" : "strands_raster", opts);
 }
 
-void StrandStage::raster(const Inputs& in, const Raster& r, Profiler* profiler) {
+// groom, [view], bundles, vertices, lod, offsets, roots: the leading arguments of every
+// strands.cl kernel (the raster and opacity kernels take the view second).
+void StrandStage::bindGroom(KernelArgs& a, const Inputs& in) {
+  const std::uint64_t B = in.bundleCount;
+  a.buffer("bundles", *in.bundles, B * sizeof(gpu::ClhBundle))
+      .buffer("vertices", *in.vertices, in.vertexTotal * sizeof(gpu::ClhMeshVertex))
+      .buffer("LOD records", *in.lod, B * 4 * sizeof(cl_uint))
+      .buffer("strand offsets", *in.offsets, (B + 1) * sizeof(cl_uint))
+      .buffer("quad root set", *in.rootsQuad, in.rootSetSize * 2 * sizeof(float))
+      .buffer("triangle root set", *in.rootsTri, in.rootSetSize * 2 * sizeof(float));
+}
+
+void StrandStage::raster(const Inputs& in, const StrandRaster& r, Profiler* profiler) {
   if (r.msaa != 1 && r.msaa != 2 && r.msaa != 4 && r.msaa != 8)
     throw Error("MSAA must be 1, 2, 4 or 8 samples, not " + std::to_string(r.msaa));
   cl::Kernel& k = rasterKernel(r.msaa, r.stats, r.mode == DispatchMode::Persistent);
-  k.setArg(0, *in.groom);
-  k.setArg(1, *r.view);
-  k.setArg(2, *in.bundles);
-  k.setArg(3, *in.vertices);
-  k.setArg(4, *in.lod);
-  k.setArg(5, *in.offsets);
-  k.setArg(6, *in.rootsQuad);
-  k.setArg(7, *in.rootsTri);
-  k.setArg(8, *r.sceneDepth);
-  k.setArg(9, *r.gbuffer);
-  k.setArg(10, *r.counters);
+  KernelArgs a(k, "strands");
+  a.buffer("groom", *in.groom, sizeof(gpu::ClhGroomGpu)).buffer("view", *r.view, sizeof(gpu::ClhViewGpu));
+  bindGroom(a, in);
+  a.buffer("scene depth", *r.sceneDepth, r.pixels * sizeof(float))
+      .buffer("G-buffer", *r.gbuffer, r.pixels * static_cast<std::uint64_t>(r.msaa + 1) * sizeof(cl_ulong))
+      .buffer("raster counters", *r.counters, 4 * sizeof(cl_uint));
+  const cl_uint baseArg = a.next();
+  a.value("strand base", 0u).value("strand stride", 0u);
   if (r.strands == 0) return;
-  if (r.mode == DispatchMode::Persistent) {
-    k.setArg(11, 0u);
-    dispatchStrandsPersistent(dev_, k, "strands", r.strands, 12, profiler);
-    return;
-  }
-  k.setArg(12, 0u);
-  dispatchStrands(dev_, k, "strands", r.strands, 11, profiler);
+  if (r.mode == DispatchMode::Persistent)
+    dispatchStrandsPersistent(dev_, k, "strands", r.strands, baseArg + 1, profiler);
+  else
+    dispatchStrands(dev_, k, "strands", r.strands, baseArg, profiler);
 }
 
-void StrandStage::exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& points,
-                                cl::Buffer& tangents, cl::Buffer& counts, Profiler* profiler) {
-  export_.setArg(0, *in.groom);
-  export_.setArg(1, *in.bundles);
-  export_.setArg(2, *in.vertices);
-  export_.setArg(3, *in.lod);
-  export_.setArg(4, *in.offsets);
-  export_.setArg(5, *in.rootsQuad);
-  export_.setArg(6, *in.rootsTri);
-  export_.setArg(7, points);
-  export_.setArg(8, tangents);
-  export_.setArg(9, counts);
-  export_.setArg(11, strands);
-  dispatchStrands(dev_, export_, "strands", strands, 10, profiler);
+void StrandStage::opacity(const Inputs& in, const OpacityPass& o, std::uint32_t strands, Profiler* profiler) {
+  KernelArgs a(opacity_, "shadow");
+  a.buffer("groom", *in.groom, sizeof(gpu::ClhGroomGpu)).buffer("light view", *o.lightView, sizeof(gpu::ClhViewGpu));
+  bindGroom(a, in);
+  a.buffer("opaque depth", *o.opaqueDepth, o.texels * sizeof(float))
+      .buffer("shadow", *o.shadow, sizeof(gpu::ClhShadowGpu))
+      .buffer("hair depth", *o.hairDepth, o.texels * sizeof(float))
+      .buffer("opacity", *o.opacity, o.texels * CLH_DOM_LAYERS * sizeof(cl_uint));
+  dispatchStrands(dev_, opacity_, "shadow", strands, a.next(), profiler);
+}
+
+void StrandStage::exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& points, cl::Buffer& tangents,
+                                cl::Buffer& counts, Profiler* profiler) {
+  const std::uint64_t slots = std::uint64_t(strands) * CLH_MAX_CONTROL_POINTS;
+  KernelArgs a(export_, "strands");
+  a.buffer("groom", *in.groom, sizeof(gpu::ClhGroomGpu));
+  bindGroom(a, in);
+  a.buffer("points", points, slots * 4 * sizeof(float))
+      .buffer("tangents", tangents, slots * 4 * sizeof(float))
+      .buffer("point counts", counts, std::uint64_t(strands) * sizeof(cl_uint));
+  const cl_uint baseArg = a.next();
+  a.value("strand base", 0u).value("strand capacity", strands);
+  dispatchStrands(dev_, export_, "strands", strands, baseArg, profiler);
 }
 
 }  // namespace clhair

@@ -1,48 +1,66 @@
-// strand_stage.h — binds and launches strands_raster / strands_export (kernels/strands.cl):
-// strands in the device's launch shape (dispatchStrands). The raster kernel is built per MSAA sample count
-// (and with counters for statistics runs); the dispatch follows the chosen sizing mode.
+// strand_stage.h — binds and launches strands_raster / strands_opacity / strands_export
+// (kernels/strands.cl) of a hair mesh: strands in the device's launch shape
+// (dispatchStrands). The raster kernel is built per MSAA sample count (and with counters
+// for statistics runs); the dispatch follows the chosen sizing mode.
 #pragma once
 
 #include <cstdint>
 #include <map>
 
-#include "stages/dispatch.h"
+#include "cl/dispatch.h"
 
 namespace clhair {
+
+// Where a strand pass draws: shared by the hair-mesh and explicit strand kernels.
+struct StrandRaster {
+  const cl::Buffer* view = nullptr;        // ClhViewGpu
+  const cl::Buffer* sceneDepth = nullptr;  // float per pixel
+  cl::Buffer* gbuffer = nullptr;           // ulong per pixel, msaa + 1 layers
+  cl::Buffer* counters = nullptr;          // uint[4], written when stats
+  std::size_t pixels = 0;
+  int msaa = 1;
+  bool stats = false;
+  DispatchMode mode = DispatchMode::ReadBack;
+  std::uint32_t strands = 0;  // ReadBack: the exact total; otherwise an upper bound
+};
+
+// The deep-opacity accumulation of one light (ShadowPass): the light's view and maps.
+struct OpacityPass {
+  const cl::Buffer* lightView = nullptr;    // ClhViewGpu
+  const cl::Buffer* opaqueDepth = nullptr;  // float per texel (all slots)
+  const cl::Buffer* shadow = nullptr;       // one ClhShadowGpu
+  const cl::Buffer* hairDepth = nullptr;    // float per texel (all slots)
+  cl::Buffer* opacity = nullptr;            // uint per texel and layer (all slots)
+  std::size_t texels = 0;                   // all slots
+};
 
 class StrandStage {
  public:
   explicit StrandStage(Device::Impl& dev);
 
   struct Inputs {
-    const cl::Buffer* groom;      // ClhGroomGpu
-    const cl::Buffer* bundles;    // ClhBundle[]
-    const cl::Buffer* vertices;   // ClhMeshVertex[]
-    const cl::Buffer* lod;        // uint4 per bundle
-    const cl::Buffer* offsets;    // uint, bundles + 1
-    const cl::Buffer* rootsQuad;  // float2[rootSetSize]
-    const cl::Buffer* rootsTri;   // float2[rootSetSize]
+    const cl::Buffer* groom = nullptr;      // ClhGroomGpu
+    const cl::Buffer* bundles = nullptr;    // ClhBundle[bundleCount]
+    const cl::Buffer* vertices = nullptr;   // ClhMeshVertex[vertexTotal]
+    const cl::Buffer* lod = nullptr;        // one LOD record per bundle
+    const cl::Buffer* offsets = nullptr;    // uint, bundleCount + 1
+    const cl::Buffer* rootsQuad = nullptr;  // float2[rootSetSize]
+    const cl::Buffer* rootsTri = nullptr;   // float2[rootSetSize]
+    std::uint32_t bundleCount = 0;
+    std::size_t vertexTotal = 0, rootSetSize = 0;
   };
-  struct Raster {
-    const cl::Buffer* view;
-    const cl::Buffer* sceneDepth;  // float per pixel
-    cl::Buffer* gbuffer;           // ulong per pixel, msaa + 1 layers
-    cl::Buffer* counters;          // uint[4], written when stats
-    int msaa = 1;
-    bool stats = false;
-    DispatchMode mode = DispatchMode::ReadBack;
-    std::uint32_t strands = 0;     // ReadBack: the exact total; otherwise an upper bound
-  };
-  void raster(const Inputs& in, const Raster& r, Profiler* profiler);
+  void raster(const Inputs& in, const StrandRaster& r, Profiler* profiler);
+  void opacity(const Inputs& in, const OpacityPass& o, std::uint32_t strands, Profiler* profiler);
   // points/tangents: float4 * CLH_MAX_CONTROL_POINTS per strand; counts: uint per strand.
-  void exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& points,
-                     cl::Buffer& tangents, cl::Buffer& counts, Profiler* profiler);
+  void exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& points, cl::Buffer& tangents,
+                     cl::Buffer& counts, Profiler* profiler);
 
  private:
   cl::Kernel& rasterKernel(int msaa, bool stats, bool persistent);
+  void bindGroom(KernelArgs& a, const Inputs& in);
   Device::Impl& dev_;
   std::map<int, cl::Kernel> raster_;
-  cl::Kernel export_;
+  cl::Kernel export_, opacity_;
 };
 
 }  // namespace clhair

@@ -12,18 +12,11 @@
 #include <vector>
 
 #include "clhair/device.h"
+#include "clhair/frame_types.h"
 #include "clhair/image.h"
 #include "clhair/scene.h"
 
 namespace clhair {
-
-// How the strand pass is sized from the LOD pre-pass (DESIGN.md, Atomics and dispatch
-// sizing). OpenCL 1.2 has no indirect dispatch, so the host either reads the 4-byte total
-// back, launches the host-known upper bound and lets surplus groups leave at once, or
-// launches a persistent grid of a few groups per compute unit that walks the strands.
-enum class DispatchMode { Auto, ReadBack, OverLaunch, Persistent };
-const char* dispatchModeName(DispatchMode m);
-DispatchMode parseDispatchMode(const std::string& name);  // auto, readback, overlaunch, persistent
 
 struct RenderOptions {
   int lod = -1;             // -1: as each groom says; 0: off; 1: on
@@ -44,14 +37,9 @@ struct RenderOptions {
   // camera does not enter them). false: rebuild them every frame.
   bool reuseShadows = true;
   int ambientOcclusion = 1;     // 1: baked AO (baked on first use when the mesh has none), 0: off
-};
-
-struct StageTime {
-  std::string stage;
-  double ms = 0.0;  // sum of the stage's profiled dispatches in this frame
-  // With RenderOptions::stageCores: wall and process CPU time of the stage's dispatches,
-  // each waited for on its own (CPU devices: cpuMs / wallMs = cores the stage used).
-  double wallMs = 0.0, cpuMs = 0.0;
+  // Every strand at its true projected width: the grooms' minimum hit diameter is ignored
+  // (the passes of renderReference).
+  bool trueWidth = false;
 };
 
 struct FrameStats {
@@ -81,16 +69,6 @@ struct Frame {
 
   double stageMs(const std::string& stage) const;
   double totalMs() const;
-};
-
-// Generated strands read back from the device (export-strands, tests).
-struct StrandSet {
-  std::vector<std::uint32_t> pointCounts;  // per strand
-  std::vector<float> points;               // xyz per point, object space
-  std::vector<float> tangents;             // xyz per point
-  std::vector<float> w;                    // styling w per point
-  std::vector<std::uint32_t> bundleOf;     // bundle of each strand (explicit strands: LOD chunk)
-  std::vector<std::uint32_t> sourceStrand; // explicit strands only: index in the StrandGroom
 };
 
 class Renderer {
@@ -127,6 +105,10 @@ class Renderer {
   // included: the blue-noise root sets all hair-mesh grooms share (at most 1 MiB) and the
   // target-sized buffers.
   std::uint64_t groomDeviceBytes(const GroomInstance& groom);
+
+  // Device resources of grooms the last frame did not draw are kept for later frames, the
+  // least recently used released beyond a few; this releases all of them now.
+  void releaseGrooms();
 
   const Device& device() const;
 

@@ -66,4 +66,14 @@ enum class UpAxis { X, Y, Z };
 //   X: (x, y, z) -> (-y, x, z), +90 degrees about +z.
 glm::mat4 strandFileTransform(float scale, UpAxis up);
 
+// Generated strands read back from the device (export-strands, tests).
+struct StrandSet {
+  std::vector<std::uint32_t> pointCounts;  // per strand
+  std::vector<float> points;               // xyz per point, object space
+  std::vector<float> tangents;             // xyz per point
+  std::vector<float> w;                    // styling w per point
+  std::vector<std::uint32_t> bundleOf;     // bundle of each strand (explicit strands: LOD chunk)
+  std::vector<std::uint32_t> sourceStrand; // explicit strands only: index in the StrandGroom
+};
+
 }  // namespace clhair

@@ -1,14 +1,16 @@
-// dispatch.h — the one way kernels are launched: rounded global sizes, work-group limits
-// checked with readable messages, a named profiling event per dispatch, and finish()
-// after every dispatch when CLHAIR_DEBUG_SYNC=1.
+// dispatch.h — the one way kernels are bound and launched: arguments set in order by name
+// with every buffer checked against the bytes the launch reads or writes (KernelArgs),
+// rounded global sizes, work-group limits checked with readable messages, a named
+// profiling event per dispatch, and finish() after every dispatch when CLHAIR_DEBUG_SYNC=1.
 #pragma once
 
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "cl/cl_error.h"
 #include "cl/device_impl.h"
-#include "clhair/renderer.h"
+#include "clhair/frame_types.h"
 
 namespace clhair {
 
@@ -29,6 +31,43 @@ class Profiler {
 };
 
 std::size_t roundUp(std::size_t n, std::size_t multiple);
+
+// Bytes of a buffer (0 for a null handle).
+std::uint64_t bufferBytes(const cl::Buffer& b);
+
+// Sets a kernel's arguments in order, each under a name for messages. A buffer argument is
+// checked before it is set: it must exist and hold at least `minBytes` (what the launch
+// touches), else one clhair::Error names the stage, kernel, argument and both sizes.
+// Errors of the driver become clhair::Error naming the argument too.
+class KernelArgs {
+ public:
+  KernelArgs(cl::Kernel& kernel, std::string stage);
+  KernelArgs& buffer(const char* name, const cl::Buffer& b, std::uint64_t minBytes);
+  template <typename T>
+  KernelArgs& value(const char* name, const T& v) {
+    set(name, [&] { kernel_.setArg(index_, v); });
+    return *this;
+  }
+  cl_uint next() const { return index_; }  // index of the next argument to set
+
+ private:
+  template <typename F>
+  void set(const char* name, F&& f);
+  [[noreturn]] void fail(const char* name, const std::string& why) const;
+  cl::Kernel& kernel_;
+  std::string stage_, kernelName_;
+  cl_uint index_ = 0;
+};
+
+template <typename F>
+void KernelArgs::set(const char* name, F&& f) {
+  try {
+    f();
+  } catch (const cl::Error& e) {
+    fail(name, std::string(e.what()) + " failed with " + clErrorName(e.err()));
+  }
+  ++index_;
+}
 
 // CPU time of this process (every thread, the OpenCL runtime's included), in ms.
 double processCpuMs();

@@ -1,5 +1,5 @@
 // dispatch.cpp — launching kernels and summing profiled times.
-#include "stages/dispatch.h"
+#include "cl/dispatch.h"
 
 #include <algorithm>
 #include <chrono>
@@ -58,6 +58,30 @@ std::vector<StageTime> Profiler::collect() {
       }
   host_.clear();
   return out;
+}
+
+std::uint64_t bufferBytes(const cl::Buffer& b) {
+  if (!b()) return 0;
+  return clCall("reading a buffer size", [&] { return static_cast<std::uint64_t>(b.getInfo<CL_MEM_SIZE>()); });
+}
+
+KernelArgs::KernelArgs(cl::Kernel& kernel, std::string stage) : kernel_(kernel), stage_(std::move(stage)) {
+  kernelName_ = clCall(stage_, [&] { return kernel_.getInfo<CL_KERNEL_FUNCTION_NAME>(); });
+  // some drivers count the terminating zero in the name's length
+  while (!kernelName_.empty() && kernelName_.back() == '\0') kernelName_.pop_back();
+}
+
+void KernelArgs::fail(const char* name, const std::string& why) const {
+  throw Error(stage_ + ": kernel " + kernelName_ + " argument " + std::to_string(index_) + " (" + name + "): " + why);
+}
+
+KernelArgs& KernelArgs::buffer(const char* name, const cl::Buffer& b, std::uint64_t minBytes) {
+  if (!b()) fail(name, "no buffer");
+  const std::uint64_t bytes = bufferBytes(b);
+  if (bytes < minBytes)
+    fail(name, "the buffer holds " + std::to_string(bytes) + " bytes, the launch needs " + std::to_string(minBytes));
+  set(name, [&] { kernel_.setArg(index_, b); });
+  return *this;
 }
 
 std::size_t roundUp(std::size_t n, std::size_t multiple) {

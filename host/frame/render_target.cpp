@@ -1,0 +1,41 @@
+// render_target.cpp — see render_target.h.
+#include "frame/render_target.h"
+
+#include "cl/buffers.h"
+#include "clhair/scene.h"
+
+namespace clhair {
+
+RenderTarget::RenderTarget(Device::Impl& dev) : dev_(dev), clear_(dev) {
+  view = makeBuffer<gpu::ClhViewGpu>(dev, "view parameters", 1);
+  stats = makeBuffer<cl_uint>(dev, "raster statistics", 4);
+}
+
+void RenderTarget::ensure(int w, int h, int msaa) {
+  if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
+    throw Error("resolution " + std::to_string(w) + "x" + std::to_string(h) + " is outside 1.." +
+                std::to_string(kMaxImageSide) + " per side");
+  if (msaa != 1 && msaa != 2 && msaa != 4 && msaa != 8)
+    throw Error("MSAA must be 1, 2, 4 or 8 samples, not " + std::to_string(msaa));
+  const std::size_t n = static_cast<std::size_t>(w) * h;
+  const std::string res = std::to_string(w) + "x" + std::to_string(h);
+  if (w != width_ || h != height_) {
+    color = makeBuffer<cl_float4>(dev_, "the " + res + " colour target", n);
+    depth = makeBuffer<cl_float>(dev_, "the " + res + " depth target", n);
+    hair = makeBuffer<cl_float4>(dev_, "the " + res + " hair colour buffer", n);
+    filtered = makeBuffer<cl_float4>(dev_, "the " + res + " filtered hair buffer", n);
+    layers_ = 0;
+  }
+  if (layers_ != msaa + 1)
+    gbuffer = makeBuffer<cl_ulong>(dev_, "the " + res + " G-buffer with " + std::to_string(msaa + 1) + " layers",
+                                   n * static_cast<std::size_t>(msaa + 1));
+  width_ = w;
+  height_ = h;
+  layers_ = msaa + 1;
+}
+
+void RenderTarget::clearGBuffer(Profiler* profiler) {
+  clear_.words(gbuffer, pixels() * static_cast<std::size_t>(layers_), ~std::uint64_t(0), "clear", profiler);
+}
+
+}  // namespace clhair

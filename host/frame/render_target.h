@@ -1,0 +1,37 @@
+// render_target.h — the buffers sized to the output: colour and depth of the opaque scene
+// (the hair is composited into them), the shaded and filtered hair of the groom being
+// drawn, its G-buffer (MSAA sample layers plus the conservative layer), the raster
+// counters and the camera's view record; plus the clear of the G-buffer before each
+// groom's strand pass. Buffers are reallocated only when the size or sample count changes.
+#pragma once
+
+#include "cl/dispatch.h"
+#include "stages/clear_stage.h"
+#include "stages/stage_inputs.h"
+
+namespace clhair {
+
+class RenderTarget {
+ public:
+  explicit RenderTarget(Device::Impl& dev);
+  // Checks the size (1..kMaxImageSide per side) and sample count (1, 2, 4, 8).
+  void ensure(int width, int height, int msaa);
+  void clearGBuffer(Profiler* profiler);
+
+  ViewTarget viewTarget() const { return {&view, width_, height_}; }
+  std::size_t pixels() const { return static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_); }
+  int layers() const { return layers_; }
+
+  cl::Buffer view;                        // ClhViewGpu of the camera
+  cl::Buffer color, depth;                // float4, float per pixel
+  cl::Buffer hair, filtered;              // float4 per pixel
+  cl::Buffer gbuffer;                     // ulong per pixel and layer
+  cl::Buffer stats;                       // uint[4] raster counters
+
+ private:
+  Device::Impl& dev_;
+  ClearStage clear_;
+  int width_ = 0, height_ = 0, layers_ = 0;
+};
+
+}  // namespace clhair

@@ -1,0 +1,208 @@
+// shadow_pass.cpp — see shadow_pass.h.
+#include "frame/shadow_pass.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include "cl/buffers.h"
+#include "frame/view_math.h"
+
+namespace clhair {
+
+ShadowPass::ShadowPass(Device::Impl& dev) : dev_(dev), stage_(dev), clear_(dev) {
+  lightView_ = makeBuffer<gpu::ClhViewGpu>(dev, "light view parameters", 1);
+  all_ = makeBuffer<gpu::ClhShadowGpu>(dev, "shadow parameters", CLH_MAX_SHADOWS);
+  for (auto& b : one_) b = makeBuffer<gpu::ClhShadowGpu>(dev, "shadow parameters", 1);
+  counters_ = makeBuffer<cl_uint>(dev, "light raster counters", 4);
+}
+
+void ShadowPass::ensureBuffers(int res) {
+  if (res == res_) return;
+  const std::size_t plane = static_cast<std::size_t>(res) * res;
+  const std::string what = std::to_string(res) + "x" + std::to_string(res) + " deep opacity maps";
+  opaque_ = makeBuffer<cl_float>(dev_, what, plane * CLH_MAX_SHADOWS);
+  hair_ = makeBuffer<cl_float>(dev_, what, plane * CLH_MAX_SHADOWS);
+  opacity_ = makeBuffer<cl_uint>(dev_, what, plane * CLH_MAX_SHADOWS * CLH_DOM_LAYERS);
+  lightColor_ = makeBuffer<cl_float4>(dev_, what, plane);
+  lightDepth_ = makeBuffer<cl_float>(dev_, what, plane);
+  lightGBuffer_ = makeBuffer<cl_ulong>(dev_, what, plane * 2);
+  res_ = res;
+}
+
+ShadowMapInputs ShadowPass::maps() const {
+  ShadowMapInputs m;
+  m.params = &all_;
+  m.opaqueDepth = &opaque_;
+  m.hairDepth = &hair_;
+  m.opacity = &opacity_;
+  m.texels = static_cast<std::size_t>(res_) * static_cast<std::size_t>(res_);
+  return m;
+}
+
+ShadowPass::Key ShadowPass::keyOf(const Scene& s, const RenderOptions& o, bool lodCorrection) {
+  Key k;
+  auto put = [&k](const void* p, std::size_t n) {
+    const auto* b = static_cast<const unsigned char*>(p);
+    k.bytes.insert(k.bytes.end(), b, b + n);
+  };
+  auto putValue = [&put](const auto& v) { put(&v, sizeof v); };
+  for (const Light& l : s.lights) {
+    putValue(l.type);
+    putValue(l.position);
+    putValue(l.direction);
+    putValue(l.shadows);
+  }
+  putValue(s.shadows.resolution);
+  putValue(s.shadows.layers);
+  putValue(s.shadows.density);
+  putValue(s.shadows.lodCorrection);
+  putValue(s.shadows.bias);
+  for (const Sphere& sp : s.spheres) {
+    putValue(sp.center);
+    putValue(sp.radius);
+  }
+  for (const Plane& pl : s.planes) put(&pl, sizeof pl);
+  for (const MeshInstance& m : s.meshes) {
+    k.held.push_back(m.mesh);
+    putValue(m.transform);
+  }
+  for (const GroomInstance& g : s.grooms) {
+    k.held.push_back(g.mesh);
+    k.held.push_back(g.strands);
+    putValue(g.transform);
+  }
+  putValue(o.lod);
+  putValue(o.shadowLod);
+  putValue(o.lodLambdaScale);
+  putValue(o.shadowLodCorrection);
+  putValue(o.ambientOcclusion);
+  putValue(o.trueWidth);
+  putValue(lodCorrection);
+  const std::size_t counts[4] = {s.lights.size(), s.spheres.size(), s.planes.size(), s.grooms.size()};
+  putValue(counts);
+  return k;
+}
+
+void ShadowPass::update(const Scene& s, const RenderOptions& options, bool lodCorrection,
+                        const std::vector<GroomDraw>& grooms, SceneGpu& scene, Profiler* profiler) {
+  Key key = keyOf(s, options, lodCorrection);
+  if (options.reuseShadows && valid_ && key == lastKey_) return;
+  valid_ = false;  // until the passes are enqueued
+  render(s, options, lodCorrection, grooms, scene, profiler);
+  lastKey_ = std::move(key);
+  valid_ = true;
+}
+
+void ShadowPass::render(const Scene& s, const RenderOptions& cameraOptions, bool lodCorrection,
+                        const std::vector<GroomDraw>& grooms, SceneGpu& scene, Profiler* profiler) {
+  strandsDrawn_ = 0;
+  // the light's passes use LOD unless the caller turned it off explicitly
+  ViewPass pass;
+  pass.view = &lightView_;
+  pass.lod = cameraOptions.lod == 0 ? 0 : 1;
+  if (cameraOptions.shadowLod >= 0) pass.lod = cameraOptions.shadowLod;
+  pass.lodLambdaScale = cameraOptions.lodLambdaScale;
+  pass.trueWidth = cameraOptions.trueWidth;
+  pass.shadowLodCorrection = lodCorrection;
+  std::vector<gpu::ClhShadowGpu> params(CLH_MAX_SHADOWS);
+  int slot = 0;
+  for (const Light& light : s.lights) {
+    if (!light.shadows || grooms.empty() || slot >= CLH_MAX_SHADOWS) continue;
+    const int res = s.shadows.resolution;
+    ensureBuffers(res);
+    const std::size_t plane = static_cast<std::size_t>(res) * res;
+    // the light's view: a pinhole at the light (directional: far away, narrow) framing all grooms
+    glm::vec3 lo(1e30f), hi(-1e30f);
+    for (const GroomDraw& d : grooms) {
+      const glm::vec3 blo = d.groom->boundsMin(), bhi = d.groom->boundsMax();
+      for (int c = 0; c < 8; ++c) {
+        glm::vec3 corner((c & 1) ? bhi.x : blo.x, (c & 2) ? bhi.y : blo.y, (c & 4) ? bhi.z : blo.z);
+        glm::vec3 w = glm::vec3(d.instance->transform * glm::vec4(corner, 1.0f));
+        lo = glm::min(lo, w);
+        hi = glm::max(hi, w);
+      }
+    }
+    const glm::vec3 center = 0.5f * (lo + hi);
+    const float radius = 0.5f * glm::length(hi - lo);
+    Camera cam;
+    cam.target = center;
+    if (light.type == Light::Type::Point)
+      cam.position = light.position;
+    else
+      cam.position = center + glm::normalize(light.direction) * (radius * 20.0f);
+    const float dist = glm::length(cam.position - center);
+    if (dist < 1e-6f) {  // a light at the grooms' center: no map, the slot stays unshadowed
+      ++slot;
+      continue;
+    }
+    const glm::vec3 dir = (center - cam.position) / dist;
+    cam.up = std::fabs(dir.y) > 0.95f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+    cam.fovYDegrees =
+        std::min(150.0f, 2.0f * glm::degrees(std::atan(radius / std::max(dist - radius, radius * 0.05f))) * 1.05f);
+    const gpu::ClhViewGpu lv = makeView(cam, res, res);
+    upload(dev_, lightView_, &lv, 1);
+    pass.worldToView = worldToView(cam);
+    pass.nearZ = std::max(dist - radius, 1e-4f);
+    pass.farZ = dist + radius;
+
+    gpu::ClhShadowGpu& sh = params[slot];
+    std::memcpy(sh.world_to_view, lv.world_to_view, sizeof(sh.world_to_view));
+    sh.fx = lv.fx;
+    sh.fy = lv.fy;
+    sh.cx = lv.cx;
+    sh.cy = lv.cy;
+    sh.width = sh.height = static_cast<gpu::clh_u32>(res);
+    sh.offset = static_cast<gpu::clh_u32>(plane * slot);
+    sh.density = s.shadows.density;
+    for (int k = 0; k < 3; ++k) sh.bound[k] = s.shadows.layers[k];
+    sh.bias = s.shadows.bias;
+    sh.depth_near = pass.nearZ;
+    sh.depth_far = pass.farZ;
+    upload(dev_, one_[slot], &sh, 1);
+
+    // the opaque scene and meshes from the light: their depth only
+    const ViewTarget lightTarget{&lightView_, res, res};
+    scene.drawOpaque(lightTarget, maps(), lightColor_, lightDepth_, false, profiler);
+    clCall("copying the light's opaque depth", [&] {
+      dev_.queue.enqueueCopyBuffer(lightDepth_, opaque_, 0, plane * slot * sizeof(float), plane * sizeof(float));
+      return 0;
+    });
+    // hair depth: the strand pass of every groom from the light into the light's G-buffer
+    clear_.words(lightGBuffer_, plane * 2, ~std::uint64_t(0), "clear", profiler);
+    StrandRaster rs;
+    rs.view = &lightView_;
+    rs.sceneDepth = &lightDepth_;
+    rs.gbuffer = &lightGBuffer_;
+    rs.counters = &counters_;
+    rs.pixels = plane;
+    std::vector<std::pair<const GroomDraw*, std::uint32_t>> drawn;
+    for (const GroomDraw& d : grooms) {
+      if (!d.groom->prepare(*d.state, d.instance->transform, pass)) continue;
+      d.groom->lod(*d.state, lightView_, profiler);
+      rs.strands = d.groom->readTotal(*d.state);
+      drawn.push_back({&d, rs.strands});
+      strandsDrawn_ += rs.strands;
+      d.groom->raster(*d.state, rs, profiler);
+    }
+    stage_.resolveDepth(one_[slot], lightGBuffer_, hair_, res, plane * CLH_MAX_SHADOWS, profiler);
+    stage_.clearOpacity(one_[slot], opacity_, plane, plane * CLH_MAX_SHADOWS, profiler);
+    // every instance keeps its own LOD records, so the opacity passes reuse them
+    OpacityPass op;
+    op.lightView = &lightView_;
+    op.opaqueDepth = &opaque_;
+    op.shadow = &one_[slot];
+    op.hairDepth = &hair_;
+    op.opacity = &opacity_;
+    op.texels = plane * CLH_MAX_SHADOWS;
+    for (const auto& [d, strands] : drawn) d->groom->opacity(*d->state, op, strands, profiler);
+    ++slot;
+  }
+  if (slot > 0) upload(dev_, all_, params.data(), CLH_MAX_SHADOWS);
+  if (res_ == 0) ensureBuffers(1);
+}
+
+}  // namespace clhair

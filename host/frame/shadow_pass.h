@@ -1,0 +1,62 @@
+// shadow_pass.h — deep opacity maps (Yuksel & Keyser 2008) of every shadowed light over
+// all grooms, built with the strand kernels from the light's view (with LOD when the
+// frame allows it). A pinhole at the light (a directional light: far away, narrow)
+// frames the grooms' bounds; the opaque scene and the meshes give the light's opaque
+// depth, the strands' nearest depth bounds the first layer, and the opacity passes fill
+// CLH_DOM_LAYERS layers per texel. The maps are reused across frames while nothing they
+// depend on changes (RenderOptions::reuseShadows): lights, shadow settings, opaque
+// primitives, grooms and their transforms, LOD options — not the camera.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "clhair/renderer.h"
+#include "frame/scene_gpu.h"
+#include "groom/groom_gpu.h"
+#include "stages/clear_stage.h"
+#include "stages/shadow_stage.h"
+
+namespace clhair {
+
+class ShadowPass {
+ public:
+  explicit ShadowPass(Device::Impl& dev);
+  // Rebuilds the maps unless the previous ones still hold (and reuse is allowed). Must run
+  // before the camera's opaque pass, which receives hair shadows too.
+  void update(const Scene& s, const RenderOptions& options, bool lodCorrection, const std::vector<GroomDraw>& grooms,
+              SceneGpu& scene, Profiler* profiler);
+  ShadowMapInputs maps() const;
+  // Strands drawn into the maps by the last rebuild (all lights).
+  std::uint64_t strandsDrawn() const { return strandsDrawn_; }
+
+ private:
+  // Everything the maps depend on, to reuse them while it stays the same: the bytes of the
+  // lights, shadow settings, opaque primitives, transforms and options, and the identity
+  // of every groom and mesh (held, so an address is never reused).
+  struct Key {
+    std::vector<unsigned char> bytes;
+    std::vector<std::shared_ptr<const void>> held;
+    bool operator==(const Key& o) const { return bytes == o.bytes && held == o.held; }
+  };
+  static Key keyOf(const Scene& s, const RenderOptions& o, bool lodCorrection);
+  void render(const Scene& s, const RenderOptions& options, bool lodCorrection, const std::vector<GroomDraw>& grooms,
+              SceneGpu& scene, Profiler* profiler);
+  void ensureBuffers(int res);
+
+  Device::Impl& dev_;
+  ShadowStage stage_;
+  ClearStage clear_;
+  int res_ = 0;
+  std::array<cl::Buffer, CLH_MAX_SHADOWS> one_;  // one ClhShadowGpu per slot
+  cl::Buffer all_;                               // ClhShadowGpu[CLH_MAX_SHADOWS]
+  cl::Buffer opaque_, hair_, opacity_;           // texel planes of all slots
+  cl::Buffer lightView_, lightColor_, lightDepth_, lightGBuffer_, counters_;
+  std::uint64_t strandsDrawn_ = 0;
+  Key lastKey_;
+  bool valid_ = false;
+};
+
+}  // namespace clhair

@@ -1,0 +1,114 @@
+// groom_gpu.h — a groom on the device, whichever form it comes in. GroomGpu is the one
+// interface the frame loop and the shadow pass draw through; HairMeshGpu (strands
+// generated per frame from a hair mesh, kernels/strands.cl) and StrandFileGpu (stored
+// strands, kernels/strands_explicit.cl) implement it.
+//
+// Geometry (hair-mesh records, strand tables) is uploaded once per groom and shared by
+// every instance of it in a scene. What differs per instance — the view-dependent
+// parameter record, the LOD records and their scan — lives in a GroomInstanceGpu: the
+// k-th instance of a groom in a frame uses instance slot k, so two instances of one mesh
+// never overwrite each other's LOD or strand totals.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include "cl/dispatch.h"
+#include "clhair/gpu_types.h"
+#include "clhair/scene.h"
+#include "stages/explicit_stage.h"
+#include "stages/lod_stage.h"
+#include "stages/strand_stage.h"
+
+namespace clhair {
+
+class AoStage;
+struct RootSetsGpu;
+
+// The stages and shared tables every groom draws with; owned by the renderer.
+struct GroomStages {
+  Device::Impl& dev;
+  LodStage& lod;
+  StrandStage& strands;
+  ExplicitStage& explicitStrands;
+  AoStage& ao;
+  RootSetsGpu& roots;  // blue-noise root positions all hair meshes share
+};
+
+// One pass over the grooms: the camera's view or a light's.
+struct ViewPass {
+  const cl::Buffer* view = nullptr;  // ClhViewGpu
+  glm::mat4 worldToView{1.0f};
+  // > 0: one depth mapping for every groom (a light's G-buffer is shared by all grooms)
+  float nearZ = -1.0f, farZ = -1.0f;
+  int lod = -1;                 // RenderOptions::lod semantics
+  float lodLambdaScale = 1.0f;
+  bool trueWidth = false;       // ignore the minimum hit diameter (reference passes)
+  bool shadowLodCorrection = true;
+};
+
+// The per-instance part of a groom on the device.
+struct GroomInstanceGpu {
+  gpu::ClhGroomGpu params{};   // as last uploaded to `groom`
+  cl::Buffer groom;            // ClhGroomGpu
+  cl::Buffer lod;              // one LOD record per bundle / chunk
+  cl::Buffer counts;           // strands per bundle / chunk
+  cl::Buffer offsets;          // their scan; the drawn total at [records]
+  std::uint32_t records = 0;   // bundles or chunks
+  float reach = 0.0f;          // hair meshes: styling reach in view units
+};
+
+class GroomGpu {
+ public:
+  virtual ~GroomGpu() = default;
+
+  // Instance slot k (created on first use).
+  GroomInstanceGpu& instance(std::size_t k);
+
+  // Fills and uploads the view-dependent parameters of `inst` for an instance placed by
+  // `objToWorld`; false when the groom lies entirely behind the view.
+  virtual bool prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld, const ViewPass& pass) = 0;
+  // LOD records and their scan for the view the instance was prepared for.
+  virtual void lod(GroomInstanceGpu& inst, const cl::Buffer& view, Profiler* profiler) = 0;
+  // Blocking 4-byte read of the strands the last LOD pass kept.
+  std::uint32_t readTotal(const GroomInstanceGpu& inst);
+  // Every strand of the groom (the bound of an over-launched dispatch).
+  virtual std::uint32_t strandCount() const = 0;
+  virtual void raster(GroomInstanceGpu& inst, const StrandRaster& r, Profiler* profiler) = 0;
+  virtual void opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands, Profiler* profiler) = 0;
+  // The strands as the kernels generate or draw them at LOD value `lod` (1: full detail).
+  virtual StrandSet exportStrands(float lod) = 0;
+  // Object-space bounds of the drawn geometry, styling included.
+  virtual glm::vec3 boundsMin() const = 0;
+  virtual glm::vec3 boundsMax() const = 0;
+  // Baked AO on or off for the next passes (hair meshes; strand files carry none).
+  virtual void useAo(bool) {}
+  // Bytes of the shared tables plus one instance's buffers.
+  std::uint64_t deviceBytes();
+
+ protected:
+  explicit GroomGpu(Device::Impl& dev) : dev_(dev) {}
+  virtual std::unique_ptr<GroomInstanceGpu> makeInstance() = 0;
+  virtual std::uint64_t sharedBytes() const = 0;
+  Device::Impl& dev_;
+
+ private:
+  std::vector<std::unique_ptr<GroomInstanceGpu>> instances_;
+};
+
+// One instance of a groom in a frame: the scene's record, the shared geometry and the
+// instance slot it draws with.
+struct GroomDraw {
+  const GroomInstance* instance = nullptr;
+  GroomGpu* groom = nullptr;
+  GroomInstanceGpu* state = nullptr;
+};
+
+// Builds the device form of a scene's groom instance (hair mesh or strand file).
+std::unique_ptr<GroomGpu> makeGroomGpu(const GroomInstance& gi, GroomStages& stages);
+
+}  // namespace clhair

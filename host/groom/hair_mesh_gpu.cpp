@@ -1,0 +1,255 @@
+// hair_mesh_gpu.cpp — see hair_mesh_gpu.h.
+#include "groom/hair_mesh_gpu.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include <glm/geometric.hpp>
+
+#include "cl/buffers.h"
+#include "clhair/lod_math.h"
+#include "frame/view_math.h"
+#include "stages/ao_stage.h"
+
+namespace clhair {
+
+namespace {
+constexpr std::uint32_t kMinRootSet = 1024;
+constexpr std::uint32_t kMaxRootSet = 1u << 16;
+}  // namespace
+
+const RootSetsGpu::Set& RootSetsGpu::forBundle(Device::Impl& dev, std::uint32_t strands) {
+  if (strands > kMaxRootSet)
+    throw Error("a bundle requests " + std::to_string(strands) + " strands; at most " + std::to_string(kMaxRootSet) +
+                " per bundle are supported (split its scalp face)");
+  std::uint32_t size = kMinRootSet;
+  while (size < strands) size <<= 1;
+  Set& s = sets_[size];
+  if (s.size == 0) {
+    const RootSets r = makeRootSets(size);
+    s.quad = makeBuffer<glm::vec2>(dev, "root sample set", r.quad.size(), r.quad.data());
+    s.triangle = makeBuffer<glm::vec2>(dev, "root sample set", r.triangle.size(), r.triangle.data());
+    s.size = size;
+  }
+  return s;
+}
+
+HairMeshGpu::HairMeshGpu(std::shared_ptr<const HairMesh> mesh, GroomStages& stages, bool bakeAo)
+    : GroomGpu(stages.dev), mesh_(std::move(mesh)), stages_(stages) {
+  const HairMesh& m = *mesh_;
+  data_ = prepareGroom(m);
+  if (bakeAo && m.ao.empty()) {
+    std::vector<float> ao = HairMeshGpu::bakeAo(m, stages_);
+    for (std::size_t i = 0; i < ao.size() && i < data_.vertices.size(); ++i) data_.vertices[i].tan[3] = ao[i];
+  }
+  ao_.resize(data_.vertices.size());
+  for (std::size_t i = 0; i < ao_.size(); ++i) ao_[i] = data_.vertices[i].tan[3];
+  std::memset(&base_, 0, sizeof(base_));
+  fillGroomParams(m, data_, base_);
+  roots_ = &stages_.roots.forBundle(dev_, data_.maxBundleStrands);
+  base_.root_set_size = roots_->size;
+  const std::string what = "groom \"" + m.name + "\"";
+  vertices_ = makeBuffer(dev_, what + " hair-mesh vertices", data_.vertices.size(), data_.vertices.data());
+  bundles_ = makeBuffer(dev_, what + " bundles", data_.bundles.size(), data_.bundles.data());
+}
+
+std::unique_ptr<GroomInstanceGpu> HairMeshGpu::makeInstance() {
+  auto inst = std::make_unique<GroomInstanceGpu>();
+  const std::string what = "groom \"" + mesh_->name + "\"";
+  const std::size_t B = data_.bundles.size();
+  inst->params = base_;
+  inst->records = static_cast<std::uint32_t>(B);
+  inst->groom = makeBuffer<gpu::ClhGroomGpu>(dev_, what + " parameters", 1, &inst->params);
+  inst->lod = makeBuffer<cl_uint4>(dev_, what + " LOD records", B);
+  inst->counts = makeBuffer<cl_uint>(dev_, what + " strand counts", 2 * B);
+  inst->offsets = makeBuffer<cl_uint>(dev_, what + " strand offsets", B + 2);
+  return inst;
+}
+
+std::uint64_t HairMeshGpu::sharedBytes() const { return bufferBytes(vertices_) + bufferBytes(bundles_); }
+
+StrandStage::Inputs HairMeshGpu::inputs(const GroomInstanceGpu& inst) const {
+  StrandStage::Inputs in;
+  in.groom = &inst.groom;
+  in.bundles = &bundles_;
+  in.vertices = &vertices_;
+  in.lod = &inst.lod;
+  in.offsets = &inst.offsets;
+  in.rootsQuad = &roots_->quad;
+  in.rootsTri = &roots_->triangle;
+  in.bundleCount = static_cast<std::uint32_t>(data_.bundles.size());
+  in.vertexTotal = data_.vertices.size();
+  in.rootSetSize = roots_->size;
+  return in;
+}
+
+bool HairMeshGpu::prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld, const ViewPass& pass) {
+  gpu::ClhGroomGpu& p = inst.params;
+  const glm::mat4 o2v = pass.worldToView * objToWorld;
+  storeMat34(p.obj_to_view, o2v);
+  storeMat34(p.obj_to_world, objToWorld);
+  if (!depthRange(data_.boundsMin, data_.boundsMax, o2v, p.depth_near, p.depth_far)) return false;
+  if (pass.nearZ > 0.0f) {  // a G-buffer shared by several grooms needs one depth mapping
+    p.depth_near = pass.nearZ;
+    p.depth_far = pass.farZ;
+  }
+  const HairMesh& mesh = *mesh_;
+  p.lod_enabled = pass.lod < 0 ? (mesh.lod.enabled ? 1u : 0u) : static_cast<gpu::clh_u32>(pass.lod);
+  p.lod_lambda = mesh.lod.lambda * pass.lodLambdaScale;
+  p.total_strands = static_cast<gpu::clh_u32>(data_.totalStrands);
+  p.shadow_lod_correction = pass.shadowLodCorrection ? 1u : 0u;
+  p.hit_diameter_px = pass.trueWidth ? 0.0f : mesh.appearance.minHitDiameterPx;
+  upload(dev_, inst.groom, &p, 1);
+  // the styling reach in view units: the object-space margin times the largest axis scale
+  const float scale = std::max({glm::length(glm::vec3(objToWorld[0])), glm::length(glm::vec3(objToWorld[1])),
+                                glm::length(glm::vec3(objToWorld[2]))});
+  inst.reach = data_.styleMargin * scale;
+  return true;
+}
+
+void HairMeshGpu::lod(GroomInstanceGpu& inst, const cl::Buffer& view, Profiler* profiler) {
+  LodStage::Params lp;
+  lp.groom = &inst.groom;
+  lp.view = &view;
+  lp.bundles = &bundles_;
+  lp.vertices = &vertices_;
+  lp.reach = inst.reach;
+  lp.lod = &inst.lod;
+  lp.counts = &inst.counts;
+  lp.offsets = &inst.offsets;
+  lp.bundleCount = static_cast<std::uint32_t>(data_.bundles.size());
+  lp.vertexTotal = data_.vertices.size();
+  stages_.lod.enqueue(lp, profiler);
+}
+
+void HairMeshGpu::raster(GroomInstanceGpu& inst, const StrandRaster& r, Profiler* profiler) {
+  stages_.strands.raster(inputs(inst), r, profiler);
+}
+
+void HairMeshGpu::opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands, Profiler* profiler) {
+  stages_.strands.opacity(inputs(inst), o, strands, profiler);
+}
+
+void HairMeshGpu::useAo(bool on) {
+  if (aoUploaded_ == on) return;
+  std::vector<gpu::ClhMeshVertex> v = data_.vertices;
+  for (std::size_t i = 0; i < v.size(); ++i) v[i].tan[3] = on ? ao_[i] : 1.0f;
+  upload(dev_, vertices_, v.data(), v.size());
+  aoUploaded_ = on;
+}
+
+// lod = 1: full detail (the LOD pass with LOD off and an unbounded reach keeps every
+// bundle); lod < 1: every bundle at that LOD value, records computed here.
+HairMeshGpu::Exported HairMeshGpu::exportOnDevice(GroomInstanceGpu& inst, float lod) {
+  inst.params.lod_enabled = 0;
+  upload(dev_, inst.groom, &inst.params, 1);
+  Exported e;
+  const std::size_t B = data_.bundles.size();
+  if (lod >= 1.0f) {
+    const gpu::ClhViewGpu v = makeView(Camera{}, 1, 1);
+    cl::Buffer view = makeBuffer<gpu::ClhViewGpu>(dev_, "export view parameters", 1, &v);
+    inst.reach = 1e30f;
+    this->lod(inst, view, nullptr);
+    e.total = readTotal(inst);
+    if (e.total != data_.totalStrands)
+      throw Error("strand export: the LOD pass kept " + std::to_string(e.total) + " of " +
+                  std::to_string(data_.totalStrands) + " strands");
+  } else {
+    const HairMesh& mesh = *mesh_;
+    std::vector<cl_uint4> records(B);
+    std::vector<cl_uint> offsets(B + 1, 0);
+    const auto layers = static_cast<gpu::clh_u32>(mesh.layerCount);
+    const gpu::clh_u32 cmax = fullDetailControlPoints(mesh);
+    const float gamma = gpu::clh_lod_morph(lod, layers, cmax, mesh.lod.morphWindow);
+    std::uint32_t gammaBits, lodBits;
+    std::memcpy(&gammaBits, &gamma, 4);
+    std::memcpy(&lodBits, &lod, 4);
+    for (std::size_t b = 0; b < B; ++b) {
+      const gpu::ClhBundle& bundle = data_.bundles[b];
+      gpu::clh_u32 n = gpu::clh_lod_strands(lod, bundle.strand_count, bundle.lod_delta);
+      records[b] = {{n, gpu::clh_lod_control_points(lod, layers, cmax), lodBits, gammaBits}};
+      offsets[b + 1] = offsets[b] + n;
+    }
+    e.total = offsets[B];
+    upload(dev_, inst.lod, records.data(), B);
+    upload(dev_, inst.offsets, offsets.data(), B + 1);
+  }
+  if (e.total == 0) return e;
+  const std::size_t slots = static_cast<std::size_t>(e.total) * CLH_MAX_CONTROL_POINTS;
+  e.points = makeBuffer<cl_float4>(dev_, "exported strand points", slots);
+  e.tangents = makeBuffer<cl_float4>(dev_, "exported strand tangents", slots);
+  e.counts = makeBuffer<cl_uint>(dev_, "exported strand point counts", e.total);
+  stages_.strands.exportStrands(inputs(inst), e.total, e.points, e.tangents, e.counts, nullptr);
+  return e;
+}
+
+StrandSet HairMeshGpu::exportStrands(float lod) {
+  std::unique_ptr<GroomInstanceGpu> inst = makeInstance();
+  Exported e = exportOnDevice(*inst, lod);
+  StrandSet out;
+  const std::uint32_t total = e.total;
+  if (total == 0) return out;
+  const std::size_t slots = static_cast<std::size_t>(total) * CLH_MAX_CONTROL_POINTS;
+  std::vector<cl_float4> p(slots), t(slots);
+  out.pointCounts.resize(total);
+  readBack(dev_, "exported strands", e.points, p.data(), slots);
+  readBack(dev_, "exported strands", e.tangents, t.data(), slots);
+  readBack(dev_, "exported strands", e.counts, out.pointCounts.data(), total);
+  std::vector<cl_uint> offsets(data_.bundles.size() + 1);
+  readBack(dev_, "strand offsets", inst->offsets, offsets.data(), offsets.size());
+  out.bundleOf.resize(total);
+  for (std::size_t b = 0; b + 1 < offsets.size(); ++b)
+    for (cl_uint i = offsets[b]; i < offsets[b + 1] && i < total; ++i) out.bundleOf[i] = static_cast<std::uint32_t>(b);
+  for (std::uint32_t s = 0; s < total; ++s) {
+    const std::size_t base = static_cast<std::size_t>(s) * CLH_MAX_CONTROL_POINTS;
+    for (std::uint32_t k = 0; k < out.pointCounts[s] && k < CLH_MAX_CONTROL_POINTS; ++k) {
+      const cl_float4& q = p[base + k];
+      const cl_float4& tq = t[base + k];
+      out.points.insert(out.points.end(), {q.s[0], q.s[1], q.s[2]});
+      out.tangents.insert(out.tangents.end(), {tq.s[0], tq.s[1], tq.s[2]});
+      out.w.push_back(q.s[3]);
+    }
+  }
+  return out;
+}
+
+// AO per layer vertex (kernels/ao.cl): a sample of the groom's strands fills a density
+// grid of fibre extinction, then every vertex averages the visibility of 64 directions.
+std::vector<float> HairMeshGpu::bakeAo(const HairMesh& mesh, GroomStages& stages) {
+  constexpr std::int64_t kSampleStrands = 20000;
+  constexpr int kGrid = 64;
+  auto sample = std::make_shared<HairMesh>(mesh);
+  sample->strandCount = std::min<std::int64_t>(mesh.strandCount, kSampleStrands);
+  sample->controlPoints = std::min(mesh.controlPoints, 33);
+  HairMeshGpu g(sample, stages, false);
+  const std::size_t vertexTotal = g.data_.vertices.size();
+  std::vector<float> ao(vertexTotal, 1.0f);
+  if (sample->strandCount == 0) return ao;
+  std::unique_ptr<GroomInstanceGpu> inst = g.makeInstance();
+  Exported e = g.exportOnDevice(*inst, 1.0f);
+  if (e.total == 0) return ao;
+  const glm::vec3 lo = g.data_.boundsMin, hi = g.data_.boundsMax;
+  const float voxel = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}) / kGrid * 1.02f;
+  AoStage::Grid grid;
+  grid.dims = {{static_cast<cl_uint>(std::ceil((hi.x - lo.x) / voxel)) + 1,
+                static_cast<cl_uint>(std::ceil((hi.y - lo.y) / voxel)) + 1,
+                static_cast<cl_uint>(std::ceil((hi.z - lo.z) / voxel)) + 1, 0}};
+  grid.lo = {{lo.x, lo.y, lo.z, voxel}};
+  // each sampled strand stands for total / sampled strands of the real groom
+  const float represented = static_cast<float>(mesh.strandCount) / static_cast<float>(sample->strandCount);
+  grid.scale = mesh.appearance.strandWidth * represented / (voxel * voxel * voxel);
+  AoStage::Strands strands;
+  strands.points = &e.points;
+  strands.counts = &e.counts;
+  strands.total = e.total;
+  AoStage::Mesh target;
+  target.vertices = &g.vertices_;
+  target.bundles = &g.bundles_;
+  target.vertexTotal = static_cast<std::uint32_t>(vertexTotal);
+  target.bundleCount = static_cast<std::uint32_t>(g.data_.bundles.size());
+  target.rootVertices = static_cast<std::uint32_t>(mesh.vertexCount);
+  return stages.ao.bake(strands, grid, target);
+}
+
+}  // namespace clhair

@@ -1,0 +1,74 @@
+// hair_mesh_gpu.h — a hair mesh on the device (GroomGpu): its layer vertices and bundle
+// records (host/groom/groom_data.h), AO baked on the device when the mesh has none, and
+// per instance the LOD records of kernels/lod.cl. Strands are generated per pass by
+// kernels/strands.cl from these tables and the shared blue-noise root sets.
+#pragma once
+
+#include <map>
+#include <memory>
+
+#include "clhair/hair_mesh.h"
+#include "groom/blue_noise.h"
+#include "groom/groom_data.h"
+#include "groom/groom_gpu.h"
+
+namespace clhair {
+
+// Root positions in a bundle's face (progressive blue noise), one pair of sets per size:
+// a groom uses the smallest power of two (at least 1024) that covers its largest bundle,
+// so its strands never depend on which other grooms were loaded before it (a set of 2048
+// is not an extension of the set of 1024).
+class RootSetsGpu {
+ public:
+  struct Set {
+    std::uint32_t size = 0;
+    cl::Buffer quad, triangle;  // float2[size] each
+  };
+  const Set& forBundle(Device::Impl& dev, std::uint32_t strands);
+
+ private:
+  std::map<std::uint32_t, Set> sets_;
+};
+
+class HairMeshGpu final : public GroomGpu {
+ public:
+  // bakeAo: compute AO on the device when `mesh` carries none (AO bakes themselves and
+  // strand export do not need it).
+  HairMeshGpu(std::shared_ptr<const HairMesh> mesh, GroomStages& stages, bool bakeAo);
+
+  bool prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld, const ViewPass& pass) override;
+  void lod(GroomInstanceGpu& inst, const cl::Buffer& view, Profiler* profiler) override;
+  std::uint32_t strandCount() const override { return static_cast<std::uint32_t>(data_.totalStrands); }
+  void raster(GroomInstanceGpu& inst, const StrandRaster& r, Profiler* profiler) override;
+  void opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands, Profiler* profiler) override;
+  StrandSet exportStrands(float lod) override;
+  glm::vec3 boundsMin() const override { return data_.boundsMin; }
+  glm::vec3 boundsMax() const override { return data_.boundsMax; }
+  void useAo(bool on) override;
+
+  // AO per layer vertex of `mesh` (1 = open), computed on the device from a sample of its
+  // own strands (kernels/ao.cl).
+  static std::vector<float> bakeAo(const HairMesh& mesh, GroomStages& stages);
+
+ private:
+  // The exported strands of one instance: CLH_MAX_CONTROL_POINTS slots per strand.
+  struct Exported {
+    std::uint32_t total = 0;
+    cl::Buffer points, tangents, counts;
+  };
+  Exported exportOnDevice(GroomInstanceGpu& inst, float lod);
+  std::unique_ptr<GroomInstanceGpu> makeInstance() override;
+  std::uint64_t sharedBytes() const override;
+  StrandStage::Inputs inputs(const GroomInstanceGpu& inst) const;
+
+  std::shared_ptr<const HairMesh> mesh_;
+  GroomStages& stages_;
+  GroomData data_;
+  std::vector<float> ao_;    // baked or given AO per layer vertex
+  bool aoUploaded_ = true;   // the vertex buffer holds ao_ (else AO = 1)
+  gpu::ClhGroomGpu base_{};  // the view-independent parameter fields
+  cl::Buffer vertices_, bundles_;
+  const RootSetsGpu::Set* roots_ = nullptr;
+};
+
+}  // namespace clhair

@@ -1,0 +1,192 @@
+// strand_file_gpu.cpp — see strand_file_gpu.h.
+#include "groom/strand_file_gpu.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include <glm/matrix.hpp>
+
+#include "cl/buffers.h"
+#include "clhair/lod_math.h"
+#include "frame/view_math.h"
+#include "groom/groom_data.h"
+
+namespace clhair {
+
+StrandFileGpu::StrandFileGpu(std::shared_ptr<const StrandGroom> groom, GroomStages& stages)
+    : GroomGpu(stages.dev), groom_(std::move(groom)), stages_(stages) {
+  const StrandGroom& sg = *groom_;
+  const std::string what = "groom \"" + sg.name + "\"";
+  validateStrandGroom(sg, what);
+  data_ = prepareExplicit(sg);
+  ExplicitData& d = data_;
+  gpu::ClhGroomGpu& p = base_;
+  std::memset(&p, 0, sizeof(p));
+  {
+    // appearance and LOD fields exactly as a hair mesh fills them (groom_data.cpp), from a
+    // mesh that carries only those; no styling
+    HairMesh look;
+    look.layerCount = 2;
+    look.seed = sg.seed;
+    look.appearance = sg.appearance;
+    look.lod = sg.lod;
+    fillGroomParams(look, GroomData{}, p);
+  }
+  p.bundle_count = static_cast<gpu::clh_u32>(d.chunks.size());
+  p.layer_count = 0;
+  p.vertex_count = 0;
+  p.has_tangents = 0;
+  p.control_points = CLH_MAX_CONTROL_POINTS;  // C_full of the chunk LOD: step 1
+  p.total_strands = static_cast<gpu::clh_u32>(d.totalStrands);
+  const std::size_t K = d.chunks.size();
+  // per-point file colour and thickness follow the points in the same buffer
+  // (kernels/strands_explicit.cl reads them at point_count + k)
+  p.look[2] = d.fileColor ? 1.0f : 0.0f;
+  if (!d.fileLook.empty()) d.points.insert(d.points.end(), d.fileLook.begin(), d.fileLook.end());
+  std::vector<glm::vec4>().swap(d.fileLook);
+  pointWords_ = d.points.size();
+  points_ = makeBuffer<cl_float4>(dev_, what + " strand points (" + std::to_string(d.totalPoints) + ")", d.points.size(),
+                                  reinterpret_cast<const cl_float4*>(d.points.data()));
+  strandOffsets_ = makeBuffer(dev_, what + " strand offsets", d.strandOffsets.size(), d.strandOffsets.data());
+  uv_ = d.uv.empty() ? makeBuffer<cl_uint>(dev_, what + " root uv", 1)
+                     : makeBuffer(dev_, what + " root uv", d.uv.size(), d.uv.data());
+  chunks_ = makeBuffer<cl_uint4>(dev_, what + " chunk table", K, reinterpret_cast<const cl_uint4*>(d.chunks.data()));
+  chunkBounds_ = makeBuffer<cl_float4>(dev_, what + " chunk bounds", 2 * K,
+                                       reinterpret_cast<const cl_float4*>(d.chunkBounds.data()));
+  std::vector<glm::vec4>().swap(d.points);  // on the device now
+}
+
+std::unique_ptr<GroomInstanceGpu> StrandFileGpu::makeInstance() {
+  auto inst = std::make_unique<GroomInstanceGpu>();
+  const std::string what = "groom \"" + groom_->name + "\"";
+  const std::size_t K = data_.chunks.size();
+  inst->params = base_;
+  inst->records = static_cast<std::uint32_t>(K);
+  inst->groom = makeBuffer<gpu::ClhGroomGpu>(dev_, what + " parameters", 1, &inst->params);
+  inst->lod = makeBuffer<cl_uint4>(dev_, what + " LOD records", K);
+  inst->counts = makeBuffer<cl_uint>(dev_, what + " strand counts", 2 * K);
+  inst->offsets = makeBuffer<cl_uint>(dev_, what + " strand offsets per chunk", K + 2);
+  return inst;
+}
+
+std::uint64_t StrandFileGpu::sharedBytes() const {
+  std::uint64_t sum = 0;
+  for (const cl::Buffer* b : {&points_, &strandOffsets_, &uv_, &chunks_, &chunkBounds_}) sum += bufferBytes(*b);
+  return sum;
+}
+
+ExplicitStage::Inputs StrandFileGpu::inputs(GroomInstanceGpu& inst) const {
+  ExplicitStage::Inputs in;
+  in.groom = &inst.groom;
+  in.points = &points_;
+  in.strandOffsets = &strandOffsets_;
+  in.uv = &uv_;
+  in.chunks = &chunks_;
+  in.chunkBounds = &chunkBounds_;
+  in.lod = &inst.lod;
+  in.counts = &inst.counts;
+  in.offsets = &inst.offsets;
+  in.chunkCount = static_cast<std::uint32_t>(data_.chunks.size());
+  in.strandCount = static_cast<std::uint32_t>(data_.totalStrands);
+  in.pointCount = static_cast<std::uint32_t>(data_.totalPoints);
+  in.pointWords = pointWords_;
+  in.hasUv = !data_.uv.empty();
+  return in;
+}
+
+bool StrandFileGpu::prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld, const ViewPass& pass) {
+  gpu::ClhGroomGpu& p = inst.params;
+  const glm::mat4 o2v = pass.worldToView * objToWorld;
+  storeMat34(p.obj_to_view, o2v);
+  storeMat34(p.obj_to_world, objToWorld);
+  if (!depthRange(data_.boundsMin, data_.boundsMax, o2v, p.depth_near, p.depth_far)) return false;
+  if (pass.nearZ > 0.0f) {
+    p.depth_near = pass.nearZ;
+    p.depth_far = pass.farZ;
+  }
+  const StrandGroom& sg = *groom_;
+  p.lod_enabled = pass.lod < 0 ? (sg.lod.enabled ? 1u : 0u) : static_cast<gpu::clh_u32>(pass.lod);
+  p.lod_lambda = sg.lod.lambda * pass.lodLambdaScale;
+  p.hit_diameter_px = pass.trueWidth ? 0.0f : sg.appearance.minHitDiameterPx;
+  p.shadow_lod_correction = pass.shadowLodCorrection ? 1u : 0u;
+  if (data_.fileThickness) {
+    // file thickness is in object units: scale it like the points (uniform part)
+    const float scale = std::cbrt(std::fabs(glm::determinant(glm::mat3(objToWorld))));
+    p.look[3] = scale;
+    p.strand_width = std::max(data_.meanThickness * scale, 1e-9f);  // LOD and shadow estimates
+  }
+  upload(dev_, inst.groom, &p, 1);
+  return true;
+}
+
+void StrandFileGpu::lod(GroomInstanceGpu& inst, const cl::Buffer& view, Profiler* profiler) {
+  stages_.explicitStrands.lod(inputs(inst), view, profiler);
+}
+
+void StrandFileGpu::raster(GroomInstanceGpu& inst, const StrandRaster& r, Profiler* profiler) {
+  stages_.explicitStrands.raster(inputs(inst), r, profiler);
+}
+
+void StrandFileGpu::opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands,
+                            Profiler* profiler) {
+  stages_.explicitStrands.opacity(inputs(inst), o, strands, profiler);
+}
+
+// The strands as drawn at LOD value `lod`, every chunk at that value: the records
+// lod_chunks would write, computed here.
+StrandSet StrandFileGpu::exportStrands(float lod) {
+  std::unique_ptr<GroomInstanceGpu> inst = makeInstance();
+  inst->params.lod_enabled = 0;
+  upload(dev_, inst->groom, &inst->params, 1);
+  const std::size_t K = data_.chunks.size();
+  const gpu::clh_u32 cfull = CLH_MAX_CONTROL_POINTS;
+  const gpu::clh_u32 C = gpu::clh_lod_control_points(lod, 3u, cfull);
+  const float gamma = gpu::clh_lod_morph(lod, 3u, cfull, groom_->lod.morphWindow);
+  std::uint32_t lodBits, gammaBits;
+  std::memcpy(&lodBits, &lod, 4);
+  std::memcpy(&gammaBits, &gamma, 4);
+  std::vector<cl_uint4> records(K);
+  std::vector<cl_uint> offsets(K + 2, 0);
+  for (std::size_t c = 0; c < K; ++c) {
+    const glm::uvec4& chunk = data_.chunks[c];
+    float delta;
+    std::memcpy(&delta, &chunk.z, 4);
+    const gpu::clh_u32 n = gpu::clh_lod_strands(lod, chunk.y, delta);
+    records[c] = {{n, C, lodBits, gammaBits}};
+    offsets[c + 1] = offsets[c] + n;
+  }
+  offsets[K + 1] = static_cast<cl_uint>(data_.totalStrands);
+  upload(dev_, inst->lod, records.data(), K);
+  upload(dev_, inst->offsets, offsets.data(), K + 2);
+  const std::uint32_t total = offsets[K];
+  const std::size_t P = data_.totalPoints, S = data_.totalStrands;
+  cl::Buffer points = makeBuffer<cl_float4>(dev_, "exported strand points", P);
+  cl::Buffer tangents = makeBuffer<cl_float4>(dev_, "exported strand tangents", P);
+  std::vector<cl_uint> counts(S, 0);
+  cl::Buffer countBuf = makeBuffer<cl_uint>(dev_, "exported strand point counts", S, counts.data());
+  stages_.explicitStrands.exportStrands(inputs(*inst), total, points, tangents, countBuf, nullptr);
+  std::vector<cl_float4> p(P), t(P);
+  readBack(dev_, "exported strands", points, p.data(), P);
+  readBack(dev_, "exported strands", tangents, t.data(), P);
+  readBack(dev_, "exported strands", countBuf, counts.data(), S);
+  StrandSet out;
+  for (std::size_t st = 0; st < S; ++st) {
+    const std::uint32_t M = counts[st];
+    if (M == 0) continue;
+    const std::uint32_t first = data_.strandOffsets[st];
+    out.pointCounts.push_back(M);
+    out.bundleOf.push_back(static_cast<std::uint32_t>(st / kChunkStrands));
+    out.sourceStrand.push_back(data_.sourceStrand[st]);
+    for (std::uint32_t j = 0; j < M; ++j) {
+      const cl_float4& q = p[first + j];
+      const cl_float4& tq = t[first + j];
+      out.points.insert(out.points.end(), {q.s[0], q.s[1], q.s[2]});
+      out.tangents.insert(out.tangents.end(), {tq.s[0], tq.s[1], tq.s[2]});
+      out.w.push_back(q.s[3]);
+    }
+  }
+  return out;
+}
+
+}  // namespace clhair

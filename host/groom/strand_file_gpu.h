@@ -1,0 +1,41 @@
+// strand_file_gpu.h — stored strands on the device (GroomGpu): the strand tables of
+// host/groom/explicit_data.h in LOD order (points, per-strand offsets, root uv, chunk
+// table and bounds) and per instance the chunk LOD records of kernels/lod.cl
+// (lod_chunks). kernels/strands_explicit.cl draws them.
+#pragma once
+
+#include <memory>
+
+#include "clhair/strand_groom.h"
+#include "groom/explicit_data.h"
+#include "groom/groom_gpu.h"
+
+namespace clhair {
+
+class StrandFileGpu final : public GroomGpu {
+ public:
+  StrandFileGpu(std::shared_ptr<const StrandGroom> groom, GroomStages& stages);
+
+  bool prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld, const ViewPass& pass) override;
+  void lod(GroomInstanceGpu& inst, const cl::Buffer& view, Profiler* profiler) override;
+  std::uint32_t strandCount() const override { return static_cast<std::uint32_t>(data_.totalStrands); }
+  void raster(GroomInstanceGpu& inst, const StrandRaster& r, Profiler* profiler) override;
+  void opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands, Profiler* profiler) override;
+  StrandSet exportStrands(float lod) override;
+  glm::vec3 boundsMin() const override { return data_.boundsMin; }
+  glm::vec3 boundsMax() const override { return data_.boundsMax; }
+
+ private:
+  std::unique_ptr<GroomInstanceGpu> makeInstance() override;
+  std::uint64_t sharedBytes() const override;
+  ExplicitStage::Inputs inputs(GroomInstanceGpu& inst) const;
+
+  std::shared_ptr<const StrandGroom> groom_;
+  GroomStages& stages_;
+  ExplicitData data_;          // host copy without the points (they live on the device)
+  std::size_t pointWords_ = 0; // float4 in points_: the points, then file colours
+  gpu::ClhGroomGpu base_{};
+  cl::Buffer points_, strandOffsets_, uv_, chunks_, chunkBounds_;
+};
+
+}  // namespace clhair

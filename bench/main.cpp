@@ -35,7 +35,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cl/device_impl.h"
-#include "stages/dispatch.h"
+#include "cl/dispatch.h"
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
 #include "clhair/strand_groom.h"

@@ -4,84 +4,12 @@
 // and then every groom in turn runs lod -> scan + sizing -> strands -> shade -> filter ->
 // composite over the same target. The pieces (host/frame/, host/groom/, host/stages/)
 // each own one job; this file only orders them and reads the frame back.
-#include "clhair/renderer.h"
-
-#include <cmath>
-#include <map>
+#include "renderer_impl.h"
 
 #include "cl/buffers.h"
-#include "cl/device_impl.h"
-#include "frame/render_target.h"
-#include "frame/scene_gpu.h"
-#include "frame/shadow_pass.h"
 #include "frame/view_math.h"
-#include "groom/groom_cache.h"
-#include "groom/hair_mesh_gpu.h"
-#include "groom/strand_file_gpu.h"
-#include "stages/ao_stage.h"
-#include "stages/composite_stage.h"
-#include "stages/filter_stage.h"
-#include "stages/shade_stage.h"
 
 namespace clhair {
-
-struct Renderer::Impl {
-  Device device;
-  Device::Impl& dev;
-  LodStage lod;
-  StrandStage strands;
-  ExplicitStage explicitStrands;
-  AoStage ao;
-  RootSetsGpu roots;
-  GroomStages stages;
-  GroomCache grooms;
-  ShadeStage shade;
-  FilterStage filter;
-  CompositeStage composite;
-  RenderTarget target;
-  SceneGpu scene;
-  ShadowPass shadows;
-  Profiler profiler;
-
-  explicit Impl(Device d)
-      : device(std::move(d)),
-        dev(*device.impl()),
-        lod(dev),
-        strands(dev),
-        explicitStrands(dev),
-        ao(dev),
-        stages{dev, lod, strands, explicitStrands, ao, roots},
-        grooms(stages),
-        shade(dev),
-        filter(dev),
-        composite(dev),
-        target(dev),
-        scene(dev),
-        shadows(dev) {}
-
-  // CPU devices: the benchmark's dispatch section (bench/README.md) measured read-back and
-  // over-launch level within noise on PoCL, persistent no better, and read-back launches
-  // exactly the drawn strands, so it is the CPU default. GPUs: over-launch avoids the host
-  // round trip between the pre-pass and the strand pass (a pipeline bubble per groom on a
-  // discrete GPU), and surplus work-groups leave after one load. Re-run
-  // `clhair_bench --only dispatch` on a GPU and change this if it disagrees.
-  DispatchMode resolveMode(DispatchMode m) const {
-    if (m != DispatchMode::Auto) return m;
-    return dev.info.isGpu ? DispatchMode::OverLaunch : DispatchMode::ReadBack;
-  }
-
-  // Every groom instance of the scene with its device form; the k-th instance of one
-  // groom gets instance slot k.
-  std::vector<GroomDraw> resolveGrooms(const Scene& s) {
-    std::vector<GroomDraw> draws;
-    std::map<const GroomGpu*, std::size_t> seen;
-    for (const GroomInstance& gi : s.grooms) {
-      GroomGpu& g = grooms.get(gi);
-      draws.push_back({&gi, &g, &g.instance(seen[&g]++)});
-    }
-    return draws;
-  }
-};
 
 Renderer::Renderer(Device device) : impl_(std::make_unique<Impl>(std::move(device))) {}
 Renderer::~Renderer() = default;
@@ -193,56 +121,5 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
   r.grooms.trim();
   return frame;
 }
-
-Frame Renderer::renderReference(const Scene& s, int spp) {
-  if (spp < 1 || spp > 65536) throw Error("reference: --spp " + std::to_string(spp) + " is outside 1..65536");
-  RenderOptions o;
-  o.lod = 0;
-  o.msaa = 1;
-  o.filter = 0;
-  o.trueWidth = true;  // no minimum hit diameter
-  Frame sum;
-  std::vector<double> acc;
-  for (int i = 0; i < spp; ++i) {
-    // R2 sequence (Roberts 2018) around the pixel center, first sample at the center
-    const double g = 1.32471795724474602596;
-    o.jitterX = static_cast<float>(std::fmod(0.5 + i / g, 1.0) - 0.5);
-    o.jitterY = static_cast<float>(std::fmod(0.5 + i / (g * g), 1.0) - 0.5);
-    Frame f = render(s, o);
-    if (i == 0) {
-      sum = f;
-      acc.assign(f.color.rgba.begin(), f.color.rgba.end());
-    } else {
-      for (std::size_t k = 0; k < acc.size(); ++k) acc[k] += f.color.rgba[k];
-      for (std::size_t k = 0; k < sum.depth.size(); ++k) sum.depth[k] = std::min(sum.depth[k], f.depth[k]);
-      for (std::size_t k = 0; k < sum.timings.size() && k < f.timings.size(); ++k) sum.timings[k].ms += f.timings[k].ms;
-    }
-  }
-  for (std::size_t k = 0; k < acc.size(); ++k) sum.color.rgba[k] = static_cast<float>(acc[k] / spp);
-  return sum;
-}
-
-StrandSet Renderer::generateStrands(const HairMesh& mesh, float lod) {
-  validateHairMesh(mesh, mesh.name);
-  if (!(lod > 0.0f && lod <= 1.0f)) throw Error("strand export: LOD value " + std::to_string(lod) + " is outside (0, 1]");
-  // the caller's mesh, borrowed for this call
-  HairMeshGpu g(std::shared_ptr<const HairMesh>(&mesh, [](const HairMesh*) {}), impl_->stages, false);
-  return g.exportStrands(lod);
-}
-
-StrandSet Renderer::generateStrands(const StrandGroom& groom, float lod) {
-  if (!(lod > 0.0f && lod <= 1.0f)) throw Error("strand export: LOD value " + std::to_string(lod) + " is outside (0, 1]");
-  StrandFileGpu g(std::shared_ptr<const StrandGroom>(&groom, [](const StrandGroom*) {}), impl_->stages);
-  return g.exportStrands(lod);
-}
-
-std::uint64_t Renderer::groomDeviceBytes(const GroomInstance& groom) { return impl_->grooms.get(groom).deviceBytes(); }
-
-std::vector<float> Renderer::bakeAmbientOcclusion(const HairMesh& mesh) {
-  validateHairMesh(mesh, mesh.name);
-  return HairMeshGpu::bakeAo(mesh, impl_->stages);
-}
-
-void Renderer::releaseGrooms() { impl_->grooms.releaseUnused(); }
 
 }  // namespace clhair

@@ -147,10 +147,14 @@ HairMeshGpu::Exported HairMeshGpu::exportOnDevice(GroomInstanceGpu& inst, float 
   Exported e;
   const std::size_t B = data_.bundles.size();
   if (lod >= 1.0f) {
+    // The view buffer outlives the pass: Oclgrind 21.10 may hand the memory of a buffer
+    // released while its kernel is still queued to the next allocation (here the exported
+    // points) and then mark it uninitialised when the release completes.
     const gpu::ClhViewGpu v = makeView(Camera{}, 1, 1);
-    cl::Buffer view = makeBuffer<gpu::ClhViewGpu>(dev_, "export view parameters", 1, &v);
+    if (!exportView_()) exportView_ = makeBuffer<gpu::ClhViewGpu>(dev_, "export view parameters", 1);
+    upload(dev_, exportView_, &v, 1);
     inst.reach = 1e30f;
-    this->lod(inst, view, nullptr);
+    this->lod(inst, exportView_, nullptr);
     e.total = readTotal(inst);
     if (e.total != data_.totalStrands)
       throw Error("strand export: the LOD pass kept " + std::to_string(e.total) + " of " +

@@ -68,6 +68,7 @@ class HairMeshGpu final : public GroomGpu {
   bool aoUploaded_ = true;   // the vertex buffer holds ao_ (else AO = 1)
   gpu::ClhGroomGpu base_{};  // the view-independent parameter fields
   cl::Buffer vertices_, bundles_;
+  cl::Buffer exportView_;  // ClhViewGpu of strand export passes
   const RootSetsGpu::Set* roots_ = nullptr;
 };
 

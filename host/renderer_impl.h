@@ -1,0 +1,82 @@
+// renderer_impl.h — what a Renderer owns: the stages, the grooms on the device (cache,
+// shared root sets), the render target, the scene on the device, the shadow pass and the
+// profiler. renderer.cpp runs the frame loop over them; renderer_tools.cpp holds the
+// calls that are not a frame (reference, strand export, AO bake, groom queries).
+#pragma once
+
+#include <map>
+#include <vector>
+
+#include "cl/device_impl.h"
+#include "clhair/renderer.h"
+#include "frame/render_target.h"
+#include "frame/scene_gpu.h"
+#include "frame/shadow_pass.h"
+#include "groom/groom_cache.h"
+#include "groom/hair_mesh_gpu.h"
+#include "stages/ao_stage.h"
+#include "stages/composite_stage.h"
+#include "stages/filter_stage.h"
+#include "stages/shade_stage.h"
+
+namespace clhair {
+
+struct Renderer::Impl {
+  Device device;
+  Device::Impl& dev;
+  LodStage lod;
+  StrandStage strands;
+  ExplicitStage explicitStrands;
+  AoStage ao;
+  RootSetsGpu roots;
+  GroomStages stages;
+  GroomCache grooms;
+  ShadeStage shade;
+  FilterStage filter;
+  CompositeStage composite;
+  RenderTarget target;
+  SceneGpu scene;
+  ShadowPass shadows;
+  Profiler profiler;
+
+  explicit Impl(Device d)
+      : device(std::move(d)),
+        dev(*device.impl()),
+        lod(dev),
+        strands(dev),
+        explicitStrands(dev),
+        ao(dev),
+        stages{dev, lod, strands, explicitStrands, ao, roots},
+        grooms(stages),
+        shade(dev),
+        filter(dev),
+        composite(dev),
+        target(dev),
+        scene(dev),
+        shadows(dev) {}
+
+  // CPU devices: the benchmark's dispatch section (bench/README.md) measured read-back and
+  // over-launch level within noise on PoCL, persistent no better, and read-back launches
+  // exactly the drawn strands, so it is the CPU default. GPUs: over-launch avoids the host
+  // round trip between the pre-pass and the strand pass (a pipeline bubble per groom on a
+  // discrete GPU), and surplus work-groups leave after one load. Re-run
+  // `clhair_bench --only dispatch` on a GPU and change this if it disagrees.
+  DispatchMode resolveMode(DispatchMode m) const {
+    if (m != DispatchMode::Auto) return m;
+    return dev.info.isGpu ? DispatchMode::OverLaunch : DispatchMode::ReadBack;
+  }
+
+  // Every groom instance of the scene with its device form; the k-th instance of one
+  // groom gets instance slot k.
+  std::vector<GroomDraw> resolveGrooms(const Scene& s) {
+    std::vector<GroomDraw> draws;
+    std::map<const GroomGpu*, std::size_t> seen;
+    for (const GroomInstance& gi : s.grooms) {
+      GroomGpu& g = grooms.get(gi);
+      draws.push_back({&gi, &g, &g.instance(seen[&g]++)});
+    }
+    return draws;
+  }
+};
+
+}  // namespace clhair

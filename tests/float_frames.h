@@ -7,24 +7,27 @@
 // Other devices are listed as not compared; with none compared the test is skipped.
 #pragma once
 
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
 #include <cstring>
 #include <string>
 #include <vector>
-
-#include <OpenImageIO/imageio.h>
-#include <gtest/gtest.h>
 
 #include "clhair/device.h"
 #include "test_util.h"
 
 namespace clhair::test {
 
-inline std::string renderFloatPath() { return envOr("CLHAIR_RENDER_FLOAT", CLHAIR_TEST_RENDER_FLOAT); }
+inline std::string renderFloatPath() {
+  return envOr("CLHAIR_RENDER_FLOAT", CLHAIR_TEST_RENDER_FLOAT);
+}
 
 // The variables that set the number of threads `d`'s runtime runs work-groups on (none:
 // not known).
 inline std::vector<std::string> threadCountVariables(const DeviceInfo& d) {
-  if (d.platformName.find("Portable Computing Language") != std::string::npos) return {"POCL_MAX_PTHREAD_COUNT"};
+  if (d.platformName.find("Portable Computing Language") != std::string::npos)
+    return {"POCL_MAX_PTHREAD_COUNT"};
   if (!d.isGpu && d.platformName.find("Intel(R) OpenCL") != std::string::npos)
     return {"SYCL_CPU_NUM_CUS", "DPCPP_CPU_NUM_CUS"};
   return {};
@@ -58,7 +61,8 @@ inline void expectBitIdenticalAcrossThreadCounts(const std::string& scene, const
   std::string compared, notCompared;
   for (const DeviceInfo& d : Device::list()) {
     if (!d.int64Atomics) continue;
-    const std::string device = std::to_string(d.platformIndex) + ":" + std::to_string(d.deviceIndex);
+    const std::string device =
+        std::to_string(d.platformIndex) + ":" + std::to_string(d.deviceIndex);
     const std::vector<std::string> variables = threadCountVariables(d);
     const std::string variable = variables.empty() ? "" : variables.front();
     if (variables.empty()) {
@@ -72,8 +76,9 @@ inline void expectBitIdenticalAcrossThreadCounts(const std::string& scene, const
                               std::to_string(d.deviceIndex) + "-t" + std::to_string(t) + ".exr";
       std::string env;
       for (const std::string& v : variables) env += v + "=" + std::to_string(t) + " ";
-      const CommandResult r = runCommand(env + "CLHAIR_DEVICE=" + device + " " + quote(renderFloatPath()) + " " +
-                                         quote(scene) + " " + quote(out));
+      const CommandResult r =
+          runCommand(env + "CLHAIR_DEVICE=" + device + " " + quote(renderFloatPath()) + " " +
+                     quote(scene) + " " + quote(out));
       ASSERT_EQ(r.exitCode, 0) << d.name << ", " << variable << "=" << t << ":\n" << r.output;
       int w = 0, h = 0;
       std::vector<float> frame = readFloatFrame(out, &w, &h);
@@ -89,10 +94,11 @@ inline void expectBitIdenticalAcrossThreadCounts(const std::string& scene, const
       std::size_t differ = 0, at = 0;
       for (std::size_t i = 0; i < first.size(); ++i)
         if (std::memcmp(&first[i], &frame[i], sizeof(float)) != 0 && differ++ == 0) at = i;
-      EXPECT_EQ(differ, 0u) << d.name << ": " << variable << "=" << t << " against " << variable << "="
-                            << threads.front() << ": " << differ << " floats differ, the first at pixel ("
-                            << (at / 5) % width << ", " << (at / 5) / width << ") channel " << "RGBAZ"[at % 5]
-                            << "; see " << out;
+      EXPECT_EQ(differ, 0u) << d.name << ": " << variable << "=" << t << " against " << variable
+                            << "=" << threads.front() << ": " << differ
+                            << " floats differ, the first at pixel (" << (at / 5) % width << ", "
+                            << (at / 5) / width << ") channel "
+                            << "RGBAZ"[at % 5] << "; see " << out;
     }
     compared += "\n  " + d.name + " (" + variable + ")";
   }

@@ -19,6 +19,9 @@
 // twice it or more.
 #pragma once
 
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -26,9 +29,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <OpenImageIO/imageio.h>
-#include <gtest/gtest.h>
 
 #include "clhair/error.h"
 #include "clhair/image.h"
@@ -76,7 +76,9 @@ inline double srgbDecode(double encoded) {
 }
 
 // The display value of a stored value (see the top of this file).
-inline double displayValue(double v, ImageEncoding e) { return e == ImageEncoding::Srgb8 ? v : srgbEncode(v); }
+inline double displayValue(double v, ImageEncoding e) {
+  return e == ImageEncoding::Srgb8 ? v : srgbEncode(v);
+}
 
 // Reads an image file keeping its stored encoding: 8-bit formats as codes / 255, float
 // formats as linear values (clhair::readImage would linearise the 8-bit ones).
@@ -86,7 +88,8 @@ inline StoredImage readStoredImage(const std::string& path) {
   const OIIO::ImageSpec spec = in->spec();
   const int channels = spec.nchannels;
   StoredImage s;
-  s.encoding = spec.format.basetype == OIIO::TypeDesc::UINT8 ? ImageEncoding::Srgb8 : ImageEncoding::Linear;
+  s.encoding =
+      spec.format.basetype == OIIO::TypeDesc::UINT8 ? ImageEncoding::Srgb8 : ImageEncoding::Linear;
   std::vector<float> data(static_cast<std::size_t>(spec.width) * spec.height * channels);
   if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, data.data()))
     throw Error(path + ": reading pixels failed (" + in->geterror() + ")");
@@ -94,7 +97,8 @@ inline StoredImage readStoredImage(const std::string& path) {
   s.values.height = spec.height;
   s.values.rgba.assign(static_cast<std::size_t>(spec.width) * spec.height * 4, 1.0f);
   for (std::size_t p = 0; p < static_cast<std::size_t>(spec.width) * spec.height; ++p)
-    for (int c = 0; c < std::min(channels, 4); ++c) s.values.rgba[p * 4 + c] = data[p * channels + c];
+    for (int c = 0; c < std::min(channels, 4); ++c)
+      s.values.rgba[p * 4 + c] = data[p * channels + c];
   return s;
 }
 
@@ -135,23 +139,24 @@ inline std::string toleranceViolations(const ImageDifference& d, const ImageTole
   std::ostringstream out;
   if (d.alphaDiffers) out << "  alpha differs\n";
   if (d.largest > tol.maxDifference)
-    out << "  largest difference " << d.largest << " at (" << d.largestX << ", " << d.largestY << ") > "
-        << tol.maxDifference << "\n";
+    out << "  largest difference " << d.largest << " at (" << d.largestX << ", " << d.largestY
+        << ") > " << tol.maxDifference << "\n";
   if (d.fraction > tol.maxFraction)
-    out << "  " << 100.0 * d.fraction << " % of the pixels differ by more than " << tol.pixelThreshold << " > "
-        << 100.0 * tol.maxFraction << " %\n";
+    out << "  " << 100.0 * d.fraction << " % of the pixels differ by more than "
+        << tol.pixelThreshold << " > " << 100.0 * tol.maxFraction << " %\n";
   if (d.rmse > tol.maxRmse) out << "  RMSE " << d.rmse << " > " << tol.maxRmse << "\n";
   for (int c = 0; c < 3; ++c)
     if (std::fabs(d.meanBias[c]) > tol.maxMeanBias)
-      out << "  mean difference of channel " << "rgb"[c] << " " << d.meanBias[c] << ", beyond +-" << tol.maxMeanBias
-          << "\n";
+      out << "  mean difference of channel "
+          << "rgb"[c] << " " << d.meanBias[c] << ", beyond +-" << tol.maxMeanBias << "\n";
   return out.str();
 }
 
 inline std::string describe(const ImageDifference& d) {
   std::ostringstream out;
-  out << "largest " << d.largest << ", " << 100.0 * d.fraction << " % over the threshold, RMSE " << d.rmse
-      << ", mean difference (" << d.meanBias[0] << ", " << d.meanBias[1] << ", " << d.meanBias[2] << ")";
+  out << "largest " << d.largest << ", " << 100.0 * d.fraction << " % over the threshold, RMSE "
+      << d.rmse << ", mean difference (" << d.meanBias[0] << ", " << d.meanBias[1] << ", "
+      << d.meanBias[2] << ")";
   return out.str();
 }
 
@@ -162,13 +167,15 @@ inline std::string outputDir() {
   std::string name = info ? std::string(info->test_suite_name()) + "." + info->name() : "misc";
   for (char& c : name)
     if (c == '/') c = '_';
-  std::filesystem::path p = std::filesystem::path(envOr("CLHAIR_TEST_OUTPUT", CLHAIR_TEST_OUTPUT_DIR)) / name;
+  std::filesystem::path p =
+      std::filesystem::path(envOr("CLHAIR_TEST_OUTPUT", CLHAIR_TEST_OUTPUT_DIR)) / name;
   std::filesystem::create_directories(p);
   return p.string();
 }
 
 // Writes `s` so an image viewer shows what was compared (an Srgb8 image keeps its codes).
-inline void writeStoredImage(const StoredImage& s, const std::string& pathWithoutExtension, std::string* written) {
+inline void writeStoredImage(const StoredImage& s, const std::string& pathWithoutExtension,
+                             std::string* written) {
   Image linear = s.values;
   if (s.encoding == ImageEncoding::Srgb8)
     for (std::size_t i = 0; i < linear.rgba.size(); ++i)
@@ -177,15 +184,17 @@ inline void writeStoredImage(const StoredImage& s, const std::string& pathWithou
   writeImage(linear, *written);
 }
 
-inline ::testing::AssertionResult imagesNear(const char* expectedExpr, const char* actualExpr, const char*,
-                                             const StoredImage& expected, const StoredImage& actual,
-                                             const ImageTolerance& tol) {
-  if (expected.values.width != actual.values.width || expected.values.height != actual.values.height)
-    return ::testing::AssertionFailure() << actualExpr << " is " << actual.values.width << "x" << actual.values.height
-                                         << ", " << expectedExpr << " " << expected.values.width << "x"
-                                         << expected.values.height;
+inline ::testing::AssertionResult imagesNear(const char* expectedExpr, const char* actualExpr,
+                                             const char*, const StoredImage& expected,
+                                             const StoredImage& actual, const ImageTolerance& tol) {
+  if (expected.values.width != actual.values.width ||
+      expected.values.height != actual.values.height)
+    return ::testing::AssertionFailure()
+           << actualExpr << " is " << actual.values.width << "x" << actual.values.height << ", "
+           << expectedExpr << " " << expected.values.width << "x" << expected.values.height;
   if (expected.encoding != actual.encoding)
-    return ::testing::AssertionFailure() << expectedExpr << " and " << actualExpr << " are stored differently";
+    return ::testing::AssertionFailure()
+           << expectedExpr << " and " << actualExpr << " are stored differently";
   const ImageDifference d = measureDifference(expected, actual, tol.pixelThreshold);
   const std::string violations = toleranceViolations(d, tol);
   if (violations.empty()) return ::testing::AssertionSuccess();
@@ -202,17 +211,19 @@ inline ::testing::AssertionResult imagesNear(const char* expectedExpr, const cha
       continue;
     }
     // the display value wanted, turned into the linear value the PNG writer encodes to it
-    const double shown = std::min(1.0, 0.5 * std::fabs(displayValue(actual.values.rgba[i], actual.encoding) -
-                                                      displayValue(expected.values.rgba[i], expected.encoding)) /
-                                           unit);
+    const double shown =
+        std::min(1.0, 0.5 *
+                          std::fabs(displayValue(actual.values.rgba[i], actual.encoding) -
+                                    displayValue(expected.values.rgba[i], expected.encoding)) /
+                          unit);
     diff.rgba[i] = static_cast<float>(srgbDecode(shown));
   }
   const std::string diffPath = dir + "/diff.png";
   writeImage(diff, diffPath);
-  return ::testing::AssertionFailure() << actualExpr << " differs from " << expectedExpr << " (" << describe(d)
-                                       << "):\n"
-                                       << violations << "  expected: " << expectedPath << "\n  actual:   "
-                                       << actualPath << "\n  diff:     " << diffPath;
+  return ::testing::AssertionFailure()
+         << actualExpr << " differs from " << expectedExpr << " (" << describe(d) << "):\n"
+         << violations << "  expected: " << expectedPath << "\n  actual:   " << actualPath
+         << "\n  diff:     " << diffPath;
 }
 
 #define EXPECT_IMAGES_NEAR(expected, actual, tolerance) \

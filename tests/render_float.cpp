@@ -8,12 +8,12 @@
 //
 // Prints the device's name on success; on failure one line "clhair_render_float: error:
 // ..." and exit code 1.
+#include <OpenImageIO/imageio.h>
+
 #include <cstdio>
 #include <exception>
 #include <string>
 #include <vector>
-
-#include <OpenImageIO/imageio.h>
 
 #include "clhair/device.h"
 #include "clhair/error.h"
@@ -32,7 +32,8 @@ int main(int argc, char** argv) {
     Renderer renderer(dev);
     const Frame f = renderer.render(scene);
     const std::size_t pixels = static_cast<std::size_t>(scene.width) * scene.height;
-    if (f.color.rgba.size() != 4 * pixels || f.depth.size() != pixels) throw Error("the frame has the wrong size");
+    if (f.color.rgba.size() != 4 * pixels || f.depth.size() != pixels)
+      throw Error("the frame has the wrong size");
     std::vector<float> rgbaz(5 * pixels);
     for (std::size_t p = 0; p < pixels; ++p) {
       for (int c = 0; c < 4; ++c) rgbaz[5 * p + c] = f.color.rgba[4 * p + c];
@@ -43,10 +44,10 @@ int main(int argc, char** argv) {
     spec.alpha_channel = 3;
     spec.z_channel = 4;
     auto out = OIIO::ImageOutput::create(argv[2]);
-    if (!out || !out->open(argv[2], spec) || !out->write_image(OIIO::TypeDesc::FLOAT, rgbaz.data()) ||
-        !out->close())
-      throw Error(std::string(argv[2]) + ": writing the frame failed (" + (out ? out->geterror() : OIIO::geterror()) +
-                  ")");
+    if (!out || !out->open(argv[2], spec) ||
+        !out->write_image(OIIO::TypeDesc::FLOAT, rgbaz.data()) || !out->close())
+      throw Error(std::string(argv[2]) + ": writing the frame failed (" +
+                  (out ? out->geterror() : OIIO::geterror()) + ")");
     std::printf("%s\n", dev.info().name.c_str());
     return 0;
   } catch (const std::exception& e) {

@@ -8,8 +8,8 @@
 // End to end: assets/scenes/default.json rendered at 320x180 against the same scene without
 // its grooms (camera pinned to the one the scene resolves to) must differ where the hair is
 // (more than 2 % of the pixels, some in the central region) and nowhere in the corners;
-// `clhair groom --preset tiny` writes the preset, which renders as the one built in memory; `clhair devices` lists a device
-// with 64-bit atomics.
+// `clhair groom --preset tiny` writes the preset, which renders as the one built in memory;
+// `clhair devices` lists a device with 64-bit atomics.
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -85,9 +85,10 @@ StoredImage scaled(const StoredImage& s, double scale) {
   for (std::size_t i = 0; i < out.values.rgba.size(); ++i) {
     if (i % 4 == 3) continue;
     const double v = out.values.rgba[i];
-    out.values.rgba[i] = static_cast<float>(s.encoding == ImageEncoding::Srgb8
-                                                ? std::lround(srgbEncode(std::min(1.0, srgbDecode(v) * scale)) * 255.0) / 255.0
-                                                : v * scale);
+    out.values.rgba[i] = static_cast<float>(
+        s.encoding == ImageEncoding::Srgb8
+            ? std::lround(srgbEncode(std::min(1.0, srgbDecode(v) * scale)) * 255.0) / 255.0
+            : v * scale);
   }
   return out;
 }
@@ -104,18 +105,20 @@ TEST_P(GoldenImage, CliRendersIt) {
     if (m.file == g.file) line = &m;
   ASSERT_NE(line, nullptr) << g.file << " is not in tests/golden/goldens.txt";
   const std::string goldenPath = goldenDir() + "/" + g.file;
-  ASSERT_TRUE(fs::exists(goldenPath)) << goldenPath << " is missing: cmake --build build --target update_goldens";
+  ASSERT_TRUE(fs::exists(goldenPath))
+      << goldenPath << " is missing: cmake --build build --target update_goldens";
   const StoredImage golden = readStoredImage(goldenPath);
 
   // the tolerance sees a uniform 3 % error
-  const ImageDifference dim = measureDifference(golden, scaled(golden, 0.97), g.tolerance.pixelThreshold);
+  const ImageDifference dim =
+      measureDifference(golden, scaled(golden, 0.97), g.tolerance.pixelThreshold);
   EXPECT_FALSE(toleranceViolations(dim, g.tolerance).empty())
       << "the tolerance of " << g.file << " accepts the golden 3 % darker: " << describe(dim);
   std::printf("[ golden   ] %s 3 %% darker: %s\n", g.file, describe(dim).c_str());
 
   const std::string out = scratchDir() + "/" + g.file;
-  const CommandResult r =
-      runCli("render " + quote(sourceDir() + "/" + line->scene) + " -o " + quote(out) + line->options + " --quiet");
+  const CommandResult r = runCli("render " + quote(sourceDir() + "/" + line->scene) + " -o " +
+                                 quote(out) + line->options + " --quiet");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   const StoredImage actual = readStoredImage(out);
   const ImageDifference d = measureDifference(golden, actual, g.tolerance.pixelThreshold);

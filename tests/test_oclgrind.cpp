@@ -311,7 +311,8 @@ std::vector<std::pair<int, std::string>> reportLines(const std::string& text) {
   for (std::size_t at = text.find(tag); at != std::string::npos; at = text.find(tag, at + 1)) {
     const int line = std::atoi(text.c_str() + at + tag.size());
     const std::size_t of = text.find(" of ", at), colon = text.find(":\n", at);
-    out.emplace_back(line, of != std::string::npos && colon != std::string::npos ? text.substr(of + 4, colon - of - 4) : "");
+    const bool named = of != std::string::npos && colon != std::string::npos;
+    out.emplace_back(line, named ? text.substr(of + 4, colon - of - 4) : "");
   }
   return out;
 }

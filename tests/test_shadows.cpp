@@ -262,7 +262,8 @@ GroundShadow groundUnderFurBall(int controlPoints, int mapResolution) {
   g.ratio = shSum / std::max(litSum, 1e-30);
   g.lower /= std::max(n, 1);
   g.upper /= std::max(n, 1);
-  std::printf("[ shadows  ] %d control points, %d texels: the ground keeps %.4f of its light; Beer-Lambert %.4f .. %.4f\n",
+  std::printf("[ shadows  ] %d control points, %d texels: the ground keeps %.4f of its light; "
+              "Beer-Lambert %.4f .. %.4f\n",
               controlPoints, mapResolution, g.ratio, g.lower, g.upper);
   return g;
 }
@@ -350,7 +351,8 @@ TEST(Shadows, LodCorrectionIsInertWithoutLodAndUndoesPartOfLodsDarkening) {
   std::printf("[ shadows  ] hair luminance: no LOD %.5f, LOD %.5f, LOD + correction %.5f\n", full, lod, corrected);
   ASSERT_LT(lod, full) << "the scene should show LOD's darkening";
   EXPECT_GT(corrected, lod) << "the correction should brighten what LOD darkened";
-  EXPECT_LE(std::fabs(corrected - full), 0.9 * std::fabs(lod - full)) << "the correction removed under a tenth of the error";
+  EXPECT_LE(std::fabs(corrected - full), 0.9 * std::fabs(lod - full))
+      << "the correction removed under a tenth of the error";
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
-// test_render.cpp — whole-frame properties: determinism across runs and PoCL thread
-// counts, an empty scene equals its background, hair lands where the groom projects.
+// test_render.cpp — whole-frame properties: determinism across runs and, in float, across
+// CPU thread counts (float_frames.h), an empty scene equals its background, hair lands
+// where the groom projects.
 #include <cmath>
 #include <cstring>
 #include <filesystem>

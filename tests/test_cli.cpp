@@ -8,8 +8,8 @@
 // End to end: assets/scenes/default.json rendered at 320x180 against the same scene without
 // its grooms (camera pinned to the one the scene resolves to) must differ where the hair is
 // (more than 2 % of the pixels, some in the central region) and nowhere in the corners;
-// `clhair groom --preset tiny` writes a groom that renders; `clhair devices` lists a device
-// with 64-bit atomics.
+// `clhair groom --preset tiny` writes the preset, which renders as the one built in memory;
+// `clhair devices` lists a device with 64-bit atomics.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -23,7 +23,9 @@
 #include <vector>
 
 #include "clhair/image.h"
+#include "clhair/renderer.h"
 #include "clhair/scene.h"
+#include "groom/presets.h"
 #include "test_util.h"
 
 namespace clhair::test {
@@ -363,6 +365,9 @@ TEST(Cli, CameraOptionKeepsTheScenesViewingAngle) {
   }
 }
 
+// `clhair groom --preset tiny` writes the preset itself: its file renders through the CLI
+// exactly as the preset built in memory renders through the API (same scene, same PNG
+// writer), and the hair changes every pixel where a strand covers the centre.
 TEST(Cli, GeneratedPresetGroomRenders) {
   const std::string dir = scratchDir();
   const std::string groom = dir + "/tiny_preset.json";
@@ -372,26 +377,53 @@ TEST(Cli, GeneratedPresetGroomRenders) {
 
   json scene = sceneWith("tiny_preset.json");
   scene["camera"] = {{"preset", "close"}};
+  scene["grooms"][0]["strands"] = 2000;  // dense enough to cover a good part of the frame
   writeJson(dir + "/scene.json", scene);
   const std::string out = dir + "/out.png";
   CommandResult r = runCli("render " + quote(dir + "/scene.json") + " -o " + quote(out));
   ASSERT_EQ(r.exitCode, 0) << r.output;
   ASSERT_TRUE(fs::exists(out));
 
-  // Hair was drawn: the same scene with the groom's strand count set to zero (which keeps
-  // the preset camera's framing) differs somewhere.
+  // the same scene with the preset built in memory, through the API
+  Scene api = loadScene(dir + "/scene.json");
+  ASSERT_EQ(api.grooms.size(), 1u);
+  HairMesh preset = makeGroomPreset("tiny");
+  preset.strandCount = 2000;
+  api.grooms[0].mesh = std::make_shared<const HairMesh>(preset);
+  Renderer renderer(sharedDevice());
+  RenderOptions o;
+  o.captureGBuffer = true;
+  const Frame f = renderer.render(api, o);
+  const std::string apiPng = dir + "/api.png";
+  writeImage(f.color, apiPng);
+
+  // the same scene with the groom's strand count set to zero (which keeps the preset
+  // camera's framing)
   scene["grooms"][0]["strands"] = 0;
   writeJson(dir + "/no_strands.json", scene);
   const std::string bare = dir + "/no_strands.png";
   CommandResult r0 = runCli("render " + quote(dir + "/no_strands.json") + " -o " + quote(bare));
   ASSERT_EQ(r0.exitCode, 0) << r0.output;
-  Image a = readImage(out), b = readImage(bare);
+
+  Image a = readImage(out), b = readImage(bare), c = readImage(apiPng);
   ASSERT_EQ(a.width, b.width);
   ASSERT_EQ(a.height, b.height);
-  std::size_t differing = 0;
+  ASSERT_EQ(a.width, c.width);
+  ASSERT_EQ(a.height, c.height);
+  std::size_t fromFile = 0, centreHits = 0, changed = 0;
+  const std::size_t pixels = static_cast<std::size_t>(a.width) * a.height;
   for (int y = 0; y < a.height; ++y)
-    for (int x = 0; x < a.width; ++x) differing += pixelDiffers(a, b, x, y) ? 1 : 0;
-  EXPECT_GT(differing, 0u) << "no hair drawn in " << out;
+    for (int x = 0; x < a.width; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * a.width + x;
+      fromFile += pixelDiffers(a, c, x, y) ? 1 : 0;
+      const bool hit = f.gbuffer[i] != ~std::uint64_t(0);
+      centreHits += hit ? 1 : 0;
+      changed += hit && pixelDiffers(a, b, x, y) ? 1 : 0;
+    }
+  EXPECT_EQ(fromFile, 0u) << "the written preset renders unlike the preset itself: compare " << out << " and "
+                          << apiPng;
+  EXPECT_GT(centreHits, pixels / 20) << "the close preset should fill a good part of the frame";
+  EXPECT_EQ(changed, centreHits) << "pixels with a strand over their centre look like the bare scene: " << out;
 }
 
 TEST(Cli, DevicesListsA64BitAtomicsDevice) {

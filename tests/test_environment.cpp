@@ -629,6 +629,12 @@ TEST(EnvironmentSky, SunGradientAndGround) {
 // Tiny sky and image maps through every kernel: quick enough to run under Oclgrind
 // (a few seconds): oclgrind --uninitialized --data-races --build-options -cl-opt-disable
 //   tests/clhair_tests --gtest_filter=EnvironmentBuild.Tiny*
+// Every query against the CPU: the lookup against the bilinear / roughness-lerp reference
+// of the downloaded levels, the irradiance against the R&H form of the coefficients; for
+// the image map L = (1 + w.x, 1, 1) also the coefficients against the CPU's projection of
+// the same 32 x 16 texels (midpoint rule, exact ring solid angles) and the irradiance
+// against the exact E = (pi + 2 pi / 3 n.x, pi, pi), within 2 % of pi: the 16-row
+// projection's error (the constant map's 2e-3 over 48 rows, times (48 / 16)^2).
 TEST(EnvironmentBuild, TinySkyAndImageForOclgrind) {
   Device::Impl& d = *test::sharedDevice().impl();
   Environment::Options o = smallOptions();
@@ -638,18 +644,40 @@ TEST(EnvironmentBuild, TinySkyAndImageForOclgrind) {
   SkyParams sky;
   sky.width = 32;
   Environment a = Environment::fromSky(d, sky, o);
-  Environment b = Environment::fromImage(d,
-                                         makeMap(32,
-                                                 [](int, int, V3 w) {
-                                                   return V3{w.x + 1, 1, 1};
-                                                 }),
-                                         o, "tiny map");
+  const Image linear = makeMap(32, [](int, int, V3 w) { return V3{w.x + 1, 1, 1}; });
+  Environment b = Environment::fromImage(d, linear, o, "tiny map");
+  const std::vector<V3> dirs = {{0, 1, 0}, {1, 0, 0}, {0, 0, -1}};
+  const double alphas[3] = {0.2, 0.7, 2.0};
   for (const Environment* env : {&a, &b}) {
-    QueryOut r = query(*env, {q4({0, 1, 0}, 0.2), q4({1, 0, 0}, 0.7), q4({0, 0, -1}, 2.0)});
+    const std::vector<float> texels = env->downloadTexels(d);
+    QueryOut r = query(*env, {q4(dirs[0], alphas[0]), q4(dirs[1], alphas[1]), q4(dirs[2], alphas[2])});
     for (std::size_t i = 0; i < 3; ++i) {
-      EXPECT_TRUE(std::isfinite(r.radiance[i].x) && r.radiance[i].x > 0.0) << i;
-      EXPECT_TRUE(std::isfinite(r.irradiance[i].x) && r.irradiance[i].x > 0.0) << i;
+      const V3 ref = refRadiance(texels, env->levelTable(), dirs[i], alphas[i]);
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(comp(r.radiance[i], c), comp(ref, c), 2e-4 * std::max(1.0, std::fabs(comp(ref, c))))
+            << (env == &a ? "sky" : "map") << " radiance, query " << i << " channel " << c;
+        const double e = refIrradiance(env->shCoefficients(), c, dirs[i]);
+        EXPECT_NEAR(comp(r.irradiance[i], c), e, 1e-4 * std::max(1.0, std::fabs(e)))
+            << (env == &a ? "sky" : "map") << " irradiance, query " << i << " channel " << c;
+      }
+      EXPECT_GT(r.irradiance[i].x, 0.0);
     }
+  }
+  // the map's coefficients: the CPU projection of its texels
+  for (int k = 0; k < 9; ++k)
+    for (int c = 0; c < 3; ++c) {
+      double sh = 0.0;
+      for (int j = 0; j < linear.height; ++j)
+        for (int i = 0; i < linear.width; ++i)
+          sh += linear.pixel(i, j)[c] * refSh(texelDir(i, j, linear.width, linear.height))[k] *
+                refTexelSolidAngle(j, linear.width, linear.height);
+      EXPECT_NEAR(b.shCoefficients()[3 * k + c], sh, 1e-4) << "coefficient " << k << " channel " << c;
+    }
+  QueryOut r = query(b, {q4(dirs[0], 1.0), q4(dirs[1], 1.0), q4(dirs[2], 1.0)});
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_NEAR(r.irradiance[i].x, kPi + 2.0 * kPi / 3.0 * dirs[i].x, 0.02 * kPi) << "query " << i;
+    EXPECT_NEAR(r.irradiance[i].y, kPi, 0.02 * kPi) << "query " << i;
+    EXPECT_NEAR(r.irradiance[i].z, kPi, 0.02 * kPi) << "query " << i;
   }
 }
 

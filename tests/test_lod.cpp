@@ -115,6 +115,67 @@ TEST(LodMath, DeltaStaggersTransitions) {
   sweep(true, 0.05f);  // per-bundle changes stay at one strand down to small L
 }
 
+// The strands lod_bundles keeps, counted on the CPU by its rule (kernels/lod.cl,
+// clh_lod_record): a bundle is culled when the screen box of its layer quads' corners, each
+// widened by the styling reach, lies entirely off screen; of the others LOD off keeps every
+// strand and LOD on keeps N_LOD = clh_lod_strands(L, N, delta) with L = clh_lod_value of
+// the box (lod_math.h, Lipp Eq. 1-2). The projection uses the view and object-to-view
+// records the frame's strand pass read. Returned as a range: a bundle whose box edge or L
+// moves the outcome when the box shifts by 1e-3 px (the device's rounding) counts both ways.
+struct StrandRange {
+  std::uint64_t lo = 0, hi = 0;
+};
+
+StrandRange expectedStrands(const HairMesh& mesh, const Frame& f, bool lod) {
+  ClhGroomGpu g;
+  ClhViewGpu v;
+  EXPECT_EQ(f.rasterGroom.size(), sizeof g);
+  EXPECT_EQ(f.rasterView.size(), sizeof v);
+  std::memcpy(&g, f.rasterGroom.data(), sizeof g);
+  std::memcpy(&v, f.rasterView.data(), sizeof v);
+  const GroomData d = prepareGroom(mesh);
+  const float reach = d.styleMargin;  // identity transform
+  const float* m = g.obj_to_view;
+  const float w = static_cast<float>(v.width), h = static_cast<float>(v.height);
+  StrandRange range;
+  for (const ClhBundle& b : d.bundles) {
+    float lox = INFINITY, loy = INFINITY, hix = -INFINITY, hiy = -INFINITY;
+    bool behind = true, unprojectable = false;
+    for (int l = 0; l < mesh.layerCount; ++l)
+      for (int k = 0; k < 4; ++k) {
+        const int vi = std::min(std::max(b.vtx[k], 0), mesh.vertexCount - 1);
+        const float* p = d.vertices[static_cast<std::size_t>(l) * mesh.vertexCount + vi].pos;
+        const float x = m[0] * p[0] + m[1] * p[1] + m[2] * p[2] + m[3];
+        const float y = m[4] * p[0] + m[5] * p[1] + m[6] * p[2] + m[7];
+        const float z = m[8] * p[0] + m[9] * p[1] + m[10] * p[2] + m[11];
+        if (z >= -reach) behind = false;
+        if (z <= 1e-4f) {
+          unprojectable = true;
+          continue;
+        }
+        const float sx = v.cx + v.fx * x / z, sy = v.cy - v.fy * y / z, r = v.fx * reach / z;
+        lox = std::min(lox, sx - r);
+        loy = std::min(loy, sy - r);
+        hix = std::max(hix, sx + r);
+        hiy = std::max(hiy, sy + r);
+      }
+    if (behind) continue;
+    std::uint32_t fewest = b.strand_count, most = 0;
+    for (float e : {-1e-3f, 0.0f, 1e-3f}) {  // grow or shrink the box by e on every side
+      const bool off = hix + e < 0.0f || hiy + e < 0.0f || lox - e > w || loy - e > h;
+      std::uint32_t n = 0;
+      if (unprojectable || !lod) n = off && !unprojectable ? 0u : b.strand_count;
+      else if (!off) n = clh_lod_strands(clh_lod_value(hix - lox + 2 * e, hiy - loy + 2 * e, h, g.lod_lambda),
+                                         b.strand_count, b.lod_delta);
+      fewest = std::min(fewest, n);
+      most = std::max(most, n);
+    }
+    range.lo += fewest;
+    range.hi += most;
+  }
+  return range;
+}
+
 TEST(LodKernel, CullsBundlesOffScreenAndKeepsVisibleOnes) {
   HairMesh mesh = makeGroomPreset("fur_sphere");
   mesh.strandCount = 3000;
@@ -128,14 +189,28 @@ TEST(LodKernel, CullsBundlesOffScreenAndKeepsVisibleOnes) {
   Renderer r(test::sharedDevice());
   RenderOptions o;
   o.lod = 0;
+  o.captureGBuffer = true;  // records the view the LOD pass used
   EXPECT_EQ(r.render(s, o).stats.strandsDrawn, 3000u);  // fully in view: nothing culled
   s.camera.target = glm::vec3(0.0f, 0.0f, 0.8f);        // looking away: everything culled
   s.camera.position = glm::vec3(0.0f, 0.0f, 0.5f);
   EXPECT_EQ(r.render(s, o).stats.strandsDrawn, 0u);
-  s.camera.target = glm::vec3(0.2f, 0.0f, 0.0f);        // half in view
-  std::uint64_t half = r.render(s, o).stats.strandsDrawn;
-  EXPECT_GT(half, 300u);
-  EXPECT_LT(half, 2700u);
+  // Looking past the ball at growing angles, LOD off and on: the drawn count is what the
+  // culling rule and Eq. 1-2 give the bundles whose screen box still touches the screen.
+  int partial = 0;
+  for (int lod : {0, 1})
+    for (float x : {0.12f, 0.16f, 0.2f, 0.24f}) {
+      s.camera.target = glm::vec3(x, 0.0f, 0.0f);
+      o.lod = lod;
+      const Frame f = r.render(s, o);
+      const StrandRange want = expectedStrands(mesh, f, lod == 1);
+      const std::uint64_t drawn = f.stats.strandsDrawn;
+      EXPECT_GE(drawn, want.lo) << "LOD " << lod << ", target x " << x;
+      EXPECT_LE(drawn, want.hi) << "LOD " << lod << ", target x " << x;
+      EXPECT_LE(want.hi - want.lo, 30u) << "the expectation should be tight";
+      RecordProperty("drawn_lod" + std::to_string(lod) + "_x" + std::to_string(x), std::to_string(drawn));
+      partial += drawn > 0 && drawn < 3000;
+    }
+  EXPECT_GE(partial, 6) << "the views should cut through the groom";
 }
 
 // Max distance from each point of `fine` to the polyline `coarse`, both sampled uniformly

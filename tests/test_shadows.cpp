@@ -1,8 +1,13 @@
 // test_shadows.cpp — deep opacity maps: hair behind hair (seen from the light) is darker
-// than hair in front, opaque objects receive hair shadows, and the LOD depth correction
-// (Lipp §3.2.3) is inert when LOD removes nothing and never moves the image away from
-// the full-detail one. Instances of one mesh each cast their own shadow.
+// than hair in front, opaque objects receive hair shadows at least as dark as Beer-Lambert
+// gives the hair's coverage, and the LOD depth correction (Lipp §3.2.3) is inert when LOD
+// removes nothing and undoes part of LOD's darkening when it does. Instances of one mesh
+// each cast their own shadow; maps are kept while their inputs stay.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <utility>
+#include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -159,9 +164,25 @@ TEST(Shadows, MapsAreReusedWhileTheirInputsStayAndRebuiltWhenOneChanges) {
   freshEquals(denser, "shadow density changed");
 }
 
-TEST(Shadows, OpaqueObjectsReceiveHairShadows) {
+// The ground in the shadow of a fur ball against the transmittance Beer-Lambert gives the
+// hair between it and the light (Yuksel & Keyser 2008; kernels/common/shadow.h: T =
+// exp(-density O), O the strands' coverage along the ray, density 1 by default). O is
+// computed here from the generated strands: each segment's projected length times the fibre
+// width, summed in 2 mm cells of the plane facing the light, over the cell's area. Drawing a
+// strand's width into every texel its conservative 1-pixel line touches counts a straight
+// line between 1x (along an axis) and sqrt(2)x (diagonal) its area, so the ground should
+// keep between exp(-sqrt(2) O) and exp(-O) of its light, within 0.03 for the 2 mm cells (the
+// map's ~0.5 mm texels see O vary around the cell's mean; exp is convex, which moves the
+// map's mean transmittance up).
+struct GroundShadow {
+  double ratio = 0.0;         // shadowed / unshadowed ground, around the middle of the shadow
+  double lower = 0.0, upper = 0.0;  // Beer-Lambert: mean exp(-sqrt(2) O) and mean exp(-O)
+};
+
+GroundShadow groundUnderFurBall(int controlPoints, int mapResolution) {
   HairMesh m = makeGroomPreset("fur_sphere");
   m.strandCount = 80000;
+  m.controlPoints = controlPoints;
   Scene s;
   s.width = 96;
   s.height = 96;
@@ -175,16 +196,49 @@ TEST(Shadows, OpaqueObjectsReceiveHairShadows) {
   ground.offset = -0.15f;
   s.planes.push_back(ground);
   s.grooms.emplace_back("fur", std::make_shared<const HairMesh>(m));
+  s.shadows.resolution = mapResolution;
   // the ball (center 0.15 above the ground) casts its shadow around x = -0.3: look down at it
   s.camera.position = glm::vec3(-0.3f, 0.5f, 0.01f);
   s.camera.target = glm::vec3(-0.3f, -0.15f, 0.0f);
   s.camera.fovYDegrees = 30.0f;
   Renderer r(test::sharedDevice());
-  Frame lit = r.render(s);
+  RenderOptions o;
+  o.shadowLod = 0;  // every strand into the map, as counted below
+  const Frame lit = r.render(s, o);
   s.lights[0].shadows = true;
-  Frame shadowed = r.render(s);
-  // ground pixels around the image center lie in the ball's shadow
+  const Frame shadowed = r.render(s, o);
+
+  // O in 2 mm cells of the plane through the origin facing the light
+  const glm::vec3 toLight = glm::normalize(l.direction);
+  const glm::vec3 ea = glm::normalize(glm::cross(toLight, glm::vec3(0.0f, 0.0f, 1.0f)));
+  const glm::vec3 eb = glm::cross(toLight, ea);
+  const double cell = 0.002, half = 0.3;
+  const int cells = static_cast<int>(2.0 * half / cell);
+  std::vector<double> area(static_cast<std::size_t>(cells) * cells, 0.0);
+  auto cellOf = [&](const glm::vec3& p) {
+    const int i = static_cast<int>(std::floor((glm::dot(p, ea) + half) / cell));
+    const int j = static_cast<int>(std::floor((glm::dot(p, eb) + half) / cell));
+    return (i < 0 || j < 0 || i >= cells || j >= cells) ? -1 : j * cells + i;
+  };
+  const StrandSet set = r.generateStrands(m);
+  std::size_t first = 0;
+  for (std::uint32_t count : set.pointCounts) {
+    for (std::uint32_t k = 0; k + 1 < count; ++k) {
+      const float* p = &set.points[3 * (first + k)];
+      const glm::vec3 a(p[0], p[1], p[2]), b(p[3], p[4], p[5]);
+      const glm::vec3 d = b - a;
+      const int c = cellOf(0.5f * (a + b));
+      if (c >= 0) area[c] += std::hypot(glm::dot(d, ea), glm::dot(d, eb)) * m.appearance.strandWidth;
+    }
+    first += count;
+  }
+
+  // the ground point of each pixel: the camera ray through its centre meets y = -0.15
+  const glm::vec3 fwd = glm::normalize(s.camera.target - s.camera.position);
+  const glm::vec3 right = glm::normalize(glm::cross(fwd, s.camera.up)), up = glm::cross(right, fwd);
+  const double f = 0.5 * s.height / std::tan(glm::radians(s.camera.fovYDegrees) * 0.5);
   double litSum = 0, shSum = 0;
+  GroundShadow g;
   int n = 0;
   for (int y = 0; y < s.height; ++y)
     for (int x = 0; x < s.width; ++x) {
@@ -192,49 +246,113 @@ TEST(Shadows, OpaqueObjectsReceiveHairShadows) {
       if (std::isinf(lit.depth[i]) || lit.depth[i] < 0.6f) continue;  // ground only
       double dx = x - s.width / 2.0, dy = y - s.height / 2.0;
       if (dx * dx + dy * dy > 12.0 * 12.0) continue;  // the middle of the shadow
+      const glm::vec3 ray = glm::normalize(fwd + right * static_cast<float>((x + 0.5 - 0.5 * s.width) / f) -
+                                           up * static_cast<float>((y + 0.5 - 0.5 * s.height) / f));
+      const float t = (ground.offset - s.camera.position.y) / ray.y;
+      const int c = cellOf(s.camera.position + t * ray);
+      EXPECT_GE(c, 0);
+      const double coverage = c >= 0 ? area[c] / (cell * cell) : 0.0;
+      g.lower += std::exp(-std::sqrt(2.0) * coverage);
+      g.upper += std::exp(-coverage);
       litSum += lit.color.rgba[4 * i];
       shSum += shadowed.color.rgba[4 * i];
       ++n;
     }
-  ASSERT_GT(n, 20);
-  // the ball is a hollow shell of fur: its shadow is partial (measured ~0.75 of the light)
-  EXPECT_LT(shSum, 0.85 * litSum) << "ground in the fur ball's shadow";
-  RecordProperty("ground_shadow_ratio", std::to_string(shSum / litSum));
+  EXPECT_GT(n, 20);
+  g.ratio = shSum / std::max(litSum, 1e-30);
+  g.lower /= std::max(n, 1);
+  g.upper /= std::max(n, 1);
+  std::printf("[ shadows  ] %d control points, %d texels: the ground keeps %.4f of its light; "
+              "Beer-Lambert %.4f .. %.4f\n",
+              controlPoints, mapResolution, g.ratio, g.lower, g.upper);
+  return g;
 }
 
-TEST(Shadows, LodCorrectionIsInertWithoutLodAndNeverHurts) {
-  Scene s = loadScene(test::assetPath("scenes/default.json"));
-  s.width = 200;
-  s.height = 112;
-  s.camera = framePreset(s, CameraPreset::Far, 35.0f, 10.0f, 35.0f);
+// The shadow is at least as dark as the hair's coverage makes it (it was absent once, and
+// measured against the unshadowed ground only).
+TEST(Shadows, OpaqueObjectsReceiveHairShadows) {
+  const GroundShadow g = groundUnderFurBall(9, 512);  // the preset's points, the default map
+  RecordProperty("ground_shadow_ratio", std::to_string(g.ratio));
+  RecordProperty("beer_lambert_upper", std::to_string(g.upper));
+  EXPECT_LT(g.upper, 0.9) << "the fur ball should be dense enough to tell a shadow";
+  EXPECT_LE(g.ratio, g.upper + 0.03) << "the ground in the fur ball's shadow is too bright";
+}
+
+// Open: the deep opacity map adds a strand's width to every texel its segments touch, once
+// per segment, so a texel that two consecutive segments share counts the strand twice and a
+// segment shorter than a texel counts a whole texel: the same hair shadows more with more
+// control points or a coarser map (PoCL: the ground keeps 0.59 / 0.49 / 0.35 / 0.18 of its
+// light at 5 / 9 / 17 / 33 points, 0.34 / 0.60 with 256 / 1024 texels, against 0.65 .. 0.74
+// from Beer-Lambert). Enable once the opacity pass weighs each texel by the length drawn in it.
+TEST(Shadows, DISABLED_GroundShadowFollowsBeerLambertAtAnyTessellationAndMapSize) {
+  for (auto [points, texels] : {std::pair{5, 512}, {9, 512}, {17, 512}, {9, 256}, {9, 1024}}) {
+    const GroundShadow g = groundUnderFurBall(points, texels);
+    EXPECT_GE(g.ratio, g.lower - 0.03) << points << " control points, " << texels << " texels: too dark";
+    EXPECT_LE(g.ratio, g.upper + 0.03) << points << " control points, " << texels << " texels: too bright";
+  }
+}
+
+// Lipp §3.2.3: camera LOD leaves strands visible that full detail hides behind others, so
+// they sit deeper in the deep opacity map and shade darker; the lookup moves -log(kept) of
+// the first layer toward the light to undo it (kernels/shade.cl, kept = the share of the
+// coverage LOD kept: the strands drawn times their widening, which stops at
+// CLH_MAX_HIT_DIAMETER). A dense 1-pixel patch lit from behind the camera, at LOD low enough
+// that the widening stops (20000 strands, about 1100 drawn: kept ~ 0.17): without LOD the
+// correction changes no pixel; with LOD it must brighten the hair and remove at least a
+// tenth of LOD's darkening (an inert correction removes none of it; PoCL: a fifth).
+TEST(Shadows, LodCorrectionIsInertWithoutLodAndUndoesPartOfLodsDarkening) {
+  HairMesh m = makeGroomPreset("tiny");
+  m.strandCount = 20000;
+  m.appearance.minHitDiameterPx = 1.0f;
+  Scene s;
+  s.width = 120;
+  s.height = 80;
+  s.ambient = glm::vec3(0.0f);
+  Light l;
+  l.type = Light::Type::Directional;
+  l.direction = glm::normalize(glm::vec3(0.0f, 0.3f, 1.0f));  // from behind the camera
+  l.intensity = 3.0f;
+  l.shadows = true;
+  s.lights.push_back(l);
+  s.grooms.emplace_back("patch", std::make_shared<const HairMesh>(m), glm::mat4(1.0f));
+  s.camera.position = glm::vec3(0.0f, 0.04f, 0.25f);
+  s.camera.target = glm::vec3(0.0f, 0.03f, 0.0f);
+  s.camera.fovYDegrees = 35.0f;
   Renderer r(test::sharedDevice());
-  auto mean = [&](int lod, int correction) {
+  // mean r + g + b of the pixels with a centre hit
+  auto render = [&](int lod, int correction) {
     RenderOptions o;
     o.lod = lod;
-    o.shadowLod = 0;
+    o.lodLambdaScale = 0.03f;
+    o.shadowLod = 0;  // the maps hold every strand; only the camera's LOD differs
     o.shadowLodCorrection = correction;
     o.filter = 0;
     o.captureGBuffer = true;
     Frame f = r.render(s, o);
     double sum = 0;
     int n = 0;
-    const std::size_t pixels = f.depth.size();
-    for (std::size_t i = 0; i < pixels; ++i)
+    for (std::size_t i = 0; i < f.depth.size(); ++i)
       if (f.gbuffer[i] != ~std::uint64_t(0)) {
         sum += f.color.rgba[4 * i] + f.color.rgba[4 * i + 1] + f.color.rgba[4 * i + 2];
         ++n;
       }
+    EXPECT_GT(n, 500);
     return std::make_pair(sum / std::max(n, 1), f);
   };
-  auto [fullOn, fOn] = mean(0, 1);
-  auto [fullOff, fOff] = mean(0, 0);
+  auto [full, fOn] = render(0, 1);
+  auto [fullOff, fOff] = render(0, 0);
   EXPECT_TRUE(fOn.color.rgba == fOff.color.rgba) << "without LOD the correction must change nothing";
-  double lodOff = mean(1, 0).first, lodOn = mean(1, 1).first;
-  RecordProperty("far_luminance_no_lod", std::to_string(fullOn));
-  RecordProperty("far_luminance_lod_uncorrected", std::to_string(lodOff));
-  RecordProperty("far_luminance_lod_corrected", std::to_string(lodOn));
-  std::printf("[ shadows  ] far hair luminance: no LOD %.5f, LOD %.5f, LOD + correction %.5f\n", fullOn, lodOff, lodOn);
-  EXPECT_LE(std::fabs(lodOn - fullOn), std::fabs(lodOff - fullOn) + 1e-6);
+  auto [lod, fLod] = render(1, 0);
+  auto [corrected, fCorrected] = render(1, 1);
+  EXPECT_LT(fLod.stats.strandsDrawn, 20000u / 6) << "LOD should keep under a sixth: the widening stops at 3 px";
+  RecordProperty("luminance_no_lod", std::to_string(full));
+  RecordProperty("luminance_lod_uncorrected", std::to_string(lod));
+  RecordProperty("luminance_lod_corrected", std::to_string(corrected));
+  std::printf("[ shadows  ] hair luminance: no LOD %.5f, LOD %.5f, LOD + correction %.5f\n", full, lod, corrected);
+  ASSERT_LT(lod, full) << "the scene should show LOD's darkening";
+  EXPECT_GT(corrected, lod) << "the correction should brighten what LOD darkened";
+  EXPECT_LE(std::fabs(corrected - full), 0.9 * std::fabs(lod - full))
+      << "the correction removed under a tenth of the error";
 }
 
 }  // namespace

@@ -34,6 +34,7 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
     const cl_uint zero[4] = {0, 0, 0, 0};
     upload(r.dev, t.stats, zero, 4);
   }
+  r.shadows.reserve(s);  // before the grooms: see ShadowPass::reserve
   r.grooms.beginFrame();
   std::vector<GroomDraw> draws = r.resolveGrooms(s);
 

@@ -33,6 +33,15 @@ void ShadowPass::ensureBuffers(int res) {
   res_ = res;
 }
 
+void ShadowPass::reserve(const Scene& s) {
+  if (s.grooms.empty()) return;
+  for (const Light& l : s.lights)
+    if (l.shadows) {
+      ensureBuffers(s.shadows.resolution);
+      return;
+    }
+}
+
 ShadowMapInputs ShadowPass::maps() const {
   ShadowMapInputs m;
   m.params = &all_;

@@ -28,6 +28,11 @@ class ShadowPass {
   // before the camera's opaque pass, which receives hair shadows too.
   void update(const Scene& s, const RenderOptions& options, bool lodCorrection, const std::vector<GroomDraw>& grooms,
               SceneGpu& scene, Profiler* profiler);
+  // Allocates the maps the scene's shadowed lights need, before anything of the frame is
+  // released: Oclgrind 21.10 keeps a released buffer's uninitialised-memory shadow, its size
+  // included, for the next buffer that gets its slot, so maps allocated after the AO bake's
+  // temporaries are gone inherit shorter shadows and read as uninitialised past them.
+  void reserve(const Scene& s);
   ShadowMapInputs maps() const;
   // Strands drawn into the maps by the last rebuild (all lights).
   std::uint64_t strandsDrawn() const { return strandsDrawn_; }

@@ -147,9 +147,9 @@ HairMeshGpu::Exported HairMeshGpu::exportOnDevice(GroomInstanceGpu& inst, float 
   Exported e;
   const std::size_t B = data_.bundles.size();
   if (lod >= 1.0f) {
-    // The view buffer outlives the pass: Oclgrind 21.10 may hand the memory of a buffer
-    // released while its kernel is still queued to the next allocation (here the exported
-    // points) and then mark it uninitialised when the release completes.
+    // The view buffer outlives the pass: Oclgrind 21.10 gives a released buffer's slot, with
+    // its uninitialised-memory shadow sized for the old buffer, to the next allocation (here
+    // the exported points), whose kernel writes past that size would stay uninitialised.
     const gpu::ClhViewGpu v = makeView(Camera{}, 1, 1);
     if (!exportView_()) exportView_ = makeBuffer<gpu::ClhViewGpu>(dev_, "export view parameters", 1);
     upload(dev_, exportView_, &v, 1);

@@ -2,8 +2,9 @@
  * SG_SIZE lanes) per strand.
  *
  * Inputs: the groom (ClhGroomGpu), its bundles and hair-mesh vertices, the per-bundle LOD
- * records (uint4: N_LOD, C, L bits, morph gamma bits) and their exclusive scan
- * (bundle_count + 1 entries, the last being the total), and the progressive blue-noise
+ * records (ClhLodRecord: N_LOD, C, L, morph gamma) and the offsets of their scan
+ * (bundle_count + 2 entries: the exclusive scan, then the drawn total at [bundle_count]
+ * and the visible total; gpu_types.h has the layout), and the progressive blue-noise
  * root sets.
  *
  * Assembly (Lipp §3.1.1, Bhokare §3.3-3.6): the lanes interpolate the bundle's layers at
@@ -224,20 +225,20 @@ static inline void clh_assemble_strand(sg_ctx* sg, SG_SHARED clh_layer_pt* layer
 }
 
 /* Which strand a work-group draws; false when there is none (uniform per group). */
-static inline bool clh_strand_job(__global const ClhGroomGpu* g, __global const uint4* lod_g,
+static inline bool clh_strand_job(__global const ClhGroomGpu* g, __global const ClhLodRecord* lod_g,
                                   __global const uint* offsets_g, __global const ClhBundle* bundles_g,
                                   uint strand, uint* bundle, uint* local_index, uint* C,
                                   float* gamma, float* coverage) {
   uint bundle_count = g->bundle_count;
-  if (bundle_count == 0u || strand >= offsets_g[bundle_count]) return false;
+  if (bundle_count == 0u || strand >= offsets_g[clh_lod_drawn_total_at(bundle_count)]) return false;
   uint b = clh_find_range(offsets_g, bundle_count, strand);
-  uint4 lod = lod_g[b];
+  const ClhLodRecord lod = lod_g[b];
   *bundle = b;
   *local_index = strand - offsets_g[b];
-  *C = clamp(lod.y, 2u, (uint)CLH_MAX_CONTROL_POINTS);
-  *gamma = clamp(as_float(lod.w), 0.0f, 1.0f);
-  *coverage = lod.x > 0u ? fmax((float)bundles_g[b].strand_count / (float)lod.x, 1.0f) : 1.0f;
-  return *local_index < lod.x;
+  *C = clamp(lod.control_points, 2u, (uint)CLH_MAX_CONTROL_POINTS);
+  *gamma = clamp(lod.gamma, 0.0f, 1.0f);
+  *coverage = clh_lod_record_coverage(lod, bundles_g[b].strand_count);
+  return *local_index < lod.strands;
 }
 
 typedef struct {
@@ -249,7 +250,7 @@ typedef struct {
 /* Assembles strand `strand` (when it exists) and draws its segments. Uniform per group. */
 static inline void clh_draw_strand(sg_ctx* sg, clh_strand_scratch scratch, clh_raster_ctx* rc,
                                    __global const ClhGroomGpu* g, __global const ClhBundle* bundles_g,
-                                   __global const ClhMeshVertex* verts_g, __global const uint4* lod_g,
+                                   __global const ClhMeshVertex* verts_g, __global const ClhLodRecord* lod_g,
                                    __global const uint* offsets_g, __global const float2* roots_quad_g,
                                    __global const float2* roots_tri_g, __global const float* scene_depth_g,
                                    __global ulong* gbuf_g, __global uint* stats_g, uint strand) {
@@ -271,7 +272,7 @@ static inline void clh_draw_strand(sg_ctx* sg, clh_strand_scratch scratch, clh_r
 #define CLH_RASTER_PARAMS                                                                          \
   __global const ClhGroomGpu *groom_g, __global const ClhViewGpu *view_g,                          \
       __global const ClhBundle *bundles_g, __global const ClhMeshVertex *verts_g,                  \
-      __global const uint4 *lod_g, __global const uint *offsets_g,                                 \
+      __global const ClhLodRecord *lod_g, __global const uint *offsets_g,                          \
       __global const float2 *roots_quad_g, __global const float2 *roots_tri_g,                     \
       __global const float *scene_depth_g, __global ulong *gbuf_g, __global uint *stats_g,         \
       uint strand_base, uint strand_stride
@@ -300,7 +301,8 @@ __kernel SG_KERNEL_ATTRS void strands_raster(CLH_RASTER_PARAMS) {
 /* Persistent grid: group g draws strands g, g + stride, g + 2 stride, ... below the total. */
 __kernel SG_KERNEL_ATTRS void strands_raster_persistent(CLH_RASTER_PARAMS) {
   CLH_RASTER_PROLOGUE;
-  const uint total = groom_g->bundle_count > 0u ? offsets_g[groom_g->bundle_count] : 0u;
+  const uint total =
+      groom_g->bundle_count > 0u ? offsets_g[clh_lod_drawn_total_at(groom_g->bundle_count)] : 0u;
   for (uint strand = sg_strand_index(strand_base); strand < total;
        strand += SG_STRAND_STRIDE(max(strand_stride, 1u))) {
     clh_draw_strand(&sg, scratch, &rc, groom_g, bundles_g, verts_g, lod_g, offsets_g, roots_quad_g,
@@ -313,7 +315,7 @@ __kernel SG_KERNEL_ATTRS void strands_raster_persistent(CLH_RASTER_PARAMS) {
  * the layer of its depth past z0. One strand per work-group. */
 __kernel SG_KERNEL_ATTRS void strands_opacity(
     __global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g, __global const ClhBundle* bundles_g,
-    __global const ClhMeshVertex* verts_g, __global const uint4* lod_g, __global const uint* offsets_g,
+    __global const ClhMeshVertex* verts_g, __global const ClhLodRecord* lod_g, __global const uint* offsets_g,
     __global const float2* roots_quad_g, __global const float2* roots_tri_g, __global const float* opaque_depth_g,
     __global const ClhShadowGpu* shadow_g, __global const float* hair_depth_g, __global uint* opacity_g,
     uint strand_base) {
@@ -340,7 +342,7 @@ __kernel SG_KERNEL_ATTRS void strands_opacity(
  * strand (object space; w = styling w / ambient occlusion), counts_g the point count. */
 __kernel SG_KERNEL_ATTRS void strands_export(
     __global const ClhGroomGpu* groom_g, __global const ClhBundle* bundles_g,
-    __global const ClhMeshVertex* verts_g, __global const uint4* lod_g,
+    __global const ClhMeshVertex* verts_g, __global const ClhLodRecord* lod_g,
     __global const uint* offsets_g, __global const float2* roots_quad_g,
     __global const float2* roots_tri_g, __global float4* points_g, __global float4* tangents_g,
     __global uint* counts_g, uint strand_base, uint strand_capacity) {

@@ -7,8 +7,9 @@
  * the points (float4: object-space xyz, styling w), the strand offsets (strand s owns
  * points [offsets[s], offsets[s+1])), optional packed root uv (unorm16 u | v << 16), the
  * chunk table (uint4: first strand, strand count, LOD delta bits, 0), and per chunk the LOD
- * record of lod_chunks (uint4: N_LOD, C, L bits, gamma bits) with its scan (scan_bundles:
- * chunk_count + 2 entries, [chunk_count] = strands to draw).
+ * record of lod_chunks (ClhLodRecord: N_LOD, C, L, gamma) with the offsets of its scan
+ * (scan_bundles: chunk_count + 2 entries, the drawn total at [chunk_count]; gpu_types.h
+ * has the layout).
  *
  * Drawn strand g is the (g - scan[c])-th strand of the chunk c that holds it, drawn only
  * when it is among the chunk's first N_LOD (the chunk's strands are in random order, so
@@ -71,15 +72,15 @@ typedef struct {
 
 /* The strand drawn by draw index `index`; false when there is none (uniform per group). */
 static inline bool clh_x_find_job(__global const ClhGroomGpu* g, const clh_x_tables* tb,
-                                  __global const uint4* lod_g, __global const uint* offsets_g,
+                                  __global const ClhLodRecord* lod_g, __global const uint* offsets_g,
                                   uint index, clh_x_job* job) {
   const uint K = g->bundle_count;
-  if (K == 0u || index >= offsets_g[K]) return false;
+  if (K == 0u || index >= offsets_g[clh_lod_drawn_total_at(K)]) return false;
   const uint c = clh_find_range(offsets_g, K, index);
-  const uint4 lod = lod_g[c];
+  const ClhLodRecord lod = lod_g[c];
   const uint4 chunk = tb->chunks[c];
   const uint slot = index - offsets_g[c];
-  if (slot >= lod.x || slot >= chunk.y) return false;
+  if (slot >= lod.strands || slot >= chunk.y) return false;
   const uint s = chunk.x + slot;
   if (s >= tb->strand_count) return false;
   const uint first = min(tb->strand_offsets[s], tb->point_count);
@@ -87,10 +88,10 @@ static inline bool clh_x_find_job(__global const ClhGroomGpu* g, const clh_x_tab
   const uint n = last - first;
   if (n < 2u) return false;
   const uint c_full = clamp(g->control_points, 3u, (uint)CLH_MAX_CONTROL_POINTS);
-  const uint C = clamp(lod.y, 3u, c_full);
+  const uint C = clamp(lod.control_points, 3u, c_full);
   uint step = 1u;
   while ((C - 1u) * step < c_full - 1u) step <<= 1;
-  float gamma = clamp(as_float(lod.w), 0.0f, 1.0f);
+  float gamma = clamp(lod.gamma, 0.0f, 1.0f);
   while (step > 1u && n - 1u < 2u * step) {
     step >>= 1;
     gamma = 0.0f; /* the strand is already at its coarsest level */
@@ -101,7 +102,7 @@ static inline bool clh_x_find_job(__global const ClhGroomGpu* g, const clh_x_tab
   job->n = n;
   job->step = step;
   job->M = (n - 1u + step - 1u) / step + 1u;
-  job->coverage = lod.x > 0u ? fmax((float)chunk.y / (float)lod.x, 1.0f) : 1.0f;
+  job->coverage = clh_lod_record_coverage(lod, chunk.y);
   job->gamma = gamma;
   return true;
 }
@@ -234,7 +235,7 @@ static inline void clh_x_file_look(clh_raster_ctx* rc, __global const ClhGroomGp
 
 /* Draws strand `index` (when it exists). Uniform per group. */
 static inline void clh_x_draw(sg_ctx* sg, clh_raster_ctx* rc, __global const ClhGroomGpu* g,
-                              const clh_x_tables* tb, __global const uint4* lod_g,
+                              const clh_x_tables* tb, __global const ClhLodRecord* lod_g,
                               __global const uint* offsets_g, __global const float* scene_depth_g,
                               __global ulong* gbuf_g, __global uint* stats_g, uint index) {
   clh_x_job job;
@@ -265,8 +266,9 @@ static inline void clh_x_draw(sg_ctx* sg, clh_raster_ctx* rc, __global const Clh
 #define CLH_X_PARAMS                                                                               \
   __global const ClhGroomGpu *groom_g, __global const ClhViewGpu *view_g,                          \
       __global const float4 *points_g, __global const uint *strand_offsets_g,                      \
-      __global const uint *uv_g, __global const uint4 *chunks_g, __global const uint4 *lod_g,      \
-      __global const uint *offsets_g, uint strand_count, uint point_count, uint has_uv
+      __global const uint *uv_g, __global const uint4 *chunks_g,                                   \
+      __global const ClhLodRecord *lod_g, __global const uint *offsets_g, uint strand_count,       \
+      uint point_count, uint has_uv
 
 #define CLH_X_TABLES(tb)                  \
   clh_x_tables tb;                        \
@@ -300,7 +302,8 @@ __kernel SG_KERNEL_ATTRS void strands_explicit_raster_persistent(CLH_X_PARAMS,
   CLH_X_TABLES(tb);
   clh_raster_ctx rc;
   clh_raster_setup(&rc, groom_g, view_g);
-  const uint total = groom_g->bundle_count > 0u ? offsets_g[groom_g->bundle_count] : 0u;
+  const uint total =
+      groom_g->bundle_count > 0u ? offsets_g[clh_lod_drawn_total_at(groom_g->bundle_count)] : 0u;
   for (uint index = sg_strand_index(0u); index < total; index += SG_STRAND_STRIDE(max(strand_stride, 1u)))
     clh_x_draw(&sg, &rc, groom_g, &tb, lod_g, offsets_g, scene_depth_g, gbuf_g, stats_g, index);
 }

@@ -19,12 +19,13 @@ class LodStage {
     const cl::Buffer* bundles;   // ClhBundle[bundleCount]
     const cl::Buffer* vertices;  // ClhMeshVertex[layers * vertices]
     float reach;                 // largest styling offset, object units
-    cl::Buffer* lod;             // uint4[bundleCount]
-    cl::Buffer* counts;          // uint[bundleCount]
-    cl::Buffer* offsets;         // uint[bundleCount + 1]
+    cl::Buffer* lod;             // ClhLodRecord[bundleCount]
+    cl::Buffer* counts;          // uint[clh_lod_counts_length(bundleCount)] = 2 * bundleCount
+    cl::Buffer* offsets;         // uint[clh_lod_offsets_length(bundleCount)] = bundleCount + 2
     std::uint32_t bundleCount;
   };
-  // Enqueues both kernels; the total stays on the device in offsets[bundleCount].
+  // Enqueues both kernels; the drawn total stays on the device in
+  // offsets[clh_lod_drawn_total_at(bundleCount)] (layout: gpu_types.h).
   void enqueue(const Params& p, Profiler* profiler);
   // Blocking 4-byte read of the total (read-back sizing).
   std::uint32_t readTotal(const Params& p);

@@ -84,7 +84,7 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
     sp.lighting = r.scene.lighting(maps);
     sp.groom = &inst.groom;
     sp.offsets = &inst.offsets;
-    sp.totalIndex = inst.records;
+    sp.records = inst.records;
     sp.gbuffer = &t.gbuffer;
     sp.hair = &t.hair;
     sp.msaa = options.msaa;

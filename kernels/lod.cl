@@ -4,9 +4,9 @@
  * layer quad, accumulates one screen AABB (Eq. 3) widened by the groom's styling reach,
  * culls bundles entirely off screen, and computes L (Eq. 2), N_LOD (Eq. 1 with the
  * bundle's delta) and C (Eq. 4-5). With LOD off L = 1, N_LOD = N and C is the groom's
- * full-detail count; gamma is the vertex-LOD morph factor (lod_math.h). Output: one uint4
- * per bundle (N_LOD, C, L bits, gamma bits), the strand count alone for the scan, and the
- * full count of bundles not culled.
+ * full-detail count; gamma is the vertex-LOD morph factor (lod_math.h). Output: one
+ * ClhLodRecord per bundle (N_LOD, C, L, gamma) and the counts for the scan: N_LOD, and the
+ * full count of bundles not culled (layout: gpu_types.h, "the LOD counts and their scan").
  *
  * lod_chunks (one work-item per chunk of an explicit groom, strands_explicit.cl): the same
  * record from the chunk's object-space AABB (its 8 corners projected, no styling reach),
@@ -14,9 +14,9 @@
  * scan_bundles and the strand dispatch sizing are shared.
  *
  * scan_bundles (one work-group of SCAN_WG items): exclusive scan of the counts into
- * offsets[0..n], offsets[n] being the total the host reads back to size the strand pass,
- * and offsets[n + 1] = the full-detail strand count of the bundles not culled (counts
- * n..2n-1), so shading knows the fraction beta of visible strands LOD kept.
+ * offsets[0..n), then the drawn total (the host reads it back to size the strand pass)
+ * and the visible total, the full-detail strand count of the bundles not culled, so
+ * shading knows the fraction beta of visible strands LOD kept.
  */
 #include "clhair/gpu_types.h"
 #include "clhair/lod_math.h"
@@ -26,29 +26,26 @@
 #define SCAN_WG 256
 #endif
 
-/* The LOD record (N_LOD, C, L bits, gamma bits) of a bundle or chunk of n_full strands
- * from its screen AABB [lo, hi]: culled (N_LOD = 0) when every corner is behind the
- * camera or the box is off screen; full detail when LOD is off or some corner cannot be
- * projected; otherwise Eq. 1-5 and the morph factor. */
-static inline uint4 clh_lod_record(__global const ClhGroomGpu* g, float2 lo, float2 hi, bool all_behind,
-                                   bool unprojectable, float width, float height, uint n_full, float delta,
-                                   uint min_points) {
+/* The LOD record of a bundle or chunk of n_full strands from its screen AABB [lo, hi]:
+ * culled (N_LOD = 0) when every corner is behind the camera or the box is off screen;
+ * full detail when LOD is off or some corner cannot be projected; otherwise Eq. 1-5 and
+ * the morph factor (lod_math.h), C_max being the groom's full detail. */
+static inline ClhLodRecord clh_lod_record_for_box(__global const ClhGroomGpu* g, float2 lo, float2 hi,
+                                                  bool all_behind, bool unprojectable, float width, float height,
+                                                  uint n_full, float delta, uint min_points) {
   const uint C_full = clamp(g->control_points, 3u, (uint)CLH_MAX_CONTROL_POINTS);
   bool off_screen = hi.x < 0.0f || hi.y < 0.0f || lo.x > width || lo.y > height;
-  if (all_behind || (!unprojectable && off_screen)) return (uint4)(0u, C_full, as_uint(1.0f), as_uint(0.0f));
-  if (g->lod_enabled == 0u || unprojectable) return (uint4)(n_full, C_full, as_uint(1.0f), as_uint(0.0f));
+  if (all_behind || (!unprojectable && off_screen)) return clh_lod_record_make(0u, C_full, 1.0f, 0.0f);
+  if (g->lod_enabled == 0u || unprojectable) return clh_lod_record_make(n_full, C_full, 1.0f, 0.0f);
   float2 ext = hi - lo;
-  float L = clh_lod_value(ext.x, ext.y, height, g->lod_lambda);                 /* Eq. 2 */
-  uint n_lod = clh_lod_strands(L, n_full, delta);                              /* Eq. 1 */
-  uint C = clh_lod_control_points(L, min_points, C_full);                      /* Eq. 4-5, C_max = full detail */
-  float gamma = clh_lod_morph(L, min_points, C_full, g->lod_morph_window);     /* Bhokare Eq. 10-12 */
-  return (uint4)(n_lod, C, as_uint(L), as_uint(gamma));
+  float L = clh_lod_value(ext.x, ext.y, height, g->lod_lambda); /* Eq. 2 */
+  return clh_lod_record_at(L, n_full, delta, min_points, C_full, g->lod_morph_window);
 }
 
 __kernel void lod_bundles(__global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
                           __global const ClhBundle* bundles_g,
                           __global const ClhMeshVertex* verts_g, float reach,
-                          __global uint4* lod_g, __global uint* counts_g) {
+                          __global ClhLodRecord* lod_g, __global uint* counts_g) {
   uint b = (uint)get_global_id(0);
   __global const ClhGroomGpu* g = groom_g;
   if (b >= g->bundle_count) return;
@@ -80,19 +77,19 @@ __kernel void lod_bundles(__global const ClhGroomGpu* groom_g, __global const Cl
     }
   }
 
-  const uint4 rec = clh_lod_record(g, lo, hi, all_behind, unprojectable, width, height, n_full, bundle->lod_delta, layers);
-  const uint n_lod = rec.x;
+  const ClhLodRecord rec = clh_lod_record_for_box(g, lo, hi, all_behind, unprojectable, width, height, n_full,
+                                                  bundle->lod_delta, layers);
   lod_g[b] = rec;
-  counts_g[b] = n_lod;
+  counts_g[b] = rec.strands;
   /* the full-detail count of every bundle not culled, for beta = drawn / visible */
-  counts_g[g->bundle_count + b] = n_lod > 0u ? n_full : 0u;
+  counts_g[clh_lod_full_count_at(g->bundle_count, b)] = rec.strands > 0u ? n_full : 0u;
 }
 
 /* bounds_g: 2 float4 per chunk (AABB min, max); chunks_g: uint4 (first strand, strand
  * count, LOD delta bits, 0). */
 __kernel void lod_chunks(__global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
                          __global const float4* bounds_g, __global const uint4* chunks_g,
-                         __global uint4* lod_g, __global uint* counts_g) {
+                         __global ClhLodRecord* lod_g, __global uint* counts_g) {
   uint c = (uint)get_global_id(0);
   __global const ClhGroomGpu* g = groom_g;
   if (c >= g->bundle_count) return;
@@ -120,11 +117,11 @@ __kernel void lod_chunks(__global const ClhGroomGpu* groom_g, __global const Clh
     hi = fmax(hi, s);
   }
 
-  const uint4 rec = clh_lod_record(g, lo, hi, all_behind, unprojectable, width, height, n_full, as_float(chunk.z), 3u);
-  const uint n_lod = rec.x;
+  const ClhLodRecord rec =
+      clh_lod_record_for_box(g, lo, hi, all_behind, unprojectable, width, height, n_full, as_float(chunk.z), 3u);
   lod_g[c] = rec;
-  counts_g[c] = n_lod;
-  counts_g[g->bundle_count + c] = n_lod > 0u ? n_full : 0u;
+  counts_g[c] = rec.strands;
+  counts_g[clh_lod_full_count_at(g->bundle_count, c)] = rec.strands > 0u ? n_full : 0u;
 }
 
 __kernel __attribute__((reqd_work_group_size(SCAN_WG, 1, 1))) void scan_bundles(
@@ -148,10 +145,10 @@ __kernel __attribute__((reqd_work_group_size(SCAN_WG, 1, 1))) void scan_bundles(
     carry += sums_l[SCAN_WG - 1];
     barrier(CLK_LOCAL_MEM_FENCE);
   }
-  if (lid == 0u) offsets_g[n] = carry;
-  /* offsets[n + 1]: the sum of counts[n .. 2n), the visible bundles' full strand count */
+  if (lid == 0u) offsets_g[clh_lod_drawn_total_at(n)] = carry;
+  /* the visible total: the sum of the full counts, counts[n .. 2n) */
   uint partial = 0u;
-  for (uint i = lid; i < n; i += SCAN_WG) partial += counts_g[n + i];
+  for (uint i = lid; i < n; i += SCAN_WG) partial += counts_g[clh_lod_full_count_at(n, i)];
   barrier(CLK_LOCAL_MEM_FENCE);
   sums_l[lid] = partial;
   barrier(CLK_LOCAL_MEM_FENCE);
@@ -159,5 +156,5 @@ __kernel __attribute__((reqd_work_group_size(SCAN_WG, 1, 1))) void scan_bundles(
     if (lid < off) sums_l[lid] += sums_l[lid + off];
     barrier(CLK_LOCAL_MEM_FENCE);
   }
-  if (lid == 0u) offsets_g[n + 1u] = sums_l[0];
+  if (lid == 0u) offsets_g[clh_lod_visible_total_at(n)] = sums_l[0];
 }

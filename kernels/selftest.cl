@@ -49,6 +49,7 @@ __kernel void selftest_layout(__global uint* out_g) {
   out_g[5] = (uint)sizeof(ClhSphereGpu);
   out_g[6] = (uint)sizeof(ClhPlaneGpu);
   out_g[7] = (uint)sizeof(ClhSceneGpu);
+  out_g[8] = (uint)sizeof(ClhLodRecord);
 }
 
 /* in_g: 8 floats per word (depth z, near, far, tx, ty, tz, u, v) and 2 more (w, ao) —

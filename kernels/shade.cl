@@ -146,8 +146,8 @@ __kernel void shade_deferred(__global const ClhGroomGpu* groom_g, __global const
    * compensated it (N / N_LOD, bounded by the widest hit band) at this pixel's depth */
   in.lod_shift = 0.0f;
   const uint nb = groom_g->bundle_count;
-  const float drawn = nb > 0u ? (float)offsets_g[nb] : 0.0f;
-  const float visible = nb > 0u ? (float)offsets_g[nb + 1u] : 0.0f;
+  const float drawn = nb > 0u ? (float)offsets_g[clh_lod_drawn_total_at(nb)] : 0.0f;
+  const float visible = nb > 0u ? (float)offsets_g[clh_lod_visible_total_at(nb)] : 0.0f;
   const float beta = visible > 0.0f ? drawn / visible : 1.0f;
   const ulong w0 = gbuf_g[idx];
   if (groom_g->shadow_lod_correction != 0u && beta > 0.0f && beta < 1.0f && w0 != CLH_GBUF_EMPTY) {

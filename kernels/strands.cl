@@ -2,15 +2,17 @@
  * SG_SIZE lanes) per strand.
  *
  * Inputs: the groom (ClhGroomGpu), its bundles and hair-mesh vertices, the per-bundle LOD
- * records (uint4: N_LOD, C, L bits, morph gamma bits) and their exclusive scan
- * (bundle_count + 1 entries, the last being the total), and the progressive blue-noise
+ * records (ClhLodRecord: N_LOD, C, L, morph gamma) and the offsets of their scan
+ * (bundle_count + 2 entries: the exclusive scan, then the drawn total at [bundle_count]
+ * and the visible total; gpu_types.h has the layout), and the progressive blue-noise
  * root sets.
  *
  * Assembly (Lipp §3.1.1, Bhokare §3.3-3.6): the lanes interpolate the bundle's layers at
  * the strand's root sample into local memory (finite-difference tangents, neighbours
  * exchanged by shuffles); then each lane evaluates its own run of the C control points on
  * the Hermite base spline, styles them, and swaps its first/last points and tangents with
- * its neighbours, so every point and tangent is computed exactly once. Lane i owns points
+ * its neighbours, so every point and tangent is computed exactly once (the tangents are
+ * finished as for stored strands, strand_common.h). Lane i owns points
  * [i*S, i*S + S) with S = ceil((C-1)/SG_SIZE); when SG_SIZE*S == C-1 the last lane also
  * owns the tip. Inside a vertex-LOD transition window (gamma > 0) odd points move toward
  * their neighbours' midpoint and tangents blend with those of the coarser level
@@ -37,6 +39,7 @@
 #include "clhair/fast_math.h"
 #include "hair_style.h"
 #include "raster.h"
+#include "strand_common.h"
 
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
@@ -56,12 +59,6 @@ typedef struct {
   float4 next_t; /* its final tangent (xyz, ambient occlusion in w) */
   float2 uv;     /* the strand's root styling coordinates */
 } clh_lane_span;
-
-/* Reflects the neighbour tangent t about the end segment direction q (Bhokare Eq. 5-6). */
-static inline float3 clh_end_tangent(float3 q, float3 t_neighbour) {
-  return 2.0f * q * dot(t_neighbour, q) - t_neighbour;
-}
-
 
 /* Tangent k of the fine level from raw points in local memory (central differences, the
  * reflection rule at the ends). */
@@ -187,31 +184,8 @@ static inline void clh_assemble_strand(sg_ctx* sg, SG_SHARED clh_layer_pt* layer
     /* exchange 1: neighbour points for the finite-difference tangents */
     const float4 prev_p = sg_shuffle_up1_f4(sg, P[count > 0u ? count - 1u : 0u], (float4)(0.0f));
     next_p = sg_shuffle_down1_f4(sg, P[0], (float4)(0.0f));
-    for (uint i = 0; i < CLH_PTS_CAP; ++i) {
-      uint k = first + i;
-      if (i < count && k > 0u && k + 1u < C) {
-        float3 a = (i > 0u ? P[i - 1u] : prev_p).xyz;
-        float3 c = (i + 1u < count ? P[i + 1u] : next_p).xyz;
-        T[i].xyz = clh_normalize_or(c - a, CLH_UP);
-      }
-      T[i].w = ao[i];
-    }
-    /* exchange 2: interior tangents next to the end points */
-    const float4 prev_t = sg_shuffle_up1_f4(sg, T[count > 0u ? count - 1u : 0u], (float4)(0.0f));
-    const float4 next_t0 = sg_shuffle_down1_f4(sg, T[0], (float4)(0.0f));
-    if (count > 0u && first == 0u) { /* root, Bhokare Eq. 6 */
-      float3 p1 = (count > 1u ? P[1] : next_p).xyz;
-      float3 q = clh_normalize_or(p1 - P[0].xyz, CLH_UP);
-      float3 t1 = (C == 2u) ? q : (count > 1u ? T[1] : next_t0).xyz;
-      T[0].xyz = clh_normalize_or(clh_end_tangent(q, t1), q);
-    }
-    if (count > 0u && C - 1u >= first && C - 1u < first + count) { /* tip, Bhokare Eq. 5 */
-      uint i = C - 1u - first;
-      float3 pm = (i > 0u ? P[i - 1u] : prev_p).xyz;
-      float3 q = clh_normalize_or(P[i].xyz - pm, CLH_UP);
-      float3 tm = (C == 2u) ? q : (i > 0u ? T[i - 1u] : prev_t).xyz;
-      T[i].xyz = clh_normalize_or(clh_end_tangent(q, tm), q);
-    }
+    for (uint i = 0; i < CLH_PTS_CAP; ++i) T[i].w = ao[i];
+    clh_finish_tangents(sg, P, T, CLH_PTS_CAP, first, count, C, prev_p, next_p, CLH_TANGENT_RSQRT);
   }
 
   /* last exchange: the next lane's first tangent, now final */
@@ -224,20 +198,18 @@ static inline void clh_assemble_strand(sg_ctx* sg, SG_SHARED clh_layer_pt* layer
 }
 
 /* Which strand a work-group draws; false when there is none (uniform per group). */
-static inline bool clh_strand_job(__global const ClhGroomGpu* g, __global const uint4* lod_g,
+static inline bool clh_strand_job(__global const ClhGroomGpu* g, __global const ClhLodRecord* lod_g,
                                   __global const uint* offsets_g, __global const ClhBundle* bundles_g,
                                   uint strand, uint* bundle, uint* local_index, uint* C,
                                   float* gamma, float* coverage) {
-  uint bundle_count = g->bundle_count;
-  if (bundle_count == 0u || strand >= offsets_g[bundle_count]) return false;
-  uint b = clh_find_range(offsets_g, bundle_count, strand);
-  uint4 lod = lod_g[b];
+  uint b = 0u;
+  if (!clh_lod_find_strand(offsets_g, g->bundle_count, strand, &b, local_index)) return false;
+  const ClhLodRecord lod = lod_g[b];
   *bundle = b;
-  *local_index = strand - offsets_g[b];
-  *C = clamp(lod.y, 2u, (uint)CLH_MAX_CONTROL_POINTS);
-  *gamma = clamp(as_float(lod.w), 0.0f, 1.0f);
-  *coverage = lod.x > 0u ? fmax((float)bundles_g[b].strand_count / (float)lod.x, 1.0f) : 1.0f;
-  return *local_index < lod.x;
+  *C = clamp(lod.control_points, 2u, (uint)CLH_MAX_CONTROL_POINTS);
+  *gamma = clamp(lod.gamma, 0.0f, 1.0f);
+  *coverage = clh_lod_record_coverage(lod, bundles_g[b].strand_count);
+  return *local_index < lod.strands;
 }
 
 typedef struct {
@@ -249,7 +221,7 @@ typedef struct {
 /* Assembles strand `strand` (when it exists) and draws its segments. Uniform per group. */
 static inline void clh_draw_strand(sg_ctx* sg, clh_strand_scratch scratch, clh_raster_ctx* rc,
                                    __global const ClhGroomGpu* g, __global const ClhBundle* bundles_g,
-                                   __global const ClhMeshVertex* verts_g, __global const uint4* lod_g,
+                                   __global const ClhMeshVertex* verts_g, __global const ClhLodRecord* lod_g,
                                    __global const uint* offsets_g, __global const float2* roots_quad_g,
                                    __global const float2* roots_tri_g, __global const float* scene_depth_g,
                                    __global ulong* gbuf_g, __global uint* stats_g, uint strand) {
@@ -271,7 +243,7 @@ static inline void clh_draw_strand(sg_ctx* sg, clh_strand_scratch scratch, clh_r
 #define CLH_RASTER_PARAMS                                                                          \
   __global const ClhGroomGpu *groom_g, __global const ClhViewGpu *view_g,                          \
       __global const ClhBundle *bundles_g, __global const ClhMeshVertex *verts_g,                  \
-      __global const uint4 *lod_g, __global const uint *offsets_g,                                 \
+      __global const ClhLodRecord *lod_g, __global const uint *offsets_g,                          \
       __global const float2 *roots_quad_g, __global const float2 *roots_tri_g,                     \
       __global const float *scene_depth_g, __global ulong *gbuf_g, __global uint *stats_g,         \
       uint strand_base, uint strand_stride
@@ -300,7 +272,7 @@ __kernel SG_KERNEL_ATTRS void strands_raster(CLH_RASTER_PARAMS) {
 /* Persistent grid: group g draws strands g, g + stride, g + 2 stride, ... below the total. */
 __kernel SG_KERNEL_ATTRS void strands_raster_persistent(CLH_RASTER_PARAMS) {
   CLH_RASTER_PROLOGUE;
-  const uint total = groom_g->bundle_count > 0u ? offsets_g[groom_g->bundle_count] : 0u;
+  const uint total = clh_lod_drawn_total(offsets_g, groom_g->bundle_count);
   for (uint strand = sg_strand_index(strand_base); strand < total;
        strand += SG_STRAND_STRIDE(max(strand_stride, 1u))) {
     clh_draw_strand(&sg, scratch, &rc, groom_g, bundles_g, verts_g, lod_g, offsets_g, roots_quad_g,
@@ -313,7 +285,7 @@ __kernel SG_KERNEL_ATTRS void strands_raster_persistent(CLH_RASTER_PARAMS) {
  * the layer of its depth past z0. One strand per work-group. */
 __kernel SG_KERNEL_ATTRS void strands_opacity(
     __global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g, __global const ClhBundle* bundles_g,
-    __global const ClhMeshVertex* verts_g, __global const uint4* lod_g, __global const uint* offsets_g,
+    __global const ClhMeshVertex* verts_g, __global const ClhLodRecord* lod_g, __global const uint* offsets_g,
     __global const float2* roots_quad_g, __global const float2* roots_tri_g, __global const float* opaque_depth_g,
     __global const ClhShadowGpu* shadow_g, __global const float* hair_depth_g, __global uint* opacity_g,
     uint strand_base) {
@@ -325,11 +297,9 @@ __kernel SG_KERNEL_ATTRS void strands_opacity(
   scratch.layers = layers_l;
   scratch.strand = strand_l;
   scratch.pts = pts_l;
-  clh_raster_ctx rc;                                                  \
+  clh_raster_ctx rc;
   clh_raster_setup(&rc, groom_g, view_g);
-  rc.hair_depth_g = hair_depth_g;
-  rc.dom_offset = shadow_g->offset;
-  for (int k = 0; k < CLH_DOM_LAYERS; ++k) rc.bound[k] = shadow_g->bound[k];
+  clh_raster_opacity_setup(&rc, shadow_g, hair_depth_g);
   clh_draw_strand(&sg, scratch, &rc, groom_g, bundles_g, verts_g, lod_g, offsets_g, roots_quad_g, roots_tri_g,
                   opaque_depth_g + shadow_g->offset, (__global ulong*)opacity_g, 0, sg_strand_index(strand_base));
 }
@@ -340,7 +310,7 @@ __kernel SG_KERNEL_ATTRS void strands_opacity(
  * strand (object space; w = styling w / ambient occlusion), counts_g the point count. */
 __kernel SG_KERNEL_ATTRS void strands_export(
     __global const ClhGroomGpu* groom_g, __global const ClhBundle* bundles_g,
-    __global const ClhMeshVertex* verts_g, __global const uint4* lod_g,
+    __global const ClhMeshVertex* verts_g, __global const ClhLodRecord* lod_g,
     __global const uint* offsets_g, __global const float2* roots_quad_g,
     __global const float2* roots_tri_g, __global float4* points_g, __global float4* tangents_g,
     __global uint* counts_g, uint strand_base, uint strand_capacity) {

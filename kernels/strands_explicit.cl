@@ -7,8 +7,9 @@
  * the points (float4: object-space xyz, styling w), the strand offsets (strand s owns
  * points [offsets[s], offsets[s+1])), optional packed root uv (unorm16 u | v << 16), the
  * chunk table (uint4: first strand, strand count, LOD delta bits, 0), and per chunk the LOD
- * record of lod_chunks (uint4: N_LOD, C, L bits, gamma bits) with its scan (scan_bundles:
- * chunk_count + 2 entries, [chunk_count] = strands to draw).
+ * record of lod_chunks (ClhLodRecord: N_LOD, C, L, gamma) with the offsets of its scan
+ * (scan_bundles: chunk_count + 2 entries, the drawn total at [chunk_count]; gpu_types.h
+ * has the layout).
  *
  * Drawn strand g is the (g - scan[c])-th strand of the chunk c that holds it, drawn only
  * when it is among the chunk's first N_LOD (the chunk's strands are in random order, so
@@ -25,7 +26,8 @@
  * neighbouring lanes exchange first/last points and tangents with sub-group shuffles, and
  * the round's edge lanes take the point beyond the round from global memory as the
  * shuffle's fill value. Tangents are central differences inside and Bhokare's reflection
- * rule (Eq. 5-6) at the root and the tip, as in strands.cl. The G-buffer word means the
+ * rule (Eq. 5-6) at the root and the tip, finished as in strands.cl (strand_common.h) but
+ * with raster_core.h's normalisation, like the CPU floor. The G-buffer word means the
  * same as for generated strands: u, v from the stored root uv or a per-strand hash, w from
  * the point, AO 1; with per-point file colour (look[2]) u, v and AO hold the colour instead
  * (clh_x_file_look). The points table then holds twice point_count entries.
@@ -39,6 +41,7 @@
 #include "subgroup.h"
 #include "clh_math.h"
 #include "raster.h"
+#include "strand_common.h"
 
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
@@ -71,15 +74,13 @@ typedef struct {
 
 /* The strand drawn by draw index `index`; false when there is none (uniform per group). */
 static inline bool clh_x_find_job(__global const ClhGroomGpu* g, const clh_x_tables* tb,
-                                  __global const uint4* lod_g, __global const uint* offsets_g,
+                                  __global const ClhLodRecord* lod_g, __global const uint* offsets_g,
                                   uint index, clh_x_job* job) {
-  const uint K = g->bundle_count;
-  if (K == 0u || index >= offsets_g[K]) return false;
-  const uint c = clh_find_range(offsets_g, K, index);
-  const uint4 lod = lod_g[c];
+  uint c = 0u, slot = 0u;
+  if (!clh_lod_find_strand(offsets_g, g->bundle_count, index, &c, &slot)) return false;
+  const ClhLodRecord lod = lod_g[c];
   const uint4 chunk = tb->chunks[c];
-  const uint slot = index - offsets_g[c];
-  if (slot >= lod.x || slot >= chunk.y) return false;
+  if (slot >= lod.strands || slot >= chunk.y) return false;
   const uint s = chunk.x + slot;
   if (s >= tb->strand_count) return false;
   const uint first = min(tb->strand_offsets[s], tb->point_count);
@@ -87,10 +88,10 @@ static inline bool clh_x_find_job(__global const ClhGroomGpu* g, const clh_x_tab
   const uint n = last - first;
   if (n < 2u) return false;
   const uint c_full = clamp(g->control_points, 3u, (uint)CLH_MAX_CONTROL_POINTS);
-  const uint C = clamp(lod.y, 3u, c_full);
+  const uint C = clamp(lod.control_points, 3u, c_full);
   uint step = 1u;
   while ((C - 1u) * step < c_full - 1u) step <<= 1;
-  float gamma = clamp(as_float(lod.w), 0.0f, 1.0f);
+  float gamma = clamp(lod.gamma, 0.0f, 1.0f);
   while (step > 1u && n - 1u < 2u * step) {
     step >>= 1;
     gamma = 0.0f; /* the strand is already at its coarsest level */
@@ -101,7 +102,7 @@ static inline bool clh_x_find_job(__global const ClhGroomGpu* g, const clh_x_tab
   job->n = n;
   job->step = step;
   job->M = (n - 1u + step - 1u) / step + 1u;
-  job->coverage = lod.x > 0u ? fmax((float)chunk.y / (float)lod.x, 1.0f) : 1.0f;
+  job->coverage = clh_lod_record_coverage(lod, chunk.y);
   job->gamma = gamma;
   return true;
 }
@@ -173,31 +174,7 @@ static inline void clh_x_round(sg_ctx* sg, const clh_x_tables* tb, const clh_x_j
     next_p = sg_shuffle_down1_f4(sg, P[0], hn);
   }
 
-  /* interior tangents: central differences */
-  for (uint i = 0; i < CLH_X_CAP; ++i) {
-    uint k = k0 + i;
-    if (i < count && k > 0u && k + 1u < M) {
-      float3 a = (i > 0u ? P[i - 1u] : prev_p).xyz;
-      float3 c = (i + 1u < count ? P[i + 1u] : next_p).xyz;
-      T[i].xyz = clh_unit_or(c - a, CLH_UP);
-    }
-  }
-  /* exchange 2: interior tangents next to the end points */
-  const float4 prev_t = sg_shuffle_up1_f4(sg, T[last], (float4)(0.0f));
-  const float4 next_t0 = sg_shuffle_down1_f4(sg, T[0], (float4)(0.0f));
-  if (count > 0u && k0 == 0u) { /* root, Bhokare Eq. 6 */
-    float3 p1 = (count > 1u ? P[1] : next_p).xyz;
-    float3 q = clh_unit_or(p1 - P[0].xyz, CLH_UP);
-    float3 t1 = (M == 2u) ? q : (count > 1u ? T[1] : next_t0).xyz;
-    T[0].xyz = clh_end_tangent_unit(q, t1);
-  }
-  if (count > 0u && M - 1u >= k0 && M - 1u < k0 + count) { /* tip, Bhokare Eq. 5 */
-    uint i = M - 1u - k0;
-    float3 pm = (i > 0u ? P[i - 1u] : prev_p).xyz;
-    float3 q = clh_unit_or(P[i].xyz - pm, CLH_UP);
-    float3 tm = (M == 2u) ? q : (i > 0u ? T[i - 1u] : prev_t).xyz;
-    T[i].xyz = clh_end_tangent_unit(q, tm);
-  }
+  clh_finish_tangents(sg, P, T, CLH_X_CAP, k0, count, M, prev_p, next_p, CLH_TANGENT_DIVIDE);
   /* last exchange: the next lane's first tangent, now final */
   span->next_t = sg_shuffle_down1_f4(sg, T[0], (float4)(0.0f, 0.0f, 0.0f, 1.0f));
   span->next_p = next_p;
@@ -234,7 +211,7 @@ static inline void clh_x_file_look(clh_raster_ctx* rc, __global const ClhGroomGp
 
 /* Draws strand `index` (when it exists). Uniform per group. */
 static inline void clh_x_draw(sg_ctx* sg, clh_raster_ctx* rc, __global const ClhGroomGpu* g,
-                              const clh_x_tables* tb, __global const uint4* lod_g,
+                              const clh_x_tables* tb, __global const ClhLodRecord* lod_g,
                               __global const uint* offsets_g, __global const float* scene_depth_g,
                               __global ulong* gbuf_g, __global uint* stats_g, uint index) {
   clh_x_job job;
@@ -265,8 +242,9 @@ static inline void clh_x_draw(sg_ctx* sg, clh_raster_ctx* rc, __global const Clh
 #define CLH_X_PARAMS                                                                               \
   __global const ClhGroomGpu *groom_g, __global const ClhViewGpu *view_g,                          \
       __global const float4 *points_g, __global const uint *strand_offsets_g,                      \
-      __global const uint *uv_g, __global const uint4 *chunks_g, __global const uint4 *lod_g,      \
-      __global const uint *offsets_g, uint strand_count, uint point_count, uint has_uv
+      __global const uint *uv_g, __global const uint4 *chunks_g,                                   \
+      __global const ClhLodRecord *lod_g, __global const uint *offsets_g, uint strand_count,       \
+      uint point_count, uint has_uv
 
 #define CLH_X_TABLES(tb)                  \
   clh_x_tables tb;                        \
@@ -300,7 +278,7 @@ __kernel SG_KERNEL_ATTRS void strands_explicit_raster_persistent(CLH_X_PARAMS,
   CLH_X_TABLES(tb);
   clh_raster_ctx rc;
   clh_raster_setup(&rc, groom_g, view_g);
-  const uint total = groom_g->bundle_count > 0u ? offsets_g[groom_g->bundle_count] : 0u;
+  const uint total = clh_lod_drawn_total(offsets_g, groom_g->bundle_count);
   for (uint index = sg_strand_index(0u); index < total; index += SG_STRAND_STRIDE(max(strand_stride, 1u)))
     clh_x_draw(&sg, &rc, groom_g, &tb, lod_g, offsets_g, scene_depth_g, gbuf_g, stats_g, index);
 }
@@ -339,9 +317,7 @@ __kernel SG_KERNEL_ATTRS void strands_explicit_opacity(CLH_X_PARAMS, __global co
   CLH_X_TABLES(tb);
   clh_raster_ctx rc;
   clh_raster_setup(&rc, groom_g, view_g);
-  rc.hair_depth_g = hair_depth_g;
-  rc.dom_offset = shadow_g->offset;
-  for (int k = 0; k < CLH_DOM_LAYERS; ++k) rc.bound[k] = shadow_g->bound[k];
+  clh_raster_opacity_setup(&rc, shadow_g, hair_depth_g);
   clh_x_draw(&sg, &rc, groom_g, &tb, lod_g, offsets_g, opaque_depth_g + shadow_g->offset,
              (__global ulong*)opacity_g, 0, sg_strand_index(strand_base));
 }

@@ -1,11 +1,16 @@
 // test_lod.cpp — the LOD formulas (Lipp Eq. 1-5, Bhokare Eq. 10-12) against hand-computed
-// values, the LOD kernel's culling, delta staggering, vertex-LOD morph continuity, and
-// LOD's effect on coverage at a distance.
+// values, the LOD record's bytes and the scan kernel against a CPU scan (both laid out in
+// gpu_types.h), the LOD kernel's culling, delta staggering, vertex-LOD morph continuity,
+// and LOD's effect on coverage at a distance.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <string>
+#include <vector>
 
 #include <glm/geometric.hpp>
 
+#include "cl/device_impl.h"
 #include "clhair/lod_math.h"
 #include "clhair/renderer.h"
 #include "groom/groom_data.h"
@@ -113,6 +118,80 @@ TEST(LodMath, DeltaStaggersTransitions) {
   EXPECT_LT(staggered, bundles * 2 / 5);
   EXPECT_EQ(sweep(false, 0.5f), bundles);
   sweep(true, 0.05f);  // per-bundle changes stay at one strand down to small L
+}
+
+TEST(LodRecord, HelpersFillTheDocumentedBytes) {
+  // the table in gpu_types.h: N_LOD and C as uint32, then L and gamma as float bits
+  const ClhLodRecord r = clh_lod_record_make(7u, 33u, 0.25f, 0.5f);
+  std::uint32_t words[4];
+  static_assert(sizeof(words) == sizeof(r), "four 32-bit words");
+  std::memcpy(words, &r, sizeof words);
+  EXPECT_EQ(words[0], 7u);
+  EXPECT_EQ(words[1], 33u);
+  EXPECT_EQ(words[2], 0x3E800000u);  // 0.25f
+  EXPECT_EQ(words[3], 0x3F000000u);  // 0.5f
+  // the hit-diameter widening N / N_LOD, never below 1, and 1 for a bundle drawing nothing
+  EXPECT_EQ(clh_lod_record_coverage(r, 28u), 4.0f);
+  EXPECT_EQ(clh_lod_record_coverage(r, 5u), 1.0f);
+  EXPECT_EQ(clh_lod_record_coverage(clh_lod_record_make(0u, 33u, 1.0f, 0.0f), 28u), 1.0f);
+}
+
+TEST(LodRecord, FixedLevelRecordFollowsTheEquations) {
+  // full detail: every strand, C_max points, no morph
+  const ClhLodRecord full = clh_lod_record_at(1.0f, 300u, 0.4f, 8u, 129u, 0.5f);
+  EXPECT_EQ(full.strands, 300u);
+  EXPECT_EQ(full.control_points, 129u);
+  EXPECT_EQ(full.lod, 1.0f);
+  EXPECT_EQ(full.gamma, 0.0f);
+  // inside a transition window (gamma 0.5, as in MorphFactorIsOneExactlyWhereTheLevelSwitches)
+  const float Lq = std::pow((std::pow(2.0f, 5.25f) + 2.0f) / 129.0f, 2.0f);
+  for (float L : {0.6f, 0.3f, Lq, 0.05f}) {
+    const ClhLodRecord r = clh_lod_record_at(L, 300u, 0.4f, 8u, 129u, 0.5f);
+    EXPECT_EQ(r.strands, clh_lod_strands(L, 300u, 0.4f)) << L;
+    EXPECT_EQ(r.control_points, clh_lod_control_points(L, 8u, 129u)) << L;
+    EXPECT_EQ(r.lod, L);
+    EXPECT_EQ(r.gamma, clh_lod_morph(L, 8u, 129u, 0.5f)) << L;
+  }
+  EXPECT_NEAR(clh_lod_record_at(Lq, 300u, 0.4f, 8u, 129u, 0.5f).gamma, 0.5f, 1e-3f);
+}
+
+// scan_bundles against a CPU scan for bundle counts around the work-group size: the
+// exclusive scan, the drawn and the visible total at the indices gpu_types.h names, and
+// nothing written past clh_lod_offsets_length(n).
+TEST(LodScan, OffsetsMatchACpuScanAtTheNamedIndices) {
+  auto& d = *test::sharedDevice().impl();
+  constexpr std::uint32_t kScanWg = 256;  // the kernel's default, as the LOD stage builds it
+  cl::Kernel k(d.program("lod.cl", "-DSCAN_WG=" + std::to_string(kScanWg)), "scan_bundles");
+  const cl_uint kCanary = 0xC0FFEEu;
+  for (std::uint32_t n : {1u, 255u, 256u, 257u, 1000u}) {
+    SCOPED_TRACE("n = " + std::to_string(n));
+    std::vector<cl_uint> counts(clh_lod_counts_length(n), 0u);
+    std::vector<cl_uint> expected(clh_lod_offsets_length(n), 0u);
+    std::uint32_t drawn = 0, visible = 0;
+    for (std::uint32_t b = 0; b < n; ++b) {
+      const std::uint32_t h = clh_hash2(n, b);
+      const std::uint32_t full = h % 200u;  // some bundles are empty
+      const bool culled = (h >> 8) % 3u == 0u;
+      const std::uint32_t n_lod = culled ? 0u : std::min(full, 1u + (h >> 16) % 200u);
+      counts[b] = n_lod;
+      counts[clh_lod_full_count_at(n, b)] = n_lod > 0u ? full : 0u;
+      expected[b] = drawn;
+      drawn += n_lod;
+      visible += counts[clh_lod_full_count_at(n, b)];
+    }
+    expected[clh_lod_drawn_total_at(n)] = drawn;
+    expected[clh_lod_visible_total_at(n)] = visible;
+    std::vector<cl_uint> out(expected.size() + 4, kCanary);
+    cl::Buffer bc(d.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, counts.size() * sizeof(cl_uint), counts.data());
+    cl::Buffer bo(d.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, out.size() * sizeof(cl_uint), out.data());
+    k.setArg(0, bc);
+    k.setArg(1, bo);
+    k.setArg(2, n);
+    d.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(kScanWg), cl::NDRange(kScanWg));
+    d.queue.enqueueReadBuffer(bo, CL_TRUE, 0, out.size() * sizeof(cl_uint), out.data());
+    for (std::size_t i = 0; i < expected.size(); ++i) ASSERT_EQ(out[i], expected[i]) << "offsets[" << i << "]";
+    for (std::size_t i = expected.size(); i < out.size(); ++i) EXPECT_EQ(out[i], kCanary) << "canary " << i;
+  }
 }
 
 // The strands lod_bundles keeps, counted on the CPU by its rule (kernels/lod.cl,

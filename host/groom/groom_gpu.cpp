@@ -15,7 +15,7 @@ GroomInstanceGpu& GroomGpu::instance(std::size_t k) {
 std::uint32_t GroomGpu::readTotal(const GroomInstanceGpu& inst) {
   if (inst.records == 0) return 0;
   std::uint32_t total = 0;
-  readBack(dev_, "the strand total", inst.offsets, &total, 1, inst.records);
+  readBack(dev_, "the strand total", inst.offsets, &total, 1, gpu::clh_lod_drawn_total_at(inst.records));
   return total;
 }
 

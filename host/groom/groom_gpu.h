@@ -55,9 +55,9 @@ struct ViewPass {
 struct GroomInstanceGpu {
   gpu::ClhGroomGpu params{};   // as last uploaded to `groom`
   cl::Buffer groom;            // ClhGroomGpu
-  cl::Buffer lod;              // one LOD record per bundle / chunk
-  cl::Buffer counts;           // strands per bundle / chunk
-  cl::Buffer offsets;          // their scan; the drawn total at [records]
+  cl::Buffer lod;              // ClhLodRecord per bundle / chunk
+  cl::Buffer counts;           // strands per bundle / chunk (gpu_types.h, scan layout)
+  cl::Buffer offsets;          // their scan and totals (clh_lod_drawn_total_at(records))
   std::uint32_t records = 0;   // bundles or chunks
   float reach = 0.0f;          // hair meshes: styling reach in view units
 };

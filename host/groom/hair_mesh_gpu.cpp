@@ -61,9 +61,10 @@ std::unique_ptr<GroomInstanceGpu> HairMeshGpu::makeInstance() {
   inst->params = base_;
   inst->records = static_cast<std::uint32_t>(B);
   inst->groom = makeBuffer<gpu::ClhGroomGpu>(dev_, what + " parameters", 1, &inst->params);
-  inst->lod = makeBuffer<cl_uint4>(dev_, what + " LOD records", B);
-  inst->counts = makeBuffer<cl_uint>(dev_, what + " strand counts", 2 * B);
-  inst->offsets = makeBuffer<cl_uint>(dev_, what + " strand offsets", B + 2);
+  const auto n = static_cast<gpu::clh_u32>(B);
+  inst->lod = makeBuffer<gpu::ClhLodRecord>(dev_, what + " LOD records", n);
+  inst->counts = makeBuffer<cl_uint>(dev_, what + " strand counts", gpu::clh_lod_counts_length(n));
+  inst->offsets = makeBuffer<cl_uint>(dev_, what + " strand offsets", gpu::clh_lod_offsets_length(n));
   return inst;
 }
 
@@ -160,24 +161,25 @@ HairMeshGpu::Exported HairMeshGpu::exportOnDevice(GroomInstanceGpu& inst, float 
       throw Error("strand export: the LOD pass kept " + std::to_string(e.total) + " of " +
                   std::to_string(data_.totalStrands) + " strands");
   } else {
+    // the records and scan lod_bundles would write with every bundle at LOD value `lod`
     const HairMesh& mesh = *mesh_;
-    std::vector<cl_uint4> records(B);
-    std::vector<cl_uint> offsets(B + 1, 0);
+    const auto n = static_cast<gpu::clh_u32>(B);
     const auto layers = static_cast<gpu::clh_u32>(mesh.layerCount);
     const gpu::clh_u32 cmax = fullDetailControlPoints(mesh);
-    const float gamma = gpu::clh_lod_morph(lod, layers, cmax, mesh.lod.morphWindow);
-    std::uint32_t gammaBits, lodBits;
-    std::memcpy(&gammaBits, &gamma, 4);
-    std::memcpy(&lodBits, &lod, 4);
+    std::vector<gpu::ClhLodRecord> records(B);
+    std::vector<cl_uint> offsets(gpu::clh_lod_offsets_length(n), 0);
+    gpu::clh_u32 drawn = 0;
     for (std::size_t b = 0; b < B; ++b) {
       const gpu::ClhBundle& bundle = data_.bundles[b];
-      gpu::clh_u32 n = gpu::clh_lod_strands(lod, bundle.strand_count, bundle.lod_delta);
-      records[b] = {{n, gpu::clh_lod_control_points(lod, layers, cmax), lodBits, gammaBits}};
-      offsets[b + 1] = offsets[b] + n;
+      records[b] = gpu::clh_lod_record_at(lod, bundle.strand_count, bundle.lod_delta, layers, cmax, mesh.lod.morphWindow);
+      offsets[b] = drawn;
+      drawn += records[b].strands;
     }
-    e.total = offsets[B];
-    upload(dev_, inst.lod, records.data(), B);
-    upload(dev_, inst.offsets, offsets.data(), B + 1);
+    offsets[gpu::clh_lod_drawn_total_at(n)] = drawn;
+    offsets[gpu::clh_lod_visible_total_at(n)] = static_cast<cl_uint>(data_.totalStrands);  // none culled
+    e.total = drawn;
+    upload(dev_, inst.lod, records.data(), records.size());
+    upload(dev_, inst.offsets, offsets.data(), offsets.size());
   }
   if (e.total == 0) return e;
   const std::size_t slots = static_cast<std::size_t>(e.total) * CLH_MAX_CONTROL_POINTS;
@@ -200,7 +202,7 @@ StrandSet HairMeshGpu::exportStrands(float lod) {
   readBack(dev_, "exported strands", e.points, p.data(), slots);
   readBack(dev_, "exported strands", e.tangents, t.data(), slots);
   readBack(dev_, "exported strands", e.counts, out.pointCounts.data(), total);
-  std::vector<cl_uint> offsets(data_.bundles.size() + 1);
+  std::vector<cl_uint> offsets(gpu::clh_lod_drawn_total_at(static_cast<gpu::clh_u32>(data_.bundles.size())) + 1);
   readBack(dev_, "strand offsets", inst->offsets, offsets.data(), offsets.size());
   out.bundleOf.resize(total);
   for (std::size_t b = 0; b + 1 < offsets.size(); ++b)

@@ -64,9 +64,10 @@ std::unique_ptr<GroomInstanceGpu> StrandFileGpu::makeInstance() {
   inst->params = base_;
   inst->records = static_cast<std::uint32_t>(K);
   inst->groom = makeBuffer<gpu::ClhGroomGpu>(dev_, what + " parameters", 1, &inst->params);
-  inst->lod = makeBuffer<cl_uint4>(dev_, what + " LOD records", K);
-  inst->counts = makeBuffer<cl_uint>(dev_, what + " strand counts", 2 * K);
-  inst->offsets = makeBuffer<cl_uint>(dev_, what + " strand offsets per chunk", K + 2);
+  const auto n = static_cast<gpu::clh_u32>(K);
+  inst->lod = makeBuffer<gpu::ClhLodRecord>(dev_, what + " LOD records", n);
+  inst->counts = makeBuffer<cl_uint>(dev_, what + " strand counts", gpu::clh_lod_counts_length(n));
+  inst->offsets = makeBuffer<cl_uint>(dev_, what + " strand offsets per chunk", gpu::clh_lod_offsets_length(n));
   return inst;
 }
 
@@ -140,26 +141,23 @@ StrandSet StrandFileGpu::exportStrands(float lod) {
   inst->params.lod_enabled = 0;
   upload(dev_, inst->groom, &inst->params, 1);
   const std::size_t K = data_.chunks.size();
-  const gpu::clh_u32 cfull = CLH_MAX_CONTROL_POINTS;
-  const gpu::clh_u32 C = gpu::clh_lod_control_points(lod, 3u, cfull);
-  const float gamma = gpu::clh_lod_morph(lod, 3u, cfull, groom_->lod.morphWindow);
-  std::uint32_t lodBits, gammaBits;
-  std::memcpy(&lodBits, &lod, 4);
-  std::memcpy(&gammaBits, &gamma, 4);
-  std::vector<cl_uint4> records(K);
-  std::vector<cl_uint> offsets(K + 2, 0);
+  const auto n = static_cast<gpu::clh_u32>(K);
+  std::vector<gpu::ClhLodRecord> records(K);
+  std::vector<cl_uint> offsets(gpu::clh_lod_offsets_length(n), 0);
+  gpu::clh_u32 drawn = 0;
   for (std::size_t c = 0; c < K; ++c) {
     const glm::uvec4& chunk = data_.chunks[c];
     float delta;
-    std::memcpy(&delta, &chunk.z, 4);
-    const gpu::clh_u32 n = gpu::clh_lod_strands(lod, chunk.y, delta);
-    records[c] = {{n, C, lodBits, gammaBits}};
-    offsets[c + 1] = offsets[c] + n;
+    std::memcpy(&delta, &chunk.z, 4);  // chunk table: first strand, count, delta bits
+    records[c] = gpu::clh_lod_record_at(lod, chunk.y, delta, 3u, CLH_MAX_CONTROL_POINTS, groom_->lod.morphWindow);
+    offsets[c] = drawn;
+    drawn += records[c].strands;
   }
-  offsets[K + 1] = static_cast<cl_uint>(data_.totalStrands);
-  upload(dev_, inst->lod, records.data(), K);
-  upload(dev_, inst->offsets, offsets.data(), K + 2);
-  const std::uint32_t total = offsets[K];
+  offsets[gpu::clh_lod_drawn_total_at(n)] = drawn;
+  offsets[gpu::clh_lod_visible_total_at(n)] = static_cast<cl_uint>(data_.totalStrands);
+  upload(dev_, inst->lod, records.data(), records.size());
+  upload(dev_, inst->offsets, offsets.data(), offsets.size());
+  const std::uint32_t total = drawn;
   const std::size_t P = data_.totalPoints, S = data_.totalStrands;
   cl::Buffer points = makeBuffer<cl_float4>(dev_, "exported strand points", P);
   cl::Buffer tangents = makeBuffer<cl_float4>(dev_, "exported strand tangents", P);

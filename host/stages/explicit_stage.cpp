@@ -31,8 +31,8 @@ KernelArgs ExplicitStage::bindTables(cl::Kernel& k, const Inputs& in, const cl::
       .buffer("strand offsets", *in.strandOffsets, (S + 1) * sizeof(cl_uint))
       .buffer("root uv", *in.uv, (in.hasUv ? S : 1) * sizeof(cl_uint))
       .buffer("chunks", *in.chunks, K * 4 * sizeof(cl_uint))
-      .buffer("LOD records", *in.lod, K * 4 * sizeof(cl_uint))
-      .buffer("chunk offsets", *in.offsets, (K + 2) * sizeof(cl_uint))
+      .buffer("LOD records", *in.lod, K * sizeof(gpu::ClhLodRecord))
+      .buffer("chunk offsets", *in.offsets, std::uint64_t(gpu::clh_lod_offsets_length(in.chunkCount)) * sizeof(cl_uint))
       .value("strand count", static_cast<cl_uint>(in.strandCount))
       .value("point count", static_cast<cl_uint>(in.pointCount))
       .value("has uv", static_cast<cl_uint>(in.hasUv ? 1 : 0));
@@ -48,8 +48,8 @@ void ExplicitStage::lod(const Inputs& in, const cl::Buffer& view, Profiler* prof
       .buffer("view", view, sizeof(gpu::ClhViewGpu))
       .buffer("chunk bounds", *in.chunkBounds, 2 * K * 4 * sizeof(float))
       .buffer("chunks", *in.chunks, K * 4 * sizeof(cl_uint))
-      .buffer("LOD records", *in.lod, K * 4 * sizeof(cl_uint))
-      .buffer("counts", *in.counts, K * sizeof(cl_uint));
+      .buffer("LOD records", *in.lod, K * sizeof(gpu::ClhLodRecord))
+      .buffer("counts", *in.counts, std::uint64_t(gpu::clh_lod_counts_length(in.chunkCount)) * sizeof(cl_uint));
   dispatch(dev_, lk, "lod", cl::NDRange(in.chunkCount), cl::NDRange(64), profiler);
   enqueueScan(dev_, kernel("scan_bundles", "lod.cl", kScanOptions), *in.counts, *in.offsets, in.chunkCount, profiler);
 }

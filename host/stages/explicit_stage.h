@@ -27,9 +27,9 @@ class ExplicitStage {
     const cl::Buffer* uv = nullptr;             // uint[strandCount] when hasUv, else any 1-word buffer
     const cl::Buffer* chunks = nullptr;         // uint4[chunkCount]
     const cl::Buffer* chunkBounds = nullptr;    // float4[2 * chunkCount]
-    cl::Buffer* lod = nullptr;                  // one LOD record per chunk
-    cl::Buffer* counts = nullptr;               // uint[chunkCount]
-    cl::Buffer* offsets = nullptr;              // uint[chunkCount + 2]
+    cl::Buffer* lod = nullptr;                  // ClhLodRecord[chunkCount]
+    cl::Buffer* counts = nullptr;               // uint[clh_lod_counts_length(chunkCount)]
+    cl::Buffer* offsets = nullptr;              // uint[clh_lod_offsets_length(chunkCount)]
     std::uint32_t chunkCount = 0, strandCount = 0, pointCount = 0;
     std::size_t pointWords = 0;                 // float4 in `points` (file colours follow the points)
     bool hasUv = false;

@@ -13,8 +13,8 @@ LodStage::LodStage(Device::Impl& dev)
 void enqueueScan(Device::Impl& dev, cl::Kernel& scan, const cl::Buffer& counts, const cl::Buffer& offsets,
                  std::uint32_t n, Profiler* profiler) {
   KernelArgs(scan, "lod")
-      .buffer("counts", counts, std::uint64_t(n) * sizeof(cl_uint))
-      .buffer("offsets", offsets, (std::uint64_t(n) + 1) * sizeof(cl_uint))
+      .buffer("counts", counts, std::uint64_t(gpu::clh_lod_counts_length(n)) * sizeof(cl_uint))
+      .buffer("offsets", offsets, std::uint64_t(gpu::clh_lod_offsets_length(n)) * sizeof(cl_uint))
       .value("count", static_cast<cl_uint>(n));
   dispatch(dev, scan, "lod", cl::NDRange(LodStage::kScanWorkGroup), cl::NDRange(LodStage::kScanWorkGroup), profiler);
 }
@@ -28,8 +28,8 @@ void LodStage::enqueue(const Params& p, Profiler* profiler) {
       .buffer("bundles", *p.bundles, B * sizeof(gpu::ClhBundle))
       .buffer("vertices", *p.vertices, p.vertexTotal * sizeof(gpu::ClhMeshVertex))
       .value("reach", p.reach)
-      .buffer("LOD records", *p.lod, B * 4 * sizeof(cl_uint))
-      .buffer("counts", *p.counts, B * sizeof(cl_uint));
+      .buffer("LOD records", *p.lod, B * sizeof(gpu::ClhLodRecord))
+      .buffer("counts", *p.counts, std::uint64_t(gpu::clh_lod_counts_length(p.bundleCount)) * sizeof(cl_uint));
   dispatch(dev_, lod_, "lod", cl::NDRange(p.bundleCount), cl::NDRange(64), profiler);
   enqueueScan(dev_, scan_, *p.counts, *p.offsets, p.bundleCount, profiler);
 }

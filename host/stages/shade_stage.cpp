@@ -21,7 +21,7 @@ cl::Event ShadeStage::enqueue(const Params& p, Profiler* profiler) {
   bindLightsAndShadows(a, p.lighting);
   bindEnvironment(a, p.lighting.env);
   a.buffer("G-buffer", *p.gbuffer, pixels * static_cast<std::uint64_t>(p.msaa + 1) * sizeof(cl_ulong))
-      .buffer("strand offsets", *p.offsets, (p.totalIndex + 1) * sizeof(cl_uint))
+      .buffer("strand offsets", *p.offsets, std::uint64_t(gpu::clh_lod_offsets_length(p.records)) * sizeof(cl_uint))
       .buffer("hair colour", *p.hair, pixels * 4 * sizeof(float));
   return dispatch(dev_, k, "shade", cl::NDRange(p.target.width, p.target.height), cl::NDRange(8, 8), profiler);
 }

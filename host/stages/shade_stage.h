@@ -15,8 +15,8 @@ class ShadeStage {
     ViewTarget target;
     LightingInputs lighting;
     const cl::Buffer* groom = nullptr;    // ClhGroomGpu of the groom being drawn
-    const cl::Buffer* offsets = nullptr;  // its strand scan (the drawn total at [totalIndex])
-    std::size_t totalIndex = 0;
+    const cl::Buffer* offsets = nullptr;  // its strand scan and totals (gpu_types.h, scan layout)
+    std::uint32_t records = 0;            // bundles or chunks of the scan
     const cl::Buffer* gbuffer = nullptr;  // ulong per pixel, msaa + 1 layers
     cl::Buffer* hair = nullptr;           // float4 per pixel
     int msaa = 1;

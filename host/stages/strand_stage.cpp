@@ -28,8 +28,8 @@ void StrandStage::bindGroom(KernelArgs& a, const Inputs& in) {
   const std::uint64_t B = in.bundleCount;
   a.buffer("bundles", *in.bundles, B * sizeof(gpu::ClhBundle))
       .buffer("vertices", *in.vertices, in.vertexTotal * sizeof(gpu::ClhMeshVertex))
-      .buffer("LOD records", *in.lod, B * 4 * sizeof(cl_uint))
-      .buffer("strand offsets", *in.offsets, (B + 1) * sizeof(cl_uint))
+      .buffer("LOD records", *in.lod, B * sizeof(gpu::ClhLodRecord))
+      .buffer("strand offsets", *in.offsets, std::uint64_t(gpu::clh_lod_offsets_length(in.bundleCount)) * sizeof(cl_uint))
       .buffer("quad root set", *in.rootsQuad, in.rootSetSize * 2 * sizeof(float))
       .buffer("triangle root set", *in.rootsTri, in.rootSetSize * 2 * sizeof(float));
 }

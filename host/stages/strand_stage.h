@@ -42,8 +42,8 @@ class StrandStage {
     const cl::Buffer* groom = nullptr;      // ClhGroomGpu
     const cl::Buffer* bundles = nullptr;    // ClhBundle[bundleCount]
     const cl::Buffer* vertices = nullptr;   // ClhMeshVertex[vertexTotal]
-    const cl::Buffer* lod = nullptr;        // one LOD record per bundle
-    const cl::Buffer* offsets = nullptr;    // uint, bundleCount + 1
+    const cl::Buffer* lod = nullptr;        // ClhLodRecord[bundleCount]
+    const cl::Buffer* offsets = nullptr;    // uint[clh_lod_offsets_length(bundleCount)]
     const cl::Buffer* rootsQuad = nullptr;  // float2[rootSetSize]
     const cl::Buffer* rootsTri = nullptr;   // float2[rootSetSize]
     std::uint32_t bundleCount = 0;

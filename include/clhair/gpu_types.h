@@ -208,9 +208,59 @@ typedef struct {
   clh_u32 promote;         /* 1: conservative-only pixels are promoted (§3.3.2), 0: left empty */
 } ClhFilterGpu;
 
-/* ---- per-bundle LOD record written by lod.cl (one uint4 per bundle) -------------------
- * x: N_LOD strands to draw (0 = culled)     y: control points C
- * z: L as float bits (Lipp Eq. 2)            w: vertex-LOD morph factor gamma as float bits */
+/* ---- LOD record: one per bundle of a hair mesh or chunk of a strand file, 16 bytes -----
+ * Written by lod_bundles / lod_chunks (lod.cl), or by the host when it fixes L itself
+ * (strand export, clh_lod_record_at in lod_math.h); read by the strand kernels
+ * (strands.cl, strands_explicit.cl) for the bundle or chunk a strand belongs to.
+ *
+ *   bytes   member          type  meaning
+ *   0..3    strands         u32   N_LOD, strands drawn (Lipp Eq. 1); 0: culled
+ *   4..7    control_points  u32   C, points per strand (Lipp Eq. 4-5), 2^k + 1
+ *   8..11   lod             f32   L (Lipp Eq. 2); 1 when culled or kept at full detail
+ *   12..15  gamma           f32   vertex-LOD morph factor (Bhokare Eq. 10-12), 0: none
+ *
+ * A culled bundle keeps the groom's full-detail C, with L = 1 and gamma = 0.           */
+typedef struct {
+  clh_u32 strands;
+  clh_u32 control_points;
+  float lod;
+  float gamma;
+} ClhLodRecord;
+
+CLH_FN ClhLodRecord clh_lod_record_make(clh_u32 strands, clh_u32 control_points, float lod, float gamma) {
+  ClhLodRecord r;
+  r.strands = strands;
+  r.control_points = control_points;
+  r.lod = lod;
+  r.gamma = gamma;
+  return r;
+}
+
+/* N / N_LOD (at least 1): the factor by which a strand of the record's bundle, n_full
+ * strands at full detail, widens its hit diameter to make up for the strands LOD left out;
+ * 1 when the bundle draws none. */
+CLH_FN float clh_lod_record_coverage(ClhLodRecord r, clh_u32 n_full) {
+  return r.strands > 0u ? fmax((float)n_full / (float)r.strands, 1.0f) : 1.0f;
+}
+
+/* ---- the LOD counts and their scan, for n bundles (or chunks) --------------------------
+ * counts: lod_bundles / lod_chunks -> scan_bundles, clh_lod_counts_length(n) = 2n uints
+ *   [b]      N_LOD of bundle b (its record's strands)
+ *   [n + b]  N of bundle b when it is not culled, else 0    (clh_lod_full_count_at)
+ * offsets: scan_bundles -> strand kernels, shade.cl and the host,
+ *   clh_lod_offsets_length(n) = n + 2 uints
+ *   [b]      exclusive scan of counts[0..n): the first draw index of bundle b
+ *   [n]      drawn total, the sum of N_LOD: sizes the strand pass (clh_lod_drawn_total_at)
+ *   [n + 1]  visible total, the sum of counts[n..2n): full-detail strands of the bundles
+ *            not culled; beta = drawn / visible (Lipp §3.2.3, shade.cl)
+ *                                                            (clh_lod_visible_total_at)
+ * A draw index i < offsets[n] belongs to the last bundle b with offsets[b] <= i and is
+ * that bundle's (i - offsets[b])-th strand.                                            */
+CLH_FN clh_u32 clh_lod_counts_length(clh_u32 n) { return 2u * n; }
+CLH_FN clh_u32 clh_lod_full_count_at(clh_u32 n, clh_u32 b) { return n + b; }
+CLH_FN clh_u32 clh_lod_offsets_length(clh_u32 n) { return n + 2u; }
+CLH_FN clh_u32 clh_lod_drawn_total_at(clh_u32 n) { return n; }
+CLH_FN clh_u32 clh_lod_visible_total_at(clh_u32 n) { return n + 1u; }
 
 /* ---- the 64-bit G-buffer word --------------------------------------------------------
  *  bits 63..40  depth, 24 bits: view z mapped linearly from [near, far]; smaller = closer

@@ -6,8 +6,9 @@
  * toward the next coarser level inside a transition window, so C can halve without a
  * jump: at the point where C switches from 2^k + 1 to 2^(k-1) + 1, gamma is exactly 1.
  * C_max is the groom's full-detail control-point count (at most CLH_MAX_CONTROL_POINTS,
- * 129, see gpu_types.h), so LOD never draws more points than LOD off. Written in the
- * common subset of C++17 and OpenCL C like gpu_types.h.
+ * 129, see gpu_types.h), so LOD never draws more points than LOD off. clh_lod_record_at
+ * puts them together into one bundle's LOD record. Written in the common subset of C++17
+ * and OpenCL C like gpu_types.h.
  */
 #ifndef CLHAIR_LOD_MATH_H
 #define CLHAIR_LOD_MATH_H
@@ -66,6 +67,17 @@ CLH_FN float clh_lod_morph(float L, clh_u32 layers, clh_u32 c_max, float window)
   float y = log2(fmax(c - 2.0f, 1.0f));
   float k_minus_1 = log2((float)(C - 1u)) - 1.0f;
   return clh_clamp01(1.0f - (y - k_minus_1) / window);
+}
+
+/* The LOD record (gpu_types.h) of a bundle or chunk of n_full strands drawn at LOD value
+ * L: N_LOD by Eq. 1 with its delta, C by Eq. 4-5 between min_points (the layer count; 3
+ * for strand files) and c_full, and gamma for the morph window. lod.cl writes it for every
+ * bundle LOD does not cull or keep at full detail; the host writes it when it fixes L
+ * (strand export). */
+CLH_FN ClhLodRecord clh_lod_record_at(float L, clh_u32 n_full, float delta, clh_u32 min_points,
+                                      clh_u32 c_full, float window) {
+  return clh_lod_record_make(clh_lod_strands(L, n_full, delta), clh_lod_control_points(L, min_points, c_full), L,
+                             clh_lod_morph(L, min_points, c_full, window));
 }
 
 #ifndef CLH_DEVICE_CODE

@@ -1,6 +1,7 @@
 /* raster.h — the device side of strand rasterisation, shared by the kernels that generate
  * strands (strands.cl) and those that read stored ones (strands_explicit.cl): the per-view
- * setup, the loop that draws a lane's run of segments, and the strand's draw-index search.
+ * setup (and that of a light's deep-opacity pass), and the loop that draws a lane's run of
+ * segments.
  * The segment walk itself (layers, hit rule, G-buffer word, atomics) is
  * include/clhair/raster_core.h, which the CPU floor of the benchmark compiles too.
  */
@@ -33,6 +34,17 @@ static inline void clh_raster_setup(clh_raster_ctx* rcp, __global const ClhGroom
                   g->depth_far, g->strand_width, g->hit_diameter_px);
   *rcp = rc;
 }
+
+#if CLH_RASTER_OPACITY
+/* The deep-opacity pass of one light (-DCLH_RASTER_OPACITY=1): its texels in the shared
+ * maps and its layer bounds (ClhShadowGpu), and the nearest hair depth z0 per texel. */
+static inline void clh_raster_opacity_setup(clh_raster_ctx* rc, __global const ClhShadowGpu* shadow_g,
+                                            __global const float* hair_depth_g) {
+  rc->hair_depth_g = hair_depth_g;
+  rc->dom_offset = shadow_g->offset;
+  for (int k = 0; k < CLH_DOM_LAYERS; ++k) rc->bound[k] = shadow_g->bound[k];
+}
+#endif
 
 /* Draws a lane's run of a strand: segments (k, k + 1) for its `count` points from
  * `first` on (positions with styling w in P[i].w, tangents with AO in T[i].w, object
@@ -75,21 +87,6 @@ static inline void clh_raster_lane(clh_raster_ctx* rc, __global const float* sce
 #else
   (void)stats_g;
 #endif
-}
-
-/* Largest i < count with offsets[i] <= index: the bundle (or chunk) whose range of the
- * exclusive prefix sum `offsets` holds draw index `index`. */
-static inline uint clh_find_range(__global const uint* offsets_g, uint count, uint index) {
-  uint lo = 0u, hi = count;
-  while (hi - lo > 1u) {
-    uint mid = (lo + hi) >> 1;
-    if (offsets_g[mid] <= index) {
-      lo = mid;
-    } else {
-      hi = mid;
-    }
-  }
-  return lo;
 }
 
 #endif /* CLHAIR_RASTER_H */

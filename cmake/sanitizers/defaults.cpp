@@ -24,8 +24,8 @@ extern "C" {
 
 // The runtimes call these before main(); they must not allocate or touch other globals.
 const char* __asan_default_options() {
-  return "check_initialization_order=1:strict_init_order=1:detect_stack_use_after_return=1"
-      CLHAIR_SYMBOLIZER_OPTION;
+  return "check_initialization_order=1:strict_init_order=1:"
+         "detect_stack_use_after_return=1" CLHAIR_SYMBOLIZER_OPTION;
 }
 
 const char* __lsan_default_options() {

@@ -48,7 +48,7 @@ collect() {
       lib=$(head -n1 "$icd")
       [[ "$lib" == /* ]] && echo "$lib" || ldconfig -p | awk -v l="$lib" '$1 == l {print $NF}'
     done
-    for tool in cmake make c++ clang-15 oclgrind clinfo pkg-config; do
+    for tool in cmake make c++ clang-15 clang-format-15 oclgrind clinfo pkg-config; do
       command -v "$tool" || true
     done
   } | sort -u | while read -r f; do [[ -e "$f" && ! -d "$f" ]] && echo "$f"; done

@@ -73,7 +73,8 @@ typedef struct {
   clh_i32 width, height;
   float near_z;
   float depth_near, depth_far;
-  float depth_scale;  /* CLH_DEPTH_MAX_CODE / (depth_far - depth_near): one division less per column */
+  /* CLH_DEPTH_MAX_CODE / (depth_far - depth_near): one division less per column */
+  float depth_scale;
   float width_px1;    /* strand diameter in pixels at view depth 1 */
   float min_diameter; /* smallest hit diameter, pixels */
   float coverage;     /* LOD compensation N / N_LOD */

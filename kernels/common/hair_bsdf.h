@@ -87,6 +87,8 @@ static inline float clh_hair_fresnel(float cos_i, float eta) {
 
 /* e^{-x} I0(x) for x >= 0, Abramowitz & Stegun 9.8.1 / 9.8.2 (relative error < 2e-7). */
 static inline float clh_hair_i0e(float x) {
+  /* the polynomials wrapped as the handbook prints them */
+  /* clang-format off */
   if (x < 3.75f) {
     float y = (x / 3.75f) * (x / 3.75f);
     float i0 = 1.0f + y * (3.5156229f + y * (3.0899424f + y * (1.2067492f +
@@ -97,6 +99,7 @@ static inline float clh_hair_i0e(float x) {
   float p = 0.39894228f + y * (0.01328592f + y * (0.00225319f + y * (-0.00157565f +
             y * (0.00916281f + y * (-0.02057706f + y * (0.02635537f + y * (-0.01647633f +
             y * 0.00392377f)))))));
+  /* clang-format on */
   return p * rsqrt(x);
 }
 

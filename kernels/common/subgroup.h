@@ -59,7 +59,8 @@
 #define SG_GROUP_SIZE (SG_SIZE * SG_STRANDS)
 
 #if SG_BACKEND == SG_BACKEND_KHR
-#if defined(cl_khr_subgroups) /* OpenCL C 3.0 devices may offer only the __opencl_c_subgroups feature */
+/* OpenCL C 3.0 devices may offer only the __opencl_c_subgroups feature */
+#if defined(cl_khr_subgroups)
 #pragma OPENCL EXTENSION cl_khr_subgroups : enable
 #endif
 #elif SG_BACKEND == SG_BACKEND_INTEL

@@ -121,7 +121,7 @@ else
     time cmake --build build-san --target clhair_fuzzers clhair clhair_tests -j"$jobs"
     host_tests='^(StrandFile[A-Za-z]*|Mesh|MeshCli|ExplicitScene|Metrics[A-Za-z]*|CpuRaster|Reference'
     host_tests+='|BsdfReference|LodMath|FastMath|Environment(Sh|Errors|Mapping|Sky|Build)|Render'
-    host_tests+='|BinaryCache|ExplicitMemory|ExplicitRender)\.'
+    host_tests+='|BinaryCache|ExplicitMemory|ExplicitRender|Host)\.'
     host_tests+='|^Cli\.(Missing|Malformed|Absurd|Zero|HairMeshWith|Unknown|ParseErrors|Devices'
     host_tests+='|GeneratedPreset)|^ExplicitCli\.(Malformed|TrailingBytes|WarnsAbout)|^Fuzz\.'
     echo "dev.sh: fuzzers and host tests (ASan + UBSan)"

@@ -65,9 +65,9 @@ Stats summarize(std::vector<double> v) {
 
 struct Measured {
   std::map<std::string, Stats> stages;
-  Stats total;  // sum of the stages' device times
-  Stats wall;   // render() call, wall clock
-  Stats cores;  // process CPU time / wall time during render()
+  Stats total;        // sum of the stages' device times
+  Stats wall;         // render() call, wall clock
+  Stats cores;        // process CPU time / wall time during render()
   FrameStats counts;  // from a separate statistics frame
 };
 
@@ -84,7 +84,8 @@ struct Bench {
       const double c0 = processCpuMs();
       const auto t0 = std::chrono::steady_clock::now();
       Frame f = renderer.render(scene, o);
-      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const double wall =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       walls.push_back(wall * 1e3);
       cores.push_back(wall > 0.0 ? (processCpuMs() - c0) * 1e-3 / wall : 0.0);
       for (const StageTime& t : f.timings) stages[t.stage].push_back(t.ms);
@@ -104,7 +105,8 @@ struct Bench {
 };
 
 std::string gitRevision() {
-  std::string cmd = std::string("git -C '") + CLHAIR_SOURCE_DIR + "' rev-parse --short HEAD 2>/dev/null";
+  std::string cmd =
+      std::string("git -C '") + CLHAIR_SOURCE_DIR + "' rev-parse --short HEAD 2>/dev/null";
   FILE* p = ::popen(cmd.c_str(), "r");
   if (!p) return "unknown";
   char buf[64] = {};
@@ -125,7 +127,8 @@ json measuredJson(const Measured& m) {
   j["total_ms"] = {{"median", m.total.median}, {"min", m.total.min}, {"max", m.total.max}};
   j["wall_ms"] = {{"median", m.wall.median}, {"min", m.wall.min}, {"max", m.wall.max}};
   j["cores_used"] = m.cores.median;
-  for (const auto& [k, s] : m.stages) j["stages_ms"][k] = {{"median", s.median}, {"min", s.min}, {"max", s.max}};
+  for (const auto& [k, s] : m.stages)
+    j["stages_ms"][k] = {{"median", s.median}, {"min", s.min}, {"max", s.max}};
   j["strands"] = m.counts.strandsDrawn;
   j["segments"] = m.counts.segmentsDrawn;
   j["pixel_writes"] = m.counts.pixelWrites;
@@ -155,15 +158,19 @@ std::pair<double, double> atomicProbe(Device::Impl& d, std::size_t words, int re
       k.setArg(2, perItem);
       k.setArg(3, static_cast<cl_uint>(skip));
       cl::Event e;
-      d.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(items), cl::NullRange, nullptr, &e);
+      d.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(items), cl::NullRange, nullptr,
+                                   &e);
       e.wait();
-      double t = (e.getProfilingInfo<CL_PROFILING_COMMAND_END>() - e.getProfilingInfo<CL_PROFILING_COMMAND_START>()) * 1e-6;
+      double t = (e.getProfilingInfo<CL_PROFILING_COMMAND_END>() -
+                  e.getProfilingInfo<CL_PROFILING_COMMAND_START>()) *
+                 1e-6;
       if (r > 0) ms.push_back(t);  // the first run warms up
     }
     Stats s = summarize(ms);
     double attempts = static_cast<double>(items) * perItem;
     result[skip] = s.median * 1e6 / attempts;
-    out[skip ? "load_skip" : "plain"] = {{"median_ms", s.median}, {"attempts", attempts},
+    out[skip ? "load_skip" : "plain"] = {{"median_ms", s.median},
+                                         {"attempts", attempts},
                                          {"ns_per_attempt", result[skip]},
                                          {"attempts_per_s", attempts / (s.median * 1e-3)}};
   }
@@ -176,12 +183,16 @@ int main(int argc, char** argv) {
   using namespace clhair;
   CLI::App app{"clhair_bench: speed of the clhair pipeline on one device"};
   DeviceOptions dopts;
-  std::string out = "bench-results", only, sceneDir = std::string(CLHAIR_SOURCE_DIR) + "/bench/scenes";
-  int runs = 3, warmup = 1, width = 1920, height = 1080, refSpp = 64, qualityWidth = 960, qualityHeight = 540;
+  std::string out = "bench-results", only,
+              sceneDir = std::string(CLHAIR_SOURCE_DIR) + "/bench/scenes";
+  int runs = 3, warmup = 1, width = 1920, height = 1080, refSpp = 64, qualityWidth = 960,
+      qualityHeight = 540;
   bool quick = false;
   app.add_option("--device", dopts.selector, "device: P:D or a name substring");
   app.add_option("--out", out, "folder for bench.json, bench.csv, bench.md");
-  app.add_option("--only", only, "one section: table1, dispatch, scaling, atomics, quality, temporal, explicit, mesh, floor");
+  app.add_option(
+      "--only", only,
+      "one section: table1, dispatch, scaling, atomics, quality, temporal, explicit, mesh, floor");
   app.add_option("--runs", runs, "timed runs per configuration (median reported)");
   app.add_option("--warmup", warmup, "untimed runs first");
   app.add_option("--width", width, "table1 width");
@@ -202,7 +213,8 @@ int main(int argc, char** argv) {
     auto t0 = std::chrono::steady_clock::now();
     Device dev = Device::open(DeviceOptions::fromEnvironment(dopts));
     Bench b{dev, Renderer(dev), warmup, runs};
-    double compileMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    double compileMs =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     const DeviceInfo& info = dev.info();
     json report;
     report["device"] = info.name;
@@ -215,12 +227,15 @@ int main(int argc, char** argv) {
     report["warmup"] = warmup;
     report["startup_and_compile_ms"] = compileMs;
     std::ostringstream md, csv;
-    md << "# clhair benchmark\n\n" << "device: " << info.name << " (" << info.platformName << ", driver "
-       << info.driverVersion << "), sub-group backend " << subgroupBackendName(info.backend) << ", revision "
-       << report["revision"].get<std::string>() << "; median of " << runs << " runs after " << warmup
-       << " warm-up; device times from profiling events. Start-up incl. kernel compilation: " << fmt(compileMs, 0)
-       << " ms.\n\n";
-    csv << "section,groom,lod,msaa,distance,strands_target,width,height,dispatch,total_ms,strands_ms,lod_ms,shade_ms,"
+    md << "# clhair benchmark\n\n"
+       << "device: " << info.name << " (" << info.platformName << ", driver " << info.driverVersion
+       << "), sub-group backend " << subgroupBackendName(info.backend) << ", revision "
+       << report["revision"].get<std::string>() << "; median of " << runs << " runs after "
+       << warmup
+       << " warm-up; device times from profiling events. Start-up incl. kernel compilation: "
+       << fmt(compileMs, 0) << " ms.\n\n";
+    csv << "section,groom,lod,msaa,distance,strands_target,width,height,dispatch,total_ms,strands_"
+           "ms,lod_ms,shade_ms,"
            "composite_ms,strands,segments,pixel_writes,atomics_issued,atomics_skipped\n";
 
     Scene scenes[2] = {loadScene(sceneDir + "/groom1.json"), loadScene(sceneDir + "/groom2.json")};
@@ -233,13 +248,15 @@ int main(int argc, char** argv) {
       s.camera = framePreset(s, p, 35.0f, 10.0f, 35.0f);
       return s;
     };
-    auto csvRow = [&](const std::string& section, const std::string& groom, int lod, int msaa, const std::string& dist,
-                      std::int64_t strandsTarget, int w, int h, const std::string& dispatch, const Measured& m) {
-      csv << section << ",\"" << groom << "\"," << lod << "," << msaa << "," << dist << "," << strandsTarget << "," << w
-          << "," << h << "," << dispatch << "," << m.total.median << "," << stageMedian(m, "strands") << ","
-          << stageMedian(m, "lod") << "," << stageMedian(m, "shade") << "," << stageMedian(m, "composite") << ","
-          << m.counts.strandsDrawn << "," << m.counts.segmentsDrawn << "," << m.counts.pixelWrites << ","
-          << m.counts.atomicsIssued << "," << m.counts.atomicsSkipped << "\n";
+    auto csvRow = [&](const std::string& section, const std::string& groom, int lod, int msaa,
+                      const std::string& dist, std::int64_t strandsTarget, int w, int h,
+                      const std::string& dispatch, const Measured& m) {
+      csv << section << ",\"" << groom << "\"," << lod << "," << msaa << "," << dist << ","
+          << strandsTarget << "," << w << "," << h << "," << dispatch << "," << m.total.median
+          << "," << stageMedian(m, "strands") << "," << stageMedian(m, "lod") << ","
+          << stageMedian(m, "shade") << "," << stageMedian(m, "composite") << ","
+          << m.counts.strandsDrawn << "," << m.counts.segmentsDrawn << "," << m.counts.pixelWrites
+          << "," << m.counts.atomicsIssued << "," << m.counts.atomicsSkipped << "\n";
     };
 
     // groom1's generated strands exported to cyHair and read back (once), with the mesh's
@@ -258,7 +275,8 @@ int main(int argc, char** argv) {
         h.defaultThickness = mesh.appearance.strandWidth;
         writeCyHair(h, hairPath);
       }
-      auto strands = std::make_shared<const StrandGroom>(loadStrandGroom(hairPath, dev.info().maxAlloc));
+      auto strands =
+          std::make_shared<const StrandGroom>(loadStrandGroom(hairPath, dev.info().maxAlloc));
       StrandGroom sg = *strands;
       sg.appearance = mesh.appearance;
       sg.lod = mesh.lod;
@@ -274,15 +292,24 @@ int main(int argc, char** argv) {
         bool filter;
         const char* label;
       };
-      std::vector<Row> rows = quick ? std::vector<Row>{{1, false, "1"}, {1, true, "1+F"}, {4, false, "4"}}
-                                    : std::vector<Row>{{1, false, "1"}, {1, true, "1+F"}, {2, false, "2"}, {4, false, "4"}, {8, false, "8"}};
-      md << "## Table 1: frame time in ms, total (strand pass), " << width << "x" << height << "\n\n";
-      md << "| LOD | MSAA | " << groomNames[0] << " close | mid | far | " << groomNames[1] << " close | mid | far |\n";
+      std::vector<Row> rows =
+          quick ? std::vector<Row>{{1, false, "1"}, {1, true, "1+F"}, {4, false, "4"}}
+                : std::vector<Row>{{1, false, "1"},
+                                   {1, true, "1+F"},
+                                   {2, false, "2"},
+                                   {4, false, "4"},
+                                   {8, false, "8"}};
+      md << "## Table 1: frame time in ms, total (strand pass), " << width << "x" << height
+         << "\n\n";
+      md << "| LOD | MSAA | " << groomNames[0] << " close | mid | far | " << groomNames[1]
+         << " close | mid | far |\n";
       md << "|---|---|---|---|---|---|---|---|\n";
       json t1 = json::array();
       std::ostringstream counts;
-      counts << "\n### Work per frame (LOD off / on, MSAA 1, no filter)\n\n| groom | distance | LOD | strands | segments | "
-                "G-buffer writes | atomics issued | skipped by the load |\n|---|---|---|---|---|---|---|---|\n";
+      counts << "\n### Work per frame (LOD off / on, MSAA 1, no filter)\n\n| groom | distance | "
+                "LOD | strands | segments | "
+                "G-buffer writes | atomics issued | skipped by the load "
+                "|\n|---|---|---|---|---|---|---|---|\n";
       for (int lod = 0; lod < 2; ++lod) {
         for (const Row& rowSpec : rows) {
           const int msaa = rowSpec.msaa;
@@ -296,8 +323,8 @@ int main(int argc, char** argv) {
               o.msaa = msaa;
               o.filter = rowSpec.filter ? 1 : 0;
               Measured m = b.measure(s, o);
-              md << " " << fmt(m.wall.median) << " (" << fmt(m.total.median) << "; " << fmt(stageMedian(m, "strands"))
-             << ") |";
+              md << " " << fmt(m.wall.median) << " (" << fmt(m.total.median) << "; "
+                 << fmt(stageMedian(m, "strands")) << ") |";
               json row = measuredJson(m);
               row["groom"] = groomNames[g];
               row["lod"] = lod == 1;
@@ -308,13 +335,15 @@ int main(int argc, char** argv) {
               csvRow(rowSpec.filter ? "table1+F" : "table1", groomNames[g], lod, msaa, distNames[d],
                      scenes[g].grooms[0].mesh->strandCount, width, height, "auto", m);
               if (msaa == 1 && !rowSpec.filter) {
-                msaa1Rows.push_back({std::string(groomNames[g]) + " " + distNames[d] + (lod ? " LOD" : ""), m});
-                counts << "| " << groomNames[g] << " | " << distNames[d] << " | " << (lod ? "on" : "off") << " | "
-                       << m.counts.strandsDrawn << " | " << m.counts.segmentsDrawn << " | " << m.counts.pixelWrites
-                       << " | " << m.counts.atomicsIssued << " | " << m.counts.atomicsSkipped << " |\n";
+                msaa1Rows.push_back(
+                    {std::string(groomNames[g]) + " " + distNames[d] + (lod ? " LOD" : ""), m});
+                counts << "| " << groomNames[g] << " | " << distNames[d] << " | "
+                       << (lod ? "on" : "off") << " | " << m.counts.strandsDrawn << " | "
+                       << m.counts.segmentsDrawn << " | " << m.counts.pixelWrites << " | "
+                       << m.counts.atomicsIssued << " | " << m.counts.atomicsSkipped << " |\n";
               }
-              std::fprintf(stderr, "table1 %s LOD %d MSAA %s %s: %.1f ms\n", groomNames[g], lod, rowSpec.label,
-                           distNames[d], m.total.median);
+              std::fprintf(stderr, "table1 %s LOD %d MSAA %s %s: %.1f ms\n", groomNames[g], lod,
+                           rowSpec.label, distNames[d], m.total.median);
             }
           }
           md << "\n";
@@ -331,7 +360,8 @@ int main(int argc, char** argv) {
                 row["filter"].get<bool>() == filtered)
               (row["lod"].get<bool>() ? on : off) = row["total_ms"]["median"].get<double>();
           if (on > 0) md << groomNames[g] << " " << fmt(off / on) << "x" << (g == 0 ? ", " : "\n");
-          report["lod_far_speedup"][filtered ? "SWR1+F" : "SWR1"][groomNames[g]] = on > 0 ? off / on : 0.0;
+          report["lod_far_speedup"][filtered ? "SWR1+F" : "SWR1"][groomNames[g]] =
+              on > 0 ? off / on : 0.0;
         }
       }
       report["table1"] = t1;
@@ -339,25 +369,31 @@ int main(int argc, char** argv) {
 
     if (only.empty() || only == "atomics") {
       json probe;
-      auto [plain, skip] = atomicProbe(*dev.impl(), static_cast<std::size_t>(width) * height, std::max(runs, 3), probe);
+      auto [plain, skip] = atomicProbe(*dev.impl(), static_cast<std::size_t>(width) * height,
+                                       std::max(runs, 3), probe);
       report["atomic_probe"] = probe;
       md << "\n## Atomic floor\n\n64-bit `atom_min` on " << width << "x" << height
-         << " words, coherent addresses, 4 attempts per word: " << fmt(plain, 3) << " ns per attempt (plain), "
-         << fmt(skip, 3) << " ns with the load skip.\n\n| configuration | strand pass ms | atomics issued | floor ms "
-                            "(issued x plain) | raster / floor |\n|---|---|---|---|---|\n";
+         << " words, coherent addresses, 4 attempts per word: " << fmt(plain, 3)
+         << " ns per attempt (plain), " << fmt(skip, 3)
+         << " ns with the load skip.\n\n| configuration | strand pass ms | atomics issued | floor "
+            "ms "
+            "(issued x plain) | raster / floor |\n|---|---|---|---|---|\n";
       for (const auto& [name, m] : msaa1Rows) {
         double floorMs = m.counts.atomicsIssued * plain * 1e-6;
         double ratio = floorMs > 0 ? stageMedian(m, "strands") / floorMs : 0.0;
-        md << "| " << name << " | " << fmt(stageMedian(m, "strands")) << " | " << m.counts.atomicsIssued << " | "
-           << fmt(floorMs, 3) << " | " << fmt(ratio, 1) << "x |\n";
+        md << "| " << name << " | " << fmt(stageMedian(m, "strands")) << " | "
+           << m.counts.atomicsIssued << " | " << fmt(floorMs, 3) << " | " << fmt(ratio, 1)
+           << "x |\n";
         report["raster_over_atomic_floor"][name] = ratio;
       }
     }
 
     if (only.empty() || only == "dispatch") {
-      md << "\n## Dispatch sizing (groom1, LOD on, MSAA 1): frame wall ms (device-time sum; strands)\n\n"
+      md << "\n## Dispatch sizing (groom1, LOD on, MSAA 1): frame wall ms (device-time sum; "
+            "strands)\n\n"
             "| mode | close | mid | far |\n|---|---|---|---|\n";
-      for (DispatchMode mode : {DispatchMode::ReadBack, DispatchMode::OverLaunch, DispatchMode::Persistent}) {
+      for (DispatchMode mode :
+           {DispatchMode::ReadBack, DispatchMode::OverLaunch, DispatchMode::Persistent}) {
         md << "| " << dispatchModeName(mode) << " |";
         for (int d = 0; d < 3; ++d) {
           Scene s = framed(scenes[0], dists[d], width, height);
@@ -365,25 +401,29 @@ int main(int argc, char** argv) {
           o.lod = 1;
           o.dispatch = mode;
           Measured m = b.measure(s, o, false);
-          md << " " << fmt(m.wall.median) << " (" << fmt(m.total.median) << "; " << fmt(stageMedian(m, "strands"))
-             << ") |";
+          md << " " << fmt(m.wall.median) << " (" << fmt(m.total.median) << "; "
+             << fmt(stageMedian(m, "strands")) << ") |";
           report["dispatch"][dispatchModeName(mode)][distNames[d]] = measuredJson(m);
-          csvRow("dispatch", groomNames[0], 1, 1, distNames[d], scenes[0].grooms[0].mesh->strandCount, width, height,
-                 dispatchModeName(mode), m);
-          std::fprintf(stderr, "dispatch %s %s: wall %.1f ms, device %.1f ms\n", dispatchModeName(mode), distNames[d],
-                       m.wall.median, m.total.median);
+          csvRow("dispatch", groomNames[0], 1, 1, distNames[d],
+                 scenes[0].grooms[0].mesh->strandCount, width, height, dispatchModeName(mode), m);
+          std::fprintf(stderr, "dispatch %s %s: wall %.1f ms, device %.1f ms\n",
+                       dispatchModeName(mode), distNames[d], m.wall.median, m.total.median);
         }
         md << "\n";
       }
     }
 
     if (only.empty() || only == "scaling") {
-      md << "\n## Scaling (groom1 at mid, LOD off, MSAA 1)\n\n| strands | width x height | frame ms | strand pass ms | "
+      md << "\n## Scaling (groom1 at mid, LOD off, MSAA 1)\n\n| strands | width x height | frame "
+            "ms | strand pass ms | "
             "segments | ms per M segments | ms per megapixel |\n|---|---|---|---|---|---|---|\n";
-      std::vector<std::int64_t> counts = quick ? std::vector<std::int64_t>{16000, 64000}
-                                               : std::vector<std::int64_t>{16000, 32000, 64000, 128000, 256000};
-      std::vector<std::pair<int, int>> sizes = quick ? std::vector<std::pair<int, int>>{{1280, 720}, {1920, 1080}}
-                                                     : std::vector<std::pair<int, int>>{{1280, 720}, {1920, 1080}, {2560, 1440}, {3840, 2160}};
+      std::vector<std::int64_t> counts =
+          quick ? std::vector<std::int64_t>{16000, 64000}
+                : std::vector<std::int64_t>{16000, 32000, 64000, 128000, 256000};
+      std::vector<std::pair<int, int>> sizes =
+          quick ? std::vector<std::pair<int, int>>{{1280, 720}, {1920, 1080}}
+                : std::vector<std::pair<int, int>>{
+                      {1280, 720}, {1920, 1080}, {2560, 1440}, {3840, 2160}};
       auto row = [&](std::int64_t n, int w, int h) {
         Scene s = framed(scenes[0], CameraPreset::Mid, w, h);
         HairMesh m = *s.grooms[0].mesh;
@@ -395,8 +435,9 @@ int main(int argc, char** argv) {
         double strandsMs = stageMedian(r, "strands");
         double perSeg = r.counts.segmentsDrawn ? strandsMs / (r.counts.segmentsDrawn * 1e-6) : 0.0;
         double perMp = r.total.median / (w * h * 1e-6);
-        md << "| " << n << " | " << w << "x" << h << " | " << fmt(r.total.median) << " | " << fmt(strandsMs) << " | "
-           << r.counts.segmentsDrawn << " | " << fmt(perSeg) << " | " << fmt(perMp) << " |\n";
+        md << "| " << n << " | " << w << "x" << h << " | " << fmt(r.total.median) << " | "
+           << fmt(strandsMs) << " | " << r.counts.segmentsDrawn << " | " << fmt(perSeg) << " | "
+           << fmt(perMp) << " |\n";
         json j = measuredJson(r);
         j["strands_target"] = n;
         j["width"] = w;
@@ -405,7 +446,8 @@ int main(int argc, char** argv) {
         j["ms_per_megapixel"] = perMp;
         report["scaling"].push_back(j);
         csvRow("scaling", groomNames[0], 0, 1, "mid", n, w, h, "auto", r);
-        std::fprintf(stderr, "scaling %lld strands %dx%d: %.1f ms\n", static_cast<long long>(n), w, h, r.total.median);
+        std::fprintf(stderr, "scaling %lld strands %dx%d: %.1f ms\n", static_cast<long long>(n), w,
+                     h, r.total.median);
       };
       for (std::int64_t n : counts) row(n, 1920, 1080);
       for (auto [w, h] : sizes) row(127000, w, h);
@@ -416,19 +458,23 @@ int main(int argc, char** argv) {
       // true-width passes), FLIP and PSNR, with its frame time.
       std::filesystem::create_directories(out + "/quality");
       const int qw = quick ? 320 : qualityWidth, qh = quick ? 180 : qualityHeight;
-      md << "\n## Quality against the reference (" << groomNames[0] << ", " << qw << "x" << qh << ", reference "
-         << refSpp << " spp)\n\nOver the hair's pixels (where the reference differs from the scene without hair): "
-            "mean FLIP (lower is better) / PSNR dB / frame ms. Whole-image values are in bench.json.\n\n"
+      md << "\n## Quality against the reference (" << groomNames[0] << ", " << qw << "x" << qh
+         << ", reference " << refSpp
+         << " spp)\n\nOver the hair's pixels (where the reference differs from the scene without "
+            "hair): "
+            "mean FLIP (lower is better) / PSNR dB / frame ms. Whole-image values are in "
+            "bench.json.\n\n"
             "| configuration | close | mid | far |\n|---|---|---|---|\n";
       struct Config {
         const char* name;
         int msaa, filter, lod;
         bool promote;  // the filter's strand connection (Lipp §3.3.2)
       };
-      const Config configs[] = {{"SWR1", 1, 0, 0, true},           {"SWR1+F", 1, 1, 0, true},
-                                {"SWR1+F+L", 1, 1, 1, true},       {"SWR1+F, no promotion", 1, 1, 0, false},
-                                {"SWR MSAA 2", 2, 0, 0, true},     {"SWR MSAA 4", 4, 0, 0, true},
-                                {"SWR MSAA 8", 8, 0, 0, true}};
+      const Config configs[] = {
+          {"SWR1", 1, 0, 0, true},       {"SWR1+F", 1, 1, 0, true},
+          {"SWR1+F+L", 1, 1, 1, true},   {"SWR1+F, no promotion", 1, 1, 0, false},
+          {"SWR MSAA 2", 2, 0, 0, true}, {"SWR MSAA 4", 4, 0, 0, true},
+          {"SWR MSAA 8", 8, 0, 0, true}};
       std::map<std::string, std::vector<std::string>> cells;
       json q;
       for (int d = 0; d < 3; ++d) {
@@ -440,7 +486,8 @@ int main(int argc, char** argv) {
         std::vector<char> hairMask(ref.depth.size(), 0);
         for (std::size_t i = 0; i < hairMask.size(); ++i)
           for (int c = 0; c < 3; ++c)
-            hairMask[i] |= std::fabs(ref.color.rgba[4 * i + c] - background.color.rgba[4 * i + c]) > 1e-4f;
+            hairMask[i] |=
+                std::fabs(ref.color.rgba[4 * i + c] - background.color.rgba[4 * i + c]) > 1e-4f;
         const std::string refPath = out + "/quality/" + distNames[d] + "_reference.png";
         writeImage(ref.color, refPath);
         for (const Config& c : configs) {
@@ -469,11 +516,13 @@ int main(int argc, char** argv) {
           for (char& ch : file)
             if (ch == ' ' || ch == '+' || ch == ',') ch = '_';
           writeImage(f.color, out + "/quality/" + distNames[d] + "_" + file + ".png");
-          cells[name].push_back(fmt(flipHair, 4) + " / " + fmt(psnrHair, 1) + " / " + fmt(m.total.median));
-          q[name][distNames[d]] = {{"flip_hair", flipHair}, {"psnr_hair_db", psnrHair}, {"flip", cmp.flip.mean},
-                                   {"psnr_db", cmp.psnr.psnrDb}, {"frame_ms", m.total.median}, {"hair_pixels", nHair}};
-          std::fprintf(stderr, "quality %s %s: hair FLIP %.4f PSNR %.1f (image FLIP %.4f)\n", c.name, distNames[d],
-                       flipHair, psnrHair, cmp.flip.mean);
+          cells[name].push_back(fmt(flipHair, 4) + " / " + fmt(psnrHair, 1) + " / " +
+                                fmt(m.total.median));
+          q[name][distNames[d]] = {{"flip_hair", flipHair},      {"psnr_hair_db", psnrHair},
+                                   {"flip", cmp.flip.mean},      {"psnr_db", cmp.psnr.psnrDb},
+                                   {"frame_ms", m.total.median}, {"hair_pixels", nHair}};
+          std::fprintf(stderr, "quality %s %s: hair FLIP %.4f PSNR %.1f (image FLIP %.4f)\n",
+                       c.name, distNames[d], flipHair, psnrHair, cmp.flip.mean);
         }
       }
       for (const Config& c : configs) {
@@ -489,13 +538,16 @@ int main(int argc, char** argv) {
       // flicker: a 30-frame orbit, the mean absolute frame-to-frame change of sRGB values
       const int tw = quick ? 320 : qualityWidth, th = quick ? 180 : qualityHeight;
       const int frames = quick ? 8 : 30;
-      md << "\n## Temporal stability (" << groomNames[0] << ", mid, " << frames << "-frame orbit of 0.5 deg per frame, " << tw
-         << "x" << th << ")\n\nMean absolute sRGB change between consecutive frames (lower is steadier):\n\n| configuration | flicker |\n|---|---|\n";
+      md << "\n## Temporal stability (" << groomNames[0] << ", mid, " << frames
+         << "-frame orbit of 0.5 deg per frame, " << tw << "x" << th
+         << ")\n\nMean absolute sRGB change between consecutive frames (lower is steadier):\n\n| "
+            "configuration | flicker |\n|---|---|\n";
       struct Config {
         const char* name;
         int msaa, filter;
       };
-      for (const Config& c : {Config{"SWR1", 1, 0}, Config{"SWR1+F", 1, 1}, Config{"SWR MSAA 4", 4, 0}}) {
+      for (const Config& c :
+           {Config{"SWR1", 1, 0}, Config{"SWR1+F", 1, 1}, Config{"SWR MSAA 4", 4, 0}}) {
         RenderOptions o;
         o.msaa = c.msaa;
         o.filter = c.filter;
@@ -529,11 +581,14 @@ int main(int argc, char** argv) {
       // Bhokare §4: the groom as a hair mesh vs the same strands exported to cyHair and read
       // back as an explicit strand groom: device bytes and frame time of each
       std::shared_ptr<const StrandGroom> strands = exportedGroom1();
-      md << "\n## Hair mesh vs explicit strands (" << groomNames[0] << ", " << width << "x" << height
-         << ")\n\n| representation | device bytes | close, LOD off ms | far, LOD on ms |\n|---|---|---|---|\n";
+      md << "\n## Hair mesh vs explicit strands (" << groomNames[0] << ", " << width << "x"
+         << height
+         << ")\n\n| representation | device bytes | close, LOD off ms | far, LOD on ms "
+            "|\n|---|---|---|---|\n";
       for (int explicitStrands = 0; explicitStrands < 2; ++explicitStrands) {
         Scene s = scenes[0];
-        if (explicitStrands) s.grooms[0] = GroomInstance(s.grooms[0].name, strands, s.grooms[0].transform);
+        if (explicitStrands)
+          s.grooms[0] = GroomInstance(s.grooms[0].name, strands, s.grooms[0].transform);
         std::uint64_t bytes = b.renderer.groomDeviceBytes(s.grooms[0]);
         RenderOptions o;
         o.lod = 0;
@@ -541,8 +596,11 @@ int main(int argc, char** argv) {
         o.lod = 1;
         Measured far = b.measure(framed(s, CameraPreset::Far, width, height), o, false);
         const char* name = explicitStrands ? "cyHair strands" : "hair mesh";
-        md << "| " << name << " | " << bytes << " | " << fmt(close.total.median) << " | " << fmt(far.total.median) << " |\n";
-        report["explicit"][name] = {{"device_bytes", bytes}, {"close_ms", close.total.median}, {"far_lod_ms", far.total.median}};
+        md << "| " << name << " | " << bytes << " | " << fmt(close.total.median) << " | "
+           << fmt(far.total.median) << " |\n";
+        report["explicit"][name] = {{"device_bytes", bytes},
+                                    {"close_ms", close.total.median},
+                                    {"far_lod_ms", far.total.median}};
         std::fprintf(stderr, "explicit %s: %llu bytes, close %.1f ms, far %.1f ms\n", name,
                      static_cast<unsigned long long>(bytes), close.total.median, far.total.median);
       }
@@ -561,23 +619,29 @@ int main(int argc, char** argv) {
       for (int i = 1; i < kRings; ++i)
         for (int j = 0; j < kSegments; ++j) {
           const float th = 3.14159265f * i / kRings, ph = 6.28318531f * j / kSegments;
-          head.positions.push_back(c + radius * glm::vec3(std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph)));
+          head.positions.push_back(c + radius * glm::vec3(std::sin(th) * std::cos(ph), std::cos(th),
+                                                          std::sin(th) * std::sin(ph)));
         }
       head.positions.push_back(c - glm::vec3(0, radius, 0));
-      const auto ring = [&](int i, int j) { return static_cast<std::uint32_t>(1 + (i - 1) * kSegments + j % kSegments); };
+      const auto ring = [&](int i, int j) {
+        return static_cast<std::uint32_t>(1 + (i - 1) * kSegments + j % kSegments);
+      };
       const auto bottom = static_cast<std::uint32_t>(head.positions.size() - 1);
       for (int j = 0; j < kSegments; ++j) {
         head.indices.insert(head.indices.end(), {0u, ring(1, j + 1), ring(1, j)});
-        head.indices.insert(head.indices.end(), {bottom, ring(kRings - 1, j), ring(kRings - 1, j + 1)});
+        head.indices.insert(head.indices.end(),
+                            {bottom, ring(kRings - 1, j), ring(kRings - 1, j + 1)});
       }
       for (int i = 1; i < kRings - 1; ++i)
         for (int j = 0; j < kSegments; ++j)
-          head.indices.insert(head.indices.end(), {ring(i, j), ring(i, j + 1), ring(i + 1, j + 1), ring(i, j),
-                                                   ring(i + 1, j + 1), ring(i + 1, j)});
+          head.indices.insert(head.indices.end(), {ring(i, j), ring(i, j + 1), ring(i + 1, j + 1),
+                                                   ring(i, j), ring(i + 1, j + 1), ring(i + 1, j)});
       const std::size_t triangles = head.indices.size() / 3;
       auto headMesh = std::make_shared<const TriangleMesh>(std::move(head));
-      md << "\n## Head as a triangle mesh (" << groomNames[0] << ", " << width << "x" << height << ", close, "
-         << triangles << " triangles)\n\n| head | frame ms | opaque ms | mesh ms | opaque + mesh share of the frame |\n"
+      md << "\n## Head as a triangle mesh (" << groomNames[0] << ", " << width << "x" << height
+         << ", close, " << triangles
+         << " triangles)\n\n| head | frame ms | opaque ms | mesh ms | opaque + mesh share of the "
+            "frame |\n"
          << "|---|---|---|---|---|\n";
       double sphereOpaque = 0.0, sphereShare = 0.0;
       for (int asMesh = 0; asMesh < 2; ++asMesh) {
@@ -594,20 +658,20 @@ int main(int argc, char** argv) {
         const double opaqueMs = stageMedian(m, "opaque") + stageMedian(m, "mesh");
         const double share = opaqueMs / std::max(m.total.median, 1e-9);
         const char* name = asMesh ? "mesh" : "sphere";
-        md << "| " << name << " | " << fmt(m.total.median) << " | " << fmt(stageMedian(m, "opaque")) << " | "
-           << fmt(stageMedian(m, "mesh")) << " | " << fmt(100.0 * share, 1) << " % |\n";
+        md << "| " << name << " | " << fmt(m.total.median) << " | " << fmt(stageMedian(m, "opaque"))
+           << " | " << fmt(stageMedian(m, "mesh")) << " | " << fmt(100.0 * share, 1) << " % |\n";
         report["mesh"][name] = measuredJson(m);
         report["mesh"][name]["opaque_and_mesh_ms"] = opaqueMs;
-        std::fprintf(stderr, "mesh section, %s head: frame %.1f ms, opaque %.2f ms, mesh %.2f ms\n", name,
-                     m.total.median, stageMedian(m, "opaque"), stageMedian(m, "mesh"));
+        std::fprintf(stderr, "mesh section, %s head: frame %.1f ms, opaque %.2f ms, mesh %.2f ms\n",
+                     name, m.total.median, stageMedian(m, "opaque"), stageMedian(m, "mesh"));
         if (!asMesh) {
           sphereOpaque = opaqueMs;
           sphereShare = share;
         } else {
           report["mesh"]["cost_vs_sphere"] = opaqueMs / std::max(sphereOpaque, 1e-9);
-          md << "\nThe mesh head's opaque work is " << fmt(opaqueMs / std::max(sphereOpaque, 1e-9)) << "x the sphere's ("
-             << fmt(100.0 * share, 1) << " % against " << fmt(100.0 * sphereShare, 1)
-             << " % of the frame; target: at most 2x).\n";
+          md << "\nThe mesh head's opaque work is " << fmt(opaqueMs / std::max(sphereOpaque, 1e-9))
+             << "x the sphere's (" << fmt(100.0 * share, 1) << " % against "
+             << fmt(100.0 * sphereShare, 1) << " % of the frame; target: at most 2x).\n";
         }
       }
     }
@@ -620,8 +684,10 @@ int main(int argc, char** argv) {
       const unsigned threads = std::max(1u, dev.info().computeUnits);
       md << "\n## Strand pass vs the C++ floor (" << groomNames[0] << ", " << width << "x" << height
          << ", LOD off, MSAA 1; floor: " << threads << " threads)\n\n"
-         << "| distance | C++ floor ms | explicit strands ms (x floor) | generated strands ms (x floor) | "
-            "cores used: explicit / generated | floor words differing |\n|---|---|---|---|---|---|\n";
+         << "| distance | C++ floor ms | explicit strands ms (x floor) | generated strands ms (x "
+            "floor) | "
+            "cores used: explicit / generated | floor words differing "
+            "|\n|---|---|---|---|---|---|\n";
       for (int d = 0; d < 3; ++d) {
         Scene sx = scenes[0];
         sx.grooms[0] = GroomInstance(sx.grooms[0].name, strands, sx.grooms[0].transform);
@@ -644,24 +710,31 @@ int main(int argc, char** argv) {
         for (int i = 0; i < warmup + runs; ++i) {
           const auto t0 = std::chrono::steady_clock::now();
           cpuRasterExplicit(in, threads, cpu);
-          if (i >= warmup) ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+          if (i >= warmup)
+            ms.push_back(
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                    .count());
         }
         std::size_t differ = 0;
-        for (std::size_t i = 0; i < cpu.size() && i < f.gbuffer.size(); ++i) differ += cpu[i] != f.gbuffer[i];
+        for (std::size_t i = 0; i < cpu.size() && i < f.gbuffer.size(); ++i)
+          differ += cpu[i] != f.gbuffer[i];
         if (cpu.size() != f.gbuffer.size()) differ = std::max(cpu.size(), f.gbuffer.size());
         const double fl = summarize(ms).median;
         const double ex = stageMedian(mx, "strands"), ge = stageMedian(mg, "strands");
-        md << "| " << distNames[d] << " | " << fmt(fl) << " | " << fmt(ex) << " (" << fmt(ex / fl) << "x) | " << fmt(ge)
-           << " (" << fmt(ge / fl) << "x) | " << fmt(mx.cores.median) << " / " << fmt(mg.cores.median) << " | " << differ
-           << " |\n";
+        md << "| " << distNames[d] << " | " << fmt(fl) << " | " << fmt(ex) << " (" << fmt(ex / fl)
+           << "x) | " << fmt(ge) << " (" << fmt(ge / fl) << "x) | " << fmt(mx.cores.median) << " / "
+           << fmt(mg.cores.median) << " | " << differ << " |\n";
         report["floor"][distNames[d]] = {{"floor_ms", fl},
                                          {"explicit", measuredJson(mx)},
                                          {"generated", measuredJson(mg)},
                                          {"explicit_x_floor", ex / fl},
                                          {"generated_x_floor", ge / fl},
                                          {"floor_words_differing", differ}};
-        std::fprintf(stderr, "floor %s: C++ %.1f ms, explicit %.1f ms (%.2fx, %.2f cores), generated %.1f ms (%.2fx, %.2f cores), %zu words differ\n",
-                     distNames[d], fl, ex, ex / fl, mx.cores.median, ge, ge / fl, mg.cores.median, differ);
+        std::fprintf(stderr,
+                     "floor %s: C++ %.1f ms, explicit %.1f ms (%.2fx, %.2f cores), generated %.1f "
+                     "ms (%.2fx, %.2f cores), %zu words differ\n",
+                     distNames[d], fl, ex, ex / fl, mx.cores.median, ge, ge / fl, mg.cores.median,
+                     differ);
       }
       // the default scene's whole frame: wall clock next to the device-time sum
       Scene def = loadScene(std::string(CLHAIR_SOURCE_DIR) + "/assets/scenes/default.json");
@@ -677,7 +750,8 @@ int main(int argc, char** argv) {
       RenderOptions oc = cold;
       oc.stageCores = true;
       const Frame fc = b.renderer.render(def, oc);
-      md << "\n### Default scene frame (" << width << "x" << height << ")\n\n| | wall | device-time sum |";
+      md << "\n### Default scene frame (" << width << "x" << height
+         << ")\n\n| | wall | device-time sum |";
       for (const auto& [k, st] : m.stages) md << " " << k << " |";
       md << "\n|---|---|---|";
       for (std::size_t i = 0; i < m.stages.size(); ++i) md << "---|";
@@ -691,12 +765,15 @@ int main(int argc, char** argv) {
         md << " " << fmt(cores) << " |";
         report["default_frame_cores"][k] = cores;
       }
-      md << "\n\nA still scene (the maps kept from the previous frame, `RenderOptions::reuseShadows`): "
-         << fmt(still.wall.median) << " ms wall, " << fmt(still.total.median) << " ms device time.\n";
+      md << "\n\nA still scene (the maps kept from the previous frame, "
+            "`RenderOptions::reuseShadows`): "
+         << fmt(still.wall.median) << " ms wall, " << fmt(still.total.median)
+         << " ms device time.\n";
       report["default_frame_still"] = measuredJson(still);
       report["default_frame"] = measuredJson(m);
-      std::fprintf(stderr, "default frame: wall %.1f ms, device %.1f ms; still scene: wall %.1f ms\n", m.wall.median,
-                   m.total.median, still.wall.median);
+      std::fprintf(stderr,
+                   "default frame: wall %.1f ms, device %.1f ms; still scene: wall %.1f ms\n",
+                   m.wall.median, m.total.median, still.wall.median);
     }
 
     std::filesystem::create_directories(out);

@@ -67,7 +67,8 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
     if (!d.groom->prepare(inst, d.instance->transform, pass)) continue;
     drawn.push_back(&d);
     d.groom->lod(inst, t.view, &r.profiler);
-    raster.strands = mode == DispatchMode::ReadBack ? d.groom->readTotal(inst) : d.groom->strandCount();
+    raster.strands =
+        mode == DispatchMode::ReadBack ? d.groom->readTotal(inst) : d.groom->strandCount();
     t.clearGBuffer(&r.profiler);
     d.groom->raster(inst, raster, &r.profiler);
     if (options.captureGBuffer) {  // the raster's inputs, before compositing changes the depth
@@ -76,7 +77,8 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
       frame.rasterGroom.assign(gb, gb + sizeof(gpu::ClhGroomGpu));
       frame.rasterView.assign(vb, vb + sizeof(gpu::ClhViewGpu));
       frame.rasterDepth.resize(pixels);
-      readBack(r.dev, "the depth the hair was tested against", t.depth, frame.rasterDepth.data(), pixels);
+      readBack(r.dev, "the depth the hair was tested against", t.depth, frame.rasterDepth.data(),
+               pixels);
     }
     if (options.rasterOnly) continue;
     ShadeStage::Params sp;
@@ -90,10 +92,13 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
     sp.msaa = options.msaa;
     r.shade.enqueue(sp, &r.profiler);
     const FilterParams& fp = d.instance->hasFilter ? d.instance->filter : s.filter;
-    const bool filtered = options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
-    if (filtered) r.filter.enqueue(fp, {t.viewTarget(), &inst.groom, &t.gbuffer, &t.hair, &t.filtered}, &r.profiler);
-    r.composite.enqueue({t.viewTarget(), &inst.groom, filtered ? &t.filtered : &t.hair, &t.gbuffer, &t.color, &t.depth,
-                         options.msaa, filtered ? 2 : options.msaa},
+    const bool filtered =
+        options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
+    if (filtered)
+      r.filter.enqueue(fp, {t.viewTarget(), &inst.groom, &t.gbuffer, &t.hair, &t.filtered},
+                       &r.profiler);
+    r.composite.enqueue({t.viewTarget(), &inst.groom, filtered ? &t.filtered : &t.hair, &t.gbuffer,
+                         &t.color, &t.depth, options.msaa, filtered ? 2 : options.msaa},
                         &r.profiler);
   }
 
@@ -108,7 +113,8 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
   if (options.captureGBuffer) {
     frame.gbufferLayers = t.layers();
     frame.gbuffer.assign(pixels * t.layers(), ~std::uint64_t(0));
-    if (!drawn.empty()) readBack(r.dev, "the G-buffer", t.gbuffer, frame.gbuffer.data(), frame.gbuffer.size());
+    if (!drawn.empty())
+      readBack(r.dev, "the G-buffer", t.gbuffer, frame.gbuffer.data(), frame.gbuffer.size());
   }
   if (options.rasterStats) {
     cl_uint st[4];

@@ -9,7 +9,8 @@
 namespace clhair {
 
 Frame Renderer::renderReference(const Scene& s, int spp) {
-  if (spp < 1 || spp > 65536) throw Error("reference: --spp " + std::to_string(spp) + " is outside 1..65536");
+  if (spp < 1 || spp > 65536)
+    throw Error("reference: --spp " + std::to_string(spp) + " is outside 1..65536");
   RenderOptions o;
   o.lod = 0;
   o.msaa = 1;
@@ -28,8 +29,10 @@ Frame Renderer::renderReference(const Scene& s, int spp) {
       acc.assign(f.color.rgba.begin(), f.color.rgba.end());
     } else {
       for (std::size_t k = 0; k < acc.size(); ++k) acc[k] += f.color.rgba[k];
-      for (std::size_t k = 0; k < sum.depth.size(); ++k) sum.depth[k] = std::min(sum.depth[k], f.depth[k]);
-      for (std::size_t k = 0; k < sum.timings.size() && k < f.timings.size(); ++k) sum.timings[k].ms += f.timings[k].ms;
+      for (std::size_t k = 0; k < sum.depth.size(); ++k)
+        sum.depth[k] = std::min(sum.depth[k], f.depth[k]);
+      for (std::size_t k = 0; k < sum.timings.size() && k < f.timings.size(); ++k)
+        sum.timings[k].ms += f.timings[k].ms;
     }
   }
   for (std::size_t k = 0; k < acc.size(); ++k) sum.color.rgba[k] = static_cast<float>(acc[k] / spp);
@@ -38,19 +41,25 @@ Frame Renderer::renderReference(const Scene& s, int spp) {
 
 StrandSet Renderer::generateStrands(const HairMesh& mesh, float lod) {
   validateHairMesh(mesh, mesh.name);
-  if (!(lod > 0.0f && lod <= 1.0f)) throw Error("strand export: LOD value " + std::to_string(lod) + " is outside (0, 1]");
+  if (!(lod > 0.0f && lod <= 1.0f))
+    throw Error("strand export: LOD value " + std::to_string(lod) + " is outside (0, 1]");
   // the caller's mesh, borrowed for this call
-  HairMeshGpu g(std::shared_ptr<const HairMesh>(&mesh, [](const HairMesh*) {}), impl_->stages, false);
+  HairMeshGpu g(std::shared_ptr<const HairMesh>(&mesh, [](const HairMesh*) {}), impl_->stages,
+                false);
   return g.exportStrands(lod);
 }
 
 StrandSet Renderer::generateStrands(const StrandGroom& groom, float lod) {
-  if (!(lod > 0.0f && lod <= 1.0f)) throw Error("strand export: LOD value " + std::to_string(lod) + " is outside (0, 1]");
-  StrandFileGpu g(std::shared_ptr<const StrandGroom>(&groom, [](const StrandGroom*) {}), impl_->stages);
+  if (!(lod > 0.0f && lod <= 1.0f))
+    throw Error("strand export: LOD value " + std::to_string(lod) + " is outside (0, 1]");
+  StrandFileGpu g(std::shared_ptr<const StrandGroom>(&groom, [](const StrandGroom*) {}),
+                  impl_->stages);
   return g.exportStrands(lod);
 }
 
-std::uint64_t Renderer::groomDeviceBytes(const GroomInstance& groom) { return impl_->grooms.get(groom).deviceBytes(); }
+std::uint64_t Renderer::groomDeviceBytes(const GroomInstance& groom) {
+  return impl_->grooms.get(groom).deviceBytes();
+}
 
 std::vector<float> Renderer::bakeAmbientOcclusion(const HairMesh& mesh) {
   validateHairMesh(mesh, mesh.name);

@@ -23,15 +23,16 @@
 #define AO_FIXED 4096.0f
 
 typedef struct {
-  float4 lo;   /* grid origin (object space), w: voxel size */
-  uint4 dims;  /* voxels per axis, w unused */
+  float4 lo;  /* grid origin (object space), w: voxel size */
+  uint4 dims; /* voxels per axis, w unused */
 } ao_grid;
 
 static inline int ao_voxel(ao_grid g, float3 p, int3* v) {
   float3 c = (p - g.lo.xyz) / g.lo.w;
   int3 i = convert_int3(floor(c));
   *v = i;
-  return i.x >= 0 && i.y >= 0 && i.z >= 0 && i.x < (int)g.dims.x && i.y < (int)g.dims.y && i.z < (int)g.dims.z;
+  return i.x >= 0 && i.y >= 0 && i.z >= 0 && i.x < (int)g.dims.x && i.y < (int)g.dims.y &&
+         i.z < (int)g.dims.z;
 }
 
 /* Zeroes the density grid (a kernel, so checkers see the words as written). */
@@ -40,8 +41,9 @@ __kernel void ao_clear(__global uint* density_g, uint cells) {
   if (i < cells) density_g[i] = 0u;
 }
 
-__kernel void ao_voxelize(__global const float4* points_g, __global const uint* counts_g, uint strands,
-                          float4 grid_lo, uint4 grid_dims, float scale, __global uint* density_g) {
+__kernel void ao_voxelize(__global const float4* points_g, __global const uint* counts_g,
+                          uint strands, float4 grid_lo, uint4 grid_dims, float scale,
+                          __global uint* density_g) {
   const size_t gid = get_global_id(0);
   const size_t strand = gid / CLH_MAX_CONTROL_POINTS, k = gid % CLH_MAX_CONTROL_POINTS;
   if (strand >= strands) return;
@@ -76,9 +78,10 @@ static inline float ao_triangle(float3 o, float3 d, float3 a, float3 b, float3 c
   return t > 0.0f ? t : INFINITY;
 }
 
-__kernel void ao_bake(__global const ClhMeshVertex* verts_g, uint vertex_total, __global const ClhBundle* bundles_g,
-                      uint bundle_count, uint root_vertices, float4 grid_lo, uint4 grid_dims,
-                      __global const uint* density_g, __global float* ao_g) {
+__kernel void ao_bake(__global const ClhMeshVertex* verts_g, uint vertex_total,
+                      __global const ClhBundle* bundles_g, uint bundle_count, uint root_vertices,
+                      float4 grid_lo, uint4 grid_dims, __global const uint* density_g,
+                      __global float* ao_g) {
   const uint vi = (uint)get_global_id(0);
   if (vi >= vertex_total) return;
   ao_grid g;
@@ -89,7 +92,8 @@ __kernel void ao_bake(__global const ClhMeshVertex* verts_g, uint vertex_total, 
   const float extent = voxel * (float)max(max(grid_dims.x, grid_dims.y), grid_dims.z);
   const float step = 0.5f * voxel;
   const bool on_scalp = vi < root_vertices && vertex_total > root_vertices;
-  const float3 grow = on_scalp ? clh_normalize_or(vload3(0, verts_g[vi + root_vertices].pos) - p, (float3)(0.0f, 1.0f, 0.0f))
+  const float3 grow = on_scalp ? clh_normalize_or(vload3(0, verts_g[vi + root_vertices].pos) - p,
+                                                  (float3)(0.0f, 1.0f, 0.0f))
                                : (float3)(0.0f);
   float visible = 0.0f;
   for (uint k = 0; k < AO_DIRS; ++k) {

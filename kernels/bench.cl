@@ -12,7 +12,8 @@
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
 
-__kernel void bench_atomic_min(__global ulong* target_g, uint words, uint per_item, uint load_skip) {
+__kernel void bench_atomic_min(__global ulong* target_g, uint words, uint per_item,
+                               uint load_skip) {
   uint items = (uint)get_global_size(0);
   uint i = (uint)get_global_id(0);
   if (words == 0u) return;

@@ -14,10 +14,9 @@
 #define CLH_MSAA 1
 #endif
 
-__kernel void composite_over(__global const ClhGroomGpu* groom_g,
-                             __global const ClhViewGpu* view_g, __global const float4* hair_g,
-                             __global const ulong* gbuf_g, __global float4* color_g,
-                             __global float* depth_g, uint depth_layers) {
+__kernel void composite_over(__global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
+                             __global const float4* hair_g, __global const ulong* gbuf_g,
+                             __global float4* color_g, __global float* depth_g, uint depth_layers) {
   uint x = (uint)get_global_id(0), y = (uint)get_global_id(1);
   uint width = view_g->width, height = view_g->height;
   if (x >= width || y >= height) return;
@@ -29,7 +28,8 @@ __kernel void composite_over(__global const ClhGroomGpu* groom_g,
   if (h.w < 0.5f) return;
   size_t plane = (size_t)width * height;
   ulong word = CLH_GBUF_EMPTY;
-  for (uint s = 0; s < min(depth_layers, (uint)CLH_MSAA + 1u); ++s) word = min(word, gbuf_g[s * plane + idx]);
+  for (uint s = 0; s < min(depth_layers, (uint)CLH_MSAA + 1u); ++s)
+    word = min(word, gbuf_g[s * plane + idx]);
   if (word != CLH_GBUF_EMPTY) {
     float z = clh_depth_decode(clh_gbuf_depth(word), groom_g->depth_near, groom_g->depth_far);
     depth_g[idx] = fmin(depth_g[idx], z);

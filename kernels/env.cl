@@ -13,8 +13,9 @@
  *   env_sh_rows     SH projection, one work-item per source row (solid-angle weighted)
  *   env_sh_reduce   sums the per-row partial sums in row order, one work-item per float
  * env_query evaluates the lookup functions of env_lookup.h for a list of directions (tests
- * and debugging); env_layout reports the struct sizes of gpu_env.h. Every result is deterministic: fixed sample sets, fixed summation order,
- * no atomics, so an environment is bit-identical from run to run.
+ * and debugging); env_layout reports the struct sizes of gpu_env.h. Every result is deterministic:
+ * fixed sample sets, fixed summation order, no atomics, so an environment is bit-identical from run
+ * to run.
  *
  * Maps are equirectangular float4 (gpu_env.h for the (u, v) convention). The rotation
  * (rot_cos, rot_sin) = (cos b, sin b) places the source rotated by b about +y: the source

@@ -52,9 +52,11 @@ static inline float2 filter_screen_tangent(clh_mat34 w2v, float fx, float fy, fl
 
 static inline float3 filter_display(float3 c) { return c / (1.0f + c); }
 
-__kernel void filter_reconstruct(__global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
-                                 __global const ClhFilterGpu* filter_g, __global const ulong* gbuf_g,
-                                 __global const float4* hair_g, __global float4* out_g) {
+__kernel void filter_reconstruct(__global const ClhGroomGpu* groom_g,
+                                 __global const ClhViewGpu* view_g,
+                                 __global const ClhFilterGpu* filter_g,
+                                 __global const ulong* gbuf_g, __global const float4* hair_g,
+                                 __global float4* out_g) {
   const int x = (int)get_global_id(0), y = (int)get_global_id(1);
   const int width = (int)view_g->width, height = (int)view_g->height;
   if (x >= width || y >= height) return;
@@ -70,7 +72,8 @@ __kernel void filter_reconstruct(__global const ClhGroomGpu* groom_g, __global c
   const float z_center = is_center ? filter_depth(gp, near_z, far_z) : 0.0f;
   const float z_cons = is_cons ? filter_depth(ap, near_z, far_z) : 0.0f;
   /* a strand in front of the center hit: reconstruct it and blend it over */
-  const bool overlay = is_center && is_cons && z_cons < z_center * (1.0f - filter_g->depth_mismatch);
+  const bool overlay =
+      is_center && is_cons && z_cons < z_center * (1.0f - filter_g->depth_mismatch);
   const ulong ref = (is_center && !overlay) ? gp : ap;
   const float z_ref = (is_center && !overlay) ? z_center : z_cons;
   const bool own_colour = is_center && !overlay;
@@ -81,8 +84,8 @@ __kernel void filter_reconstruct(__global const ClhGroomGpu* groom_g, __global c
   clh_oct_decode(clh_gbuf_oct(ref), tv);
   const float3 pv = (float3)(((float)x + 0.5f - view_g->cx) / view_g->fx * z_ref,
                              -((float)y + 0.5f - view_g->cy) / view_g->fy * z_ref, z_ref);
-  const float2 tp = filter_screen_tangent(clh_load_mat34(view_g->world_to_view), view_g->fx, view_g->fy, pv,
-                                          (float3)(tv[0], tv[1], tv[2]));
+  const float2 tp = filter_screen_tangent(clh_load_mat34(view_g->world_to_view), view_g->fx,
+                                          view_g->fy, pv, (float3)(tv[0], tv[1], tv[2]));
 
   const int r = (int)min(filter_g->radius, (uint)FILTER_MAX_RADIUS);
   const float s_par = fmax((float)r * filter_g->s_par, 1e-3f);
@@ -115,7 +118,8 @@ __kernel void filter_reconstruct(__global const ClhGroomGpu* groom_g, __global c
         } else {
           const ulong aq = gbuf_g[plane + q];
           const float za = aq != CLH_GBUF_EMPTY ? filter_depth(aq, near_z, far_z) : 0.0f;
-          if (aq != CLH_GBUF_EMPTY && (overlay ? fabs(za - z_ref) <= reject : za >= z_ref - reject)) h_cons += 1.0f;
+          if (aq != CLH_GBUF_EMPTY && (overlay ? fabs(za - z_ref) <= reject : za >= z_ref - reject))
+            h_cons += 1.0f;
         }
       }
       const float e_spatial = d_par * d_par * inv_par2 + d_perp2 * inv_perp2;

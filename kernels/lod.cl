@@ -30,12 +30,14 @@
  * culled (N_LOD = 0) when every corner is behind the camera or the box is off screen;
  * full detail when LOD is off or some corner cannot be projected; otherwise Eq. 1-5 and
  * the morph factor (lod_math.h), C_max being the groom's full detail. */
-static inline ClhLodRecord clh_lod_record_for_box(__global const ClhGroomGpu* g, float2 lo, float2 hi,
-                                                  bool all_behind, bool unprojectable, float width, float height,
-                                                  uint n_full, float delta, uint min_points) {
+static inline ClhLodRecord clh_lod_record_for_box(__global const ClhGroomGpu* g, float2 lo,
+                                                  float2 hi, bool all_behind, bool unprojectable,
+                                                  float width, float height, uint n_full,
+                                                  float delta, uint min_points) {
   const uint C_full = clamp(g->control_points, 3u, (uint)CLH_MAX_CONTROL_POINTS);
   bool off_screen = hi.x < 0.0f || hi.y < 0.0f || lo.x > width || lo.y > height;
-  if (all_behind || (!unprojectable && off_screen)) return clh_lod_record_make(0u, C_full, 1.0f, 0.0f);
+  if (all_behind || (!unprojectable && off_screen))
+    return clh_lod_record_make(0u, C_full, 1.0f, 0.0f);
   if (g->lod_enabled == 0u || unprojectable) return clh_lod_record_make(n_full, C_full, 1.0f, 0.0f);
   float2 ext = hi - lo;
   float L = clh_lod_value(ext.x, ext.y, height, g->lod_lambda); /* Eq. 2 */
@@ -77,8 +79,8 @@ __kernel void lod_bundles(__global const ClhGroomGpu* groom_g, __global const Cl
     }
   }
 
-  const ClhLodRecord rec = clh_lod_record_for_box(g, lo, hi, all_behind, unprojectable, width, height, n_full,
-                                                  bundle->lod_delta, layers);
+  const ClhLodRecord rec = clh_lod_record_for_box(g, lo, hi, all_behind, unprojectable, width,
+                                                  height, n_full, bundle->lod_delta, layers);
   lod_g[b] = rec;
   counts_g[b] = rec.strands;
   /* the full-detail count of every bundle not culled, for beta = drawn / visible */
@@ -105,7 +107,8 @@ __kernel void lod_chunks(__global const ClhGroomGpu* groom_g, __global const Clh
   float2 lo = (float2)(INFINITY), hi = (float2)(-INFINITY);
   bool all_behind = true, unprojectable = false;
   for (uint k = 0; k < 8u; ++k) {
-    float3 corner = (float3)((k & 1u) ? bhi.x : blo.x, (k & 2u) ? bhi.y : blo.y, (k & 4u) ? bhi.z : blo.z);
+    float3 corner =
+        (float3)((k & 1u) ? bhi.x : blo.x, (k & 2u) ? bhi.y : blo.y, (k & 4u) ? bhi.z : blo.z);
     float3 p = clh_xform_point(to_view, corner);
     if (p.z >= 0.0f) all_behind = false;
     if (p.z <= 1e-4f) {
@@ -117,8 +120,8 @@ __kernel void lod_chunks(__global const ClhGroomGpu* groom_g, __global const Clh
     hi = fmax(hi, s);
   }
 
-  const ClhLodRecord rec =
-      clh_lod_record_for_box(g, lo, hi, all_behind, unprojectable, width, height, n_full, as_float(chunk.z), 3u);
+  const ClhLodRecord rec = clh_lod_record_for_box(g, lo, hi, all_behind, unprojectable, width,
+                                                  height, n_full, as_float(chunk.z), 3u);
   lod_g[c] = rec;
   counts_g[c] = rec.strands;
   counts_g[clh_lod_full_count_at(g->bundle_count, c)] = rec.strands > 0u ? n_full : 0u;

@@ -56,7 +56,9 @@ static inline float mesh_edge(float2 a, float2 b, float2 p) {
 
 /* A center exactly on an edge counts for the side where the edge runs this way; the
  * reversed edge (the neighbour's) then does not. */
-static inline bool mesh_edge_owns(float2 a, float2 b) { return b.y < a.y || (b.y == a.y && b.x > a.x); }
+static inline bool mesh_edge_owns(float2 a, float2 b) {
+  return b.y < a.y || (b.y == a.y && b.x > a.x);
+}
 
 static inline bool mesh_inside(float e, bool owns) { return e > 0.0f || (e == 0.0f && owns); }
 
@@ -75,8 +77,8 @@ static inline float2 mesh_project(__global const ClhViewGpu* view_g, float3 p) {
 
 /* Scan-converts one screen triangle (any winding) whose depth is the plane
  * dot(plane.xyz, p) = plane.w in view space. */
-static void mesh_draw(__global const ClhViewGpu* view_g, float2 a, float2 b, float2 c, float4 plane, uint tri,
-                      __global ulong* words_g) {
+static void mesh_draw(__global const ClhViewGpu* view_g, float2 a, float2 b, float2 c, float4 plane,
+                      uint tri, __global ulong* words_g) {
   const float area = mesh_edge(a, b, c);
   if (!(fabs(area) > 0.0f)) return; /* degenerate, or NaN */
   if (area < 0.0f) {
@@ -89,8 +91,10 @@ static void mesh_draw(__global const ClhViewGpu* view_g, float2 a, float2 b, flo
   const float minx = fmin(a.x, fmin(b.x, c.x)), maxx = fmax(a.x, fmax(b.x, c.x));
   const float miny = fmin(a.y, fmin(b.y, c.y)), maxy = fmax(a.y, fmax(b.y, c.y));
   if (!(maxx >= 0.0f && maxy >= 0.0f && minx <= (float)w && miny <= (float)h)) return;
-  const int x0 = (int)fmax(ceil(minx - 0.5f), 0.0f), x1 = (int)fmin(floor(maxx - 0.5f), (float)(w - 1));
-  const int y0 = (int)fmax(ceil(miny - 0.5f), 0.0f), y1 = (int)fmin(floor(maxy - 0.5f), (float)(h - 1));
+  const int x0 = (int)fmax(ceil(minx - 0.5f), 0.0f),
+            x1 = (int)fmin(floor(maxx - 0.5f), (float)(w - 1));
+  const int y0 = (int)fmax(ceil(miny - 0.5f), 0.0f),
+            y1 = (int)fmin(floor(maxy - 0.5f), (float)(h - 1));
   const bool oab = mesh_edge_owns(a, b), obc = mesh_edge_owns(b, c), oca = mesh_edge_owns(c, a);
   const float2 v[3] = {a, b, c};
   for (int y = y0; y <= y1; ++y) {
@@ -132,13 +136,15 @@ static void mesh_draw(__global const ClhViewGpu* view_g, float2 a, float2 b, flo
 }
 
 __kernel void mesh_raster(__global const ClhViewGpu* view_g, __global const float4* verts_g,
-                          __global const uint4* tris_g, uint tri_count, uint vert_count, __global ulong* words_g) {
+                          __global const uint4* tris_g, uint tri_count, uint vert_count,
+                          __global ulong* words_g) {
   const uint tri = (uint)get_global_id(0);
   if (tri >= tri_count) return;
   const uint4 t = tris_g[tri];
   if (t.x >= vert_count || t.y >= vert_count || t.z >= vert_count) return;
   const clh_mat34 w2v = clh_load_mat34(view_g->world_to_view);
-  const float3 p[3] = {clh_xform_point(w2v, verts_g[t.x].xyz), clh_xform_point(w2v, verts_g[t.y].xyz),
+  const float3 p[3] = {clh_xform_point(w2v, verts_g[t.x].xyz),
+                       clh_xform_point(w2v, verts_g[t.y].xyz),
                        clh_xform_point(w2v, verts_g[t.z].xyz)};
   /* the plane through the unclipped triangle: clipping does not move it */
   const float3 n = cross(p[1] - p[0], p[2] - p[0]);
@@ -159,14 +165,14 @@ __kernel void mesh_raster(__global const ClhViewGpu* view_g, __global const floa
   if (count == 4) mesh_draw(view_g, s[0], s[2], s[3], plane, tri, words_g);
 }
 
-__kernel void mesh_resolve(__global const ClhSceneGpu* scene_g, __global const ClhViewGpu* view_g,
-                           __global const float4* verts_g, __global const float4* normals_g,
-                           __global const uint4* tris_g, __global const float4* colors_g, uint tri_count,
-                           uint vert_count, uint color_count, __global const ClhLightGpu* lights_g,
-                           __global const ClhShadowGpu* shadows_g, __global const float* shadow_opaque_g,
-                           __global const float* shadow_hair_g, __global const uint* shadow_opacity_g,
-                           __global const float* env_sh_g, __global const ulong* words_g, __global float4* color_g,
-                           __global float* depth_g, uint shade) {
+__kernel void mesh_resolve(
+    __global const ClhSceneGpu* scene_g, __global const ClhViewGpu* view_g,
+    __global const float4* verts_g, __global const float4* normals_g, __global const uint4* tris_g,
+    __global const float4* colors_g, uint tri_count, uint vert_count, uint color_count,
+    __global const ClhLightGpu* lights_g, __global const ClhShadowGpu* shadows_g,
+    __global const float* shadow_opaque_g, __global const float* shadow_hair_g,
+    __global const uint* shadow_opacity_g, __global const float* env_sh_g,
+    __global const ulong* words_g, __global float4* color_g, __global float* depth_g, uint shade) {
   const uint x = (uint)get_global_id(0), y = (uint)get_global_id(1);
   const uint width = view_g->width, height = view_g->height;
   if (x >= width || y >= height) return;
@@ -181,15 +187,16 @@ __kernel void mesh_resolve(__global const ClhSceneGpu* scene_g, __global const C
   const uint4 t = tris_g[tri];
   if (t.x >= vert_count || t.y >= vert_count || t.z >= vert_count) return;
   /* the hit on the center ray, in world space (the ray has view z = 1 per unit) */
-  const float3 dv = (float3)(((float)x + 0.5f - view_g->cx) / view_g->fx, -((float)y + 0.5f - view_g->cy) / view_g->fy,
-                             1.0f);
+  const float3 dv = (float3)(((float)x + 0.5f - view_g->cx) / view_g->fx,
+                             -((float)y + 0.5f - view_g->cy) / view_g->fy, 1.0f);
   const clh_mat34 to_world = clh_load_mat34(view_g->view_to_world);
   const float3 dir = clh_xform_dir(to_world, dv);
   const float3 pos = vload3(0, view_g->eye) + z * dir;
   const float3 a = verts_g[t.x].xyz, b = verts_g[t.y].xyz, c = verts_g[t.z].xyz;
   /* barycentric coordinates of pos (on the plane up to rounding), clamped to the triangle */
   const float3 e0 = b - a, e1 = c - a, ep = pos - a;
-  const float d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1), dp0 = dot(ep, e0), dp1 = dot(ep, e1);
+  const float d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1), dp0 = dot(ep, e0),
+              dp1 = dot(ep, e1);
   const float det = d00 * d11 - d01 * d01;
   float wb = 0.0f, wc = 0.0f;
   if (fabs(det) > 0.0f) {
@@ -206,7 +213,8 @@ __kernel void mesh_resolve(__global const ClhSceneGpu* scene_g, __global const C
   n = n_len > 1e-12f ? n / n_len : face;
   if (dot(n, face) < 0.0f) n = -n;
   const float3 albedo = t.w < color_count ? colors_g[t.w].xyz : (float3)(0.5f);
-  color_g[idx] = (float4)(clh_opaque_shade(scene_g, lights_g, shadows_g, shadow_opaque_g, shadow_hair_g,
-                                           shadow_opacity_g, env_sh_g, pos, n, albedo, z),
-                          1.0f);
+  color_g[idx] =
+      (float4)(clh_opaque_shade(scene_g, lights_g, shadows_g, shadow_opaque_g, shadow_hair_g,
+                                shadow_opacity_g, env_sh_g, pos, n, albedo, z),
+               1.0f);
 }

@@ -6,9 +6,9 @@
  * lights plus a constant ambient term; shadowed lights look up their deep opacity maps,
  * so hair and opaque objects shadow the opaque scene. With shade = 0 only the depth is
  * written (the opaque scene seen from a light). Triangle meshes are drawn over this
- * result by mesh.cl with the same shading (opaque_shade.h). With an environment, the ambient term is
- * its SH irradiance and a visible environment replaces the background colour; a
- * background image, when given, is stretched over the frame behind everything.
+ * result by mesh.cl with the same shading (opaque_shade.h). With an environment, the ambient term
+ * is its SH irradiance and a visible environment replaces the background colour; a background
+ * image, when given, is stretched over the frame behind everything.
  */
 #include "clhair/gpu_types.h"
 #include "clh_math.h"
@@ -52,15 +52,15 @@ static inline float opaque_trace(__global const ClhSceneGpu* scene_g,
   return best;
 }
 
-__kernel void opaque_render(__global const ClhSceneGpu* scene_g, __global const ClhViewGpu* view_g,
-                            __global const ClhSphereGpu* spheres_g,
-                            __global const ClhPlaneGpu* planes_g,
-                            __global const ClhLightGpu* lights_g, __global const ClhShadowGpu* shadows_g,
-                            __global const float* shadow_opaque_g, __global const float* shadow_hair_g,
-                            __global const uint* shadow_opacity_g, __global const float4* env_texels_g,
-                            __global const ClhEnvLevel* env_levels_g, __global const float* env_sh_g,
-                            __global const float4* background_g, __global float4* color_g,
-                            __global float* depth_g, uint shade) {
+__kernel void opaque_render(
+    __global const ClhSceneGpu* scene_g, __global const ClhViewGpu* view_g,
+    __global const ClhSphereGpu* spheres_g, __global const ClhPlaneGpu* planes_g,
+    __global const ClhLightGpu* lights_g, __global const ClhShadowGpu* shadows_g,
+    __global const float* shadow_opaque_g, __global const float* shadow_hair_g,
+    __global const uint* shadow_opacity_g, __global const float4* env_texels_g,
+    __global const ClhEnvLevel* env_levels_g, __global const float* env_sh_g,
+    __global const float4* background_g, __global float4* color_g, __global float* depth_g,
+    uint shade) {
   uint x = (uint)get_global_id(0), y = (uint)get_global_id(1);
   uint width = view_g->width, height = view_g->height;
   if (x >= width || y >= height) return;
@@ -87,8 +87,10 @@ __kernel void opaque_render(__global const ClhSceneGpu* scene_g, __global const 
       const int x0 = clamp((int)fu, 0, bw - 1), x1 = clamp((int)fu + 1, 0, bw - 1);
       const int y0 = clamp((int)fv, 0, bh - 1), y1 = clamp((int)fv + 1, 0, bh - 1);
       const float ax = u - fu, ay = v - fv;
-      const float3 t0 = mix(background_g[(size_t)y0 * bw + x0].xyz, background_g[(size_t)y0 * bw + x1].xyz, ax);
-      const float3 t1 = mix(background_g[(size_t)y1 * bw + x0].xyz, background_g[(size_t)y1 * bw + x1].xyz, ax);
+      const float3 t0 =
+          mix(background_g[(size_t)y0 * bw + x0].xyz, background_g[(size_t)y0 * bw + x1].xyz, ax);
+      const float3 t1 =
+          mix(background_g[(size_t)y1 * bw + x0].xyz, background_g[(size_t)y1 * bw + x1].xyz, ax);
       bg = mix(t0, t1, ay);
     }
     color_g[idx] = (float4)(bg, 1.0f);
@@ -98,7 +100,8 @@ __kernel void opaque_render(__global const ClhSceneGpu* scene_g, __global const 
   depth_g[idx] = t;
   if (shade == 0u) return;
   float3 pos = origin + t * dir;
-  color_g[idx] = (float4)(clh_opaque_shade(scene_g, lights_g, shadows_g, shadow_opaque_g, shadow_hair_g,
-                                           shadow_opacity_g, env_sh_g, pos, n, albedo, t),
-                          1.0f);
+  color_g[idx] =
+      (float4)(clh_opaque_shade(scene_g, lights_g, shadows_g, shadow_opaque_g, shadow_hair_g,
+                                shadow_opacity_g, env_sh_g, pos, n, albedo, t),
+               1.0f);
 }

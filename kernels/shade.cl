@@ -40,7 +40,8 @@ typedef struct {
 } shade_inputs;
 
 /* The fibre material at styling coordinates (u, v, w). */
-static inline void shade_material(__global const ClhGroomGpu* g, float u, float v, float w, clh_hair_material* m) {
+static inline void shade_material(__global const ClhGroomGpu* g, float u, float v, float w,
+                                  clh_hair_material* m) {
   /* per-strand variation from the 6-bit root uv (the same for the whole strand) */
   const uint key = clh_hash2((uint)(u * 63.0f + 0.5f), (uint)(v * 63.0f + 0.5f) ^ g->seed);
   const float vary = 1.0f + g->look[0] * (2.0f * clh_u01(key) - 1.0f);
@@ -58,11 +59,14 @@ static inline void shade_material(__global const ClhGroomGpu* g, float u, float 
   m->eta = g->bsdf[3];
 }
 
-static inline float3 shade_word(__global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
-                                __global const ClhSceneGpu* scene_g, __global const ClhLightGpu* lights_g,
-                                const shade_inputs* in, ulong word, float2 pixel) {
+static inline float3 shade_word(__global const ClhGroomGpu* groom_g,
+                                __global const ClhViewGpu* view_g,
+                                __global const ClhSceneGpu* scene_g,
+                                __global const ClhLightGpu* lights_g, const shade_inputs* in,
+                                ulong word, float2 pixel) {
   const float z = clh_depth_decode(clh_gbuf_depth(word), groom_g->depth_near, groom_g->depth_far);
-  const float3 pv = (float3)((pixel.x - view_g->cx) / view_g->fx * z, -(pixel.y - view_g->cy) / view_g->fy * z, z);
+  const float3 pv = (float3)((pixel.x - view_g->cx) / view_g->fx * z,
+                             -(pixel.y - view_g->cy) / view_g->fy * z, z);
   const float3 pos = clh_xform_point(clh_load_mat34(view_g->view_to_world), pv);
   float tv[3];
   clh_oct_decode(clh_gbuf_oct(word), tv);
@@ -76,8 +80,9 @@ static inline float3 shade_word(__global const ClhGroomGpu* groom_g, __global co
   clh_hair_material mat;
   shade_material(groom_g, u, v, w, &mat);
   if (file_color) {
-    const float3 c = (float3)(clh_file_color_value(clh_gbuf_u(word)), clh_file_color_value(clh_gbuf_v(word)),
-                              clh_file_color_value(clh_gbuf_ao(word)));
+    const float3 c =
+        (float3)(clh_file_color_value(clh_gbuf_u(word)), clh_file_color_value(clh_gbuf_v(word)),
+                 clh_file_color_value(clh_gbuf_ao(word)));
     mat.sigma_a = clh_hair_sigma_a_from_color(c, groom_g->bsdf[1]);
   }
   clh_hair_view hv;
@@ -100,7 +105,8 @@ static inline float3 shade_word(__global const ClhGroomGpu* groom_g, __global co
     }
     const int slot = clh_light_shadow_slot(lights_g + i);
     if (slot >= 0 && slot < CLH_MAX_SHADOWS)
-      falloff *= clh_shadow_transmittance(in->params + slot, in->opaque, in->hair, in->opacity, pos, in->lod_shift);
+      falloff *= clh_shadow_transmittance(in->params + slot, in->opaque, in->hair, in->opacity, pos,
+                                          in->lod_shift);
     if (falloff > 0.0f) radiance += lc * falloff * clh_hair_eval_cos(&hv, L);
   }
 
@@ -110,7 +116,8 @@ static inline float3 shade_word(__global const ClhGroomGpu* groom_g, __global co
   const uint env_levels = scene_g->env_levels & ~CLH_ENV_VISIBLE;
   float3 probe;
   if (env_levels > 0u) {
-    const float3 spec = clh_env_radiance(in->env_texels, in->env_levels, env_levels, env.refl_dir, env.ggx_alpha);
+    const float3 spec =
+        clh_env_radiance(in->env_texels, in->env_levels, env_levels, env.refl_dir, env.ggx_alpha);
     const float3 front = clh_env_irradiance(in->env_sh, env.n) / CLH_PI;
     const float3 back = clh_env_irradiance(in->env_sh, -env.n) / CLH_PI;
     probe = env.spec_weight * spec + env.diffuse_albedo * front + env.tt_weight * back;
@@ -120,13 +127,14 @@ static inline float3 shade_word(__global const ClhGroomGpu* groom_g, __global co
   return radiance + probe * ao;
 }
 
-__kernel void shade_deferred(__global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
-                             __global const ClhSceneGpu* scene_g, __global const ClhLightGpu* lights_g,
-                             __global const ClhShadowGpu* shadows_g, __global const float* shadow_opaque_g,
-                             __global const float* shadow_hair_g, __global const uint* shadow_opacity_g,
-                             __global const float4* env_texels_g, __global const ClhEnvLevel* env_levels_g,
-                             __global const float* env_sh_g, __global const ulong* gbuf_g,
-                             __global const uint* offsets_g, __global float4* hair_g) {
+__kernel void shade_deferred(
+    __global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
+    __global const ClhSceneGpu* scene_g, __global const ClhLightGpu* lights_g,
+    __global const ClhShadowGpu* shadows_g, __global const float* shadow_opaque_g,
+    __global const float* shadow_hair_g, __global const uint* shadow_opacity_g,
+    __global const float4* env_texels_g, __global const ClhEnvLevel* env_levels_g,
+    __global const float* env_sh_g, __global const ulong* gbuf_g, __global const uint* offsets_g,
+    __global float4* hair_g) {
   const uint x = (uint)get_global_id(0), y = (uint)get_global_id(1);
   const uint width = view_g->width, height = view_g->height;
   if (x >= width || y >= height) return;
@@ -164,7 +172,8 @@ __kernel void shade_deferred(__global const ClhGroomGpu* groom_g, __global const
     const ulong word = gbuf_g[s * plane + idx];
     if (word == CLH_GBUF_EMPTY) continue;
     /* positions are rebuilt at the pixel center: the depth of every sample is stored */
-    sum += shade_word(groom_g, view_g, scene_g, lights_g, &in, word, (float2)((float)x + 0.5f, (float)y + 0.5f));
+    sum += shade_word(groom_g, view_g, scene_g, lights_g, &in, word,
+                      (float2)((float)x + 0.5f, (float)y + 0.5f));
     ++hits;
   }
   hair_g[idx] = (float4)(sum, (float)hits) / (float)CLH_MSAA;

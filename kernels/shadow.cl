@@ -9,16 +9,17 @@
 
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 
-__kernel void shadow_resolve_depth(__global const ClhShadowGpu* shadow_g, __global const ulong* gbuf_g,
-                                   __global float* hair_depth_g) {
+__kernel void shadow_resolve_depth(__global const ClhShadowGpu* shadow_g,
+                                   __global const ulong* gbuf_g, __global float* hair_depth_g) {
   const uint x = (uint)get_global_id(0), y = (uint)get_global_id(1);
   const uint w = shadow_g->width, h = shadow_g->height;
   if (x >= w || y >= h) return;
   const size_t plane = (size_t)w * h, idx = (size_t)y * w + x;
   const ulong word = gbuf_g[plane + idx]; /* layer 1: conservative */
   hair_depth_g[(size_t)shadow_g->offset + idx] =
-      word == CLH_GBUF_EMPTY ? INFINITY
-                             : clh_depth_decode(clh_gbuf_depth(word), shadow_g->depth_near, shadow_g->depth_far);
+      word == CLH_GBUF_EMPTY
+          ? INFINITY
+          : clh_depth_decode(clh_gbuf_depth(word), shadow_g->depth_near, shadow_g->depth_far);
 }
 
 __kernel void shadow_clear(__global const ClhShadowGpu* shadow_g, __global uint* opacity_g) {

@@ -44,11 +44,9 @@
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
 
-
 #define CLH_PTS_PER_LANE ((CLH_MAX_CONTROL_POINTS - 1 + SG_SIZE - 1) / SG_SIZE)
 #define CLH_PTS_CAP (CLH_PTS_PER_LANE + 1)
 #define CLH_LAYERS_PER_LANE ((CLH_MAX_LAYERS + SG_SIZE - 1) / SG_SIZE)
-
 
 /* The lane's share of the strand after assembly. */
 typedef struct {
@@ -90,13 +88,12 @@ static inline float3 clh_coarse_tangent(SG_SHARED const float4* pts_l, uint e, u
 /* Cooperative assembly of one strand. Every lane must call it. */
 static inline void clh_assemble_strand(sg_ctx* sg, SG_SHARED clh_layer_pt* layers_l,
                                        SG_SHARED clh_strand* strand_l, SG_SHARED float4* pts_l,
-                                       __global const ClhGroomGpu* g,
-                                       __global const ClhBundle* b,
+                                       __global const ClhGroomGpu* g, __global const ClhBundle* b,
                                        __global const ClhMeshVertex* verts_g,
                                        __global const float2* roots_quad_g,
                                        __global const float2* roots_tri_g, uint bundle,
-                                       uint local_index, uint C, float gamma, float4* P,
-                                       float4* T, clh_lane_span* span) {
+                                       uint local_index, uint C, float gamma, float4* P, float4* T,
+                                       clh_lane_span* span) {
   const uint lane = sg_lane();
   const uint layer_count = clamp(g->layer_count, 2u, (uint)CLH_MAX_LAYERS);
   const int4 vtx = vload4(0, b->vtx);
@@ -127,8 +124,9 @@ static inline void clh_assemble_strand(sg_ctx* sg, SG_SHARED clh_layer_pt* layer
         float3 prev = (i > 0u ? lay[i - 1u].pos : lay_prev).xyz;
         float3 next = (i + 1u < lcount ? lay[i + 1u].pos : lay_next).xyz;
         float3 cur = lay[i].pos.xyz;
-        float3 m = (l == 0u) ? next - cur : (l == layer_count - 1u) ? cur - prev
-                                                                    : 0.5f * (next - prev);
+        float3 m = (l == 0u)                 ? next - cur
+                   : (l == layer_count - 1u) ? cur - prev
+                                             : 0.5f * (next - prev);
         lay[i].tan.xyz = m;
       }
       layers_l[l] = lay[i];
@@ -149,8 +147,8 @@ static inline void clh_assemble_strand(sg_ctx* sg, SG_SHARED clh_layer_pt* layer
     ao[i] = 1.0f;
     if (i < count) {
       float3 deriv, du, dv;
-      float4 base = clh_base_point(layers_l, layer_count, first + i, C, s.length, &deriv, &du,
-                                   &dv, &ao[i]);
+      float4 base =
+          clh_base_point(layers_l, layer_count, first + i, C, s.length, &deriv, &du, &dv, &ao[i]);
       P[i] = (float4)(base.xyz + clh_style_offset(g, &s, base.w, deriv, du, dv), base.w);
     }
   }
@@ -170,9 +168,8 @@ static inline void clh_assemble_strand(sg_ctx* sg, SG_SHARED clh_layer_pt* layer
         if ((k & 1u) == 0u) {
           coarse = clh_coarse_tangent(pts_l, k, C);
         } else {
-          coarse = clh_normalize_or(clh_coarse_tangent(pts_l, k - 1u, C) +
-                                        clh_coarse_tangent(pts_l, k + 1u, C),
-                                    fine);
+          coarse = clh_normalize_or(
+              clh_coarse_tangent(pts_l, k - 1u, C) + clh_coarse_tangent(pts_l, k + 1u, C), fine);
           float3 mid = 0.5f * (pts_l[k - 1u].xyz + pts_l[k + 1u].xyz);
           P[i].xyz = mix(P[i].xyz, mid, gamma);
         }
@@ -199,9 +196,9 @@ static inline void clh_assemble_strand(sg_ctx* sg, SG_SHARED clh_layer_pt* layer
 
 /* Which strand a work-group draws; false when there is none (uniform per group). */
 static inline bool clh_strand_job(__global const ClhGroomGpu* g, __global const ClhLodRecord* lod_g,
-                                  __global const uint* offsets_g, __global const ClhBundle* bundles_g,
-                                  uint strand, uint* bundle, uint* local_index, uint* C,
-                                  float* gamma, float* coverage) {
+                                  __global const uint* offsets_g,
+                                  __global const ClhBundle* bundles_g, uint strand, uint* bundle,
+                                  uint* local_index, uint* C, float* gamma, float* coverage) {
   uint b = 0u;
   if (!clh_lod_find_strand(offsets_g, g->bundle_count, strand, &b, local_index)) return false;
   const ClhLodRecord lod = lod_g[b];
@@ -219,45 +216,48 @@ typedef struct {
 } clh_strand_scratch;
 
 /* Assembles strand `strand` (when it exists) and draws its segments. Uniform per group. */
-static inline void clh_draw_strand(sg_ctx* sg, clh_strand_scratch scratch, clh_raster_ctx* rc,
-                                   __global const ClhGroomGpu* g, __global const ClhBundle* bundles_g,
-                                   __global const ClhMeshVertex* verts_g, __global const ClhLodRecord* lod_g,
-                                   __global const uint* offsets_g, __global const float2* roots_quad_g,
-                                   __global const float2* roots_tri_g, __global const float* scene_depth_g,
-                                   __global ulong* gbuf_g, __global uint* stats_g, uint strand) {
+static inline void clh_draw_strand(
+    sg_ctx* sg, clh_strand_scratch scratch, clh_raster_ctx* rc, __global const ClhGroomGpu* g,
+    __global const ClhBundle* bundles_g, __global const ClhMeshVertex* verts_g,
+    __global const ClhLodRecord* lod_g, __global const uint* offsets_g,
+    __global const float2* roots_quad_g, __global const float2* roots_tri_g,
+    __global const float* scene_depth_g, __global ulong* gbuf_g, __global uint* stats_g,
+    uint strand) {
   uint bundle = 0u, local_index = 0u, C = 2u;
   float gamma = 0.0f, coverage = 1.0f;
-  if (!clh_strand_job(g, lod_g, offsets_g, bundles_g, strand, &bundle, &local_index, &C, &gamma, &coverage))
+  if (!clh_strand_job(g, lod_g, offsets_g, bundles_g, strand, &bundle, &local_index, &C, &gamma,
+                      &coverage))
     return;
   float4 P[CLH_PTS_CAP], T[CLH_PTS_CAP];
   clh_lane_span span;
-  clh_assemble_strand(sg, scratch.layers, scratch.strand, scratch.pts, g, bundles_g + bundle, verts_g,
-                      roots_quad_g, roots_tri_g, bundle, local_index, C, gamma, P, T, &span);
+  clh_assemble_strand(sg, scratch.layers, scratch.strand, scratch.pts, g, bundles_g + bundle,
+                      verts_g, roots_quad_g, roots_tri_g, bundle, local_index, C, gamma, P, T,
+                      &span);
   rc->u6 = clh_unorm_bits(span.uv.x, 6u);
   rc->v6 = clh_unorm_bits(span.uv.y, 6u);
   rc->coverage = coverage;
-  clh_raster_lane(rc, scene_depth_g, gbuf_g, stats_g, g, P, T, span.first, span.count, span.C, span.next_p, span.next_t);
+  clh_raster_lane(rc, scene_depth_g, gbuf_g, stats_g, g, P, T, span.first, span.count, span.C,
+                  span.next_p, span.next_t);
 }
 
-
-#define CLH_RASTER_PARAMS                                                                          \
-  __global const ClhGroomGpu *groom_g, __global const ClhViewGpu *view_g,                          \
-      __global const ClhBundle *bundles_g, __global const ClhMeshVertex *verts_g,                  \
-      __global const ClhLodRecord *lod_g, __global const uint *offsets_g,                          \
-      __global const float2 *roots_quad_g, __global const float2 *roots_tri_g,                     \
-      __global const float *scene_depth_g, __global ulong *gbuf_g, __global uint *stats_g,         \
+#define CLH_RASTER_PARAMS                                                                  \
+  __global const ClhGroomGpu *groom_g, __global const ClhViewGpu *view_g,                  \
+      __global const ClhBundle *bundles_g, __global const ClhMeshVertex *verts_g,          \
+      __global const ClhLodRecord *lod_g, __global const uint *offsets_g,                  \
+      __global const float2 *roots_quad_g, __global const float2 *roots_tri_g,             \
+      __global const float *scene_depth_g, __global ulong *gbuf_g, __global uint *stats_g, \
       uint strand_base, uint strand_stride
 
-#define CLH_RASTER_PROLOGUE                                           \
-  SG_DECLARE(sg);                                                     \
-  SG_SHARED clh_layer_pt layers_l[CLH_MAX_LAYERS];                      \
-  SG_SHARED clh_strand strand_l[1];                                     \
-  SG_SHARED float4 pts_l[CLH_MAX_CONTROL_POINTS];                       \
-  clh_strand_scratch scratch;                                         \
-  scratch.layers = layers_l;                                          \
-  scratch.strand = strand_l;                                          \
-  scratch.pts = pts_l;                                                \
-  clh_raster_ctx rc;                                                  \
+#define CLH_RASTER_PROLOGUE                        \
+  SG_DECLARE(sg);                                  \
+  SG_SHARED clh_layer_pt layers_l[CLH_MAX_LAYERS]; \
+  SG_SHARED clh_strand strand_l[1];                \
+  SG_SHARED float4 pts_l[CLH_MAX_CONTROL_POINTS];  \
+  clh_strand_scratch scratch;                      \
+  scratch.layers = layers_l;                       \
+  scratch.strand = strand_l;                       \
+  scratch.pts = pts_l;                             \
+  clh_raster_ctx rc;                               \
   clh_raster_setup(&rc, groom_g, view_g)
 
 #if !CLH_RASTER_OPACITY
@@ -284,11 +284,12 @@ __kernel SG_KERNEL_ATTRS void strands_raster_persistent(CLH_RASTER_PARAMS) {
  * from the light, every texel they touch in front of the opaque scene adding coverage to
  * the layer of its depth past z0. One strand per work-group. */
 __kernel SG_KERNEL_ATTRS void strands_opacity(
-    __global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g, __global const ClhBundle* bundles_g,
-    __global const ClhMeshVertex* verts_g, __global const ClhLodRecord* lod_g, __global const uint* offsets_g,
-    __global const float2* roots_quad_g, __global const float2* roots_tri_g, __global const float* opaque_depth_g,
-    __global const ClhShadowGpu* shadow_g, __global const float* hair_depth_g, __global uint* opacity_g,
-    uint strand_base) {
+    __global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
+    __global const ClhBundle* bundles_g, __global const ClhMeshVertex* verts_g,
+    __global const ClhLodRecord* lod_g, __global const uint* offsets_g,
+    __global const float2* roots_quad_g, __global const float2* roots_tri_g,
+    __global const float* opaque_depth_g, __global const ClhShadowGpu* shadow_g,
+    __global const float* hair_depth_g, __global uint* opacity_g, uint strand_base) {
   SG_DECLARE(sg);
   SG_SHARED clh_layer_pt layers_l[CLH_MAX_LAYERS];
   SG_SHARED clh_strand strand_l[1];
@@ -300,8 +301,9 @@ __kernel SG_KERNEL_ATTRS void strands_opacity(
   clh_raster_ctx rc;
   clh_raster_setup(&rc, groom_g, view_g);
   clh_raster_opacity_setup(&rc, shadow_g, hair_depth_g);
-  clh_draw_strand(&sg, scratch, &rc, groom_g, bundles_g, verts_g, lod_g, offsets_g, roots_quad_g, roots_tri_g,
-                  opaque_depth_g + shadow_g->offset, (__global ulong*)opacity_g, 0, sg_strand_index(strand_base));
+  clh_draw_strand(&sg, scratch, &rc, groom_g, bundles_g, verts_g, lod_g, offsets_g, roots_quad_g,
+                  roots_tri_g, opaque_depth_g + shadow_g->offset, (__global ulong*)opacity_g, 0,
+                  sg_strand_index(strand_base));
 }
 #endif
 
@@ -321,9 +323,8 @@ __kernel SG_KERNEL_ATTRS void strands_export(
   uint strand = sg_strand_index(strand_base);
   uint bundle = 0u, local_index = 0u, C = 2u;
   float gamma = 0.0f, coverage = 1.0f;
-  if (strand >= strand_capacity ||
-      !clh_strand_job(groom_g, lod_g, offsets_g, bundles_g, strand, &bundle, &local_index, &C,
-                      &gamma, &coverage))
+  if (strand >= strand_capacity || !clh_strand_job(groom_g, lod_g, offsets_g, bundles_g, strand,
+                                                   &bundle, &local_index, &C, &gamma, &coverage))
     return;
 
   float4 P[CLH_PTS_CAP], T[CLH_PTS_CAP];

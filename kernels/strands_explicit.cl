@@ -63,19 +63,19 @@ typedef struct {
 
 /* What a work-group draws. */
 typedef struct {
-  uint strand;     /* index into the strand tables */
-  uint first;      /* its first stored point */
-  uint n;          /* stored points */
-  uint step;       /* drawn point j is stored point min(j * step, n - 1) */
-  uint M;          /* drawn points */
-  float coverage;  /* N / N_LOD of its chunk */
-  float gamma;     /* vertex-LOD morph toward step * 2 */
+  uint strand;    /* index into the strand tables */
+  uint first;     /* its first stored point */
+  uint n;         /* stored points */
+  uint step;      /* drawn point j is stored point min(j * step, n - 1) */
+  uint M;         /* drawn points */
+  float coverage; /* N / N_LOD of its chunk */
+  float gamma;    /* vertex-LOD morph toward step * 2 */
 } clh_x_job;
 
 /* The strand drawn by draw index `index`; false when there is none (uniform per group). */
 static inline bool clh_x_find_job(__global const ClhGroomGpu* g, const clh_x_tables* tb,
-                                  __global const ClhLodRecord* lod_g, __global const uint* offsets_g,
-                                  uint index, clh_x_job* job) {
+                                  __global const ClhLodRecord* lod_g,
+                                  __global const uint* offsets_g, uint index, clh_x_job* job) {
   uint c = 0u, slot = 0u;
   if (!clh_lod_find_strand(offsets_g, g->bundle_count, index, &c, &slot)) return false;
   const ClhLodRecord lod = lod_g[c];
@@ -142,7 +142,8 @@ static inline void clh_x_round(sg_ctx* sg, const clh_x_tables* tb, const clh_x_j
     if (i < count) P[i] = clh_x_point(tb, job, k0 + i);
   }
   /* the points just outside the round, from memory: the fills of the edge lanes */
-  const float4 halo_prev = (lane == 0u && base > 0u) ? clh_x_point(tb, job, base - 1u) : (float4)(0.0f);
+  const float4 halo_prev =
+      (lane == 0u && base > 0u) ? clh_x_point(tb, job, base - 1u) : (float4)(0.0f);
   const float4 halo_next =
       (lane == (uint)(SG_SIZE - 1) && E + 1u < M) ? clh_x_point(tb, job, E + 1u) : (float4)(0.0f);
   const uint last = count > 0u ? count - 1u : 0u;
@@ -189,8 +190,9 @@ static inline void clh_x_round(sg_ctx* sg, const clh_x_tables* tb, const clh_x_j
  * rgb and thickness. A lane's run is drawn with their means over its points: the colour in
  * the word's u, v and AO fields (gpu_types.h; AO through the tangents' w), the width in the
  * raster's pixels per unit depth. */
-static inline void clh_x_file_look(clh_raster_ctx* rc, __global const ClhGroomGpu* g, const clh_x_tables* tb,
-                                   const clh_x_job* job, clh_x_span* span, float4* T) {
+static inline void clh_x_file_look(clh_raster_ctx* rc, __global const ClhGroomGpu* g,
+                                   const clh_x_tables* tb, const clh_x_job* job, clh_x_span* span,
+                                   float4* T) {
   if (span->count == 0u) return;
   float4 sum = (float4)(0.0f);
   for (uint i = 0; i < CLH_X_CAP; ++i)
@@ -234,33 +236,34 @@ static inline void clh_x_draw(sg_ctx* sg, clh_raster_ctx* rc, __global const Clh
     clh_x_span span;
     clh_x_round(sg, tb, &job, base, P, T, &span);
     if (g->look[2] > 0.5f || g->look[3] > 0.0f) clh_x_file_look(rc, g, tb, &job, &span, T);
-    clh_raster_lane(rc, scene_depth_g, gbuf_g, stats_g, g, P, T, span.first, span.count, span.points,
-                    span.next_p, span.next_t);
+    clh_raster_lane(rc, scene_depth_g, gbuf_g, stats_g, g, P, T, span.first, span.count,
+                    span.points, span.next_p, span.next_t);
   }
 }
 
-#define CLH_X_PARAMS                                                                               \
-  __global const ClhGroomGpu *groom_g, __global const ClhViewGpu *view_g,                          \
-      __global const float4 *points_g, __global const uint *strand_offsets_g,                      \
-      __global const uint *uv_g, __global const uint4 *chunks_g,                                   \
-      __global const ClhLodRecord *lod_g, __global const uint *offsets_g, uint strand_count,       \
+#define CLH_X_PARAMS                                                                         \
+  __global const ClhGroomGpu *groom_g, __global const ClhViewGpu *view_g,                    \
+      __global const float4 *points_g, __global const uint *strand_offsets_g,                \
+      __global const uint *uv_g, __global const uint4 *chunks_g,                             \
+      __global const ClhLodRecord *lod_g, __global const uint *offsets_g, uint strand_count, \
       uint point_count, uint has_uv
 
-#define CLH_X_TABLES(tb)                  \
-  clh_x_tables tb;                        \
-  tb.points = points_g;                   \
-  tb.strand_offsets = strand_offsets_g;   \
-  tb.uv = uv_g;                           \
-  tb.chunks = chunks_g;                   \
-  tb.strand_count = strand_count;         \
-  tb.point_count = point_count;           \
+#define CLH_X_TABLES(tb)                \
+  clh_x_tables tb;                      \
+  tb.points = points_g;                 \
+  tb.strand_offsets = strand_offsets_g; \
+  tb.uv = uv_g;                         \
+  tb.chunks = chunks_g;                 \
+  tb.strand_count = strand_count;       \
+  tb.point_count = point_count;         \
   tb.has_uv = has_uv
 
 #if !CLH_RASTER_OPACITY
 /* One strand per work-group: strand_base + group (read-back and over-launch sizing). */
-__kernel SG_KERNEL_ATTRS void strands_explicit_raster(CLH_X_PARAMS, __global const float* scene_depth_g,
-                                                      __global ulong* gbuf_g, __global uint* stats_g,
-                                                      uint strand_base) {
+__kernel SG_KERNEL_ATTRS void strands_explicit_raster(CLH_X_PARAMS,
+                                                      __global const float* scene_depth_g,
+                                                      __global ulong* gbuf_g,
+                                                      __global uint* stats_g, uint strand_base) {
   SG_DECLARE(sg);
   CLH_X_TABLES(tb);
   clh_raster_ctx rc;
@@ -270,16 +273,16 @@ __kernel SG_KERNEL_ATTRS void strands_explicit_raster(CLH_X_PARAMS, __global con
 }
 
 /* Persistent grid: group g draws strands g, g + stride, g + 2 stride, ... below the total. */
-__kernel SG_KERNEL_ATTRS void strands_explicit_raster_persistent(CLH_X_PARAMS,
-                                                                 __global const float* scene_depth_g,
-                                                                 __global ulong* gbuf_g, __global uint* stats_g,
-                                                                 uint strand_stride) {
+__kernel SG_KERNEL_ATTRS void strands_explicit_raster_persistent(
+    CLH_X_PARAMS, __global const float* scene_depth_g, __global ulong* gbuf_g,
+    __global uint* stats_g, uint strand_stride) {
   SG_DECLARE(sg);
   CLH_X_TABLES(tb);
   clh_raster_ctx rc;
   clh_raster_setup(&rc, groom_g, view_g);
   const uint total = clh_lod_drawn_total(offsets_g, groom_g->bundle_count);
-  for (uint index = sg_strand_index(0u); index < total; index += SG_STRAND_STRIDE(max(strand_stride, 1u)))
+  for (uint index = sg_strand_index(0u); index < total;
+       index += SG_STRAND_STRIDE(max(strand_stride, 1u)))
     clh_x_draw(&sg, &rc, groom_g, &tb, lod_g, offsets_g, scene_depth_g, gbuf_g, stats_g, index);
 }
 
@@ -287,7 +290,8 @@ __kernel SG_KERNEL_ATTRS void strands_explicit_raster_persistent(CLH_X_PARAMS,
  * out_points_g/out_tangents_g[offsets[s] + j], its drawn point count at out_counts_g[s]. */
 __kernel SG_KERNEL_ATTRS void strands_explicit_export(CLH_X_PARAMS, __global float4* out_points_g,
                                                       __global float4* out_tangents_g,
-                                                      __global uint* out_counts_g, uint strand_base) {
+                                                      __global uint* out_counts_g,
+                                                      uint strand_base) {
   SG_DECLARE(sg);
   CLH_X_TABLES(tb);
   (void)view_g;
@@ -309,7 +313,8 @@ __kernel SG_KERNEL_ATTRS void strands_explicit_export(CLH_X_PARAMS, __global flo
 }
 #else
 /* Deep-opacity layers of one light (built with -DCLH_RASTER_OPACITY=1), like strands_opacity. */
-__kernel SG_KERNEL_ATTRS void strands_explicit_opacity(CLH_X_PARAMS, __global const float* opaque_depth_g,
+__kernel SG_KERNEL_ATTRS void strands_explicit_opacity(CLH_X_PARAMS,
+                                                       __global const float* opaque_depth_g,
                                                        __global const ClhShadowGpu* shadow_g,
                                                        __global const float* hair_depth_g,
                                                        __global uint* opacity_g, uint strand_base) {

@@ -16,7 +16,8 @@
 namespace clhair::test {
 
 inline StrandGroom syntheticGroom(std::size_t strands) {
-  static const std::uint32_t kCounts[] = {2, 3, 4, 5, 9, 17, 31, 33, 64, 65, 100, 129, 130, 131, 200, 258, 300};
+  static const std::uint32_t kCounts[] = {2,  3,   4,   5,   9,   17,  31,  33, 64,
+                                          65, 100, 129, 130, 131, 200, 258, 300};
   std::mt19937 rng(12345);
   std::uniform_real_distribution<float> u01(0.0f, 1.0f);
   StrandGroom g;
@@ -25,7 +26,8 @@ inline StrandGroom syntheticGroom(std::size_t strands) {
   for (std::size_t s = 0; s < strands; ++s) {
     const std::uint32_t n = kCounts[s % std::size(kCounts)];
     const float theta = 2.0f * 3.14159265f * u01(rng), phi = 0.6f * u01(rng);
-    const glm::vec3 dir(std::sin(phi) * std::cos(theta), std::cos(phi), std::sin(phi) * std::sin(theta));
+    const glm::vec3 dir(std::sin(phi) * std::cos(theta), std::cos(phi),
+                        std::sin(phi) * std::sin(theta));
     const glm::vec3 side = glm::normalize(glm::cross(dir, glm::vec3(0.3f, 0.1f, 1.0f)));
     const float phase = 6.283f * u01(rng);
     g.pointCounts.push_back(n);

@@ -28,10 +28,12 @@ TEST(AmbientOcclusion, RootsAreDarkerThanTips) {
   }
   auto layerMean = [&](int l) {
     double s = 0;
-    for (int v = 0; v < m.vertexCount; ++v) s += ao[static_cast<std::size_t>(l) * m.vertexCount + v];
+    for (int v = 0; v < m.vertexCount; ++v)
+      s += ao[static_cast<std::size_t>(l) * m.vertexCount + v];
     return s / m.vertexCount;
   };
-  const double roots = layerMean(0), middle = layerMean(m.layerCount / 2), tips = layerMean(m.layerCount - 1);
+  const double roots = layerMean(0), middle = layerMean(m.layerCount / 2),
+               tips = layerMean(m.layerCount - 1);
   RecordProperty("ao_roots", std::to_string(roots));
   RecordProperty("ao_middle", std::to_string(middle));
   RecordProperty("ao_tips", std::to_string(tips));
@@ -51,7 +53,8 @@ TEST(AmbientOcclusion, DenserHairOccludesMore) {
   // the middle layer of the fur sits inside the coat
   auto mid = [&](const std::vector<float>& v) {
     double s = 0;
-    for (int i = 0; i < sparse.vertexCount; ++i) s += v[static_cast<std::size_t>(sparse.vertexCount) + i];
+    for (int i = 0; i < sparse.vertexCount; ++i)
+      s += v[static_cast<std::size_t>(sparse.vertexCount) + i];
     return s / sparse.vertexCount;
   };
   RecordProperty("ao_mid_sparse", std::to_string(mid(a)));
@@ -72,7 +75,8 @@ HairMesh hairSlab(std::int64_t strands) {
   m.vertexCount = n * n;
   auto vi = [&](int i, int j) { return j * n + i; };
   for (int j = 0; j + 1 < n; ++j)
-    for (int i = 0; i + 1 < n; ++i) m.faces.push_back({vi(i, j), vi(i, j + 1), vi(i + 1, j + 1), vi(i + 1, j)});
+    for (int i = 0; i + 1 < n; ++i)
+      m.faces.push_back({vi(i, j), vi(i, j + 1), vi(i + 1, j + 1), vi(i + 1, j)});
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) m.uv.push_back(glm::vec2(i / 6.0f, j / 6.0f));
   m.positions.resize(static_cast<std::size_t>(m.layerCount) * m.vertexCount);
@@ -154,20 +158,24 @@ TEST(AmbientOcclusion, InsideOfTheGroomIsDarkerThanItsOutside) {
   Renderer r(test::sharedDevice());
   const std::vector<float> ao = r.bakeAmbientOcclusion(slab);
   ASSERT_EQ(ao.size(), static_cast<std::size_t>(slab.layerCount) * slab.vertexCount);
-  auto at = [&](int layer, int i, int j) { return ao[static_cast<std::size_t>(layer) * slab.vertexCount + j * 7 + i]; };
+  auto at = [&](int layer, int i, int j) {
+    return ao[static_cast<std::size_t>(layer) * slab.vertexCount + j * 7 + i];
+  };
   RecordProperty("ao_centre", std::to_string(at(2, 3, 3)));
   RecordProperty("ao_side", std::to_string(at(2, 0, 3)));
   RecordProperty("ao_corner", std::to_string(at(2, 0, 0)));
   for (int layer : {1, 2, 3}) {
     EXPECT_LT(at(layer, 3, 3), 0.01) << "inside the slab, layer " << layer;
-    for (auto [i, j] : {std::pair{3, 3}, {0, 3}, {6, 3}, {3, 0}, {3, 6}, {0, 0}, {6, 0}, {0, 6}, {6, 6}}) {
+    for (auto [i, j] :
+         {std::pair{3, 3}, {0, 3}, {6, 3}, {3, 0}, {3, 6}, {0, 0}, {6, 0}, {0, 6}, {6, 6}}) {
       const glm::dvec3 p(0.01 * (i - 3), 0.005 * layer, 0.01 * (j - 3));
       const double want = cpuSlabAo(slab, p, sigma);
       const bool corner = (i == 0 || i == 6) && (j == 0 || j == 6), centre = i == 3 && j == 3;
       if (!centre) {
         EXPECT_GT(want, corner ? 0.5 : 0.3) << "the CPU bake: (" << i << ", " << j << ")";
       }
-      EXPECT_NEAR(at(layer, i, j), want, 0.04) << "vertex (" << i << ", " << j << "), layer " << layer;
+      EXPECT_NEAR(at(layer, i, j), want, 0.04)
+          << "vertex (" << i << ", " << j << "), layer " << layer;
     }
   }
 }

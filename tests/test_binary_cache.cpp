@@ -37,11 +37,13 @@ Device openWithCache(const std::string& dir) {
 std::vector<cl_ulong> packWords(Device& dev) {
   auto& d = *dev.impl();
   cl::Kernel k(d.program("selftest.cl"), "selftest_gbuffer");
-  const std::vector<float> in = {0.3f, 0.1f, 0.2f, 0.9f, 0.4f, 0.5f, 0.6f, 0.7f, 0.25f, 1.0f, 0.5f, 0.0f};
+  const std::vector<float> in = {0.3f, 0.1f, 0.2f,  0.9f, 0.4f, 0.5f,
+                                 0.6f, 0.7f, 0.25f, 1.0f, 0.5f, 0.0f};
   cl::Buffer bin(d.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, in.size() * sizeof(float),
                  const_cast<float*>(in.data()));
   std::vector<cl_ulong> out(64, 0);
-  cl::Buffer bout(d.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, out.size() * sizeof(cl_ulong), out.data());
+  cl::Buffer bout(d.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
+                  out.size() * sizeof(cl_ulong), out.data());
   k.setArg(0, bin);
   k.setArg(1, bout);
   k.setArg(2, 1u);
@@ -58,13 +60,16 @@ TEST(BinaryCache, StoresReusesAndSurvivesACorruptEntry) {
     first = packWords(dev);
   }
   const std::vector<fs::path> stored = entries(dir);
-  ASSERT_EQ(stored.size(), 1u) << "selftest.cl (the sub-group self-test and the packing kernel share it) is stored";
+  ASSERT_EQ(stored.size(), 1u)
+      << "selftest.cl (the sub-group self-test and the packing kernel share it) is stored";
   {
     Device again = openWithCache(dir);
     EXPECT_EQ(packWords(again), first) << "a program taken from the cache computes the same";
   }
-  EXPECT_EQ(entries(dir).size(), stored.size()) << "a second run adds no entries: every program came from disk";
-  for (const fs::path& p : stored) std::ofstream(p, std::ios::binary | std::ios::trunc) << "not a binary";
+  EXPECT_EQ(entries(dir).size(), stored.size())
+      << "a second run adds no entries: every program came from disk";
+  for (const fs::path& p : stored)
+    std::ofstream(p, std::ios::binary | std::ios::trunc) << "not a binary";
   {
     Device rebuilt = openWithCache(dir);
     EXPECT_EQ(packWords(rebuilt), first) << "corrupt entries are rebuilt from source";

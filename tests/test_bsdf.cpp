@@ -36,8 +36,8 @@ using ref::FibreAngles;
 using ref::Rgb;
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr int kIn = 20;   // floats per probe record (bsdf_probe.cl)
-constexpr int kOut = 6;   // float4 per probe result
+constexpr int kIn = 20;  // floats per probe record (bsdf_probe.cl)
+constexpr int kOut = 6;  // float4 per probe result
 
 double deg(double d) { return d * kPi / 180.0; }
 
@@ -81,8 +81,7 @@ struct Case {
   ChiangMaterial m;
 };
 
-ChiangMaterial material(double eumelanin, double betaM, double betaN = 0.3,
-                        double alphaDeg = 2.0) {
+ChiangMaterial material(double eumelanin, double betaM, double betaN = 0.3, double alphaDeg = 2.0) {
   ChiangMaterial m;
   m.sigmaA = ref::sigmaAFromMelanin(eumelanin, 0.0);
   m.betaM = betaM;
@@ -95,9 +94,9 @@ ChiangMaterial material(double eumelanin, double betaM, double betaN = 0.3,
 // Materials of the fit test: light (blond, eumelanin 0.3) and dark (eumelanin 6) hair with
 // beta_m 0.2-0.6 at beta_n 0.3, plus beta_n 0.2 and 0.5; alpha 2 degrees, eta 1.55.
 std::vector<Case> fitCases() {
-  return {{"light_bm0.2", material(0.3, 0.2)}, {"light_bm0.4", material(0.3, 0.4)},
-          {"light_bm0.6", material(0.3, 0.6)}, {"dark_bm0.2", material(6.0, 0.2)},
-          {"dark_bm0.4", material(6.0, 0.4)},  {"dark_bm0.6", material(6.0, 0.6)},
+  return {{"light_bm0.2", material(0.3, 0.2)},      {"light_bm0.4", material(0.3, 0.4)},
+          {"light_bm0.6", material(0.3, 0.6)},      {"dark_bm0.2", material(6.0, 0.2)},
+          {"dark_bm0.4", material(6.0, 0.4)},       {"dark_bm0.6", material(6.0, 0.6)},
           {"light_bn0.2", material(0.3, 0.3, 0.2)}, {"light_bn0.5", material(0.3, 0.3, 0.5)}};
 }
 
@@ -430,9 +429,10 @@ TEST(BsdfFit, MatchesAveragedReference) {
     EXPECT_LT(p95, 0.12) << cs.name << " 95th percentile of per-sample error (f cos > 5% of peak)";
     EXPECT_LT(pmax, 0.25) << cs.name << " worst per-sample error (f cos > 5% of peak)";
   }
-  std::printf("device fit vs h-averaged reference (luminance; L1 and bins energy-weighted; "
-              "samples with f cos > 5%% of the peak of their wo):\n%s",
-              report.c_str());
+  std::printf(
+      "device fit vs h-averaged reference (luminance; L1 and bins energy-weighted; "
+      "samples with f cos > 5%% of the peak of their wo):\n%s",
+      report.c_str());
 }
 
 TEST(BsdfFit, EnvironmentTerms) {
@@ -566,7 +566,8 @@ TEST(BsdfDevice, SigmaAHelpersMatchReference) {
   d.queue.enqueueReadBuffer(bo, CL_TRUE, 0, out.size() * sizeof(cl_float4), out.data());
   for (cl_uint i = 0; i < n; ++i) {
     const Rgb mel = ref::sigmaAFromMelanin(in[i * 8], in[i * 8 + 1]);
-    const Rgb col = ref::sigmaAFromColor({in[i * 8 + 4], in[i * 8 + 5], in[i * 8 + 6]}, in[i * 8 + 2]);
+    const Rgb col =
+        ref::sigmaAFromColor({in[i * 8 + 4], in[i * 8 + 5], in[i * 8 + 6]}, in[i * 8 + 2]);
     for (int c = 0; c < 3; ++c) {
       EXPECT_NEAR(out[2 * i].s[c], mel[c], 1e-5 + 1e-5 * mel[c]);
       EXPECT_NEAR(out[2 * i + 1].s[c], col[c], 1e-5 + 1e-4 * col[c]);
@@ -579,8 +580,8 @@ TEST(BsdfDevice, OneCallEqualsPartsAndIsFinite) {
   std::vector<float> recs;
   const int n = 1001;
   for (int i = 0; i < n; ++i) {
-    ChiangMaterial m = material(10 * rng.u(), 0.1 + 0.9 * rng.u(), 0.15 + 0.45 * rng.u(),
-                                4 * rng.u() - 2);
+    ChiangMaterial m =
+        material(10 * rng.u(), 0.1 + 0.9 * rng.u(), 0.15 + 0.45 * rng.u(), 4 * rng.u() - 2);
     Frame f = randomFrame(rng);
     // include exactly grazing and tangent-aligned directions
     const double so = i % 50 == 0 ? 1.0 : 2 * rng.u() - 1;

@@ -332,12 +332,14 @@ TEST(Cli, CameraOptionKeepsTheScenesViewingAngle) {
     s["camera"] = camera;
     writeJson(dir + "/" + name + ".json", s);
     const std::string out = dir + "/" + name + ".png";
-    const CommandResult r = runCli("render " + quote(dir + "/" + name + ".json") + " -o " + quote(out) + option);
+    const CommandResult r =
+        runCli("render " + quote(dir + "/" + name + ".json") + " -o " + quote(out) + option);
     EXPECT_EQ(r.exitCode, 0) << r.output;
     return readImage(out);
   };
   // what the scene itself asks for: a close preset from (90, 30)
-  const Image expected = render("close", {{"preset", "close"}, {"azimuth", az}, {"elevation", el}}, "");
+  const Image expected =
+      render("close", {{"preset", "close"}, {"azimuth", az}, {"elevation", el}}, "");
   const Image fromPreset =
       render("mid", {{"preset", "mid"}, {"azimuth", az}, {"elevation", el}}, " --camera close");
   // an explicit camera looking from the same direction
@@ -345,10 +347,11 @@ TEST(Cli, CameraOptionKeepsTheScenesViewingAngle) {
   const std::vector<double> target = {0.0, 0.02, 0.0};
   const std::vector<double> position = {0.3 * std::sin(a) * std::cos(e), 0.02 + 0.3 * std::sin(e),
                                         0.3 * std::cos(a) * std::cos(e)};
-  const Image fromExplicit =
-      render("explicit", {{"position", position}, {"target", target}, {"fov", 35}}, " --camera close");
+  const Image fromExplicit = render(
+      "explicit", {{"position", position}, {"target", target}, {"fov", 35}}, " --camera close");
   // the angle the option used to impose whatever the scene said
-  const Image oldDefault = render("default", {{"preset", "close"}, {"azimuth", 0}, {"elevation", 10}}, "");
+  const Image oldDefault =
+      render("default", {{"preset", "close"}, {"azimuth", 0}, {"elevation", 10}}, "");
 
   EXPECT_GT(fractionDiffering(expected, oldDefault, 0.02f), 0.05)
       << "the two viewing angles look alike, the test cannot tell them apart";
@@ -420,10 +423,11 @@ TEST(Cli, GeneratedPresetGroomRenders) {
       centreHits += hit ? 1 : 0;
       changed += hit && pixelDiffers(a, b, x, y) ? 1 : 0;
     }
-  EXPECT_EQ(fromFile, 0u) << "the written preset renders unlike the preset itself: compare " << out << " and "
-                          << apiPng;
+  EXPECT_EQ(fromFile, 0u) << "the written preset renders unlike the preset itself: compare " << out
+                          << " and " << apiPng;
   EXPECT_GT(centreHits, pixels / 20) << "the close preset should fill a good part of the frame";
-  EXPECT_EQ(changed, centreHits) << "pixels with a strand over their centre look like the bare scene: " << out;
+  EXPECT_EQ(changed, centreHits)
+      << "pixels with a strand over their centre look like the bare scene: " << out;
 }
 
 TEST(Cli, DevicesListsA64BitAtomicsDevice) {

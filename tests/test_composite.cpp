@@ -58,11 +58,13 @@ TEST(Composite, OpaqueHairHidesTheBackground) {
     std::size_t opaque = 0, hairOverBackground = 0;
     for (std::size_t i = 0; i < n; ++i) {
       if (a.gbuffer[i] == ~std::uint64_t(0)) continue;  // no center hit
-      bool same = a.color.rgba[4 * i] == b.color.rgba[4 * i] && a.color.rgba[4 * i + 1] == b.color.rgba[4 * i + 1] &&
+      bool same = a.color.rgba[4 * i] == b.color.rgba[4 * i] &&
+                  a.color.rgba[4 * i + 1] == b.color.rgba[4 * i + 1] &&
                   a.color.rgba[4 * i + 2] == b.color.rgba[4 * i + 2];
       opaque += same;
       // pixels where the backgrounds differ and the hair still shows its own colour
-      hairOverBackground += same && (a.color.rgba[4 * i] != 0.2f || a.color.rgba[4 * i + 2] != 0.4f);
+      hairOverBackground +=
+          same && (a.color.rgba[4 * i] != 0.2f || a.color.rgba[4 * i + 2] != 0.4f);
     }
     std::size_t centers = 0;
     for (std::size_t i = 0; i < n; ++i) centers += a.gbuffer[i] != ~std::uint64_t(0);
@@ -103,7 +105,8 @@ TEST(Composite, HairOverABackgroundImage) {
   for (std::size_t i = 0; i < n; ++i) {
     bool equal = true;
     // the stretch is the identity at equal sizes, up to float rounding of the texel position
-    for (int c = 0; c < 3; ++c) equal = equal && std::fabs(f.color.rgba[4 * i + c] - stored.rgba[4 * i + c]) < 1e-5f;
+    for (int c = 0; c < 3; ++c)
+      equal = equal && std::fabs(f.color.rgba[4 * i + c] - stored.rgba[4 * i + c]) < 1e-5f;
     // pixels no strand touches (both layers empty) show the image exactly
     if (f.gbuffer[i] == ~std::uint64_t(0) && f.gbuffer[n + i] == ~std::uint64_t(0)) {
       ++empty;

@@ -63,7 +63,8 @@ TEST(CpuRaster, FloorEqualsDeviceGBufferWordForWord) {
   EXPECT_GT(occluded, pixels / 50) << "the sphere should be in view, so the depth test matters";
   EXPECT_EQ(differ, 0u) << "first differing word " << firstDiff << ": device "
                         << (firstDiff < cpu.size() ? f.gbuffer[firstDiff] : 0) << ", CPU "
-                        << (firstDiff < cpu.size() ? cpu[firstDiff] : 0) << " on " << dev.info().name;
+                        << (firstDiff < cpu.size() ? cpu[firstDiff] : 0) << " on "
+                        << dev.info().name;
 }
 
 }  // namespace

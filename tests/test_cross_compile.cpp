@@ -41,28 +41,33 @@ struct CrossRow {
 };
 
 const CrossRow kRows[] = {
-    {"nvptx_sm70", "-target nvptx64-nvidia-nvcl -march=sm_70 -cl-std=CL1.2 -DSG_BACKEND=3 -DSG_SIZE=32", "",
-     "-S", "ptx", "shfl.sync.", nullptr},
+    {"nvptx_sm70",
+     "-target nvptx64-nvidia-nvcl -march=sm_70 -cl-std=CL1.2 -DSG_BACKEND=3 -DSG_SIZE=32", "", "-S",
+     "ptx", "shfl.sync.", nullptr},
     {"nvptx_sm60_legacy",
-     "-target nvptx64-nvidia-nvcl -march=sm_60 -cl-std=CL1.2 -DSG_BACKEND=3 -DSG_PTX_LEGACY_SHFL=1 -DSG_SIZE=32",
+     "-target nvptx64-nvidia-nvcl -march=sm_60 -cl-std=CL1.2 -DSG_BACKEND=3 -DSG_PTX_LEGACY_SHFL=1 "
+     "-DSG_SIZE=32",
      "", "-S", "ptx", "shfl.", "shfl.sync"},
     {"amd_gfx1030",
-     "-target amdgcn-amd-amdhsa -mcpu=gfx1030 -nogpulib -cl-std=CL1.2 -DSG_BACKEND=4 -DSG_SIZE=32", "", "-c",
-     "o", nullptr, nullptr},
+     "-target amdgcn-amd-amdhsa -mcpu=gfx1030 -nogpulib -cl-std=CL1.2 -DSG_BACKEND=4 -DSG_SIZE=32",
+     "", "-c", "o", nullptr, nullptr},
     {"amd_gfx906_wave64",
-     "-target amdgcn-amd-amdhsa -mcpu=gfx906 -nogpulib -cl-std=CL1.2 -DSG_BACKEND=4 -DSG_SIZE=32", "", "-c", "o",
-     nullptr, nullptr},
+     "-target amdgcn-amd-amdhsa -mcpu=gfx906 -nogpulib -cl-std=CL1.2 -DSG_BACKEND=4 -DSG_SIZE=32",
+     "", "-c", "o", nullptr, nullptr},
     {"spir64_khr", "-target spir64 -cl-std=CL3.0 -DSG_BACKEND=1 -DSG_SIZE=32",
      "+cl_khr_subgroups,+__opencl_c_subgroups,+cl_khr_subgroup_shuffle_relative", "-c -emit-llvm",
      "bc", nullptr, nullptr},
-    {"spir64_intel", "-target spir64 -cl-std=CL1.2 -DSG_BACKEND=2 -DSG_INTEL_REQD_SIZE=1 -DSG_SIZE=32",
+    {"spir64_intel",
+     "-target spir64 -cl-std=CL1.2 -DSG_BACKEND=2 -DSG_INTEL_REQD_SIZE=1 -DSG_SIZE=32",
      "+cl_intel_subgroups", "-c -emit-llvm", "bc", nullptr, nullptr},
-    {"spir64_local", "-target spir64 -cl-std=CL1.2 -DSG_BACKEND=0 -DSG_SIZE=32", "", "-c -emit-llvm", "bc",
-     nullptr, nullptr},
+    {"spir64_local", "-target spir64 -cl-std=CL1.2 -DSG_BACKEND=0 -DSG_SIZE=32", "",
+     "-c -emit-llvm", "bc", nullptr, nullptr},
     // the CPU mapping: one lane per strand, several strands per work-group
     {"spir64_single", "-target spir64 -cl-std=CL1.2 -DSG_BACKEND=5 -DSG_SIZE=1 -DSG_STRANDS=32", "",
      "-c -emit-llvm", "bc", nullptr, nullptr},
-    {"nvptx_single", "-target nvptx64-nvidia-nvcl -march=sm_70 -cl-std=CL1.2 -DSG_BACKEND=5 -DSG_SIZE=1 -DSG_STRANDS=32",
+    {"nvptx_single",
+     "-target nvptx64-nvidia-nvcl -march=sm_70 -cl-std=CL1.2 -DSG_BACKEND=5 -DSG_SIZE=1 "
+     "-DSG_STRANDS=32",
      "", "-S", "ptx", nullptr, nullptr},
 };
 
@@ -102,10 +107,9 @@ fs::path compileKernel(const std::string& file, const CrossRow& row, const std::
   // opencl-c.h, which declares every extension's builtins behind its -cl-ext macro.
   std::string cmd = "clang-15 -x cl -cl-no-stdinc -Xclang -finclude-default-header " +
                     std::string("-I") + quote(sourceDir() + "/kernels/common") + " -I" +
-                    quote(sourceDir() + "/include") +
-                    " -Wall -Werror -O2 -Xclang -cl-ext=" + ext + " " + row.flags +
-                    " " + defines + " " + row.output + " -o " + quote(out.string()) + " " +
-                    quote(src.string());
+                    quote(sourceDir() + "/include") + " -Wall -Werror -O2 -Xclang -cl-ext=" + ext +
+                    " " + row.flags + " " + defines + " " + row.output + " -o " +
+                    quote(out.string()) + " " + quote(src.string());
   CommandResult r = runCommand(cmd);
   EXPECT_EQ(r.exitCode, 0) << "command: " << cmd << "\n--- clang output ---\n" << r.output;
   EXPECT_TRUE(fs::exists(out)) << out << " was not written";
@@ -147,7 +151,6 @@ INSTANTIATE_TEST_SUITE_P(Kernels, CrossCompile,
                                                              static_cast<int>(std::size(kRows)))),
                          paramName);
 
-
 // The compile-time variants the host builds besides the default one: the strand kernels'
 // deep-opacity pass, raster counters and every MSAA count; the shading and compositing
 // resolve of MSAA 8.
@@ -174,17 +177,18 @@ TEST_P(CrossCompileVariant, BuildsWithClang15) {
   compileKernel(v.file, kRows[std::get<1>(GetParam())], v.defines);
 }
 
-INSTANTIATE_TEST_SUITE_P(Variants, CrossCompileVariant,
-                         ::testing::Combine(::testing::Range(0, static_cast<int>(std::size(kVariants))),
-                                            ::testing::Values(0, 2, 4)),  // nvptx, amd, spir64 khr
-                         [](const ::testing::TestParamInfo<std::tuple<int, int>>& info) {
-                           const Variant& v = kVariants[std::get<0>(info.param)];
-                           std::string name = fs::path(v.file).stem().string() + "_" + v.name + "_" +
-                                              kRows[std::get<1>(info.param)].name;
-                           for (char& c : name)
-                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                           return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Variants, CrossCompileVariant,
+    ::testing::Combine(::testing::Range(0, static_cast<int>(std::size(kVariants))),
+                       ::testing::Values(0, 2, 4)),  // nvptx, amd, spir64 khr
+    [](const ::testing::TestParamInfo<std::tuple<int, int>>& info) {
+      const Variant& v = kVariants[std::get<0>(info.param)];
+      std::string name = fs::path(v.file).stem().string() + "_" + v.name + "_" +
+                         kRows[std::get<1>(info.param)].name;
+      for (char& c : name)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+      return name;
+    });
 
 }  // namespace
 }  // namespace clhair::test

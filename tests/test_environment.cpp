@@ -650,11 +650,13 @@ TEST(EnvironmentBuild, TinySkyAndImageForOclgrind) {
   const double alphas[3] = {0.2, 0.7, 2.0};
   for (const Environment* env : {&a, &b}) {
     const std::vector<float> texels = env->downloadTexels(d);
-    QueryOut r = query(*env, {q4(dirs[0], alphas[0]), q4(dirs[1], alphas[1]), q4(dirs[2], alphas[2])});
+    QueryOut r =
+        query(*env, {q4(dirs[0], alphas[0]), q4(dirs[1], alphas[1]), q4(dirs[2], alphas[2])});
     for (std::size_t i = 0; i < 3; ++i) {
       const V3 ref = refRadiance(texels, env->levelTable(), dirs[i], alphas[i]);
       for (int c = 0; c < 3; ++c) {
-        EXPECT_NEAR(comp(r.radiance[i], c), comp(ref, c), 2e-4 * std::max(1.0, std::fabs(comp(ref, c))))
+        EXPECT_NEAR(comp(r.radiance[i], c), comp(ref, c),
+                    2e-4 * std::max(1.0, std::fabs(comp(ref, c))))
             << (env == &a ? "sky" : "map") << " radiance, query " << i << " channel " << c;
         const double e = refIrradiance(env->shCoefficients(), c, dirs[i]);
         EXPECT_NEAR(comp(r.irradiance[i], c), e, 1e-4 * std::max(1.0, std::fabs(e)))
@@ -671,7 +673,8 @@ TEST(EnvironmentBuild, TinySkyAndImageForOclgrind) {
         for (int i = 0; i < linear.width; ++i)
           sh += linear.pixel(i, j)[c] * refSh(texelDir(i, j, linear.width, linear.height))[k] *
                 refTexelSolidAngle(j, linear.width, linear.height);
-      EXPECT_NEAR(b.shCoefficients()[3 * k + c], sh, 1e-4) << "coefficient " << k << " channel " << c;
+      EXPECT_NEAR(b.shCoefficients()[3 * k + c], sh, 1e-4)
+          << "coefficient " << k << " channel " << c;
     }
   QueryOut r = query(b, {q4(dirs[0], 1.0), q4(dirs[1], 1.0), q4(dirs[2], 1.0)});
   for (std::size_t i = 0; i < 3; ++i) {

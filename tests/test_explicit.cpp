@@ -37,12 +37,12 @@
 #include "clhair/lod_math.h"
 #include "clhair/renderer.h"
 #include "clhair/strand_groom.h"
+#include "float_frames.h"
 #include "groom/blue_noise.h"
 #include "groom/groom_data.h"
 #include "groom/presets.h"
 #include "io/cyhair.h"
 #include "io/tressfx.h"
-#include "float_frames.h"
 #include "synthetic_groom.h"
 #include "test_util.h"
 
@@ -76,7 +76,8 @@ std::vector<glm::vec2> rootUvOf(const HairMesh& mesh, const StrandSet& s) {
     const gpu::ClhBundle& b = d.bundles[s.bundleOf[i]];
     const std::uint32_t root = std::min(seen[s.bundleOf[i]]++, size - 1);
     const glm::vec2 st = b.triangle ? roots.triangle[root] : roots.quad[root];
-    const float w0 = (1 - st.x) * (1 - st.y), w1 = st.x * (1 - st.y), w2 = st.x * st.y, w3 = (1 - st.x) * st.y;
+    const float w0 = (1 - st.x) * (1 - st.y), w1 = st.x * (1 - st.y), w2 = st.x * st.y,
+                w3 = (1 - st.x) * st.y;
     out.emplace_back(w0 * b.uv[0] + w1 * b.uv[2] + w2 * b.uv[4] + w3 * b.uv[6],
                      w0 * b.uv[1] + w1 * b.uv[3] + w2 * b.uv[5] + w3 * b.uv[7]);
   }
@@ -118,7 +119,8 @@ DrawnStrand referenceStrand(const StrandGroom& g, std::size_t strand, float L) {
   }
   DrawnStrand d;
   d.p = raw;
-  for (std::uint32_t j = 1; j + 1 < M; j += 2) d.p[j] = raw[j] + (0.5f * (raw[j - 1] + raw[j + 1]) - raw[j]) * gamma;
+  for (std::uint32_t j = 1; j + 1 < M; j += 2)
+    d.p[j] = raw[j] + (0.5f * (raw[j - 1] + raw[j + 1]) - raw[j]) * gamma;
   const glm::vec3 up(0.0f, 1.0f, 0.0f);
   auto xyz = [&](std::uint32_t j) { return glm::vec3(d.p[j]); };
   d.t.assign(M, glm::vec3(0.0f));
@@ -149,8 +151,10 @@ std::size_t expectMatchesReference(Renderer& r, const StrandGroom& groom, float 
       worstT = std::max(worstT, glm::length(t - ref.t[j]));
       worstW = std::max(worstW, std::fabs(e.w[q] - ref.p[j].w));
     }
-    EXPECT_LT(worstP, 1e-6f) << "strand " << src << " (" << groom.pointCounts[src] << " points) L " << L;
-    EXPECT_LT(worstT, 2e-5f) << "strand " << src << " (" << groom.pointCounts[src] << " points) L " << L;
+    EXPECT_LT(worstP, 1e-6f) << "strand " << src << " (" << groom.pointCounts[src] << " points) L "
+                             << L;
+    EXPECT_LT(worstT, 2e-5f) << "strand " << src << " (" << groom.pointCounts[src] << " points) L "
+                             << L;
     EXPECT_LT(worstW, 1e-6f) << "strand " << src << " L " << L;
     at += e.pointCounts[i];
     ++checked;
@@ -289,7 +293,8 @@ RoundTrip renderRoundTrip(bool shadows) {
   const GroomData bounds = prepareGroom(mesh);
   for (const glm::vec3& corner : {bounds.boundsMin, bounds.boundsMax}) {
     hair.segments.push_back(1);
-    for (int k = 0; k < 2; ++k) hair.points.insert(hair.points.end(), {corner.x, corner.y, corner.z});
+    for (int k = 0; k < 2; ++k)
+      hair.points.insert(hair.points.end(), {corner.x, corner.y, corner.z});
   }
   writeCyHair(hair, file);
   StrandGroom g = loadStrandGroom(file, test::sharedDevice().info().maxAlloc);
@@ -313,8 +318,9 @@ RoundTrip renderRoundTrip(bool shadows) {
 void reportRoundTrip(const RoundTrip& rt, const ImageDiff& d, const char* what) {
   ::testing::Test::RecordProperty("pixels_within_1_255", std::to_string(d.within));
   ::testing::Test::RecordProperty("rmse_srgb", std::to_string(d.rmse));
-  std::printf("[ explicit ] round trip %s: %.3f %% of pixels within 1/255, RMSE %.5f, largest %.4f\n", what,
-              100.0 * d.within, d.rmse, d.worst);
+  std::printf(
+      "[ explicit ] round trip %s: %.3f %% of pixels within 1/255, RMSE %.5f, largest %.4f\n", what,
+      100.0 * d.within, d.rmse, d.worst);
   if (::testing::Test::HasFailure()) {
     writeImage(rt.mesh.color, rt.dir + "/expected_mesh.png");
     writeImage(rt.strands.color, rt.dir + "/actual_strands.png");
@@ -349,7 +355,8 @@ TEST(ExplicitRoundTrip, TressFxExportReadsBackAsTheResampledStrandsAndRendersLik
   const std::string dir = test::scratchDir();
   const std::string groomPath = test::assetPath("grooms/tiny.hairmesh.json");
   const std::string file = dir + "/tiny.tfx";
-  test::CommandResult ex = test::runCli("export-strands " + test::quote(groomPath) + " -o " + test::quote(file));
+  test::CommandResult ex =
+      test::runCli("export-strands " + test::quote(groomPath) + " -o " + test::quote(file));
   ASSERT_EQ(ex.exitCode, 0) << ex.output;
 
   const HairMesh mesh = loadHairMesh(groomPath);
@@ -440,10 +447,12 @@ TEST(ExplicitLod, FarDrawsFewerStrandsAndPointsAndKeepsCoverage) {
   RecordProperty("coverage_lod_on", std::to_string(cOn));
   RecordProperty("strands_lod_on", std::to_string(on.strandsDrawn));
   RecordProperty("segments_lod_on", std::to_string(on.segmentsDrawn));
-  std::printf("[ explicit ] far: strands %llu -> %llu, segments %llu -> %llu, coverage %.1f -> %.1f\n",
-              static_cast<unsigned long long>(off.strandsDrawn), static_cast<unsigned long long>(on.strandsDrawn),
-              static_cast<unsigned long long>(off.segmentsDrawn), static_cast<unsigned long long>(on.segmentsDrawn),
-              cOff, cOn);
+  std::printf(
+      "[ explicit ] far: strands %llu -> %llu, segments %llu -> %llu, coverage %.1f -> %.1f\n",
+      static_cast<unsigned long long>(off.strandsDrawn),
+      static_cast<unsigned long long>(on.strandsDrawn),
+      static_cast<unsigned long long>(off.segmentsDrawn),
+      static_cast<unsigned long long>(on.segmentsDrawn), cOff, cOn);
   EXPECT_EQ(off.strandsDrawn, 20000u);
   EXPECT_LT(on.strandsDrawn, off.strandsDrawn / 2) << "LOD should remove most strands at far";
   EXPECT_LT(static_cast<double>(on.segmentsDrawn) / on.strandsDrawn,
@@ -477,7 +486,8 @@ TEST(ExplicitLod, ChunksOffScreenAreCulled) {
 TEST(ExplicitRender, FramesAreBitIdenticalAcrossRunsRenderersAndDispatchModes) {
   StrandGroom g = test::syntheticGroom(400);
   g.appearance.minHitDiameterPx = 1.0f;
-  Scene s = sceneAround(GroomInstance("g", std::make_shared<const StrandGroom>(std::move(g))), 120, 90);
+  Scene s =
+      sceneAround(GroomInstance("g", std::make_shared<const StrandGroom>(std::move(g))), 120, 90);
   s.camera = framePreset(s, CameraPreset::Close, 20.0f, 10.0f);
   RenderOptions o;
   o.lod = 1;
@@ -545,10 +555,19 @@ struct Bytes {
 };
 
 // A cyHair header (flags 2: points only, or 3 with a segments array).
-Bytes cyHeader(std::uint32_t strands, std::uint32_t points, std::uint32_t flags, std::uint32_t defaultSegments) {
+Bytes cyHeader(std::uint32_t strands, std::uint32_t points, std::uint32_t flags,
+               std::uint32_t defaultSegments) {
   Bytes b;
   b.data = "HAIR";
-  b.u32(strands).u32(points).u32(flags).u32(defaultSegments).f32(1.0f).f32(0.0f).f32(1.0f).f32(1.0f).f32(1.0f);
+  b.u32(strands)
+      .u32(points)
+      .u32(flags)
+      .u32(defaultSegments)
+      .f32(1.0f)
+      .f32(0.0f)
+      .f32(1.0f)
+      .f32(1.0f)
+      .f32(1.0f);
   b.data.append(88, '\0');
   return b;
 }
@@ -556,7 +575,8 @@ Bytes cyHeader(std::uint32_t strands, std::uint32_t points, std::uint32_t flags,
 // Three strands of four points each, every coordinate `v` or a small offset from it.
 std::string validCyHair(float nanAt = -1.0f) {
   Bytes b = cyHeader(3, 12, 2, 3);
-  for (int i = 0; i < 36; ++i) b.f32(i == static_cast<int>(nanAt) ? std::nanf("") : 0.01f * static_cast<float>(i % 7));
+  for (int i = 0; i < 36; ++i)
+    b.f32(i == static_cast<int>(nanAt) ? std::nanf("") : 0.01f * static_cast<float>(i % 7));
   return b.data;
 }
 
@@ -611,7 +631,8 @@ TEST(ExplicitScene, StrandFilesLoadWithTheirPlacement) {
   j["grooms"][1]["up"] = "x";
   writeBytes(dir + "/scene_x.json", j.dump());
   const glm::mat4 mx = loadScene(dir + "/scene_x.json").grooms[1].transform;
-  const glm::vec4 wx = mx * glm::vec4(0.3f, 0.4f, 0.5f, 1.0f);  // -> (2 * -0.4 + 1, 2 * 0.3, 2 * 0.5)
+  const glm::vec4 wx =
+      mx * glm::vec4(0.3f, 0.4f, 0.5f, 1.0f);  // -> (2 * -0.4 + 1, 2 * 0.3, 2 * 0.5)
   EXPECT_NEAR(wx.x, 0.2f, 1e-6f);
   EXPECT_NEAR(wx.y, 0.6f, 1e-6f);
   EXPECT_NEAR(wx.z, 1.0f, 1e-6f);
@@ -637,13 +658,14 @@ std::size_t countOf(const std::string& text, const std::string& what) {
 
 // Writes `bytes` as `name` and a scene naming it (or the given scene), renders, and expects
 // exit 1, one "clhair: error:" line holding every fragment, and no image.
-void expectRefused(const std::string& dir, const std::string& name, const std::string& bytes, json scene,
-                   const std::vector<std::string>& fragments) {
+void expectRefused(const std::string& dir, const std::string& name, const std::string& bytes,
+                   json scene, const std::vector<std::string>& fragments) {
   SCOPED_TRACE(name);
   if (!bytes.empty()) writeBytes(dir + "/" + name, bytes);
   writeBytes(dir + "/scene.json", scene.dump());
   const std::string out = dir + "/out.png";
-  test::CommandResult r = test::runCli("render " + test::quote(dir + "/scene.json") + " -o " + test::quote(out));
+  test::CommandResult r =
+      test::runCli("render " + test::quote(dir + "/scene.json") + " -o " + test::quote(out));
   SCOPED_TRACE("output was:\n" + r.output);
   EXPECT_EQ(r.exitCode, 1);
   const std::string line = test::onlyErrorLine(r.output);
@@ -651,7 +673,8 @@ void expectRefused(const std::string& dir, const std::string& name, const std::s
     EXPECT_NE(line.find(f), std::string::npos) << "missing \"" << f << "\": " << line;
   const std::size_t end = r.output.find('\n', r.output.find("clhair: error:"));
   if (end != std::string::npos) {
-    EXPECT_EQ(r.output.find_first_not_of(" \n\r\t", end), std::string::npos) << "more than one line";
+    EXPECT_EQ(r.output.find_first_not_of(" \n\r\t", end), std::string::npos)
+        << "more than one line";
   }
   EXPECT_FALSE(fs::exists(out)) << "an image was written although the render failed";
 }
@@ -664,8 +687,8 @@ TEST(ExplicitCli, MalformedStrandFilesAreRefusedWithOneLine) {
     return extra;
   };
   const std::string valid = validCyHair();
-  expectRefused(dir, "truncated.hair", valid.substr(0, 128 + 50), sceneWithStrands("truncated.hair"),
-                with({"truncated.hair", "truncated"}));
+  expectRefused(dir, "truncated.hair", valid.substr(0, 128 + 50),
+                sceneWithStrands("truncated.hair"), with({"truncated.hair", "truncated"}));
   {
     Bytes b = cyHeader(3, 12, 3, 0);  // segments 3 + 3 + 4 = 10 + 3 points = 13, header 12
     b.u16(3).u16(3).u16(4);
@@ -677,7 +700,8 @@ TEST(ExplicitCli, MalformedStrandFilesAreRefusedWithOneLine) {
                 with({"nan.hair", "point 5", "finite"}));
   expectRefused(dir, "empty.hair", cyHeader(0, 0, 2, 0).data, sceneWithStrands("empty.hair"),
                 with({"empty.hair", "0 strands"}));
-  expectRefused(dir, "absurd.hair", cyHeader(0xFFFFFFFFu, 0xFFFFFFFFu, 2, 0).data + std::string(64, '\0'),
+  expectRefused(dir, "absurd.hair",
+                cyHeader(0xFFFFFFFFu, 0xFFFFFFFFu, 2, 0).data + std::string(64, '\0'),
                 sceneWithStrands("absurd.hair"), with({"absurd.hair", "4294967295"}));
   {
     Bytes b = cyHeader(3, 3, 2, 0);  // three single-point strands: nothing to draw
@@ -690,7 +714,8 @@ TEST(ExplicitCli, MalformedStrandFilesAreRefusedWithOneLine) {
     b.u32(2).u32(5).f32(0.0f).f32(1.0f);
     expectRefused(dir, "short.data", b.data, sceneWithStrands("short.data"), with({"short.data"}));
   }
-  expectRefused(dir, "groom.txt", valid, sceneWithStrands("groom.txt"), with({"groom.txt", ".hair", ".data"}));
+  expectRefused(dir, "groom.txt", valid, sceneWithStrands("groom.txt"),
+                with({"groom.txt", ".hair", ".data"}));
   {
     json s = sceneWithStrands("missing.hair");
     expectRefused(dir, "", "", s, with({"missing.hair", "does not exist"}));
@@ -720,7 +745,9 @@ std::string validTressFx(std::uint32_t strands = 3, int nanAt = -1) {
   b.f32(4.0f).u32(strands).u32(4).u32(160);
   for (int i = 0; i < 4 + 32; ++i) b.u32(0);
   for (std::uint32_t i = 0; i < strands * 4 * 4; ++i)
-    b.f32(static_cast<int>(i) == nanAt ? std::nanf("") : i % 4 == 3 ? 1.0f : 0.005f * static_cast<float>(i % 7));
+    b.f32(static_cast<int>(i) == nanAt ? std::nanf("")
+          : i % 4 == 3                 ? 1.0f
+                                       : 0.005f * static_cast<float>(i % 7));
   return b.data;
 }
 
@@ -766,7 +793,8 @@ TEST(ExplicitCli, TrailingBytesWarnOnceInEveryFormat) {
     writeBytes(dir + "/" + c.name, c.bytes);
     writeBytes(dir + "/scene.json", sceneWithStrands(c.name).dump());
     const std::string out = dir + "/out_" + c.name + ".png";
-    test::CommandResult r = test::runCli("render " + test::quote(dir + "/scene.json") + " -o " + test::quote(out));
+    test::CommandResult r =
+        test::runCli("render " + test::quote(dir + "/scene.json") + " -o " + test::quote(out));
     SCOPED_TRACE("output was:\n" + r.output);
     EXPECT_EQ(r.exitCode, 0);
     EXPECT_TRUE(fs::exists(out));
@@ -784,7 +812,9 @@ double hairFraction(const Image& img, glm::vec3 background) {
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
       const float* p = img.pixel(x, y);
-      n += std::fabs(p[0] - background.x) + std::fabs(p[1] - background.y) + std::fabs(p[2] - background.z) > 0.03f;
+      n += std::fabs(p[0] - background.x) + std::fabs(p[1] - background.y) +
+               std::fabs(p[2] - background.z) >
+           0.03f;
     }
   return static_cast<double>(n) / (static_cast<double>(img.width) * img.height);
 }
@@ -812,14 +842,16 @@ TEST(ExplicitCli, PresetFramingIgnoresAnOutlierVertexAndNamesItsStrand) {
               {"grooms", {{{"strands_file", file}}}}};
     writeBytes(dir + "/" + file + ".json", s.dump());
     const std::string out = dir + "/" + file + ".png";
-    test::CommandResult c = test::runCli("render " + test::quote(dir + "/" + file + ".json") + " -o " + test::quote(out));
+    test::CommandResult c = test::runCli("render " + test::quote(dir + "/" + file + ".json") +
+                                         " -o " + test::quote(out));
     EXPECT_EQ(c.exitCode, 0) << c.output;
     return std::make_pair(c.output, readImage(out));
   };
   const auto clean = render("clean.hair");
   const auto bad = render("outlier.hair");
   EXPECT_EQ(countOf(clean.first, "clhair: warning:"), 0u) << clean.first;
-  const double cleanHair = hairFraction(clean.second, background), badHair = hairFraction(bad.second, background);
+  const double cleanHair = hairFraction(clean.second, background),
+               badHair = hairFraction(bad.second, background);
   ASSERT_GT(cleanHair, 0.05) << "the clean groom hardly shows; see " << dir;
   EXPECT_GT(badHair, 0.5 * cleanHair) << "the outlier took over the framing; see " << dir;
   ASSERT_EQ(countOf(bad.first, "clhair: warning:"), 1u) << bad.first;
@@ -845,8 +877,8 @@ TEST(ExplicitCli, WarnsAboutGroomsInTheWrongUnits) {
   auto render = [&](const std::string& name, json groom, json camera) {
     json s = {{"resolution", {96, 64}}, {"camera", camera}, {"grooms", {groom}}};
     writeBytes(dir + "/" + name + ".json", s.dump());
-    test::CommandResult c = test::runCli("render " + test::quote(dir + "/" + name + ".json") + " -o " +
-                                         test::quote(dir + "/" + name + ".png"));
+    test::CommandResult c = test::runCli("render " + test::quote(dir + "/" + name + ".json") +
+                                         " -o " + test::quote(dir + "/" + name + ".png"));
     EXPECT_EQ(c.exitCode, 0) << c.output;
     return c.output;
   };
@@ -858,7 +890,8 @@ TEST(ExplicitCli, WarnsAboutGroomsInTheWrongUnits) {
   for (const char* f : {"cm.json", "grooms[0]", "\"cm\"", "\"scale\"", "pixels wide"})
     EXPECT_NE(line.find(f), std::string::npos) << "missing " << f << ": " << line;
 
-  const std::string scaled = render("scaled", {{"strands_file", "cm.hair"}, {"scale", 0.01}}, close);
+  const std::string scaled =
+      render("scaled", {{"strands_file", "cm.hair"}, {"scale", 0.01}}, close);
   EXPECT_EQ(countOf(scaled, "clhair: warning:"), 0u) << scaled;
   const std::string far = render("far", {{"strands_file", "metres.hair"}}, {{"preset", "far"}});
   EXPECT_EQ(countOf(far, "clhair: warning:"), 0u) << far;
@@ -894,18 +927,20 @@ TEST(ExplicitCli, FileColoursAndThicknessesAreDrawnWhenAsked) {
     std::string output;
     double hair = 0.0, blue = 0.0, green = 0.0, red = 0.0;  // fractions of the image
   };
-  auto render = [&](const std::string& name, const std::string& file, bool use, const std::string& options = "") {
+  auto render = [&](const std::string& name, const std::string& file, bool use,
+                    const std::string& options = "") {
     json groom = {{"strands_file", file}};
     if (use) groom["appearance"] = {{"use_file_color", true}};
-    json s = {{"resolution", {96, 64}},
-              {"background", {0.0, 0.0, 0.0}},
-              {"camera", {{"preset", "close"}, {"azimuth", 30}}},
-              {"lights", {{{"type", "directional"}, {"direction", {0.4, 0.8, 0.5}}, {"intensity", 3}}}},
-              {"grooms", {groom}}};
+    json s = {
+        {"resolution", {96, 64}},
+        {"background", {0.0, 0.0, 0.0}},
+        {"camera", {{"preset", "close"}, {"azimuth", 30}}},
+        {"lights", {{{"type", "directional"}, {"direction", {0.4, 0.8, 0.5}}, {"intensity", 3}}}},
+        {"grooms", {groom}}};
     writeBytes(dir + "/" + name + ".json", s.dump());
     const std::string out = dir + "/" + name + ".png";
-    test::CommandResult c =
-        test::runCli("render " + test::quote(dir + "/" + name + ".json") + " -o " + test::quote(out) + options);
+    test::CommandResult c = test::runCli("render " + test::quote(dir + "/" + name + ".json") +
+                                         " -o " + test::quote(out) + options);
     EXPECT_EQ(c.exitCode, 0) << c.output;
     Result res;
     res.output = c.output;
@@ -928,7 +963,8 @@ TEST(ExplicitCli, FileColoursAndThicknessesAreDrawnWhenAsked) {
   EXPECT_EQ(countOf(ignored.output, "clhair: warning:"), 1u) << ignored.output;
   EXPECT_NE(ignored.output.find("per-point colours, ignored"), std::string::npos) << ignored.output;
   EXPECT_NE(ignored.output.find("use_file_color"), std::string::npos) << ignored.output;
-  EXPECT_EQ(ignored.blue + ignored.green, 0.0) << "the groom's brown drew blue or green; see " << dir;
+  EXPECT_EQ(ignored.blue + ignored.green, 0.0)
+      << "the groom's brown drew blue or green; see " << dir;
   EXPECT_GT(ignored.red, 0.2 * ignored.hair);
 
   EXPECT_EQ(countOf(used.output, "clhair: warning:"), 0u) << used.output;
@@ -942,9 +978,11 @@ TEST(ExplicitCli, FileColoursAndThicknessesAreDrawnWhenAsked) {
   const Result thick = render("thick", "thick.hair", true, " --filter off");
   EXPECT_GT(thick.hair, 1.5 * thin.hair) << "file thickness not drawn; see " << dir;
   const Result thickIgnored = render("thick_ignored", "thick.hair", false, " --filter off");
-  EXPECT_NE(thickIgnored.output.find("per-point colours and thicknesses, ignored"), std::string::npos)
+  EXPECT_NE(thickIgnored.output.find("per-point colours and thicknesses, ignored"),
+            std::string::npos)
       << thickIgnored.output;
-  EXPECT_LT(thickIgnored.hair, 1.2 * thin.hair) << "thickness drawn although not asked for; see " << dir;
+  EXPECT_LT(thickIgnored.hair, 1.2 * thin.hair)
+      << "thickness drawn although not asked for; see " << dir;
 }
 
 // Bit-identical float frames of a strand file (LOD on, a shadowed light) with 1, 2 and 3 CPU
@@ -955,11 +993,12 @@ TEST(ExplicitCli, RendersAStrandFileIdenticallyWithAnyThreadCount) {
   HairMesh mesh = makeGroomPreset("tiny");
   mesh.strandCount = 2000;  // dense: strands of concurrent work-groups meet in many pixels
   writeCyHair(toCyHair(r.generateStrands(mesh), mesh.appearance.strandWidth), dir + "/tiny.hair");
-  json s = {{"resolution", {96, 64}},
-            {"camera", {{"preset", "close"}, {"azimuth", 30}}},
-            {"lights", {{{"type", "directional"}, {"direction", {0.4, 0.8, 0.5}}, {"shadows", true}}}},
-            {"shadows", {{"resolution", 32}}},
-            {"grooms", {{{"strands_file", "tiny.hair"}, {"lod", {{"enabled", true}}}}}}};
+  json s = {
+      {"resolution", {96, 64}},
+      {"camera", {{"preset", "close"}, {"azimuth", 30}}},
+      {"lights", {{{"type", "directional"}, {"direction", {0.4, 0.8, 0.5}}, {"shadows", true}}}},
+      {"shadows", {{"resolution", 32}}},
+      {"grooms", {{{"strands_file", "tiny.hair"}, {"lod", {{"enabled", true}}}}}}};
   writeBytes(dir + "/scene.json", s.dump());
   test::expectBitIdenticalAcrossThreadCounts(dir + "/scene.json", dir);
 }

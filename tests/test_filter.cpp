@@ -23,14 +23,17 @@ struct Synthetic {
   // depth in [1, 2] (the groom range below), tangent direction in the image plane
   static clh_u64 word(float z, float tx, float ty) {
     // view space: +x right, +y up; the image y axis points down
-    return clh_gbuf_pack(clh_depth_encode(z, 1.0f, 2.0f), clh_oct_encode(tx, ty, 0.0f), 10, 20, 30, 63);
+    return clh_gbuf_pack(clh_depth_encode(z, 1.0f, 2.0f), clh_oct_encode(tx, ty, 0.0f), 10, 20, 30,
+                         63);
   }
   void center(int x, int y, clh_u64 w, float r, float g, float b) {
     gbuf[y * W + x] = w;
     gbuf[W * H + y * W + x] = std::min(gbuf[W * H + y * W + x], w);
     colour[y * W + x] = cl_float4{{r, g, b, 1.0f}};
   }
-  void cons(int x, int y, clh_u64 w) { gbuf[W * H + y * W + x] = std::min(gbuf[W * H + y * W + x], w); }
+  void cons(int x, int y, clh_u64 w) {
+    gbuf[W * H + y * W + x] = std::min(gbuf[W * H + y * W + x], w);
+  }
 };
 
 std::vector<cl_float4> runFilter(const Synthetic& s, bool promote = true) {
@@ -57,10 +60,12 @@ std::vector<cl_float4> runFilter(const Synthetic& s, bool promote = true) {
   f.strip = 0.5f;
   f.promote = promote;
   auto buf = [&](const void* data, std::size_t bytes) {
-    return cl::Buffer(d.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, bytes, const_cast<void*>(data));
+    return cl::Buffer(d.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, bytes,
+                      const_cast<void*>(data));
   };
   cl::Buffer bg = buf(&groom, sizeof(groom)), bv = buf(&view, sizeof(view));
-  cl::Buffer gb = buf(s.gbuf.data(), s.gbuf.size() * 8), hair = buf(s.colour.data(), s.colour.size() * 16);
+  cl::Buffer gb = buf(s.gbuf.data(), s.gbuf.size() * 8),
+             hair = buf(s.colour.data(), s.colour.size() * 16);
   std::vector<cl_float4> out(W * H + 3, cl_float4{{-7, -7, -7, -7}});  // canaries at the end
   cl::Buffer bo = buf(out.data(), out.size() * 16);
   FilterStage stage(d);
@@ -85,7 +90,8 @@ TEST(Filter, DashedIsolatedStrandComesOutConnected) {
       s.cons(x, y, w);
       line.push_back({x, y});
     }
-    if (x % 4 == 0) s.center(x, static_cast<int>(std::floor(6.0f + 0.5f * (x + 0.5f))), w, 0.6f, 0.3f, 0.1f);
+    if (x % 4 == 0)
+      s.center(x, static_cast<int>(std::floor(6.0f + 0.5f * (x + 0.5f))), w, 0.6f, 0.3f, 0.1f);
   }
   std::vector<cl_float4> out = runFilter(s);
   int covered = 0;
@@ -113,7 +119,8 @@ TEST(Filter, WithoutPromotionOnlyCenterHitsAreDrawn) {
   std::vector<std::pair<int, int>> centers;
   for (int x = 2; x < 44; ++x) {
     float y0 = 6.0f + 0.5f * x, y1 = 6.0f + 0.5f * (x + 1);
-    for (int y = static_cast<int>(std::floor(y0)); y <= static_cast<int>(std::floor(y1)); ++y) s.cons(x, y, w);
+    for (int y = static_cast<int>(std::floor(y0)); y <= static_cast<int>(std::floor(y1)); ++y)
+      s.cons(x, y, w);
     if (x % 4 == 0) {
       const int y = static_cast<int>(std::floor(6.0f + 0.5f * (x + 0.5f)));
       s.center(x, y, w, 0.6f, 0.3f, 0.1f);
@@ -125,7 +132,8 @@ TEST(Filter, WithoutPromotionOnlyCenterHitsAreDrawn) {
   for (int i = 0; i < W * H; ++i) {
     const bool isCenter = s.gbuf[i] != CLH_GBUF_EMPTY;
     if (!isCenter) {
-      EXPECT_EQ(plain[i].s[3], 0.0f) << "conservative-only pixel " << i << " drawn without promotion";
+      EXPECT_EQ(plain[i].s[3], 0.0f)
+          << "conservative-only pixel " << i << " drawn without promotion";
       continue;
     }
     ++drawn;
@@ -139,7 +147,8 @@ TEST(Filter, WithoutPromotionOnlyCenterHitsAreDrawn) {
 TEST(Filter, DensePatchKeepsAlphaOneAndWeightsNormalise) {
   Synthetic s;
   for (int y = 4; y < 28; ++y)
-    for (int x = 8; x < 40; ++x) s.center(x, y, Synthetic::word(1.2f + 0.0001f * x, 1.0f, 0.0f), 0.25f, 0.5f, 0.75f);
+    for (int x = 8; x < 40; ++x)
+      s.center(x, y, Synthetic::word(1.2f + 0.0001f * x, 1.0f, 0.0f), 0.25f, 0.5f, 0.75f);
   std::vector<cl_float4> out = runFilter(s);
   for (int y = 4; y < 28; ++y)
     for (int x = 8; x < 40; ++x) {
@@ -158,7 +167,8 @@ TEST(Filter, NoColourBleedsAcrossADepthEdge) {
     for (int x = 0; x < W; ++x) {
       bool left = x < W / 2;
       // red strands in front on the left, blue strands 0.3 behind on the right, all vertical
-      s.center(x, y, Synthetic::word(left ? 1.2f : 1.5f, 0.0f, 1.0f), left ? 1.0f : 0.0f, 0.0f, left ? 0.0f : 1.0f);
+      s.center(x, y, Synthetic::word(left ? 1.2f : 1.5f, 0.0f, 1.0f), left ? 1.0f : 0.0f, 0.0f,
+               left ? 0.0f : 1.0f);
     }
   std::vector<cl_float4> out = runFilter(s);
   for (int y = 0; y < H; ++y)

@@ -20,7 +20,8 @@ float angleBetween(const float* a, float x, float y, float z) {
 
 TEST(GBuffer, PackUnpackRoundTripOnHost) {
   std::mt19937 rng(7);
-  std::uniform_int_distribution<std::uint32_t> u24(0, CLH_DEPTH_MAX_CODE), u16(0, 0xFFFF), u6(0, 63);
+  std::uniform_int_distribution<std::uint32_t> u24(0, CLH_DEPTH_MAX_CODE), u16(0, 0xFFFF),
+      u6(0, 63);
   for (int i = 0; i < 10000; ++i) {
     std::uint32_t d = u24(rng), o = u16(rng), u = u6(rng), v = u6(rng), w = u6(rng), ao = u6(rng);
     clh_u64 word = clh_gbuf_pack(d, o, u, v, w, ao);
@@ -94,10 +95,12 @@ TEST(GBuffer, DevicePackingMatchesHost) {
   }
   cl::Program program = d.program("selftest.cl");
   cl::Kernel k(program, "selftest_gbuffer");
-  cl::Buffer bin(d.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, in.size() * sizeof(float), in.data());
+  cl::Buffer bin(d.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, in.size() * sizeof(float),
+                 in.data());
   // canaries after the last word catch writes past the end
   std::vector<cl_ulong> out(n + 4, 0x0123456789ABCDEFull);
-  cl::Buffer bout(d.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, out.size() * sizeof(cl_ulong), out.data());
+  cl::Buffer bout(d.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
+                  out.size() * sizeof(cl_ulong), out.data());
   k.setArg(0, bin);
   k.setArg(1, bout);
   k.setArg(2, n);
@@ -106,18 +109,21 @@ TEST(GBuffer, DevicePackingMatchesHost) {
   int exact = 0;
   for (std::uint32_t i = 0; i < n; ++i) {
     const float* e = &in[i * 10];
-    clh_u64 host = clh_gbuf_pack(clh_depth_encode(e[0], e[1], e[2]), clh_oct_encode(e[3], e[4], e[5]),
-                                 clh_unorm_bits(e[6], 6), clh_unorm_bits(e[7], 6), clh_unorm_bits(e[8], 6),
-                                 clh_unorm_bits(e[9], 6));
+    clh_u64 host =
+        clh_gbuf_pack(clh_depth_encode(e[0], e[1], e[2]), clh_oct_encode(e[3], e[4], e[5]),
+                      clh_unorm_bits(e[6], 6), clh_unorm_bits(e[7], 6), clh_unorm_bits(e[8], 6),
+                      clh_unorm_bits(e[9], 6));
     clh_u64 dv = out[i];
     // the 24-bit depth code sits at float's precision limit, and OpenCL division is not
     // correctly rounded: it may differ by one code; every other field must match exactly
     const clh_u64 depthMask = ~(static_cast<clh_u64>(0xFFFFFF) << 40);
     exact += (dv & depthMask) == (host & depthMask);
-    EXPECT_LE(std::abs(static_cast<int>(clh_gbuf_depth(dv)) - static_cast<int>(clh_gbuf_depth(host))), 1);
+    EXPECT_LE(
+        std::abs(static_cast<int>(clh_gbuf_depth(dv)) - static_cast<int>(clh_gbuf_depth(host))), 1);
   }
   EXPECT_GE(exact, static_cast<int>(n) - 5);
-  for (std::uint32_t i = n; i < n + 4; ++i) EXPECT_EQ(out[i], 0x0123456789ABCDEFull) << "canary " << i;
+  for (std::uint32_t i = n; i < n + 4; ++i)
+    EXPECT_EQ(out[i], 0x0123456789ABCDEFull) << "canary " << i;
 }
 
 TEST(GBuffer, StructLayoutsMatchDevice) {

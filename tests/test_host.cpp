@@ -82,7 +82,8 @@ TEST(Host, ReferenceModeDoesNotLeakIntoLaterFrames) {
   const Frame reference = r.renderReference(s, 1);
   const Frame after = r.render(s);
   ASSERT_EQ(after.color.rgba.size(), expected.color.rgba.size());
-  EXPECT_EQ(0, std::memcmp(after.color.rgba.data(), expected.color.rgba.data(), after.color.rgba.size() * 4));
+  EXPECT_EQ(0, std::memcmp(after.color.rgba.data(), expected.color.rgba.data(),
+                           after.color.rgba.size() * 4));
   // and the reference did draw thinner strands: fewer hair pixels
   auto hairPixels = [](const Frame& f) {
     std::size_t n = 0;
@@ -104,7 +105,8 @@ TEST(Host, StageInputsAreCheckedBeforeLaunch) {
   cl::Buffer bv = makeBuffer<gpu::ClhViewGpu>(d, "view", 1, &view);
   cl::Buffer bg = makeBuffer<gpu::ClhGroomGpu>(d, "groom", 1, &groom);
   cl::Buffer gbufferOneLayer = makeBuffer<cl_ulong>(d, "G-buffer", W * H);  // the filter reads two
-  cl::Buffer hair = makeBuffer<cl_float4>(d, "hair", W * H), out = makeBuffer<cl_float4>(d, "out", W * H);
+  cl::Buffer hair = makeBuffer<cl_float4>(d, "hair", W * H),
+             out = makeBuffer<cl_float4>(d, "out", W * H);
   FilterStage stage(d);
   FilterParams f;
   try {
@@ -112,7 +114,8 @@ TEST(Host, StageInputsAreCheckedBeforeLaunch) {
     FAIL() << "a one-layer G-buffer was accepted";
   } catch (const Error& e) {
     const std::string m = e.what();
-    EXPECT_NE(m.find("filter: kernel filter_reconstruct argument 3 (G-buffer)"), std::string::npos) << m;
+    EXPECT_NE(m.find("filter: kernel filter_reconstruct argument 3 (G-buffer)"), std::string::npos)
+        << m;
     EXPECT_NE(m.find(std::to_string(W * H * 8) + " bytes"), std::string::npos) << m;
     EXPECT_NE(m.find("needs " + std::to_string(2 * W * H * 8)), std::string::npos) << m;
   }

@@ -47,18 +47,19 @@ TEST(LodMath, ControlPointSnappingEquations4And5) {
     unsigned layers, expected;
   };
   const Case cases[] = {
-      {1.0f, 8, 129},                          // full detail
-      {0.25f, 8, 65},                          // floor(64.5) = 64 -> 65
-      {(65.0f / 129) * (65.0f / 129), 8, 65},  // C_raw 65 -> 65 exactly
-      {(66.0f / 129) * (66.0f / 129), 8, 129}, // C_raw 66 -> 129
-      {0.0625f, 8, 33},                        // floor(32.25) = 32 -> 33
-      {0.0f, 8, 9},                            // layers bound 8 -> 9
-      {0.0f, 2, 3},                            // at least 3
-      {0.0f, 12, 17},                          // 12 layers -> 17
-      {0.01f, 12, 17},                         // floor(12.9) = 12 -> 17
+      {1.0f, 8, 129},                           // full detail
+      {0.25f, 8, 65},                           // floor(64.5) = 64 -> 65
+      {(65.0f / 129) * (65.0f / 129), 8, 65},   // C_raw 65 -> 65 exactly
+      {(66.0f / 129) * (66.0f / 129), 8, 129},  // C_raw 66 -> 129
+      {0.0625f, 8, 33},                         // floor(32.25) = 32 -> 33
+      {0.0f, 8, 9},                             // layers bound 8 -> 9
+      {0.0f, 2, 3},                             // at least 3
+      {0.0f, 12, 17},                           // 12 layers -> 17
+      {0.01f, 12, 17},                          // floor(12.9) = 12 -> 17
   };
   for (const Case& c : cases)
-    EXPECT_EQ(clh_lod_control_points(c.L, c.layers, 129), c.expected) << "L = " << c.L << " layers = " << c.layers;
+    EXPECT_EQ(clh_lod_control_points(c.L, c.layers, 129), c.expected)
+        << "L = " << c.L << " layers = " << c.layers;
   // the snapping table itself
   const unsigned raw[] = {3, 4, 5, 6, 9, 10, 17, 18, 33, 34, 65, 66, 129};
   const unsigned snapped[] = {3, 5, 5, 9, 9, 17, 17, 33, 33, 65, 65, 129, 129};
@@ -95,10 +96,12 @@ TEST(LodMath, DeltaStaggersTransitions) {
   const int bundles = 400;
   const std::uint32_t N = 300;
   std::vector<float> delta(bundles);
-  for (int b = 0; b < bundles; ++b) delta[b] = clh_u01(clh_hash3(1u, static_cast<std::uint32_t>(b), CLH_RNG_LOD_DELTA));
+  for (int b = 0; b < bundles; ++b)
+    delta[b] = clh_u01(clh_hash3(1u, static_cast<std::uint32_t>(b), CLH_RNG_LOD_DELTA));
   auto sweep = [&](bool useDelta, float Lmin) {
     std::vector<std::uint32_t> prev(bundles);
-    for (int b = 0; b < bundles; ++b) prev[b] = clh_lod_strands(1.0f, N, useDelta ? delta[b] : 0.0f);
+    for (int b = 0; b < bundles; ++b)
+      prev[b] = clh_lod_strands(1.0f, N, useDelta ? delta[b] : 0.0f);
     int worst = 0;
     for (int step = 1;; ++step) {
       float L = 1.0f - 4.5e-4f * step;
@@ -182,15 +185,19 @@ TEST(LodScan, OffsetsMatchACpuScanAtTheNamedIndices) {
     expected[clh_lod_drawn_total_at(n)] = drawn;
     expected[clh_lod_visible_total_at(n)] = visible;
     std::vector<cl_uint> out(expected.size() + 4, kCanary);
-    cl::Buffer bc(d.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, counts.size() * sizeof(cl_uint), counts.data());
-    cl::Buffer bo(d.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, out.size() * sizeof(cl_uint), out.data());
+    cl::Buffer bc(d.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                  counts.size() * sizeof(cl_uint), counts.data());
+    cl::Buffer bo(d.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, out.size() * sizeof(cl_uint),
+                  out.data());
     k.setArg(0, bc);
     k.setArg(1, bo);
     k.setArg(2, n);
     d.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(kScanWg), cl::NDRange(kScanWg));
     d.queue.enqueueReadBuffer(bo, CL_TRUE, 0, out.size() * sizeof(cl_uint), out.data());
-    for (std::size_t i = 0; i < expected.size(); ++i) ASSERT_EQ(out[i], expected[i]) << "offsets[" << i << "]";
-    for (std::size_t i = expected.size(); i < out.size(); ++i) EXPECT_EQ(out[i], kCanary) << "canary " << i;
+    for (std::size_t i = 0; i < expected.size(); ++i)
+      ASSERT_EQ(out[i], expected[i]) << "offsets[" << i << "]";
+    for (std::size_t i = expected.size(); i < out.size(); ++i)
+      EXPECT_EQ(out[i], kCanary) << "canary " << i;
   }
 }
 
@@ -243,9 +250,11 @@ StrandRange expectedStrands(const HairMesh& mesh, const Frame& f, bool lod) {
     for (float e : {-1e-3f, 0.0f, 1e-3f}) {  // grow or shrink the box by e on every side
       const bool off = hix + e < 0.0f || hiy + e < 0.0f || lox - e > w || loy - e > h;
       std::uint32_t n = 0;
-      if (unprojectable || !lod) n = off && !unprojectable ? 0u : b.strand_count;
-      else if (!off) n = clh_lod_strands(clh_lod_value(hix - lox + 2 * e, hiy - loy + 2 * e, h, g.lod_lambda),
-                                         b.strand_count, b.lod_delta);
+      if (unprojectable || !lod)
+        n = off && !unprojectable ? 0u : b.strand_count;
+      else if (!off)
+        n = clh_lod_strands(clh_lod_value(hix - lox + 2 * e, hiy - loy + 2 * e, h, g.lod_lambda),
+                            b.strand_count, b.lod_delta);
       fewest = std::min(fewest, n);
       most = std::max(most, n);
     }
@@ -268,7 +277,7 @@ TEST(LodKernel, CullsBundlesOffScreenAndKeepsVisibleOnes) {
   Renderer r(test::sharedDevice());
   RenderOptions o;
   o.lod = 0;
-  o.captureGBuffer = true;  // records the view the LOD pass used
+  o.captureGBuffer = true;                              // records the view the LOD pass used
   EXPECT_EQ(r.render(s, o).stats.strandsDrawn, 3000u);  // fully in view: nothing culled
   s.camera.target = glm::vec3(0.0f, 0.0f, 0.8f);        // looking away: everything culled
   s.camera.position = glm::vec3(0.0f, 0.0f, 0.5f);
@@ -286,7 +295,8 @@ TEST(LodKernel, CullsBundlesOffScreenAndKeepsVisibleOnes) {
       EXPECT_GE(drawn, want.lo) << "LOD " << lod << ", target x " << x;
       EXPECT_LE(drawn, want.hi) << "LOD " << lod << ", target x " << x;
       EXPECT_LE(want.hi - want.lo, 30u) << "the expectation should be tight";
-      RecordProperty("drawn_lod" + std::to_string(lod) + "_x" + std::to_string(x), std::to_string(drawn));
+      RecordProperty("drawn_lod" + std::to_string(lod) + "_x" + std::to_string(x),
+                     std::to_string(drawn));
       partial += drawn > 0 && drawn < 3000;
     }
   EXPECT_GE(partial, 6) << "the views should cut through the groom";
@@ -327,12 +337,16 @@ TEST(LodMorph, StrandsChangeContinuouslyAcrossALevel) {
   std::size_t ia = 0, ib = 0, sa = 0, sb = 0;
   while (sa < above.pointCounts.size() && sb < below.pointCounts.size()) {
     if (above.bundleOf[sa] != below.bundleOf[sb]) {  // N_LOD can differ by one
-      if (above.bundleOf[sa] < below.bundleOf[sb]) ia += above.pointCounts[sa++];
-      else ib += below.pointCounts[sb++];
+      if (above.bundleOf[sa] < below.bundleOf[sb])
+        ia += above.pointCounts[sa++];
+      else
+        ib += below.pointCounts[sb++];
       continue;
     }
-    worstMorph = std::max(worstMorph, polylineGap(&above.points[3 * ia], 65, &below.points[3 * ib], 33));
-    worstAbrupt = std::max(worstAbrupt, polylineGap(&abrupt.points[3 * ia], 65, &below.points[3 * ib], 33));
+    worstMorph =
+        std::max(worstMorph, polylineGap(&above.points[3 * ia], 65, &below.points[3 * ib], 33));
+    worstAbrupt =
+        std::max(worstAbrupt, polylineGap(&abrupt.points[3 * ia], 65, &below.points[3 * ib], 33));
     ia += above.pointCounts[sa++];
     ib += below.pointCounts[sb++];
   }
@@ -361,7 +375,8 @@ TEST(LodCoverage, FarCoverageStaysWithinTenPercent) {
     double sum = 0.0;
     for (std::size_t i = 0; i < f.color.rgba.size() / 4; ++i) {
       int hits = 0;
-      for (int l = 0; l < 4; ++l) hits += f.gbuffer[l * (f.color.rgba.size() / 4) + i] != ~std::uint64_t(0);
+      for (int l = 0; l < 4; ++l)
+        hits += f.gbuffer[l * (f.color.rgba.size() / 4) + i] != ~std::uint64_t(0);
       sum += hits / 4.0;
     }
     return sum;

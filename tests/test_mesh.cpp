@@ -14,8 +14,8 @@
 // Without the occluder the hair is lit; with the mesh occluder the light's opaque depth map
 // is the occluder everywhere over the groom, so the hair keeps only the ambient term
 // (bound: what the light adds to the hair's summed colour, against the same frame without
-// the light, falls below 5 % of what it adds unoccluded; exactly 0 in theory); against the analytic plane
-// occluder the per-pixel colour agrees within 1e-4 (linear) on at least 99.5 % of the hair
+// the light, falls below 5 % of what it adds unoccluded; exactly 0 in theory); against the analytic
+// plane occluder the per-pixel colour agrees within 1e-4 (linear) on at least 99.5 % of the hair
 // pixels (the same argument: both depth maps hold the same plane up to rounding).
 // Malformed files: the CLI is run on scenes naming truncated, NaN, out-of-range, huge
 // (sparse, so no disk is used), missing and PLY files: exit 1, one "clhair: error:" line
@@ -53,10 +53,12 @@ void writeText(const std::string& path, const std::string& text) {
 
 // A square of side 2 * half in the plane dot(normal, x) = dot(normal, center), as two
 // triangles (one of them wound the other way round, so both windings are drawn).
-std::shared_ptr<const TriangleMesh> squareMesh(const glm::vec3& center, const glm::vec3& normal, float half) {
+std::shared_ptr<const TriangleMesh> squareMesh(const glm::vec3& center, const glm::vec3& normal,
+                                               float half) {
   const glm::vec3 n = glm::normalize(normal);
   const glm::vec3 helper = std::fabs(n.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
-  const glm::vec3 u = glm::normalize(glm::cross(helper, n)) * half, v = glm::cross(n, glm::normalize(u)) * half;
+  const glm::vec3 u = glm::normalize(glm::cross(helper, n)) * half,
+                  v = glm::cross(n, glm::normalize(u)) * half;
   TriangleMesh m;
   m.name = "square";
   m.positions = {center - u - v, center + u - v, center + u + v, center - u + v};
@@ -138,11 +140,15 @@ TEST(Mesh, TwoTrianglePlaneHidesHairLikeTheAnalyticPlane) {
   RecordProperty("same_word", std::to_string(sameWord));
   RecordProperty("same_depth", std::to_string(sameDepth));
   EXPECT_EQ(meshDrawn, pixels) << "the square covers the whole view";
-  std::printf("[ mesh     ] hair pixels: no plane %zu, analytic plane %zu, mesh plane %zu; same word on %zu of %zu\n",
-              nBare, nAnalytic, nMesh, sameWord, hairEither);
+  std::printf(
+      "[ mesh     ] hair pixels: no plane %zu, analytic plane %zu, mesh plane %zu; same word on "
+      "%zu of %zu\n",
+      nBare, nAnalytic, nMesh, sameWord, hairEither);
   EXPECT_GE(sameWord, hairEither * 995 / 1000)
-      << "hair G-buffer words differ on " << hairEither - sameWord << " of " << hairEither << " hair pixels";
-  EXPECT_GE(sameDepth, pixels * 995 / 1000) << "depth differs on " << pixels - sameDepth << " of " << pixels;
+      << "hair G-buffer words differ on " << hairEither - sameWord << " of " << hairEither
+      << " hair pixels";
+  EXPECT_GE(sameDepth, pixels * 995 / 1000)
+      << "depth differs on " << pixels - sameDepth << " of " << pixels;
   // the colour of the plane itself matches too where no hair is in front (Lambert, no lights:
   // ambient x albedo on both)
   std::size_t sameColor = 0, planeOnly = 0;
@@ -203,7 +209,8 @@ TEST(Mesh, MeshCastsIntoTheDeepOpacityMaps) {
       sumMesh += meshShadow.color.rgba[4 * i + c];
       sumPlane += planeShadow.color.rgba[4 * i + c];
       sumUnlit += unlit.color.rgba[4 * i + c];
-      const float d = std::fabs(meshShadow.color.rgba[4 * i + c] - planeShadow.color.rgba[4 * i + c]);
+      const float d =
+          std::fabs(meshShadow.color.rgba[4 * i + c] - planeShadow.color.rgba[4 * i + c]);
       dmax = std::max(dmax, static_cast<double>(d));
     }
     close += dmax <= 1e-4;
@@ -215,11 +222,14 @@ TEST(Mesh, MeshCastsIntoTheDeepOpacityMaps) {
   RecordProperty("mean_unlit", std::to_string(sumUnlit / n));
   // what the light adds: a real share of the lit frame, and (almost) none under an occluder
   const double light = sumLit - sumUnlit;
-  ASSERT_GT(light, 0.3 * sumLit) << "the light hardly lights the hair: the test would prove nothing";
-  EXPECT_LT(sumMesh - sumUnlit, 0.05 * light) << "hair under the mesh occluder is not in its shadow";
-  EXPECT_LT(sumPlane - sumUnlit, 0.05 * light) << "hair under the analytic occluder is not in its shadow";
-  EXPECT_GE(close, n * 995 / 1000) << "mesh and analytic occluders shade " << n - close << " of " << n
-                                   << " hair pixels differently";
+  ASSERT_GT(light, 0.3 * sumLit)
+      << "the light hardly lights the hair: the test would prove nothing";
+  EXPECT_LT(sumMesh - sumUnlit, 0.05 * light)
+      << "hair under the mesh occluder is not in its shadow";
+  EXPECT_LT(sumPlane - sumUnlit, 0.05 * light)
+      << "hair under the analytic occluder is not in its shadow";
+  EXPECT_GE(close, n * 995 / 1000) << "mesh and analytic occluders shade " << n - close << " of "
+                                   << n << " hair pixels differently";
 }
 
 TEST(Mesh, ObjReaderSplitsPolygonsAndResolvesRelativeIndices) {
@@ -240,7 +250,8 @@ TEST(Mesh, ObjReaderSplitsPolygonsAndResolvesRelativeIndices) {
 
 TEST(Mesh, TriangleLimitIsCheckedBeforeParsing) {
   const std::string dir = test::scratchDir();
-  writeText(dir + "/five.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\nf 1 2 3\nf 1 2 3\nf 1 2 3\nf 1 2 3\n");
+  writeText(dir + "/five.obj",
+            "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\nf 1 2 3\nf 1 2 3\nf 1 2 3\nf 1 2 3\n");
   MeshLimits limits;
   limits.maxTriangles = 4;
   try {
@@ -261,10 +272,11 @@ TEST(Mesh, SceneReadsMeshesRelativeToTheSceneWithScaleAndUpAxis) {
   const std::string dir = test::scratchDir();
   fs::create_directories(dir + "/sub");
   writeText(dir + "/sub/tri.obj", "v 0 0 0\nv 100 0 0\nv 0 0 100\nf 1 2 3\n");
-  writeText(dir + "/scene.json",
-            json{{"meshes",
-                  {{{"file", "sub/tri.obj"}, {"scale", 0.01}, {"up", "z"}, {"color", {0.2, 0.3, 0.4}}}}}}
-                .dump());
+  writeText(
+      dir + "/scene.json",
+      json{{"meshes",
+            {{{"file", "sub/tri.obj"}, {"scale", 0.01}, {"up", "z"}, {"color", {0.2, 0.3, 0.4}}}}}}
+          .dump());
   const Scene s = loadScene(dir + "/scene.json");
   ASSERT_EQ(s.meshes.size(), 1u);
   EXPECT_EQ(s.meshes[0].name, "tri");
@@ -280,14 +292,16 @@ TEST(Mesh, SceneReadsMeshesRelativeToTheSceneWithScaleAndUpAxis) {
 
 // Writes a scene naming `meshFile` (relative), renders it and expects exit 1, one error
 // line naming the scene and the mesh plus every fragment, and no output file.
-void expectMeshRefused(const std::string& dir, const std::string& meshFile, const std::vector<std::string>& fragments) {
+void expectMeshRefused(const std::string& dir, const std::string& meshFile,
+                       const std::vector<std::string>& fragments) {
   const json scene{{"resolution", {64, 48}},
                    {"camera", {{"position", {0.0, 0.03, 0.2}}, {"target", {0.0, 0.025, 0.0}}}},
                    {"meshes", {{{"file", meshFile}}}},
                    {"grooms", {{{"file", test::assetPath("grooms/tiny.hairmesh.json")}}}}};
   writeText(dir + "/scene.json", scene.dump(2));
   const std::string out = dir + "/out.png";
-  const test::CommandResult r = test::runCli("render " + test::quote(dir + "/scene.json") + " -o " + test::quote(out));
+  const test::CommandResult r =
+      test::runCli("render " + test::quote(dir + "/scene.json") + " -o " + test::quote(out));
   SCOPED_TRACE("output was:\n" + r.output);
   EXPECT_EQ(r.exitCode, 1);
   const std::string line = test::onlyErrorLine(r.output);
@@ -305,7 +319,8 @@ void expectMeshRefused(const std::string& dir, const std::string& meshFile, cons
 
 TEST(MeshCli, TruncatedObj) {
   const std::string dir = test::scratchDir();
-  writeText(dir + "/cut.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nv 0.5 0.");  // cut inside a vertex
+  writeText(dir + "/cut.obj",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nv 0.5 0.");  // cut inside a vertex
   expectMeshRefused(dir, "cut.obj", {"line 5", "truncated"});
 }
 

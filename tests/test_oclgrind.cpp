@@ -28,8 +28,8 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -118,9 +118,9 @@ OclgrindRun runUnderOclgrind(const std::string& dir, const std::string& tag, boo
   // A program cache of this run's own: Oclgrind adds --build-options behind the CLI's back,
   // so the cache key cannot tell an -cl-opt-disable build from an optimised one, and an
   // optimised binary cached by an earlier run crashes Oclgrind's --uninitialized checks.
-  std::string cmd = "CLHAIR_CACHE_DIR=" + quote(dir + "/clhair-cache-" + tag) + " oclgrind " + flags +
-                    " --build-options " + quote(buildOptions) + " --log " + quote(logPath) + " " + quote(cliPath()) +
-                    " " + cliArgs;
+  std::string cmd = "CLHAIR_CACHE_DIR=" + quote(dir + "/clhair-cache-" + tag) + " oclgrind " +
+                    flags + " --build-options " + quote(buildOptions) + " --log " + quote(logPath) +
+                    " " + quote(cliPath()) + " " + cliArgs;
   OclgrindRun run;
   auto t0 = std::chrono::steady_clock::now();
   run.result = runCommand(cmd);
@@ -150,9 +150,10 @@ void expectClean(const OclgrindRun& run, const std::vector<std::string>& kernels
 }
 
 const std::vector<std::string> kFrameKernels = {
-    "opaque_render",  "lod_bundles",       "scan_bundles",   "clear_words",     "strands_raster",
-    "shade_deferred", "filter_reconstruct", "composite_over", "shadow_resolve_depth", "shadow_clear",
-    "strands_opacity", "ao_clear",          "ao_voxelize",    "ao_bake"};
+    "opaque_render",        "lod_bundles",    "scan_bundles",       "clear_words",
+    "strands_raster",       "shade_deferred", "filter_reconstruct", "composite_over",
+    "shadow_resolve_depth", "shadow_clear",   "strands_opacity",    "ao_clear",
+    "ao_voxelize",          "ao_bake"};
 const std::vector<std::string> kExportKernels = {"lod_bundles", "scan_bundles", "strands_export"};
 
 class Oclgrind : public ::testing::TestWithParam<bool> {};  // param: --uninitialized
@@ -178,9 +179,9 @@ TEST_P(Oclgrind, RenderWithLodMsaaAndPersistentGridHasNoReports) {
   const std::string dir = scratchDir();
   const std::string scene = sourceDir() + "/tests/data/oclgrind_tiny.json";
   const std::string out = dir + "/tiny-msaa.png";
-  OclgrindRun run = runUnderOclgrind(dir, uninit ? "render-lod-uninit" : "render-lod", uninit,
-                                     "render " + quote(scene) + " -o " + quote(out) +
-                                         " --lod on --msaa 4 --dispatch persistent");
+  OclgrindRun run = runUnderOclgrind(
+      dir, uninit ? "render-lod-uninit" : "render-lod", uninit,
+      "render " + quote(scene) + " -o " + quote(out) + " --lod on --msaa 4 --dispatch persistent");
   expectClean(run, {"lod_bundles", "scan_bundles", "strands_raster_persistent", "shade_deferred"},
               "clhair render --lod on --msaa 4 --dispatch persistent");
   EXPECT_TRUE(fs::exists(out)) << out << " was not written";
@@ -205,8 +206,8 @@ TEST_P(Oclgrind, RenderStrandFileHasNoReports) {
   if (!haveOclgrind()) GTEST_SKIP() << "oclgrind not installed";
   const bool uninit = GetParam();
   const std::string dir = scratchDir();
-  CommandResult ex = runCli("export-strands " + quote(assetPath("grooms/tiny.hairmesh.json")) + " -o " +
-                            quote(dir + "/tiny.hair"));
+  CommandResult ex = runCli("export-strands " + quote(assetPath("grooms/tiny.hairmesh.json")) +
+                            " -o " + quote(dir + "/tiny.hair"));
   ASSERT_EQ(ex.exitCode, 0) << ex.output;
   {
     std::ifstream in(sourceDir() + "/tests/data/oclgrind_tiny.json");
@@ -214,19 +215,22 @@ TEST_P(Oclgrind, RenderStrandFileHasNoReports) {
     const std::string from = "{\"file\": \"../../assets/grooms/tiny.hairmesh.json\"}";
     const std::size_t at = scene.find(from);
     ASSERT_NE(at, std::string::npos) << "tests/data/oclgrind_tiny.json changed its groom line";
-    scene.replace(at, from.size(), "{\"strands_file\": \"tiny.hair\", \"lod\": {\"enabled\": true}}");
+    scene.replace(at, from.size(),
+                  "{\"strands_file\": \"tiny.hair\", \"lod\": {\"enabled\": true}}");
     std::ofstream(dir + "/scene.json") << scene;
   }
   const std::string out = dir + "/strands.png";
   OclgrindRun run = runUnderOclgrind(dir, uninit ? "strands-uninit" : "strands", uninit,
                                      "render " + quote(dir + "/scene.json") + " -o " + quote(out));
-  expectClean(run, {"lod_chunks", "scan_bundles", "strands_explicit_raster", "strands_explicit_opacity"},
+  expectClean(run,
+              {"lod_chunks", "scan_bundles", "strands_explicit_raster", "strands_explicit_opacity"},
               "clhair render (strand file)");
   EXPECT_TRUE(fs::exists(out)) << out << " was not written";
   if (uninit) return;
-  OclgrindRun grid = runUnderOclgrind(dir, "strands-persistent", false,
-                                      "render " + quote(dir + "/scene.json") + " -o " + quote(dir + "/grid.png") +
-                                          " --msaa 4 --dispatch persistent");
+  OclgrindRun grid =
+      runUnderOclgrind(dir, "strands-persistent", false,
+                       "render " + quote(dir + "/scene.json") + " -o " + quote(dir + "/grid.png") +
+                           " --msaa 4 --dispatch persistent");
   expectClean(grid, {"lod_chunks", "strands_explicit_raster_persistent"},
               "clhair render (strand file) --msaa 4 --dispatch persistent");
 }
@@ -238,8 +242,10 @@ TEST_P(Oclgrind, RenderMeshHasNoReports) {
   if (!haveOclgrind()) GTEST_SKIP() << "oclgrind not installed";
   const bool uninit = GetParam();
   if (uninit)
-    GTEST_SKIP() << "open: unoptimised with --uninitialized, Oclgrind 21.10 reports the words mesh_resolve reads "
-                    "as uninitialized even when mesh_raster stores constants there; not yet explained";
+    GTEST_SKIP()
+        << "open: unoptimised with --uninitialized, Oclgrind 21.10 reports the words mesh_resolve "
+           "reads "
+           "as uninitialized even when mesh_raster stores constants there; not yet explained";
   const std::string dir = scratchDir();
   {
     std::ifstream in(sourceDir() + "/tests/data/oclgrind_tiny.json");
@@ -249,14 +255,17 @@ TEST_P(Oclgrind, RenderMeshHasNoReports) {
     ASSERT_NE(at, std::string::npos) << "tests/data/oclgrind_tiny.json changed its grooms line";
     scene.replace(at, from.size(),
                   "\"meshes\": [{\"file\": " + jsonString(assetPath("meshes/head.obj")) +
-                      ", \"scale\": 0.0018, \"up\": \"z\", \"transform\": {\"translate\": [0.0, -0.01, 0.0]}}, "
-                      "{\"file\": \"floor.obj\", \"color\": [0.3, 0.3, 0.3]}],\n  " + from);
+                      ", \"scale\": 0.0018, \"up\": \"z\", \"transform\": {\"translate\": [0.0, "
+                      "-0.01, 0.0]}}, "
+                      "{\"file\": \"floor.obj\", \"color\": [0.3, 0.3, 0.3]}],\n  " +
+                      from);
     const std::string groom = "\"../../assets/grooms/tiny.hairmesh.json\"";
     const std::size_t g = scene.find(groom);
     ASSERT_NE(g, std::string::npos) << "tests/data/oclgrind_tiny.json changed its groom line";
     scene.replace(g, groom.size(), jsonString(assetPath("grooms/tiny.hairmesh.json")));
     std::ofstream(dir + "/scene.json") << scene;
-    std::ofstream(dir + "/floor.obj") << "v -5 -0.03 -5\nv 5 -0.03 -5\nv 5 -0.03 5\nv -5 -0.03 5\nf 1 2 3 4\n";
+    std::ofstream(dir + "/floor.obj")
+        << "v -5 -0.03 -5\nv 5 -0.03 -5\nv 5 -0.03 5\nv -5 -0.03 5\nf 1 2 3 4\n";
   }
   const std::string out = dir + "/mesh.png";
   OclgrindRun run = runUnderOclgrind(dir, uninit ? "mesh-uninit" : "mesh", uninit,
@@ -276,18 +285,21 @@ TEST_P(Oclgrind, ExplicitStrandExportHasNoReports) {
   const std::string logPath = dir + "/oclgrind-explicit-export.log";
   const std::string self = fs::read_symlink("/proc/self/exe").string();
   OclgrindRun run;
-  run.result = runCommand("oclgrind --data-races --check-api --inst-counts --max-errors 1000000" +
-                          std::string(uninit ? " --uninitialized" : "") + " --build-options " +
-                          quote(std::string(uninit ? "-cl-opt-disable " : "") + "-DCLH_ATOMIC_LOAD_SKIP=0") +
-                          " --log " + quote(logPath) + " " + quote(self) + " --gtest_filter=" +
-                          quote(uninit ? "ExplicitKernel.PointSkipping*" : "ExplicitKernel.*"));
+  run.result =
+      runCommand("oclgrind --data-races --check-api --inst-counts --max-errors 1000000" +
+                 std::string(uninit ? " --uninitialized" : "") + " --build-options " +
+                 quote(std::string(uninit ? "-cl-opt-disable " : "") + "-DCLH_ATOMIC_LOAD_SKIP=0") +
+                 " --log " + quote(logPath) + " " + quote(self) + " --gtest_filter=" +
+                 quote(uninit ? "ExplicitKernel.PointSkipping*" : "ExplicitKernel.*"));
   run.log = readFile(logPath);
   // Not the exit code: a test binary under Oclgrind 21.10 aborts after its last test while
   // static objects are destroyed (the shared Device outlives Oclgrind's runtime; any test
   // does it, e.g. Render.EmptySceneIsExactlyTheBackground), which is not a kernel report.
-  EXPECT_NE(run.result.output.find(uninit ? "[  PASSED  ] 1 test" : "[  PASSED  ] 2 tests"), std::string::npos)
+  EXPECT_NE(run.result.output.find(uninit ? "[  PASSED  ] 1 test" : "[  PASSED  ] 2 tests"),
+            std::string::npos)
       << run.result.output;
-  EXPECT_NE(run.result.output.find("Instructions executed for kernel 'strands_explicit_export'"), std::string::npos)
+  EXPECT_NE(run.result.output.find("Instructions executed for kernel 'strands_explicit_export'"),
+            std::string::npos)
       << run.result.output;
   std::string kept;
   for (const Report& r : parseReports(run.log)) kept += r.text + "\n";
@@ -331,13 +343,15 @@ TEST(OclgrindLoadSkip, ShippedFrameHasOnlyTheLoadSkipsBenignRaces) {
   const std::string out = dir + "/tiny.png", pocl = dir + "/pocl.png";
   const std::string logPath = dir + "/oclgrind-load-skip.log";
   OclgrindRun run;
-  run.result = runCommand("CLHAIR_CACHE_DIR=" + quote(dir + "/clhair-cache") +
-                          " oclgrind --data-races --check-api --inst-counts --max-errors 1000000 --log " +
-                          quote(logPath) + " " + quote(cliPath()) + " render " + quote(scene) + " -o " + quote(out));
+  run.result = runCommand(
+      "CLHAIR_CACHE_DIR=" + quote(dir + "/clhair-cache") +
+      " oclgrind --data-races --check-api --inst-counts --max-errors 1000000 --log " +
+      quote(logPath) + " " + quote(cliPath()) + " render " + quote(scene) + " -o " + quote(out));
   run.log = readFile(logPath);
   ASSERT_EQ(run.result.exitCode, 0) << run.result.output;
   for (const std::string& k : kFrameKernels)
-    EXPECT_NE(run.result.output.find("Instructions executed for kernel '" + k + "'"), std::string::npos)
+    EXPECT_NE(run.result.output.find("Instructions executed for kernel '" + k + "'"),
+              std::string::npos)
         << "kernel " << k << " did not run under oclgrind\n"
         << run.result.output;
 
@@ -349,7 +363,8 @@ TEST(OclgrindLoadSkip, ShippedFrameHasOnlyTheLoadSkipsBenignRaces) {
   std::string kept;
   for (const Report& r : parseReports(run.log)) {
     const auto lines = reportLines(r.text);
-    const bool raster = r.kernel.rfind("strands_raster", 0) == 0 || r.kernel.rfind("strands_explicit_raster", 0) == 0;
+    const bool raster = r.kernel.rfind("strands_raster", 0) == 0 ||
+                        r.kernel.rfind("strands_explicit_raster", 0) == 0;
     const bool pair = lines.size() == 2 && lines[0].second == "clhair/raster_core.h" &&
                       lines[1].second == "clhair/raster_core.h" &&
                       ((loads.count(lines[0].first) && atomics.count(lines[1].first)) ||
@@ -360,12 +375,14 @@ TEST(OclgrindLoadSkip, ShippedFrameHasOnlyTheLoadSkipsBenignRaces) {
       kept += r.text + "\n";
   }
   RecordProperty("load_skip_races", std::to_string(benign));
-  EXPECT_GT(benign, 0u) << "no race between the load skip and atom_min: the shipped load skip did not run";
+  EXPECT_GT(benign, 0u)
+      << "no race between the load skip and atom_min: the shipped load skip did not run";
   EXPECT_TRUE(kept.empty()) << "oclgrind reported more than the load skip's races:\n" << kept;
 
   const CommandResult p = runCli("render " + quote(scene) + " -o " + quote(pocl) + " --quiet");
   ASSERT_EQ(p.exitCode, 0) << p.output;
-  EXPECT_EQ(readFile(out), readFile(pocl)) << "Oclgrind's frame differs from PoCL's: " << out << ", " << pocl;
+  EXPECT_EQ(readFile(out), readFile(pocl))
+      << "Oclgrind's frame differs from PoCL's: " << out << ", " << pocl;
 }
 
 INSTANTIATE_TEST_SUITE_P(Checks, Oclgrind, ::testing::Bool(),

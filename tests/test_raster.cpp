@@ -46,7 +46,8 @@ TEST(Raster, ConservativeContainsEveryCenterHit) {
       bool c = f.gbuffer[i] != kEmpty, k = f.gbuffer[n + i] != kEmpty;
       center += c;
       cons += k;
-      ASSERT_TRUE(!c || k) << "pixel " << i % s.width << "," << i / s.width << " has a center hit but no conservative hit";
+      ASSERT_TRUE(!c || k) << "pixel " << i % s.width << "," << i / s.width
+                           << " has a center hit but no conservative hit";
     }
     EXPECT_GT(center, 0u);
     EXPECT_GE(cons, center);
@@ -84,7 +85,8 @@ TEST(Raster, EachMsaaLayerEqualsAShiftedSingleSampleRender) {
     }
     EXPECT_GT(hits, n / 50) << "sample " << k;
     // identical up to float rounding of points exactly on a hit boundary
-    EXPECT_LE(differ, hits / 1000 + 2) << "sample " << k << ": " << differ << " of " << hits << " differ";
+    EXPECT_LE(differ, hits / 1000 + 2)
+        << "sample " << k << ": " << differ << " of " << hits << " differ";
   }
 }
 
@@ -171,7 +173,8 @@ TEST(Raster, StatisticsCountWritesAndAtomics) {
   std::uint64_t words = 0;
   for (std::uint64_t w : f.gbuffer) words += w != kEmpty;
   ASSERT_GT(words, 0u);
-  EXPECT_GE(f.stats.atomicsIssued, words) << "a word in the G-buffer without an atomic that wrote it";
+  EXPECT_GE(f.stats.atomicsIssued, words)
+      << "a word in the G-buffer without an atomic that wrote it";
   EXPECT_LE(f.stats.atomicsIssued, f.stats.pixelWrites);
   EXPECT_GT(f.stats.pixelWrites, words) << "dense hair visits most covered pixels more than once";
 
@@ -179,7 +182,8 @@ TEST(Raster, StatisticsCountWritesAndAtomics) {
   other.dispatch = DispatchMode::Persistent;
   const Frame g = r.render(s, other);
   EXPECT_TRUE(g.gbuffer == f.gbuffer);
-  EXPECT_EQ(g.stats.pixelWrites, f.stats.pixelWrites) << "the writes must not depend on the order of the strands";
+  EXPECT_EQ(g.stats.pixelWrites, f.stats.pixelWrites)
+      << "the writes must not depend on the order of the strands";
   EXPECT_EQ(g.stats.segmentsDrawn, f.stats.segmentsDrawn);
   EXPECT_GE(g.stats.atomicsIssued, words);
 

@@ -38,8 +38,10 @@ TEST(Render, TwoRendersAreBitIdentical) {
   Renderer b(test::sharedDevice());
   Frame f3 = b.render(s);
   ASSERT_EQ(f1.color.rgba.size(), f2.color.rgba.size());
-  EXPECT_TRUE(std::memcmp(f1.color.rgba.data(), f2.color.rgba.data(), f1.color.rgba.size() * 4) == 0);
-  EXPECT_TRUE(std::memcmp(f1.color.rgba.data(), f3.color.rgba.data(), f1.color.rgba.size() * 4) == 0);
+  EXPECT_TRUE(std::memcmp(f1.color.rgba.data(), f2.color.rgba.data(), f1.color.rgba.size() * 4) ==
+              0);
+  EXPECT_TRUE(std::memcmp(f1.color.rgba.data(), f3.color.rgba.data(), f1.color.rgba.size() * 4) ==
+              0);
   EXPECT_TRUE(std::memcmp(f1.depth.data(), f3.depth.data(), f1.depth.size() * 4) == 0);
 }
 

@@ -36,7 +36,8 @@ Scene twoPatches(bool shadows) {
   l.shadows = shadows;
   s.lights.push_back(l);
   s.grooms.emplace_back("front", mesh, glm::mat4(1.0f));
-  s.grooms.emplace_back("back", mesh, glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, -0.06f)));
+  s.grooms.emplace_back("back", mesh,
+                        glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, -0.06f)));
   s.camera.position = glm::vec3(0.25f, 0.03f, -0.03f);
   s.camera.target = glm::vec3(0.0f, 0.03f, -0.03f);
   s.camera.fovYDegrees = 35.0f;
@@ -75,7 +76,8 @@ TEST(Shadows, HairBehindHairIsDarker) {
   const double frontKept = frontSh / frontLit, backKept = backSh / backLit;
   RecordProperty("front_kept", std::to_string(frontKept));
   RecordProperty("back_kept", std::to_string(backKept));
-  EXPECT_LT(backKept, 0.6 * frontKept) << "front keeps " << frontKept << ", back keeps " << backKept;
+  EXPECT_LT(backKept, 0.6 * frontKept)
+      << "front keeps " << frontKept << ", back keeps " << backKept;
   EXPECT_LT(frontKept, 1.0) << "hair shadows itself too";
 }
 
@@ -93,7 +95,8 @@ TEST(Shadows, InstancesOfOneMeshCastTheirOwnShadows) {
   const Frame a = r.render(copies, o), b = r.render(shared, o);
   ASSERT_EQ(a.color.rgba.size(), b.color.rgba.size());
   std::size_t differing = 0;
-  for (std::size_t i = 0; i < a.color.rgba.size(); ++i) differing += a.color.rgba[i] != b.color.rgba[i];
+  for (std::size_t i = 0; i < a.color.rgba.size(); ++i)
+    differing += a.color.rgba[i] != b.color.rgba[i];
   EXPECT_EQ(differing, 0u) << "a shared mesh's instances shadowed differently from separate copies";
 }
 
@@ -114,7 +117,8 @@ TEST(Shadows, LightPassLodFollowsTheLightsViewNotTheCameras) {
     s.height = camH;
     return r.render(s, o).stats.shadowStrandsDrawn;
   };
-  const std::uint64_t wide = drawn(35.0f, 120, 80), narrow = drawn(8.0f, 120, 80), big = drawn(35.0f, 360, 240);
+  const std::uint64_t wide = drawn(35.0f, 120, 80), narrow = drawn(8.0f, 120, 80),
+                      big = drawn(35.0f, 360, 240);
   RecordProperty("shadow_strands", std::to_string(wide));
   EXPECT_GT(wide, 0u);
   EXPECT_LT(wide, 6000u) << "LOD should drop strands in the light's view (2 patches x 3000)";
@@ -151,7 +155,8 @@ TEST(Shadows, MapsAreReusedWhileTheirInputsStayAndRebuiltWhenOneChanges) {
     const Frame reused = r.render(changed, o);
     EXPECT_TRUE(hasShadowStage(reused)) << what << ": the shadow maps were not rebuilt";
     Renderer fresh(test::sharedDevice());
-    EXPECT_TRUE(reused.color.rgba == fresh.render(changed, o).color.rgba) << what << ": stale shadows";
+    EXPECT_TRUE(reused.color.rgba == fresh.render(changed, o).color.rgba)
+        << what << ": stale shadows";
   };
   Scene moved = s;
   moved.lights[0].direction = glm::normalize(glm::vec3(0.3f, 0.2f, 1.0f));
@@ -175,7 +180,7 @@ TEST(Shadows, MapsAreReusedWhileTheirInputsStayAndRebuiltWhenOneChanges) {
 // map's ~0.5 mm texels see O vary around the cell's mean; exp is convex, which moves the
 // map's mean transmittance up).
 struct GroundShadow {
-  double ratio = 0.0;         // shadowed / unshadowed ground, around the middle of the shadow
+  double ratio = 0.0;               // shadowed / unshadowed ground, around the middle of the shadow
   double lower = 0.0, upper = 0.0;  // Beer-Lambert: mean exp(-sqrt(2) O) and mean exp(-O)
 };
 
@@ -228,7 +233,8 @@ GroundShadow groundUnderFurBall(int controlPoints, int mapResolution) {
       const glm::vec3 a(p[0], p[1], p[2]), b(p[3], p[4], p[5]);
       const glm::vec3 d = b - a;
       const int c = cellOf(0.5f * (a + b));
-      if (c >= 0) area[c] += std::hypot(glm::dot(d, ea), glm::dot(d, eb)) * m.appearance.strandWidth;
+      if (c >= 0)
+        area[c] += std::hypot(glm::dot(d, ea), glm::dot(d, eb)) * m.appearance.strandWidth;
     }
     first += count;
   }
@@ -246,8 +252,9 @@ GroundShadow groundUnderFurBall(int controlPoints, int mapResolution) {
       if (std::isinf(lit.depth[i]) || lit.depth[i] < 0.6f) continue;  // ground only
       double dx = x - s.width / 2.0, dy = y - s.height / 2.0;
       if (dx * dx + dy * dy > 12.0 * 12.0) continue;  // the middle of the shadow
-      const glm::vec3 ray = glm::normalize(fwd + right * static_cast<float>((x + 0.5 - 0.5 * s.width) / f) -
-                                           up * static_cast<float>((y + 0.5 - 0.5 * s.height) / f));
+      const glm::vec3 ray =
+          glm::normalize(fwd + right * static_cast<float>((x + 0.5 - 0.5 * s.width) / f) -
+                         up * static_cast<float>((y + 0.5 - 0.5 * s.height) / f));
       const float t = (ground.offset - s.camera.position.y) / ray.y;
       const int c = cellOf(s.camera.position + t * ray);
       EXPECT_GE(c, 0);
@@ -262,9 +269,10 @@ GroundShadow groundUnderFurBall(int controlPoints, int mapResolution) {
   g.ratio = shSum / std::max(litSum, 1e-30);
   g.lower /= std::max(n, 1);
   g.upper /= std::max(n, 1);
-  std::printf("[ shadows  ] %d control points, %d texels: the ground keeps %.4f of its light; "
-              "Beer-Lambert %.4f .. %.4f\n",
-              controlPoints, mapResolution, g.ratio, g.lower, g.upper);
+  std::printf(
+      "[ shadows  ] %d control points, %d texels: the ground keeps %.4f of its light; "
+      "Beer-Lambert %.4f .. %.4f\n",
+      controlPoints, mapResolution, g.ratio, g.lower, g.upper);
   return g;
 }
 
@@ -287,8 +295,10 @@ TEST(Shadows, OpaqueObjectsReceiveHairShadows) {
 TEST(Shadows, DISABLED_GroundShadowFollowsBeerLambertAtAnyTessellationAndMapSize) {
   for (auto [points, texels] : {std::pair{5, 512}, {9, 512}, {17, 512}, {9, 256}, {9, 1024}}) {
     const GroundShadow g = groundUnderFurBall(points, texels);
-    EXPECT_GE(g.ratio, g.lower - 0.03) << points << " control points, " << texels << " texels: too dark";
-    EXPECT_LE(g.ratio, g.upper + 0.03) << points << " control points, " << texels << " texels: too bright";
+    EXPECT_GE(g.ratio, g.lower - 0.03)
+        << points << " control points, " << texels << " texels: too dark";
+    EXPECT_LE(g.ratio, g.upper + 0.03)
+        << points << " control points, " << texels << " texels: too bright";
   }
 }
 
@@ -341,14 +351,17 @@ TEST(Shadows, LodCorrectionIsInertWithoutLodAndUndoesPartOfLodsDarkening) {
   };
   auto [full, fOn] = render(0, 1);
   auto [fullOff, fOff] = render(0, 0);
-  EXPECT_TRUE(fOn.color.rgba == fOff.color.rgba) << "without LOD the correction must change nothing";
+  EXPECT_TRUE(fOn.color.rgba == fOff.color.rgba)
+      << "without LOD the correction must change nothing";
   auto [lod, fLod] = render(1, 0);
   auto [corrected, fCorrected] = render(1, 1);
-  EXPECT_LT(fLod.stats.strandsDrawn, 20000u / 6) << "LOD should keep under a sixth: the widening stops at 3 px";
+  EXPECT_LT(fLod.stats.strandsDrawn, 20000u / 6)
+      << "LOD should keep under a sixth: the widening stops at 3 px";
   RecordProperty("luminance_no_lod", std::to_string(full));
   RecordProperty("luminance_lod_uncorrected", std::to_string(lod));
   RecordProperty("luminance_lod_corrected", std::to_string(corrected));
-  std::printf("[ shadows  ] hair luminance: no LOD %.5f, LOD %.5f, LOD + correction %.5f\n", full, lod, corrected);
+  std::printf("[ shadows  ] hair luminance: no LOD %.5f, LOD %.5f, LOD + correction %.5f\n", full,
+              lod, corrected);
   ASSERT_LT(lod, full) << "the scene should show LOD's darkening";
   EXPECT_GT(corrected, lod) << "the correction should brighten what LOD darkened";
   EXPECT_LE(std::fabs(corrected - full), 0.9 * std::fabs(lod - full))

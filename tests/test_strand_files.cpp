@@ -204,7 +204,8 @@ TEST(StrandFileCyHair, IgnoresTrailingBytesAndKeepsSinglePointStrands) {
   EXPECT_EQ(r.segments, (std::vector<std::uint32_t>{0, 1}));
   EXPECT_EQ(r.points.size(), 9u);
   EXPECT_EQ(r.trailingBytes, 26u);
-  EXPECT_EQ(readCyHair(writeFile(dir, "exact.hair", validTwoStrands().data), kNoLimit).trailingBytes, 0u);
+  EXPECT_EQ(
+      readCyHair(writeFile(dir, "exact.hair", validTwoStrands().data), kNoLimit).trailingBytes, 0u);
 }
 
 TEST(StrandFileCyHair, ReadsAtExactlyTheByteLimit) {
@@ -428,7 +429,8 @@ TEST(StrandFileUsc, WriterRoundTripsPointsAndRejectsMismatchedArrays) {
   EXPECT_TRUE(u.hair.thickness.empty());
 
   h.points.pop_back();
-  expectError([&] { writeUscHair(h, dir + "/bad.data"); }, dir + "/bad.data", {"point array does not match"});
+  expectError([&] { writeUscHair(h, dir + "/bad.data"); }, dir + "/bad.data",
+              {"point array does not match"});
   EXPECT_FALSE(std::filesystem::exists(dir + "/bad.data"));
 }
 
@@ -489,7 +491,8 @@ TEST(StrandFileUsc, CountsTrailingBytesLikeCyHair) {
   const UscHair u = readUscHair(writeFile(dir, "trailing.data", validUsc().data + "xyz"), kNoLimit);
   EXPECT_EQ(u.hair.trailingBytes, 3u);
   EXPECT_EQ(u.hair.segments, (std::vector<std::uint32_t>{1, 2}));
-  EXPECT_EQ(readUscHair(writeFile(dir, "exact.data", validUsc().data), kNoLimit).hair.trailingBytes, 0u);
+  EXPECT_EQ(readUscHair(writeFile(dir, "exact.data", validUsc().data), kNoLimit).hair.trailingBytes,
+            0u);
 }
 
 // Both formats: a file with trailing bytes loads, with one warning naming the file and the
@@ -528,7 +531,9 @@ TEST(StrandFileUsc, RefusesMoreThanTheByteLimit) {
 // ---- TressFX --------------------------------------------------------------------------------
 
 // Point k of strand s in the files below.
-float tfxCoord(std::uint32_t s, std::uint32_t k, int c) { return 0.1f * s + (c == 0 ? 0.01f * k : c == 1 ? -0.02f * k : 0.5f); }
+float tfxCoord(std::uint32_t s, std::uint32_t k, int c) {
+  return 0.1f * s + (c == 0 ? 0.01f * k : c == 1 ? -0.02f * k : 0.5f);
+}
 
 // A TressFX 4.0 file: `strands` strands of `perStrand` vertices (xyz from tfxCoord, w 0 for
 // the first two), then strand uv (0.25 s mod 1, 0.75) when `uv`.
@@ -539,7 +544,10 @@ Bytes tfx4(std::uint32_t strands, std::uint32_t perStrand, bool uv, float versio
   for (int i = 0; i < 32; ++i) b.u32(0);
   for (std::uint32_t s = 0; s < strands; ++s)
     for (std::uint32_t k = 0; k < perStrand; ++k)
-      b.f32(tfxCoord(s, k, 0)).f32(tfxCoord(s, k, 1)).f32(tfxCoord(s, k, 2)).f32(k < 2 ? 0.0f : 1.0f);
+      b.f32(tfxCoord(s, k, 0))
+          .f32(tfxCoord(s, k, 1))
+          .f32(tfxCoord(s, k, 2))
+          .f32(k < 2 ? 0.0f : 1.0f);
   if (uv)
     for (std::uint32_t s = 0; s < strands; ++s) b.f32(std::fmod(0.25f * s, 1.0f)).f32(0.75f);
   return b;
@@ -554,7 +562,8 @@ Bytes tfx3(std::uint32_t strands, std::uint32_t perStrand, bool uv) {
   b.u32(296).u32(0).u32(uv ? uvOffset : 0).u32(0).u32(0).u32(0);
   for (int i = 0; i < 32; ++i) b.u32(0);
   for (std::uint32_t s = 0; s < strands; ++s)
-    for (std::uint32_t k = 0; k < perStrand; ++k) b.f32(tfxCoord(s, k, 0)).f32(tfxCoord(s, k, 1)).f32(tfxCoord(s, k, 2));
+    for (std::uint32_t k = 0; k < perStrand; ++k)
+      b.f32(tfxCoord(s, k, 0)).f32(tfxCoord(s, k, 1)).f32(tfxCoord(s, k, 2));
   if (uv)
     for (std::uint32_t s = 0; s < strands; ++s) b.f32(std::fmod(0.25f * s, 1.0f)).f32(0.75f);
   return b;
@@ -576,13 +585,15 @@ void expectTfxError(const std::string& path, const std::vector<std::string>& fra
   expectError([&] { readTressFx(path, maxBytes); }, path, fragments);
 }
 
-void expectTfxStrands(const TressFxHair& t, std::uint32_t strands, std::uint32_t perStrand, bool uv) {
+void expectTfxStrands(const TressFxHair& t, std::uint32_t strands, std::uint32_t perStrand,
+                      bool uv) {
   EXPECT_EQ(t.hair.segments, std::vector<std::uint32_t>(strands, perStrand - 1));
   ASSERT_EQ(t.hair.points.size(), 3u * strands * perStrand);
   for (std::uint32_t s = 0; s < strands; ++s)
     for (std::uint32_t k = 0; k < perStrand; ++k)
       for (int c = 0; c < 3; ++c)
-        EXPECT_EQ(t.hair.points[3 * (s * perStrand + k) + c], tfxCoord(s, k, c)) << s << " " << k << " " << c;
+        EXPECT_EQ(t.hair.points[3 * (s * perStrand + k) + c], tfxCoord(s, k, c))
+            << s << " " << k << " " << c;
   ASSERT_EQ(t.strandUv.size(), uv ? 2u * strands : 0u);
   for (std::uint32_t s = 0; uv && s < strands; ++s) {
     EXPECT_EQ(t.strandUv[2 * s], std::fmod(0.25f * s, 1.0f));
@@ -597,9 +608,11 @@ TEST(StrandFileTressFx, ReadsVersion4PositionsAndStrandUv) {
   const TressFxHair t = readTressFx(writeFile(dir, "v4.tfx", tfx4(3, 5, true).data), kNoLimit);
   EXPECT_EQ(t.version, 4.0f);
   expectTfxStrands(t, 3, 5, true);
-  expectTfxStrands(readTressFx(writeFile(dir, "v4nouv.tfx", tfx4(2, 4, false).data), kNoLimit), 2, 4, false);
+  expectTfxStrands(readTressFx(writeFile(dir, "v4nouv.tfx", tfx4(2, 4, false).data), kNoLimit), 2,
+                   4, false);
   // 4.x minor versions share the layout
-  EXPECT_EQ(readTressFx(writeFile(dir, "v41.tfx", tfx4(1, 4, false, 4.1f).data), kNoLimit).version, 4.1f);
+  EXPECT_EQ(readTressFx(writeFile(dir, "v41.tfx", tfx4(1, 4, false, 4.1f).data), kNoLimit).version,
+            4.1f);
 }
 
 TEST(StrandFileTressFx, ReadsVersion3Layout) {
@@ -608,7 +621,8 @@ TEST(StrandFileTressFx, ReadsVersion3Layout) {
   EXPECT_EQ(t.version, 3.0f);
   expectTfxStrands(t, 3, 4, true);
   // Read as 4.x (16-byte vertices at byte 160) these bytes would give other points.
-  expectTfxStrands(readTressFx(writeFile(dir, "v3nouv.tfx", tfx3(2, 8, false).data), kNoLimit), 2, 8, false);
+  expectTfxStrands(readTressFx(writeFile(dir, "v3nouv.tfx", tfx3(2, 8, false).data), kNoLimit), 2,
+                   8, false);
 }
 
 TEST(StrandFileTressFx, WriterRoundTripsAndPinsTheFirstTwoVertices) {
@@ -653,7 +667,8 @@ TEST(StrandFileTressFx, ResamplingKeepsRootAndTipAndSpacesPointsEvenly) {
   EXPECT_EQ(r.points, (std::vector<float>{0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0, 0, 3, 1, 0,  //
                                           7, 7, 7, 7, 7, 7, 7, 7, 7, 7, 7, 7, 7, 7, 7}));
   const CyHair two = resampleStrands(h, 2);
-  EXPECT_EQ(std::vector<float>(two.points.begin(), two.points.begin() + 6), (std::vector<float>{0, 0, 0, 3, 1, 0}));
+  EXPECT_EQ(std::vector<float>(two.points.begin(), two.points.begin() + 6),
+            (std::vector<float>{0, 0, 0, 3, 1, 0}));
   // the count: the largest power of two in 4..64 not above the longest strand
   const struct {
     std::uint32_t points, expected;
@@ -680,12 +695,14 @@ TEST(StrandFileTressFx, RejectsEveryArrayThatRunsPastTheFile) {
   expectTfxError(writeFile(dir, "uv.tfx", v4.substr(0, v4.size() - 1)),
                  {"truncated", "2 strands of 4 vertices", "strand uv", "file's 303 bytes"});
   const std::string noUv = tfx4(2, 4, false).data;
-  expectTfxError(writeFile(dir, "pos.tfx", noUv.substr(0, noUv.size() - 1)),
-                 {"truncated", "vertex positions (8 x 16 bytes from byte 160)", "file's 287 bytes"});
+  expectTfxError(
+      writeFile(dir, "pos.tfx", noUv.substr(0, noUv.size() - 1)),
+      {"truncated", "vertex positions (8 x 16 bytes from byte 160)", "file's 287 bytes"});
   expectTfxError(writeFile(dir, "pos3.tfx", tfx3(2, 4, false).data.substr(0, 296 + 95)),
                  {"truncated", "vertex positions (8 x 12 bytes from byte 296)"});
   // arrays the reader does not use must fit too: vertex colours (4.x byte 28), offset past the end
-  expectTfxError(writeFile(dir, "colour.tfx", patchedU32(noUv, 28, 200)), {"truncated", "vertex colours"});
+  expectTfxError(writeFile(dir, "colour.tfx", patchedU32(noUv, 28, 200)),
+                 {"truncated", "vertex colours"});
   expectTfxError(writeFile(dir, "guide.tfx", patchedU32(tfx3(2, 4, false).data, 160, 1u << 30)),
                  {"truncated", "guide strand indices"});
 }
@@ -698,7 +715,8 @@ TEST(StrandFileTressFx, RejectsNonFiniteFloats) {
                  {"vertex positions: strand 1 vertex 2 y is nan"});
   expectTfxError(writeFile(dir, "w.tfx", patched(v4, 160 + 16 * 6 + 12, kInf)),
                  {"strand 1 vertex 2 w (inverse mass) is inf"});
-  expectTfxError(writeFile(dir, "uv.tfx", patched(v4, 160 + 16 * 8 + 8 + 4, -kInf)), {"strand uv: strand 1 v is -inf"});
+  expectTfxError(writeFile(dir, "uv.tfx", patched(v4, 160 + 16 * 8 + 8 + 4, -kInf)),
+                 {"strand uv: strand 1 v is -inf"});
   expectTfxError(writeFile(dir, "z3.tfx", patched(tfx3(2, 4, false).data, 296 + 12 * 5 + 8, kNaN)),
                  {"strand 1 vertex 1 z is nan"});
 }
@@ -708,17 +726,21 @@ TEST(StrandFileTressFx, RefusesHugeCountsQuickly) {
   const auto start = std::chrono::steady_clock::now();
   // 2^32 - 1 strands of 2^32 - 1 vertices: 2^68 bytes of positions, from a 300-byte file
   std::string data = patchedU32(patchedU32(tfx4(2, 4, false).data, 4, 0xFFFFFFFFu), 8, 0xFFFFFFFFu);
-  expectTfxError(writeFile(dir, "huge.tfx", data), {"truncated", "4294967295 strands of 4294967295 vertices"});
+  expectTfxError(writeFile(dir, "huge.tfx", data),
+                 {"truncated", "4294967295 strands of 4294967295 vertices"});
   data = patchedU32(patchedU32(tfx3(2, 4, false).data, 4, 0xFFFFFFFFu), 8, 64);
-  expectTfxError(writeFile(dir, "huge3.tfx", data), {"truncated", "4294967295 strands of 64 vertices"});
+  expectTfxError(writeFile(dir, "huge3.tfx", data),
+                 {"truncated", "4294967295 strands of 64 vertices"});
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 0.5);
 }
 
 TEST(StrandFileTressFx, RejectsUnknownVersionsAndTheTextLayout) {
   const std::string dir = test::scratchDir();
   const std::string v4 = tfx4(2, 4, false).data;
-  expectTfxError(writeFile(dir, "v2.tfx", patched(v4, 0, 2.0f)), {"version field is 2", "expected 3.x or 4.x"});
-  expectTfxError(writeFile(dir, "v5.tfx", patched(v4, 0, 5.0f)), {"version field is 5", "expected 3.x or 4.x"});
+  expectTfxError(writeFile(dir, "v2.tfx", patched(v4, 0, 2.0f)),
+                 {"version field is 2", "expected 3.x or 4.x"});
+  expectTfxError(writeFile(dir, "v5.tfx", patched(v4, 0, 5.0f)),
+                 {"version field is 5", "expected 3.x or 4.x"});
   expectTfxError(writeFile(dir, "vnan.tfx", patched(v4, 0, kNaN)), {"version field is nan"});
   expectTfxError(writeFile(dir, "text.tfx", "numStrands 2\nis sorted 1\n"),
                  {"\"numS\"", "text layout is not supported", "3.x and 4.x"});
@@ -728,10 +750,14 @@ TEST(StrandFileTressFx, RejectsEmptyShortStrandsAndOffsetsIntoTheHeader) {
   const std::string dir = test::scratchDir();
   const std::string v4 = tfx4(2, 4, true).data;
   expectTfxError(writeFile(dir, "zero.tfx", patchedU32(v4, 4, 0)), {"0 strands"});
-  expectTfxError(writeFile(dir, "one.tfx", patchedU32(v4, 8, 1)), {"1 vertices per strand", "at least 2"});
-  expectTfxError(writeFile(dir, "nopos.tfx", patchedU32(v4, 12, 0)), {"no offset for the vertex positions"});
-  expectTfxError(writeFile(dir, "inside.tfx", patchedU32(v4, 12, 8)), {"vertex positions", "inside the 160-byte header"});
-  expectTfxError(writeFile(dir, "uvinside.tfx", patchedU32(v4, 16, 4)), {"strand uv", "inside the 160-byte header"});
+  expectTfxError(writeFile(dir, "one.tfx", patchedU32(v4, 8, 1)),
+                 {"1 vertices per strand", "at least 2"});
+  expectTfxError(writeFile(dir, "nopos.tfx", patchedU32(v4, 12, 0)),
+                 {"no offset for the vertex positions"});
+  expectTfxError(writeFile(dir, "inside.tfx", patchedU32(v4, 12, 8)),
+                 {"vertex positions", "inside the 160-byte header"});
+  expectTfxError(writeFile(dir, "uvinside.tfx", patchedU32(v4, 16, 4)),
+                 {"strand uv", "inside the 160-byte header"});
 }
 
 TEST(StrandFileTressFx, RefusesMoreThanTheByteLimit) {
@@ -747,8 +773,8 @@ TEST(StrandFileTressFx, RefusesMoreThanTheByteLimit) {
 TEST(StrandFileLoad, TressFxTrailingBytesAndStrandUv) {
   const std::string dir = test::scratchDir();
   std::vector<std::string> warnings;
-  const StrandGroom g = loadStrandGroom(writeFile(dir, "extra.tfx", tfx4(3, 4, true).data + "xyzw"), kNoLimit,
-                                        nullptr, &warnings);
+  const StrandGroom g = loadStrandGroom(writeFile(dir, "extra.tfx", tfx4(3, 4, true).data + "xyzw"),
+                                        kNoLimit, nullptr, &warnings);
   EXPECT_EQ(g.pointCounts, std::vector<std::uint32_t>(3, 4));
   ASSERT_EQ(g.rootUv.size(), 3u);
   EXPECT_EQ(g.rootUv[1], glm::vec2(0.25f, 0.75f));
@@ -756,14 +782,18 @@ TEST(StrandFileLoad, TressFxTrailingBytesAndStrandUv) {
   EXPECT_NE(warnings[0].find("extra.tfx: 4 bytes after the end"), std::string::npos) << warnings[0];
 
   warnings.clear();
-  const std::string outside = patched(tfx4(3, 4, true).data, 160 + 16 * 12 + 8, 1.5f);  // strand 1 u
-  const StrandGroom o = loadStrandGroom(writeFile(dir, "outside.tfx", outside), kNoLimit, nullptr, &warnings);
+  const std::string outside =
+      patched(tfx4(3, 4, true).data, 160 + 16 * 12 + 8, 1.5f);  // strand 1 u
+  const StrandGroom o =
+      loadStrandGroom(writeFile(dir, "outside.tfx", outside), kNoLimit, nullptr, &warnings);
   EXPECT_TRUE(o.rootUv.empty());
   ASSERT_EQ(warnings.size(), 1u);
-  EXPECT_NE(warnings[0].find("strand 1 has uv (1.5, 0.75) outside [0, 1]"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("strand 1 has uv (1.5, 0.75) outside [0, 1]"), std::string::npos)
+      << warnings[0];
 
   warnings.clear();
-  loadStrandGroom(writeFile(dir, "exact.tfx", tfx4(3, 4, false).data), kNoLimit, nullptr, &warnings);
+  loadStrandGroom(writeFile(dir, "exact.tfx", tfx4(3, 4, false).data), kNoLimit, nullptr,
+                  &warnings);
   EXPECT_TRUE(warnings.empty());
 }
 

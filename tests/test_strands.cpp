@@ -49,8 +49,10 @@ Compared compareWithReference(Device& dev, const HairMesh& mesh) {
     EXPECT_EQ(C, fullDetailControlPoints(mesh));
     ReferenceStrand ref = referenceStrand(data, params, roots, b, local, C);
     for (std::uint32_t k = 0; k < C; ++k) {
-      glm::vec3 p(set.points[3 * (offset + k)], set.points[3 * (offset + k) + 1], set.points[3 * (offset + k) + 2]);
-      glm::vec3 t(set.tangents[3 * (offset + k)], set.tangents[3 * (offset + k) + 1], set.tangents[3 * (offset + k) + 2]);
+      glm::vec3 p(set.points[3 * (offset + k)], set.points[3 * (offset + k) + 1],
+                  set.points[3 * (offset + k) + 2]);
+      glm::vec3 t(set.tangents[3 * (offset + k)], set.tangents[3 * (offset + k) + 1],
+                  set.tangents[3 * (offset + k) + 2]);
       c.maxError = std::max(c.maxError, glm::length(p - ref.points[k]));
       c.maxTangentError = std::max(c.maxTangentError, glm::length(t - ref.tangents[k]));
     }
@@ -64,7 +66,8 @@ class StrandsVsReference : public ::testing::TestWithParam<std::string> {};
 TEST_P(StrandsVsReference, KernelMatchesCpuReference) {
   HairMesh mesh = makeGroomPreset(GetParam());
   // keep the run short: a few thousand strands still cover every bundle
-  mesh.strandCount = std::min<std::int64_t>(mesh.strandCount, 3 * static_cast<std::int64_t>(mesh.faces.size()) + 7);
+  mesh.strandCount = std::min<std::int64_t>(mesh.strandCount,
+                                            3 * static_cast<std::int64_t>(mesh.faces.size()) + 7);
   Compared c = compareWithReference(test::sharedDevice(), mesh);
   ASSERT_GT(c.strands, 0u);
   // issue #2: max position error < 1e-4 x groom size
@@ -114,10 +117,12 @@ TEST(Strands, EndTangentsFollowBhokareReflection) {
   std::size_t offset = 0;
   for (std::uint32_t n : set.pointCounts) {
     auto P = [&](std::size_t k) {
-      return glm::vec3(set.points[3 * (offset + k)], set.points[3 * (offset + k) + 1], set.points[3 * (offset + k) + 2]);
+      return glm::vec3(set.points[3 * (offset + k)], set.points[3 * (offset + k) + 1],
+                       set.points[3 * (offset + k) + 2]);
     };
     auto T = [&](std::size_t k) {
-      return glm::vec3(set.tangents[3 * (offset + k)], set.tangents[3 * (offset + k) + 1], set.tangents[3 * (offset + k) + 2]);
+      return glm::vec3(set.tangents[3 * (offset + k)], set.tangents[3 * (offset + k) + 1],
+                       set.tangents[3 * (offset + k) + 2]);
     };
     // Eq. 5: the tip tangent makes the same angle with the last segment as t_{n-1}
     glm::vec3 q = glm::normalize(P(n - 1) - P(n - 2));

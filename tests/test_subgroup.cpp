@@ -39,7 +39,8 @@ std::vector<cl_uint> runOn(Device& dev, SubgroupBackend b) {
   cl::Kernel k(d.programFor(b, "selftest.cl", ""), "selftest_subgroup");
   const std::size_t group = d.tuningFor(b).groupSize();
   std::vector<cl_uint> out(group * kWords, 0xDEADBEEFu);
-  cl::Buffer buf(d.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, out.size() * sizeof(cl_uint), out.data());
+  cl::Buffer buf(d.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, out.size() * sizeof(cl_uint),
+                 out.data());
   k.setArg(0, buf);
   d.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(group), cl::NDRange(group));
   d.queue.enqueueReadBuffer(buf, CL_TRUE, 0, out.size() * sizeof(cl_uint), out.data());
@@ -52,8 +53,8 @@ TEST_P(SubgroupBackends, ShufflesMatchCpuModel) {
   Device& dev = test::sharedDevice();
   const auto& cands = dev.info().candidates;
   if (std::find(cands.begin(), cands.end(), GetParam()) == cands.end())
-    GTEST_SKIP() << "backend " << subgroupBackendName(GetParam()) << " is not offered by " << dev.info().name
-                 << " (its kernels are compile-checked by CrossCompile tests)";
+    GTEST_SKIP() << "backend " << subgroupBackendName(GetParam()) << " is not offered by "
+                 << dev.info().name << " (its kernels are compile-checked by CrossCompile tests)";
   std::vector<cl_uint> got = runOn(dev, GetParam());
   const StrandTuning t = dev.impl()->tuningFor(GetParam());
   std::vector<cl_uint> want = model(static_cast<int>(t.lanes), static_cast<int>(t.strandsPerGroup));
@@ -65,16 +66,21 @@ TEST_P(SubgroupBackends, ShufflesMatchCpuModel) {
 }
 
 INSTANTIATE_TEST_SUITE_P(All, SubgroupBackends,
-                         ::testing::Values(SubgroupBackend::Local, SubgroupBackend::Khr, SubgroupBackend::Intel,
-                                           SubgroupBackend::NvPtx, SubgroupBackend::Amd, SubgroupBackend::Single),
-                         [](const auto& info) { return std::string(subgroupBackendName(info.param)); });
+                         ::testing::Values(SubgroupBackend::Local, SubgroupBackend::Khr,
+                                           SubgroupBackend::Intel, SubgroupBackend::NvPtx,
+                                           SubgroupBackend::Amd, SubgroupBackend::Single),
+                         [](const auto& info) {
+                           return std::string(subgroupBackendName(info.param));
+                         });
 
 TEST(Subgroup, ForcedBackendThatFailsIsRefused) {
   DeviceOptions o;
   o.subgroup = "nvptx";  // inline PTX cannot build on a CPU device
   Device& shared = test::sharedDevice();
-  if (shared.info().vendor.find("NVIDIA") != std::string::npos) GTEST_SKIP() << "NVIDIA device: nvptx is valid";
-  o.selector = std::to_string(shared.info().platformIndex) + ":" + std::to_string(shared.info().deviceIndex);
+  if (shared.info().vendor.find("NVIDIA") != std::string::npos)
+    GTEST_SKIP() << "NVIDIA device: nvptx is valid";
+  o.selector =
+      std::to_string(shared.info().platformIndex) + ":" + std::to_string(shared.info().deviceIndex);
   try {
     Device::open(o);
     FAIL() << "forcing nvptx on " << shared.info().name << " should fail its self-test";

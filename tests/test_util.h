@@ -31,7 +31,8 @@ inline std::string scratchDir() {
   std::string name = info ? std::string(info->test_suite_name()) + "." + info->name() : "misc";
   for (char& c : name)
     if (c == '/') c = '_';
-  std::filesystem::path p = std::filesystem::path(envOr("CLHAIR_TEST_OUTPUT", CLHAIR_TEST_OUTPUT_DIR)) / name;
+  std::filesystem::path p =
+      std::filesystem::path(envOr("CLHAIR_TEST_OUTPUT", CLHAIR_TEST_OUTPUT_DIR)) / name;
   std::filesystem::remove_all(p);
   std::filesystem::create_directories(p);
   return p.string();
@@ -42,7 +43,8 @@ inline std::string scratchDir() {
 inline void usePoclCacheInBuild() {
   if (!std::getenv("POCL_CACHE_DIR")) ::setenv("POCL_CACHE_DIR", CLHAIR_TEST_POCL_CACHE, 0);
   if (!std::getenv("CLHAIR_CACHE_DIR"))
-    ::setenv("CLHAIR_CACHE_DIR", (std::string(CLHAIR_TEST_POCL_CACHE) + "/../clhair-cache").c_str(), 0);
+    ::setenv("CLHAIR_CACHE_DIR", (std::string(CLHAIR_TEST_POCL_CACHE) + "/../clhair-cache").c_str(),
+             0);
 }
 
 // The default device of this process, opened once (kernel warnings are errors in tests).
@@ -67,7 +69,8 @@ struct CommandResult {
 inline std::string onlyErrorLine(const std::string& output) {
   const std::string tag = "clhair: error:";
   std::size_t count = 0;
-  for (std::size_t at = output.find(tag); at != std::string::npos; at = output.find(tag, at + 1)) ++count;
+  for (std::size_t at = output.find(tag); at != std::string::npos; at = output.find(tag, at + 1))
+    ++count;
   if (count != 1) {
     ADD_FAILURE() << "expected exactly one \"" << tag << "\" line, found " << count;
     return {};
@@ -93,6 +96,8 @@ inline CommandResult runCommand(const std::string& cmd) {
 
 inline std::string quote(const std::string& s) { return "'" + s + "'"; }
 
-inline CommandResult runCli(const std::string& args) { return runCommand(quote(cliPath()) + " " + args); }
+inline CommandResult runCli(const std::string& args) {
+  return runCommand(quote(cliPath()) + " " + args);
+}
 
 }  // namespace clhair::test

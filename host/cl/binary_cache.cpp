@@ -42,8 +42,9 @@ BinaryCache::BinaryCache(std::string folder) {
   folder_ = folder == "off" ? std::string() : folder;
 }
 
-std::string BinaryCache::key(const std::string& platform, const std::string& device, const std::string& driver,
-                             const std::string& options, const std::string& source) {
+std::string BinaryCache::key(const std::string& platform, const std::string& device,
+                             const std::string& driver, const std::string& options,
+                             const std::string& source) {
   std::string all;
   for (const std::string* s : {&platform, &device, &driver, &options, &source}) {
     all += std::to_string(s->size());
@@ -61,7 +62,8 @@ std::optional<std::vector<unsigned char>> BinaryCache::load(const std::string& k
   if (!enabled()) return std::nullopt;
   std::ifstream in(fs::path(folder_) / key, std::ios::binary);
   if (!in) return std::nullopt;
-  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
+                                   std::istreambuf_iterator<char>());
   if (bytes.empty()) return std::nullopt;
   return bytes;
 }
@@ -76,7 +78,8 @@ void BinaryCache::store(const std::string& key, const std::vector<unsigned char>
   {
     std::ofstream out(tmp, std::ios::binary);
     if (!out) return;
-    out.write(reinterpret_cast<const char*>(binary.data()), static_cast<std::streamsize>(binary.size()));
+    out.write(reinterpret_cast<const char*>(binary.data()),
+              static_cast<std::streamsize>(binary.size()));
     if (!out) {
       out.close();
       fs::remove(tmp, ec);

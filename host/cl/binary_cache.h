@@ -26,8 +26,9 @@ class BinaryCache {
   bool enabled() const { return !folder_.empty(); }
   const std::string& folder() const { return folder_; }
   // The entry's file name for a program (hex digest of every input).
-  static std::string key(const std::string& platform, const std::string& device, const std::string& driver,
-                         const std::string& options, const std::string& source);
+  static std::string key(const std::string& platform, const std::string& device,
+                         const std::string& driver, const std::string& options,
+                         const std::string& source);
   std::optional<std::vector<unsigned char>> load(const std::string& key) const;
   // False for platforms whose builds depend on more than the key holds.
   static bool cacheablePlatform(const std::string& platformName);

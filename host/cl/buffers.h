@@ -15,11 +15,13 @@ namespace clhair {
 
 // A read-write buffer of `count` T (at least one element), filled from `data` when given.
 template <typename T>
-cl::Buffer makeBuffer(Device::Impl& dev, const std::string& what, std::size_t count, const T* data = nullptr) {
+cl::Buffer makeBuffer(Device::Impl& dev, const std::string& what, std::size_t count,
+                      const T* data = nullptr) {
   const std::size_t bytes = std::max<std::size_t>(count, 1) * sizeof(T);
   if (bytes > dev.info.maxAlloc)
-    throw Error(what + " needs " + std::to_string(bytes >> 20) + " MiB in one buffer but " + dev.info.name +
-                " allows at most " + std::to_string(dev.info.maxAlloc >> 20) + " MiB");
+    throw Error(what + " needs " + std::to_string(bytes >> 20) + " MiB in one buffer but " +
+                dev.info.name + " allows at most " + std::to_string(dev.info.maxAlloc >> 20) +
+                " MiB");
   return clCall("allocating " + what, [&] {
     cl::Buffer b(dev.context, CL_MEM_READ_WRITE, bytes);
     if (data && count > 0) dev.queue.enqueueWriteBuffer(b, CL_TRUE, 0, count * sizeof(T), data);
@@ -39,8 +41,8 @@ void upload(Device::Impl& dev, const cl::Buffer& buffer, const T* data, std::siz
 
 // Blocking read of `count` T starting at element `first`.
 template <typename T>
-void readBack(Device::Impl& dev, const std::string& what, const cl::Buffer& buffer, T* out, std::size_t count,
-              std::size_t first = 0) {
+void readBack(Device::Impl& dev, const std::string& what, const cl::Buffer& buffer, T* out,
+              std::size_t count, std::size_t first = 0) {
   if (count == 0) return;
   clCall("reading " + what, [&] {
     dev.queue.enqueueReadBuffer(buffer, CL_TRUE, first * sizeof(T), count * sizeof(T), out);
@@ -51,8 +53,8 @@ void readBack(Device::Impl& dev, const std::string& what, const cl::Buffer& buff
 // A buffer of at least `count` T, reallocated only when the current one is too small
 // (buffers that follow the scene's size from frame to frame).
 template <typename T>
-void ensureCapacity(Device::Impl& dev, cl::Buffer& buffer, std::size_t& capacity, const std::string& what,
-                    std::size_t count) {
+void ensureCapacity(Device::Impl& dev, cl::Buffer& buffer, std::size_t& capacity,
+                    const std::string& what, std::size_t count) {
   count = std::max<std::size_t>(count, 1);
   if (buffer() && capacity >= count) return;
   buffer = makeBuffer<T>(dev, what, count);

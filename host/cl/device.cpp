@@ -149,7 +149,8 @@ DeviceOptions DeviceOptions::fromEnvironment(DeviceOptions given) {
       char* end = nullptr;
       unsigned long v = std::strtoul(spg.c_str(), &end, 10);
       if (end == spg.c_str() || *end != '\0' || v == 0 || v > 256)
-        throw Error("CLHAIR_STRANDS_PER_GROUP=\"" + spg + "\": expected a whole number from 1 to 256");
+        throw Error("CLHAIR_STRANDS_PER_GROUP=\"" + spg +
+                    "\": expected a whole number from 1 to 256");
       given.strandsPerGroup = static_cast<std::uint32_t>(v);
     }
   }
@@ -185,13 +186,13 @@ Device Device::open(const DeviceOptions& options) {
         if (f.info.platformIndex == p && f.info.deviceIndex == d) chosen = &f;
     } else {
       for (const Found& f : all)
-        if (!chosen && (lower(f.info.name + " " + f.info.platformName).find(lower(sel)) !=
-                        std::string::npos))
+        if (!chosen &&
+            (lower(f.info.name + " " + f.info.platformName).find(lower(sel)) != std::string::npos))
           chosen = &f;
     }
     if (!chosen)
-      throw Error("no OpenCL device matches \"" + sel + "\"; devices on this machine:" +
-                  describeList(all));
+      throw Error("no OpenCL device matches \"" + sel +
+                  "\"; devices on this machine:" + describeList(all));
   }
   if (!chosen->info.int64Atomics)
     throw Error("device \"" + chosen->info.name + "\" (" + chosen->info.platformName +
@@ -205,7 +206,8 @@ Device Device::open(const DeviceOptions& options) {
   impl->sources = KernelSources(options.kernelDir);
   impl->kernelWarningsAsErrors = options.kernelWarningsAsErrors;
   impl->strandsPerGroupOverride = options.strandsPerGroup;
-  impl->binaries = BinaryCache(BinaryCache::cacheablePlatform(impl->info.platformName) ? options.cacheDir : "off");
+  impl->binaries = BinaryCache(
+      BinaryCache::cacheablePlatform(impl->info.platformName) ? options.cacheDir : "off");
   const char* dbg = std::getenv("CLHAIR_DEBUG_SYNC");
   impl->debugFinish = dbg && std::string(dbg) == "1";
   clCall("creating the OpenCL context on " + impl->info.name, [&] {
@@ -316,7 +318,8 @@ std::string Device::Impl::buildOptions(SubgroupBackend backend, const std::strin
       break;
   }
   const StrandTuning t = tuningFor(backend);
-  opts += " -DSG_SIZE=" + std::to_string(t.lanes) + " -DSG_STRANDS=" + std::to_string(t.strandsPerGroup);
+  opts += " -DSG_SIZE=" + std::to_string(t.lanes) +
+          " -DSG_STRANDS=" + std::to_string(t.strandsPerGroup);
   opts += " -DSG_BACKEND=" + std::to_string(static_cast<int>(backend));
   if ((backend == SubgroupBackend::Intel || backend == SubgroupBackend::Khr) &&
       hasExtension(ext, "cl_intel_required_subgroup_size"))
@@ -355,7 +358,8 @@ cl::Program Device::Impl::programFor(SubgroupBackend backend, const std::string&
     if (it != programs_.end()) return it->second;
   }
   std::string text = sources.program(file);
-  const std::string cacheKey = BinaryCache::key(info.platformName, info.name, info.driverVersion, options, text);
+  const std::string cacheKey =
+      BinaryCache::key(info.platformName, info.name, info.driverVersion, options, text);
   if (auto binary = binaries.load(cacheKey)) {
     try {  // a binary the driver does not take back is rebuilt from source below
       cl::Program cached(context, {device}, cl::Program::Binaries{*binary});
@@ -375,8 +379,8 @@ cl::Program Device::Impl::programFor(SubgroupBackend backend, const std::string&
       log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device);
     } catch (const cl::Error&) {
     }
-    throw Error("building " + file + " for " + info.name + " failed with " +
-                clErrorName(e.err()) + " (options: " + options + ")\n--- build log ---\n" + log);
+    throw Error("building " + file + " for " + info.name + " failed with " + clErrorName(e.err()) +
+                " (options: " + options + ")\n--- build log ---\n" + log);
   }
   try {
     const std::vector<std::vector<unsigned char>> bins = program.getInfo<CL_PROGRAM_BINARIES>();
@@ -395,7 +399,8 @@ cl::Program Device::Impl::program(const std::string& file, const std::string& ex
 cl::Kernel Device::Impl::kernel(const std::string& file, const std::string& name,
                                 const std::string& extraOptions) {
   cl::Program p = program(file, extraOptions);
-  return clCall("creating kernel " + name + " from " + file, [&] { return cl::Kernel(p, name.c_str()); });
+  return clCall("creating kernel " + name + " from " + file,
+                [&] { return cl::Kernel(p, name.c_str()); });
 }
 
 }  // namespace clhair

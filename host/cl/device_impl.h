@@ -26,9 +26,9 @@ struct Device::Impl {
   DeviceInfo info;
   KernelSources sources;
   bool kernelWarningsAsErrors = false;
-  bool debugFinish = false;  // finish() after every dispatch (CLHAIR_DEBUG_SYNC=1)
+  bool debugFinish = false;                   // finish() after every dispatch (CLHAIR_DEBUG_SYNC=1)
   std::uint32_t strandsPerGroupOverride = 0;  // DeviceOptions::strandsPerGroup
-  BinaryCache binaries;                        // compiled programs between runs
+  BinaryCache binaries;                       // compiled programs between runs
 
   // The strand kernels' launch shape for `backend` (host/cl/tuning.h).
   StrandTuning tuningFor(SubgroupBackend backend) const;

@@ -62,24 +62,28 @@ std::vector<StageTime> Profiler::collect() {
 
 std::uint64_t bufferBytes(const cl::Buffer& b) {
   if (!b()) return 0;
-  return clCall("reading a buffer size", [&] { return static_cast<std::uint64_t>(b.getInfo<CL_MEM_SIZE>()); });
+  return clCall("reading a buffer size",
+                [&] { return static_cast<std::uint64_t>(b.getInfo<CL_MEM_SIZE>()); });
 }
 
-KernelArgs::KernelArgs(cl::Kernel& kernel, std::string stage) : kernel_(kernel), stage_(std::move(stage)) {
+KernelArgs::KernelArgs(cl::Kernel& kernel, std::string stage)
+    : kernel_(kernel), stage_(std::move(stage)) {
   kernelName_ = clCall(stage_, [&] { return kernel_.getInfo<CL_KERNEL_FUNCTION_NAME>(); });
   // some drivers count the terminating zero in the name's length
   while (!kernelName_.empty() && kernelName_.back() == '\0') kernelName_.pop_back();
 }
 
 void KernelArgs::fail(const char* name, const std::string& why) const {
-  throw Error(stage_ + ": kernel " + kernelName_ + " argument " + std::to_string(index_) + " (" + name + "): " + why);
+  throw Error(stage_ + ": kernel " + kernelName_ + " argument " + std::to_string(index_) + " (" +
+              name + "): " + why);
 }
 
 KernelArgs& KernelArgs::buffer(const char* name, const cl::Buffer& b, std::uint64_t minBytes) {
   if (!b()) fail(name, "no buffer");
   const std::uint64_t bytes = bufferBytes(b);
   if (bytes < minBytes)
-    fail(name, "the buffer holds " + std::to_string(bytes) + " bytes, the launch needs " + std::to_string(minBytes));
+    fail(name, "the buffer holds " + std::to_string(bytes) + " bytes, the launch needs " +
+                   std::to_string(minBytes));
   set(name, [&] { kernel_.setArg(index_, b); });
   return *this;
 }
@@ -91,9 +95,8 @@ std::size_t roundUp(std::size_t n, std::size_t multiple) {
 cl::Event dispatch(Device::Impl& dev, cl::Kernel& kernel, const std::string& stage,
                    cl::NDRange global, cl::NDRange local, Profiler* profiler) {
   std::string name = clCall(stage, [&] { return kernel.getInfo<CL_KERNEL_FUNCTION_NAME>(); });
-  std::size_t wgLimit = clCall(stage, [&] {
-    return kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(dev.device);
-  });
+  std::size_t wgLimit =
+      clCall(stage, [&] { return kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(dev.device); });
   std::size_t localTotal = 1;
   for (cl::size_type d = 0; d < local.dimensions(); ++d) localTotal *= local.get()[d];
   if (localTotal > wgLimit)
@@ -118,10 +121,13 @@ cl::Event dispatch(Device::Impl& dev, cl::Kernel& kernel, const std::string& sta
     dev.queue.enqueueNDRangeKernel(kernel, cl::NullRange, rounded, local, nullptr, &event);
     return 0;
   });
-  if (dev.debugFinish || timed) clCall(stage + ": finish after " + name, [&] { return dev.queue.finish(); });
+  if (dev.debugFinish || timed)
+    clCall(stage + ": finish after " + name, [&] { return dev.queue.finish(); });
   if (timed)
-    profiler->addHost(stage, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(),
-                      processCpuMs() - c0);
+    profiler->addHost(
+        stage,
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(),
+        processCpuMs() - c0);
   if (profiler) profiler->add(stage, event);
   return event;
 }
@@ -133,7 +139,8 @@ void dispatchStrands(Device::Impl& dev, cl::Kernel& kernel, const std::string& s
     const std::uint32_t count = std::min(kMaxStrandsPerDispatch, strands - base);
     const std::size_t groups = (count + t.strandsPerGroup - 1) / t.strandsPerGroup;
     clCall(stage + ": setting the first strand", [&] { return kernel.setArg(baseArg, base); });
-    dispatch(dev, kernel, stage, cl::NDRange(groups * t.groupSize()), cl::NDRange(t.groupSize()), profiler);
+    dispatch(dev, kernel, stage, cl::NDRange(groups * t.groupSize()), cl::NDRange(t.groupSize()),
+             profiler);
   }
 }
 
@@ -142,10 +149,11 @@ void dispatchStrandsPersistent(Device::Impl& dev, cl::Kernel& kernel, const std:
   if (strands == 0) return;
   const StrandTuning t = dev.tuning();
   const std::uint32_t needed = (strands + t.strandsPerGroup - 1) / t.strandsPerGroup;
-  const std::uint32_t groups = std::min<std::uint32_t>(needed, std::max<std::uint32_t>(1, dev.info.computeUnits) * 16);
+  const std::uint32_t groups =
+      std::min<std::uint32_t>(needed, std::max<std::uint32_t>(1, dev.info.computeUnits) * 16);
   clCall(stage + ": setting the grid size", [&] { return kernel.setArg(groupsArg, groups); });
-  dispatch(dev, kernel, stage, cl::NDRange(std::size_t(groups) * t.groupSize()), cl::NDRange(t.groupSize()),
-           profiler);
+  dispatch(dev, kernel, stage, cl::NDRange(std::size_t(groups) * t.groupSize()),
+           cl::NDRange(t.groupSize()), profiler);
 }
 
 }  // namespace clhair

@@ -18,7 +18,9 @@ std::string KernelSources::read(const std::string& name) const {
     if (overrideDir_.empty()) return std::string(f.data, f.size);
     std::string path = overrideDir_ + "/" + f.path;
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error("kernel override: cannot read " + path + " (CLHAIR_KERNEL_DIR=" + overrideDir_ + ")");
+    if (!in)
+      throw Error("kernel override: cannot read " + path + " (CLHAIR_KERNEL_DIR=" + overrideDir_ +
+                  ")");
     std::ostringstream ss;
     ss << in.rdbuf();
     return ss.str();

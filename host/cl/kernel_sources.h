@@ -14,7 +14,8 @@
 namespace clhair {
 
 struct EmbeddedFile {
-  const char* name;  // logical name used by #include: "strands.cl", "subgroup.h", "clhair/gpu_types.h"
+  const char*
+      name;  // logical name used by #include: "strands.cl", "subgroup.h", "clhair/gpu_types.h"
   const char* path;  // path relative to the source tree
   const char* data;
   std::size_t size;

@@ -23,6 +23,7 @@ struct StrandTuning {
 
 // The launch shape for `backend` on the device `info` describes; `override` > 0 replaces
 // the table's strands per group (single-lane backend only; others keep one strand).
-StrandTuning strandTuning(const DeviceInfo& info, SubgroupBackend backend, std::uint32_t override = 0);
+StrandTuning strandTuning(const DeviceInfo& info, SubgroupBackend backend,
+                          std::uint32_t override = 0);
 
 }  // namespace clhair

@@ -11,9 +11,9 @@
 // (--subgroup, CLHAIR_SUBGROUP) or read kernels from a source tree (--kernel-dir,
 // CLHAIR_KERNEL_DIR). Any failure prints one line "clhair: error: ..." and exits 1;
 // output files are only written when the work completed.
+#include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -60,8 +60,10 @@ int cmdDevices(const DeviceOptions& opts) {
               << "    vendor          " << d.vendor << "\n"
               << "    OpenCL          " << d.version << " / " << d.clcVersion << "\n"
               << "    driver          " << d.driverVersion << "\n"
-              << "    type            " << (d.isGpu ? "GPU" : "not GPU") << ", " << d.computeUnits << " compute units\n"
-              << "    64-bit atomics  " << (d.int64Atomics ? "yes" : "no (clhair cannot use this device)") << "\n"
+              << "    type            " << (d.isGpu ? "GPU" : "not GPU") << ", " << d.computeUnits
+              << " compute units\n"
+              << "    64-bit atomics  "
+              << (d.int64Atomics ? "yes" : "no (clhair cannot use this device)") << "\n"
               << "    max allocation  " << mib(d.maxAlloc) << " of " << mib(d.globalMem) << "\n";
     std::string backend = "-";
     if (d.int64Atomics) {
@@ -69,14 +71,16 @@ int cmdDevices(const DeviceOptions& opts) {
         DeviceOptions o = opts;
         o.selector = std::to_string(d.platformIndex) + ":" + std::to_string(d.deviceIndex);
         Device dev = Device::open(o);
-        backend = std::string(subgroupBackendName(dev.info().backend)) + " (" + dev.info().backendNote + ")";
+        backend = std::string(subgroupBackendName(dev.info().backend)) + " (" +
+                  dev.info().backendNote + ")";
       } catch (const Error& e) {
         std::string msg = e.what();
         backend = "unavailable: " + msg.substr(0, msg.find('\n'));
       }
     }
     std::string cands;
-    for (SubgroupBackend b : d.candidates) cands += std::string(cands.empty() ? "" : ", ") + subgroupBackendName(b);
+    for (SubgroupBackend b : d.candidates)
+      cands += std::string(cands.empty() ? "" : ", ") + subgroupBackendName(b);
     std::cout << "    sub-group       " << backend << "; candidates: " << cands << "\n";
   }
   return 0;
@@ -100,7 +104,8 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
   // the device first: strand files are checked against its largest allocation as they load
   Device dev = Device::open(opts);
   Scene scene = loadScene(scenePath, dev.info().maxAlloc);
-  for (const std::string& w : scene.warnings) std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
+  for (const std::string& w : scene.warnings)
+    std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
   if (f.widthGiven || f.heightGiven) {
     int w = f.widthGiven ? width : scene.width, h = f.heightGiven ? height : scene.height;
     if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
@@ -111,7 +116,8 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
   }
   // the scene's viewing angle is kept: the preset changes only the distance and framing
   if (!camera.empty()) scene.camera = reframeCamera(scene, parseCameraPreset(camera));
-  for (const std::string& w : viewWarnings(scene, scenePath)) std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
+  for (const std::string& w : viewWarnings(scene, scenePath))
+    std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
   RenderOptions ro;
   if (lod == "on")
     ro.lod = 1;
@@ -137,13 +143,15 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
   Frame frame = f.reference ? renderer.renderReference(scene, f.spp) : renderer.render(scene, ro);
   writeImage(frame.color, out);
   if (!quiet) {
-    std::printf("%s: %dx%d on %s (sub-group %s), %llu strands", out.c_str(), scene.width, scene.height,
-                dev.info().name.c_str(), subgroupBackendName(dev.info().backend),
+    std::printf("%s: %dx%d on %s (sub-group %s), %llu strands", out.c_str(), scene.width,
+                scene.height, dev.info().name.c_str(), subgroupBackendName(dev.info().backend),
                 static_cast<unsigned long long>(frame.stats.strandsDrawn));
     if (frame.stats.shadowStrandsDrawn > 0)
-      std::printf(" (%llu into shadow maps)", static_cast<unsigned long long>(frame.stats.shadowStrandsDrawn));
+      std::printf(" (%llu into shadow maps)",
+                  static_cast<unsigned long long>(frame.stats.shadowStrandsDrawn));
     std::printf("\n");
-    for (const StageTime& t : frame.timings) std::printf("  %-10s %9.2f ms\n", t.stage.c_str(), t.ms);
+    for (const StageTime& t : frame.timings)
+      std::printf("  %-10s %9.2f ms\n", t.stage.c_str(), t.ms);
     std::printf("  %-10s %9.2f ms\n", "total", frame.totalMs());
   }
   return 0;
@@ -154,7 +162,8 @@ int cmdGroom(const std::string& preset, const std::string& out, long long strand
   if (strands >= 0) m.strandCount = strands;
   saveHairMesh(m, out);
   std::printf("%s: %s, %d bundles, %d layers, %lld strands\n", out.c_str(), m.name.c_str(),
-              static_cast<int>(m.faces.size()), m.layerCount, static_cast<long long>(m.strandCount));
+              static_cast<int>(m.faces.size()), m.layerCount,
+              static_cast<long long>(m.strandCount));
   return 0;
 }
 
@@ -184,7 +193,8 @@ int cmdExport(const DeviceOptions& opts, const std::string& groomPath, const std
   h.points = s.points;
   h.colors.reserve(s.points.size());
   for (float w : s.w) {
-    glm::vec3 c = mesh.appearance.rootColor + (mesh.appearance.tipColor - mesh.appearance.rootColor) * w;
+    glm::vec3 c =
+        mesh.appearance.rootColor + (mesh.appearance.tipColor - mesh.appearance.rootColor) * w;
     h.colors.insert(h.colors.end(), {c.x, c.y, c.z});
   }
   h.defaultThickness = mesh.appearance.strandWidth;
@@ -197,14 +207,16 @@ int cmdExport(const DeviceOptions& opts, const std::string& groomPath, const std
     const std::uint32_t n = tressFxVertexCount(h);
     t.hair = resampleStrands(h, n);
     writeTressFx(t, out);
-    std::printf("%s: %zu strands, resampled to %u points each (TressFX 4.0)\n", out.c_str(), s.pointCounts.size(), n);
+    std::printf("%s: %zu strands, resampled to %u points each (TressFX 4.0)\n", out.c_str(),
+                s.pointCounts.size(), n);
     return 0;
   }
   if (ext == ".data")
     writeUscHair(h, out);  // points only: the format has no colour or thickness
   else
     writeCyHair(h, out);
-  std::printf("%s: %zu strands, %zu points\n", out.c_str(), s.pointCounts.size(), s.points.size() / 3);
+  std::printf("%s: %zu strands, %zu points\n", out.c_str(), s.pointCounts.size(),
+              s.points.size() / 3);
   return 0;
 }
 
@@ -238,11 +250,16 @@ int cmdCompare(const std::string& pathA, const std::string& pathB, const Compare
   const bool identical = std::isinf(c.psnr.psnrDb);
   if (f.json) {
     // JSON has no infinity: identical images report "psnr_db": null.
-    nlohmann::json j = {{"reference", pathA}, {"test", pathB},
-                        {"width", a.width},   {"height", a.height},
-                        {"psnr_db", nullptr}, {"rmse", c.psnr.rmse},
-                        {"mse", c.psnr.mse},  {"flip_mean", c.flip.mean},
-                        {"ppd", f.ppd},       {"error_map", nullptr},
+    nlohmann::json j = {{"reference", pathA},
+                        {"test", pathB},
+                        {"width", a.width},
+                        {"height", a.height},
+                        {"psnr_db", nullptr},
+                        {"rmse", c.psnr.rmse},
+                        {"mse", c.psnr.mse},
+                        {"flip_mean", c.flip.mean},
+                        {"ppd", f.ppd},
+                        {"error_map", nullptr},
                         {"within_one_code", c.withinOneCode}};
     if (!identical) j["psnr_db"] = c.psnr.psnrDb;
     if (!f.errorMap.empty()) j["error_map"] = f.errorMap;
@@ -256,7 +273,8 @@ int cmdCompare(const std::string& pathA, const std::string& pathB, const Compare
     std::printf("  PSNR  %.4f dB   (sRGB R, G, B; peak 1)\n", c.psnr.psnrDb);
   std::printf("  RMSE  %.6f     (sRGB R, G, B in [0, 1])\n", c.psnr.rmse);
   std::printf("  FLIP  %.6f     (mean LDR-FLIP, %g pixels per degree)\n", c.flip.mean, f.ppd);
-  std::printf("  within 1/255  %.4f %% of pixels (largest sRGB channel difference)\n", 100.0 * c.withinOneCode);
+  std::printf("  within 1/255  %.4f %% of pixels (largest sRGB channel difference)\n",
+              100.0 * c.withinOneCode);
   if (!f.errorMap.empty()) std::printf("  error map  %s\n", f.errorMap.c_str());
   return 0;
 }
@@ -267,9 +285,13 @@ int main(int argc, char** argv) {
   CLI::App app{"clhair: real-time strand hair rendering on OpenCL"};
   app.require_subcommand(1);
   DeviceOptions opts;
-  app.add_option("--device", opts.selector, "device: P:D indices or a name substring (env CLHAIR_DEVICE)");
-  app.add_option("--subgroup", opts.subgroup, "force a sub-group backend: single, local, khr, intel, nvptx, amd (env CLHAIR_SUBGROUP)");
-  app.add_option("--kernel-dir", opts.kernelDir, "read kernels from this source tree (env CLHAIR_KERNEL_DIR)");
+  app.add_option("--device", opts.selector,
+                 "device: P:D indices or a name substring (env CLHAIR_DEVICE)");
+  app.add_option(
+      "--subgroup", opts.subgroup,
+      "force a sub-group backend: single, local, khr, intel, nvptx, amd (env CLHAIR_SUBGROUP)");
+  app.add_option("--kernel-dir", opts.kernelDir,
+                 "read kernels from this source tree (env CLHAIR_KERNEL_DIR)");
 
   auto* devices = app.add_subcommand("devices", "list OpenCL devices and their capabilities");
 
@@ -283,10 +305,13 @@ int main(int argc, char** argv) {
   render->add_option("--camera", rf.camera, "frame the grooms with a preset: close, mid, far");
   render->add_option("--lod", rf.lod, "LOD: on, off, or auto (as each groom says)");
   render->add_option("--msaa", rf.msaa, "software MSAA samples per pixel: 1, 2, 4, 8");
-  render->add_option("--dispatch", rf.dispatch, "strand dispatch sizing: auto, readback, overlaunch, persistent");
+  render->add_option("--dispatch", rf.dispatch,
+                     "strand dispatch sizing: auto, readback, overlaunch, persistent");
   render->add_option("--ao", rf.ao, "baked ambient occlusion: on (default) or off");
-  render->add_option("--filter", rf.filter, "reconstruction filter with MSAA 1: on, off, auto (as the scene says)");
-  render->add_flag("--reference", rf.reference, "render the ground truth: the average of --spp jittered true-width passes");
+  render->add_option("--filter", rf.filter,
+                     "reconstruction filter with MSAA 1: on, off, auto (as the scene says)");
+  render->add_flag("--reference", rf.reference,
+                   "render the ground truth: the average of --spp jittered true-width passes");
   render->add_option("--spp", rf.spp, "samples per pixel of --reference (default 256)");
   render->add_flag("-q,--quiet", rf.quiet, "print nothing on success");
 
@@ -300,12 +325,13 @@ int main(int argc, char** argv) {
   auto* bakeCmd = app.add_subcommand("bake-ao", "bake ambient occlusion into a hair-mesh file");
   std::string bakeIn, bakeOut;
   bakeCmd->add_option("groom", bakeIn, "hair-mesh file")->required();
-  bakeCmd->add_option("-o,--output", bakeOut, "output hair-mesh file with per-vertex AO")->required();
+  bakeCmd->add_option("-o,--output", bakeOut, "output hair-mesh file with per-vertex AO")
+      ->required();
 
-  auto* exportCmd = app.add_subcommand(
-      "export-strands",
-      "write the generated strands as a cyHair .hair file (USC-HairSalon when the name ends in .data, "
-      "TressFX 4.0 for .tfx)");
+  auto* exportCmd = app.add_subcommand("export-strands",
+                                       "write the generated strands as a cyHair .hair file "
+                                       "(USC-HairSalon when the name ends in .data, "
+                                       "TressFX 4.0 for .tfx)");
   std::string groomPath, hairOut;
   exportCmd->add_option("groom", groomPath, "hair-mesh file")->required();
   exportCmd->add_option("-o,--output", hairOut, "output .hair, .data or .tfx file")->required();
@@ -344,7 +370,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "clhair: error: %s\n", e.what());
     return 1;
   } catch (const cl::Error& e) {
-    std::fprintf(stderr, "clhair: error: OpenCL call %s failed with %s (%d)\n", e.what(), clErrorName(e.err()), e.err());
+    std::fprintf(stderr, "clhair: error: OpenCL call %s failed with %s (%d)\n", e.what(),
+                 clErrorName(e.err()), e.err());
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "clhair: error: %s\n", e.what());

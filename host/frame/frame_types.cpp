@@ -1,7 +1,7 @@
 // frame_types.cpp — names of the dispatch modes and the sums of a frame's stage times
 // (include/clhair/frame_types.h, include/clhair/renderer.h).
-#include "clhair/error.h"
 #include "clhair/frame_types.h"
+#include "clhair/error.h"
 #include "clhair/renderer.h"
 
 namespace clhair {
@@ -21,9 +21,11 @@ const char* dispatchModeName(DispatchMode m) {
 }
 
 DispatchMode parseDispatchMode(const std::string& name) {
-  for (DispatchMode m : {DispatchMode::Auto, DispatchMode::ReadBack, DispatchMode::OverLaunch, DispatchMode::Persistent})
+  for (DispatchMode m : {DispatchMode::Auto, DispatchMode::ReadBack, DispatchMode::OverLaunch,
+                         DispatchMode::Persistent})
     if (name == dispatchModeName(m)) return m;
-  throw Error("unknown dispatch mode \"" + name + "\"; expected auto, readback, overlaunch or persistent");
+  throw Error("unknown dispatch mode \"" + name +
+              "\"; expected auto, readback, overlaunch or persistent");
 }
 
 double Frame::stageMs(const std::string& stage) const {

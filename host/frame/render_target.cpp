@@ -27,15 +27,17 @@ void RenderTarget::ensure(int w, int h, int msaa) {
     layers_ = 0;
   }
   if (layers_ != msaa + 1)
-    gbuffer = makeBuffer<cl_ulong>(dev_, "the " + res + " G-buffer with " + std::to_string(msaa + 1) + " layers",
-                                   n * static_cast<std::size_t>(msaa + 1));
+    gbuffer = makeBuffer<cl_ulong>(
+        dev_, "the " + res + " G-buffer with " + std::to_string(msaa + 1) + " layers",
+        n * static_cast<std::size_t>(msaa + 1));
   width_ = w;
   height_ = h;
   layers_ = msaa + 1;
 }
 
 void RenderTarget::clearGBuffer(Profiler* profiler) {
-  clear_.words(gbuffer, pixels() * static_cast<std::size_t>(layers_), ~std::uint64_t(0), "clear", profiler);
+  clear_.words(gbuffer, pixels() * static_cast<std::size_t>(layers_), ~std::uint64_t(0), "clear",
+               profiler);
 }
 
 }  // namespace clhair

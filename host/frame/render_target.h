@@ -19,14 +19,16 @@ class RenderTarget {
   void clearGBuffer(Profiler* profiler);
 
   ViewTarget viewTarget() const { return {&view, width_, height_}; }
-  std::size_t pixels() const { return static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_); }
+  std::size_t pixels() const {
+    return static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
+  }
   int layers() const { return layers_; }
 
-  cl::Buffer view;                        // ClhViewGpu of the camera
-  cl::Buffer color, depth;                // float4, float per pixel
-  cl::Buffer hair, filtered;              // float4 per pixel
-  cl::Buffer gbuffer;                     // ulong per pixel and layer
-  cl::Buffer stats;                       // uint[4] raster counters
+  cl::Buffer view;            // ClhViewGpu of the camera
+  cl::Buffer color, depth;    // float4, float per pixel
+  cl::Buffer hair, filtered;  // float4 per pixel
+  cl::Buffer gbuffer;         // ulong per pixel and layer
+  cl::Buffer stats;           // uint[4] raster counters
 
  private:
   Device::Impl& dev_;

@@ -18,9 +18,10 @@ namespace {
 
 std::string envDescKey(const EnvironmentDesc& e) {
   std::ostringstream k;
-  k << e.file << '|' << e.intensity << '|' << e.rotateYDegrees << '|' << e.sky.sunElevationDeg << ','
-    << e.sky.sunAzimuthDeg << ',' << e.sky.sunAngularDiameterDeg << ',' << e.sky.sunIrradiance << ','
-    << e.sky.gradientExponent << ',' << e.sky.groundBlend << ',' << e.sky.width;
+  k << e.file << '|' << e.intensity << '|' << e.rotateYDegrees << '|' << e.sky.sunElevationDeg
+    << ',' << e.sky.sunAzimuthDeg << ',' << e.sky.sunAngularDiameterDeg << ','
+    << e.sky.sunIrradiance << ',' << e.sky.gradientExponent << ',' << e.sky.groundBlend << ','
+    << e.sky.width;
   for (const glm::vec3& c : {e.sky.sunColor, e.sky.zenith, e.sky.horizon, e.sky.ground})
     k << ',' << c.x << ',' << c.y << ',' << c.z;
   return k.str();
@@ -28,8 +29,8 @@ std::string envDescKey(const EnvironmentDesc& e) {
 
 // Writes `v` into a grow-only buffer.
 template <typename T>
-void uploadTable(Device::Impl& dev, cl::Buffer& buffer, std::size_t& capacity, const std::string& what,
-                 const std::vector<T>& v) {
+void uploadTable(Device::Impl& dev, cl::Buffer& buffer, std::size_t& capacity,
+                 const std::string& what, const std::vector<T>& v) {
   ensureCapacity<T>(dev, buffer, capacity, what, v.size());
   upload(dev, buffer, v.data(), v.size());
 }
@@ -48,8 +49,8 @@ SceneGpu::~SceneGpu() = default;
 
 void SceneGpu::upload(const Scene& s) {
   if (s.lights.size() > CLH_MAX_LIGHTS)
-    throw Error("scene has " + std::to_string(s.lights.size()) + " lights; at most " + std::to_string(CLH_MAX_LIGHTS) +
-                " are supported");
+    throw Error("scene has " + std::to_string(s.lights.size()) + " lights; at most " +
+                std::to_string(CLH_MAX_LIGHTS) + " are supported");
   gpu::ClhSceneGpu sg;
   std::memset(&sg, 0, sizeof(sg));
   store4(sg.background, s.background, 1.0f);
@@ -76,7 +77,8 @@ void SceneGpu::upload(const Scene& s) {
   // shadow slots in light order, as ShadowPass assigns them
   int slot = 0;
   for (std::size_t i = 0; i < li.size(); ++i)
-    if (s.lights[i].shadows && !s.grooms.empty() && slot < CLH_MAX_SHADOWS) li[i].color[3] = static_cast<float>(slot++);
+    if (s.lights[i].shadows && !s.grooms.empty() && slot < CLH_MAX_SHADOWS)
+      li[i].color[3] = static_cast<float>(slot++);
   ensureEnvironment(s.environment);
   ensureBackground(s.backgroundImage);
   sg.bg_width = static_cast<gpu::clh_u32>(backgroundWidth_);
@@ -107,8 +109,8 @@ LightingInputs SceneGpu::lighting(const ShadowMapInputs& maps) const {
   return l;
 }
 
-void SceneGpu::drawOpaque(const ViewTarget& target, const ShadowMapInputs& maps, cl::Buffer& color, cl::Buffer& depth,
-                          bool shade, Profiler* profiler) {
+void SceneGpu::drawOpaque(const ViewTarget& target, const ShadowMapInputs& maps, cl::Buffer& color,
+                          cl::Buffer& depth, bool shade, Profiler* profiler) {
   OpaqueStage::Params op;
   op.target = target;
   op.lighting = lighting(maps);
@@ -117,7 +119,8 @@ void SceneGpu::drawOpaque(const ViewTarget& target, const ShadowMapInputs& maps,
   op.sphereCount = sphereCount_;
   op.planeCount = planeCount_;
   op.background = &background_;
-  op.backgroundTexels = std::max<std::size_t>(1, std::size_t(backgroundWidth_) * std::size_t(backgroundHeight_));
+  op.backgroundTexels =
+      std::max<std::size_t>(1, std::size_t(backgroundWidth_) * std::size_t(backgroundHeight_));
   op.color = &color;
   op.depth = &depth;
   op.shade = shade;
@@ -125,11 +128,12 @@ void SceneGpu::drawOpaque(const ViewTarget& target, const ShadowMapInputs& maps,
   if (meshTriangleCount_ == 0) return;
   // one word buffer for the camera's and the lights' views, grown to the largest
   ensureCapacity<cl_ulong>(dev_, meshWords_, meshWordCapacity_,
-                           "the mesh depth words (" + std::to_string(target.pixels()) + " pixels)", target.pixels());
+                           "the mesh depth words (" + std::to_string(target.pixels()) + " pixels)",
+                           target.pixels());
   MeshStage::Params mp;
   mp.target = target;
   mp.lighting = op.lighting;
-  mp.geometry = {&meshVertices_, &meshNormals_,      &meshTriangles_, &meshColors_,
+  mp.geometry = {&meshVertices_,   &meshNormals_,      &meshTriangles_, &meshColors_,
                  meshVertexCount_, meshTriangleCount_, meshColorCount_};
   mp.words = &meshWords_;
   mp.color = &color;
@@ -142,11 +146,12 @@ void SceneGpu::drawOpaque(const ViewTarget& target, const ShadowMapInputs& maps,
 // triangles of every mesh instance, uploaded when the scene's meshes change; every buffer
 // is checked against the device's largest allocation (makeBuffer).
 void SceneGpu::uploadMeshes(const Scene& s) {
-  const bool same = meshesUploaded_ && s.meshes.size() == uploadedMeshes_.size() &&
-                    std::equal(s.meshes.begin(), s.meshes.end(), uploadedMeshes_.begin(),
-                               [](const MeshInstance& a, const MeshInstance& b) {
-                                 return a.mesh == b.mesh && a.transform == b.transform && a.color == b.color;
-                               });
+  const bool same =
+      meshesUploaded_ && s.meshes.size() == uploadedMeshes_.size() &&
+      std::equal(s.meshes.begin(), s.meshes.end(), uploadedMeshes_.begin(),
+                 [](const MeshInstance& a, const MeshInstance& b) {
+                   return a.mesh == b.mesh && a.transform == b.transform && a.color == b.color;
+                 });
   if (same) return;
   std::uint64_t vertices = 0, triangles = 0;
   for (const MeshInstance& m : s.meshes) {
@@ -156,8 +161,8 @@ void SceneGpu::uploadMeshes(const Scene& s) {
     triangles += m.mesh->indices.size() / 3;
   }
   if (vertices > 0xFFFFFFFFull || triangles > 0xFFFFFFFFull)
-    throw Error("the scene's meshes hold " + std::to_string(vertices) + " vertices and " + std::to_string(triangles) +
-                " triangles; at most 2^32 - 1 of each are supported");
+    throw Error("the scene's meshes hold " + std::to_string(vertices) + " vertices and " +
+                std::to_string(triangles) + " triangles; at most 2^32 - 1 of each are supported");
   std::vector<cl_float4> pos, nrm, col;
   std::vector<cl_uint4> tri;
   pos.reserve(vertices);
@@ -166,13 +171,17 @@ void SceneGpu::uploadMeshes(const Scene& s) {
   for (std::size_t i = 0; i < s.meshes.size(); ++i) {
     const MeshInstance& m = s.meshes[i];
     const auto base = static_cast<cl_uint>(pos.size());
-    std::vector<glm::vec3> world(m.mesh->positions.size()), normal(m.mesh->positions.size(), glm::vec3(0.0f));
-    for (std::size_t v = 0; v < world.size(); ++v) world[v] = glm::vec3(m.transform * glm::vec4(m.mesh->positions[v], 1.0f));
+    std::vector<glm::vec3> world(m.mesh->positions.size()),
+        normal(m.mesh->positions.size(), glm::vec3(0.0f));
+    for (std::size_t v = 0; v < world.size(); ++v)
+      world[v] = glm::vec3(m.transform * glm::vec4(m.mesh->positions[v], 1.0f));
     const std::vector<std::uint32_t>& idx = m.mesh->indices;
     for (std::size_t t = 0; t + 2 < idx.size(); t += 3) {
-      const glm::vec3 n = glm::cross(world[idx[t + 1]] - world[idx[t]], world[idx[t + 2]] - world[idx[t]]);
+      const glm::vec3 n =
+          glm::cross(world[idx[t + 1]] - world[idx[t]], world[idx[t + 2]] - world[idx[t]]);
       for (int k = 0; k < 3; ++k) normal[idx[t + k]] += n;
-      tri.push_back({{base + idx[t], base + idx[t + 1], base + idx[t + 2], static_cast<cl_uint>(i)}});
+      tri.push_back(
+          {{base + idx[t], base + idx[t + 1], base + idx[t + 2], static_cast<cl_uint>(i)}});
     }
     for (std::size_t v = 0; v < world.size(); ++v) {
       const float len = glm::length(normal[v]);
@@ -182,9 +191,12 @@ void SceneGpu::uploadMeshes(const Scene& s) {
     }
     col.push_back({{m.color.x, m.color.y, m.color.z, 1.0f}});
   }
-  meshVertices_ = makeBuffer(dev_, "mesh vertices (" + std::to_string(pos.size()) + ")", pos.size(), pos.data());
-  meshNormals_ = makeBuffer(dev_, "mesh normals (" + std::to_string(nrm.size()) + ")", nrm.size(), nrm.data());
-  meshTriangles_ = makeBuffer(dev_, "mesh triangles (" + std::to_string(tri.size()) + ")", tri.size(), tri.data());
+  meshVertices_ = makeBuffer(dev_, "mesh vertices (" + std::to_string(pos.size()) + ")", pos.size(),
+                             pos.data());
+  meshNormals_ =
+      makeBuffer(dev_, "mesh normals (" + std::to_string(nrm.size()) + ")", nrm.size(), nrm.data());
+  meshTriangles_ = makeBuffer(dev_, "mesh triangles (" + std::to_string(tri.size()) + ")",
+                              tri.size(), tri.data());
   meshColors_ = makeBuffer(dev_, "mesh colours", col.size(), col.data());
   meshVertexCount_ = static_cast<std::uint32_t>(pos.size());
   meshTriangleCount_ = static_cast<std::uint32_t>(tri.size());
@@ -211,7 +223,8 @@ void SceneGpu::ensureEnvironment(const EnvironmentDesc& e) {
 
 void SceneGpu::ensureBackground(const std::string& path) {
   if (path.empty()) {
-    if (!backgroundPath_.empty()) background_ = makeBuffer<cl_float4>(dev_, "background placeholder", 1);
+    if (!backgroundPath_.empty())
+      background_ = makeBuffer<cl_float4>(dev_, "background placeholder", 1);
     backgroundPath_.clear();
     backgroundWidth_ = backgroundHeight_ = 0;
     return;

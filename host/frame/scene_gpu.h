@@ -27,8 +27,8 @@ class SceneGpu {
   // The lighting the shading passes read, with the given shadow maps.
   LightingInputs lighting(const ShadowMapInputs& maps) const;
   // Analytic primitives, then meshes, into `color` / `depth` of `target`.
-  void drawOpaque(const ViewTarget& target, const ShadowMapInputs& maps, cl::Buffer& color, cl::Buffer& depth,
-                  bool shade, Profiler* profiler);
+  void drawOpaque(const ViewTarget& target, const ShadowMapInputs& maps, cl::Buffer& color,
+                  cl::Buffer& depth, bool shade, Profiler* profiler);
 
  private:
   void uploadMeshes(const Scene& s);

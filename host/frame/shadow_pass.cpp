@@ -91,7 +91,8 @@ ShadowPass::Key ShadowPass::keyOf(const Scene& s, const RenderOptions& o, bool l
   putValue(o.ambientOcclusion);
   putValue(o.trueWidth);
   putValue(lodCorrection);
-  const std::size_t counts[4] = {s.lights.size(), s.spheres.size(), s.planes.size(), s.grooms.size()};
+  const std::size_t counts[4] = {s.lights.size(), s.spheres.size(), s.planes.size(),
+                                 s.grooms.size()};
   putValue(counts);
   return k;
 }
@@ -150,8 +151,9 @@ void ShadowPass::render(const Scene& s, const RenderOptions& cameraOptions, bool
     }
     const glm::vec3 dir = (center - cam.position) / dist;
     cam.up = std::fabs(dir.y) > 0.95f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
-    cam.fovYDegrees =
-        std::min(150.0f, 2.0f * glm::degrees(std::atan(radius / std::max(dist - radius, radius * 0.05f))) * 1.05f);
+    cam.fovYDegrees = std::min(
+        150.0f,
+        2.0f * glm::degrees(std::atan(radius / std::max(dist - radius, radius * 0.05f))) * 1.05f);
     const gpu::ClhViewGpu lv = makeView(cam, res, res);
     upload(dev_, lightView_, &lv, 1);
     pass.worldToView = worldToView(cam);
@@ -177,7 +179,8 @@ void ShadowPass::render(const Scene& s, const RenderOptions& cameraOptions, bool
     const ViewTarget lightTarget{&lightView_, res, res};
     scene.drawOpaque(lightTarget, maps(), lightColor_, lightDepth_, false, profiler);
     clCall("copying the light's opaque depth", [&] {
-      dev_.queue.enqueueCopyBuffer(lightDepth_, opaque_, 0, plane * slot * sizeof(float), plane * sizeof(float));
+      dev_.queue.enqueueCopyBuffer(lightDepth_, opaque_, 0, plane * slot * sizeof(float),
+                                   plane * sizeof(float));
       return 0;
     });
     // hair depth: the strand pass of every groom from the light into the light's G-buffer

@@ -26,8 +26,8 @@ class ShadowPass {
   explicit ShadowPass(Device::Impl& dev);
   // Rebuilds the maps unless the previous ones still hold (and reuse is allowed). Must run
   // before the camera's opaque pass, which receives hair shadows too.
-  void update(const Scene& s, const RenderOptions& options, bool lodCorrection, const std::vector<GroomDraw>& grooms,
-              SceneGpu& scene, Profiler* profiler);
+  void update(const Scene& s, const RenderOptions& options, bool lodCorrection,
+              const std::vector<GroomDraw>& grooms, SceneGpu& scene, Profiler* profiler);
   // Allocates the maps the scene's shadowed lights need, before anything of the frame is
   // released: Oclgrind 21.10 keeps a released buffer's uninitialised-memory shadow, its size
   // included, for the next buffer that gets its slot, so maps allocated after the AO bake's
@@ -47,8 +47,8 @@ class ShadowPass {
     bool operator==(const Key& o) const { return bytes == o.bytes && held == o.held; }
   };
   static Key keyOf(const Scene& s, const RenderOptions& o, bool lodCorrection);
-  void render(const Scene& s, const RenderOptions& options, bool lodCorrection, const std::vector<GroomDraw>& grooms,
-              SceneGpu& scene, Profiler* profiler);
+  void render(const Scene& s, const RenderOptions& options, bool lodCorrection,
+              const std::vector<GroomDraw>& grooms, SceneGpu& scene, Profiler* profiler);
   void ensureBuffers(int res);
 
   Device::Impl& dev_;

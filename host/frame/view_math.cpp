@@ -57,7 +57,8 @@ gpu::ClhViewGpu makeView(const Camera& cam, int width, int height) {
   return v;
 }
 
-bool depthRange(const glm::vec3& lo, const glm::vec3& hi, const glm::mat4& objToView, float& nearZ, float& farZ) {
+bool depthRange(const glm::vec3& lo, const glm::vec3& hi, const glm::mat4& objToView, float& nearZ,
+                float& farZ) {
   float zmin = 1e30f, zmax = -1e30f;
   for (int c = 0; c < 8; ++c) {
     glm::vec3 corner((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);

@@ -21,6 +21,7 @@ gpu::ClhViewGpu makeView(const Camera& cam, int width, int height);
 
 // Depth range of the view-space box of object bounds [lo, hi]; false when all of it lies
 // behind the camera.
-bool depthRange(const glm::vec3& lo, const glm::vec3& hi, const glm::mat4& objToView, float& nearZ, float& farZ);
+bool depthRange(const glm::vec3& lo, const glm::vec3& hi, const glm::mat4& objToView, float& nearZ,
+                float& farZ);
 
 }  // namespace clhair

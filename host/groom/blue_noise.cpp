@@ -58,7 +58,8 @@ std::vector<std::size_t> eliminate(const std::vector<glm::vec2>& pts, std::size_
   };
   std::vector<float> w(n, 0.0f);
   std::vector<char> alive(n, 1);
-  for (std::size_t i = 0; i < n; ++i) forNeighbours(i, [&](std::size_t, float d) { w[i] += weight(d); });
+  for (std::size_t i = 0; i < n; ++i)
+    forNeighbours(i, [&](std::size_t, float d) { w[i] += weight(d); });
   std::set<std::pair<float, std::size_t>> heap;
   for (std::size_t i = 0; i < n; ++i) heap.insert({w[i], i});
   while (heap.size() > target) {

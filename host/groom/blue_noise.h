@@ -24,8 +24,7 @@ struct RootSets {
 
 // Progressive blue-noise set of `count` samples in [0,1]^2 (triangle: in s + t < 1, not
 // yet mapped).
-std::vector<glm::vec2> progressiveBlueNoise(std::uint32_t count, bool triangle,
-                                            std::uint32_t seed);
+std::vector<glm::vec2> progressiveBlueNoise(std::uint32_t count, bool triangle, std::uint32_t seed);
 
 // Both sets with `count` samples each.
 RootSets makeRootSets(std::uint32_t count, std::uint32_t seed = 0x9e3779b9u);

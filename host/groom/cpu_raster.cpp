@@ -21,8 +21,8 @@ constexpr std::uint32_t kBlockStrands = 64;  // strands a thread takes at once
 // Strand s of the stored tables drawn exactly as strands_explicit_raster draws it at full
 // detail: point k's tangent is the central difference (k - 1, k + 1), the root's and the
 // tip's are the neighbouring tangent reflected about the end segment (Bhokare Eq. 5-6).
-void drawStrand(const clh_raster_ctx& base, const ClhGroomGpu& g, const ExplicitData& d, const float* depth,
-                std::uint64_t* gbuf, std::uint32_t s, std::vector<float>& tan) {
+void drawStrand(const clh_raster_ctx& base, const ClhGroomGpu& g, const ExplicitData& d,
+                const float* depth, std::uint64_t* gbuf, std::uint32_t s, std::vector<float>& tan) {
   const std::uint32_t first = d.strandOffsets[s], n = d.strandOffsets[s + 1] - first;
   if (n < 2) return;
   const glm::vec4* P = d.points.data() + first;
@@ -104,7 +104,8 @@ CpuRasterInputs cpuRasterInputs(const Frame& frame, const ExplicitData& strands)
   return in;
 }
 
-void cpuRasterExplicit(const CpuRasterInputs& in, unsigned threads, std::vector<std::uint64_t>& gbuffer) {
+void cpuRasterExplicit(const CpuRasterInputs& in, unsigned threads,
+                       std::vector<std::uint64_t>& gbuffer) {
   if (!in.groom || !in.view || !in.sceneDepth || !in.strands)
     throw Error("CPU raster: groom, view, scene depth and strands are all needed");
   ClhGroomGpu g;
@@ -115,9 +116,10 @@ void cpuRasterExplicit(const CpuRasterInputs& in, unsigned threads, std::vector<
   const std::uint64_t pixels = std::uint64_t(v.width) * v.height;
   gbuffer.assign(pixels * 2, CLH_GBUF_EMPTY);
   clh_raster_ctx base;
-  clh_raster_init(&base, v.fx, v.fy, v.cx, v.cy, v.width, v.height, g.depth_near, g.depth_far, g.strand_width,
-                  g.hit_diameter_px);
-  const std::uint32_t strands = static_cast<std::uint32_t>(d.strandOffsets.empty() ? 0 : d.strandOffsets.size() - 1);
+  clh_raster_init(&base, v.fx, v.fy, v.cx, v.cy, v.width, v.height, g.depth_near, g.depth_far,
+                  g.strand_width, g.hit_diameter_px);
+  const std::uint32_t strands =
+      static_cast<std::uint32_t>(d.strandOffsets.empty() ? 0 : d.strandOffsets.size() - 1);
   if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
   std::atomic<std::uint32_t> next{0};
   auto work = [&] {
@@ -126,7 +128,8 @@ void cpuRasterExplicit(const CpuRasterInputs& in, unsigned threads, std::vector<
       const std::uint32_t b = next.fetch_add(kBlockStrands);
       if (b >= strands) return;
       const std::uint32_t e = std::min(strands, b + kBlockStrands);
-      for (std::uint32_t s = b; s < e; ++s) drawStrand(base, g, d, in.sceneDepth, gbuffer.data(), s, tan);
+      for (std::uint32_t s = b; s < e; ++s)
+        drawStrand(base, g, d, in.sceneDepth, gbuffer.data(), s, tan);
     }
   };
   std::vector<std::thread> pool;

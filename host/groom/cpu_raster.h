@@ -29,6 +29,7 @@ CpuRasterInputs cpuRasterInputs(const Frame& frame, const ExplicitData& strands)
 
 // Clears `gbuffer` to two layers (centre, conservative) of width * height empty words and
 // draws every strand with `threads` threads (0: hardware concurrency).
-void cpuRasterExplicit(const CpuRasterInputs& in, unsigned threads, std::vector<std::uint64_t>& gbuffer);
+void cpuRasterExplicit(const CpuRasterInputs& in, unsigned threads,
+                       std::vector<std::uint64_t>& gbuffer);
 
 }  // namespace clhair

@@ -12,7 +12,8 @@
 
 namespace clhair {
 
-static_assert(sizeof(glm::vec4) == 16 && sizeof(glm::uvec4) == 16, "device tables are float4 / uint4");
+static_assert(sizeof(glm::vec4) == 16 && sizeof(glm::uvec4) == 16,
+              "device tables are float4 / uint4");
 
 namespace {
 
@@ -62,14 +63,16 @@ ExplicitData prepareExplicit(const StrandGroom& g, std::uint32_t chunkStrands) {
   }
   std::vector<std::uint32_t> order(S);
   std::iota(order.begin(), order.end(), 0u);
-  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return code[a] < code[b]; });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return code[a] < code[b]; });
 
   // chunks of consecutive strands, shuffled inside (Fisher-Yates on a fixed hash stream)
   const std::size_t K = (S + chunkStrands - 1) / chunkStrands;
   for (std::size_t c = 0; c < K; ++c) {
     const std::size_t b = c * chunkStrands, n = std::min<std::size_t>(chunkStrands, S - b);
     for (std::size_t i = n; i > 1; --i) {
-      const std::uint32_t h = gpu::clh_hash3(g.seed, static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(i));
+      const std::uint32_t h =
+          gpu::clh_hash3(g.seed, static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(i));
       std::swap(order[b + i - 1], order[b + h % i]);
     }
   }
@@ -102,7 +105,8 @@ ExplicitData prepareExplicit(const StrandGroom& g, std::uint32_t chunkStrands) {
     at += n;
   }
   out.strandOffsets[S] = at;
-  if (out.fileThickness) out.meanThickness = static_cast<float>(thicknessSum / static_cast<double>(at));
+  if (out.fileThickness)
+    out.meanThickness = static_cast<float>(thicknessSum / static_cast<double>(at));
 
   out.chunks.resize(K);
   out.chunkBounds.resize(2 * K);
@@ -114,10 +118,12 @@ ExplicitData prepareExplicit(const StrandGroom& g, std::uint32_t chunkStrands) {
       clo = glm::min(clo, glm::vec3(out.points[i]));
       chi = glm::max(chi, glm::vec3(out.points[i]));
     }
-    const float delta = gpu::clh_u01(gpu::clh_hash3(g.seed, static_cast<std::uint32_t>(c), CLH_RNG_LOD_DELTA));
+    const float delta =
+        gpu::clh_u01(gpu::clh_hash3(g.seed, static_cast<std::uint32_t>(c), CLH_RNG_LOD_DELTA));
     std::uint32_t deltaBits;
     std::memcpy(&deltaBits, &delta, 4);
-    out.chunks[c] = glm::uvec4(static_cast<std::uint32_t>(b), static_cast<std::uint32_t>(n), deltaBits, 0u);
+    out.chunks[c] =
+        glm::uvec4(static_cast<std::uint32_t>(b), static_cast<std::uint32_t>(n), deltaBits, 0u);
     out.chunkBounds[2 * c] = glm::vec4(clo, 0.0f);
     out.chunkBounds[2 * c + 1] = glm::vec4(chi, 0.0f);
     lo = glm::min(lo, clo);

@@ -40,10 +40,10 @@ struct ExplicitData {
   std::vector<std::uint32_t> uv;            // empty when the groom has no root uv
   std::vector<std::uint32_t> sourceStrand;  // new order -> index in the StrandGroom
   std::vector<glm::uvec4> chunks;
-  std::vector<glm::vec4> chunkBounds;       // 2 per chunk
-  std::vector<glm::vec4> fileLook;          // empty, or per point (see above)
+  std::vector<glm::vec4> chunkBounds;  // 2 per chunk
+  std::vector<glm::vec4> fileLook;     // empty, or per point (see above)
   bool fileColor = false, fileThickness = false;
-  float meanThickness = 0.0f;               // object units, when fileThickness
+  float meanThickness = 0.0f;                  // object units, when fileThickness
   glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // object space, all points
   std::uint64_t totalStrands = 0;
   std::uint64_t totalPoints = 0;

@@ -127,14 +127,16 @@ GroomData prepareGroom(const HairMesh& m) {
     }
     b.triangle = tri ? 1u : 0u;
     b.strand_count = counts[f];
-    b.lod_delta = gpu::clh_u01(gpu::clh_hash3(m.seed, static_cast<std::uint32_t>(f), CLH_RNG_LOD_DELTA));
+    b.lod_delta =
+        gpu::clh_u01(gpu::clh_hash3(m.seed, static_cast<std::uint32_t>(f), CLH_RNG_LOD_DELTA));
     out.maxBundleStrands = std::max(out.maxBundleStrands, counts[f]);
     out.totalStrands += counts[f];
   }
 
   // Bounds: the mesh, plus the largest styling offset, plus a margin for Hermite overshoot.
   const StyleParams& s = m.style;
-  float clumpReach = s.clumpFrequency > 0.0f ? s.clumpStrength * maxJacobian * 1.2f / s.clumpFrequency : 0.0f;
+  float clumpReach =
+      s.clumpFrequency > 0.0f ? s.clumpStrength * maxJacobian * 1.2f / s.clumpFrequency : 0.0f;
   out.styleMargin = s.curlAmplitude + s.frizzAmplitude + s.flyawayAmplitude + clumpReach;
   glm::vec3 lo(1e30f), hi(-1e30f);
   float maxStep = 0.0f;

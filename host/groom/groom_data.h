@@ -24,7 +24,7 @@ struct GroomData {
   std::uint64_t totalStrands = 0;
   glm::vec3 boundsMin{0.0f};  // object space, including styling
   glm::vec3 boundsMax{0.0f};
-  float styleMargin = 0.0f;   // largest styling displacement, object units
+  float styleMargin = 0.0f;  // largest styling displacement, object units
 };
 
 GroomData prepareGroom(const HairMesh& mesh);

@@ -15,14 +15,16 @@ GroomInstanceGpu& GroomGpu::instance(std::size_t k) {
 std::uint32_t GroomGpu::readTotal(const GroomInstanceGpu& inst) {
   if (inst.records == 0) return 0;
   std::uint32_t total = 0;
-  readBack(dev_, "the strand total", inst.offsets, &total, 1, gpu::clh_lod_drawn_total_at(inst.records));
+  readBack(dev_, "the strand total", inst.offsets, &total, 1,
+           gpu::clh_lod_drawn_total_at(inst.records));
   return total;
 }
 
 std::uint64_t GroomGpu::deviceBytes() {
   const GroomInstanceGpu& inst = instance(0);
   std::uint64_t sum = sharedBytes();
-  for (const cl::Buffer* b : {&inst.groom, &inst.lod, &inst.counts, &inst.offsets}) sum += bufferBytes(*b);
+  for (const cl::Buffer* b : {&inst.groom, &inst.lod, &inst.counts, &inst.offsets})
+    sum += bufferBytes(*b);
   return sum;
 }
 

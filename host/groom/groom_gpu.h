@@ -45,21 +45,21 @@ struct ViewPass {
   glm::mat4 worldToView{1.0f};
   // > 0: one depth mapping for every groom (a light's G-buffer is shared by all grooms)
   float nearZ = -1.0f, farZ = -1.0f;
-  int lod = -1;                 // RenderOptions::lod semantics
+  int lod = -1;  // RenderOptions::lod semantics
   float lodLambdaScale = 1.0f;
-  bool trueWidth = false;       // ignore the minimum hit diameter (reference passes)
+  bool trueWidth = false;  // ignore the minimum hit diameter (reference passes)
   bool shadowLodCorrection = true;
 };
 
 // The per-instance part of a groom on the device.
 struct GroomInstanceGpu {
-  gpu::ClhGroomGpu params{};   // as last uploaded to `groom`
-  cl::Buffer groom;            // ClhGroomGpu
-  cl::Buffer lod;              // ClhLodRecord per bundle / chunk
-  cl::Buffer counts;           // strands per bundle / chunk (gpu_types.h, scan layout)
-  cl::Buffer offsets;          // their scan and totals (clh_lod_drawn_total_at(records))
-  std::uint32_t records = 0;   // bundles or chunks
-  float reach = 0.0f;          // hair meshes: styling reach in view units
+  gpu::ClhGroomGpu params{};  // as last uploaded to `groom`
+  cl::Buffer groom;           // ClhGroomGpu
+  cl::Buffer lod;             // ClhLodRecord per bundle / chunk
+  cl::Buffer counts;          // strands per bundle / chunk (gpu_types.h, scan layout)
+  cl::Buffer offsets;         // their scan and totals (clh_lod_drawn_total_at(records))
+  std::uint32_t records = 0;  // bundles or chunks
+  float reach = 0.0f;         // hair meshes: styling reach in view units
 };
 
 class GroomGpu {
@@ -71,7 +71,8 @@ class GroomGpu {
 
   // Fills and uploads the view-dependent parameters of `inst` for an instance placed by
   // `objToWorld`; false when the groom lies entirely behind the view.
-  virtual bool prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld, const ViewPass& pass) = 0;
+  virtual bool prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld,
+                       const ViewPass& pass) = 0;
   // LOD records and their scan for the view the instance was prepared for.
   virtual void lod(GroomInstanceGpu& inst, const cl::Buffer& view, Profiler* profiler) = 0;
   // Blocking 4-byte read of the strands the last LOD pass kept.
@@ -79,7 +80,8 @@ class GroomGpu {
   // Every strand of the groom (the bound of an over-launched dispatch).
   virtual std::uint32_t strandCount() const = 0;
   virtual void raster(GroomInstanceGpu& inst, const StrandRaster& r, Profiler* profiler) = 0;
-  virtual void opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands, Profiler* profiler) = 0;
+  virtual void opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands,
+                       Profiler* profiler) = 0;
   // The strands as the kernels generate or draw them at LOD value `lod` (1: full detail).
   virtual StrandSet exportStrands(float lod) = 0;
   // Object-space bounds of the drawn geometry, styling included.

@@ -21,15 +21,16 @@ constexpr std::uint32_t kMaxRootSet = 1u << 16;
 
 const RootSetsGpu::Set& RootSetsGpu::forBundle(Device::Impl& dev, std::uint32_t strands) {
   if (strands > kMaxRootSet)
-    throw Error("a bundle requests " + std::to_string(strands) + " strands; at most " + std::to_string(kMaxRootSet) +
-                " per bundle are supported (split its scalp face)");
+    throw Error("a bundle requests " + std::to_string(strands) + " strands; at most " +
+                std::to_string(kMaxRootSet) + " per bundle are supported (split its scalp face)");
   std::uint32_t size = kMinRootSet;
   while (size < strands) size <<= 1;
   Set& s = sets_[size];
   if (s.size == 0) {
     const RootSets r = makeRootSets(size);
     s.quad = makeBuffer<glm::vec2>(dev, "root sample set", r.quad.size(), r.quad.data());
-    s.triangle = makeBuffer<glm::vec2>(dev, "root sample set", r.triangle.size(), r.triangle.data());
+    s.triangle =
+        makeBuffer<glm::vec2>(dev, "root sample set", r.triangle.size(), r.triangle.data());
     s.size = size;
   }
   return s;
@@ -41,7 +42,8 @@ HairMeshGpu::HairMeshGpu(std::shared_ptr<const HairMesh> mesh, GroomStages& stag
   data_ = prepareGroom(m);
   if (bakeAo && m.ao.empty()) {
     std::vector<float> ao = HairMeshGpu::bakeAo(m, stages_);
-    for (std::size_t i = 0; i < ao.size() && i < data_.vertices.size(); ++i) data_.vertices[i].tan[3] = ao[i];
+    for (std::size_t i = 0; i < ao.size() && i < data_.vertices.size(); ++i)
+      data_.vertices[i].tan[3] = ao[i];
   }
   ao_.resize(data_.vertices.size());
   for (std::size_t i = 0; i < ao_.size(); ++i) ao_[i] = data_.vertices[i].tan[3];
@@ -50,7 +52,8 @@ HairMeshGpu::HairMeshGpu(std::shared_ptr<const HairMesh> mesh, GroomStages& stag
   roots_ = &stages_.roots.forBundle(dev_, data_.maxBundleStrands);
   base_.root_set_size = roots_->size;
   const std::string what = "groom \"" + m.name + "\"";
-  vertices_ = makeBuffer(dev_, what + " hair-mesh vertices", data_.vertices.size(), data_.vertices.data());
+  vertices_ =
+      makeBuffer(dev_, what + " hair-mesh vertices", data_.vertices.size(), data_.vertices.data());
   bundles_ = makeBuffer(dev_, what + " bundles", data_.bundles.size(), data_.bundles.data());
 }
 
@@ -64,11 +67,14 @@ std::unique_ptr<GroomInstanceGpu> HairMeshGpu::makeInstance() {
   const auto n = static_cast<gpu::clh_u32>(B);
   inst->lod = makeBuffer<gpu::ClhLodRecord>(dev_, what + " LOD records", n);
   inst->counts = makeBuffer<cl_uint>(dev_, what + " strand counts", gpu::clh_lod_counts_length(n));
-  inst->offsets = makeBuffer<cl_uint>(dev_, what + " strand offsets", gpu::clh_lod_offsets_length(n));
+  inst->offsets =
+      makeBuffer<cl_uint>(dev_, what + " strand offsets", gpu::clh_lod_offsets_length(n));
   return inst;
 }
 
-std::uint64_t HairMeshGpu::sharedBytes() const { return bufferBytes(vertices_) + bufferBytes(bundles_); }
+std::uint64_t HairMeshGpu::sharedBytes() const {
+  return bufferBytes(vertices_) + bufferBytes(bundles_);
+}
 
 StrandStage::Inputs HairMeshGpu::inputs(const GroomInstanceGpu& inst) const {
   StrandStage::Inputs in;
@@ -85,7 +91,8 @@ StrandStage::Inputs HairMeshGpu::inputs(const GroomInstanceGpu& inst) const {
   return in;
 }
 
-bool HairMeshGpu::prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld, const ViewPass& pass) {
+bool HairMeshGpu::prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld,
+                          const ViewPass& pass) {
   gpu::ClhGroomGpu& p = inst.params;
   const glm::mat4 o2v = pass.worldToView * objToWorld;
   storeMat34(p.obj_to_view, o2v);
@@ -103,8 +110,9 @@ bool HairMeshGpu::prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld, c
   p.hit_diameter_px = pass.trueWidth ? 0.0f : mesh.appearance.minHitDiameterPx;
   upload(dev_, inst.groom, &p, 1);
   // the styling reach in view units: the object-space margin times the largest axis scale
-  const float scale = std::max({glm::length(glm::vec3(objToWorld[0])), glm::length(glm::vec3(objToWorld[1])),
-                                glm::length(glm::vec3(objToWorld[2]))});
+  const float scale =
+      std::max({glm::length(glm::vec3(objToWorld[0])), glm::length(glm::vec3(objToWorld[1])),
+                glm::length(glm::vec3(objToWorld[2]))});
   inst.reach = data_.styleMargin * scale;
   return true;
 }
@@ -128,7 +136,8 @@ void HairMeshGpu::raster(GroomInstanceGpu& inst, const StrandRaster& r, Profiler
   stages_.strands.raster(inputs(inst), r, profiler);
 }
 
-void HairMeshGpu::opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands, Profiler* profiler) {
+void HairMeshGpu::opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands,
+                          Profiler* profiler) {
   stages_.strands.opacity(inputs(inst), o, strands, profiler);
 }
 
@@ -152,7 +161,8 @@ HairMeshGpu::Exported HairMeshGpu::exportOnDevice(GroomInstanceGpu& inst, float 
     // its uninitialised-memory shadow sized for the old buffer, to the next allocation (here
     // the exported points), whose kernel writes past that size would stay uninitialised.
     const gpu::ClhViewGpu v = makeView(Camera{}, 1, 1);
-    if (!exportView_()) exportView_ = makeBuffer<gpu::ClhViewGpu>(dev_, "export view parameters", 1);
+    if (!exportView_())
+      exportView_ = makeBuffer<gpu::ClhViewGpu>(dev_, "export view parameters", 1);
     upload(dev_, exportView_, &v, 1);
     inst.reach = 1e30f;
     this->lod(inst, exportView_, nullptr);
@@ -171,12 +181,14 @@ HairMeshGpu::Exported HairMeshGpu::exportOnDevice(GroomInstanceGpu& inst, float 
     gpu::clh_u32 drawn = 0;
     for (std::size_t b = 0; b < B; ++b) {
       const gpu::ClhBundle& bundle = data_.bundles[b];
-      records[b] = gpu::clh_lod_record_at(lod, bundle.strand_count, bundle.lod_delta, layers, cmax, mesh.lod.morphWindow);
+      records[b] = gpu::clh_lod_record_at(lod, bundle.strand_count, bundle.lod_delta, layers, cmax,
+                                          mesh.lod.morphWindow);
       offsets[b] = drawn;
       drawn += records[b].strands;
     }
     offsets[gpu::clh_lod_drawn_total_at(n)] = drawn;
-    offsets[gpu::clh_lod_visible_total_at(n)] = static_cast<cl_uint>(data_.totalStrands);  // none culled
+    offsets[gpu::clh_lod_visible_total_at(n)] =
+        static_cast<cl_uint>(data_.totalStrands);  // none culled
     e.total = drawn;
     upload(dev_, inst.lod, records.data(), records.size());
     upload(dev_, inst.offsets, offsets.data(), offsets.size());
@@ -202,11 +214,13 @@ StrandSet HairMeshGpu::exportStrands(float lod) {
   readBack(dev_, "exported strands", e.points, p.data(), slots);
   readBack(dev_, "exported strands", e.tangents, t.data(), slots);
   readBack(dev_, "exported strands", e.counts, out.pointCounts.data(), total);
-  std::vector<cl_uint> offsets(gpu::clh_lod_drawn_total_at(static_cast<gpu::clh_u32>(data_.bundles.size())) + 1);
+  std::vector<cl_uint> offsets(
+      gpu::clh_lod_drawn_total_at(static_cast<gpu::clh_u32>(data_.bundles.size())) + 1);
   readBack(dev_, "strand offsets", inst->offsets, offsets.data(), offsets.size());
   out.bundleOf.resize(total);
   for (std::size_t b = 0; b + 1 < offsets.size(); ++b)
-    for (cl_uint i = offsets[b]; i < offsets[b + 1] && i < total; ++i) out.bundleOf[i] = static_cast<std::uint32_t>(b);
+    for (cl_uint i = offsets[b]; i < offsets[b + 1] && i < total; ++i)
+      out.bundleOf[i] = static_cast<std::uint32_t>(b);
   for (std::uint32_t s = 0; s < total; ++s) {
     const std::size_t base = static_cast<std::size_t>(s) * CLH_MAX_CONTROL_POINTS;
     for (std::uint32_t k = 0; k < out.pointCounts[s] && k < CLH_MAX_CONTROL_POINTS; ++k) {
@@ -243,7 +257,8 @@ std::vector<float> HairMeshGpu::bakeAo(const HairMesh& mesh, GroomStages& stages
                 static_cast<cl_uint>(std::ceil((hi.z - lo.z) / voxel)) + 1, 0}};
   grid.lo = {{lo.x, lo.y, lo.z, voxel}};
   // each sampled strand stands for total / sampled strands of the real groom
-  const float represented = static_cast<float>(mesh.strandCount) / static_cast<float>(sample->strandCount);
+  const float represented =
+      static_cast<float>(mesh.strandCount) / static_cast<float>(sample->strandCount);
   grid.scale = mesh.appearance.strandWidth * represented / (voxel * voxel * voxel);
   AoStage::Strands strands;
   strands.points = &e.points;

@@ -38,9 +38,12 @@ class HairMeshGpu final : public GroomGpu {
 
   bool prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld, const ViewPass& pass) override;
   void lod(GroomInstanceGpu& inst, const cl::Buffer& view, Profiler* profiler) override;
-  std::uint32_t strandCount() const override { return static_cast<std::uint32_t>(data_.totalStrands); }
+  std::uint32_t strandCount() const override {
+    return static_cast<std::uint32_t>(data_.totalStrands);
+  }
   void raster(GroomInstanceGpu& inst, const StrandRaster& r, Profiler* profiler) override;
-  void opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands, Profiler* profiler) override;
+  void opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands,
+               Profiler* profiler) override;
   StrandSet exportStrands(float lod) override;
   glm::vec3 boundsMin() const override { return data_.boundsMin; }
   glm::vec3 boundsMax() const override { return data_.boundsMax; }

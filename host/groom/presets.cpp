@@ -26,9 +26,9 @@ constexpr float kPi = 3.14159265358979323846f;
 struct GrowthModel {
   float headRadius = 0.095f;
   float length = 0.4f;
-  float stiffness = 0.9f;     // how long the root direction persists (fraction kept per step)
-  float gravity = 1.0f;       // pull toward -y per unit length
-  float volume = 0.012f;      // how far the outer layers sit off the scalp
+  float stiffness = 0.9f;  // how long the root direction persists (fraction kept per step)
+  float gravity = 1.0f;    // pull toward -y per unit length
+  float volume = 0.012f;   // how far the outer layers sit off the scalp
   bool avoidFace = true;
 };
 
@@ -70,12 +70,14 @@ std::vector<glm::vec3> growGuide(const GrowthModel& g, glm::vec3 root, glm::vec3
   }
   // resample by arc length
   std::vector<float> acc(path.size(), 0.0f);
-  for (std::size_t i = 1; i < path.size(); ++i) acc[i] = acc[i - 1] + glm::length(path[i] - path[i - 1]);
+  for (std::size_t i = 1; i < path.size(); ++i)
+    acc[i] = acc[i - 1] + glm::length(path[i] - path[i - 1]);
   std::vector<glm::vec3> out;
   for (int l = 0; l < layers; ++l) {
     float target = acc.back() * static_cast<float>(l) / static_cast<float>(layers - 1);
     auto it = std::lower_bound(acc.begin(), acc.end(), target);
-    std::size_t i = std::min<std::size_t>(std::max<std::ptrdiff_t>(it - acc.begin(), 1), path.size() - 1);
+    std::size_t i =
+        std::min<std::size_t>(std::max<std::ptrdiff_t>(it - acc.begin(), 1), path.size() - 1);
     float span = acc[i] - acc[i - 1];
     float t = span > 0.0f ? (target - acc[i - 1]) / span : 0.0f;
     out.push_back(path[i - 1] + (path[i] - path[i - 1]) * std::min(std::max(t, 0.0f), 1.0f));
@@ -104,26 +106,29 @@ Scalp headScalp(float radius, int rings, int sectors, float frontDeg, float back
   for (int i = 1; i <= rings; ++i) {
     for (int j = 0; j <= sectors; ++j) {  // column `sectors` duplicates column 0 (the part)
       float phi = 2.0f * kPi * static_cast<float>(j) / static_cast<float>(sectors);
-      float thetaMax = glm::radians(0.5f * (frontDeg + backDeg) - 0.5f * (backDeg - frontDeg) * std::cos(phi));
+      float thetaMax =
+          glm::radians(0.5f * (frontDeg + backDeg) - 0.5f * (backDeg - frontDeg) * std::cos(phi));
       float theta = thetaMax * static_cast<float>(i) / static_cast<float>(rings);
       s.roots.push_back(radius * glm::vec3(std::sin(theta) * std::sin(phi), std::cos(theta),
                                            std::sin(theta) * std::cos(phi)));
       float rr = 0.5f * theta / thetaRef;
       s.uv.push_back(glm::vec2(0.5f + rr * std::sin(phi), 0.5f + rr * std::cos(phi)));
-      s.side.push_back(j == sectors ? -1.0f : (j == 0 ? 1.0f : (std::sin(phi) >= 0.0f ? 1.0f : -1.0f)));
+      s.side.push_back(j == sectors ? -1.0f
+                                    : (j == 0 ? 1.0f : (std::sin(phi) >= 0.0f ? 1.0f : -1.0f)));
       s.phi.push_back(j == sectors ? 2.0f * kPi - 1e-4f : std::max(phi, 1e-4f));
     }
   }
   auto at = [&](int ring, int col) { return 1 + (ring - 1) * (sectors + 1) + col; };
   for (int j = 0; j < sectors; ++j) s.faces.push_back({0, at(1, j), at(1, j + 1), -1});
   for (int i = 1; i < rings; ++i)
-    for (int j = 0; j < sectors; ++j) s.faces.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+    for (int j = 0; j < sectors; ++j)
+      s.faces.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
   return s;
 }
 
 HairMesh headGroom(const std::string& name, const GrowthModel& g, int layers, int rings,
-                   int sectors, float frontDeg, float backDeg, float lengthFront,
-                   float lengthBack, float sideSweep, std::uint32_t seed) {
+                   int sectors, float frontDeg, float backDeg, float lengthFront, float lengthBack,
+                   float sideSweep, std::uint32_t seed) {
   Scalp s = headScalp(g.headRadius, rings, sectors, frontDeg, backDeg);
   HairMesh m;
   m.name = name;
@@ -147,7 +152,8 @@ HairMesh headGroom(const std::string& name, const GrowthModel& g, int layers, in
     float length = lengthBack + (lengthFront - lengthBack) * front;
     length *= 1.0f + 0.04f * (hash01(seed, static_cast<std::uint32_t>(v)) - 0.5f);
     std::vector<glm::vec3> guide = growGuide(g, s.roots[v], dir, length, layers);
-    for (int l = 0; l < layers; ++l) m.positions[static_cast<std::size_t>(l) * m.vertexCount + v] = guide[l];
+    for (int l = 0; l < layers; ++l)
+      m.positions[static_cast<std::size_t>(l) * m.vertexCount + v] = guide[l];
   }
   return m;
 }
@@ -226,9 +232,9 @@ HairMesh furSphere() {
   m.name = "fur_sphere";
   m.layerCount = layers;
   const glm::vec3 axes[6][3] = {
-      {{1, 0, 0}, {0, 0, -1}, {0, 1, 0}},  {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
-      {{0, 1, 0}, {1, 0, 0}, {0, 0, -1}},  {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}},
-      {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},   {{0, 0, -1}, {-1, 0, 0}, {0, 1, 0}}};
+      {{1, 0, 0}, {0, 0, -1}, {0, 1, 0}}, {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
+      {{0, 1, 0}, {1, 0, 0}, {0, 0, -1}}, {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}},
+      {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},  {{0, 0, -1}, {-1, 0, 0}, {0, 1, 0}}};
   std::vector<glm::vec3> roots;
   for (int f = 0; f < 6; ++f) {
     const glm::vec3 &normal = axes[f][0], &ua = axes[f][1], &va = axes[f][2];
@@ -296,7 +302,8 @@ HairMesh tinyPatch() {
                               {0.0f, 0.0f, 0.03f}};
   m.vertexCount = 7;
   m.faces = {{0, 3, 4, 1}, {1, 4, 5, 2}, {3, 6, 4, -1}};
-  for (const glm::vec3& r : roots) m.uv.push_back(glm::vec2(0.5f + 10.0f * r.x, 0.5f + 10.0f * r.z));
+  for (const glm::vec3& r : roots)
+    m.uv.push_back(glm::vec2(0.5f + 10.0f * r.x, 0.5f + 10.0f * r.z));
   m.positions.resize(static_cast<std::size_t>(m.layerCount) * m.vertexCount);
   for (int v = 0; v < m.vertexCount; ++v)
     for (int l = 0; l < m.layerCount; ++l) {
@@ -324,7 +331,9 @@ HairMesh tinyPatch() {
 
 }  // namespace
 
-std::vector<std::string> groomPresetNames() { return {"long_wavy", "curly_medium", "fur_sphere", "tiny"}; }
+std::vector<std::string> groomPresetNames() {
+  return {"long_wavy", "curly_medium", "fur_sphere", "tiny"};
+}
 
 HairMesh makeGroomPreset(const std::string& name) {
   HairMesh m;

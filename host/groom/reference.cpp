@@ -52,8 +52,8 @@ glm::vec2 clumpCenter(std::uint32_t seed, float freq, glm::vec2 uv, std::uint32_
   for (int dy = -1; dy <= 1; ++dy) {
     for (int dx = -1; dx <= 1; ++dx) {
       int cx = cx0 + dx, cy = cy0 + dy;
-      std::uint32_t key = clh_hash3(seed ^ 0x5c1u, static_cast<std::uint32_t>(cx),
-                                    static_cast<std::uint32_t>(cy));
+      std::uint32_t key =
+          clh_hash3(seed ^ 0x5c1u, static_cast<std::uint32_t>(cx), static_cast<std::uint32_t>(cy));
       glm::vec2 jitter(clh_u01(clh_hash2(key, 0u)), clh_u01(clh_hash2(key, 1u)));
       glm::vec2 center = glm::vec2(cx, cy) + 0.5f + (jitter - 0.5f) * 0.8f;
       glm::vec2 d = g - center;
@@ -86,7 +86,8 @@ ReferenceStrand referenceStrand(const GroomData& data, const gpu::ClhGroomGpu& g
   const std::uint32_t id = clh_hash3(g.seed, bundle, localIndex);
   std::uint32_t clumpId = 0;
   glm::vec2 clumpDuv(0.0f);
-  if (g.clump_frequency > 0.0f) clumpDuv = clumpCenter(g.seed, g.clump_frequency, out.uv, clumpId) - out.uv;
+  if (g.clump_frequency > 0.0f)
+    clumpDuv = clumpCenter(g.seed, g.clump_frequency, out.uv, clumpId) - out.uv;
   const float phase = 2.0f * kPi *
                       (clh_u01(clh_hash2(clumpId, CLH_RNG_PHASE)) +
                        g.curl_phase_jitter * clh_u01(clh_hash2(id, CLH_RNG_PHASE)));
@@ -149,16 +150,19 @@ ReferenceStrand referenceStrand(const GroomData& data, const gpu::ClhGroomGpu& g
     float wc = std::min(std::max(w, 0.0f), 1.0f);
     glm::vec3 offset(0.0f);
     if (g.clump_strength > 0.0f)
-      offset += g.clump_strength * std::pow(wc, g.clump_shape) * (du * clumpDuv.x + dv * clumpDuv.y);
+      offset +=
+          g.clump_strength * std::pow(wc, g.clump_shape) * (du * clumpDuv.x + dv * clumpDuv.y);
     if (g.curl_amplitude > 0.0f) {
       float ramp = smooth01(wc / 0.15f);
       float theta = 2.0f * kPi * g.curl_frequency * wc + phase;
-      offset += g.curl_amplitude * ramp * (std::cos(theta) * e1 + g.curl_helix * std::sin(theta) * e2);
+      offset +=
+          g.curl_amplitude * ramp * (std::cos(theta) * e1 + g.curl_helix * std::sin(theta) * e2);
     }
     if (frizz > 0.0f) {
       float xn = wc * g.frizz_frequency;
-      offset += frizz * wc * wc *
-                (valueNoise(id, CLH_RNG_FRIZZ, xn) * e1 + valueNoise(id, CLH_RNG_FRIZZ + 16u, xn) * e2);
+      offset +=
+          frizz * wc * wc *
+          (valueNoise(id, CLH_RNG_FRIZZ, xn) * e1 + valueNoise(id, CLH_RNG_FRIZZ + 16u, xn) * e2);
     }
     out.points.push_back(base + offset);
     out.w.push_back(w);

@@ -46,12 +46,15 @@ StrandFileGpu::StrandFileGpu(std::shared_ptr<const StrandGroom> groom, GroomStag
   if (!d.fileLook.empty()) d.points.insert(d.points.end(), d.fileLook.begin(), d.fileLook.end());
   std::vector<glm::vec4>().swap(d.fileLook);
   pointWords_ = d.points.size();
-  points_ = makeBuffer<cl_float4>(dev_, what + " strand points (" + std::to_string(d.totalPoints) + ")", d.points.size(),
-                                  reinterpret_cast<const cl_float4*>(d.points.data()));
-  strandOffsets_ = makeBuffer(dev_, what + " strand offsets", d.strandOffsets.size(), d.strandOffsets.data());
+  points_ =
+      makeBuffer<cl_float4>(dev_, what + " strand points (" + std::to_string(d.totalPoints) + ")",
+                            d.points.size(), reinterpret_cast<const cl_float4*>(d.points.data()));
+  strandOffsets_ =
+      makeBuffer(dev_, what + " strand offsets", d.strandOffsets.size(), d.strandOffsets.data());
   uv_ = d.uv.empty() ? makeBuffer<cl_uint>(dev_, what + " root uv", 1)
                      : makeBuffer(dev_, what + " root uv", d.uv.size(), d.uv.data());
-  chunks_ = makeBuffer<cl_uint4>(dev_, what + " chunk table", K, reinterpret_cast<const cl_uint4*>(d.chunks.data()));
+  chunks_ = makeBuffer<cl_uint4>(dev_, what + " chunk table", K,
+                                 reinterpret_cast<const cl_uint4*>(d.chunks.data()));
   chunkBounds_ = makeBuffer<cl_float4>(dev_, what + " chunk bounds", 2 * K,
                                        reinterpret_cast<const cl_float4*>(d.chunkBounds.data()));
   std::vector<glm::vec4>().swap(d.points);  // on the device now
@@ -67,13 +70,15 @@ std::unique_ptr<GroomInstanceGpu> StrandFileGpu::makeInstance() {
   const auto n = static_cast<gpu::clh_u32>(K);
   inst->lod = makeBuffer<gpu::ClhLodRecord>(dev_, what + " LOD records", n);
   inst->counts = makeBuffer<cl_uint>(dev_, what + " strand counts", gpu::clh_lod_counts_length(n));
-  inst->offsets = makeBuffer<cl_uint>(dev_, what + " strand offsets per chunk", gpu::clh_lod_offsets_length(n));
+  inst->offsets =
+      makeBuffer<cl_uint>(dev_, what + " strand offsets per chunk", gpu::clh_lod_offsets_length(n));
   return inst;
 }
 
 std::uint64_t StrandFileGpu::sharedBytes() const {
   std::uint64_t sum = 0;
-  for (const cl::Buffer* b : {&points_, &strandOffsets_, &uv_, &chunks_, &chunkBounds_}) sum += bufferBytes(*b);
+  for (const cl::Buffer* b : {&points_, &strandOffsets_, &uv_, &chunks_, &chunkBounds_})
+    sum += bufferBytes(*b);
   return sum;
 }
 
@@ -96,7 +101,8 @@ ExplicitStage::Inputs StrandFileGpu::inputs(GroomInstanceGpu& inst) const {
   return in;
 }
 
-bool StrandFileGpu::prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld, const ViewPass& pass) {
+bool StrandFileGpu::prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld,
+                            const ViewPass& pass) {
   gpu::ClhGroomGpu& p = inst.params;
   const glm::mat4 o2v = pass.worldToView * objToWorld;
   storeMat34(p.obj_to_view, o2v);
@@ -149,7 +155,8 @@ StrandSet StrandFileGpu::exportStrands(float lod) {
     const glm::uvec4& chunk = data_.chunks[c];
     float delta;
     std::memcpy(&delta, &chunk.z, 4);  // chunk table: first strand, count, delta bits
-    records[c] = gpu::clh_lod_record_at(lod, chunk.y, delta, 3u, CLH_MAX_CONTROL_POINTS, groom_->lod.morphWindow);
+    records[c] = gpu::clh_lod_record_at(lod, chunk.y, delta, 3u, CLH_MAX_CONTROL_POINTS,
+                                        groom_->lod.morphWindow);
     offsets[c] = drawn;
     drawn += records[c].strands;
   }

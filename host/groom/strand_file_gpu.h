@@ -18,9 +18,12 @@ class StrandFileGpu final : public GroomGpu {
 
   bool prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld, const ViewPass& pass) override;
   void lod(GroomInstanceGpu& inst, const cl::Buffer& view, Profiler* profiler) override;
-  std::uint32_t strandCount() const override { return static_cast<std::uint32_t>(data_.totalStrands); }
+  std::uint32_t strandCount() const override {
+    return static_cast<std::uint32_t>(data_.totalStrands);
+  }
   void raster(GroomInstanceGpu& inst, const StrandRaster& r, Profiler* profiler) override;
-  void opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands, Profiler* profiler) override;
+  void opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands,
+               Profiler* profiler) override;
   StrandSet exportStrands(float lod) override;
   glm::vec3 boundsMin() const override { return data_.boundsMin; }
   glm::vec3 boundsMax() const override { return data_.boundsMax; }
@@ -32,8 +35,8 @@ class StrandFileGpu final : public GroomGpu {
 
   std::shared_ptr<const StrandGroom> groom_;
   GroomStages& stages_;
-  ExplicitData data_;          // host copy without the points (they live on the device)
-  std::size_t pointWords_ = 0; // float4 in points_: the points, then file colours
+  ExplicitData data_;           // host copy without the points (they live on the device)
+  std::size_t pointWords_ = 0;  // float4 in points_: the points, then file colours
   gpu::ClhGroomGpu base_{};
   cl::Buffer points_, strandOffsets_, uv_, chunks_, chunkBounds_;
 };

@@ -5,8 +5,8 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <cstdio>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -23,11 +23,13 @@ class InputFile {
     std::error_code ec;
     auto status = std::filesystem::status(path, ec);
     if (ec || !std::filesystem::exists(status))
-      throw Error(path + ": cannot open " + kind + " file (" + (ec ? ec.message() : std::string("no such file")) + ")");
+      throw Error(path + ": cannot open " + kind + " file (" +
+                  (ec ? ec.message() : std::string("no such file")) + ")");
     if (!std::filesystem::is_regular_file(status))
       throw Error(path + ": is not a regular file, cannot read it as a " + kind + " file");
     size_ = std::filesystem::file_size(path, ec);
-    if (ec) throw Error(path + ": cannot read the size of the " + kind + " file (" + ec.message() + ")");
+    if (ec)
+      throw Error(path + ": cannot read the size of the " + kind + " file (" + ec.message() + ")");
     in_.open(path, std::ios::binary);
     if (!in_) throw Error(path + ": cannot open " + kind + " file (" + std::strerror(errno) + ")");
   }
@@ -39,7 +41,8 @@ class InputFile {
   void read(unsigned char* dst, std::size_t n, const std::string& what) {
     in_.read(reinterpret_cast<char*>(dst), static_cast<std::streamsize>(n));
     if (static_cast<std::size_t>(in_.gcount()) != n)
-      throw Error(path_ + ": file ended early while reading " + what + " (was it changed while being read?)");
+      throw Error(path_ + ": file ended early while reading " + what +
+                  " (was it changed while being read?)");
     offset_ += n;
   }
 
@@ -53,7 +56,8 @@ class InputFile {
   // check the offset against size() first.
   void seek(std::uint64_t offset, const std::string& what) {
     in_.seekg(static_cast<std::streamoff>(offset), std::ios::beg);
-    if (!in_) throw Error(path_ + ": cannot seek to " + what + " at byte " + std::to_string(offset));
+    if (!in_)
+      throw Error(path_ + ": cannot seek to " + what + " at byte " + std::to_string(offset));
     offset_ = offset;
   }
 
@@ -66,10 +70,13 @@ class InputFile {
 
 // Little-endian decoding of the binary formats' fields, independent of the host's order.
 inline std::uint32_t loadU32(const unsigned char* p) {
-  return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 | std::uint32_t(p[3]) << 24;
+  return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 |
+         std::uint32_t(p[3]) << 24;
 }
 
-inline std::uint16_t loadU16(const unsigned char* p) { return static_cast<std::uint16_t>(p[0] | p[1] << 8); }
+inline std::uint16_t loadU16(const unsigned char* p) {
+  return static_cast<std::uint16_t>(p[0] | p[1] << 8);
+}
 
 inline std::int32_t loadI32(const unsigned char* p) {
   const std::uint32_t u = loadU32(p);

@@ -30,7 +30,7 @@ struct CyHair {
   float defaultTransparency = 0.0f;
   float defaultColor[3] = {1.0f, 1.0f, 1.0f};
   std::string info;
-  std::uint64_t trailingBytes = 0;      // read: bytes after the last array (not written)
+  std::uint64_t trailingBytes = 0;  // read: bytes after the last array (not written)
 };
 
 inline std::uint64_t strandCount(const CyHair& hair) { return hair.segments.size(); }

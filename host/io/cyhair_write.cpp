@@ -21,15 +21,21 @@ void writeCyHair(const CyHair& h, const std::string& path) {
   std::size_t points = 0;
   bool uniform = strands > 0;
   for (std::size_t i = 0; i < strands; ++i) {
-    if (h.segments[i] > 0xFFFFu) throw Error(path + ": strand " + std::to_string(i) + " has more than 65535 segments");
+    if (h.segments[i] > 0xFFFFu)
+      throw Error(path + ": strand " + std::to_string(i) + " has more than 65535 segments");
     points += h.segments[i] + 1;
     uniform = uniform && h.segments[i] == h.segments[0];
   }
-  if (h.points.size() != points * 3) throw Error(path + ": point array does not match the segment counts");
-  if (!h.thickness.empty() && h.thickness.size() != points) throw Error(path + ": thickness array size mismatch");
-  if (!h.transparency.empty() && h.transparency.size() != points) throw Error(path + ": transparency array size mismatch");
-  if (!h.colors.empty() && h.colors.size() != points * 3) throw Error(path + ": colour array size mismatch");
-  if (strands > 0xFFFFFFFFull || points > 0xFFFFFFFFull) throw Error(path + ": too many strands or points for cyHair");
+  if (h.points.size() != points * 3)
+    throw Error(path + ": point array does not match the segment counts");
+  if (!h.thickness.empty() && h.thickness.size() != points)
+    throw Error(path + ": thickness array size mismatch");
+  if (!h.transparency.empty() && h.transparency.size() != points)
+    throw Error(path + ": transparency array size mismatch");
+  if (!h.colors.empty() && h.colors.size() != points * 3)
+    throw Error(path + ": colour array size mismatch");
+  if (strands > 0xFFFFFFFFull || points > 0xFFFFFFFFull)
+    throw Error(path + ": too many strands or points for cyHair");
 
   std::uint32_t flags = 2u;
   if (!uniform) flags |= 1u;

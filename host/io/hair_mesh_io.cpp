@@ -29,7 +29,8 @@ std::vector<float> floatArray(const JsonReader& r, const json& j, const std::str
                               std::size_t expected) {
   if (!j.is_array()) r.fail(key, "must be an array of numbers");
   if (j.size() != expected)
-    r.fail(key, "has " + std::to_string(j.size()) + " numbers, expected " + std::to_string(expected));
+    r.fail(key,
+           "has " + std::to_string(j.size()) + " numbers, expected " + std::to_string(expected));
   std::vector<float> out(expected);
   for (std::size_t i = 0; i < expected; ++i) {
     const json& e = j[i];
@@ -90,7 +91,6 @@ void readLod(const JsonReader& r, const json& j, LodParams& lod) {
   o.rejectUnknown({"enabled", "lambda", "morph_window"});
 }
 
-
 // Rounds to 6 significant digits so files stay small and diff-friendly.
 double tidy(float v) {
   char buf[32];
@@ -110,7 +110,8 @@ std::string layout(const json& j) {
     bool perLine = v.is_array() && !v.empty() && v[0].is_array() && v[0].size() > 4;
     if (perLine) {
       out += "[\n";
-      for (std::size_t k = 0; k < v.size(); ++k) out += "    " + v[k].dump() + (k + 1 < v.size() ? ",\n" : "\n");
+      for (std::size_t k = 0; k < v.size(); ++k)
+        out += "    " + v[k].dump() + (k + 1 < v.size() ? ",\n" : "\n");
       out += "  ]";
     } else {
       out += v.dump();
@@ -126,8 +127,10 @@ void readAppearance(const JsonReader& r, const json& j, AppearanceParams& a, boo
   JsonReader o = r.object(j, "appearance");
   a.rootColor = o.vec3("root_color", a.rootColor, 0.0, 1.0);
   a.tipColor = o.vec3("tip_color", a.tipColor, 0.0, 1.0);
-  if (o.has("eumelanin") || o.has("pheomelanin")) a.useMelanin = true;
-  else if (o.has("root_color") || o.has("tip_color")) a.useMelanin = false;
+  if (o.has("eumelanin") || o.has("pheomelanin"))
+    a.useMelanin = true;
+  else if (o.has("root_color") || o.has("tip_color"))
+    a.useMelanin = false;
   a.useMelanin = o.boolean("use_melanin", a.useMelanin);
   auto pair = [&](const char* key, float* v) {
     if (!o.has(key)) return;
@@ -155,35 +158,46 @@ void readAppearance(const JsonReader& r, const json& j, AppearanceParams& a, boo
   a.minHitDiameterPx = o.number("min_hit_diameter_px", a.minHitDiameterPx, 0.0, 3.0);
   if (strandFile) {
     a.useFileColor = o.boolean("use_file_color", a.useFileColor);
-    o.rejectUnknown({"root_color", "tip_color", "use_melanin", "eumelanin", "pheomelanin", "beta_m", "beta_n",
-                     "cuticle_tilt", "ior", "variation", "strand_width", "min_hit_diameter_px", "use_file_color"});
+    o.rejectUnknown({"root_color", "tip_color", "use_melanin", "eumelanin", "pheomelanin", "beta_m",
+                     "beta_n", "cuticle_tilt", "ior", "variation", "strand_width",
+                     "min_hit_diameter_px", "use_file_color"});
     return;
   }
-  o.rejectUnknown({"root_color", "tip_color", "use_melanin", "eumelanin", "pheomelanin", "beta_m", "beta_n",
-                   "cuticle_tilt", "ior", "variation", "strand_width", "min_hit_diameter_px"});
+  o.rejectUnknown({"root_color", "tip_color", "use_melanin", "eumelanin", "pheomelanin", "beta_m",
+                   "beta_n", "cuticle_tilt", "ior", "variation", "strand_width",
+                   "min_hit_diameter_px"});
 }
 
 void validateHairMesh(const HairMesh& m, const std::string& where) {
   auto fail = [&](const std::string& what) { throw Error(where + ": " + what); };
   if (m.layerCount < 2)
-    fail("layer_count is " + std::to_string(m.layerCount) + ", a hair mesh needs at least 2 layers");
+    fail("layer_count is " + std::to_string(m.layerCount) +
+         ", a hair mesh needs at least 2 layers");
   if (m.layerCount > CLH_MAX_LAYERS)
     fail("layer_count is " + std::to_string(m.layerCount) + ", at most " +
          std::to_string(CLH_MAX_LAYERS) + " layers are supported");
   if (m.vertexCount < 3 || m.vertexCount > kMaxVertices)
-    fail("vertex_count is " + std::to_string(m.vertexCount) + ", expected 3.." + std::to_string(kMaxVertices));
+    fail("vertex_count is " + std::to_string(m.vertexCount) + ", expected 3.." +
+         std::to_string(kMaxVertices));
   const std::size_t n = static_cast<std::size_t>(m.layerCount) * m.vertexCount;
-  if (m.positions.size() != n) fail("positions hold " + std::to_string(m.positions.size()) + " vertices, expected " + std::to_string(n));
-  if (m.uv.size() != static_cast<std::size_t>(m.vertexCount)) fail("uv holds " + std::to_string(m.uv.size()) + " entries, expected vertex_count " + std::to_string(m.vertexCount));
-  if (!m.tangents.empty() && m.tangents.size() != n) fail("tangents must have one entry per layer vertex");
+  if (m.positions.size() != n)
+    fail("positions hold " + std::to_string(m.positions.size()) + " vertices, expected " +
+         std::to_string(n));
+  if (m.uv.size() != static_cast<std::size_t>(m.vertexCount))
+    fail("uv holds " + std::to_string(m.uv.size()) + " entries, expected vertex_count " +
+         std::to_string(m.vertexCount));
+  if (!m.tangents.empty() && m.tangents.size() != n)
+    fail("tangents must have one entry per layer vertex");
   if (!m.w.empty() && m.w.size() != n) fail("w must have one entry per layer vertex");
   if (!m.ao.empty() && m.ao.size() != n) fail("ao must have one entry per layer vertex");
   if (m.faces.empty()) fail("faces is empty: the scalp needs at least one face");
   for (std::size_t i = 0; i < n; ++i) {
     const glm::vec3& p = m.positions[i];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      fail("layer " + std::to_string(i / m.vertexCount) + " vertex " + std::to_string(i % m.vertexCount) + " has a non-finite position");
-    if (!m.tangents.empty() && !(std::isfinite(m.tangents[i].x) && std::isfinite(m.tangents[i].y) && std::isfinite(m.tangents[i].z)))
+      fail("layer " + std::to_string(i / m.vertexCount) + " vertex " +
+           std::to_string(i % m.vertexCount) + " has a non-finite position");
+    if (!m.tangents.empty() && !(std::isfinite(m.tangents[i].x) && std::isfinite(m.tangents[i].y) &&
+                                 std::isfinite(m.tangents[i].z)))
       fail("tangent of layer vertex " + std::to_string(i) + " is not finite");
     if (!m.w.empty() && !(std::isfinite(m.w[i]) && m.w[i] >= 0.0f && m.w[i] <= 1.0f))
       fail("w of layer vertex " + std::to_string(i) + " must be a finite number in [0, 1]");
@@ -202,17 +216,20 @@ void validateHairMesh(const HairMesh& m, const std::string& where) {
              " is out of range (vertex_count " + std::to_string(m.vertexCount) + ")");
     for (int a = 0; a < corners; ++a)
       for (int b = a + 1; b < corners; ++b)
-        if (face[a] == face[b]) fail("faces[" + std::to_string(f) + "] repeats vertex " + std::to_string(face[a]));
+        if (face[a] == face[b])
+          fail("faces[" + std::to_string(f) + "] repeats vertex " + std::to_string(face[a]));
     glm::vec2 e1 = m.uv[face[1]] - m.uv[face[0]], e2 = m.uv[face[2]] - m.uv[face[0]];
     if (std::fabs(e1.x * e2.y - e2.x * e1.y) < 1e-12f)
       fail("faces[" + std::to_string(f) + "] has zero uv area: styling frames need a uv layout");
   }
   if (m.strandCount < 0 || m.strandCount > kMaxStrands)
-    fail("strands is " + std::to_string(m.strandCount) + ", expected 0.." + std::to_string(kMaxStrands));
+    fail("strands is " + std::to_string(m.strandCount) + ", expected 0.." +
+         std::to_string(kMaxStrands));
   bool pow2plus1 = false;
   for (int k = 1; k <= 7; ++k) pow2plus1 |= m.controlPoints == (1 << k) + 1;
   if (!pow2plus1)
-    fail("control_points is " + std::to_string(m.controlPoints) + ", expected 3, 5, 9, 17, 33, 65 or 129");
+    fail("control_points is " + std::to_string(m.controlPoints) +
+         ", expected 3, 5, 9, 17, 33, 65 or 129");
 }
 
 HairMesh loadHairMesh(const std::string& path) {
@@ -220,13 +237,19 @@ HairMesh loadHairMesh(const std::string& path) {
   JsonReader r(path, root);
   HairMesh m;
   std::string format = r.string("format", "");
-  if (format != "clhair-hairmesh") r.fail("format", "is \"" + format + "\", expected \"clhair-hairmesh\"");
+  if (format != "clhair-hairmesh")
+    r.fail("format", "is \"" + format + "\", expected \"clhair-hairmesh\"");
   int version = r.integer("version", 1, 1, 1000);
-  if (version != kFormatVersion) r.fail("version", std::to_string(version) + " is not supported (this build reads version 1)");
+  if (version != kFormatVersion)
+    r.fail("version", std::to_string(version) + " is not supported (this build reads version 1)");
   m.name = r.string("name", std::filesystem::path(path).stem().string());
   m.layerCount = r.integer("layer_count", 0, 0, 1 << 20);
-  if (m.layerCount < 2) r.fail("layer_count", "is " + std::to_string(m.layerCount) + ", a hair mesh needs at least 2 layers");
-  if (m.layerCount > CLH_MAX_LAYERS) r.fail("layer_count", "is " + std::to_string(m.layerCount) + ", at most " + std::to_string(CLH_MAX_LAYERS) + " layers are supported");
+  if (m.layerCount < 2)
+    r.fail("layer_count",
+           "is " + std::to_string(m.layerCount) + ", a hair mesh needs at least 2 layers");
+  if (m.layerCount > CLH_MAX_LAYERS)
+    r.fail("layer_count", "is " + std::to_string(m.layerCount) + ", at most " +
+                              std::to_string(CLH_MAX_LAYERS) + " layers are supported");
   m.vertexCount = r.integer("vertex_count", 0, 3, kMaxVertices);
   m.strandCount = r.integer64("strands", 0, 0, kMaxStrands);
   m.controlPoints = r.integer("control_points", m.controlPoints, 2, CLH_MAX_CONTROL_POINTS);
@@ -244,7 +267,8 @@ HairMesh loadHairMesh(const std::string& path) {
       if (!face[c].is_number_integer()) r.fail(key, "holds a non-integer index");
       long long v = face[c].get<long long>();
       if (v < 0 || v >= m.vertexCount)
-        r.fail(key, "vertex index " + std::to_string(v) + " is out of range (vertex_count " + std::to_string(m.vertexCount) + ")");
+        r.fail(key, "vertex index " + std::to_string(v) + " is out of range (vertex_count " +
+                        std::to_string(m.vertexCount) + ")");
       idx[c] = static_cast<int>(v);
     }
     m.faces.push_back(idx);
@@ -252,9 +276,11 @@ HairMesh loadHairMesh(const std::string& path) {
   auto uv = floatArray(r, r.require("uv"), "uv", 2 * static_cast<std::size_t>(m.vertexCount));
   m.uv.resize(m.vertexCount);
   for (int v = 0; v < m.vertexCount; ++v) m.uv[v] = glm::vec2(uv[2 * v], uv[2 * v + 1]);
-  m.positions = toVec3(layeredArray(r, r.require("layers"), "layers", m.layerCount, 3 * static_cast<std::size_t>(m.vertexCount)));
+  m.positions = toVec3(layeredArray(r, r.require("layers"), "layers", m.layerCount,
+                                    3 * static_cast<std::size_t>(m.vertexCount)));
   if (root.contains("tangents"))
-    m.tangents = toVec3(layeredArray(r, root["tangents"], "tangents", m.layerCount, 3 * static_cast<std::size_t>(m.vertexCount)));
+    m.tangents = toVec3(layeredArray(r, root["tangents"], "tangents", m.layerCount,
+                                     3 * static_cast<std::size_t>(m.vertexCount)));
   if (root.contains("w")) m.w = layeredArray(r, root["w"], "w", m.layerCount, m.vertexCount);
   if (root.contains("ao")) m.ao = layeredArray(r, root["ao"], "ao", m.layerCount, m.vertexCount);
   if (root.contains("style")) readStyle(r, root["style"], m.style);
@@ -310,7 +336,8 @@ void saveHairMesh(const HairMesh& m, const std::string& path) {
     json layers = json::array();
     for (int l = 0; l < m.layerCount; ++l) {
       json a = json::array();
-      for (int v = 0; v < m.vertexCount; ++v) a.push_back(tidy(src[static_cast<std::size_t>(l) * m.vertexCount + v]));
+      for (int v = 0; v < m.vertexCount; ++v)
+        a.push_back(tidy(src[static_cast<std::size_t>(l) * m.vertexCount + v]));
       layers.push_back(a);
     }
     return layers;
@@ -320,12 +347,18 @@ void saveHairMesh(const HairMesh& m, const std::string& path) {
   if (!m.w.empty()) j["w"] = layered1(m.w);
   if (!m.ao.empty()) j["ao"] = layered1(m.ao);
   const StyleParams& s = m.style;
-  j["style"] = {{"clump_strength", tidy(s.clumpStrength)},     {"clump_frequency", tidy(s.clumpFrequency)},
-                {"clump_shape", tidy(s.clumpShape)},           {"curl_amplitude", tidy(s.curlAmplitude)},
-                {"curl_frequency", tidy(s.curlFrequency)},     {"curl_helix", tidy(s.curlHelix)},
-                {"curl_phase_jitter", tidy(s.curlPhaseJitter)}, {"frizz_amplitude", tidy(s.frizzAmplitude)},
-                {"frizz_frequency", tidy(s.frizzFrequency)},   {"flyaway_fraction", tidy(s.flyawayFraction)},
-                {"flyaway_amplitude", tidy(s.flyawayAmplitude)}, {"length_variation", tidy(s.lengthVariation)}};
+  j["style"] = {{"clump_strength", tidy(s.clumpStrength)},
+                {"clump_frequency", tidy(s.clumpFrequency)},
+                {"clump_shape", tidy(s.clumpShape)},
+                {"curl_amplitude", tidy(s.curlAmplitude)},
+                {"curl_frequency", tidy(s.curlFrequency)},
+                {"curl_helix", tidy(s.curlHelix)},
+                {"curl_phase_jitter", tidy(s.curlPhaseJitter)},
+                {"frizz_amplitude", tidy(s.frizzAmplitude)},
+                {"frizz_frequency", tidy(s.frizzFrequency)},
+                {"flyaway_fraction", tidy(s.flyawayFraction)},
+                {"flyaway_amplitude", tidy(s.flyawayAmplitude)},
+                {"length_variation", tidy(s.lengthVariation)}};
   const AppearanceParams& a = m.appearance;
   j["appearance"] = {{"use_melanin", a.useMelanin},
                      {"eumelanin", json::array({tidy(a.eumelanin[0]), tidy(a.eumelanin[1])})},
@@ -339,7 +372,9 @@ void saveHairMesh(const HairMesh& m, const std::string& path) {
                      {"variation", tidy(a.variation)},
                      {"strand_width", tidy(a.strandWidth)},
                      {"min_hit_diameter_px", tidy(a.minHitDiameterPx)}};
-  j["lod"] = {{"enabled", m.lod.enabled}, {"lambda", tidy(m.lod.lambda)}, {"morph_window", tidy(m.lod.morphWindow)}};
+  j["lod"] = {{"enabled", m.lod.enabled},
+              {"lambda", tidy(m.lod.lambda)},
+              {"morph_window", tidy(m.lod.morphWindow)}};
   writeTextAtomically(path, layout(j));
 }
 

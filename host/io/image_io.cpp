@@ -35,12 +35,14 @@ void writeImage(const Image& image, const std::string& path) {
   const std::string ext = lowerExtension(path);
   // The temporary keeps the extension so OpenImageIO picks the right writer.
   std::filesystem::path target(path);
-  std::filesystem::path tmp = target.parent_path() /
-                              (".tmp-" + std::to_string(::getpid()) + "-" + target.filename().string());
+  std::filesystem::path tmp = target.parent_path() / (".tmp-" + std::to_string(::getpid()) + "-" +
+                                                      target.filename().string());
   auto out = OIIO::ImageOutput::create(path);
-  if (!out) throw Error(path + ": no image writer for extension \"" + ext + "\" (try .png or .exr)");
+  if (!out)
+    throw Error(path + ": no image writer for extension \"" + ext + "\" (try .png or .exr)");
   const bool floating = isFloatFormat(ext);
-  OIIO::ImageSpec spec(image.width, image.height, 4, floating ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::UINT8);
+  OIIO::ImageSpec spec(image.width, image.height, 4,
+                       floating ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::UINT8);
   spec.attribute("oiio:ColorSpace", floating ? "Linear" : "sRGB");
   bool ok = out->open(tmp.string(), spec);
   if (ok) {
@@ -49,7 +51,8 @@ void writeImage(const Image& image, const std::string& path) {
     } else {
       std::vector<unsigned char> bytes(image.rgba.size());
       for (std::size_t i = 0; i < bytes.size(); ++i) {
-        float v = (i % 4 == 3) ? std::min(std::max(image.rgba[i], 0.0f), 1.0f) : linearToSrgb(image.rgba[i]);
+        float v = (i % 4 == 3) ? std::min(std::max(image.rgba[i], 0.0f), 1.0f)
+                               : linearToSrgb(image.rgba[i]);
         bytes[i] = static_cast<unsigned char>(std::lround(v * 255.0f));
       }
       ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
@@ -75,12 +78,14 @@ Image readImage(const std::string& path) {
   if (!in) throw Error(path + ": cannot read image (" + OIIO::geterror() + ")");
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.width > 65536 || spec.height > 65536)
-    throw Error(path + ": image size " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " is not supported");
+    throw Error(path + ": image size " + std::to_string(spec.width) + "x" +
+                std::to_string(spec.height) + " is not supported");
   int channels = spec.nchannels;
   std::vector<float> data(static_cast<std::size_t>(spec.width) * spec.height * channels);
   if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, data.data()))
     throw Error(path + ": reading pixels failed (" + in->geterror() + ")");
-  bool srgb = spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::UINT16;
+  bool srgb = spec.format.basetype == OIIO::TypeDesc::UINT8 ||
+              spec.format.basetype == OIIO::TypeDesc::UINT16;
   Image img;
   img.width = spec.width;
   img.height = spec.height;

@@ -47,21 +47,25 @@ double JsonReader::number(const std::string& key, double def, double lo, double 
   if (!v.is_number()) fail(key, "must be a number");
   double d = v.get<double>();
   if (!std::isfinite(d)) fail(key, "is not a finite number");
-  if (d < lo || d > hi) fail(key, "is " + showNumber(d) + ", expected " + showNumber(lo) + ".." + showNumber(hi));
+  if (d < lo || d > hi)
+    fail(key, "is " + showNumber(d) + ", expected " + showNumber(lo) + ".." + showNumber(hi));
   return d;
 }
 
-long long JsonReader::integer64(const std::string& key, long long def, long long lo, long long hi) const {
+long long JsonReader::integer64(const std::string& key, long long def, long long lo,
+                                long long hi) const {
   if (!obj_->contains(key)) return def;
   const json& v = (*obj_)[key];
   if (!v.is_number_integer()) {
     if (v.is_number_float()) fail(key, "must be a whole number");
     fail(key, "must be an integer");
   }
-  long long x = v.is_number_unsigned() && v.get<unsigned long long>() > static_cast<unsigned long long>(hi)
-                    ? hi + 1
-                    : v.get<long long>();
-  if (x < lo || x > hi) fail(key, "is " + v.dump() + ", expected " + std::to_string(lo) + ".." + std::to_string(hi));
+  long long x =
+      v.is_number_unsigned() && v.get<unsigned long long>() > static_cast<unsigned long long>(hi)
+          ? hi + 1
+          : v.get<long long>();
+  if (x < lo || x > hi)
+    fail(key, "is " + v.dump() + ", expected " + std::to_string(lo) + ".." + std::to_string(hi));
   return x;
 }
 
@@ -83,7 +87,8 @@ std::string JsonReader::string(const std::string& key, const std::string& def) c
   return v.get<std::string>();
 }
 
-glm::vec3 JsonReader::vec3(const std::string& key, const glm::vec3& def, double lo, double hi) const {
+glm::vec3 JsonReader::vec3(const std::string& key, const glm::vec3& def, double lo,
+                           double hi) const {
   if (!obj_->contains(key)) return def;
   const json& v = (*obj_)[key];
   if (!v.is_array() || v.size() != 3) fail(key, "must be an array of 3 numbers");
@@ -92,7 +97,9 @@ glm::vec3 JsonReader::vec3(const std::string& key, const glm::vec3& def, double 
     if (!v[i].is_number()) fail(key, "must be an array of 3 numbers");
     double d = v[i].get<double>();
     if (!std::isfinite(d)) fail(key, "holds a non-finite number");
-    if (d < lo || d > hi) fail(key, "component " + std::to_string(i) + " is " + showNumber(d) + ", expected " + showNumber(lo) + ".." + showNumber(hi));
+    if (d < lo || d > hi)
+      fail(key, "component " + std::to_string(i) + " is " + showNumber(d) + ", expected " +
+                    showNumber(lo) + ".." + showNumber(hi));
     out[i] = static_cast<float>(d);
   }
   return out;

@@ -30,7 +30,9 @@ class JsonReader {
   JsonReader object(const nlohmann::json& j, const std::string& key) const;
   void rejectUnknown(std::initializer_list<const char*> known) const;
   const std::string& file() const { return file_; }
-  std::string path(const std::string& key) const { return prefix_.empty() ? key : prefix_ + "." + key; }
+  std::string path(const std::string& key) const {
+    return prefix_.empty() ? key : prefix_ + "." + key;
+  }
 
  private:
   std::string file_;

@@ -25,7 +25,9 @@ namespace clhair {
 
 namespace {
 
-std::string mib(std::uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
+std::string mib(std::uint64_t bytes) {
+  return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB";
+}
 
 // One whitespace-separated token from `p` (advanced past it); empty at the end of the line.
 std::string nextToken(const char*& p, const char* end) {
@@ -46,10 +48,13 @@ ScanResult scanObj(const std::string& text, const MeshLimits& limits, const std:
   std::uint64_t line = 0, maxIndex = 0, maxIndexLine = 0;
   const char* p = text.data();
   const char* const end = p + text.size();
-  auto fail = [&](const std::string& what) { throw Error(label + ": line " + std::to_string(line) + ": " + what); };
+  auto fail = [&](const std::string& what) {
+    throw Error(label + ": line " + std::to_string(line) + ": " + what);
+  };
   while (p < end) {
     ++line;
-    const char* eol = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
+    const char* eol =
+        static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
     if (!eol) eol = end;
     const char* q = p;
     const std::string key = nextToken(q, eol);
@@ -60,10 +65,11 @@ ScanResult scanObj(const std::string& text, const MeshLimits& limits, const std:
         char* stop = nullptr;
         const double v = std::strtod(t.c_str(), &stop);
         if (stop != t.c_str() + t.size())
-          fail("vertex " + std::to_string(r.vertices + 1) + " has a non-numeric coordinate \"" + t.substr(0, 32) +
-               "\"");
+          fail("vertex " + std::to_string(r.vertices + 1) + " has a non-numeric coordinate \"" +
+               t.substr(0, 32) + "\"");
         if (!std::isfinite(v) || std::fabs(v) > std::numeric_limits<float>::max())
-          fail("vertex " + std::to_string(r.vertices + 1) + " has a non-finite coordinate (" + t.substr(0, 32) + ")");
+          fail("vertex " + std::to_string(r.vertices + 1) + " has a non-finite coordinate (" +
+               t.substr(0, 32) + ")");
       }
       if (n < 3)
         fail("vertex " + std::to_string(r.vertices + 1) + " has " + std::to_string(n) +
@@ -77,16 +83,19 @@ ScanResult scanObj(const std::string& text, const MeshLimits& limits, const std:
         char* stop = nullptr;
         const long long idx = std::strtoll(first.c_str(), &stop, 10);
         if (first.empty() || stop != first.c_str() + first.size() || errno == ERANGE || idx == 0)
-          fail("face vertex \"" + t.substr(0, 32) + "\" is not a vertex index (1-based, or negative: relative)");
+          fail("face vertex \"" + t.substr(0, 32) +
+               "\" is not a vertex index (1-based, or negative: relative)");
         if (idx < 0 && static_cast<std::uint64_t>(-(idx + 1)) >= r.vertices)
-          fail("face index " + std::to_string(idx) + " is out of range: only " + std::to_string(r.vertices) +
-               " vertices come before it");
+          fail("face index " + std::to_string(idx) + " is out of range: only " +
+               std::to_string(r.vertices) + " vertices come before it");
         if (idx > 0 && static_cast<std::uint64_t>(idx) > maxIndex) {
           maxIndex = static_cast<std::uint64_t>(idx);
           maxIndexLine = line;
         }
       }
-      if (n < 3) fail("face has " + std::to_string(n) + " vertices, need at least 3 (is the file truncated?)");
+      if (n < 3)
+        fail("face has " + std::to_string(n) +
+             " vertices, need at least 3 (is the file truncated?)");
       r.triangles += n - 2;
       if (r.triangles > limits.maxTriangles)
         fail("more than " + std::to_string(limits.maxTriangles) + " triangles; the limit is " +
@@ -96,24 +105,28 @@ ScanResult scanObj(const std::string& text, const MeshLimits& limits, const std:
   }
   if (maxIndex > r.vertices) {
     line = maxIndexLine;
-    fail("face index " + std::to_string(maxIndex) + " is out of range: the file has " + std::to_string(r.vertices) +
-         " vertices");
+    fail("face index " + std::to_string(maxIndex) + " is out of range: the file has " +
+         std::to_string(r.vertices) + " vertices");
   }
   if (r.triangles == 0) throw Error(label + ": holds no faces (\"f\" lines): nothing to draw");
-  const std::uint64_t vertexBytes = r.vertices * kMeshVertexBytes, triangleBytes = r.triangles * kMeshTriangleBytes;
+  const std::uint64_t vertexBytes = r.vertices * kMeshVertexBytes,
+                      triangleBytes = r.triangles * kMeshTriangleBytes;
   if (vertexBytes > limits.maxBufferBytes || triangleBytes > limits.maxBufferBytes)
-    throw Error(label + ": " + std::to_string(r.vertices) + " vertices and " + std::to_string(r.triangles) +
-                " triangles need " + mib(std::max(vertexBytes, triangleBytes)) + " in one buffer; the device allows " +
+    throw Error(label + ": " + std::to_string(r.vertices) + " vertices and " +
+                std::to_string(r.triangles) + " triangles need " +
+                mib(std::max(vertexBytes, triangleBytes)) + " in one buffer; the device allows " +
                 mib(limits.maxBufferBytes));
   return r;
 }
 
 }  // namespace
 
-void validateTriangleMesh(const TriangleMesh& mesh, const std::string& where, const MeshLimits& limits) {
+void validateTriangleMesh(const TriangleMesh& mesh, const std::string& where,
+                          const MeshLimits& limits) {
   if (mesh.indices.empty()) throw Error(where + ": holds no triangles: nothing to draw");
   if (mesh.indices.size() % 3 != 0)
-    throw Error(where + ": " + std::to_string(mesh.indices.size()) + " vertex indices are not whole triangles");
+    throw Error(where + ": " + std::to_string(mesh.indices.size()) +
+                " vertex indices are not whole triangles");
   const std::uint64_t triangles = mesh.indices.size() / 3;
   if (triangles > limits.maxTriangles)
     throw Error(where + ": " + std::to_string(triangles) + " triangles; the limit is " +
@@ -121,8 +134,10 @@ void validateTriangleMesh(const TriangleMesh& mesh, const std::string& where, co
   if (mesh.positions.size() > std::numeric_limits<std::uint32_t>::max() ||
       mesh.positions.size() * kMeshVertexBytes > limits.maxBufferBytes ||
       triangles * kMeshTriangleBytes > limits.maxBufferBytes)
-    throw Error(where + ": " + std::to_string(mesh.positions.size()) + " vertices and " + std::to_string(triangles) +
-                " triangles do not fit the device's largest allocation (" + mib(limits.maxBufferBytes) + ")");
+    throw Error(where + ": " + std::to_string(mesh.positions.size()) + " vertices and " +
+                std::to_string(triangles) +
+                " triangles do not fit the device's largest allocation (" +
+                mib(limits.maxBufferBytes) + ")");
   for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
     const glm::vec3& v = mesh.positions[i];
     if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
@@ -131,15 +146,17 @@ void validateTriangleMesh(const TriangleMesh& mesh, const std::string& where, co
   for (std::size_t i = 0; i < mesh.indices.size(); ++i)
     if (mesh.indices[i] >= mesh.positions.size())
       throw Error(where + ": triangle " + std::to_string(i / 3) + " names vertex " +
-                  std::to_string(mesh.indices[i] + 1) +
-                  " of " + std::to_string(mesh.positions.size()));
+                  std::to_string(mesh.indices[i] + 1) + " of " +
+                  std::to_string(mesh.positions.size()));
 }
 
-TriangleMesh loadTriangleMesh(const std::string& path, const MeshLimits& limits, const std::string& labelIn) {
+TriangleMesh loadTriangleMesh(const std::string& path, const MeshLimits& limits,
+                              const std::string& labelIn) {
   const std::string label = labelIn.empty() ? path : labelIn;
   const std::string ext = lowerExtension(path);
   if (ext == ".ply")
-    throw Error(label + ": PLY meshes are not supported; convert it to OBJ (e.g. with Blender or MeshLab)");
+    throw Error(label +
+                ": PLY meshes are not supported; convert it to OBJ (e.g. with Blender or MeshLab)");
   if (ext != ".obj") throw Error(label + ": expected a Wavefront .obj mesh, not \"" + ext + "\"");
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
@@ -147,8 +164,8 @@ TriangleMesh loadTriangleMesh(const std::string& path, const MeshLimits& limits,
   const std::uint64_t size = std::filesystem::file_size(path, ec);
   if (ec) throw Error(label + ": cannot read its size (" + ec.message() + ")");
   if (size > limits.maxFileBytes)
-    throw Error(label + ": the file is " + mib(size) + ", more than the " + mib(limits.maxFileBytes) +
-                " an OBJ mesh may be (decimate the mesh)");
+    throw Error(label + ": the file is " + mib(size) + ", more than the " +
+                mib(limits.maxFileBytes) + " an OBJ mesh may be (decimate the mesh)");
   std::string text(static_cast<std::size_t>(size), '\0');
   {
     std::ifstream in(path, std::ios::binary);
@@ -177,11 +194,12 @@ TriangleMesh loadTriangleMesh(const std::string& path, const MeshLimits& limits,
   TriangleMesh mesh;
   mesh.name = std::filesystem::path(path).stem().string();
   if (attrib.vertices.size() != 3 * counts.vertices)
-    throw Error(label + ": read " + std::to_string(attrib.vertices.size() / 3) + " vertices where the file has " +
-                std::to_string(counts.vertices));
+    throw Error(label + ": read " + std::to_string(attrib.vertices.size() / 3) +
+                " vertices where the file has " + std::to_string(counts.vertices));
   mesh.positions.resize(counts.vertices);
   for (std::size_t i = 0; i < mesh.positions.size(); ++i)
-    mesh.positions[i] = glm::vec3(attrib.vertices[3 * i], attrib.vertices[3 * i + 1], attrib.vertices[3 * i + 2]);
+    mesh.positions[i] =
+        glm::vec3(attrib.vertices[3 * i], attrib.vertices[3 * i + 1], attrib.vertices[3 * i + 2]);
   mesh.indices.reserve(3 * counts.triangles);
   for (const tinyobj::shape_t& shape : reader.GetShapes()) {
     std::size_t at = 0;

@@ -13,9 +13,9 @@
 #include <map>
 
 #include <glm/geometric.hpp>
-#include <glm/vector_relational.hpp>
-#include <glm/trigonometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/trigonometric.hpp>
+#include <glm/vector_relational.hpp>
 
 #include "clhair/error.h"
 #include "clhair/gpu_types.h"
@@ -69,20 +69,21 @@ FilterParams readFilter(const JsonReader& parent, const json& j, FilterParams f)
   f.depthMismatch = static_cast<float>(o.number("depth_mismatch", f.depthMismatch, 0.0, 10.0));
   f.strip = static_cast<float>(o.number("strip", f.strip, 0.0, 8.0));
   f.promote = o.boolean("promote", f.promote);
-  o.rejectUnknown({"enabled", "radius", "s_parallel", "s_perp", "sigma_c", "depth_reject", "depth_mismatch", "strip",
-                   "promote"});
+  o.rejectUnknown({"enabled", "radius", "s_parallel", "s_perp", "sigma_c", "depth_reject",
+                   "depth_mismatch", "strip", "promote"});
   return f;
 }
 
 // A groom entry with "strands_file": the file (read once per scene), its placement (scale,
 // up axis, then the entry's transform), appearance, LOD and filter.
-GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& base, const FilterParams& sceneFilter,
-                              std::uint64_t maxBytes,
+GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& base,
+                              const FilterParams& sceneFilter, std::uint64_t maxBytes,
                               std::map<std::string, std::shared_ptr<const StrandGroom>>& loaded,
                               std::vector<std::string>& warnings) {
   const std::string file = o.string("strands_file", "");
   if (file.empty()) o.fail("strands_file", "is empty: name a .hair, .data or .tfx strand file");
-  std::filesystem::path p = std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;
+  std::filesystem::path p =
+      std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;
   const std::string key = p.lexically_normal().string();
   std::error_code ec;
   const bool found = std::filesystem::exists(p, ec);
@@ -101,7 +102,8 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
   }
   const float scale = static_cast<float>(o.number("scale", 1.0, 1e-6, 1e6));
   const std::string up = o.string("up", "y");
-  if (up != "x" && up != "y" && up != "z") o.fail("up", "is \"" + up + "\", expected \"x\", \"y\" or \"z\"");
+  if (up != "x" && up != "y" && up != "z")
+    o.fail("up", "is \"" + up + "\", expected \"x\", \"y\" or \"z\"");
   // the first entry of a file takes it as read; later ones copy it (the points too)
   StrandGroom groom;
   auto it = loaded.find(key);
@@ -111,19 +113,23 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
     try {
       std::vector<std::string> notes;
       groom = loadStrandGroom(key, maxBytes, nullptr, &notes);
-      for (const std::string& n : notes) warnings.push_back(o.file() + ": " + o.path("strands_file") + ": " + n);
+      for (const std::string& n : notes)
+        warnings.push_back(o.file() + ": " + o.path("strands_file") + ": " + n);
     } catch (const Error& e) {
       o.fail("strands_file", e.what());
     }
   }
   // per-point colours and thicknesses are drawn only when asked for; say so either way
   const bool fileLook = !groom.colors.empty() || !groom.thickness.empty();
-  const std::string arrays = !groom.colors.empty() && !groom.thickness.empty() ? "colours and thicknesses"
-                             : !groom.colors.empty()                            ? "colours"
-                                                                                : "thicknesses";
+  const std::string arrays = !groom.colors.empty() && !groom.thickness.empty()
+                                 ? "colours and thicknesses"
+                             : !groom.colors.empty() ? "colours"
+                                                     : "thicknesses";
   if (fileLook && !look.useFileColor && it == loaded.end())
-    warnings.push_back(o.file() + ": " + o.path("strands_file") + ": " + key + " has per-point " + arrays +
-                       ", ignored: the groom's appearance is used (set \"appearance\": {\"use_file_color\": true} " +
+    warnings.push_back(o.file() + ": " + o.path("strands_file") + ": " + key + " has per-point " +
+                       arrays +
+                       ", ignored: the groom's appearance is used (set \"appearance\": "
+                       "{\"use_file_color\": true} " +
                        "to draw them)");
   if (!fileLook && look.useFileColor)
     warnings.push_back(o.file() + ": " + o.path("appearance.use_file_color") + ": " + key +
@@ -135,24 +141,30 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
   GroomInstance g;
   g.name = o.string("name", shared->name);
   g.strands = shared;
-  glm::mat4 placement = o.has("transform") ? readTransform(o, o.require("transform")) : glm::mat4(1.0f);
-  g.transform = placement * strandFileTransform(scale, up == "x" ? UpAxis::X : up == "z" ? UpAxis::Z : UpAxis::Y);
+  glm::mat4 placement =
+      o.has("transform") ? readTransform(o, o.require("transform")) : glm::mat4(1.0f);
+  g.transform = placement * strandFileTransform(scale, up == "x"   ? UpAxis::X
+                                                       : up == "z" ? UpAxis::Z
+                                                                   : UpAxis::Y);
   if (o.has("filter")) {
     g.hasFilter = true;
     g.filter = readFilter(o, o.require("filter"), sceneFilter);
   }
-  o.rejectUnknown({"strands_file", "name", "transform", "scale", "up", "appearance", "lod", "filter"});
+  o.rejectUnknown(
+      {"strands_file", "name", "transform", "scale", "up", "appearance", "lod", "filter"});
   return g;
 }
 
 // A "meshes" entry: the OBJ file (read once per scene), its placement (scale, up axis, then
 // transform, as for strand files) and its colour.
-MeshInstance readMesh(const JsonReader& o, const std::filesystem::path& base, std::uint64_t maxBytes,
+MeshInstance readMesh(const JsonReader& o, const std::filesystem::path& base,
+                      std::uint64_t maxBytes,
                       std::map<std::string, std::shared_ptr<const TriangleMesh>>& loaded) {
   const std::string file = o.string("file", "");
   if (file.empty()) o.fail("file", "is missing: name the mesh's .obj file");
   const std::string label = o.file() + ": mesh \"" + file + "\"";
-  std::filesystem::path p = std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;
+  std::filesystem::path p =
+      std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;
   const std::string key = p.lexically_normal().string();
   std::error_code ec;
   const bool found = std::filesystem::exists(p, ec);
@@ -171,9 +183,13 @@ MeshInstance readMesh(const JsonReader& o, const std::filesystem::path& base, st
   m.name = o.string("name", m.mesh->name);
   const float scale = static_cast<float>(o.number("scale", 1.0, 1e-6, 1e6));
   const std::string up = o.string("up", "y");
-  if (up != "x" && up != "y" && up != "z") o.fail("up", "is \"" + up + "\", expected \"x\", \"y\" or \"z\"");
-  glm::mat4 placement = o.has("transform") ? readTransform(o, o.require("transform")) : glm::mat4(1.0f);
-  m.transform = placement * strandFileTransform(scale, up == "x" ? UpAxis::X : up == "z" ? UpAxis::Z : UpAxis::Y);
+  if (up != "x" && up != "y" && up != "z")
+    o.fail("up", "is \"" + up + "\", expected \"x\", \"y\" or \"z\"");
+  glm::mat4 placement =
+      o.has("transform") ? readTransform(o, o.require("transform")) : glm::mat4(1.0f);
+  m.transform = placement * strandFileTransform(scale, up == "x"   ? UpAxis::X
+                                                       : up == "z" ? UpAxis::Z
+                                                                   : UpAxis::Y);
   m.color = o.vec3("color", m.color, 0.0, 1.0);
   o.rejectUnknown({"file", "name", "transform", "scale", "up", "color"});
   return m;
@@ -224,21 +240,26 @@ void framingBounds(const Scene& s, glm::vec3& lo, glm::vec3& hi, std::vector<std
   const glm::vec3 coreExtent = coreHi - coreLo;
   float margin = std::max(coreExtent.x, std::max(coreExtent.y, coreExtent.z));
   // a core of one point (or of points in one place) still admits nearby ones
-  margin = std::max(margin, 1e-6f * std::max(1.0f, std::max(glm::length(coreLo), glm::length(coreHi))));
+  margin =
+      std::max(margin, 1e-6f * std::max(1.0f, std::max(glm::length(coreLo), glm::length(coreHi))));
   const glm::vec3 acceptLo = coreLo - margin, acceptHi = coreHi + margin;
 
   glm::vec3 blo(std::numeric_limits<float>::max()), bhi(-std::numeric_limits<float>::max());
   for (std::size_t gi = 0; gi < s.grooms.size(); ++gi) {
     const GroomInstance& g = s.grooms[gi];
     const std::vector<glm::vec3>& points = groomPoints(g);
-    std::size_t strand = 0, strandEnd = g.strands && !g.strands->pointCounts.empty() ? g.strands->pointCounts[0] : 0;
+    std::size_t strand = 0, strandEnd = g.strands && !g.strands->pointCounts.empty()
+                                            ? g.strands->pointCounts[0]
+                                            : 0;
     std::size_t outlierStrands = 0, firstOutlier = 0, lastCounted = ~std::size_t(0);
     glm::vec3 firstPoint(0.0f);
     for (std::size_t i = 0; i < points.size(); ++i) {
       if (g.strands)
-        while (i >= strandEnd && strand + 1 < g.strands->pointCounts.size()) strandEnd += g.strands->pointCounts[++strand];
+        while (i >= strandEnd && strand + 1 < g.strands->pointCounts.size())
+          strandEnd += g.strands->pointCounts[++strand];
       const glm::vec3 w = glm::vec3(g.transform * glm::vec4(points[i], 1.0f));
-      const bool inside = glm::all(glm::greaterThanEqual(w, acceptLo)) && glm::all(glm::lessThanEqual(w, acceptHi));
+      const bool inside =
+          glm::all(glm::greaterThanEqual(w, acceptLo)) && glm::all(glm::lessThanEqual(w, acceptHi));
       if (inside) {
         blo = glm::min(blo, w);
         bhi = glm::max(bhi, w);
@@ -255,13 +276,14 @@ void framingBounds(const Scene& s, glm::vec3& lo, glm::vec3& hi, std::vector<std
     }
     if (outlierStrands > 0 && warnings) {
       const std::string what = g.strands ? "strand" : "hair-mesh layer vertex";
-      std::string msg = where + ": grooms[" + std::to_string(gi) + "] (\"" + g.name + "\"): " + what + " " +
-                        std::to_string(firstOutlier) + " has a point at " + showVec(firstPoint) +
-                        ", far outside the rest of the hair (" + showVec(coreLo) + " to " + showVec(coreHi) +
+      std::string msg = where + ": grooms[" + std::to_string(gi) + "] (\"" + g.name +
+                        "\"): " + what + " " + std::to_string(firstOutlier) + " has a point at " +
+                        showVec(firstPoint) + ", far outside the rest of the hair (" +
+                        showVec(coreLo) + " to " + showVec(coreHi) +
                         "); camera presets frame the hair without it";
       if (outlierStrands > 1)
-        msg += " (and " + std::to_string(outlierStrands - 1) + " more " + what + (outlierStrands > 2 ? "s" : "") +
-               " like it)";
+        msg += " (and " + std::to_string(outlierStrands - 1) + " more " + what +
+               (outlierStrands > 2 ? "s" : "") + " like it)";
       warnings->push_back(msg);
     }
   }
@@ -281,7 +303,8 @@ std::vector<std::string> viewWarnings(const Scene& scene, const std::string& whe
   std::vector<std::string> out;
   const Camera& c = scene.camera;
   const glm::vec3 forward = glm::normalize(c.target - c.position);
-  const float fy = 0.5f * static_cast<float>(scene.height) / std::tan(glm::radians(c.fovYDegrees) * 0.5f);
+  const float fy =
+      0.5f * static_cast<float>(scene.height) / std::tan(glm::radians(c.fovYDegrees) * 0.5f);
   for (std::size_t i = 0; i < scene.grooms.size(); ++i) {
     const GroomInstance& g = scene.grooms[i];
     Scene one;
@@ -290,28 +313,34 @@ std::vector<std::string> viewWarnings(const Scene& scene, const std::string& whe
     framingBounds(one, lo, hi, nullptr, "");
     const glm::vec3 ext = hi - lo;
     const float size = std::max(ext.x, std::max(ext.y, ext.z));
-    const float width = g.strands ? g.strands->appearance.strandWidth : g.mesh->appearance.strandWidth;
+    const float width =
+        g.strands ? g.strands->appearance.strandWidth : g.mesh->appearance.strandWidth;
     const float depth = glm::dot(0.5f * (lo + hi) - c.position, forward);
     const std::string hint = g.strands ? "\"scale\" (0.01 for a file in centimetres)"
                                        : "\"transform\": {\"scale\": ...} (0.01 for centimetres)";
     std::string msg;
     char buf[256];
     if (size > 0.0f && (width < kMinWidthRatio * size || size > kMaxSize)) {
-      std::snprintf(buf, sizeof(buf), "is %g units across with fibres %g wide (%.2g of its size; human hair is about 1e-4)",
-                    static_cast<double>(size), static_cast<double>(width), static_cast<double>(width / size));
+      std::snprintf(
+          buf, sizeof(buf),
+          "is %g units across with fibres %g wide (%.2g of its size; human hair is about 1e-4)",
+          static_cast<double>(size), static_cast<double>(width), static_cast<double>(width / size));
       msg = buf;
       if (depth > 0.0f) {
-        std::snprintf(buf, sizeof(buf), ", so its fibres are %.2g pixels wide here", static_cast<double>(width * fy / depth));
+        std::snprintf(buf, sizeof(buf), ", so its fibres are %.2g pixels wide here",
+                      static_cast<double>(width * fy / depth));
         msg += buf;
       }
       msg += ": are its units right? set " + hint;
     } else if (depth > 0.0f && size * fy / depth < kMinPixels) {
-      std::snprintf(buf, sizeof(buf), "covers only %.2g pixels of the %dx%d image (%g units across, %g away)",
-                    static_cast<double>(size * fy / depth), scene.width, scene.height, static_cast<double>(size),
-                    static_cast<double>(depth));
+      std::snprintf(buf, sizeof(buf),
+                    "covers only %.2g pixels of the %dx%d image (%g units across, %g away)",
+                    static_cast<double>(size * fy / depth), scene.width, scene.height,
+                    static_cast<double>(size), static_cast<double>(depth));
       msg = std::string(buf) + ": is it in the units you expect? check " + hint + " or the camera";
     }
-    if (!msg.empty()) out.push_back(where + ": grooms[" + std::to_string(i) + "] (\"" + g.name + "\") " + msg);
+    if (!msg.empty())
+      out.push_back(where + ": grooms[" + std::to_string(i) + "] (\"" + g.name + "\") " + msg);
   }
   return out;
 }
@@ -326,10 +355,13 @@ CameraPreset parseCameraPreset(const std::string& name) {
 namespace {
 
 // Frames the grooms' bounds from unit direction `dir` (target -> eye).
-Camera frameAlong(const Scene& scene, CameraPreset preset, glm::vec3 dir, float fovYDeg, glm::vec3 up) {
+Camera frameAlong(const Scene& scene, CameraPreset preset, glm::vec3 dir, float fovYDeg,
+                  glm::vec3 up) {
   glm::vec3 lo, hi;
   framingBounds(scene, lo, hi, nullptr, "");
-  const float fraction = preset == CameraPreset::Close ? 0.6f : preset == CameraPreset::Mid ? 0.2f : 0.05f;
+  const float fraction = preset == CameraPreset::Close ? 0.6f
+                         : preset == CameraPreset::Mid ? 0.2f
+                                                       : 0.05f;
   glm::vec3 center = 0.5f * (lo + hi);
   glm::vec3 extent = hi - lo;
   // The groom's size across the view: its vertical extent, or its horizontal one when the
@@ -375,7 +407,8 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
 
   if (r.has("resolution")) {
     const json& res = r.require("resolution");
-    if (!res.is_array() || res.size() != 2 || !res[0].is_number_integer() || !res[1].is_number_integer())
+    if (!res.is_array() || res.size() != 2 || !res[0].is_number_integer() ||
+        !res[1].is_number_integer())
       r.fail("resolution", "must be [width, height] in pixels");
     long long w = res[0].get<long long>(), h = res[1].get<long long>();
     if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
@@ -391,7 +424,8 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
     if (!f.is_absolute()) f = base / f;
     s.backgroundImage = f.lexically_normal().string();
     std::error_code ec;
-    if (!std::filesystem::exists(s.backgroundImage, ec)) r.fail("background_image", "\"" + s.backgroundImage + "\" does not exist");
+    if (!std::filesystem::exists(s.backgroundImage, ec))
+      r.fail("background_image", "\"" + s.backgroundImage + "\" does not exist");
   }
   s.ambient = r.vec3("ambient", s.ambient, 0.0, kBig);
 
@@ -419,10 +453,13 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
       l.rejectUnknown({"type", "position", "direction", "color", "intensity", "shadows"});
       s.lights.push_back(light);
     }
-    if (s.lights.size() > 16) r.fail("lights", "holds " + std::to_string(s.lights.size()) + " lights, at most 16 are supported");
+    if (s.lights.size() > 16)
+      r.fail("lights",
+             "holds " + std::to_string(s.lights.size()) + " lights, at most 16 are supported");
     int shadowed = 0;
     for (const Light& l : s.lights) shadowed += l.shadows;
-    if (shadowed > 4) r.fail("lights", std::to_string(shadowed) + " lights cast shadows, at most 4 can");
+    if (shadowed > 4)
+      r.fail("lights", std::to_string(shadowed) + " lights cast shadows, at most 4 can");
   }
   if (r.has("spheres")) {
     const json& a = r.require("spheres");
@@ -458,15 +495,19 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
     if (!a.is_array()) r.fail("meshes", "must be an array");
     std::map<std::string, std::shared_ptr<const TriangleMesh>> loadedMeshes;
     for (std::size_t i = 0; i < a.size(); ++i)
-      s.meshes.push_back(readMesh(r.object(a[i], "meshes[" + std::to_string(i) + "]"), base, maxStrandBytes, loadedMeshes));
+      s.meshes.push_back(readMesh(r.object(a[i], "meshes[" + std::to_string(i) + "]"), base,
+                                  maxStrandBytes, loadedMeshes));
   }
 
   if (r.has("shadows")) {
     JsonReader o = r.object(r.require("shadows"), "shadows");
     s.shadows.resolution = o.integer("resolution", s.shadows.resolution, 16, 4096);
     if (o.has("layers")) {
-      glm::vec3 l = o.vec3("layers", glm::vec3(s.shadows.layers[0], s.shadows.layers[1], s.shadows.layers[2]), 1e-7, kBig);
-      if (!(l.x < l.y && l.y < l.z)) o.fail("layers", "must increase: three layer ends past the first hair");
+      glm::vec3 l =
+          o.vec3("layers", glm::vec3(s.shadows.layers[0], s.shadows.layers[1], s.shadows.layers[2]),
+                 1e-7, kBig);
+      if (!(l.x < l.y && l.y < l.z))
+        o.fail("layers", "must increase: three layer ends past the first hair");
       for (int i = 0; i < 3; ++i) s.shadows.layers[i] = l[i];
     }
     s.shadows.density = static_cast<float>(o.number("density", s.shadows.density, 0.0, 1e6));
@@ -479,7 +520,8 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
     JsonReader o = r.object(r.require("environment"), "environment");
     EnvironmentDesc& e = s.environment;
     e.enabled = true;
-    if (o.has("file") == o.has("sky")) o.fail("file", "give exactly one of \"file\" (an equirectangular map) and \"sky\"");
+    if (o.has("file") == o.has("sky"))
+      o.fail("file", "give exactly one of \"file\" (an equirectangular map) and \"sky\"");
     if (o.has("file")) {
       std::filesystem::path f = o.string("file", "");
       if (!f.is_absolute()) f = base / f;
@@ -489,19 +531,25 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
     } else {
       JsonReader k = o.object(o.require("sky"), "sky");
       SkyParams& sky = e.sky;
-      sky.sunElevationDeg = static_cast<float>(k.number("sun_elevation", sky.sunElevationDeg, -90.0, 90.0));
-      sky.sunAzimuthDeg = static_cast<float>(k.number("sun_azimuth", sky.sunAzimuthDeg, -360.0, 360.0));
-      sky.sunAngularDiameterDeg = static_cast<float>(k.number("sun_angular_diameter", sky.sunAngularDiameterDeg, 0.01, 45.0));
+      sky.sunElevationDeg =
+          static_cast<float>(k.number("sun_elevation", sky.sunElevationDeg, -90.0, 90.0));
+      sky.sunAzimuthDeg =
+          static_cast<float>(k.number("sun_azimuth", sky.sunAzimuthDeg, -360.0, 360.0));
+      sky.sunAngularDiameterDeg = static_cast<float>(
+          k.number("sun_angular_diameter", sky.sunAngularDiameterDeg, 0.01, 45.0));
       sky.sunColor = k.vec3("sun_color", sky.sunColor, 0.0, kBig);
-      sky.sunIrradiance = static_cast<float>(k.number("sun_irradiance", sky.sunIrradiance, 0.0, 1e6));
+      sky.sunIrradiance =
+          static_cast<float>(k.number("sun_irradiance", sky.sunIrradiance, 0.0, 1e6));
       sky.zenith = k.vec3("zenith", sky.zenith, 0.0, kBig);
       sky.horizon = k.vec3("horizon", sky.horizon, 0.0, kBig);
       sky.ground = k.vec3("ground", sky.ground, 0.0, kBig);
-      sky.gradientExponent = static_cast<float>(k.number("gradient_exponent", sky.gradientExponent, 0.01, 100.0));
+      sky.gradientExponent =
+          static_cast<float>(k.number("gradient_exponent", sky.gradientExponent, 0.01, 100.0));
       sky.groundBlend = static_cast<float>(k.number("ground_blend", sky.groundBlend, 0.0, 1.0));
       sky.width = k.integer("resolution", sky.width, 16, 4096);
-      k.rejectUnknown({"sun_elevation", "sun_azimuth", "sun_angular_diameter", "sun_color", "sun_irradiance", "zenith",
-                       "horizon", "ground", "gradient_exponent", "ground_blend", "resolution"});
+      k.rejectUnknown({"sun_elevation", "sun_azimuth", "sun_angular_diameter", "sun_color",
+                       "sun_irradiance", "zenith", "horizon", "ground", "gradient_exponent",
+                       "ground_blend", "resolution"});
     }
     e.intensity = static_cast<float>(o.number("intensity", e.intensity, 0.0, 1e6));
     e.rotateYDegrees = static_cast<float>(o.number("rotate_y", e.rotateYDegrees, -360.0, 360.0));
@@ -517,14 +565,18 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
     for (std::size_t i = 0; i < a.size(); ++i) {
       JsonReader o = r.object(a[i], "grooms[" + std::to_string(i) + "]");
       if (o.has("file") == o.has("strands_file"))
-        o.fail("file", "give exactly one of \"file\" (a hair mesh) and \"strands_file\" (a .hair, .data or .tfx strand file)");
+        o.fail("file",
+               "give exactly one of \"file\" (a hair mesh) and \"strands_file\" (a .hair, .data or "
+               ".tfx strand file)");
       if (o.has("strands_file")) {
-        s.grooms.push_back(readStrandGroom(o, base, s.filter, maxStrandBytes, loadedStrands, s.warnings));
+        s.grooms.push_back(
+            readStrandGroom(o, base, s.filter, maxStrandBytes, loadedStrands, s.warnings));
         continue;
       }
       std::string file = o.string("file", "");
       if (file.empty()) o.fail("file", "is missing: name the groom's hair-mesh file");
-      std::filesystem::path p = std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;
+      std::filesystem::path p =
+          std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;
       std::string key = p.lexically_normal().string();
       std::error_code ec;
       const bool found = std::filesystem::exists(p, ec);
@@ -547,12 +599,14 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
       if (o.has("strands") || o.has("lod") || o.has("control_points")) {
         HairMesh copy = *mesh;
         copy.strandCount = o.integer64("strands", copy.strandCount, 0, 50'000'000);
-        copy.controlPoints = o.integer("control_points", copy.controlPoints, 2, CLH_MAX_CONTROL_POINTS);
+        copy.controlPoints =
+            o.integer("control_points", copy.controlPoints, 2, CLH_MAX_CONTROL_POINTS);
         if (o.has("lod")) {
           JsonReader l = o.object(o.require("lod"), "lod");
           copy.lod.enabled = l.boolean("enabled", copy.lod.enabled);
           copy.lod.lambda = static_cast<float>(l.number("lambda", copy.lod.lambda, 1e-3, 1e3));
-          copy.lod.morphWindow = static_cast<float>(l.number("morph_window", copy.lod.morphWindow, 0.0, 1.0));
+          copy.lod.morphWindow =
+              static_cast<float>(l.number("morph_window", copy.lod.morphWindow, 0.0, 1.0));
           l.rejectUnknown({"enabled", "lambda", "morph_window"});
         }
         validateHairMesh(copy, path + ": grooms[" + std::to_string(i) + "]");
@@ -587,7 +641,8 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
       s.camera.target = c.vec3("target", s.camera.target, -kBig, kBig);
       s.camera.up = c.vec3("up", s.camera.up, -kBig, kBig);
       s.camera.fovYDegrees = fov;
-      if (glm::length(s.camera.target - s.camera.position) < 1e-9f) c.fail("target", "must differ from position");
+      if (glm::length(s.camera.target - s.camera.position) < 1e-9f)
+        c.fail("target", "must differ from position");
       if (glm::length(glm::cross(s.camera.target - s.camera.position, s.camera.up)) < 1e-9f)
         c.fail("up", "must not be parallel to the viewing direction");
       c.rejectUnknown({"position", "target", "up", "fov"});
@@ -595,8 +650,8 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
   } else {
     s.camera = framePreset(s, CameraPreset::Mid);
   }
-  r.rejectUnknown({"resolution", "camera", "background", "ambient", "lights", "spheres", "planes", "meshes", "grooms",
-                   "shadows", "filter", "environment", "background_image"});
+  r.rejectUnknown({"resolution", "camera", "background", "ambient", "lights", "spheres", "planes",
+                   "meshes", "grooms", "shadows", "filter", "environment", "background_image"});
   return s;
 }
 

@@ -1,8 +1,8 @@
 // strand_groom_io.cpp — StrandGroom from strand files (cyHair, USC-HairSalon, TressFX), its
 // validation and the per-file placement transform.
 //
-// The readers (cyhair_read.cpp, usc_hair.cpp, tressfx_read.cpp) already refuse truncated files, counts that
-// do not add up, non-finite numbers, zero strands and sizes beyond the caller's limit,
+// The readers (cyhair_read.cpp, usc_hair.cpp, tressfx_read.cpp) already refuse truncated files,
+// counts that do not add up, non-finite numbers, zero strands and sizes beyond the caller's limit,
 // before allocating. Here single-point strands are dropped (nothing to draw) and the
 // result is validated like any StrandGroom built in memory.
 #include <algorithm>
@@ -22,7 +22,9 @@ namespace clhair {
 
 namespace {
 
-bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite3(const glm::vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 bool inUnit(const glm::vec3& v) {
   return v.x >= 0.0f && v.x <= 1.0f && v.y >= 0.0f && v.y <= 1.0f && v.z >= 0.0f && v.z <= 1.0f;
@@ -49,7 +51,8 @@ StrandGroom fromCyHair(const CyHair& h, std::uint64_t* skipped) {
       for (std::size_t k = at; k < at + n; ++k) {
         g.points.emplace_back(h.points[3 * k], h.points[3 * k + 1], h.points[3 * k + 2]);
         if (!h.thickness.empty()) g.thickness.push_back(h.thickness[k]);
-        if (!h.colors.empty()) g.colors.emplace_back(h.colors[3 * k], h.colors[3 * k + 1], h.colors[3 * k + 2]);
+        if (!h.colors.empty())
+          g.colors.emplace_back(h.colors[3 * k], h.colors[3 * k + 1], h.colors[3 * k + 2]);
       }
     }
     at += n;
@@ -67,8 +70,9 @@ void rootUvFromFile(const std::vector<float>& uv, const std::string& path, Stran
     const float u = uv[2 * s], v = uv[2 * s + 1];
     if (!(u >= 0.0f && u <= 1.0f && v >= 0.0f && v <= 1.0f)) {
       if (warnings)
-        warnings->push_back(path + ": strand " + std::to_string(s) + " has uv (" + showFloat(u) + ", " +
-                            showFloat(v) + ") outside [0, 1]; the file's strand uv are ignored and " +
+        warnings->push_back(path + ": strand " + std::to_string(s) + " has uv (" + showFloat(u) +
+                            ", " + showFloat(v) +
+                            ") outside [0, 1]; the file's strand uv are ignored and " +
                             "hashed per strand instead");
       return;
     }
@@ -90,16 +94,20 @@ void validateStrandGroom(const StrandGroom& g, const std::string& where) {
     total += g.pointCounts[s];
   }
   if (total > kMaxStrandPoints)
-    fail(std::to_string(total) + " points, at most " + std::to_string(kMaxStrandPoints) + " are supported");
+    fail(std::to_string(total) + " points, at most " + std::to_string(kMaxStrandPoints) +
+         " are supported");
   if (total != g.points.size())
     fail("the strands' point counts add up to " + std::to_string(total) + " but " +
          std::to_string(g.points.size()) + " points are given");
   if (!g.thickness.empty() && g.thickness.size() != g.points.size())
-    fail(std::to_string(g.thickness.size()) + " thickness values for " + std::to_string(g.points.size()) + " points");
+    fail(std::to_string(g.thickness.size()) + " thickness values for " +
+         std::to_string(g.points.size()) + " points");
   if (!g.colors.empty() && g.colors.size() != g.points.size())
-    fail(std::to_string(g.colors.size()) + " colours for " + std::to_string(g.points.size()) + " points");
+    fail(std::to_string(g.colors.size()) + " colours for " + std::to_string(g.points.size()) +
+         " points");
   if (!g.rootUv.empty() && g.rootUv.size() != g.pointCounts.size())
-    fail(std::to_string(g.rootUv.size()) + " root uv pairs for " + std::to_string(g.pointCounts.size()) + " strands");
+    fail(std::to_string(g.rootUv.size()) + " root uv pairs for " +
+         std::to_string(g.pointCounts.size()) + " strands");
   for (std::size_t i = 0; i < g.points.size(); ++i)
     if (!finite3(g.points[i])) fail("point " + std::to_string(i) + " is not finite");
   for (std::size_t i = 0; i < g.thickness.size(); ++i)
@@ -112,16 +120,19 @@ void validateStrandGroom(const StrandGroom& g, const std::string& where) {
       fail("root uv of strand " + std::to_string(s) + " is outside [0, 1]");
   }
   const AppearanceParams& a = g.appearance;
-  if (!inUnit(a.rootColor) || !inUnit(a.tipColor)) fail("appearance colours must be linear rgb in [0, 1]");
-  if (!(a.strandWidth >= 1e-9f && a.strandWidth <= 1e3f)) fail("appearance strand_width must be in 1e-9..1e3");
+  if (!inUnit(a.rootColor) || !inUnit(a.tipColor))
+    fail("appearance colours must be linear rgb in [0, 1]");
+  if (!(a.strandWidth >= 1e-9f && a.strandWidth <= 1e3f))
+    fail("appearance strand_width must be in 1e-9..1e3");
   if (!(a.minHitDiameterPx >= 0.0f && a.minHitDiameterPx <= 3.0f))
     fail("appearance min_hit_diameter_px must be in 0..3");
   if (!(g.lod.lambda >= 1e-3f && g.lod.lambda <= 1e3f)) fail("lod lambda must be in 0.001..1000");
-  if (!(g.lod.morphWindow >= 0.0f && g.lod.morphWindow <= 1.0f)) fail("lod morph_window must be in 0..1");
+  if (!(g.lod.morphWindow >= 0.0f && g.lod.morphWindow <= 1.0f))
+    fail("lod morph_window must be in 0..1");
 }
 
-StrandGroom loadStrandGroom(const std::string& path, std::uint64_t maxBytes, std::uint64_t* skippedStrands,
-                            std::vector<std::string>* warnings) {
+StrandGroom loadStrandGroom(const std::string& path, std::uint64_t maxBytes,
+                            std::uint64_t* skippedStrands, std::vector<std::string>* warnings) {
   const std::string ext = lowerExtension(path);
   StrandGroom g;
   std::uint64_t skipped = 0, trailing = 0;
@@ -150,9 +161,10 @@ StrandGroom loadStrandGroom(const std::string& path, std::uint64_t maxBytes, std
   validateStrandGroom(g, path);
   if (skippedStrands) *skippedStrands = skipped;
   if (trailing > 0 && warnings)
-    warnings->push_back(path + ": " + std::to_string(trailing) + " byte" + (trailing == 1 ? "" : "s") +
-                        " after the end of the strand data, ignored (is the file complete and of the " +
-                        "type its extension says?)");
+    warnings->push_back(
+        path + ": " + std::to_string(trailing) + " byte" + (trailing == 1 ? "" : "s") +
+        " after the end of the strand data, ignored (is the file complete and of the " +
+        "type its extension says?)");
   return g;
 }
 

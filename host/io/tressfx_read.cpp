@@ -33,18 +33,22 @@ struct ArrayRef {
 // The first four bytes of a TressFX 1.x/2.x text file are printable text.
 bool looksLikeText(const unsigned char* p) {
   for (int i = 0; i < 4; ++i)
-    if (!(p[i] >= 0x20 && p[i] < 0x7f) && p[i] != '\t' && p[i] != '\n' && p[i] != '\r') return false;
+    if (!(p[i] >= 0x20 && p[i] < 0x7f) && p[i] != '\t' && p[i] != '\n' && p[i] != '\r')
+      return false;
   return true;
 }
 
-std::string layoutName(int major, float version) { return "TressFX " + std::to_string(major) + ".x, version " + showFloat(version); }
+std::string layoutName(int major, float version) {
+  return "TressFX " + std::to_string(major) + ".x, version " + showFloat(version);
+}
 
 }  // namespace
 
 TressFxHair readTressFx(const std::string& path, std::uint64_t maxBytes) {
   InputFile f(path, "TressFX");
   if (f.size() < 4)
-    throw Error(path + ": is " + std::to_string(f.size()) + " bytes, too short for the TressFX version field");
+    throw Error(path + ": is " + std::to_string(f.size()) +
+                " bytes, too short for the TressFX version field");
   unsigned char first[4];
   f.read(first, 4, "the version field");
   const float version = loadF32(first);
@@ -54,11 +58,13 @@ TressFxHair readTressFx(const std::string& path, std::uint64_t maxBytes) {
   else if (version >= 4.0f && version < 5.0f)
     major = 4;
   else if (looksLikeText(first))
-    throw Error(path + ": starts with the text \"" + showBytes(first, 4) +
-                "\": the TressFX 1.x/2.x text layout is not supported, only the binary 3.x and 4.x " +
-                "layouts (re-export the groom as TressFX 4)");
+    throw Error(
+        path + ": starts with the text \"" + showBytes(first, 4) +
+        "\": the TressFX 1.x/2.x text layout is not supported, only the binary 3.x and 4.x " +
+        "layouts (re-export the groom as TressFX 4)");
   else
-    throw Error(path + ": version field is " + showFloat(version) + " (bytes \"" + showBytes(first, 4) +
+    throw Error(path + ": version field is " + showFloat(version) + " (bytes \"" +
+                showBytes(first, 4) +
                 "\"), expected 3.x or 4.x (is it a binary TressFX .tfx file?)");
 
   const std::uint64_t headerBytes = major == 3 ? kHeader3Bytes : kHeader4Bytes;
@@ -71,14 +77,16 @@ TressFxHair readTressFx(const std::string& path, std::uint64_t maxBytes) {
   const std::uint64_t strands = loadU32(header + 4);
   const std::uint64_t perStrand = loadU32(header + 8);
   const std::string layout = layoutName(major, version);
-  if (strands == 0) throw Error(path + ": header says 0 strands, the file holds no hair (" + layout + ")");
+  if (strands == 0)
+    throw Error(path + ": header says 0 strands, the file holds no hair (" + layout + ")");
   if (perStrand < 2)
     throw Error(path + ": header says " + std::to_string(perStrand) +
                 " vertices per strand, need at least 2 (TressFX uses 4 to 64; " + layout + ")");
   const std::uint64_t points = strands * perStrand;  // both below 2^32: no overflow
 
   const std::uint64_t positionBytes = major == 3 ? 12 : 16;
-  ArrayRef positions{"vertex positions", loadU32(header + (major == 3 ? 144 : 12)), points, positionBytes, true};
+  ArrayRef positions{"vertex positions", loadU32(header + (major == 3 ? 144 : 12)), points,
+                     positionBytes, true};
   ArrayRef strandUv{"strand uv", loadU32(header + (major == 3 ? 152 : 16)), strands, 8, false};
   // Arrays named by the header that are checked to fit but not read.
   const ArrayRef unread3[] = {{"strand thickness", loadU32(header + 148), strands, 4, false},
@@ -100,15 +108,16 @@ TressFxHair readTressFx(const std::string& path, std::uint64_t maxBytes) {
   for (const ArrayRef* a : all) {
     if (a->offset == 0) {
       if (a->required)
-        throw Error(path + ": header gives no offset for the " + a->name + " (0), so there is no geometry to read (" +
-                    layout + ")");
+        throw Error(path + ": header gives no offset for the " + a->name +
+                    " (0), so there is no geometry to read (" + layout + ")");
       continue;
     }
-    const std::string what = std::string("the ") + a->name + " (" + std::to_string(a->count) + " x " +
-                             std::to_string(a->elemBytes) + " bytes from byte " + std::to_string(a->offset) + ")";
+    const std::string what = std::string("the ") + a->name + " (" + std::to_string(a->count) +
+                             " x " + std::to_string(a->elemBytes) + " bytes from byte " +
+                             std::to_string(a->offset) + ")";
     if (a->offset < headerBytes)
-      throw Error(path + ": " + what + " start inside the " + std::to_string(headerBytes) + "-byte header (" +
-                  layout + ")");
+      throw Error(path + ": " + what + " start inside the " + std::to_string(headerBytes) +
+                  "-byte header (" + layout + ")");
     if (a->offset > f.size() || a->count > (f.size() - a->offset) / a->elemBytes)
       throw Error(path + ": truncated: header says " + std::to_string(strands) + " strands of " +
                   std::to_string(perStrand) + " vertices, " + what + " end past the file's " +
@@ -118,11 +127,12 @@ TressFxHair readTressFx(const std::string& path, std::uint64_t maxBytes) {
 
   const bool hasUv = strandUv.offset != 0;
   const std::uint64_t memory = 4 * strands + 12 * points + (hasUv ? 8 * strands : 0);
-  const std::uint64_t limit = std::min<std::uint64_t>(maxBytes, std::numeric_limits<std::size_t>::max());
+  const std::uint64_t limit =
+      std::min<std::uint64_t>(maxBytes, std::numeric_limits<std::size_t>::max());
   if (memory > limit)
-    throw Error(path + ": " + std::to_string(strands) + " strands of " + std::to_string(perStrand) + " vertices need " +
-                std::to_string(memory) + " bytes of arrays, more than the " + std::to_string(limit) +
-                "-byte limit (the device's largest allocation)");
+    throw Error(path + ": " + std::to_string(strands) + " strands of " + std::to_string(perStrand) +
+                " vertices need " + std::to_string(memory) + " bytes of arrays, more than the " +
+                std::to_string(limit) + "-byte limit (the device's largest allocation)");
 
   TressFxHair t;
   t.version = version;
@@ -131,9 +141,10 @@ TressFxHair readTressFx(const std::string& path, std::uint64_t maxBytes) {
   h.segments.assign(static_cast<std::size_t>(strands), static_cast<std::uint32_t>(perStrand - 1));
   h.points.resize(static_cast<std::size_t>(points) * 3);
   const int components = major == 3 ? 3 : 4;
-  auto nonFinite = [&](const char* array, std::uint64_t strand, const std::string& element, float v) {
-    return Error(path + ": " + array + ": strand " + std::to_string(strand) + " " + element + " is " + showFloat(v) +
-                 ", expected a finite number");
+  auto nonFinite = [&](const char* array, std::uint64_t strand, const std::string& element,
+                       float v) {
+    return Error(path + ": " + array + ": strand " + std::to_string(strand) + " " + element +
+                 " is " + showFloat(v) + ", expected a finite number");
   };
   f.seek(positions.offset, "the vertex positions");
   readElements(f, points, static_cast<std::size_t>(positionBytes), "the vertex positions",
@@ -141,10 +152,11 @@ TressFxHair readTressFx(const std::string& path, std::uint64_t maxBytes) {
                  for (int c = 0; c < components; ++c) {
                    const float v = loadF32(b + 4 * c);
                    if (!std::isfinite(v))
-                     throw nonFinite("vertex positions", i / perStrand,
-                                     "vertex " + std::to_string(i % perStrand) + " " +
-                                         (c < 3 ? std::string(1, "xyz"[c]) : std::string("w (inverse mass)")),
-                                     v);
+                     throw nonFinite(
+                         "vertex positions", i / perStrand,
+                         "vertex " + std::to_string(i % perStrand) + " " +
+                             (c < 3 ? std::string(1, "xyz"[c]) : std::string("w (inverse mass)")),
+                         v);
                    if (c < 3) h.points[static_cast<std::size_t>(3 * i + c)] = v;
                  }
                });

@@ -25,8 +25,9 @@ struct UscHair {
 };
 
 // Throws clhair::Error, one line naming the file, for a file too short for its counts, a
-// negative count, a non-finite coordinate, no strand of 2 or more points, or arrays that would take more than `maxBytes` in memory (4 bytes per kept strand plus 12
-// per kept point). Pass the device's largest allocation as `maxBytes`.
+// negative count, a non-finite coordinate, no strand of 2 or more points, or arrays that would take
+// more than `maxBytes` in memory (4 bytes per kept strand plus 12 per kept point). Pass the
+// device's largest allocation as `maxBytes`.
 UscHair readUscHair(const std::string& path, std::uint64_t maxBytes);
 
 // Writes the strands' points (segments + 1 per strand) as a USC-HairSalon file; thickness,

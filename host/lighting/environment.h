@@ -22,10 +22,10 @@
 #include <string>
 #include <vector>
 
+#include "cl/dispatch.h"
 #include "clhair/gpu_env.h"
 #include "clhair/image.h"
 #include "clhair/scene.h"
-#include "cl/dispatch.h"
 
 namespace clhair {
 

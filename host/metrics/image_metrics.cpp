@@ -40,7 +40,8 @@ PsnrResult computePsnr(const Image& reference, const Image& test, const std::vec
   requireSameSize(reference, test, "the reference", "the test image");
   const std::size_t pixels = static_cast<std::size_t>(reference.width) * reference.height;
   if (mask && mask->size() != pixels)
-    throw Error("PSNR mask has " + std::to_string(mask->size()) + " entries for " + std::to_string(pixels) + " pixels");
+    throw Error("PSNR mask has " + std::to_string(mask->size()) + " entries for " +
+                std::to_string(pixels) + " pixels");
   double sum = 0.0;
   std::size_t counted = 0;
   for (std::size_t p = 0; p < pixels; ++p) {

@@ -23,7 +23,8 @@ struct PsnrResult {
 
 // With `mask` (one entry per pixel, non-zero = counted) only those pixels are compared; an
 // empty mask selection gives mse 0.
-PsnrResult computePsnr(const Image& reference, const Image& test, const std::vector<char>* mask = nullptr);
+PsnrResult computePsnr(const Image& reference, const Image& test,
+                       const std::vector<char>* mask = nullptr);
 
 struct ImageComparison {
   PsnrResult psnr;

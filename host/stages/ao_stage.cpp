@@ -17,7 +17,9 @@ std::vector<float> AoStage::bake(const Strands& s, const Grid& grid, const Mesh&
   const std::size_t cells = std::size_t(grid.dims.s[0]) * grid.dims.s[1] * grid.dims.s[2];
   cl::Buffer density = makeBuffer<cl_uint>(dev_, "the AO density grid", cells);
   cl::Buffer out = makeBuffer<cl_float>(dev_, "baked AO", mesh.vertexTotal);
-  KernelArgs(clear_, "ao").buffer("density", density, cells * sizeof(cl_uint)).value("cells", static_cast<cl_uint>(cells));
+  KernelArgs(clear_, "ao")
+      .buffer("density", density, cells * sizeof(cl_uint))
+      .value("cells", static_cast<cl_uint>(cells));
   dispatch(dev_, clear_, "ao", cl::NDRange(cells), cl::NDRange(64), nullptr);
   const std::uint64_t slots = std::uint64_t(s.total) * CLH_MAX_CONTROL_POINTS;
   KernelArgs(voxelize_, "ao")
@@ -30,7 +32,8 @@ std::vector<float> AoStage::bake(const Strands& s, const Grid& grid, const Mesh&
       .buffer("density", density, cells * sizeof(cl_uint));
   dispatch(dev_, voxelize_, "ao", cl::NDRange(slots), cl::NDRange(64), nullptr);
   KernelArgs(bake_, "ao")
-      .buffer("vertices", *mesh.vertices, std::uint64_t(mesh.vertexTotal) * sizeof(gpu::ClhMeshVertex))
+      .buffer("vertices", *mesh.vertices,
+              std::uint64_t(mesh.vertexTotal) * sizeof(gpu::ClhMeshVertex))
       .value("vertex total", static_cast<cl_uint>(mesh.vertexTotal))
       .buffer("bundles", *mesh.bundles, std::uint64_t(mesh.bundleCount) * sizeof(gpu::ClhBundle))
       .value("bundle count", static_cast<cl_uint>(mesh.bundleCount))

@@ -15,16 +15,16 @@ class AoStage {
  public:
   explicit AoStage(Device::Impl& dev);
   struct Grid {
-    cl_float4 lo;    // xyz: the grid's corner, w: voxel size
-    cl_uint4 dims;   // cells per axis
-    float scale;     // extinction added per unit of strand length in a cell
+    cl_float4 lo;   // xyz: the grid's corner, w: voxel size
+    cl_uint4 dims;  // cells per axis
+    float scale;    // extinction added per unit of strand length in a cell
   };
-  struct Strands {   // exported strands: CLH_MAX_CONTROL_POINTS slots per strand
+  struct Strands {  // exported strands: CLH_MAX_CONTROL_POINTS slots per strand
     const cl::Buffer* points = nullptr;
     const cl::Buffer* counts = nullptr;
     std::uint32_t total = 0;
   };
-  struct Mesh {      // the hair mesh whose vertices receive AO
+  struct Mesh {  // the hair mesh whose vertices receive AO
     const cl::Buffer* vertices = nullptr;
     const cl::Buffer* bundles = nullptr;
     std::uint32_t vertexTotal = 0, bundleCount = 0, rootVertices = 0;

@@ -3,10 +3,11 @@
 
 namespace clhair {
 
-ClearStage::ClearStage(Device::Impl& dev) : dev_(dev), kernel_(dev.kernel("clear.cl", "clear_words")) {}
+ClearStage::ClearStage(Device::Impl& dev)
+    : dev_(dev), kernel_(dev.kernel("clear.cl", "clear_words")) {}
 
-void ClearStage::words(const cl::Buffer& buffer, std::size_t count, std::uint64_t value, const std::string& stage,
-                       Profiler* profiler) {
+void ClearStage::words(const cl::Buffer& buffer, std::size_t count, std::uint64_t value,
+                       const std::string& stage, Profiler* profiler) {
   KernelArgs(kernel_, stage)
       .buffer("words", buffer, count * sizeof(cl_ulong))
       .value("value", static_cast<cl_ulong>(value))

@@ -9,8 +9,8 @@ namespace clhair {
 class ClearStage {
  public:
   explicit ClearStage(Device::Impl& dev);
-  void words(const cl::Buffer& buffer, std::size_t count, std::uint64_t value, const std::string& stage,
-             Profiler* profiler);
+  void words(const cl::Buffer& buffer, std::size_t count, std::uint64_t value,
+             const std::string& stage, Profiler* profiler);
 
  private:
   Device::Impl& dev_;

@@ -8,24 +8,27 @@ CompositeStage::CompositeStage(Device::Impl& dev) : dev_(dev) { kernel(1); }
 cl::Kernel& CompositeStage::kernel(int msaa) {
   auto it = kernels_.find(msaa);
   if (it != kernels_.end()) return it->second;
-  return kernels_[msaa] = dev_.kernel("composite.cl", "composite_over", "-DCLH_MSAA=" + std::to_string(msaa));
+  return kernels_[msaa] =
+             dev_.kernel("composite.cl", "composite_over", "-DCLH_MSAA=" + std::to_string(msaa));
 }
 
 cl::Event CompositeStage::enqueue(const Params& p, Profiler* profiler) {
   if (p.depthLayers < 1 || p.depthLayers > p.msaa + 1)
-    throw Error("composite: " + std::to_string(p.depthLayers) + " depth layers of a G-buffer with " +
-                std::to_string(p.msaa + 1));
+    throw Error("composite: " + std::to_string(p.depthLayers) +
+                " depth layers of a G-buffer with " + std::to_string(p.msaa + 1));
   cl::Kernel& k = kernel(p.msaa);
   const std::uint64_t pixels = p.target.pixels();
   KernelArgs(k, "composite")
       .buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
       .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
       .buffer("hair colour", *p.hair, pixels * 4 * sizeof(float))
-      .buffer("G-buffer", *p.gbuffer, pixels * static_cast<std::uint64_t>(p.msaa + 1) * sizeof(cl_ulong))
+      .buffer("G-buffer", *p.gbuffer,
+              pixels * static_cast<std::uint64_t>(p.msaa + 1) * sizeof(cl_ulong))
       .buffer("colour", *p.color, pixels * 4 * sizeof(float))
       .buffer("depth", *p.depth, pixels * sizeof(float))
       .value("depth layers", static_cast<cl_uint>(p.depthLayers));
-  return dispatch(dev_, k, "composite", cl::NDRange(p.target.width, p.target.height), cl::NDRange(8, 8), profiler);
+  return dispatch(dev_, k, "composite", cl::NDRange(p.target.width, p.target.height),
+                  cl::NDRange(8, 8), profiler);
 }
 
 }  // namespace clhair

@@ -14,7 +14,8 @@ const std::string kScanOptions = "-DSCAN_WG=" + std::to_string(LodStage::kScanWo
 
 ExplicitStage::ExplicitStage(Device::Impl& dev) : dev_(dev) {}
 
-cl::Kernel& ExplicitStage::kernel(const std::string& name, const std::string& file, const std::string& options) {
+cl::Kernel& ExplicitStage::kernel(const std::string& name, const std::string& file,
+                                  const std::string& options) {
   const std::string key = name + "|" + options;
   auto it = kernels_.find(key);
   if (it != kernels_.end()) return it->second;
@@ -32,7 +33,8 @@ KernelArgs ExplicitStage::bindTables(cl::Kernel& k, const Inputs& in, const cl::
       .buffer("root uv", *in.uv, (in.hasUv ? S : 1) * sizeof(cl_uint))
       .buffer("chunks", *in.chunks, K * 4 * sizeof(cl_uint))
       .buffer("LOD records", *in.lod, K * sizeof(gpu::ClhLodRecord))
-      .buffer("chunk offsets", *in.offsets, std::uint64_t(gpu::clh_lod_offsets_length(in.chunkCount)) * sizeof(cl_uint))
+      .buffer("chunk offsets", *in.offsets,
+              std::uint64_t(gpu::clh_lod_offsets_length(in.chunkCount)) * sizeof(cl_uint))
       .value("strand count", static_cast<cl_uint>(in.strandCount))
       .value("point count", static_cast<cl_uint>(in.pointCount))
       .value("has uv", static_cast<cl_uint>(in.hasUv ? 1 : 0));
@@ -49,21 +51,26 @@ void ExplicitStage::lod(const Inputs& in, const cl::Buffer& view, Profiler* prof
       .buffer("chunk bounds", *in.chunkBounds, 2 * K * 4 * sizeof(float))
       .buffer("chunks", *in.chunks, K * 4 * sizeof(cl_uint))
       .buffer("LOD records", *in.lod, K * sizeof(gpu::ClhLodRecord))
-      .buffer("counts", *in.counts, std::uint64_t(gpu::clh_lod_counts_length(in.chunkCount)) * sizeof(cl_uint));
+      .buffer("counts", *in.counts,
+              std::uint64_t(gpu::clh_lod_counts_length(in.chunkCount)) * sizeof(cl_uint));
   dispatch(dev_, lk, "lod", cl::NDRange(in.chunkCount), cl::NDRange(64), profiler);
-  enqueueScan(dev_, kernel("scan_bundles", "lod.cl", kScanOptions), *in.counts, *in.offsets, in.chunkCount, profiler);
+  enqueueScan(dev_, kernel("scan_bundles", "lod.cl", kScanOptions), *in.counts, *in.offsets,
+              in.chunkCount, profiler);
 }
 
 void ExplicitStage::raster(const Inputs& in, const StrandRaster& r, Profiler* profiler) {
   if (r.msaa != 1 && r.msaa != 2 && r.msaa != 4 && r.msaa != 8)
     throw Error("MSAA must be 1, 2, 4 or 8 samples, not " + std::to_string(r.msaa));
   const bool persistent = r.mode == DispatchMode::Persistent;
-  const std::string opts = "-DCLH_MSAA=" + std::to_string(r.msaa) + (r.stats ? " -DCLH_RASTER_STATS=1" : "");
-  cl::Kernel& k = kernel(persistent ? "strands_explicit_raster_persistent" : "strands_explicit_raster",
-                         "strands_explicit.cl", opts);
+  const std::string opts =
+      "-DCLH_MSAA=" + std::to_string(r.msaa) + (r.stats ? " -DCLH_RASTER_STATS=1" : "");
+  cl::Kernel& k =
+      kernel(persistent ? "strands_explicit_raster_persistent" : "strands_explicit_raster",
+             "strands_explicit.cl", opts);
   KernelArgs a = bindTables(k, in, *r.view, "strands", sizeof(gpu::ClhViewGpu));
   a.buffer("scene depth", *r.sceneDepth, r.pixels * sizeof(float))
-      .buffer("G-buffer", *r.gbuffer, r.pixels * static_cast<std::uint64_t>(r.msaa + 1) * sizeof(cl_ulong))
+      .buffer("G-buffer", *r.gbuffer,
+              r.pixels * static_cast<std::uint64_t>(r.msaa + 1) * sizeof(cl_ulong))
       .buffer("raster counters", *r.counters, 4 * sizeof(cl_uint));
   // the last argument: the first strand of a chunked launch, or the persistent grid's size
   const cl_uint last = a.next();
@@ -74,8 +81,10 @@ void ExplicitStage::raster(const Inputs& in, const StrandRaster& r, Profiler* pr
     dispatchStrands(dev_, k, "strands", r.strands, last, profiler);
 }
 
-void ExplicitStage::opacity(const Inputs& in, const OpacityPass& o, std::uint32_t strands, Profiler* profiler) {
-  cl::Kernel& k = kernel("strands_explicit_opacity", "strands_explicit.cl", "-DCLH_RASTER_OPACITY=1");
+void ExplicitStage::opacity(const Inputs& in, const OpacityPass& o, std::uint32_t strands,
+                            Profiler* profiler) {
+  cl::Kernel& k =
+      kernel("strands_explicit_opacity", "strands_explicit.cl", "-DCLH_RASTER_OPACITY=1");
   KernelArgs a = bindTables(k, in, *o.lightView, "shadow", sizeof(gpu::ClhViewGpu));
   a.buffer("opaque depth", *o.opaqueDepth, o.texels * sizeof(float))
       .buffer("shadow", *o.shadow, sizeof(gpu::ClhShadowGpu))
@@ -85,8 +94,10 @@ void ExplicitStage::opacity(const Inputs& in, const OpacityPass& o, std::uint32_
 }
 
 void ExplicitStage::exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& outPoints,
-                                  cl::Buffer& outTangents, cl::Buffer& outCounts, Profiler* profiler) {
-  cl::Kernel& k = kernel("strands_explicit_export", "strands_explicit.cl", "-DCLH_MSAA=1");  // the raster program
+                                  cl::Buffer& outTangents, cl::Buffer& outCounts,
+                                  Profiler* profiler) {
+  cl::Kernel& k = kernel("strands_explicit_export", "strands_explicit.cl",
+                         "-DCLH_MSAA=1");  // the raster program
   // the kernel reads no view: the groom record fills the slot
   KernelArgs a = bindTables(k, in, *in.groom, "strands", sizeof(gpu::ClhGroomGpu));
   a.buffer("points out", outPoints, std::uint64_t(in.pointCount) * 4 * sizeof(float))

@@ -24,14 +24,14 @@ class ExplicitStage {
     const cl::Buffer* groom = nullptr;          // ClhGroomGpu (bundle_count = chunks)
     const cl::Buffer* points = nullptr;         // float4[pointWords]
     const cl::Buffer* strandOffsets = nullptr;  // uint[strandCount + 1]
-    const cl::Buffer* uv = nullptr;             // uint[strandCount] when hasUv, else any 1-word buffer
-    const cl::Buffer* chunks = nullptr;         // uint4[chunkCount]
-    const cl::Buffer* chunkBounds = nullptr;    // float4[2 * chunkCount]
-    cl::Buffer* lod = nullptr;                  // ClhLodRecord[chunkCount]
-    cl::Buffer* counts = nullptr;               // uint[clh_lod_counts_length(chunkCount)]
-    cl::Buffer* offsets = nullptr;              // uint[clh_lod_offsets_length(chunkCount)]
+    const cl::Buffer* uv = nullptr;      // uint[strandCount] when hasUv, else any 1-word buffer
+    const cl::Buffer* chunks = nullptr;  // uint4[chunkCount]
+    const cl::Buffer* chunkBounds = nullptr;  // float4[2 * chunkCount]
+    cl::Buffer* lod = nullptr;                // ClhLodRecord[chunkCount]
+    cl::Buffer* counts = nullptr;             // uint[clh_lod_counts_length(chunkCount)]
+    cl::Buffer* offsets = nullptr;            // uint[clh_lod_offsets_length(chunkCount)]
     std::uint32_t chunkCount = 0, strandCount = 0, pointCount = 0;
-    std::size_t pointWords = 0;                 // float4 in `points` (file colours follow the points)
+    std::size_t pointWords = 0;  // float4 in `points` (file colours follow the points)
     bool hasUv = false;
   };
 
@@ -40,14 +40,14 @@ class ExplicitStage {
   void raster(const Inputs& in, const StrandRaster& r, Profiler* profiler);
   void opacity(const Inputs& in, const OpacityPass& o, std::uint32_t strands, Profiler* profiler);
   // outPoints/outTangents: float4[pointCount]; outCounts: uint[strandCount] (0 = not drawn).
-  void exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& outPoints, cl::Buffer& outTangents,
-                     cl::Buffer& outCounts, Profiler* profiler);
+  void exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& outPoints,
+                     cl::Buffer& outTangents, cl::Buffer& outCounts, Profiler* profiler);
 
  private:
   cl::Kernel& kernel(const std::string& name, const std::string& file, const std::string& options);
   // groom, view, the tables, records and counts: the first 11 arguments of every kernel
-  KernelArgs bindTables(cl::Kernel& k, const Inputs& in, const cl::Buffer& view, const std::string& stage,
-                        std::uint64_t viewBytes);
+  KernelArgs bindTables(cl::Kernel& k, const Inputs& in, const cl::Buffer& view,
+                        const std::string& stage, std::uint64_t viewBytes);
   Device::Impl& dev_;
   std::map<std::string, cl::Kernel> kernels_;
 };

@@ -11,7 +11,8 @@ FilterStage::FilterStage(Device::Impl& dev)
       params_(makeBuffer<gpu::ClhFilterGpu>(dev, "filter parameters", 1)) {}
 
 cl::Event FilterStage::enqueue(const FilterParams& f, const Params& p, Profiler* profiler) {
-  if (f.radius < 0 || f.radius > 8) throw Error("filter radius " + std::to_string(f.radius) + " is outside 0..8");
+  if (f.radius < 0 || f.radius > 8)
+    throw Error("filter radius " + std::to_string(f.radius) + " is outside 0..8");
   gpu::ClhFilterGpu g{};
   g.radius = static_cast<gpu::clh_u32>(f.radius);
   g.s_par = f.sPar;
@@ -30,7 +31,8 @@ cl::Event FilterStage::enqueue(const FilterParams& f, const Params& p, Profiler*
       .buffer("G-buffer", *p.gbuffer, 2 * pixels * sizeof(cl_ulong))
       .buffer("hair colour", *p.hair, pixels * 4 * sizeof(float))
       .buffer("filtered colour", *p.out, pixels * 4 * sizeof(float));
-  return dispatch(dev_, kernel_, "filter", cl::NDRange(p.target.width, p.target.height), cl::NDRange(8, 8), profiler);
+  return dispatch(dev_, kernel_, "filter", cl::NDRange(p.target.width, p.target.height),
+                  cl::NDRange(8, 8), profiler);
 }
 
 }  // namespace clhair

@@ -10,13 +10,14 @@ LodStage::LodStage(Device::Impl& dev)
       lod_(dev.kernel("lod.cl", "lod_bundles", "-DSCAN_WG=" + std::to_string(kScanWorkGroup))),
       scan_(dev.kernel("lod.cl", "scan_bundles", "-DSCAN_WG=" + std::to_string(kScanWorkGroup))) {}
 
-void enqueueScan(Device::Impl& dev, cl::Kernel& scan, const cl::Buffer& counts, const cl::Buffer& offsets,
-                 std::uint32_t n, Profiler* profiler) {
+void enqueueScan(Device::Impl& dev, cl::Kernel& scan, const cl::Buffer& counts,
+                 const cl::Buffer& offsets, std::uint32_t n, Profiler* profiler) {
   KernelArgs(scan, "lod")
       .buffer("counts", counts, std::uint64_t(gpu::clh_lod_counts_length(n)) * sizeof(cl_uint))
       .buffer("offsets", offsets, std::uint64_t(gpu::clh_lod_offsets_length(n)) * sizeof(cl_uint))
       .value("count", static_cast<cl_uint>(n));
-  dispatch(dev, scan, "lod", cl::NDRange(LodStage::kScanWorkGroup), cl::NDRange(LodStage::kScanWorkGroup), profiler);
+  dispatch(dev, scan, "lod", cl::NDRange(LodStage::kScanWorkGroup),
+           cl::NDRange(LodStage::kScanWorkGroup), profiler);
 }
 
 void LodStage::enqueue(const Params& p, Profiler* profiler) {
@@ -29,7 +30,8 @@ void LodStage::enqueue(const Params& p, Profiler* profiler) {
       .buffer("vertices", *p.vertices, p.vertexTotal * sizeof(gpu::ClhMeshVertex))
       .value("reach", p.reach)
       .buffer("LOD records", *p.lod, B * sizeof(gpu::ClhLodRecord))
-      .buffer("counts", *p.counts, std::uint64_t(gpu::clh_lod_counts_length(p.bundleCount)) * sizeof(cl_uint));
+      .buffer("counts", *p.counts,
+              std::uint64_t(gpu::clh_lod_counts_length(p.bundleCount)) * sizeof(cl_uint));
   dispatch(dev_, lod_, "lod", cl::NDRange(p.bundleCount), cl::NDRange(64), profiler);
   enqueueScan(dev_, scan_, *p.counts, *p.offsets, p.bundleCount, profiler);
 }

@@ -38,7 +38,7 @@ class LodStage {
 };
 
 // Binds and launches the scan of `n` bundles' counts into their offsets (gpu_types.h).
-void enqueueScan(Device::Impl& dev, cl::Kernel& scan, const cl::Buffer& counts, const cl::Buffer& offsets,
-                 std::uint32_t n, Profiler* profiler);
+void enqueueScan(Device::Impl& dev, cl::Kernel& scan, const cl::Buffer& counts,
+                 const cl::Buffer& offsets, std::uint32_t n, Profiler* profiler);
 
 }  // namespace clhair

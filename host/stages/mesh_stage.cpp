@@ -46,7 +46,8 @@ void MeshStage::enqueue(const Params& p, Profiler* profiler) {
       .buffer("colour", *p.color, pixels * 4 * sizeof(float))
       .buffer("depth", *p.depth, pixels * sizeof(float))
       .value("shade", static_cast<cl_uint>(p.shade ? 1 : 0));
-  dispatch(dev_, resolve_, "mesh", cl::NDRange(p.target.width, p.target.height), cl::NDRange(8, 8), profiler);
+  dispatch(dev_, resolve_, "mesh", cl::NDRange(p.target.width, p.target.height), cl::NDRange(8, 8),
+           profiler);
 }
 
 }  // namespace clhair

@@ -3,7 +3,8 @@
 
 namespace clhair {
 
-OpaqueStage::OpaqueStage(Device::Impl& dev) : dev_(dev), kernel_(dev.kernel("opaque.cl", "opaque_render")) {}
+OpaqueStage::OpaqueStage(Device::Impl& dev)
+    : dev_(dev), kernel_(dev.kernel("opaque.cl", "opaque_render")) {}
 
 cl::Event OpaqueStage::enqueue(const Params& p, Profiler* profiler) {
   const std::uint64_t pixels = p.target.pixels();
@@ -18,7 +19,8 @@ cl::Event OpaqueStage::enqueue(const Params& p, Profiler* profiler) {
       .buffer("colour", *p.color, pixels * 4 * sizeof(float))
       .buffer("depth", *p.depth, pixels * sizeof(float))
       .value("shade", static_cast<cl_uint>(p.shade ? 1 : 0));
-  return dispatch(dev_, kernel_, "opaque", cl::NDRange(p.target.width, p.target.height), cl::NDRange(8, 8), profiler);
+  return dispatch(dev_, kernel_, "opaque", cl::NDRange(p.target.width, p.target.height),
+                  cl::NDRange(8, 8), profiler);
 }
 
 }  // namespace clhair

@@ -12,14 +12,14 @@ class OpaqueStage {
   struct Params {
     ViewTarget target;
     LightingInputs lighting;
-    const cl::Buffer* spheres = nullptr;     // ClhSphereGpu[sphereCount]
-    const cl::Buffer* planes = nullptr;      // ClhPlaneGpu[planeCount]
+    const cl::Buffer* spheres = nullptr;  // ClhSphereGpu[sphereCount]
+    const cl::Buffer* planes = nullptr;   // ClhPlaneGpu[planeCount]
     std::uint32_t sphereCount = 0, planeCount = 0;
     const cl::Buffer* background = nullptr;  // float4[backgroundTexels] (a placeholder when none)
     std::size_t backgroundTexels = 1;
-    cl::Buffer* color = nullptr;             // float4 per pixel
-    cl::Buffer* depth = nullptr;             // float per pixel
-    bool shade = true;                       // false: depth only (a light's view)
+    cl::Buffer* color = nullptr;  // float4 per pixel
+    cl::Buffer* depth = nullptr;  // float per pixel
+    bool shade = true;            // false: depth only (a light's view)
   };
   cl::Event enqueue(const Params& p, Profiler* profiler);
 

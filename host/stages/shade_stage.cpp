@@ -8,7 +8,8 @@ ShadeStage::ShadeStage(Device::Impl& dev) : dev_(dev) { kernel(1); }
 cl::Kernel& ShadeStage::kernel(int msaa) {
   auto it = kernels_.find(msaa);
   if (it != kernels_.end()) return it->second;
-  return kernels_[msaa] = dev_.kernel("shade.cl", "shade_deferred", "-DCLH_MSAA=" + std::to_string(msaa));
+  return kernels_[msaa] =
+             dev_.kernel("shade.cl", "shade_deferred", "-DCLH_MSAA=" + std::to_string(msaa));
 }
 
 cl::Event ShadeStage::enqueue(const Params& p, Profiler* profiler) {
@@ -20,10 +21,13 @@ cl::Event ShadeStage::enqueue(const Params& p, Profiler* profiler) {
       .buffer("scene", *p.lighting.scene, sizeof(gpu::ClhSceneGpu));
   bindLightsAndShadows(a, p.lighting);
   bindEnvironment(a, p.lighting.env);
-  a.buffer("G-buffer", *p.gbuffer, pixels * static_cast<std::uint64_t>(p.msaa + 1) * sizeof(cl_ulong))
-      .buffer("strand offsets", *p.offsets, std::uint64_t(gpu::clh_lod_offsets_length(p.records)) * sizeof(cl_uint))
+  a.buffer("G-buffer", *p.gbuffer,
+           pixels * static_cast<std::uint64_t>(p.msaa + 1) * sizeof(cl_ulong))
+      .buffer("strand offsets", *p.offsets,
+              std::uint64_t(gpu::clh_lod_offsets_length(p.records)) * sizeof(cl_uint))
       .buffer("hair colour", *p.hair, pixels * 4 * sizeof(float));
-  return dispatch(dev_, k, "shade", cl::NDRange(p.target.width, p.target.height), cl::NDRange(8, 8), profiler);
+  return dispatch(dev_, k, "shade", cl::NDRange(p.target.width, p.target.height), cl::NDRange(8, 8),
+                  profiler);
 }
 
 }  // namespace clhair

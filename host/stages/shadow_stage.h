@@ -15,10 +15,10 @@ class ShadowStage {
   explicit ShadowStage(Device::Impl& dev);
   // shadow: one ClhShadowGpu (its offset selects the slot); gbuffer: the light's 2-layer
   // G-buffer of res x res texels; hairDepth: all slots (`slotTexels` apart).
-  void resolveDepth(const cl::Buffer& shadow, const cl::Buffer& gbuffer, cl::Buffer& hairDepth, int res,
+  void resolveDepth(const cl::Buffer& shadow, const cl::Buffer& gbuffer, cl::Buffer& hairDepth,
+                    int res, std::size_t allTexels, Profiler* profiler);
+  void clearOpacity(const cl::Buffer& shadow, cl::Buffer& opacity, std::size_t slotTexels,
                     std::size_t allTexels, Profiler* profiler);
-  void clearOpacity(const cl::Buffer& shadow, cl::Buffer& opacity, std::size_t slotTexels, std::size_t allTexels,
-                    Profiler* profiler);
 
  private:
   Device::Impl& dev_;

@@ -16,7 +16,9 @@ namespace clhair {
 struct ViewTarget {
   const cl::Buffer* view = nullptr;
   int width = 0, height = 0;
-  std::size_t pixels() const { return static_cast<std::size_t>(width) * static_cast<std::size_t>(height); }
+  std::size_t pixels() const {
+    return static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  }
 };
 
 // The deep opacity maps of every shadowed light (ShadowPass): one ClhShadowGpu per slot
@@ -52,7 +54,8 @@ inline void bindLightsAndShadows(KernelArgs& a, const LightingInputs& l) {
       .buffer("shadow parameters", *l.shadows.params, slots * sizeof(gpu::ClhShadowGpu))
       .buffer("shadow opaque depth", *l.shadows.opaqueDepth, slots * texels * sizeof(float))
       .buffer("shadow hair depth", *l.shadows.hairDepth, slots * texels * sizeof(float))
-      .buffer("shadow opacity", *l.shadows.opacity, slots * texels * CLH_DOM_LAYERS * sizeof(std::uint32_t));
+      .buffer("shadow opacity", *l.shadows.opacity,
+              slots * texels * CLH_DOM_LAYERS * sizeof(std::uint32_t));
 }
 
 inline void bindEnvironment(KernelArgs& a, const EnvironmentInputs& e) {

@@ -19,7 +19,8 @@ cl::Kernel& StrandStage::rasterKernel(int msaa, bool stats, bool persistent) {
   auto it = raster_.find(key);
   if (it != raster_.end()) return it->second;
   std::string opts = "-DCLH_MSAA=" + std::to_string(msaa) + (stats ? " -DCLH_RASTER_STATS=1" : "");
-  return raster_[key] = dev_.kernel("strands.cl", persistent ? "strands_raster_persistent" : "strands_raster", opts);
+  return raster_[key] = dev_.kernel(
+             "strands.cl", persistent ? "strands_raster_persistent" : "strands_raster", opts);
 }
 
 // groom, [view], bundles, vertices, lod, offsets, roots: the leading arguments of every
@@ -29,7 +30,8 @@ void StrandStage::bindGroom(KernelArgs& a, const Inputs& in) {
   a.buffer("bundles", *in.bundles, B * sizeof(gpu::ClhBundle))
       .buffer("vertices", *in.vertices, in.vertexTotal * sizeof(gpu::ClhMeshVertex))
       .buffer("LOD records", *in.lod, B * sizeof(gpu::ClhLodRecord))
-      .buffer("strand offsets", *in.offsets, std::uint64_t(gpu::clh_lod_offsets_length(in.bundleCount)) * sizeof(cl_uint))
+      .buffer("strand offsets", *in.offsets,
+              std::uint64_t(gpu::clh_lod_offsets_length(in.bundleCount)) * sizeof(cl_uint))
       .buffer("quad root set", *in.rootsQuad, in.rootSetSize * 2 * sizeof(float))
       .buffer("triangle root set", *in.rootsTri, in.rootSetSize * 2 * sizeof(float));
 }
@@ -39,10 +41,12 @@ void StrandStage::raster(const Inputs& in, const StrandRaster& r, Profiler* prof
     throw Error("MSAA must be 1, 2, 4 or 8 samples, not " + std::to_string(r.msaa));
   cl::Kernel& k = rasterKernel(r.msaa, r.stats, r.mode == DispatchMode::Persistent);
   KernelArgs a(k, "strands");
-  a.buffer("groom", *in.groom, sizeof(gpu::ClhGroomGpu)).buffer("view", *r.view, sizeof(gpu::ClhViewGpu));
+  a.buffer("groom", *in.groom, sizeof(gpu::ClhGroomGpu))
+      .buffer("view", *r.view, sizeof(gpu::ClhViewGpu));
   bindGroom(a, in);
   a.buffer("scene depth", *r.sceneDepth, r.pixels * sizeof(float))
-      .buffer("G-buffer", *r.gbuffer, r.pixels * static_cast<std::uint64_t>(r.msaa + 1) * sizeof(cl_ulong))
+      .buffer("G-buffer", *r.gbuffer,
+              r.pixels * static_cast<std::uint64_t>(r.msaa + 1) * sizeof(cl_ulong))
       .buffer("raster counters", *r.counters, 4 * sizeof(cl_uint));
   const cl_uint baseArg = a.next();
   a.value("strand base", 0u).value("strand stride", 0u);
@@ -53,9 +57,11 @@ void StrandStage::raster(const Inputs& in, const StrandRaster& r, Profiler* prof
     dispatchStrands(dev_, k, "strands", r.strands, baseArg, profiler);
 }
 
-void StrandStage::opacity(const Inputs& in, const OpacityPass& o, std::uint32_t strands, Profiler* profiler) {
+void StrandStage::opacity(const Inputs& in, const OpacityPass& o, std::uint32_t strands,
+                          Profiler* profiler) {
   KernelArgs a(opacity_, "shadow");
-  a.buffer("groom", *in.groom, sizeof(gpu::ClhGroomGpu)).buffer("light view", *o.lightView, sizeof(gpu::ClhViewGpu));
+  a.buffer("groom", *in.groom, sizeof(gpu::ClhGroomGpu))
+      .buffer("light view", *o.lightView, sizeof(gpu::ClhViewGpu));
   bindGroom(a, in);
   a.buffer("opaque depth", *o.opaqueDepth, o.texels * sizeof(float))
       .buffer("shadow", *o.shadow, sizeof(gpu::ClhShadowGpu))
@@ -64,8 +70,8 @@ void StrandStage::opacity(const Inputs& in, const OpacityPass& o, std::uint32_t 
   dispatchStrands(dev_, opacity_, "shadow", strands, a.next(), profiler);
 }
 
-void StrandStage::exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& points, cl::Buffer& tangents,
-                                cl::Buffer& counts, Profiler* profiler) {
+void StrandStage::exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& points,
+                                cl::Buffer& tangents, cl::Buffer& counts, Profiler* profiler) {
   const std::uint64_t slots = std::uint64_t(strands) * CLH_MAX_CONTROL_POINTS;
   KernelArgs a(export_, "strands");
   a.buffer("groom", *in.groom, sizeof(gpu::ClhGroomGpu));

@@ -52,8 +52,8 @@ class StrandStage {
   void raster(const Inputs& in, const StrandRaster& r, Profiler* profiler);
   void opacity(const Inputs& in, const OpacityPass& o, std::uint32_t strands, Profiler* profiler);
   // points/tangents: float4 * CLH_MAX_CONTROL_POINTS per strand; counts: uint per strand.
-  void exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& points, cl::Buffer& tangents,
-                     cl::Buffer& counts, Profiler* profiler);
+  void exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& points,
+                     cl::Buffer& tangents, cl::Buffer& counts, Profiler* profiler);
 
  private:
   cl::Kernel& rasterKernel(int msaa, bool stats, bool persistent);

@@ -21,12 +21,12 @@ const char* subgroupBackendName(SubgroupBackend b);
 SubgroupBackend parseSubgroupBackend(const std::string& name);
 
 struct DeviceOptions {
-  std::string selector;        // "" (auto), "P:D" indices, or a device/platform name substring
-  std::string subgroup;        // "" or "auto", or a backend name to force
-  std::string kernelDir;       // developer override: source tree to read kernels from
+  std::string selector;   // "" (auto), "P:D" indices, or a device/platform name substring
+  std::string subgroup;   // "" or "auto", or a backend name to force
+  std::string kernelDir;  // developer override: source tree to read kernels from
   bool kernelWarningsAsErrors = false;
   std::uint32_t strandsPerGroup = 0;  // 0: the tuning table; else strands per work-group
-  std::string cacheDir;                // compiled programs ("" default, "off": none; host/cl/binary_cache.h)
+  std::string cacheDir;  // compiled programs ("" default, "off": none; host/cl/binary_cache.h)
   // Values not given here are taken from CLHAIR_DEVICE, CLHAIR_SUBGROUP, CLHAIR_KERNEL_DIR,
   // CLHAIR_STRANDS_PER_GROUP.
   static DeviceOptions fromEnvironment(DeviceOptions given);
@@ -38,19 +38,19 @@ struct DeviceInfo {
   std::string platformName;
   std::string name;
   std::string vendor;
-  std::string version;       // CL_DEVICE_VERSION
-  std::string clcVersion;    // CL_DEVICE_OPENCL_C_VERSION
+  std::string version;     // CL_DEVICE_VERSION
+  std::string clcVersion;  // CL_DEVICE_OPENCL_C_VERSION
   std::string driverVersion;
   bool isGpu = false;
   bool int64Atomics = false;  // cl_khr_int64_base_atomics + cl_khr_int64_extended_atomics
   std::uint64_t maxAlloc = 0;
   std::uint64_t globalMem = 0;
   std::uint32_t computeUnits = 0;
-  std::vector<SubgroupBackend> candidates;  // backends this device may run, best first
+  std::vector<SubgroupBackend> candidates;           // backends this device may run, best first
   SubgroupBackend backend = SubgroupBackend::Local;  // chosen (after the self-test)
-  std::uint32_t lanesPerStrand = 32;   // work-items per strand for `backend` (host/cl/tuning.h)
-  std::uint32_t strandsPerGroup = 1;   // strands per work-group for `backend`
-  std::string backendNote;  // why this backend (fallback reasons)
+  std::uint32_t lanesPerStrand = 32;  // work-items per strand for `backend` (host/cl/tuning.h)
+  std::uint32_t strandsPerGroup = 1;  // strands per work-group for `backend`
+  std::string backendNote;            // why this backend (fallback reasons)
 };
 
 class Device {

@@ -29,18 +29,18 @@ namespace gpu {
 typedef std::uint32_t clh_u32;
 typedef std::int32_t clh_i32;
 typedef std::uint64_t clh_u64;
+using std::ceil;
 using std::fabs;
 using std::floor;
 using std::fmax;
 using std::fmin;
-using std::sqrt;
-using std::ceil;
 using std::log2;
+using std::sqrt;
 #define CLH_FN inline
 #endif
 
 /* ---- limits shared by host validation and kernel array sizes ----------------------- */
-#define CLH_MAX_LAYERS 64           /* layers per bundle (local-memory array in strands.cl) */
+#define CLH_MAX_LAYERS 64 /* layers per bundle (local-memory array in strands.cl) */
 /* C_max of Lipp et al. Eq. 4-5. The paper caps at 127; clhair uses 2^7 + 1 = 129 so every
  * level nests in the next (vertex-LOD morphing, Bhokare §3.6.2, needs the points of level
  * 2^k + 1 to be the even points of level 2^(k+1) + 1). 129 points still fit 4 per lane:
@@ -48,7 +48,7 @@ using std::log2;
 #define CLH_MAX_CONTROL_POINTS 129
 #define CLH_MAX_LIGHTS 16
 #define CLH_MAX_MSAA 8
-#define CLH_MAX_HIT_DIAMETER 3.0f   /* pixels: widest center-hit band (LOD compensation cap) */
+#define CLH_MAX_HIT_DIAMETER 3.0f /* pixels: widest center-hit band (LOD compensation cap) */
 
 /* ---- hair-mesh vertex: one per (layer, root vertex), 64 bytes ------------------------
  * pos : xyz object-space position,  w: styling coordinate w (0 at root layer)
@@ -86,35 +86,35 @@ typedef struct {
 
   clh_u32 bundle_count;
   clh_u32 layer_count;
-  clh_u32 vertex_count;   /* root vertices; the mesh holds layer_count * vertex_count */
+  clh_u32 vertex_count; /* root vertices; the mesh holds layer_count * vertex_count */
   clh_u32 has_tangents;
 
   clh_u32 control_points; /* C when LOD is off: 2^k + 1 */
   clh_u32 lod_enabled;
   clh_u32 seed;
-  clh_u32 root_set_size;  /* samples in each progressive blue-noise root set */
+  clh_u32 root_set_size; /* samples in each progressive blue-noise root set */
 
   float lod_lambda;       /* Lipp Eq. 2 sensitivity */
   float lod_morph_window; /* Bhokare Eq. 10 transition window */
   float depth_near;       /* G-buffer depth mapping range (view z) */
   float depth_far;
 
-  float hit_diameter_px;  /* center-layer hit diameter in pixels */
-  float strand_width;     /* world-space strand diameter */
-  clh_u32 total_strands;  /* strands at full detail (all bundles) */
+  float hit_diameter_px;         /* center-layer hit diameter in pixels */
+  float strand_width;            /* world-space strand diameter */
+  clh_u32 total_strands;         /* strands at full detail (all bundles) */
   clh_u32 shadow_lod_correction; /* 1: shadow lookups shift by -log(beta) (Lipp Eq. 8) */
 
   /* styling (Bhokare §3.4 frames; functions documented in docs/hair-mesh-format.md) */
-  float clump_strength;   /* 0..1: how far tips move toward the clump center */
-  float clump_frequency;  /* clump cells per unit of root uv */
-  float clump_shape;      /* exponent of w in the clump profile */
-  float curl_amplitude;   /* object units */
-  float curl_frequency;   /* turns per strand (over w in [0,1]) */
-  float curl_helix;       /* 1: helical curl, 0: planar wave */
-  float curl_phase_jitter;/* 0: clumps curl in phase, 1: every strand random */
-  float frizz_amplitude;  /* object units at the tip */
-  float frizz_frequency;  /* noise cells per strand */
-  float flyaway_fraction; /* fraction of strands with stronger frizz */
+  float clump_strength;    /* 0..1: how far tips move toward the clump center */
+  float clump_frequency;   /* clump cells per unit of root uv */
+  float clump_shape;       /* exponent of w in the clump profile */
+  float curl_amplitude;    /* object units */
+  float curl_frequency;    /* turns per strand (over w in [0,1]) */
+  float curl_helix;        /* 1: helical curl, 0: planar wave */
+  float curl_phase_jitter; /* 0: clumps curl in phase, 1: every strand random */
+  float frizz_amplitude;   /* object units at the tip */
+  float frizz_frequency;   /* noise cells per strand */
+  float flyaway_fraction;  /* fraction of strands with stronger frizz */
   float flyaway_amplitude;
   float length_variation; /* strands are shortened by up to this fraction */
 
@@ -123,12 +123,12 @@ typedef struct {
    * root/tip colours; each strand varies its melanin by up to +-variation (hashed from uv) */
   float root_color[4];
   float tip_color[4];
-  float melanin[4];       /* eumelanin root, tip; pheomelanin root, tip */
-  float bsdf[4];          /* beta_m, beta_n, cuticle tilt (radians), index of refraction */
-  float look[4];          /* variation, use_melanin (0/1), file colour (0/1: explicit grooms
-                           * whose G-buffer words carry per-point colour, see below), file
-                           * thickness scale (0: none; else object -> world scale of the
-                           * per-point thickness) */
+  float melanin[4]; /* eumelanin root, tip; pheomelanin root, tip */
+  float bsdf[4];    /* beta_m, beta_n, cuticle tilt (radians), index of refraction */
+  float look[4];    /* variation, use_melanin (0/1), file colour (0/1: explicit grooms
+                     * whose G-buffer words carry per-point colour, see below), file
+                     * thickness scale (0: none; else object -> world scale of the
+                     * per-point thickness) */
 } ClhGroomGpu;
 
 /* ---- camera for one view, 128 bytes ------------------------------------------------
@@ -162,12 +162,12 @@ typedef struct {
   float world_to_view[12];
   float fx, fy, cx, cy;
   clh_u32 width, height;
-  clh_u32 offset;     /* first texel of this light in the shared DOM buffers */
-  float density;      /* transmittance = exp(-density * accumulated coverage) */
-  float bound[4];     /* layer ends, view-depth units past z0 (3 used) */
+  clh_u32 offset; /* first texel of this light in the shared DOM buffers */
+  float density;  /* transmittance = exp(-density * accumulated coverage) */
+  float bound[4]; /* layer ends, view-depth units past z0 (3 used) */
   float pad_shift;
-  float bias;         /* opaque shadow-map bias, view-depth units */
-  float depth_near;   /* hair depth mapping of the light's G-buffer pass */
+  float bias;       /* opaque shadow-map bias, view-depth units */
+  float depth_near; /* hair depth mapping of the light's G-buffer pass */
   float depth_far;
   float pad[12];
 } ClhShadowGpu;
@@ -188,9 +188,9 @@ typedef struct {
   clh_u32 sphere_count;
   clh_u32 plane_count;
   clh_u32 light_count;
-  clh_u32 env_levels;  /* prefiltered environment levels; 0: no environment (ambient instead);
-                          bit 31 set: the environment is also the background */
-  clh_u32 bg_width;    /* background image texels (0: none), stretched over the frame */
+  clh_u32 env_levels; /* prefiltered environment levels; 0: no environment (ambient instead);
+                         bit 31 set: the environment is also the background */
+  clh_u32 bg_width;   /* background image texels (0: none), stretched over the frame */
   clh_u32 bg_height;
   clh_u32 pad1, pad2;
 } ClhSceneGpu;
@@ -198,14 +198,14 @@ typedef struct {
 
 /* ---- reconstruction filter parameters (Lipp §3.3), 32 bytes ------------------------- */
 typedef struct {
-  clh_u32 radius;          /* window radius r in pixels: (2r + 1)^2 neighbours */
-  float s_par;             /* sigma_parallel = r * s_par (along the screen tangent) */
-  float s_perp;            /* sigma_perp = r * s_perp (across it) */
-  float sigma_c;           /* colour similarity */
-  float depth_reject;      /* neighbours farther than this relative depth are ignored */
-  float depth_mismatch;    /* a conservative strand nearer by this relative depth is blended on top */
-  float strip;             /* alpha strip: neighbours within this distance of the tangent line */
-  clh_u32 promote;         /* 1: conservative-only pixels are promoted (§3.3.2), 0: left empty */
+  clh_u32 radius;       /* window radius r in pixels: (2r + 1)^2 neighbours */
+  float s_par;          /* sigma_parallel = r * s_par (along the screen tangent) */
+  float s_perp;         /* sigma_perp = r * s_perp (across it) */
+  float sigma_c;        /* colour similarity */
+  float depth_reject;   /* neighbours farther than this relative depth are ignored */
+  float depth_mismatch; /* a conservative strand nearer by this relative depth is blended on top */
+  float strip;          /* alpha strip: neighbours within this distance of the tangent line */
+  clh_u32 promote;      /* 1: conservative-only pixels are promoted (§3.3.2), 0: left empty */
 } ClhFilterGpu;
 
 /* ---- LOD record: one per bundle of a hair mesh or chunk of a strand file, 16 bytes -----
@@ -227,7 +227,8 @@ typedef struct {
   float gamma;
 } ClhLodRecord;
 
-CLH_FN ClhLodRecord clh_lod_record_make(clh_u32 strands, clh_u32 control_points, float lod, float gamma) {
+CLH_FN ClhLodRecord clh_lod_record_make(clh_u32 strands, clh_u32 control_points, float lod,
+                                        float gamma) {
   ClhLodRecord r;
   r.strands = strands;
   r.control_points = control_points;
@@ -329,11 +330,11 @@ CLH_FN void clh_oct_decode(clh_u32 code, float* out) {
   out[2] = pz / len;
 }
 
-CLH_FN clh_u64 clh_gbuf_pack(clh_u32 depth24, clh_u32 oct16, clh_u32 u6, clh_u32 v6,
-                             clh_u32 w6, clh_u32 ao6) {
+CLH_FN clh_u64 clh_gbuf_pack(clh_u32 depth24, clh_u32 oct16, clh_u32 u6, clh_u32 v6, clh_u32 w6,
+                             clh_u32 ao6) {
   return ((clh_u64)(depth24 & 0xFFFFFFu) << 40) | ((clh_u64)(oct16 & 0xFFFFu) << 24) |
-         ((clh_u64)(u6 & 63u) << 18) | ((clh_u64)(v6 & 63u) << 12) |
-         ((clh_u64)(w6 & 63u) << 6) | (clh_u64)(ao6 & 63u);
+         ((clh_u64)(u6 & 63u) << 18) | ((clh_u64)(v6 & 63u) << 12) | ((clh_u64)(w6 & 63u) << 6) |
+         (clh_u64)(ao6 & 63u);
 }
 
 /* ---- file colour in the G-buffer word (explicit grooms with look[2] = 1) ---------------
@@ -342,7 +343,9 @@ CLH_FN clh_u64 clh_gbuf_pack(clh_u32 depth24, clh_u32 oct16, clh_u32 u6, clh_u32
  *  bits 23..18  red     bits 17..12  green     bits 11..6  w (unchanged)     bits 5..0  blue
  * Each channel is the 6-bit code of sqrt(linear colour), which spends the codes where dark
  * hair colours lie (linear 0.05 has steps of about 0.006).                               */
-CLH_FN clh_u32 clh_file_color_code(float linear) { return clh_unorm_bits(sqrt(clh_clamp01(linear)), 6u); }
+CLH_FN clh_u32 clh_file_color_code(float linear) {
+  return clh_unorm_bits(sqrt(clh_clamp01(linear)), 6u);
+}
 
 CLH_FN float clh_file_color_value(clh_u32 code) {
   const float s = clh_unorm_value(code, 6u);

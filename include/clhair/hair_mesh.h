@@ -21,18 +21,18 @@ namespace clhair {
 
 // Procedural styling applied in the consistent per-vertex u/v/w frames (Bhokare §3.4).
 struct StyleParams {
-  float clumpStrength = 0.0f;    // 0..1, how far tips move toward their clump center
-  float clumpFrequency = 10.0f;  // clump cells per unit of root uv
-  float clumpShape = 1.5f;       // profile exponent of w (> 0)
-  float curlAmplitude = 0.0f;    // object units
-  float curlFrequency = 0.0f;    // turns along the strand
-  float curlHelix = 1.0f;        // 1 helical curl, 0 planar wave
-  float curlPhaseJitter = 0.15f; // 0: a clump curls in phase; 1: each strand random
-  float frizzAmplitude = 0.0f;   // object units at the tip
-  float frizzFrequency = 6.0f;   // noise cells along the strand
-  float flyawayFraction = 0.0f;  // fraction of strands with extra frizz
-  float flyawayAmplitude = 0.0f; // object units of that extra frizz at the tip
-  float lengthVariation = 0.0f;  // strands shortened by up to this fraction (0..0.95)
+  float clumpStrength = 0.0f;     // 0..1, how far tips move toward their clump center
+  float clumpFrequency = 10.0f;   // clump cells per unit of root uv
+  float clumpShape = 1.5f;        // profile exponent of w (> 0)
+  float curlAmplitude = 0.0f;     // object units
+  float curlFrequency = 0.0f;     // turns along the strand
+  float curlHelix = 1.0f;         // 1 helical curl, 0 planar wave
+  float curlPhaseJitter = 0.15f;  // 0: a clump curls in phase; 1: each strand random
+  float frizzAmplitude = 0.0f;    // object units at the tip
+  float frizzFrequency = 6.0f;    // noise cells along the strand
+  float flyawayFraction = 0.0f;   // fraction of strands with extra frizz
+  float flyawayAmplitude = 0.0f;  // object units of that extra frizz at the tip
+  float lengthVariation = 0.0f;   // strands shortened by up to this fraction (0..0.95)
 };
 
 struct AppearanceParams {
@@ -40,16 +40,16 @@ struct AppearanceParams {
   // black eumelanin; pheomelanin reddens), blended from root to tip. With useMelanin
   // false the absorption is derived from rootColor/tipColor instead.
   bool useMelanin = true;
-  float eumelanin[2] = {1.3f, 1.0f};    // root, tip
-  float pheomelanin[2] = {0.1f, 0.1f};  // root, tip
+  float eumelanin[2] = {1.3f, 1.0f};         // root, tip
+  float pheomelanin[2] = {0.1f, 0.1f};       // root, tip
   glm::vec3 rootColor{0.08f, 0.05f, 0.03f};  // linear rgb: colour mode, and cyHair export
   glm::vec3 tipColor{0.25f, 0.17f, 0.10f};
-  float betaM = 0.3f;            // longitudinal roughness
-  float betaN = 0.3f;            // azimuthal roughness
-  float cuticleTiltDeg = 2.0f;   // scale tilt alpha
-  float ior = 1.55f;             // keratin
-  float variation = 0.2f;        // per-strand melanin varies by up to +-20 %
-  float strandWidth = 7.0e-5f;   // world-space fibre diameter
+  float betaM = 0.3f;           // longitudinal roughness
+  float betaN = 0.3f;           // azimuthal roughness
+  float cuticleTiltDeg = 2.0f;  // scale tilt alpha
+  float ior = 1.55f;            // keratin
+  float variation = 0.2f;       // per-strand melanin varies by up to +-20 %
+  float strandWidth = 7.0e-5f;  // world-space fibre diameter
   // Smallest diameter, in pixels, within which a strand covers a pixel's center sample.
   // 0 keeps the true projected width (sub-pixel strands then hit few centers; the
   // reconstruction filter rebuilds coverage from them); 1 draws gap-free 1-pixel lines.
@@ -62,8 +62,8 @@ struct AppearanceParams {
 
 struct LodParams {
   bool enabled = false;
-  float lambda = 3.0f;        // Lipp Eq. 2
-  float morphWindow = 0.5f;   // Bhokare Eq. 10 transition window
+  float lambda = 3.0f;       // Lipp Eq. 2
+  float morphWindow = 0.5f;  // Bhokare Eq. 10 transition window
 };
 
 struct HairMesh {

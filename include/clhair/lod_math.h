@@ -76,7 +76,8 @@ CLH_FN float clh_lod_morph(float L, clh_u32 layers, clh_u32 c_max, float window)
  * (strand export). */
 CLH_FN ClhLodRecord clh_lod_record_at(float L, clh_u32 n_full, float delta, clh_u32 min_points,
                                       clh_u32 c_full, float window) {
-  return clh_lod_record_make(clh_lod_strands(L, n_full, delta), clh_lod_control_points(L, min_points, c_full), L,
+  return clh_lod_record_make(clh_lod_strands(L, n_full, delta),
+                             clh_lod_control_points(L, min_points, c_full), L,
                              clh_lod_morph(L, min_points, c_full, window));
 }
 

@@ -79,7 +79,7 @@ typedef struct {
   float min_diameter; /* smallest hit diameter, pixels */
   float coverage;     /* LOD compensation N / N_LOD */
   clh_u32 u6, v6;
-  clh_u64 plane;      /* words per G-buffer layer */
+  clh_u64 plane; /* words per G-buffer layer */
 #if CLH_RASTER_OPACITY
   __global const float* hair_depth_g; /* z0 per texel, at dom_offset */
   clh_u64 dom_offset;
@@ -89,9 +89,9 @@ typedef struct {
 
 /* The raster constants of one view and groom (coverage 1, u and v 0 until a strand sets
  * them). */
-CLH_FN void clh_raster_init(clh_raster_ctx* rc, float fx, float fy, float cx, float cy, clh_u32 width,
-                            clh_u32 height, float depth_near, float depth_far, float strand_width,
-                            float hit_diameter_px) {
+CLH_FN void clh_raster_init(clh_raster_ctx* rc, float fx, float fy, float cx, float cy,
+                            clh_u32 width, clh_u32 height, float depth_near, float depth_far,
+                            float strand_width, float hit_diameter_px) {
   rc->fx = fx;
   rc->fy = fy;
   rc->cx = cx;
@@ -118,7 +118,8 @@ CLH_FN void clh_raster_init(clh_raster_ctx* rc, float fx, float fy, float cx, fl
 #if CLH_MSAA == 2
 __constant float clh_samples_xy[4] = {0.75f, 0.75f, 0.25f, 0.25f};
 #elif CLH_MSAA == 4
-__constant float clh_samples_xy[8] = {0.375f, 0.125f, 0.875f, 0.375f, 0.125f, 0.625f, 0.625f, 0.875f};
+__constant float clh_samples_xy[8] = {0.375f, 0.125f, 0.875f, 0.375f,
+                                      0.125f, 0.625f, 0.625f, 0.875f};
 #elif CLH_MSAA == 8
 __constant float clh_samples_xy[16] = {0.5625f, 0.3125f, 0.4375f, 0.6875f, 0.8125f, 0.5625f,
                                        0.3125f, 0.1875f, 0.1875f, 0.8125f, 0.0625f, 0.4375f,
@@ -161,8 +162,8 @@ CLH_FN void clh_gbuf_write(CLH_GLOBAL clh_u64* gbuf, clh_u32* counts, clh_u64 at
   atom_min(gbuf + at, word);
 #else
   clh_u64 cur = __atomic_load_n(gbuf + at, __ATOMIC_RELAXED);
-  while (word < cur &&
-         !__atomic_compare_exchange_n(gbuf + at, &cur, word, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
+  while (word < cur && !__atomic_compare_exchange_n(gbuf + at, &cur, word, true, __ATOMIC_RELAXED,
+                                                    __ATOMIC_RELAXED)) {
   }
 #endif
 }
@@ -175,25 +176,26 @@ CLH_FN void clh_gbuf_write(CLH_GLOBAL clh_u64* gbuf, clh_u32* counts, clh_u64 at
  * and the atomic. The final word per pixel is the minimum over the candidates that pass
  * the scene depth test, whatever the order, as without the early test. */
 typedef struct {
-  float t;        /* screen parameter of the column's word */
-  float z;        /* its view depth */
-  clh_u32 dcode;  /* its depth code */
-  int have;       /* word computed */
+  float t;       /* screen parameter of the column's word */
+  float z;       /* its view depth */
+  clh_u32 dcode; /* its depth code */
+  int have;      /* word computed */
   clh_u64 word;
 } clh_col_word;
 
 #if CLH_RASTER_OPACITY
 /* Adds a strand's coverage of texel idx to the opacity layer its depth past z0 falls in
  * (Yuksel & Keyser 2008); hair beyond the last layer adds to the last one. */
-static inline void clh_opacity_add(const clh_raster_ctx* rc, __global uint* opacity_g, clh_u64 idx, float z,
-                                   float weight) {
+static inline void clh_opacity_add(const clh_raster_ctx* rc, __global uint* opacity_g, clh_u64 idx,
+                                   float z, float weight) {
   const float z0 = rc->hair_depth_g[rc->dom_offset + idx];
   const float d = z - z0;
   int k = CLH_DOM_LAYERS - 1;
   for (int j = CLH_DOM_LAYERS - 1; j >= 0; --j)
     if (d < rc->bound[j]) k = j;
   const uint add = (uint)(weight * CLH_DOM_FIXED + 0.5f);
-  if (add > 0u) atomic_add(opacity_g + rc->dom_offset * CLH_DOM_LAYERS + (clh_u64)k * rc->plane + idx, add);
+  if (add > 0u)
+    atomic_add(opacity_g + rc->dom_offset * CLH_DOM_LAYERS + (clh_u64)k * rc->plane + idx, add);
 }
 #endif
 
@@ -205,7 +207,7 @@ typedef struct {
   float ma, na, iza, izb;
   float ta[3], tb[3]; /* tangents / z */
   float aoa, aob, wa, wb;
-  float inv_span;     /* 1 / (mb - ma) */
+  float inv_span; /* 1 / (mb - ma) */
   float span;
 } clh_seg;
 
@@ -244,11 +246,12 @@ CLH_FN clh_u64 clh_segment_word(const clh_raster_ctx* rc, const clh_seg* s, floa
   const float ty = clh_lerpf(s->ta[1], s->tb[1], t);
   const float tz = clh_lerpf(s->ta[2], s->tb[2], t);
   const float l1 = fabs(tx) + fabs(ty) + fabs(tz);
-  const clh_u32 oct = (l1 > 1e-30f && l1 < 1e30f) ? clh_oct_encode(tx, ty, tz) : clh_oct_encode(0.0f, 1.0f, 0.0f);
+  const clh_u32 oct =
+      (l1 > 1e-30f && l1 < 1e30f) ? clh_oct_encode(tx, ty, tz) : clh_oct_encode(0.0f, 1.0f, 0.0f);
   const float w = clh_lerpf(s->wa, s->wb, t) * zz;
   const float ao = clh_lerpf(s->aoa, s->aob, t) * zz;
-  return clh_gbuf_pack(clh_raster_depth_code(rc, zz), oct, rc->u6, rc->v6,
-                       clh_unorm_bits(w, 6u), clh_unorm_bits(ao, 6u));
+  return clh_gbuf_pack(clh_raster_depth_code(rc, zz), oct, rc->u6, rc->v6, clh_unorm_bits(w, 6u),
+                       clh_unorm_bits(ao, 6u));
 }
 
 CLH_FN void clh_col_init(const clh_raster_ctx* rc, const clh_seg* s, float t, clh_col_word* c) {
@@ -259,8 +262,9 @@ CLH_FN void clh_col_init(const clh_raster_ctx* rc, const clh_seg* s, float t, cl
   c->word = 0;
 }
 
-CLH_FN void clh_col_write(const clh_raster_ctx* rc, const clh_seg* s, CLH_GLOBAL const float* scene_depth,
-                          CLH_GLOBAL clh_u64* gbuf, clh_u32* counts, clh_u64 layer_at, clh_u64 idx, clh_col_word* c) {
+CLH_FN void clh_col_write(const clh_raster_ctx* rc, const clh_seg* s,
+                          CLH_GLOBAL const float* scene_depth, CLH_GLOBAL clh_u64* gbuf,
+                          clh_u32* counts, clh_u64 layer_at, clh_u64 idx, clh_col_word* c) {
 #if CLH_ATOMIC_LOAD_SKIP
 #ifdef CLH_DEVICE_CODE
   const clh_u64 seen = gbuf[layer_at + idx];
@@ -401,8 +405,10 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
 #if CLH_RASTER_OPACITY
     const clh_i32 jc0 = j0 > 0 ? j0 : 0, jc1 = j1 < minor_max - 1 ? j1 : minor_max - 1;
     for (clh_i32 j = jc0; j <= jc1; ++j) {
-      const clh_u64 idx = xmajor ? (clh_u64)j * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j;
-      if (col.z < scene_depth[idx]) clh_opacity_add(rc, (__global uint*)gbuf, idx, col.z, opacity_w);
+      const clh_u64 idx =
+          xmajor ? (clh_u64)j * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j;
+      if (col.z < scene_depth[idx])
+        clh_opacity_add(rc, (__global uint*)gbuf, idx, col.z, opacity_w);
     }
 #else
     const clh_u64 cons_at = (clh_u64)CLH_MSAA * rc->plane;
@@ -412,14 +418,16 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
        * visiting j1 == j0 twice is harmless, the loaded word rejects the repeat. A pixel
        * centre within reach <= 1 of the line lies in row jA = floor(nl - 1/2) or jA + 1. */
       if (j0 >= 0 && j0 < minor_max) {
-        const clh_u64 idx = xmajor ? (clh_u64)j0 * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j0;
+        const clh_u64 idx =
+            xmajor ? (clh_u64)j0 * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j0;
         clh_col_write(rc, &s, scene_depth, gbuf, counts, cons_at, idx, &col);
       }
 #if CLH_RASTER_STATS
       if (j1 != j0) /* counted once */
 #endif
         if (j1 >= 0 && j1 < minor_max) {
-          const clh_u64 idx = xmajor ? (clh_u64)j1 * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j1;
+          const clh_u64 idx =
+              xmajor ? (clh_u64)j1 * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j1;
           clh_col_write(rc, &s, scene_depth, gbuf, counts, cons_at, idx, &col);
         }
       const float ms = (float)i + 0.5f;
@@ -428,9 +436,11 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
         const clh_i32 ja = clh_floor_i(nl - 0.5f);
         for (clh_i32 j = ja; j <= ja + 1; ++j) {
           if (!(fabs((float)j + 0.5f - nl) * cosv < r) || j < 0 || j >= minor_max) continue;
-          const clh_u64 idx = xmajor ? (clh_u64)j * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j;
+          const clh_u64 idx =
+              xmajor ? (clh_u64)j * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j;
           clh_col_write(rc, &s, scene_depth, gbuf, counts, 0u, idx, &col);
-          if (j < j0 || j > j1) clh_col_write(rc, &s, scene_depth, gbuf, counts, cons_at, idx, &col);
+          if (j < j0 || j > j1)
+            clh_col_write(rc, &s, scene_depth, gbuf, counts, cons_at, idx, &col);
         }
       }
       continue;
@@ -438,7 +448,8 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
     /* the general walk: wide strands (LOD compensation), MSAA samples */
     const clh_i32 jc0 = j0 > 0 ? j0 : 0, jc1 = j1 < minor_max - 1 ? j1 : minor_max - 1;
     for (clh_i32 j = jc0; j <= jc1; ++j) {
-      const clh_u64 idx = xmajor ? (clh_u64)j * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j;
+      const clh_u64 idx =
+          xmajor ? (clh_u64)j * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j;
       clh_col_write(rc, &s, scene_depth, gbuf, counts, cons_at, idx, &col);
     }
     /* samples within the hit radius */
@@ -456,7 +467,8 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
       if (CLH_MSAA > 1) clh_col_init(rc, &s, (ms - s.ma) * s.inv_span, &sw);
       for (clh_i32 j = jlo; j <= jhi; ++j) {
         if (!(fabs((float)j + on - nl) * cosv < r)) continue;
-        const clh_u64 idx = xmajor ? (clh_u64)j * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j;
+        const clh_u64 idx =
+            xmajor ? (clh_u64)j * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j;
         clh_col_write(rc, &s, scene_depth, gbuf, counts, (clh_u64)sidx * rc->plane, idx, &sw);
         if (j < j0 || j > j1) clh_col_write(rc, &s, scene_depth, gbuf, counts, cons_at, idx, &sw);
       }

@@ -1,8 +1,8 @@
 // renderer.h — the public entry point: render a Scene on a Device into a Frame.
 //
 // A Renderer owns the programs, the per-groom device resources (uploaded once per hair mesh
-// or StrandGroom) and the buffers sized to the render target. render() runs, for every groom in turn,
-// lod -> scan + sizing -> strands -> shade -> composite over the opaque scene, and returns
+// or StrandGroom) and the buffers sized to the render target. render() runs, for every groom in
+// turn, lod -> scan + sizing -> strands -> shade -> composite over the opaque scene, and returns
 // colour, alpha, depth and per-stage times taken from OpenCL profiling events.
 #pragma once
 
@@ -19,24 +19,24 @@
 namespace clhair {
 
 struct RenderOptions {
-  int lod = -1;             // -1: as each groom says; 0: off; 1: on
+  int lod = -1;  // -1: as each groom says; 0: off; 1: on
   float lodLambdaScale = 1.0f;
-  int msaa = 1;             // samples per pixel: 1, 2, 4 or 8 (software MSAA, averaged)
-  int filter = -1;          // reconstruction filter with MSAA 1: -1 as the scene says, 0 off, 1 on
-  int shadowLod = -1;       // LOD in the lights' passes: -1 on unless lod == 0, 0 off, 1 on
+  int msaa = 1;        // samples per pixel: 1, 2, 4 or 8 (software MSAA, averaged)
+  int filter = -1;     // reconstruction filter with MSAA 1: -1 as the scene says, 0 off, 1 on
+  int shadowLod = -1;  // LOD in the lights' passes: -1 on unless lod == 0, 0 off, 1 on
   int shadowLodCorrection = -1;  // Lipp §3.2.3 depth shift: -1 as the scene says, 0 off, 1 on
   DispatchMode dispatch = DispatchMode::Auto;
-  bool rasterStats = false; // count pixel writes and atomics (slower; benchmark)
-  float jitterX = 0.0f;     // sub-pixel shift of the image plane, pixels (reference passes, tests)
+  bool rasterStats = false;  // count pixel writes and atomics (slower; benchmark)
+  float jitterX = 0.0f;      // sub-pixel shift of the image plane, pixels (reference passes, tests)
   float jitterY = 0.0f;
   bool captureGBuffer = false;  // keep the last groom's G-buffer layers in Frame::gbuffer
   bool rasterOnly = false;      // stop each groom after its strand pass (benchmark: cores used)
-  bool stageCores = false;      // wait for every dispatch and time it on the host (StageTime::cpuMs)
+  bool stageCores = false;  // wait for every dispatch and time it on the host (StageTime::cpuMs)
   // Keep the deep opacity maps of the previous frame when nothing they depend on changed
   // (lights, shadow settings, grooms and their transforms, opaque objects, LOD options; the
   // camera does not enter them). false: rebuild them every frame.
   bool reuseShadows = true;
-  int ambientOcclusion = 1;     // 1: baked AO (baked on first use when the mesh has none), 0: off
+  int ambientOcclusion = 1;  // 1: baked AO (baked on first use when the mesh has none), 0: off
   // Every strand at its true projected width: the grooms' minimum hit diameter is ignored
   // (the passes of renderReference).
   bool trueWidth = false;

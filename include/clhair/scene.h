@@ -32,7 +32,7 @@ struct Camera {
 struct Light {
   enum class Type { Point, Directional };
   Type type = Type::Directional;
-  glm::vec3 position{0.0f};        // point lights
+  glm::vec3 position{0.0f};               // point lights
   glm::vec3 direction{0.0f, 1.0f, 0.0f};  // directional: toward the light
   glm::vec3 color{1.0f};
   float intensity = 1.0f;
@@ -41,11 +41,11 @@ struct Light {
 
 // Deep opacity maps (Yuksel & Keyser 2008) of the shadowed lights.
 struct ShadowParams {
-  int resolution = 512;                          // texels per side
-  float layers[3] = {0.004f, 0.012f, 0.03f};     // layer ends past the first hair, world units
-  float density = 1.0f;                          // transmittance = exp(-density * coverage)
-  bool lodCorrection = true;                     // Lipp §3.2.3 depth shift under LOD
-  float bias = 2.0f;                             // opaque shadow-map bias, texels
+  int resolution = 512;                       // texels per side
+  float layers[3] = {0.004f, 0.012f, 0.03f};  // layer ends past the first hair, world units
+  float density = 1.0f;                       // transmittance = exp(-density * coverage)
+  bool lodCorrection = true;                  // Lipp §3.2.3 depth shift under LOD
+  float bias = 2.0f;                          // opaque shadow-map bias, texels
 };
 
 // The procedural default sky: a sun disc, a horizon -> zenith gradient and a ground.
@@ -67,11 +67,11 @@ struct SkyParams {
 // at load (host/lighting/environment.h). When enabled it replaces the constant ambient.
 struct EnvironmentDesc {
   bool enabled = false;
-  std::string file;          // equirectangular map (EXR/HDR/...), or empty for the sky
+  std::string file;  // equirectangular map (EXR/HDR/...), or empty for the sky
   SkyParams sky;
   float intensity = 1.0f;
   float rotateYDegrees = 0.0f;
-  bool visible = false;      // drawn as the background
+  bool visible = false;  // drawn as the background
 };
 
 struct Sphere {
@@ -97,29 +97,33 @@ struct MeshInstance {
 // Reconstruction filter (Lipp et al. 2026 §3.3), defaults from the paper where it gives them.
 struct FilterParams {
   bool enabled = true;
-  int radius = 5;              // (2r + 1)^2 window
-  float sPar = 0.5f;           // sigma_parallel = radius * sPar
-  float sPerp = 0.1f;          // sigma_perp = radius * sPerp
-  float sigmaC = 0.9f;         // colour similarity
+  int radius = 5;                // (2r + 1)^2 window
+  float sPar = 0.5f;             // sigma_parallel = radius * sPar
+  float sPerp = 0.1f;            // sigma_perp = radius * sPerp
+  float sigmaC = 0.9f;           // colour similarity
   float depthReject = 1.45e-3f;  // relative depth beyond which neighbours are ignored
   float depthMismatch = 5e-4f;   // relative depth: a nearer conservative strand is blended on top
-  float strip = 0.5f;          // alpha strip: neighbours within this many pixels of the tangent line
-  bool promote = true;         // promote conservative-only pixels (Lipp §3.3.2); off: only center hits are drawn
+  float strip = 0.5f;  // alpha strip: neighbours within this many pixels of the tangent line
+  bool promote =
+      true;  // promote conservative-only pixels (Lipp §3.3.2); off: only center hits are drawn
 };
 
 // Exactly one of `mesh` and `strands` is set.
 struct GroomInstance {
   GroomInstance() = default;
-  GroomInstance(std::string n, std::shared_ptr<const HairMesh> m, const glm::mat4& t = glm::mat4(1.0f))
+  GroomInstance(std::string n, std::shared_ptr<const HairMesh> m,
+                const glm::mat4& t = glm::mat4(1.0f))
       : name(std::move(n)), mesh(std::move(m)), transform(t) {}
-  GroomInstance(std::string n, std::shared_ptr<const StrandGroom> s, const glm::mat4& t = glm::mat4(1.0f))
+  GroomInstance(std::string n, std::shared_ptr<const StrandGroom> s,
+                const glm::mat4& t = glm::mat4(1.0f))
       : name(std::move(n)), strands(std::move(s)), transform(t) {}
 
   std::string name;
   std::shared_ptr<const HairMesh> mesh;        // a hair mesh: strands generated per frame
   std::shared_ptr<const StrandGroom> strands;  // explicit strands, uploaded once
-  glm::mat4 transform{1.0f};  // object -> world (strand files: includes the file's scale and up axis)
-  bool hasFilter = false;     // true: `filter` overrides the scene's
+  glm::mat4 transform{
+      1.0f};               // object -> world (strand files: includes the file's scale and up axis)
+  bool hasFilter = false;  // true: `filter` overrides the scene's
   FilterParams filter;
 };
 

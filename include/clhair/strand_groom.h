@@ -1,14 +1,15 @@
 // strand_groom.h — a groom given as explicit strands (a cyHair `.hair`, USC-HairSalon
-// `.data` or TressFX `.tfx` file, or strands built in memory), rendered through the same raster, shading,
-// filter and compositing passes as a hair mesh.
+// `.data` or TressFX `.tfx` file, or strands built in memory), rendered through the same raster,
+// shading, filter and compositing passes as a hair mesh.
 //
 // Strand s owns pointCounts[s] consecutive entries of `points` (root first); every strand
 // has at least 2 points. Optional per-point thickness and colour are kept from the file
 // and drawn when `appearance.useFileColor` is set (otherwise the fibre width is
-// `appearance.strandWidth` and the colour the appearance's). Optional per-strand root uv in [0, 1]^2 fills the G-buffer's
-// u, v fields; without it they come from a per-strand hash. The styling coordinate w of a
-// stored point k of an n-point strand is k / (n - 1). The renderer reorders the strands
-// once (docs/scene-format.md, "Strand files") for LOD; a StrandGroom itself is never changed.
+// `appearance.strandWidth` and the colour the appearance's). Optional per-strand root uv in [0,
+// 1]^2 fills the G-buffer's u, v fields; without it they come from a per-strand hash. The styling
+// coordinate w of a stored point k of an n-point strand is k / (n - 1). The renderer reorders the
+// strands once (docs/scene-format.md, "Strand files") for LOD; a StrandGroom itself is never
+// changed.
 #pragma once
 
 #include <cstdint>
@@ -28,11 +29,11 @@ struct StrandGroom {
   std::vector<std::uint32_t> pointCounts;  // per strand, each >= 2
   std::vector<glm::vec3> points;           // object space, strand after strand
   std::vector<float> thickness;            // empty, or per point (drawn with useFileColor)
-  std::vector<glm::vec3> colors;           // empty, or per point linear rgb (drawn with useFileColor)
-  std::vector<glm::vec2> rootUv;           // empty, or per strand in [0, 1]
-  std::uint32_t seed = 1;                  // root-uv hash, LOD offsets, LOD order
+  std::vector<glm::vec3> colors;  // empty, or per point linear rgb (drawn with useFileColor)
+  std::vector<glm::vec2> rootUv;  // empty, or per strand in [0, 1]
+  std::uint32_t seed = 1;         // root-uv hash, LOD offsets, LOD order
   AppearanceParams appearance;
-  LodParams lod;                           // morphWindow: Bhokare Eq. 10 on point skipping
+  LodParams lod;  // morphWindow: Bhokare Eq. 10 on point skipping
 };
 
 // Largest point count the strand tables can address (32-bit offsets).
@@ -51,7 +52,8 @@ void validateStrandGroom(const StrandGroom& groom, const std::string& where);
 // left out and counted in *skippedStrands when given. The result has the default
 // appearance and LOD parameters and the file's stem as its name. Errors are one line that
 // names the file. Problems that do not stop the file from being drawn (bytes after the end
-// of its data, TressFX strand uv outside [0, 1]) are appended to *warnings when given, one line each naming the file.
+// of its data, TressFX strand uv outside [0, 1]) are appended to *warnings when given, one line
+// each naming the file.
 StrandGroom loadStrandGroom(const std::string& path, std::uint64_t maxBytes,
                             std::uint64_t* skippedStrands = nullptr,
                             std::vector<std::string>* warnings = nullptr);
@@ -68,12 +70,12 @@ glm::mat4 strandFileTransform(float scale, UpAxis up);
 
 // Generated strands read back from the device (export-strands, tests).
 struct StrandSet {
-  std::vector<std::uint32_t> pointCounts;  // per strand
-  std::vector<float> points;               // xyz per point, object space
-  std::vector<float> tangents;             // xyz per point
-  std::vector<float> w;                    // styling w per point
-  std::vector<std::uint32_t> bundleOf;     // bundle of each strand (explicit strands: LOD chunk)
-  std::vector<std::uint32_t> sourceStrand; // explicit strands only: index in the StrandGroom
+  std::vector<std::uint32_t> pointCounts;   // per strand
+  std::vector<float> points;                // xyz per point, object space
+  std::vector<float> tangents;              // xyz per point
+  std::vector<float> w;                     // styling w per point
+  std::vector<std::uint32_t> bundleOf;      // bundle of each strand (explicit strands: LOD chunk)
+  std::vector<std::uint32_t> sourceStrand;  // explicit strands only: index in the StrandGroom
 };
 
 }  // namespace clhair

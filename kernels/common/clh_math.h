@@ -20,8 +20,7 @@ static inline clh_mat34 clh_load_mat34(__global const float* m) {
 }
 
 static inline float3 clh_xform_point(clh_mat34 m, float3 p) {
-  return (float3)(dot(m.r0.xyz, p) + m.r0.w, dot(m.r1.xyz, p) + m.r1.w,
-                  dot(m.r2.xyz, p) + m.r2.w);
+  return (float3)(dot(m.r0.xyz, p) + m.r0.w, dot(m.r1.xyz, p) + m.r1.w, dot(m.r2.xyz, p) + m.r2.w);
 }
 
 static inline float3 clh_xform_dir(clh_mat34 m, float3 d) {

@@ -66,8 +66,8 @@ typedef struct {
   float trt_phi[5];  /* TRT phase Phi_2 at the panel breakpoints */
   float sin_o, cos_o;
   float sin_o_tilt[3], cos_o_tilt[3]; /* theta_o shifted by -2a, a, 4a for R, TT, TRT */
-  float v[3];        /* longitudinal variances of R, TT, TRT */
-  float cos_shift[3]; /* cos of the tilt shifts */
+  float v[3];                         /* longitudinal variances of R, TT, TRT */
+  float cos_shift[3];                 /* cos of the tilt shifts */
   float eta, inv_eta_p, s, blur, trim;
 } clh_hair_view;
 
@@ -230,7 +230,8 @@ __constant float clh_hair_panel_cm[4] = {0.9561895f, 0.6974237f, 0.3901977f, 0.1
 
 /* Out-parameter form: Oclgrind's LLVM lacks the noalias-scope intrinsic clang emits when a
  * struct returned by value is inlined. clh_hair_prepare below wraps it. */
-static inline void clh_hair_prepare_to(clh_hair_view* out, const clh_hair_material* m, float3 t, float3 wo) {
+static inline void clh_hair_prepare_to(clh_hair_view* out, const clh_hair_material* m, float3 t,
+                                       float3 wo) {
   clh_hair_view hv;
   hv.t = t;
   hv.eta = m->eta;

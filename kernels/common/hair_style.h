@@ -22,13 +22,13 @@ typedef struct {
 
 /* Per-strand constants, identical in every lane. */
 typedef struct {
-  uint id;         /* hash of (seed, bundle, local index): the strand's random key */
-  float2 st;       /* root sample in the bundle's (s, t) square */
-  float2 uv;       /* root styling coordinates */
-  float2 clump_duv;/* clump center uv minus uv */
-  float phase;     /* curl phase in radians */
-  float frizz;     /* frizz amplitude at the tip (object units) */
-  float length;    /* fraction of the base spline this strand covers */
+  uint id;          /* hash of (seed, bundle, local index): the strand's random key */
+  float2 st;        /* root sample in the bundle's (s, t) square */
+  float2 uv;        /* root styling coordinates */
+  float2 clump_duv; /* clump center uv minus uv */
+  float phase;      /* curl phase in radians */
+  float frizz;      /* frizz amplitude at the tip (object units) */
+  float length;     /* fraction of the base spline this strand covers */
 } clh_strand;
 
 static inline uint clh_vertex_index(uint layer, int root_vertex, uint vertex_count) {
@@ -46,11 +46,12 @@ static inline void clh_accum_vertex(clh_layer_pt* acc, __global const ClhMeshVer
 /* Bilinear interpolation at (s, t) of the bundle's quad on `layer` (Bhokare §3.3:
  * corners 0,1,2,3 at (0,0),(1,0),(1,1),(0,1); triangles repeat corner 2). */
 static inline clh_layer_pt clh_bundle_layer(__global const ClhMeshVertex* verts_g, int4 vtx,
-                                     uint layer, uint vertex_count, float2 st) {
+                                            uint layer, uint vertex_count, float2 st) {
   clh_layer_pt r;
   r.pos = r.tan = r.du = r.dv = (float4)(0.0f);
   float s = st.x, t = st.y;
-  clh_accum_vertex(&r, verts_g + clh_vertex_index(layer, vtx.x, vertex_count), (1.0f - s) * (1.0f - t));
+  clh_accum_vertex(&r, verts_g + clh_vertex_index(layer, vtx.x, vertex_count),
+                   (1.0f - s) * (1.0f - t));
   clh_accum_vertex(&r, verts_g + clh_vertex_index(layer, vtx.y, vertex_count), s * (1.0f - t));
   clh_accum_vertex(&r, verts_g + clh_vertex_index(layer, vtx.z, vertex_count), s * t);
   clh_accum_vertex(&r, verts_g + clh_vertex_index(layer, vtx.w, vertex_count), (1.0f - s) * t);
@@ -105,8 +106,9 @@ static inline float2 clh_clump_center(uint seed, float freq, float2 uv, uint* cl
   return best_center;
 }
 
-static inline clh_strand clh_strand_setup(__global const ClhGroomGpu* g, __global const ClhBundle* b,
-                                   uint bundle, uint local_index, float2 st) {
+static inline clh_strand clh_strand_setup(__global const ClhGroomGpu* g,
+                                          __global const ClhBundle* b, uint bundle,
+                                          uint local_index, float2 st) {
   clh_strand s;
   s.id = clh_hash3(g->seed, bundle, local_index);
   s.st = st;
@@ -131,9 +133,9 @@ static inline clh_strand clh_strand_setup(__global const ClhGroomGpu* g, __globa
 /* Point k of C on the base spline: Hermite between the layer samples bracketing the
  * strand parameter (uniform in the strand's length fraction). Returns the position with
  * styling w in .w; writes the derivative along the strand and the interpolated frame. */
-static inline float4 clh_base_point(SG_SHARED const clh_layer_pt* layers_l, uint layer_count, uint k,
-                             uint C, float length, float3* deriv, float3* du, float3* dv,
-                             float* ao) {
+static inline float4 clh_base_point(SG_SHARED const clh_layer_pt* layers_l, uint layer_count,
+                                    uint k, uint C, float length, float3* deriv, float3* du,
+                                    float3* dv, float* ao) {
   float x = ((float)k / (float)(C - 1u)) * length * (float)(layer_count - 1u);
   int i = min((int)floor(x), (int)layer_count - 2);
   i = max(i, 0);
@@ -154,7 +156,7 @@ static inline float4 clh_base_point(SG_SHARED const clh_layer_pt* layers_l, uint
 /* Object-space styling offset for a base point (clumping, curl/wave, frizz) in the frame
  * built from the consistent per-vertex u direction and the base-spline direction. */
 static inline float3 clh_style_offset(__global const ClhGroomGpu* g, const clh_strand* s, float w,
-                               float3 deriv, float3 du, float3 dv) {
+                                      float3 deriv, float3 du, float3 dv) {
   float3 et = clh_normalize_or(deriv, (float3)(0.0f, 1.0f, 0.0f));
   float3 e1 = clh_normalize_or(du - dot(du, et) * et,
                                clh_normalize_or(dv - dot(dv, et) * et, (float3)(1.0f, 0.0f, 0.0f)));

@@ -12,10 +12,11 @@
 #ifndef CLHAIR_OPAQUE_SHADE_H
 #define CLHAIR_OPAQUE_SHADE_H
 
-static inline float3 clh_opaque_shade(__global const ClhSceneGpu* scene_g, __global const ClhLightGpu* lights_g,
-                                      __global const ClhShadowGpu* shadows_g, __global const float* shadow_opaque_g,
-                                      __global const float* shadow_hair_g, __global const uint* shadow_opacity_g,
-                                      __global const float* env_sh_g, float3 pos, float3 n, float3 albedo, float t) {
+static inline float3 clh_opaque_shade(
+    __global const ClhSceneGpu* scene_g, __global const ClhLightGpu* lights_g,
+    __global const ClhShadowGpu* shadows_g, __global const float* shadow_opaque_g,
+    __global const float* shadow_hair_g, __global const uint* shadow_opacity_g,
+    __global const float* env_sh_g, float3 pos, float3 n, float3 albedo, float t) {
   const uint env_levels = scene_g->env_levels & ~CLH_ENV_VISIBLE;
   float3 radiance = env_levels > 0u ? albedo * clh_env_irradiance(env_sh_g, n) / CLH_PI
                                     : albedo * vload3(0, scene_g->ambient);
@@ -36,8 +37,8 @@ static inline float3 clh_opaque_shade(__global const ClhSceneGpu* scene_g, __glo
     float visibility = 1.0f;
     int slot = clh_light_shadow_slot(lights_g + i);
     if (slot >= 0 && slot < CLH_MAX_SHADOWS)
-      visibility = clh_shadow_transmittance(shadows_g + slot, shadow_opaque_g, shadow_hair_g, shadow_opacity_g,
-                                            pos + n * (1e-3f * t), 0.0f);
+      visibility = clh_shadow_transmittance(shadows_g + slot, shadow_opaque_g, shadow_hair_g,
+                                            shadow_opacity_g, pos + n * (1e-3f * t), 0.0f);
     radiance += albedo * lc * (visibility * falloff * fmax(dot(n, l), 0.0f) / CLH_PI);
   }
   return radiance;

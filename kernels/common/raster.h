@@ -28,17 +28,19 @@ static inline float3 clh_end_tangent_unit(float3 q, float3 t_neighbour) {
 
 /* Fills the per-view raster constants (written through a pointer: Oclgrind's LLVM lacks
  * the noalias-scope intrinsic clang emits when a returned struct is inlined). */
-static inline void clh_raster_setup(clh_raster_ctx* rcp, __global const ClhGroomGpu* g, __global const ClhViewGpu* view_g) {
+static inline void clh_raster_setup(clh_raster_ctx* rcp, __global const ClhGroomGpu* g,
+                                    __global const ClhViewGpu* view_g) {
   clh_raster_ctx rc;
-  clh_raster_init(&rc, view_g->fx, view_g->fy, view_g->cx, view_g->cy, view_g->width, view_g->height, g->depth_near,
-                  g->depth_far, g->strand_width, g->hit_diameter_px);
+  clh_raster_init(&rc, view_g->fx, view_g->fy, view_g->cx, view_g->cy, view_g->width,
+                  view_g->height, g->depth_near, g->depth_far, g->strand_width, g->hit_diameter_px);
   *rcp = rc;
 }
 
 #if CLH_RASTER_OPACITY
 /* The deep-opacity pass of one light (-DCLH_RASTER_OPACITY=1): its texels in the shared
  * maps and its layer bounds (ClhShadowGpu), and the nearest hair depth z0 per texel. */
-static inline void clh_raster_opacity_setup(clh_raster_ctx* rc, __global const ClhShadowGpu* shadow_g,
+static inline void clh_raster_opacity_setup(clh_raster_ctx* rc,
+                                            __global const ClhShadowGpu* shadow_g,
                                             __global const float* hair_depth_g) {
   rc->hair_depth_g = hair_depth_g;
   rc->dom_offset = shadow_g->offset;
@@ -50,9 +52,10 @@ static inline void clh_raster_opacity_setup(clh_raster_ctx* rc, __global const C
  * `first` on (positions with styling w in P[i].w, tangents with AO in T[i].w, object
  * space), the last one closed by the next lane's first point next_p/next_t; no segment
  * reaches past point total - 1. */
-static inline void clh_raster_lane(clh_raster_ctx* rc, __global const float* scene_depth_g, __global ulong* gbuf_g,
-                                   __global uint* stats_g, __global const ClhGroomGpu* g, const float4* P,
-                                   const float4* T, uint first, uint count, uint total, float4 next_p,
+static inline void clh_raster_lane(clh_raster_ctx* rc, __global const float* scene_depth_g,
+                                   __global ulong* gbuf_g, __global uint* stats_g,
+                                   __global const ClhGroomGpu* g, const float4* P, const float4* T,
+                                   uint first, uint count, uint total, float4 next_p,
                                    float4 next_t) {
   float to_view[12], to_world[12];
   for (int k = 0; k < 12; ++k) {

@@ -13,8 +13,8 @@
 #define CLHAIR_SHADOW_H
 
 static inline float clh_dom_texel(__global const ClhShadowGpu* sh, __global const float* opaque_g,
-                                  __global const float* hair_g, __global const uint* opacity_g, int tx,
-                                  int ty, float z, float shift) {
+                                  __global const float* hair_g, __global const uint* opacity_g,
+                                  int tx, int ty, float z, float shift) {
   const int w = (int)sh->width, h = (int)sh->height;
   tx = clamp(tx, 0, w - 1);
   ty = clamp(ty, 0, h - 1);
@@ -42,9 +42,11 @@ static inline float clh_dom_texel(__global const ClhShadowGpu* sh, __global cons
 }
 
 /* Fraction of the light reaching world point p (1 = unshadowed). */
-static inline float clh_shadow_transmittance(__global const ClhShadowGpu* sh, __global const float* opaque_g,
-                                             __global const float* hair_g, __global const uint* opacity_g,
-                                             float3 p, float shift) {
+static inline float clh_shadow_transmittance(__global const ClhShadowGpu* sh,
+                                             __global const float* opaque_g,
+                                             __global const float* hair_g,
+                                             __global const uint* opacity_g, float3 p,
+                                             float shift) {
   if (sh->width == 0u || sh->height == 0u) return 1.0f;
   const clh_mat34 w2v = clh_load_mat34(sh->world_to_view);
   const float3 pv = clh_xform_point(w2v, p);

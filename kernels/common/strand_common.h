@@ -39,8 +39,8 @@ static inline uint clh_lod_drawn_total(__global const uint* offsets_g, uint n) {
 
 /* The bundle (or chunk) that draws `index`, and the strand's slot in it; false when the
  * index is past the drawn total. */
-static inline bool clh_lod_find_strand(__global const uint* offsets_g, uint n, uint index, uint* range,
-                                       uint* slot) {
+static inline bool clh_lod_find_strand(__global const uint* offsets_g, uint n, uint index,
+                                       uint* range, uint* slot) {
   if (n == 0u || index >= offsets_g[clh_lod_drawn_total_at(n)]) return false;
   *range = clh_find_range(offsets_g, n, index);
   *slot = index - offsets_g[*range];
@@ -76,8 +76,9 @@ static inline float3 clh_tangent_end(float3 q, float3 t_neighbour, int rule) {
  * P[0..count), which are points k0 .. k0 + count - 1 of a strand of `total` points;
  * prev_p / next_p are the points just before and after the run (from the neighbouring
  * lanes). `cap` bounds count (the size of P and T). Every lane must call it. */
-static inline void clh_finish_tangents(sg_ctx* sg, const float4* P, float4* T, uint cap, uint k0, uint count,
-                                       uint total, float4 prev_p, float4 next_p, int rule) {
+static inline void clh_finish_tangents(sg_ctx* sg, const float4* P, float4* T, uint cap, uint k0,
+                                       uint count, uint total, float4 prev_p, float4 next_p,
+                                       int rule) {
   /* interior tangents: central differences */
   for (uint i = 0; i < cap; ++i) {
     uint k = k0 + i;

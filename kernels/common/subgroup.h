@@ -69,7 +69,7 @@
 
 /* Kernel attributes of every strand kernel: SG_STRANDS logical sub-groups per work-group. */
 #if defined(SG_INTEL_REQD_SIZE) && SG_INTEL_REQD_SIZE
-#define SG_KERNEL_ATTRS                                        \
+#define SG_KERNEL_ATTRS                                      \
   __attribute__((reqd_work_group_size(SG_GROUP_SIZE, 1, 1))) \
   __attribute__((intel_reqd_sub_group_size(SG_SIZE)))
 #else
@@ -92,7 +92,7 @@ typedef struct {
 } sg_ctx;
 
 #if SG_BACKEND == SG_BACKEND_LOCAL && SG_SIZE > 1
-#define SG_DECLARE(ctx)                         \
+#define SG_DECLARE(ctx)                       \
   __local uint4 ctx##_storage_l[2 * SG_SIZE]; \
   sg_ctx ctx;                                 \
   ctx.buf = ctx##_storage_l;                  \
@@ -122,7 +122,9 @@ static inline uint sg_shuffle_up1(sg_ctx* c, uint x, uint fill) {
   (void)x;
   return fill;
 }
-static inline uint sg_shuffle_down1(sg_ctx* c, uint x, uint fill) { return sg_shuffle_up1(c, x, fill); }
+static inline uint sg_shuffle_down1(sg_ctx* c, uint x, uint fill) {
+  return sg_shuffle_up1(c, x, fill);
+}
 static inline uint sg_broadcast0(sg_ctx* c, uint x) {
   (void)c;
   return x;
@@ -132,7 +134,9 @@ static inline uint4 sg_shuffle_up1_u4(sg_ctx* c, uint4 x, uint4 fill) {
   (void)x;
   return fill;
 }
-static inline uint4 sg_shuffle_down1_u4(sg_ctx* c, uint4 x, uint4 fill) { return sg_shuffle_up1_u4(c, x, fill); }
+static inline uint4 sg_shuffle_down1_u4(sg_ctx* c, uint4 x, uint4 fill) {
+  return sg_shuffle_up1_u4(c, x, fill);
+}
 
 #elif SG_BACKEND == SG_BACKEND_LOCAL
 

@@ -31,7 +31,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   CLHAIR_FUZZ_CHECK(m.indices.size() / 3 <= limits.maxTriangles);
   CLHAIR_FUZZ_CHECK(m.positions.size() * clhair::kMeshVertexBytes <= limits.maxBufferBytes);
   for (std::uint32_t i : m.indices) CLHAIR_FUZZ_CHECK(i < m.positions.size());
-  for (const auto& v : m.positions) CLHAIR_FUZZ_CHECK(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z));
+  for (const auto& v : m.positions)
+    CLHAIR_FUZZ_CHECK(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z));
   CLHAIR_FUZZ_CHECK(m.name == "input");
   return 0;
 }

@@ -22,7 +22,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string path = clhair::fuzz::writeInput(data, size, "scene.json");
   try {
     const clhair::Scene s = clhair::loadScene(path);
-    for (const clhair::GroomInstance& g : s.grooms) CLHAIR_FUZZ_CHECK((g.mesh != nullptr) != (g.strands != nullptr));
+    for (const clhair::GroomInstance& g : s.grooms)
+      CLHAIR_FUZZ_CHECK((g.mesh != nullptr) != (g.strands != nullptr));
   } catch (const clhair::Error&) {
   }
   return 0;

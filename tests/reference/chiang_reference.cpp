@@ -47,8 +47,7 @@ double wrapPi(double x) {
 }
 
 // Tilted sin/cos(theta_o) for lobe p (pbrt-v4 convention, Chiang §4).
-void tiltedThetaO(int p, double alpha, double sinThetaO, double cosThetaO, double* s,
-                  double* c) {
+void tiltedThetaO(int p, double alpha, double sinThetaO, double cosThetaO, double* s, double* c) {
   const double shift = p == 0 ? -2.0 * alpha : p == 1 ? alpha : p == 2 ? 4.0 * alpha : 0.0;
   *s = sinThetaO * std::cos(shift) + cosThetaO * std::sin(shift);
   *c = std::fabs(cosThetaO * std::cos(shift) - sinThetaO * std::sin(shift));
@@ -93,8 +92,7 @@ std::array<double, 4> longitudinalVariances(double betaM) {
 }
 
 double logisticScale(double betaN) {
-  return std::sqrt(kPi / 8.0) *
-         (0.265 * betaN + 1.194 * sqr(betaN) + 5.372 * std::pow(betaN, 22));
+  return std::sqrt(kPi / 8.0) * (0.265 * betaN + 1.194 * sqr(betaN) + 5.372 * std::pow(betaN, 22));
 }
 
 double besselI0(double x) {
@@ -237,8 +235,7 @@ std::array<Rgb, 4> averagedAttenuation(const ChiangMaterial& m, double sinThetaO
   return out;
 }
 
-std::array<Rgb, 4> evalAveragedLobes(const ChiangMaterial& m, const FibreAngles& a,
-                                     int panels) {
+std::array<Rgb, 4> evalAveragedLobes(const ChiangMaterial& m, const FibreAngles& a, int panels) {
   // M_p does not depend on h, so ½ ∫ f dh = Σ_p M_p Ñ_p / cos(theta_i) exactly.
   const auto v = longitudinalVariances(m.betaM);
   const auto nbar = averagedAzimuthal(m, a.sinThetaO, a.phi, panels);

@@ -91,8 +91,7 @@ Rgb evalAtH(const ChiangMaterial& m, const FibreAngles& a, double h);
 std::array<Rgb, 4> averagedAzimuthal(const ChiangMaterial& m, double sinThetaO, double phi,
                                      int panels = 48);
 // h-averaged energies Ā_0..Ā_3 for one theta_o.
-std::array<Rgb, 4> averagedAttenuation(const ChiangMaterial& m, double sinThetaO,
-                                       int panels = 48);
+std::array<Rgb, 4> averagedAttenuation(const ChiangMaterial& m, double sinThetaO, int panels = 48);
 
 // Far-field f̄(wo, wi) = ½ ∫ f dh, split per lobe: lobe[p] for p = 0..3 (lobe 3 is the
 // residual), each including 1 / cos(theta_i); the sum is f̄.

@@ -241,11 +241,6 @@ TEST_P(Oclgrind, RenderStrandFileHasNoReports) {
 TEST_P(Oclgrind, RenderMeshHasNoReports) {
   if (!haveOclgrind()) GTEST_SKIP() << "oclgrind not installed";
   const bool uninit = GetParam();
-  if (uninit)
-    GTEST_SKIP()
-        << "open: unoptimised with --uninitialized, Oclgrind 21.10 reports the words mesh_resolve "
-           "reads "
-           "as uninitialized even when mesh_raster stores constants there; not yet explained";
   const std::string dir = scratchDir();
   {
     std::ifstream in(sourceDir() + "/tests/data/oclgrind_tiny.json");

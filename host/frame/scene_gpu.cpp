@@ -95,6 +95,16 @@ void SceneGpu::upload(const Scene& s) {
   planeCount_ = sg.plane_count;
   lightCount_ = sg.light_count;
   uploadMeshes(s);
+  if (meshTriangleCount_ > 0) {
+    // The mesh pass's word buffer, sized now for the camera and the shadow maps: allocated
+    // before the grooms' temporaries come and go, as ShadowPass::reserve explains.
+    const std::size_t res = static_cast<std::size_t>(std::max(s.shadows.resolution, 0));
+    const std::size_t pixels =
+        std::max(static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height), res * res);
+    ensureCapacity<cl_ulong>(dev_, meshWords_, meshWordCapacity_,
+                             "the mesh depth words (" + std::to_string(pixels) + " pixels)",
+                             pixels);
+  }
 }
 
 LightingInputs SceneGpu::lighting(const ShadowMapInputs& maps) const {

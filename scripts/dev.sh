@@ -125,7 +125,8 @@ else
     host_tests+='|^Cli\.(Missing|Malformed|Absurd|Zero|HairMeshWith|Unknown|ParseErrors|Devices'
     host_tests+='|GeneratedPreset)|^ExplicitCli\.(Malformed|TrailingBytes|WarnsAbout)|^Fuzz\.'
     echo "dev.sh: fuzzers and host tests (ASan + UBSan)"
-    time (cd build-san && ctest --output-on-failure -j2 --timeout 600 -R "$host_tests")
+    # not timed here: ctest's own summary stays the last thing printed
+    (cd build-san && ctest --output-on-failure -j2 --timeout 600 -R "$host_tests")
   else
     echo "clang++-15 not found: skipping the sanitizer and fuzz runs" >&2
   fi

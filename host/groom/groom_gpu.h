@@ -27,7 +27,7 @@
 namespace clhair {
 
 class AoStage;
-struct RootSetsGpu;
+class RootSetsGpu;
 
 // The stages and shared tables every groom draws with; owned by the renderer.
 struct GroomStages {

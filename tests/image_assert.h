@@ -163,12 +163,7 @@ inline std::string describe(const ImageDifference& d) {
 // The folder of the running test under the build's test-output, created if needed but,
 // unlike scratchDir(), not emptied.
 inline std::string outputDir() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  std::string name = info ? std::string(info->test_suite_name()) + "." + info->name() : "misc";
-  for (char& c : name)
-    if (c == '/') c = '_';
-  std::filesystem::path p =
-      std::filesystem::path(envOr("CLHAIR_TEST_OUTPUT", CLHAIR_TEST_OUTPUT_DIR)) / name;
+  const std::filesystem::path p = testOutputPath();
   std::filesystem::create_directories(p);
   return p.string();
 }

@@ -25,14 +25,18 @@ inline std::string sourceDir() { return envOr("CLHAIR_SOURCE_DIR", CLHAIR_SOURCE
 inline std::string assetPath(const std::string& rel) { return sourceDir() + "/assets/" + rel; }
 inline std::string cliPath() { return envOr("CLHAIR_BIN", CLHAIR_TEST_BIN); }
 
-// A fresh scratch folder for one test: <build>/test-output/<suite>.<test>/
-inline std::string scratchDir() {
+// The running test's folder under the build's test output: <build>/test-output/<suite>.<test>/
+inline std::filesystem::path testOutputPath() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   std::string name = info ? std::string(info->test_suite_name()) + "." + info->name() : "misc";
   for (char& c : name)
     if (c == '/') c = '_';
-  std::filesystem::path p =
-      std::filesystem::path(envOr("CLHAIR_TEST_OUTPUT", CLHAIR_TEST_OUTPUT_DIR)) / name;
+  return std::filesystem::path(envOr("CLHAIR_TEST_OUTPUT", CLHAIR_TEST_OUTPUT_DIR)) / name;
+}
+
+// A fresh scratch folder for one test (testOutputPath(), emptied).
+inline std::string scratchDir() {
+  const std::filesystem::path p = testOutputPath();
   std::filesystem::remove_all(p);
   std::filesystem::create_directories(p);
   return p.string();

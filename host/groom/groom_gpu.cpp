@@ -12,6 +12,22 @@ GroomInstanceGpu& GroomGpu::instance(std::size_t k) {
   return *instances_[k];
 }
 
+std::unique_ptr<GroomInstanceGpu> GroomGpu::newInstance(const std::string& groomName,
+                                                        std::uint32_t records,
+                                                        const gpu::ClhGroomGpu& params) {
+  auto inst = std::make_unique<GroomInstanceGpu>();
+  const std::string what = "groom \"" + groomName + "\"";
+  inst->params = params;
+  inst->records = records;
+  inst->groom = makeBuffer<gpu::ClhGroomGpu>(dev_, what + " parameters", 1, &inst->params);
+  inst->lod = makeBuffer<gpu::ClhLodRecord>(dev_, what + " LOD records", records);
+  inst->counts =
+      makeBuffer<cl_uint>(dev_, what + " strand counts", gpu::clh_lod_counts_length(records));
+  inst->offsets =
+      makeBuffer<cl_uint>(dev_, what + " strand offsets", gpu::clh_lod_offsets_length(records));
+  return inst;
+}
+
 std::uint32_t GroomGpu::readTotal(const GroomInstanceGpu& inst) {
   if (inst.records == 0) return 0;
   std::uint32_t total = 0;

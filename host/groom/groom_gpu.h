@@ -95,6 +95,10 @@ class GroomGpu {
  protected:
   explicit GroomGpu(Device::Impl& dev) : dev_(dev) {}
   virtual std::unique_ptr<GroomInstanceGpu> makeInstance() = 0;
+  // An instance's buffers for `records` bundles or chunks, its parameters set to `params`
+  // (what implementations of makeInstance share).
+  std::unique_ptr<GroomInstanceGpu> newInstance(const std::string& groomName, std::uint32_t records,
+                                                const gpu::ClhGroomGpu& params);
   virtual std::uint64_t sharedBytes() const = 0;
   Device::Impl& dev_;
 

@@ -58,18 +58,7 @@ HairMeshGpu::HairMeshGpu(std::shared_ptr<const HairMesh> mesh, GroomStages& stag
 }
 
 std::unique_ptr<GroomInstanceGpu> HairMeshGpu::makeInstance() {
-  auto inst = std::make_unique<GroomInstanceGpu>();
-  const std::string what = "groom \"" + mesh_->name + "\"";
-  const std::size_t B = data_.bundles.size();
-  inst->params = base_;
-  inst->records = static_cast<std::uint32_t>(B);
-  inst->groom = makeBuffer<gpu::ClhGroomGpu>(dev_, what + " parameters", 1, &inst->params);
-  const auto n = static_cast<gpu::clh_u32>(B);
-  inst->lod = makeBuffer<gpu::ClhLodRecord>(dev_, what + " LOD records", n);
-  inst->counts = makeBuffer<cl_uint>(dev_, what + " strand counts", gpu::clh_lod_counts_length(n));
-  inst->offsets =
-      makeBuffer<cl_uint>(dev_, what + " strand offsets", gpu::clh_lod_offsets_length(n));
-  return inst;
+  return newInstance(mesh_->name, static_cast<std::uint32_t>(data_.bundles.size()), base_);
 }
 
 std::uint64_t HairMeshGpu::sharedBytes() const {

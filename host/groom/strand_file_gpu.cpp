@@ -61,18 +61,7 @@ StrandFileGpu::StrandFileGpu(std::shared_ptr<const StrandGroom> groom, GroomStag
 }
 
 std::unique_ptr<GroomInstanceGpu> StrandFileGpu::makeInstance() {
-  auto inst = std::make_unique<GroomInstanceGpu>();
-  const std::string what = "groom \"" + groom_->name + "\"";
-  const std::size_t K = data_.chunks.size();
-  inst->params = base_;
-  inst->records = static_cast<std::uint32_t>(K);
-  inst->groom = makeBuffer<gpu::ClhGroomGpu>(dev_, what + " parameters", 1, &inst->params);
-  const auto n = static_cast<gpu::clh_u32>(K);
-  inst->lod = makeBuffer<gpu::ClhLodRecord>(dev_, what + " LOD records", n);
-  inst->counts = makeBuffer<cl_uint>(dev_, what + " strand counts", gpu::clh_lod_counts_length(n));
-  inst->offsets =
-      makeBuffer<cl_uint>(dev_, what + " strand offsets per chunk", gpu::clh_lod_offsets_length(n));
-  return inst;
+  return newInstance(groom_->name, static_cast<std::uint32_t>(data_.chunks.size()), base_);
 }
 
 std::uint64_t StrandFileGpu::sharedBytes() const {

@@ -23,29 +23,31 @@ __kernel void bsdf_probe_eval(__global const float* rec_g, uint count, __global 
   if (i >= count) return;
   __global const float* r = rec_g + (size_t)i * BSDF_PROBE_IN;
   clh_hair_material m;
-  m.sigma_a = vload3(0, r);
+  m.sigma_a = clh_v3_make(r[0], r[1], r[2]);
   m.beta_m = r[3];
   m.beta_n = r[4];
   m.alpha = r[5];
   m.eta = r[6];
-  float3 t = vload3(0, r + 8);
-  float3 wo = vload3(0, r + 12);
-  float3 wi = vload3(0, r + 16);
+  clh_v3 t = clh_v3_make(r[8], r[9], r[10]);
+  clh_v3 wo = clh_v3_make(r[12], r[13], r[14]);
+  clh_v3 wi = clh_v3_make(r[16], r[17], r[18]);
 
-  clh_hair_view hv = clh_hair_prepare(&m, t, wo);
-  float3 fr, ftt, ftrt;
+  clh_hair_view hv;
+  clh_hair_prepare_to(&hv, &m, t, wo);
+  clh_v3 fr, ftt, ftrt;
   clh_hair_eval_lobes(&hv, wi, &fr, &ftt, &ftrt);
-  float3 fd = clh_hair_diffuse(&hv);
-  clh_hair_env env = clh_hair_env_terms(&hv);
+  clh_v3 fd = clh_hair_diffuse(&hv);
+  clh_hair_env env;
+  clh_hair_env_terms_to(&env, &hv);
 
   __global float4* o = out_g + (size_t)i * BSDF_PROBE_OUT;
-  o[0] = (float4)(fr, clh_hair_cos_theta(t, wi));
-  o[1] = (float4)(ftt, 0.0f);
-  o[2] = (float4)(ftrt, 0.0f);
-  o[3] = (float4)(fd, clh_hair_diffuse_albedo(&hv).y);
-  o[4] = (float4)(clh_hair_bsdf(&m, t, wo, wi),
-                  dot(clh_hair_eval_cos(&hv, wi), (float3)(0.2126f, 0.7152f, 0.0722f)));
-  o[5] = (float4)(env.spec_weight, env.ggx_alpha);
+  o[0] = (float4)(clh_v3_f3(fr), clh_hair_cos_theta(t, wi));
+  o[1] = (float4)(clh_v3_f3(ftt), 0.0f);
+  o[2] = (float4)(clh_v3_f3(ftrt), 0.0f);
+  o[3] = (float4)(clh_v3_f3(fd), clh_hair_diffuse_albedo(&hv).y);
+  o[4] = (float4)(clh_v3_f3(clh_hair_bsdf(&m, t, wo, wi)),
+                  clh_v3_dot(clh_hair_eval_cos(&hv, wi), clh_v3_make(0.2126f, 0.7152f, 0.0722f)));
+  o[5] = (float4)(clh_v3_f3(env.spec_weight), env.ggx_alpha);
 }
 
 /* sigma_a helpers on the device: record i holds (eumelanin, pheomelanin, beta_n, unused,
@@ -54,6 +56,7 @@ __kernel void bsdf_probe_sigma(__global const float* rec_g, uint count, __global
   uint i = (uint)get_global_id(0);
   if (i >= count) return;
   __global const float* r = rec_g + (size_t)i * 8;
-  out_g[2 * (size_t)i] = (float4)(clh_hair_sigma_a_from_melanin(r[0], r[1]), 0.0f);
-  out_g[2 * (size_t)i + 1] = (float4)(clh_hair_sigma_a_from_color(vload3(0, r + 4), r[2]), 0.0f);
+  out_g[2 * (size_t)i] = (float4)(clh_v3_f3(clh_hair_sigma_a_from_melanin(r[0], r[1])), 0.0f);
+  out_g[2 * (size_t)i + 1] =
+      (float4)(clh_v3_f3(clh_hair_sigma_a_from_color(clh_v3_make(r[4], r[5], r[6]), r[2])), 0.0f);
 }

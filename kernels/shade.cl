@@ -14,6 +14,11 @@
  * the constant ambient lights the same energies. Probe light is darkened by the baked AO.
  * With CLH_MSAA samples per pixel every sample layer is shaded and averaged (the MSAA
  * resolve). Output: premultiplied RGBA, alpha = fraction of samples hit.
+ *
+ * Cost (DESIGN.md, "Vectorizable kernels"): scalar arithmetic (clh_v3, clh_math.h) and the
+ * straight-line functions of clhair/fast_math.h, no library calls besides sqrt; empty
+ * pixels are skipped. PoCL 3.1 does not vectorize this kernel across pixels (its
+ * work-item loop holds the BSDF's private state); the savings are in the BSDF itself.
  */
 #include "clhair/gpu_types.h"
 #include "clh_math.h"
@@ -45,86 +50,87 @@ static inline void shade_material(__global const ClhGroomGpu* g, float u, float 
   /* per-strand variation from the 6-bit root uv (the same for the whole strand) */
   const uint key = clh_hash2((uint)(u * 63.0f + 0.5f), (uint)(v * 63.0f + 0.5f) ^ g->seed);
   const float vary = 1.0f + g->look[0] * (2.0f * clh_u01(key) - 1.0f);
-  if (g->look[1] > 0.5f) {
-    const float eu = mix(g->melanin[0], g->melanin[1], w) * vary;
-    const float pheo = mix(g->melanin[2], g->melanin[3], w) * vary;
-    m->sigma_a = clh_hair_sigma_a_from_melanin(eu, pheo);
-  } else {
-    const float3 c = mix(vload3(0, g->root_color), vload3(0, g->tip_color), w);
-    m->sigma_a = clh_hair_sigma_a_from_color(c, g->bsdf[1]) * vary;
-  }
+  const float eu = (g->melanin[0] + (g->melanin[1] - g->melanin[0]) * w) * vary;
+  const float pheo = (g->melanin[2] + (g->melanin[3] - g->melanin[2]) * w) * vary;
+  const clh_v3 c = clh_v3_make(g->root_color[0] + (g->tip_color[0] - g->root_color[0]) * w,
+                               g->root_color[1] + (g->tip_color[1] - g->root_color[1]) * w,
+                               g->root_color[2] + (g->tip_color[2] - g->root_color[2]) * w);
+  m->sigma_a = g->look[1] > 0.5f ? clh_hair_sigma_a_from_melanin(eu, pheo)
+                                 : clh_v3_scale(clh_hair_sigma_a_from_color(c, g->bsdf[1]), vary);
   m->beta_m = g->bsdf[0];
   m->beta_n = g->bsdf[1];
   m->alpha = g->bsdf[2];
   m->eta = g->bsdf[3];
 }
 
-static inline float3 shade_word(__global const ClhGroomGpu* groom_g,
+static inline clh_v3 shade_word(__global const ClhGroomGpu* groom_g,
                                 __global const ClhViewGpu* view_g,
                                 __global const ClhSceneGpu* scene_g,
                                 __global const ClhLightGpu* lights_g, const shade_inputs* in,
-                                ulong word, float2 pixel) {
+                                ulong word, float px, float py) {
   const float z = clh_depth_decode(clh_gbuf_depth(word), groom_g->depth_near, groom_g->depth_far);
-  const float3 pv = (float3)((pixel.x - view_g->cx) / view_g->fx * z,
-                             -(pixel.y - view_g->cy) / view_g->fy * z, z);
-  const float3 pos = clh_xform_point(clh_load_mat34(view_g->view_to_world), pv);
+  const clh_v3 pv =
+      clh_v3_make((px - view_g->cx) / view_g->fx * z, -(py - view_g->cy) / view_g->fy * z, z);
+  const clh_v3 pos = clh_v3_xform_point(view_g->view_to_world, pv);
   float tv[3];
   clh_oct_decode(clh_gbuf_oct(word), tv);
-  const float3 T = (float3)(tv[0], tv[1], tv[2]);
+  const clh_v3 T = clh_v3_make(tv[0], tv[1], tv[2]);
   const float u = clh_unorm_value(clh_gbuf_u(word), 6u), v = clh_unorm_value(clh_gbuf_v(word), 6u);
   const float w = clh_unorm_value(clh_gbuf_w(word), 6u);
   const bool file_color = groom_g->look[2] > 0.5f; /* u, v, AO fields hold rgb (gpu_types.h) */
   const float ao = file_color ? 1.0f : clh_unorm_value(clh_gbuf_ao(word), 6u);
-  const float3 V = normalize(vload3(0, view_g->eye) - pos);
+  const clh_v3 to_eye =
+      clh_v3_sub(clh_v3_make(view_g->eye[0], view_g->eye[1], view_g->eye[2]), pos);
+  const clh_v3 V = clh_v3_unit(to_eye);
 
   clh_hair_material mat;
   shade_material(groom_g, u, v, w, &mat);
-  if (file_color) {
-    const float3 c =
-        (float3)(clh_file_color_value(clh_gbuf_u(word)), clh_file_color_value(clh_gbuf_v(word)),
-                 clh_file_color_value(clh_gbuf_ao(word)));
-    mat.sigma_a = clh_hair_sigma_a_from_color(c, groom_g->bsdf[1]);
-  }
+  const clh_v3 fc =
+      clh_v3_make(clh_file_color_value(clh_gbuf_u(word)), clh_file_color_value(clh_gbuf_v(word)),
+                  clh_file_color_value(clh_gbuf_ao(word)));
+  mat.sigma_a = file_color ? clh_hair_sigma_a_from_color(fc, groom_g->bsdf[1]) : mat.sigma_a;
   clh_hair_view hv;
   clh_hair_prepare_to(&hv, &mat, T, V);
 
-  float3 radiance = (float3)(0.0f);
+  clh_v3 radiance = clh_v3_splat(0.0f);
   const uint nl = min(scene_g->light_count, (uint)CLH_MAX_LIGHTS);
   for (uint i = 0; i < nl; ++i) {
-    const float4 lp = vload4(0, lights_g[i].pos);
-    const float3 lc = vload3(0, lights_g[i].color);
-    float3 L;
-    float falloff = 1.0f;
-    if (lp.w > 0.5f) {
-      const float3 d = lp.xyz - pos;
-      const float d2 = fmax(dot(d, d), 1e-8f);
-      L = d * rsqrt(d2);
-      falloff = 1.0f / d2;
-    } else {
-      L = normalize(lp.xyz);
-    }
-    const int slot = clh_light_shadow_slot(lights_g + i);
+    __global const ClhLightGpu* light = lights_g + i;
+    const clh_v3 lc = clh_v3_make(light->color[0], light->color[1], light->color[2]);
+    const clh_v3 lpos = clh_v3_make(light->pos[0], light->pos[1], light->pos[2]);
+    const bool point = light->pos[3] > 0.5f;
+    const clh_v3 d = clh_v3_sub(lpos, pos);
+    const float d2 = fmax(clh_v3_dot(d, d), 1e-8f);
+    const float l2 = fmax(clh_v3_dot(lpos, lpos), 1e-30f);
+    const clh_v3 L = point ? clh_v3_scale(d, 1.0f / sqrt(d2)) : clh_v3_scale(lpos, 1.0f / sqrt(l2));
+    float falloff = point ? 1.0f / d2 : 1.0f;
+    const int slot = clh_light_shadow_slot(light);
     if (slot >= 0 && slot < CLH_MAX_SHADOWS)
-      falloff *= clh_shadow_transmittance(in->params + slot, in->opaque, in->hair, in->opacity, pos,
-                                          in->lod_shift);
-    if (falloff > 0.0f) radiance += lc * falloff * clh_hair_eval_cos(&hv, L);
+      falloff *= clh_shadow_transmittance_v3(in->params + slot, in->opaque, in->hair, in->opacity,
+                                             pos, in->lod_shift);
+    if (falloff > 0.0f)
+      radiance =
+          clh_v3_add(radiance, clh_v3_scale(clh_v3_mul(lc, clh_hair_eval_cos(&hv, L)), falloff));
   }
 
   /* probe lighting, darkened by the baked AO */
   clh_hair_env env;
   clh_hair_env_terms_to(&env, &hv);
+  clh_v3 probe;
   const uint env_levels = scene_g->env_levels & ~CLH_ENV_VISIBLE;
-  float3 probe;
   if (env_levels > 0u) {
-    const float3 spec =
-        clh_env_radiance(in->env_texels, in->env_levels, env_levels, env.refl_dir, env.ggx_alpha);
-    const float3 front = clh_env_irradiance(in->env_sh, env.n) / CLH_PI;
-    const float3 back = clh_env_irradiance(in->env_sh, -env.n) / CLH_PI;
-    probe = env.spec_weight * spec + env.diffuse_albedo * front + env.tt_weight * back;
+    const float3 spec = clh_env_radiance(in->env_texels, in->env_levels, env_levels,
+                                         clh_v3_f3(env.refl_dir), env.ggx_alpha);
+    const float3 front = clh_env_irradiance(in->env_sh, clh_v3_f3(env.n)) / CLH_PI;
+    const float3 back = clh_env_irradiance(in->env_sh, -clh_v3_f3(env.n)) / CLH_PI;
+    probe = clh_v3_add(clh_v3_add(clh_v3_mul(env.spec_weight, clh_v3_from(spec)),
+                                  clh_v3_mul(env.diffuse_albedo, clh_v3_from(front))),
+                       clh_v3_mul(env.tt_weight, clh_v3_from(back)));
   } else {
-    probe = vload3(0, scene_g->ambient) * (env.spec_weight + env.diffuse_albedo + env.tt_weight);
+    probe = clh_v3_mul(clh_v3_make(scene_g->ambient[0], scene_g->ambient[1], scene_g->ambient[2]),
+                       clh_v3_add(clh_v3_add(env.spec_weight, env.diffuse_albedo), env.tt_weight));
   }
-  return radiance + probe * ao;
+  return clh_v3_add(radiance, clh_v3_scale(probe, ao));
 }
 
 __kernel void shade_deferred(
@@ -163,18 +169,21 @@ __kernel void shade_deferred(
     const float width_px = fmax(view_g->fy * groom_g->strand_width / z, groom_g->hit_diameter_px);
     const float widen = fmin(1.0f / beta, CLH_MAX_HIT_DIAMETER / fmax(width_px, 1e-6f));
     const float kept = fmin(beta * fmax(widen, 1.0f), 1.0f);
-    in.lod_shift = -log(kept);
+    in.lod_shift = -0.693147181f * clh_fast_log2(kept);
   }
 
-  float3 sum = (float3)(0.0f);
+  float sr = 0.0f, sg = 0.0f, sb = 0.0f;
   uint hits = 0u;
   for (uint s = 0; s < CLH_MSAA; ++s) {
     const ulong word = gbuf_g[s * plane + idx];
     if (word == CLH_GBUF_EMPTY) continue;
     /* positions are rebuilt at the pixel center: the depth of every sample is stored */
-    sum += shade_word(groom_g, view_g, scene_g, lights_g, &in, word,
-                      (float2)((float)x + 0.5f, (float)y + 0.5f));
+    const clh_v3 c =
+        shade_word(groom_g, view_g, scene_g, lights_g, &in, word, (float)x + 0.5f, (float)y + 0.5f);
+    sr += c.x;
+    sg += c.y;
+    sb += c.z;
     ++hits;
   }
-  hair_g[idx] = (float4)(sum, (float)hits) / (float)CLH_MSAA;
+  hair_g[idx] = (float4)(sr, sg, sb, (float)hits) / (float)CLH_MSAA;
 }

@@ -69,5 +69,20 @@ TEST(FastMath, SinCosAbsoluteErrorUpTo1e4) {
   EXPECT_EQ(c, 1.0f);
 }
 
+TEST(FastMath, AcosAndAsinAbsoluteErrorOverTheirDomain) {
+  double worst_acos = 0.0, worst_asin = 0.0;
+  for (int i = -2000000; i <= 2000000; ++i) {
+    const float x = static_cast<float>(i) / 2000000.0f;
+    worst_acos = std::max(worst_acos, std::abs(clh_fast_acos(x) - std::acos(double(x))));
+    worst_asin = std::max(worst_asin, std::abs(clh_fast_asin(x) - std::asin(double(x))));
+  }
+  EXPECT_LT(worst_acos, 1e-6);
+  EXPECT_LT(worst_asin, 1e-6);
+  // outside the domain: clamped to the ends
+  EXPECT_NEAR(clh_fast_acos(1.5f), 0.0, 1e-6);
+  EXPECT_NEAR(clh_fast_acos(-1.5f), M_PI, 1e-6);
+  EXPECT_NEAR(clh_fast_asin(1.0f), M_PI / 2, 1e-6);
+}
+
 }  // namespace
 }  // namespace clhair

@@ -106,6 +106,26 @@ CLH_FN void clh_fast_sincos(float x, float* s_out, float* c_out) {
   *c_out = ((quadrant + 1) & 2) ? -c1 : c1;
 }
 
+/* acos(x) for x in [-1, 1] (clamped), in [0, pi]. Absolute error below 1e-6: a degree-7
+ * polynomial times sqrt(1 - |x|) (Abramowitz & Stegun 4.4.46, 2e-8 in exact arithmetic)
+ * and pi - acos(|x|) for x < 0. */
+CLH_FN float clh_fast_acos(float x) {
+  const float ax = fabs(x) < 1.0f ? fabs(x) : 1.0f;
+  float p = -1.2624911e-3f;
+  p = p * ax + 6.6700901e-3f;
+  p = p * ax - 1.70881256e-2f;
+  p = p * ax + 3.08918810e-2f;
+  p = p * ax - 5.01743046e-2f;
+  p = p * ax + 8.89789874e-2f;
+  p = p * ax - 2.145988016e-1f;
+  p = p * ax + 1.5707963050f;
+  const float r = sqrt(1.0f - ax) * p;
+  return x < 0.0f ? CLH_FAST_PI - r : r;
+}
+
+/* asin(x) for x in [-1, 1] (clamped): pi/2 - acos(x). Absolute error below 1e-6. */
+CLH_FN float clh_fast_asin(float x) { return 0.5f * CLH_FAST_PI - clh_fast_acos(x); }
+
 #ifndef CLH_DEVICE_CODE
 }  // namespace gpu
 }  // namespace clhair

@@ -5,6 +5,8 @@
 #ifndef CLHAIR_CLH_MATH_H
 #define CLHAIR_CLH_MATH_H
 
+#include "clhair/gpu_types.h"
+
 #define CLH_PI 3.14159265358979323846f
 
 typedef struct {
@@ -38,6 +40,50 @@ static inline float clh_saturate(float x) { return clamp(x, 0.0f, 1.0f); }
 static inline float clh_smoothstep01(float x) {
   x = clh_saturate(x);
   return x * x * (3.0f - 2.0f * x);
+}
+
+/* A scalar 3-vector (a direction, or an RGB triple) for the kernels CPU compilers vectorize
+ * across work-items: vector types (float3, float4) in a kernel stop PoCL's vectorizer
+ * (DESIGN.md, "Vectorizable kernels"), a struct of floats does not. */
+typedef struct {
+  float x, y, z;
+} clh_v3;
+
+static inline clh_v3 clh_v3_make(float x, float y, float z) {
+  clh_v3 r;
+  r.x = x;
+  r.y = y;
+  r.z = z;
+  return r;
+}
+static inline clh_v3 clh_v3_splat(float a) { return clh_v3_make(a, a, a); }
+static inline clh_v3 clh_v3_add(clh_v3 a, clh_v3 b) {
+  return clh_v3_make(a.x + b.x, a.y + b.y, a.z + b.z);
+}
+static inline clh_v3 clh_v3_sub(clh_v3 a, clh_v3 b) {
+  return clh_v3_make(a.x - b.x, a.y - b.y, a.z - b.z);
+}
+static inline clh_v3 clh_v3_mul(clh_v3 a, clh_v3 b) {
+  return clh_v3_make(a.x * b.x, a.y * b.y, a.z * b.z);
+}
+static inline clh_v3 clh_v3_scale(clh_v3 a, float s) {
+  return clh_v3_make(a.x * s, a.y * s, a.z * s);
+}
+static inline float clh_v3_dot(clh_v3 a, clh_v3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline clh_v3 clh_v3_fmax(clh_v3 a, float m) {
+  return clh_v3_make(fmax(a.x, m), fmax(a.y, m), fmax(a.z, m));
+}
+static inline clh_v3 clh_v3_from(float3 a) { return clh_v3_make(a.x, a.y, a.z); }
+static inline float3 clh_v3_f3(clh_v3 a) { return (float3)(a.x, a.y, a.z); }
+/* v / |v| (v must not be zero) */
+static inline clh_v3 clh_v3_unit(clh_v3 v) {
+  return clh_v3_scale(v, 1.0f / sqrt(clh_v3_dot(v, v)));
+}
+/* the affine 3x4 row-major matrix m (12 floats) applied to point p, without vector loads */
+static inline clh_v3 clh_v3_xform_point(__global const float* m, clh_v3 p) {
+  return clh_v3_make(m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3],
+                     m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7],
+                     m[8] * p.x + m[9] * p.y + m[10] * p.z + m[11]);
 }
 
 #endif /* CLHAIR_CLH_MATH_H */

@@ -27,20 +27,25 @@
  * eta in [1.4, 1.7] (panels were placed for eta = 1.55).
  *
  * Typical use in a shading kernel:
- *   clh_hair_view hv = clh_hair_prepare(&mat, t, wo);          // once per pixel
+ *   clh_hair_view hv; clh_hair_prepare_to(&hv, &mat, t, wo);   // once per pixel
  *   for each light: L += clh_hair_eval_cos(&hv, wi) * E;       // = f cos(theta_i) E
+ * (directions and colours as clh_v3, kernels/common/clh_math.h).
  */
 #ifndef CLHAIR_HAIR_BSDF_H
 #define CLHAIR_HAIR_BSDF_H
 
+#include "clh_math.h"
+
 #define CLH_HAIR_PI 3.14159265358979323846f
 
-/* Elementary functions of the per-light loop as straight-line arithmetic
- * (clhair/fast_math.h: relative errors below 1e-6, far under the model's own errors in
- * docs/hair-shading.md): the built-ins' argument reduction dominated shading on CPUs. */
+/* Everything here is scalar arithmetic on clh_v3 (clh_math.h: directions and RGB triples)
+ * with fixed-trip, unrolled loops and no library calls besides sqrt, so a CPU compiler can
+ * vectorize the shading kernel across pixels (DESIGN.md, "Vectorizable kernels"). The
+ * elementary functions are the straight-line ones of clhair/fast_math.h (relative errors
+ * below 1e-6, far under the model's own errors in docs/hair-shading.md). */
 static inline float clh_hair_exp(float x) { return clh_fast_exp(x); }
-static inline float3 clh_hair_exp3(float3 x) {
-  return (float3)(clh_fast_exp(x.x), clh_fast_exp(x.y), clh_fast_exp(x.z));
+static inline clh_v3 clh_hair_exp3(clh_v3 x) {
+  return clh_v3_make(clh_fast_exp(x.x), clh_fast_exp(x.y), clh_fast_exp(x.z));
 }
 static inline float clh_hair_sin(float x) {
   float s, c;
@@ -49,7 +54,7 @@ static inline float clh_hair_sin(float x) {
 }
 
 typedef struct {
-  float3 sigma_a; /* absorption per unit fibre radius, per RGB channel */
+  clh_v3 sigma_a; /* absorption per unit fibre radius, per RGB channel */
   float beta_m;   /* longitudinal roughness, 0..1 */
   float beta_n;   /* azimuthal roughness, 0..1 */
   float alpha;    /* cuticle tilt in radians (about 2 degrees for human hair) */
@@ -58,17 +63,19 @@ typedef struct {
 
 /* Everything that depends on the material and wo only: computed once per pixel. */
 typedef struct {
-  float3 t;          /* unit tangent */
-  float3 n;          /* unit fibre normal facing wo (wo projected on the normal plane) */
-  float3 sigma_path; /* sigma_a / cos(theta_t): 2 cos(gamma_t) * this is the optical depth */
-  float3 trt_w[4];   /* TRT panel weights ½ Δh A_2 (h_mid) */
-  float3 mass[4];    /* h-averaged energies Ā_0..Ā_3 (panel estimates) */
-  float trt_phi[5];  /* TRT phase Phi_2 at the panel breakpoints */
+  clh_v3 t;           /* unit tangent */
+  clh_v3 n;           /* unit fibre normal facing wo (wo projected on the normal plane) */
+  clh_v3 sigma_path;  /* sigma_a / cos(theta_t): 2 cos(gamma_t) * this is the optical depth */
+  clh_v3 trt_w[4];    /* TRT panel weights ½ Δh A_2 (h_mid) */
+  clh_v3 mass[4];     /* h-averaged energies Ā_0..Ā_3 (panel estimates) */
+  float trt_phi[5];   /* TRT phase Phi_2 at the panel breakpoints */
+  float trt_width[4]; /* max(|Phi_2(h_k+1) - Phi_2(h_k)|, 1e-4) */
   float sin_o, cos_o;
   float sin_o_tilt[3], cos_o_tilt[3]; /* theta_o shifted by -2a, a, 4a for R, TT, TRT */
   float v[3];                         /* longitudinal variances of R, TT, TRT */
+  float m_norm[3];                    /* 1 / (v (1 - e^{-2/v})) of each M_p */
   float cos_shift[3];                 /* cos of the tilt shifts */
-  float eta, inv_eta_p, s, blur, trim;
+  float eta, inv_eta_p, s, inv_s, blur, trim;
 } clh_hair_view;
 
 /* ---- small helpers ------------------------------------------------------------------- */
@@ -85,36 +92,38 @@ static inline float clh_hair_fresnel(float cos_i, float eta) {
   return 0.5f * (r_par * r_par + r_perp * r_perp);
 }
 
-/* e^{-x} I0(x) for x >= 0, Abramowitz & Stegun 9.8.1 / 9.8.2 (relative error < 2e-7). */
-static inline float clh_hair_i0e(float x) {
+/* e^{-x} I0(x) for x >= 0 times e^{e} (one exponential for both), Abramowitz & Stegun
+ * 9.8.1 / 9.8.2 (relative error < 2e-7). Both branches are computed (no divergence). */
+static inline float clh_hair_i0e_exp(float x, float e) {
   /* the polynomials wrapped as the handbook prints them */
   /* clang-format off */
-  if (x < 3.75f) {
-    float y = (x / 3.75f) * (x / 3.75f);
-    float i0 = 1.0f + y * (3.5156229f + y * (3.0899424f + y * (1.2067492f +
-               y * (0.2659732f + y * (0.0360768f + y * 0.0045813f)))));
-    return i0 * clh_hair_exp(-x);
-  }
-  float y = 3.75f / x;
-  float p = 0.39894228f + y * (0.01328592f + y * (0.00225319f + y * (-0.00157565f +
-            y * (0.00916281f + y * (-0.02057706f + y * (0.02635537f + y * (-0.01647633f +
-            y * 0.00392377f)))))));
+  float y = (x / 3.75f) * (x / 3.75f);
+  float i0 = 1.0f + y * (3.5156229f + y * (3.0899424f + y * (1.2067492f +
+             y * (0.2659732f + y * (0.0360768f + y * 0.0045813f)))));
+  float yl = 3.75f / fmax(x, 3.75f);
+  float p = 0.39894228f + yl * (0.01328592f + yl * (0.00225319f + yl * (-0.00157565f +
+            yl * (0.00916281f + yl * (-0.02057706f + yl * (0.02635537f + yl * (-0.01647633f +
+            yl * 0.00392377f)))))));
   /* clang-format on */
-  return p * rsqrt(x);
+  const bool small = x < 3.75f;
+  return (small ? i0 : p / sqrt(fmax(x, 3.75f))) * clh_hair_exp(small ? e - x : e);
 }
 
 /* Longitudinal lobe M_p (d'Eon et al. 2011; Chiang Eq. 3), normalised over cos(theta_i):
  * M = exp(-b) I0(a) / (2 v sinh(1/v)) with a = cos_i cos_o / v, b = sin_i sin_o / v,
  * written as exp((cos(theta_i + theta_o) - 1) / v) I0e(a) / (v (1 - e^{-2/v})) so that
- * nothing overflows for small v. */
-static inline float clh_hair_mp(float sin_i, float cos_i, float sin_o, float cos_o, float v) {
+ * nothing overflows for small v; norm = 1 / (v (1 - e^{-2/v})) comes from the view. */
+static inline float clh_hair_mp(float sin_i, float cos_i, float sin_o, float cos_o, float v,
+                                float norm) {
   float a = cos_i * cos_o / v;
   float e = (cos_i * cos_o - sin_i * sin_o - 1.0f) / v;
-  return clh_hair_exp(e) * clh_hair_i0e(a) / (v * (1.0f - clh_hair_exp(-2.0f / v)));
+  return clh_hair_i0e_exp(a, e) * norm;
 }
 
-/* Logistic CDF with scale s. */
-static inline float clh_hair_lcdf(float x, float s) { return 1.0f / (1.0f + clh_hair_exp(-x / s)); }
+/* Logistic CDF with scale 1 / inv_s. */
+static inline float clh_hair_lcdf(float x, float inv_s) {
+  return 1.0f / (1.0f + clh_hair_exp(-x * inv_s));
+}
 
 /* |x| smoothed over a logistic of scale k: E|x + X| = |x| + 2k ln(1 + e^{-|x|/k}). */
 static inline float clh_hair_softabs(float x, float k) {
@@ -145,17 +154,20 @@ static inline float clh_hair_logistic_s(float bn) {
 /* ---- absorption from melanin or from a colour ------------------------------------------ */
 
 /* sigma_a from eumelanin / pheomelanin concentrations (Chiang Eq. 11, pbrt-v4 RGB values). */
-static inline float3 clh_hair_sigma_a_from_melanin(float eumelanin, float pheomelanin) {
-  return fmax(eumelanin, 0.0f) * (float3)(0.419f, 0.697f, 1.37f) +
-         fmax(pheomelanin, 0.0f) * (float3)(0.187f, 0.4f, 1.05f);
+static inline clh_v3 clh_hair_sigma_a_from_melanin(float eumelanin, float pheomelanin) {
+  const float eu = fmax(eumelanin, 0.0f), ph = fmax(pheomelanin, 0.0f);
+  return clh_v3_make(eu * 0.419f + ph * 0.187f, eu * 0.697f + ph * 0.4f, eu * 1.37f + ph * 1.05f);
 }
 
 /* sigma_a that yields roughly colour c after multiple scattering (Chiang Eq. 9). */
-static inline float3 clh_hair_sigma_a_from_color(float3 c, float bn) {
+static inline clh_v3 clh_hair_sigma_a_from_color(clh_v3 c, float bn) {
   float b2 = bn * bn, b3 = b2 * bn, b4 = b2 * b2, b5 = b4 * bn;
   float d = 5.969f - 0.215f * bn + 2.532f * b2 - 10.73f * b3 + 5.574f * b4 + 0.245f * b5;
-  float3 l = log(clamp(c, (float3)(1e-4f), (float3)(1.0f))) / d;
-  return l * l;
+  const float k = 0.693147181f / d; /* ln(c) / d from log2 */
+  const float lx = clh_fast_log2(clamp(c.x, 1e-4f, 1.0f)) * k;
+  const float ly = clh_fast_log2(clamp(c.y, 1e-4f, 1.0f)) * k;
+  const float lz = clh_fast_log2(clamp(c.z, 1e-4f, 1.0f)) * k;
+  return clh_v3_make(lx * lx, ly * ly, lz * lz);
 }
 
 /* ---- the azimuthal lobes -------------------------------------------------------------- */
@@ -169,24 +181,26 @@ static inline float clh_hair_r_delta(const clh_hair_view* hv, float phi) {
 }
 
 /* TT in the zero-roughness limit at |phi| in [0, pi]: ½ A_1(h) / |dPhi_1/dh| at the single
- * root h of Phi_1(h) = phi (h >= 0 branch; the h < 0 branch gives -phi). */
-static inline float3 clh_hair_tt_delta(const clh_hair_view* hv, float phi) {
+ * root h of Phi_1(h) = phi (h >= 0 branch; the h < 0 branch gives -phi). Zero where
+ * cos x <= 1/eta' (no root). */
+static inline clh_v3 clh_hair_tt_delta(const clh_hair_view* hv, float phi) {
   float x = 0.5f * (CLH_HAIR_PI - phi); /* gamma_o - gamma_t */
   float sin_x, cos_x;
   clh_fast_sincos(x, &sin_x, &cos_x);
   float den = cos_x - hv->inv_eta_p;
-  if (!(den > 1e-6f)) return (float3)(0.0f);
+  const bool root = den > 1e-6f;
+  den = root ? den : 1.0f;
   /* gamma_o = atan2(sin x, den): its cosine and sine directly */
-  float inv_len = rsqrt(sin_x * sin_x + den * den);
+  float inv_len = 1.0f / sqrt(sin_x * sin_x + den * den);
   float cos_go = den * inv_len;
   float sin_gt = sin_x * inv_len * hv->inv_eta_p;
   float cos_gt = clh_hair_sqrt0(1.0f - sin_gt * sin_gt);
   float f = clh_hair_fresnel(hv->cos_o * cos_go, hv->eta);
-  float3 a1 = (1.0f - f) * (1.0f - f) * clh_hair_exp3(-2.0f * cos_gt * hv->sigma_path);
   /* 1 / |dPhi/dh| = 1 / (2/cos_go - 2/(eta' cos_gt)), written without the 1/cos_go pole */
   float eta_p_cgt = cos_gt / hv->inv_eta_p;
   float jac = cos_go * eta_p_cgt / (2.0f * fmax(eta_p_cgt - cos_go, 1e-6f));
-  return 0.5f * a1 * jac;
+  const float w = root ? 0.5f * (1.0f - f) * (1.0f - f) * jac : 0.0f;
+  return clh_v3_scale(clh_hair_exp3(clh_v3_scale(hv->sigma_path, -2.0f * cos_gt)), w);
 }
 
 /* 3-tap blur with the logistic: nodes 0, ±sqrt(3) sigma, weights 2/3, 1/6 (exact for a
@@ -197,179 +211,196 @@ static inline float clh_hair_n_r(const clh_hair_view* hv, float phi) {
                           clh_hair_r_delta(hv, clh_hair_fold(phi - hv->blur)));
 }
 
-static inline float3 clh_hair_n_tt(const clh_hair_view* hv, float phi) {
-  return (2.0f / 3.0f) * clh_hair_tt_delta(hv, phi) +
-         (1.0f / 6.0f) * (clh_hair_tt_delta(hv, clh_hair_fold(phi + hv->blur)) +
-                          clh_hair_tt_delta(hv, clh_hair_fold(phi - hv->blur)));
+static inline clh_v3 clh_hair_n_tt(const clh_hair_view* hv, float phi) {
+  return clh_v3_add(clh_v3_scale(clh_hair_tt_delta(hv, phi), 2.0f / 3.0f),
+                    clh_v3_scale(clh_v3_add(clh_hair_tt_delta(hv, clh_hair_fold(phi + hv->blur)),
+                                            clh_hair_tt_delta(hv, clh_hair_fold(phi - hv->blur))),
+                                 1.0f / 6.0f));
 }
 
-/* One TRT panel: the logistic averaged over the phase interval [p0, p1]. */
-static inline float clh_hair_box(float d, float p0, float p1, float s) {
-  float lo = fmin(p0, p1), hi = fmax(p0, p1);
-  float w = fmax(hi - lo, 1e-4f);
-  return (clh_hair_lcdf(d - lo, s) - clh_hair_lcdf(d - lo - w, s)) / w;
-}
-
-static inline float3 clh_hair_n_trt(const clh_hair_view* hv, float phi) {
-  float3 r = (float3)(0.0f);
-  for (int k = 0; k < 4; ++k) {
-    float p0 = hv->trt_phi[k], p1 = hv->trt_phi[k + 1];
-    /* panels of h > 0 at phi and their mirror images (h < 0) at -phi */
-    r += hv->trt_w[k] * (clh_hair_box(phi, p0, p1, hv->s) + clh_hair_box(-phi, p0, p1, hv->s));
+/* TRT: each panel is the logistic averaged over its phase interval [p_k, p_k+1] (a box
+ * convolved with the logistic: a difference of two logistic CDFs over the width), at phi
+ * for the panels of h > 0 and at -phi for their mirror images. Neighbouring panels share
+ * the CDF at their common breakpoint, so 10 CDFs serve the 8 boxes. A degenerate panel
+ * (width below 1e-4) takes the logistic density instead. */
+static inline clh_v3 clh_hair_n_trt(const clh_hair_view* hv, float phi) {
+  float cp[5], cm[5];
+#pragma unroll
+  for (int k = 0; k < 5; ++k) {
+    cp[k] = clh_hair_lcdf(phi - hv->trt_phi[k], hv->inv_s);
+    cm[k] = clh_hair_lcdf(-phi - hv->trt_phi[k], hv->inv_s);
   }
-  return r * hv->trim;
+  clh_v3 r = clh_v3_splat(0.0f);
+#pragma unroll
+  for (int k = 0; k < 4; ++k) {
+    const float w = hv->trt_width[k];
+    const bool thin = fabs(hv->trt_phi[k + 1] - hv->trt_phi[k]) < 1e-4f;
+    const float bp = thin ? cp[k] * (1.0f - cp[k]) * hv->inv_s : fabs(cp[k] - cp[k + 1]) / w;
+    const float bm = thin ? cm[k] * (1.0f - cm[k]) * hv->inv_s : fabs(cm[k] - cm[k + 1]) / w;
+    r = clh_v3_add(r, clh_v3_scale(hv->trt_w[k], bp + bm));
+  }
+  return clh_v3_scale(r, hv->trim);
 }
 
 /* ---- per-pixel preparation ------------------------------------------------------------ */
 
 /* TRT/diffuse panels on gamma_o in [0, pi/2] (breakpoints 0, 0.5942, 1.0038, 1.3361, pi/2,
  * placed by minimising the TRT error over theta_o and sigma_a; docs/hair-shading.md). */
-__constant float clh_hair_panel_h[5] = {0.0f, 0.5598461f, 0.8435181f, 0.9725850f, 1.0f};
-__constant float clh_hair_panel_hm[4] = {0.2927485f, 0.7166590f, 0.9207311f, 0.9931226f};
-__constant float clh_hair_panel_cm[4] = {0.9561895f, 0.6974237f, 0.3901977f, 0.1170790f};
+#define CLH_HAIR_PANEL_H(k) \
+  ((k) == 0 ? 0.0f : (k) == 1 ? 0.5598461f : (k) == 2 ? 0.8435181f : (k) == 3 ? 0.9725850f : 1.0f)
+#define CLH_HAIR_PANEL_HM(k) \
+  ((k) == 0 ? 0.2927485f : (k) == 1 ? 0.7166590f : (k) == 2 ? 0.9207311f : 0.9931226f)
+#define CLH_HAIR_PANEL_CM(k) \
+  ((k) == 0 ? 0.9561895f : (k) == 1 ? 0.6974237f : (k) == 2 ? 0.3901977f : 0.1170790f)
 
-/* Out-parameter form: Oclgrind's LLVM lacks the noalias-scope intrinsic clang emits when a
- * struct returned by value is inlined. clh_hair_prepare below wraps it. */
-static inline void clh_hair_prepare_to(clh_hair_view* out, const clh_hair_material* m, float3 t,
-                                       float3 wo) {
-  clh_hair_view hv;
-  hv.t = t;
-  hv.eta = m->eta;
-  float sin_o = clamp(dot(t, wo), -1.0f, 1.0f);
-  float3 wp = wo - sin_o * t;
-  float l2 = dot(wp, wp);
+/* Written through `out` (no struct returned by value: Oclgrind's LLVM lacks the
+ * noalias-scope intrinsic clang emits when one is inlined). */
+static inline void clh_hair_prepare_to(clh_hair_view* out, const clh_hair_material* m, clh_v3 t,
+                                       clh_v3 wo) {
+  out->t = t;
+  out->eta = m->eta;
+  float sin_o = clamp(clh_v3_dot(t, wo), -1.0f, 1.0f);
+  clh_v3 wp = clh_v3_sub(wo, clh_v3_scale(t, sin_o));
+  float l2 = clh_v3_dot(wp, wp);
   float cos_o = clamp(sqrt(l2), 1e-4f, 1.0f);
-  hv.sin_o = sin_o;
-  hv.cos_o = cos_o;
-  if (l2 > 1e-12f) {
-    hv.n = wp * rsqrt(l2);
-  } else { /* looking along the fibre: any normal */
-    float3 ax = fabs(t.x) < 0.9f ? (float3)(1.0f, 0.0f, 0.0f) : (float3)(0.0f, 1.0f, 0.0f);
-    hv.n = normalize(ax - dot(ax, t) * t);
-  }
+  out->sin_o = sin_o;
+  out->cos_o = cos_o;
+  /* looking along the fibre: any normal */
+  const clh_v3 ax =
+      fabs(t.x) < 0.9f ? clh_v3_make(1.0f, 0.0f, 0.0f) : clh_v3_make(0.0f, 1.0f, 0.0f);
+  const clh_v3 axp = clh_v3_sub(ax, clh_v3_scale(t, clh_v3_dot(ax, t)));
+  out->n = l2 > 1e-12f ? clh_v3_scale(wp, 1.0f / sqrt(l2)) : clh_v3_unit(axp);
 
   /* longitudinal terms; tilt on theta_o: R -2a, TT +a, TRT +4a (pbrt-v4 convention) */
   float v0 = fmax(clh_hair_v0(clamp(m->beta_m, 0.05f, 1.0f)), 1e-4f);
-  hv.v[0] = v0;
-  hv.v[1] = 0.25f * v0;
-  hv.v[2] = 4.0f * v0;
-  const float shift[3] = {-2.0f * m->alpha, m->alpha, 4.0f * m->alpha};
+  out->v[0] = v0;
+  out->v[1] = 0.25f * v0;
+  out->v[2] = 4.0f * v0;
+#pragma unroll
   for (int p = 0; p < 3; ++p) {
-    float cs = cos(shift[p]), sn = sin(shift[p]);
-    hv.cos_shift[p] = cs;
-    hv.sin_o_tilt[p] = sin_o * cs + cos_o * sn;
-    hv.cos_o_tilt[p] = fabs(cos_o * cs - sin_o * sn);
+    const float shift = (p == 0 ? -2.0f : p == 1 ? 1.0f : 4.0f) * m->alpha;
+    float cs, sn;
+    clh_fast_sincos(shift, &sn, &cs);
+    out->cos_shift[p] = cs;
+    out->sin_o_tilt[p] = sin_o * cs + cos_o * sn;
+    out->cos_o_tilt[p] = fabs(cos_o * cs - sin_o * sn);
+    out->m_norm[p] = 1.0f / (out->v[p] * (1.0f - clh_hair_exp(-2.0f / out->v[p])));
   }
 
   /* azimuthal terms */
-  hv.s = clh_hair_logistic_s(clamp(m->beta_n, 0.1f, 1.0f));
-  hv.blur = CLH_HAIR_PI * hv.s; /* sqrt(3) x the logistic's std. dev. pi s / sqrt(3) */
-  hv.trim = 1.0f / (clh_hair_lcdf(CLH_HAIR_PI, hv.s) - clh_hair_lcdf(-CLH_HAIR_PI, hv.s));
+  out->s = clh_hair_logistic_s(clamp(m->beta_n, 0.1f, 1.0f));
+  out->inv_s = 1.0f / out->s;
+  out->blur = CLH_HAIR_PI * out->s; /* sqrt(3) x the logistic's std. dev. pi s / sqrt(3) */
+  out->trim =
+      1.0f / (clh_hair_lcdf(CLH_HAIR_PI, out->inv_s) - clh_hair_lcdf(-CLH_HAIR_PI, out->inv_s));
   float eta_p = clh_hair_sqrt0(m->eta * m->eta - sin_o * sin_o) / cos_o;
-  hv.inv_eta_p = 1.0f / eta_p;
+  out->inv_eta_p = 1.0f / eta_p;
   float sin_t = sin_o / m->eta;
   float cos_t = clh_hair_sqrt0(1.0f - sin_t * sin_t);
-  hv.sigma_path = fmax(m->sigma_a, (float3)(0.0f)) / cos_t;
+  out->sigma_path = clh_v3_scale(clh_v3_fmax(m->sigma_a, 0.0f), 1.0f / cos_t);
 
   /* panels: TRT phase at the breakpoints, attenuations at the panel midpoints */
+#pragma unroll
   for (int k = 0; k < 5; ++k) {
-    float h = clh_hair_panel_h[k];
-    hv.trt_phi[k] = 4.0f * asin(h * hv.inv_eta_p) - 2.0f * asin(h);
+    float h = CLH_HAIR_PANEL_H(k);
+    out->trt_phi[k] = 4.0f * clh_fast_asin(h * out->inv_eta_p) - 2.0f * clh_fast_asin(h);
   }
-  for (int p = 0; p < 4; ++p) hv.mass[p] = (float3)(0.0f);
+#pragma unroll
+  for (int p = 0; p < 4; ++p) out->mass[p] = clh_v3_splat(0.0f);
+#pragma unroll
   for (int k = 0; k < 4; ++k) {
-    float hm = clh_hair_panel_hm[k];
-    float dh = clh_hair_panel_h[k + 1] - clh_hair_panel_h[k];
-    float sin_gt = hm * hv.inv_eta_p;
+    out->trt_width[k] = fmax(fabs(out->trt_phi[k + 1] - out->trt_phi[k]), 1e-4f);
+    float hm = CLH_HAIR_PANEL_HM(k);
+    float dh = CLH_HAIR_PANEL_H(k + 1) - CLH_HAIR_PANEL_H(k);
+    float sin_gt = hm * out->inv_eta_p;
     float cos_gt = clh_hair_sqrt0(1.0f - sin_gt * sin_gt);
-    float f = clh_hair_fresnel(cos_o * clh_hair_panel_cm[k], m->eta);
-    float3 T = exp(-2.0f * cos_gt * hv.sigma_path);
-    float3 a1 = (1.0f - f) * (1.0f - f) * T;
-    float3 a2 = a1 * T * f;
-    float3 a3 = a2 * f * T / (1.0f - f * T);
-    hv.trt_w[k] = 0.5f * dh * a2;
-    hv.mass[0] += (float3)(dh * f);
-    hv.mass[1] += dh * a1;
-    hv.mass[2] += dh * a2;
-    hv.mass[3] += dh * a3;
+    float f = clh_hair_fresnel(cos_o * CLH_HAIR_PANEL_CM(k), m->eta);
+    clh_v3 T = clh_hair_exp3(clh_v3_scale(out->sigma_path, -2.0f * cos_gt));
+    clh_v3 a1 = clh_v3_scale(T, (1.0f - f) * (1.0f - f));
+    clh_v3 a2 = clh_v3_scale(clh_v3_mul(a1, T), f);
+    clh_v3 a3 = clh_v3_make(a2.x * f * T.x / (1.0f - f * T.x), a2.y * f * T.y / (1.0f - f * T.y),
+                            a2.z * f * T.z / (1.0f - f * T.z));
+    out->trt_w[k] = clh_v3_scale(a2, 0.5f * dh);
+    out->mass[0] = clh_v3_add(out->mass[0], clh_v3_splat(dh * f));
+    out->mass[1] = clh_v3_add(out->mass[1], clh_v3_scale(a1, dh));
+    out->mass[2] = clh_v3_add(out->mass[2], clh_v3_scale(a2, dh));
+    out->mass[3] = clh_v3_add(out->mass[3], clh_v3_scale(a3, dh));
   }
-  *out = hv;
-}
-
-static inline clh_hair_view clh_hair_prepare(const clh_hair_material* m, float3 t, float3 wo) {
-  clh_hair_view hv;
-  clh_hair_prepare_to(&hv, m, t, wo);
-  return hv;
 }
 
 /* ---- evaluation ----------------------------------------------------------------------- */
 
 /* cos(theta_i): the cosine the caller multiplies f by. */
-static inline float clh_hair_cos_theta(float3 t, float3 wi) {
-  float3 wp = wi - dot(t, wi) * t; /* |wi_perp| is accurate near the fibre axis */
-  return fmin(length(wp), 1.0f);
+static inline float clh_hair_cos_theta(clh_v3 t, clh_v3 wi) {
+  clh_v3 wp = clh_v3_sub(wi, clh_v3_scale(t, clh_v3_dot(t, wi))); /* accurate near the axis */
+  return fmin(sqrt(clh_v3_dot(wp, wp)), 1.0f);
 }
 
 /* Diffuse (multiple-scattering) term: a constant f = Ā_3 / pi², so that f cos(theta_i)
  * integrates to Ā_3 over the sphere (∫ cos(theta) dw = pi²) — Kajiya-Kay's diffuse lobe
  * carrying exactly the energy the reference puts into p >= 3. */
-static inline float3 clh_hair_diffuse_albedo(const clh_hair_view* hv) { return hv->mass[3]; }
+static inline clh_v3 clh_hair_diffuse_albedo(const clh_hair_view* hv) { return hv->mass[3]; }
 
-static inline float3 clh_hair_diffuse(const clh_hair_view* hv) {
-  return hv->mass[3] * (1.0f / (CLH_HAIR_PI * CLH_HAIR_PI));
+static inline clh_v3 clh_hair_diffuse(const clh_hair_view* hv) {
+  return clh_v3_scale(hv->mass[3], 1.0f / (CLH_HAIR_PI * CLH_HAIR_PI));
 }
 
 /* The three specular lobes times cos(theta_i), i.e. M_p Ñ_p (what a light loop needs; no
  * division, so it stays exact as wi approaches the fibre axis). Returns cos(theta_i). */
-static inline float clh_hair_lobes_cos(const clh_hair_view* hv, float3 wi, float3* r, float3* tt,
-                                       float3* trt) {
-  float sin_i = clamp(dot(hv->t, wi), -1.0f, 1.0f);
-  float3 wp = wi - sin_i * hv->t;
-  float l2 = dot(wp, wp);
+static inline float clh_hair_lobes_cos(const clh_hair_view* hv, clh_v3 wi, clh_v3* r, clh_v3* tt,
+                                       clh_v3* trt) {
+  float sin_i = clamp(clh_v3_dot(hv->t, wi), -1.0f, 1.0f);
+  clh_v3 wp = clh_v3_sub(wi, clh_v3_scale(hv->t, sin_i));
+  float l2 = clh_v3_dot(wp, wp);
   float cos_i = fmin(sqrt(l2), 1.0f); /* |wi_perp|: no cancellation near the fibre axis */
-  float cos_phi = l2 > 1e-12f ? clamp(dot(wp, hv->n) * rsqrt(l2), -1.0f, 1.0f) : 1.0f;
-  float phi = acos(cos_phi); /* the h-averaged lobes are even in phi */
-  float m0 = clh_hair_mp(sin_i, cos_i, hv->sin_o_tilt[0], hv->cos_o_tilt[0], hv->v[0]);
-  float m1 = clh_hair_mp(sin_i, cos_i, hv->sin_o_tilt[1], hv->cos_o_tilt[1], hv->v[1]);
-  float m2 = clh_hair_mp(sin_i, cos_i, hv->sin_o_tilt[2], hv->cos_o_tilt[2], hv->v[2]);
-  *r = (float3)(m0 * clh_hair_n_r(hv, phi));
-  *tt = m1 * clh_hair_n_tt(hv, phi);
-  *trt = m2 * clh_hair_n_trt(hv, phi);
+  float cos_phi =
+      l2 > 1e-12f ? clamp(clh_v3_dot(wp, hv->n) / sqrt(fmax(l2, 1e-12f)), -1.0f, 1.0f) : 1.0f;
+  float phi = clh_fast_acos(cos_phi); /* the h-averaged lobes are even in phi */
+  float m0 =
+      clh_hair_mp(sin_i, cos_i, hv->sin_o_tilt[0], hv->cos_o_tilt[0], hv->v[0], hv->m_norm[0]);
+  float m1 =
+      clh_hair_mp(sin_i, cos_i, hv->sin_o_tilt[1], hv->cos_o_tilt[1], hv->v[1], hv->m_norm[1]);
+  float m2 =
+      clh_hair_mp(sin_i, cos_i, hv->sin_o_tilt[2], hv->cos_o_tilt[2], hv->v[2], hv->m_norm[2]);
+  *r = clh_v3_splat(m0 * clh_hair_n_r(hv, phi));
+  *tt = clh_v3_scale(clh_hair_n_tt(hv, phi), m1);
+  *trt = clh_v3_scale(clh_hair_n_trt(hv, phi), m2);
   return cos_i;
 }
 
 /* The three specular lobes separately as f (1/cos(theta_i) included; cos clamped at 1e-7). */
-static inline void clh_hair_eval_lobes(const clh_hair_view* hv, float3 wi, float3* r, float3* tt,
-                                       float3* trt) {
+static inline void clh_hair_eval_lobes(const clh_hair_view* hv, clh_v3 wi, clh_v3* r, clh_v3* tt,
+                                       clh_v3* trt) {
   float inv_cos = 1.0f / fmax(clh_hair_lobes_cos(hv, wi, r, tt, trt), 1e-7f);
-  *r *= inv_cos;
-  *tt *= inv_cos;
-  *trt *= inv_cos;
+  *r = clh_v3_scale(*r, inv_cos);
+  *tt = clh_v3_scale(*tt, inv_cos);
+  *trt = clh_v3_scale(*trt, inv_cos);
 }
 
 /* R + TT + TRT only (no diffuse), f without the cosine. */
-static inline float3 clh_hair_eval_specular(const clh_hair_view* hv, float3 wi) {
-  float3 r, tt, trt;
+static inline clh_v3 clh_hair_eval_specular(const clh_hair_view* hv, clh_v3 wi) {
+  clh_v3 r, tt, trt;
   clh_hair_eval_lobes(hv, wi, &r, &tt, &trt);
-  return r + tt + trt;
+  return clh_v3_add(clh_v3_add(r, tt), trt);
 }
 
 /* f cos(theta_i) for a light: the preferred call in a shading loop,
  *   L += clh_hair_eval_cos(&hv, wi) * E_light. */
-static inline float3 clh_hair_eval_cos(const clh_hair_view* hv, float3 wi) {
-  float3 r, tt, trt;
+static inline clh_v3 clh_hair_eval_cos(const clh_hair_view* hv, clh_v3 wi) {
+  clh_v3 r, tt, trt;
   float cos_i = clh_hair_lobes_cos(hv, wi, &r, &tt, &trt);
-  return r + tt + trt + clh_hair_diffuse(hv) * cos_i;
+  return clh_v3_add(clh_v3_add(clh_v3_add(r, tt), trt), clh_v3_scale(clh_hair_diffuse(hv), cos_i));
 }
 
 /* Full f: R + TT + TRT + diffuse. */
-static inline float3 clh_hair_eval(const clh_hair_view* hv, float3 wi) {
-  return clh_hair_eval_specular(hv, wi) + clh_hair_diffuse(hv);
+static inline clh_v3 clh_hair_eval(const clh_hair_view* hv, clh_v3 wi) {
+  return clh_v3_add(clh_hair_eval_specular(hv, wi), clh_hair_diffuse(hv));
 }
 
 /* One-call form for a single light. */
-static inline float3 clh_hair_bsdf(const clh_hair_material* m, float3 t, float3 wo, float3 wi) {
-  clh_hair_view hv = clh_hair_prepare(m, t, wo);
+static inline clh_v3 clh_hair_bsdf(const clh_hair_material* m, clh_v3 t, clh_v3 wo, clh_v3 wi) {
+  clh_hair_view hv;
+  clh_hair_prepare_to(&hv, m, t, wo);
   return clh_hair_eval(&hv, wi);
 }
 
@@ -382,11 +413,11 @@ static inline float3 clh_hair_bsdf(const clh_hair_material* m, float3 t, float3 
  * ggx_alpha matches the mean cosine E[dot(wi, refl_dir)] of the h-averaged R+TRT lobes to
  * that of a GGX lobe at normal incidence (docs/hair-shading.md). */
 typedef struct {
-  float3 spec_weight;    /* Ā_R + Ā_TRT (h-averaged energies at this theta_o) */
-  float3 tt_weight;      /* Ā_TT */
-  float3 diffuse_albedo; /* Ā_3 */
-  float3 n;              /* view-facing fibre normal */
-  float3 refl_dir;       /* mirror of wo about n (theta_i = -theta_o, phi = 0) */
+  clh_v3 spec_weight;    /* Ā_R + Ā_TRT (h-averaged energies at this theta_o) */
+  clh_v3 tt_weight;      /* Ā_TT */
+  clh_v3 diffuse_albedo; /* Ā_3 */
+  clh_v3 n;              /* view-facing fibre normal */
+  clh_v3 refl_dir;       /* mirror of wo about n (theta_i = -theta_o, phi = 0) */
   float ggx_alpha;
 } clh_hair_env;
 
@@ -400,33 +431,39 @@ static inline float clh_hair_ggx_alpha_from_mean_cos(float mu) {
 }
 
 static inline void clh_hair_env_terms_to(clh_hair_env* out, const clh_hair_view* hv) {
-  clh_hair_env e;
-  e.spec_weight = hv->mass[0] + hv->mass[2];
-  e.tt_weight = hv->mass[1];
-  e.diffuse_albedo = hv->mass[3];
-  e.n = hv->n;
-  e.refl_dir = hv->cos_o * hv->n - hv->sin_o * hv->t; /* wo = sin_o t + cos_o n */
+  out->spec_weight = clh_v3_add(hv->mass[0], hv->mass[2]);
+  out->tt_weight = hv->mass[1];
+  out->diffuse_albedo = hv->mass[3];
+  out->n = hv->n;
+  /* wo = sin_o t + cos_o n */
+  out->refl_dir = clh_v3_sub(clh_v3_scale(hv->n, hv->cos_o), clh_v3_scale(hv->t, hv->sin_o));
   /* E[cos phi] of each azimuthal lobe: panel-wise box averages of cos, times the logistic's
    * characteristic function at 1, pi s / sinh(pi s). R's phase is -2 gamma_o, and
    * cos(2 gamma_o) = 1 - 2 h² averages to 1 - 2 (h0² + h0 h1 + h1²) / 3 over a panel. */
-  float lam = CLH_HAIR_PI * hv->s / sinh(CLH_HAIR_PI * hv->s);
+  const float ps = CLH_HAIR_PI * hv->s;
+  float lam = 2.0f * ps / (clh_hair_exp(ps) - clh_hair_exp(-ps)); /* pi s / sinh(pi s) */
   float c_r = 0.0f, w_r = 0.0f;
-  float3 c_trt = (float3)(0.0f), w_trt = (float3)(0.0f);
+  clh_v3 c_trt = clh_v3_splat(0.0f), w_trt = clh_v3_splat(0.0f);
+#pragma unroll
   for (int k = 0; k < 4; ++k) {
-    float h0 = clh_hair_panel_h[k], h1 = clh_hair_panel_h[k + 1];
+    float h0 = CLH_HAIR_PANEL_H(k), h1 = CLH_HAIR_PANEL_H(k + 1);
     float dh = h1 - h0;
-    float f = clh_hair_fresnel(hv->cos_o * clh_hair_panel_cm[k], hv->eta);
+    float f = clh_hair_fresnel(hv->cos_o * CLH_HAIR_PANEL_CM(k), hv->eta);
     float cr = 1.0f - (2.0f / 3.0f) * (h0 * h0 + h0 * h1 + h1 * h1);
     float p0 = hv->trt_phi[k], p1 = hv->trt_phi[k + 1];
-    float ct = fabs(p1 - p0) > 1e-4f ? (sin(p1) - sin(p0)) / (p1 - p0) : cos(p0);
+    float s0, c0, s1, c1;
+    clh_fast_sincos(p0, &s0, &c0);
+    clh_fast_sincos(p1, &s1, &c1);
+    float ct = fabs(p1 - p0) > 1e-4f ? (s1 - s0) / (p1 - p0) : c0;
     c_r += dh * f * cr;
     w_r += dh * f;
-    c_trt += hv->trt_w[k] * ct;
-    w_trt += hv->trt_w[k];
+    c_trt = clh_v3_add(c_trt, clh_v3_scale(hv->trt_w[k], ct));
+    w_trt = clh_v3_add(w_trt, hv->trt_w[k]);
   }
+  const clh_v3 lum = clh_v3_make(0.2126f, 0.7152f, 0.0722f);
   float cos_phi_r = lam * c_r / fmax(w_r, 1e-8f);
-  float lum_trt = dot(w_trt, (float3)(0.2126f, 0.7152f, 0.0722f));
-  float cos_phi_trt = lam * dot(c_trt, (float3)(0.2126f, 0.7152f, 0.0722f)) / fmax(lum_trt, 1e-12f);
+  float lum_trt = clh_v3_dot(w_trt, lum);
+  float cos_phi_trt = lam * clh_v3_dot(c_trt, lum) / fmax(lum_trt, 1e-12f);
   /* mean cosine to refl_dir of a lobe at theta_i = -theta_o + delta:
    * E[cos delta] (sin² theta_o + cos² theta_o E[cos phi]). delta is treated as a von Mises
    * angle of concentration k = 1/v about the tilt shift, E[cos delta] = I1(k)/I0(k) cos(shift),
@@ -438,14 +475,7 @@ static inline void clh_hair_env_terms_to(clh_hair_env* out, const clh_hair_view*
   float mu_trt = a_trt * hv->cos_shift[2] * (s2 + c2 * cos_phi_trt);
   float wr = w_r, wt = 2.0f * lum_trt;
   float mu = (wr * mu_r + wt * mu_trt) / fmax(wr + wt, 1e-8f);
-  e.ggx_alpha = clh_hair_ggx_alpha_from_mean_cos(mu);
-  *out = e;
-}
-
-static inline clh_hair_env clh_hair_env_terms(const clh_hair_view* hv) {
-  clh_hair_env e;
-  clh_hair_env_terms_to(&e, hv);
-  return e;
+  out->ggx_alpha = clh_hair_ggx_alpha_from_mean_cos(mu);
 }
 
 #endif /* CLHAIR_HAIR_BSDF_H */

@@ -12,6 +12,9 @@
 #ifndef CLHAIR_SHADOW_H
 #define CLHAIR_SHADOW_H
 
+#include "clh_math.h"
+#include "clhair/fast_math.h"
+
 static inline float clh_dom_texel(__global const ClhShadowGpu* sh, __global const float* opaque_g,
                                   __global const float* hair_g, __global const uint* opacity_g,
                                   int tx, int ty, float z, float shift) {
@@ -27,29 +30,29 @@ static inline float clh_dom_texel(__global const ClhShadowGpu* sh, __global cons
   const float d = z - z0 - shift * sh->bound[0];
   if (!(d > 0.0f)) return 1.0f;
   const size_t layers = (size_t)sh->offset * CLH_DOM_LAYERS + (size_t)ty * (size_t)w + (size_t)tx;
+  /* whole layers before d, the linear share of d's layer, none after it (the last layer
+   * takes everything beyond it): fixed trip, no early exit, so the loop unrolls */
   float acc = 0.0f, lo = 0.0f;
+#pragma unroll
   for (int k = 0; k < CLH_DOM_LAYERS; ++k) {
     const float v = (float)opacity_g[layers + (size_t)k * plane] * (1.0f / CLH_DOM_FIXED);
     const float hi = sh->bound[k];
-    if (d < hi) {
-      acc += v * (d - lo) / fmax(hi - lo, 1e-12f);
-      break;
-    }
-    acc += v;
+    const float share = clamp((d - lo) / fmax(hi - lo, 1e-12f), 0.0f, 1.0f);
+    acc += (k == CLH_DOM_LAYERS - 1 && !(d < hi)) ? v : v * share;
     lo = hi;
   }
-  return exp(-sh->density * acc);
+  return clh_fast_exp(-sh->density * acc);
 }
 
-/* Fraction of the light reaching world point p (1 = unshadowed). */
-static inline float clh_shadow_transmittance(__global const ClhShadowGpu* sh,
-                                             __global const float* opaque_g,
-                                             __global const float* hair_g,
-                                             __global const uint* opacity_g, float3 p,
-                                             float shift) {
+/* Fraction of the light reaching world point p (1 = unshadowed). Scalar arithmetic only
+ * (clh_v3), for the shading kernel CPU compilers vectorize. */
+static inline float clh_shadow_transmittance_v3(__global const ClhShadowGpu* sh,
+                                                __global const float* opaque_g,
+                                                __global const float* hair_g,
+                                                __global const uint* opacity_g, clh_v3 p,
+                                                float shift) {
   if (sh->width == 0u || sh->height == 0u) return 1.0f;
-  const clh_mat34 w2v = clh_load_mat34(sh->world_to_view);
-  const float3 pv = clh_xform_point(w2v, p);
+  const clh_v3 pv = clh_v3_xform_point(sh->world_to_view, p);
   if (!(pv.z > 1e-6f)) return 1.0f;
   const float u = sh->cx + sh->fx * pv.x / pv.z - 0.5f;
   const float v = sh->cy - sh->fy * pv.y / pv.z - 0.5f;
@@ -61,7 +64,16 @@ static inline float clh_shadow_transmittance(__global const ClhShadowGpu* sh,
   const float t10 = clh_dom_texel(sh, opaque_g, hair_g, opacity_g, x0 + 1, y0, pv.z, shift);
   const float t01 = clh_dom_texel(sh, opaque_g, hair_g, opacity_g, x0, y0 + 1, pv.z, shift);
   const float t11 = clh_dom_texel(sh, opaque_g, hair_g, opacity_g, x0 + 1, y0 + 1, pv.z, shift);
-  return mix(mix(t00, t10, ax), mix(t01, t11, ax), ay);
+  const float top = t00 + (t10 - t00) * ax, bottom = t01 + (t11 - t01) * ax;
+  return top + (bottom - top) * ay;
+}
+
+static inline float clh_shadow_transmittance(__global const ClhShadowGpu* sh,
+                                             __global const float* opaque_g,
+                                             __global const float* hair_g,
+                                             __global const uint* opacity_g, float3 p,
+                                             float shift) {
+  return clh_shadow_transmittance_v3(sh, opaque_g, hair_g, opacity_g, clh_v3_from(p), shift);
 }
 
 /* The light's shadow slot, or -1 (stored in the light colour's w). */

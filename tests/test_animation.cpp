@@ -27,6 +27,9 @@
 #include "clhair/error.h"
 #include "clhair/hair_mesh.h"
 #include "clhair/scene.h"
+#include "groom/groom_cache.h"
+#include "groom/hair_mesh_gpu.h"
+#include "stages/ao_stage.h"
 #include "test_util.h"
 
 namespace clhair::test {
@@ -271,6 +274,71 @@ TEST(AnimatedScene, WindMovesTipsByTheDocumentedAmountAndKeepsRoots) {
       }
     }
   }
+}
+
+// The groom stages of the shared device, as a Renderer holds them.
+struct Stages {
+  Device::Impl& dev = *sharedDevice().impl();
+  LodStage lod{dev};
+  StrandStage strands{dev};
+  ExplicitStage explicitStrands{dev};
+  AoStage ao{dev};
+  RootSetsGpu roots;
+  GroomStages stages{dev, lod, strands, explicitStrands, ao, roots};
+};
+
+TEST(AnimatedScene, CageUpdatesReuseTheDeviceGroomAndMatchARebuild) {
+  const std::string dir = scratchDir();
+  HairMesh mesh = loadHairMesh(assetPath("grooms/tiny.hairmesh.json"));
+  mesh.ao.assign(mesh.positions.size(), 1.0f);  // no AO bake
+  const std::string meshPath = dir + "/tiny.hairmesh.json";
+  saveHairMesh(mesh, meshPath);
+  const Scene scene = loadScene(writeScene(
+      dir,
+      tinyScene({{"file", meshPath},
+                 {"wind", {{"strength", 0.02}, {"direction", {1, 0, 0}}, {"frequency", 3}}}})));
+  Stages st;
+  GroomCache cache(st.stages);
+  GroomGpu* first = nullptr;
+  std::uint64_t bytes = 0;
+  std::vector<float> tipsX;
+  for (int frame = 1; frame <= 4; ++frame) {
+    SCOPED_TRACE("frame " + std::to_string(frame));
+    const Scene still = sceneAtFrame(scene, frame);
+    cache.beginFrame();
+    GroomGpu& g = cache.get(still.grooms[0]);
+    if (!first) {
+      first = &g;
+      bytes = g.deviceBytes();
+    }
+    // one device form for the whole shot: same object, same buffers, no growth
+    EXPECT_EQ(&g, first);
+    EXPECT_EQ(cache.size(), 1u);
+    EXPECT_EQ(g.deviceBytes(), bytes);
+    // its strands are those of a hair mesh built from this frame's cage
+    const StrandSet got = g.exportStrands(1.0f);
+    HairMesh moved = mesh;
+    moved.positions = *still.grooms[0].deformed;
+    HairMeshGpu fresh(std::make_shared<const HairMesh>(moved), st.stages, false);
+    const StrandSet want = fresh.exportStrands(1.0f);
+    ASSERT_EQ(got.pointCounts, want.pointCounts);
+    EXPECT_TRUE(got.points == want.points);
+    EXPECT_TRUE(got.tangents == want.tangents);
+    tipsX.push_back(got.points[3 * (got.pointCounts[0] - 1)]);
+    cache.trim();
+  }
+  EXPECT_NE(tipsX[0], tipsX[1]);  // the wind reached the strands
+  // back at rest: the rest pose's strands again
+  cache.beginFrame();
+  HairMeshGpu rest(std::make_shared<const HairMesh>(mesh), st.stages, false);
+  EXPECT_TRUE(cache.get(scene.grooms[0]).exportStrands(1.0f).points ==
+              rest.exportStrands(1.0f).points);
+  // two instances of one mesh deformed differently in one frame share buffers: refused
+  Scene two = sceneAtFrame(scene, 2);
+  two.grooms.push_back(sceneAtFrame(scene, 3).grooms[0]);
+  cache.beginFrame();
+  cache.get(two.grooms[0]);
+  EXPECT_THROW(cache.get(two.grooms[1]), Error);
 }
 
 // ---- cage-animation files -----------------------------------------------------------------

@@ -214,6 +214,25 @@ TEST(AnimatedScene, TransformKeysGiveTheGroomsTransformPerFrame) {
   EXPECT_NEAR(glm::length(glm::vec3(s99.grooms[0].transform[0])), 3.0f, 1e-5f);
 }
 
+TEST(AnimatedScene, StrandFileKeysApplyAfterTheFilesScaleAndUpAxis) {
+  const std::string dir = scratchDir();
+  const json scene = {
+      {"grooms",
+       {{{"strands_file", assetPath("grooms/head_bob.hair")},
+         {"scale", 0.01},
+         {"up", "z"},
+         {"transform",
+          {{"keys", {{{"frame", 0}}, {{"frame", 10}, {"translate", {1.0, 0.0, 0.0}}}}}}}}}}};
+  const Scene s = loadScene(writeScene(dir, scene));
+  const Scene mid = sceneAtFrame(s, 5.0);
+  // the file's transform (scale 0.01, z up) is kept: the keyed translation comes on top
+  const glm::mat4 want =
+      glm::translate(glm::mat4(1.0f), glm::vec3(0.5f, 0.0f, 0.0f)) * s.grooms[0].transform;
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) EXPECT_NEAR(mid.grooms[0].transform[c][r], want[c][r], 1e-6f);
+  EXPECT_FALSE(mid.grooms[0].deformed);  // strand files have no cage
+}
+
 TEST(AnimatedScene, CameraKeysInterpolatePositionAndFov) {
   const std::string dir = scratchDir();
   const json camera = {

@@ -26,6 +26,7 @@
 #include "clhair/animation.h"
 #include "clhair/error.h"
 #include "clhair/hair_mesh.h"
+#include "clhair/renderer.h"
 #include "clhair/scene.h"
 #include "groom/groom_cache.h"
 #include "groom/hair_mesh_gpu.h"
@@ -355,9 +356,17 @@ TEST(AnimatedScene, CageUpdatesReuseTheDeviceGroomAndMatchARebuild) {
   // two instances of one mesh deformed differently in one frame share buffers: refused
   Scene two = sceneAtFrame(scene, 2);
   two.grooms.push_back(sceneAtFrame(scene, 3).grooms[0]);
-  cache.beginFrame();
-  cache.get(two.grooms[0]);
-  EXPECT_THROW(cache.get(two.grooms[1]), Error);
+  Renderer renderer(sharedDevice());
+  try {
+    renderer.render(two);
+    ADD_FAILURE() << "two differently deformed instances of one mesh were drawn";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("deformed differently"), std::string::npos) << e.what();
+  }
+  // the same cage twice is fine
+  Scene same = sceneAtFrame(scene, 2);
+  same.grooms.push_back(same.grooms[0]);
+  EXPECT_NO_THROW(renderer.render(same));
 }
 
 // ---- cage-animation files -----------------------------------------------------------------

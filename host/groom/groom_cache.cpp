@@ -4,8 +4,6 @@
 #include <algorithm>
 #include <vector>
 
-#include "clhair/error.h"
-
 namespace clhair {
 
 GroomGpu& GroomCache::get(const GroomInstance& gi) {
@@ -19,13 +17,8 @@ GroomGpu& GroomCache::get(const GroomInstance& gi) {
     it = entries_.emplace(key.get(), std::move(e)).first;
   }
   Entry& e = it->second;
-  if (e.lastFrame == frame_ && e.cage != gi.deformed.get())
-    throw Error("groom \"" + gi.name +
-                "\": two instances of one hair mesh are deformed differently in one frame; "
-                "give each animated instance its own hair mesh");
   e.groom->deform(gi.deformed);
   e.lastFrame = frame_;
-  e.cage = gi.deformed.get();
   return *e.groom;
 }
 

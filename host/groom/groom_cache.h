@@ -18,8 +18,7 @@ class GroomCache {
   explicit GroomCache(GroomStages& stages, std::size_t keepUnused = 8)
       : stages_(stages), keepUnused_(keepUnused) {}
   // The device form of `gi`'s groom, built on first use and deformed to `gi.deformed`; marks
-  // it used in this frame. Two instances of one groom with different cages in one frame are
-  // refused (they share the device's layer vertices).
+  // it used in this frame.
   GroomGpu& get(const GroomInstance& gi);
   // Starts a frame (grooms fetched from now on count as its own).
   void beginFrame() { ++frame_; }
@@ -34,7 +33,6 @@ class GroomCache {
     std::shared_ptr<const void> held;
     std::unique_ptr<GroomGpu> groom;
     std::uint64_t lastFrame = 0;
-    const void* cage = nullptr;  // the cage of lastFrame
   };
   GroomStages& stages_;
   std::size_t keepUnused_;

@@ -6,6 +6,9 @@
 // between calls, so a frame evaluates to the same still scene in any order.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>

@@ -30,6 +30,7 @@
 #include "clhair/scene.h"
 #include "groom/groom_cache.h"
 #include "groom/hair_mesh_gpu.h"
+#include "io/cyhair.h"
 #include "stages/ao_stage.h"
 #include "test_util.h"
 
@@ -232,6 +233,50 @@ TEST(AnimatedScene, StrandFileKeysApplyAfterTheFilesScaleAndUpAxis) {
   for (int c = 0; c < 4; ++c)
     for (int r = 0; r < 4; ++r) EXPECT_NEAR(mid.grooms[0].transform[c][r], want[c][r], 1e-6f);
   EXPECT_FALSE(mid.grooms[0].deformed);  // strand files have no cage
+}
+
+// A cyHair file of three 4-point strands hanging from y = 0.03 near the tiny groom's
+// position, every point shifted by `dx` along x.
+void writeStrandFrame(const std::string& path, float dx) {
+  CyHair h;
+  for (int s = 0; s < 3; ++s) {
+    h.segments.push_back(3);
+    for (int k = 0; k < 4; ++k)
+      h.points.insert(h.points.end(), {dx + 0.01f * (s - 1), 0.03f - 0.01f * k, 0.0f});
+  }
+  writeCyHair(h, path);
+}
+
+TEST(AnimatedScene, PerFrameStrandFilesAreReadPerFrameAndHeldOutsideTheirRange) {
+  const std::string dir = scratchDir();
+  writeStrandFrame(dir + "/s.0002.hair", 0.0f);
+  writeStrandFrame(dir + "/s.0003.hair", 0.004f);
+  writeStrandFrame(dir + "/s.0005.hair", 0.008f);
+  writeStrandFrame(dir + "/s.05.hair", 1.0f);  // another padding: not part of the sequence
+  const json scene = {{"grooms", {{{"strands_file", "s.####.hair"}, {"name", "seq"}}}}};
+  const Scene s = loadScene(writeScene(dir, scene));
+  ASSERT_TRUE(s.grooms[0].strandFrames);
+  EXPECT_EQ(s.grooms[0].strandFrames->first, 2);
+  EXPECT_EQ(s.grooms[0].strandFrames->last, 5);
+  auto firstX = [](const Scene& f) { return f.grooms[0].strands->points[4].x; };  // strand 1
+  EXPECT_FLOAT_EQ(firstX(s), 0.0f);
+  EXPECT_FLOAT_EQ(firstX(sceneAtFrame(s, 3)), 0.004f);
+  EXPECT_FLOAT_EQ(firstX(sceneAtFrame(s, 2.6)), 0.004f);  // the nearest whole frame
+  EXPECT_FLOAT_EQ(firstX(sceneAtFrame(s, 9)), 0.008f);    // held after the last
+  EXPECT_FLOAT_EQ(firstX(sceneAtFrame(s, -4)), 0.0f);     // and before the first
+  // a frame inside the range without a file: one line naming the groom, frame and file
+  std::string err;
+  try {
+    sceneAtFrame(s, 4);
+  } catch (const Error& e) {
+    err = e.what();
+  }
+  EXPECT_NE(err.find("groom \"seq\" at frame 4"), std::string::npos) << err;
+  EXPECT_NE(err.find("s.0004.hair"), std::string::npos) << err;
+  EXPECT_EQ(err.find('\n'), std::string::npos) << err;
+  // a pattern that matches nothing
+  const std::string none = loadError(dir, {{"grooms", {{{"strands_file", "t.###.hair"}}}}});
+  EXPECT_NE(none.find("no file matches"), std::string::npos) << none;
 }
 
 TEST(AnimatedScene, CameraKeysInterpolatePositionAndFov) {
@@ -549,6 +594,22 @@ TEST(FrameRange, StaticAnimationRendersEveryFrameLikeTheStill) {
   for (int f = 1; f <= 5; ++f)
     EXPECT_TRUE(readBytes(dir + "/anim.000" + std::to_string(f) + ".exr") == want)
         << "frame " << f << " differs from the still";
+}
+
+TEST(FrameRange, PerFrameStrandFilesRenderTheirOwnFrames) {
+  const std::string dir = scratchDir();
+  for (int f = 1; f <= 3; ++f)
+    writeStrandFrame(dir + "/s." + std::to_string(f) + ".hair", 0.004f * static_cast<float>(f));
+  json scene = tinyScene();
+  scene["grooms"] = {{{"strands_file", "s.#.hair"},
+                      {"appearance", {{"strand_width", 0.002}, {"min_hit_diameter_px", 1}}}}};
+  const std::string path = writeScene(dir, scene);
+  renderFrames(path, "1-3", dir, "range");
+  renderFrames(path, "2", dir, "alone");
+  const std::string second = readBytes(dir + "/range.0002.exr");
+  EXPECT_TRUE(second == readBytes(dir + "/alone.0002.exr"));
+  EXPECT_FALSE(second == readBytes(dir + "/range.0001.exr"));
+  EXPECT_FALSE(second == readBytes(dir + "/range.0003.exr"));
 }
 
 TEST(FrameRange, SkipExistingKeepsFramesAndNoTemporaryRemains) {

@@ -60,6 +60,18 @@ std::vector<double> KeyTrack::evaluate(double frame) const {
   return out;
 }
 
+std::string framePath(const std::string& pattern, long long frame) {
+  const std::size_t nameStart = pattern.find_last_of('/') + 1;  // npos + 1 == 0
+  const std::size_t end = pattern.find_last_of('#');
+  if (end == std::string::npos || end < nameStart) return pattern;
+  std::size_t begin = end;
+  while (begin > nameStart && pattern[begin - 1] == '#') --begin;
+  std::string digits = std::to_string(frame);
+  const std::size_t width = end - begin + 1;
+  if (digits.size() < width) digits.insert(0, width - digits.size(), '0');
+  return pattern.substr(0, begin) + digits + pattern.substr(end + 1);
+}
+
 namespace {
 
 glm::vec3 vec3At(const std::vector<double>& v, std::size_t at) {
@@ -134,6 +146,26 @@ Scene sceneAtFrame(const Scene& scene, double frame) {
       m = glm::rotate(m, glm::radians(static_cast<float>(k[3])), glm::vec3(0, 1, 0));
       m = glm::scale(m, glm::vec3(static_cast<float>(k[4])));
       g.transform = m * g.fileTransform;
+    }
+    if (g.strandFrames) {
+      // the nearest whole frame, held before the first file and after the last
+      const StrandFrames& f = *g.strandFrames;
+      const double nearest = std::floor(frame + 0.5);
+      const long long n = !(nearest > static_cast<double>(f.first)) ? f.first
+                          : nearest >= static_cast<double>(f.last)
+                              ? f.last
+                              : static_cast<long long>(nearest);
+      if (n != f.first) {  // `strands` is the first file as the scene loaded it
+        StrandGroom frameGroom;
+        try {
+          frameGroom = loadStrandGroom(framePath(f.pattern, n), f.maxBytes);
+        } catch (const Error& e) {
+          throw Error("groom \"" + g.name + "\" at frame " + frameName(frame) + ": " + e.what());
+        }
+        frameGroom.appearance = g.strands->appearance;
+        frameGroom.lod = g.strands->lod;
+        g.strands = std::make_shared<const StrandGroom>(std::move(frameGroom));
+      }
     }
     g.deformed.reset();
     if (g.mesh && (g.cage || g.wind.strength > 0.0f)) {

@@ -128,20 +128,6 @@ std::vector<long long> parseFrames(const std::string& spec) {
   return out;
 }
 
-// The output path of `frame`: the last run of '#' in the file name replaced by the frame
-// number, zero-padded to the run's length ("out.####.exr" -> "out.0007.exr").
-std::string framePath(const std::string& pattern, long long frame) {
-  const std::size_t nameStart = pattern.find_last_of('/') + 1;  // npos + 1 == 0
-  const std::size_t end = pattern.find_last_of('#');
-  if (end == std::string::npos || end < nameStart) return pattern;
-  std::size_t begin = end;
-  while (begin > nameStart && pattern[begin - 1] == '#') --begin;
-  std::string digits = std::to_string(frame);
-  const std::size_t width = end - begin + 1;
-  if (digits.size() < width) digits.insert(0, width - digits.size(), '0');
-  return pattern.substr(0, begin) + digits + pattern.substr(end + 1);
-}
-
 std::string seconds(double s) {
   char buf[32];
   if (s < 60.0)
@@ -230,6 +216,8 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
         std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
     Frame frame = f.reference ? renderer.renderReference(still, f.spp) : renderer.render(still, ro);
     writeImage(frame.color, path);
+    // per-frame strand files are new grooms every frame: their device forms go with it
+    renderer.releaseGrooms();
     ++rendered;
     const auto t1 = std::chrono::steady_clock::now();
     if (quiet) continue;

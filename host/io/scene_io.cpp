@@ -6,6 +6,7 @@
 // head), read and checked the same way: once per file, against the device's largest
 // allocation, every error one line naming the scene and the file as the entry wrote it.
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -147,6 +148,45 @@ FilterParams readFilter(const JsonReader& parent, const json& j, FilterParams f)
   return f;
 }
 
+// The frames of a per-frame strand-file pattern ("dir/bob.####.hair", absolute): every file
+// in its folder whose name is the pattern with a frame number for the '#' run; fails when
+// there is none.
+std::shared_ptr<StrandFrames> findStrandFrames(const JsonReader& o, const std::string& pattern,
+                                               std::uint64_t maxBytes) {
+  const std::filesystem::path folder = std::filesystem::path(pattern).parent_path();
+  const std::string name = std::filesystem::path(pattern).filename().string();
+  const std::size_t end = name.find_last_of('#');
+  std::size_t begin = end;
+  while (begin > 0 && name[begin - 1] == '#') --begin;
+  const std::string prefix = name.substr(0, begin), suffix = name.substr(end + 1);
+  auto frames = std::make_shared<StrandFrames>();
+  frames->pattern = pattern;
+  frames->maxBytes = maxBytes;
+  std::size_t found = 0;
+  std::error_code ec;
+  for (std::filesystem::directory_iterator it(folder.empty() ? "." : folder, ec), last;
+       !ec && it != last; it.increment(ec)) {
+    const std::string n = it->path().filename().string();
+    if (n.size() <= prefix.size() + suffix.size() || n.compare(0, prefix.size(), prefix) != 0 ||
+        n.compare(n.size() - suffix.size(), suffix.size(), suffix) != 0)
+      continue;
+    const std::string digits = n.substr(prefix.size(), n.size() - prefix.size() - suffix.size());
+    if (digits.size() > 9 ||
+        !std::all_of(digits.begin(), digits.end(), [](unsigned char c) { return std::isdigit(c); }))
+      continue;
+    const long long number = std::stoll(digits);
+    if (framePath(name, number) != n) continue;  // other padding: not this pattern's name
+    frames->first = found == 0 ? number : std::min(frames->first, number);
+    frames->last = found == 0 ? number : std::max(frames->last, number);
+    ++found;
+  }
+  if (ec) o.fail("strands_file", "cannot list \"" + folder.string() + "\" (" + ec.message() + ")");
+  if (found == 0)
+    o.fail("strands_file", "no file matches \"" + pattern +
+                               "\" (the '#' run stands for a frame number, zero-padded)");
+  return frames;
+}
+
 // A groom entry with "strands_file": the file (read once per scene), its placement (scale,
 // up axis, then the entry's transform), appearance, LOD and filter.
 GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& base,
@@ -157,7 +197,14 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
   if (file.empty()) o.fail("strands_file", "is empty: name a .hair, .data or .tfx strand file");
   std::filesystem::path p =
       std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;
-  const std::string key = p.lexically_normal().string();
+  std::string key = p.lexically_normal().string();
+  // "bob.####.hair": one file per frame; the first one found stands for the still groom
+  std::shared_ptr<StrandFrames> frames;
+  if (framePath(key, 0) != key) {
+    frames = findStrandFrames(o, key, maxBytes);
+    key = framePath(key, frames->first);
+    p = key;
+  }
   std::error_code ec;
   const bool found = std::filesystem::exists(p, ec);
   if (ec) o.fail("strands_file", "\"" + key + "\" cannot be checked (" + ec.message() + ")");
@@ -214,6 +261,7 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
   GroomInstance g;
   g.name = o.string("name", shared->name);
   g.strands = shared;
+  g.strandFrames = frames;
   glm::mat4 placement = o.has("transform")
                             ? readTransform(o, o.require("transform"), &g.transformKeys)
                             : glm::mat4(1.0f);

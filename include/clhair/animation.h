@@ -59,6 +59,20 @@ CageAnimation loadCageAnimation(const std::string& path, std::uint64_t maxBytes)
 // Writes atomically (temporary file, then rename).
 void saveCageAnimation(const CageAnimation& cage, const std::string& path);
 
+// A path pattern with a frame number: the last run of '#' in the file name replaced by
+// `frame`, zero-padded to the run's length ("out.####.exr", 7 -> "out.0007.exr"); a pattern
+// without '#' in its file name is returned as it is.
+std::string framePath(const std::string& pattern, long long frame);
+
+// Strand files given one per frame ("bob.####.hair"): the pattern (an absolute or
+// scene-relative path resolved at load), the first and last frame numbers found when the
+// scene loaded, and the byte limit each file is read with.
+struct StrandFrames {
+  std::string pattern;
+  long long first = 0, last = 0;
+  std::uint64_t maxBytes = 0;
+};
+
 // Procedural sway of a hair mesh's cage (docs/scene-format.md, "Wind"). A layer vertex at
 // height h = layer / (layers - 1) moves by
 //   strength * h^2 * (0.5 + 0.5 sin(2 pi (frequency * t - dot(root, direction) / wavelength)))

@@ -131,6 +131,9 @@ struct GroomInstance {
   // (degrees), scale; when set, transform = keyed TRS * fileTransform at each frame.
   KeyTrack transformKeys;
   glm::mat4 fileTransform{1.0f};  // strand files: the file's scale and up axis
+  // Strand files given per frame: sceneAtFrame reads the frame's file (frames before the
+  // first and after the last found hold those), keeping `strands`' appearance and LOD.
+  std::shared_ptr<const StrandFrames> strandFrames;
   // Hair meshes: the cage per frame (cage-animation file) starting at scene frame
   // cageStartFrame, and the wind on the cage.
   std::shared_ptr<const CageAnimation> cage;
@@ -205,8 +208,10 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes = kDefault
 bool isAnimated(const Scene& scene);
 
 // The still scene at `frame`: keyed camera and groom transforms interpolated, each hair
-// mesh's cage taken from its cage animation and swayed by its wind. Depends only on `scene`
-// and `frame`. Throws clhair::Error when the interpolated camera is degenerate.
+// mesh's cage taken from its cage animation and swayed by its wind, each per-frame strand
+// file read (the nearest whole frame). Depends only on `scene`, `frame` and those files.
+// Throws clhair::Error when the interpolated camera is degenerate or a frame's strand file
+// cannot be read.
 Scene sceneAtFrame(const Scene& scene, double frame);
 
 }  // namespace clhair

@@ -13,6 +13,9 @@
 // file remains.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -644,6 +647,48 @@ TEST(FrameRange, SkipExistingKeepsFramesAndNoTemporaryRemains) {
       runCli("render " + quote(scene) + " --frames 5-6 -q -o " + quote(dir + "/out/f.####.exr"));
   EXPECT_EQ(q.exitCode, 0);
   EXPECT_EQ(q.output, "");
+}
+
+TEST(FrameRange, AKilledRangeLeavesOnlyCompleteFramesAndResumes) {
+  const std::string dir = scratchDir();
+  const std::string scene =
+      writeScene(dir, tinyScene({{"wind", {{"strength", 0.01}, {"frequency", 2}}}}));
+  fs::create_directories(dir + "/out");
+  const std::string pattern = quote(dir + "/out/f.####.exr");
+  // start a long range in the background and kill it hard once some frames are written
+  const CommandResult started =
+      runCommand(quote(cliPath()) + " render " + quote(scene) + " --frames 1-2000 -q -o " +
+                 pattern + " >/dev/null 2>&1 & echo $!");
+  const long pid = std::stol(started.output);
+  auto finished = [&] {
+    std::size_t n = 0;
+    for (const auto& e : fs::directory_iterator(dir + "/out"))
+      n += e.path().filename().string().rfind(".tmp-", 0) != 0;
+    return n;
+  };
+  for (int i = 0; i < 600 && finished() < 3; ++i) ::usleep(100000);
+  runCommand("kill -9 " + std::to_string(pid));
+  for (int i = 0; i < 50 && runCommand("kill -0 " + std::to_string(pid)).exitCode == 0; ++i)
+    ::usleep(100000);
+  ASSERT_GE(finished(), 3u) << "the range wrote no frames in 60 s";
+  // every file under a frame's name is complete: the frame exactly as rendered alone
+  std::vector<std::string> frames;
+  for (const auto& e : fs::directory_iterator(dir + "/out"))
+    if (e.path().filename().string().rfind(".tmp-", 0) != 0) frames.push_back(e.path().string());
+  std::sort(frames.begin(), frames.end());
+  const std::string last = frames.back();
+  const std::string number = last.substr(last.size() - 8, 4);
+  renderFrames(scene, std::to_string(std::stoi(number)), dir, "alone");
+  EXPECT_TRUE(readBytes(last) == readBytes(dir + "/alone." + number + ".exr"))
+      << last << " is not the complete frame";
+  // resuming renders only what is missing; a stale temporary does not count as a frame
+  const std::size_t before = frames.size();
+  const CommandResult r = runCli("render " + quote(scene) + " --frames 1-" +
+                                 std::to_string(before + 2) + " --skip-existing -o " + pattern);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("2 frames rendered, " + std::to_string(before) + " skipped"),
+            std::string::npos)
+      << r.output;
 }
 
 }  // namespace

@@ -67,12 +67,19 @@ struct Renderer::Impl {
   }
 
   // Every groom instance of the scene with its device form; the k-th instance of one
-  // groom gets instance slot k.
+  // groom gets instance slot k. Instances of one groom share its layer vertices, so they
+  // must share its cage too.
   std::vector<GroomDraw> resolveGrooms(const Scene& s) {
     std::vector<GroomDraw> draws;
     std::map<const GroomGpu*, std::size_t> seen;
+    std::map<const GroomGpu*, const void*> cages;
     for (const GroomInstance& gi : s.grooms) {
       GroomGpu& g = grooms.get(gi);
+      auto [c, first] = cages.emplace(&g, gi.deformed.get());
+      if (!first && c->second != gi.deformed.get())
+        throw Error("groom \"" + gi.name +
+                    "\": two instances of one hair mesh are deformed differently in one frame; "
+                    "give each animated instance its own hair mesh");
       draws.push_back({&gi, &g, &g.instance(seen[&g]++)});
     }
     return draws;

@@ -101,7 +101,7 @@ else
   # run there when clang-15 is missing), which keeps the whole command near 9 minutes.
   host_tests='^(StrandFile[A-Za-z]*|Mesh|MeshCli|ExplicitScene|Metrics[A-Za-z]*|CpuRaster|Reference'
   host_tests+='|BsdfReference|LodMath|FastMath|Environment(Sh|Errors|Mapping|Sky|Build)|Render'
-  host_tests+='|BinaryCache|ExplicitMemory|ExplicitRender|Host)\.'
+  host_tests+='|BinaryCache|ExplicitMemory|ExplicitRender|Host|Keyframes|AnimatedScene|CageFile)\.'
   host_tests+='|^Cli\.(Missing|Malformed|Absurd|Zero|HairMeshWith|Unknown|ParseErrors|Devices'
   host_tests+='|GeneratedPreset)|^ExplicitCli\.(Malformed|TrailingBytes|WarnsAbout)|^Fuzz\.'
   sanitize=0

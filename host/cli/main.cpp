@@ -2,6 +2,7 @@
 //
 //   clhair devices                          list OpenCL devices and what clhair would use
 //   clhair render SCENE -o OUT.png|.exr     render a scene, print per-stage times
+//     [--frames 1-240[:STEP] -o OUT.####.exr] a frame range, one file per frame
 //   clhair groom --preset NAME -o FILE      write a generated hair mesh
 //   clhair export-strands GROOM -o F.hair   write the generated strands as cyHair (F.data: USC,
 //                                           F.tfx: TressFX 4.0, resampled to 4..64 points)
@@ -13,6 +14,7 @@
 // output files are only written when the work completed.
 #include <algorithm>
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -93,7 +95,48 @@ struct RenderFlags {
   bool widthGiven = false, heightGiven = false;
   std::string camera, lod, dispatch = "auto", ao = "on";
   bool quiet = false;
+  std::string frames;  // "N", "A-B" or "A-B:STEP"; empty: frame 1
+  bool skipExisting = false;
 };
+
+// The frame numbers of a --frames value: "7", "1-240", "1-240:5", "240-1" (in reverse).
+std::vector<long long> parseFrames(const std::string& spec) {
+  const std::string hint =
+      "--frames \"" + spec + "\": expected N, FIRST-LAST or FIRST-LAST:STEP (e.g. 1-240:2)";
+  constexpr long long kMaxFrame = 99999999;
+  auto number = [&](const std::string& t) {
+    if (t.empty() || t.size() > 8 ||
+        !std::all_of(t.begin(), t.end(), [](unsigned char c) { return std::isdigit(c); }))
+      throw Error(hint + "; frame numbers are whole numbers 0.." + std::to_string(kMaxFrame));
+    return std::stoll(t);
+  };
+  const std::size_t colon = spec.find(':');
+  const std::string range = spec.substr(0, colon);
+  const long long step = colon == std::string::npos ? 1 : number(spec.substr(colon + 1));
+  if (step < 1) throw Error(hint + "; the step must be at least 1");
+  const std::size_t dash = range.find('-');
+  const long long first = number(range.substr(0, dash));
+  const long long last = dash == std::string::npos ? first : number(range.substr(dash + 1));
+  if (dash == std::string::npos && colon != std::string::npos)
+    throw Error(hint + "; a step needs a range");
+  std::vector<long long> out;
+  const long long count = (std::llabs(last - first)) / step + 1;
+  if (count > 1000000)
+    throw Error(hint + "; " + std::to_string(count) + " frames, at most 1000000 per command");
+  for (long long k = 0; k < count; ++k)
+    out.push_back(first <= last ? first + k * step : first - k * step);
+  return out;
+}
+
+std::string seconds(double s) {
+  char buf[32];
+  if (s < 60.0)
+    std::snprintf(buf, sizeof(buf), "%.2f s", s);
+  else
+    std::snprintf(buf, sizeof(buf), "%dm%02ds", static_cast<int>(s / 60.0),
+                  static_cast<int>(s) % 60);
+  return buf;
+}
 
 int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std::string& out,
               const RenderFlags& f) {
@@ -101,6 +144,12 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
   const std::string& camera = f.camera;
   const std::string& lod = f.lod;
   const bool quiet = f.quiet;
+  const std::vector<long long> frames =
+      f.frames.empty() ? std::vector<long long>{1} : parseFrames(f.frames);
+  if (frames.size() > 1 && framePath(out, 0) == out)
+    throw Error("-o \"" + out + "\" has no '#' for the frame number, but --frames \"" + f.frames +
+                "\" names " + std::to_string(frames.size()) +
+                " frames: write e.g. out.####.exr (#### becomes 0007 for frame 7)");
   // the device first: strand files are checked against its largest allocation as they load
   Device dev = Device::open(opts);
   Scene scene = loadScene(scenePath, dev.info().maxAlloc);
@@ -114,10 +163,6 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     scene.width = w;
     scene.height = h;
   }
-  // the scene's viewing angle is kept: the preset changes only the distance and framing
-  if (!camera.empty()) scene.camera = reframeCamera(scene, parseCameraPreset(camera));
-  for (const std::string& w : viewWarnings(scene, scenePath))
-    std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
   RenderOptions ro;
   if (lod == "on")
     ro.lod = 1;
@@ -139,12 +184,54 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     throw Error("--filter must be on, off or auto, not \"" + f.filter + "\"");
   if (f.reference && (f.spp < 1 || f.spp > 65536))
     throw Error("--spp must be 1..65536, not " + std::to_string(f.spp));
+  const CameraPreset* preset = nullptr;
+  CameraPreset presetValue{};
+  if (!camera.empty()) {
+    presetValue = parseCameraPreset(camera);
+    preset = &presetValue;
+  }
   Renderer renderer(dev);
-  Frame frame = f.reference ? renderer.renderReference(scene, f.spp) : renderer.render(scene, ro);
-  writeImage(frame.color, out);
-  if (!quiet) {
-    std::printf("%s: %dx%d on %s (sub-group %s), %llu strands", out.c_str(), scene.width,
-                scene.height, dev.info().name.c_str(), subgroupBackendName(dev.info().backend),
+  // Every frame is evaluated from the scene and its number alone and rendered from a
+  // cleared target, so it is the same whichever frames this process rendered before.
+  const bool sequence = !f.frames.empty();
+  const auto start = std::chrono::steady_clock::now();
+  std::size_t rendered = 0, skipped = 0;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const long long number = frames[i];
+    const std::string path = framePath(out, number);
+    std::error_code ec;
+    if (f.skipExisting && std::filesystem::exists(path, ec)) {
+      ++skipped;
+      if (!quiet && sequence)
+        std::fprintf(stderr, "clhair: frame %lld (%zu/%zu): %s exists, skipped\n", number, i + 1,
+                     frames.size(), path.c_str());
+      continue;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    Scene still = sceneAtFrame(scene, static_cast<double>(number));
+    // the scene's viewing angle is kept: the preset changes only the distance and framing
+    if (preset) still.camera = reframeCamera(still, *preset);
+    if (rendered == 0)
+      for (const std::string& w : viewWarnings(still, scenePath))
+        std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
+    Frame frame = f.reference ? renderer.renderReference(still, f.spp) : renderer.render(still, ro);
+    writeImage(frame.color, path);
+    // per-frame strand files are new grooms every frame: their device forms go with it
+    renderer.releaseGrooms();
+    ++rendered;
+    const auto t1 = std::chrono::steady_clock::now();
+    if (quiet) continue;
+    if (sequence) {
+      const double took = std::chrono::duration<double>(t1 - t0).count();
+      const double perFrame = std::chrono::duration<double>(t1 - start).count() / rendered;
+      const std::size_t left = frames.size() - i - 1;
+      std::fprintf(stderr, "clhair: frame %lld (%zu/%zu) -> %s: %s, about %s left\n", number, i + 1,
+                   frames.size(), path.c_str(), seconds(took).c_str(),
+                   seconds(perFrame * static_cast<double>(left)).c_str());
+      continue;
+    }
+    std::printf("%s: %dx%d on %s (sub-group %s), %llu strands", path.c_str(), still.width,
+                still.height, dev.info().name.c_str(), subgroupBackendName(dev.info().backend),
                 static_cast<unsigned long long>(frame.stats.strandsDrawn));
     if (frame.stats.shadowStrandsDrawn > 0)
       std::printf(" (%llu into shadow maps)",
@@ -154,6 +241,11 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
       std::printf("  %-10s %9.2f ms\n", t.stage.c_str(), t.ms);
     std::printf("  %-10s %9.2f ms\n", "total", frame.totalMs());
   }
+  if (!quiet && sequence)
+    std::fprintf(
+        stderr, "clhair: %zu frames rendered, %zu skipped, %s\n", rendered, skipped,
+        seconds(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count())
+            .c_str());
   return 0;
 }
 
@@ -313,6 +405,11 @@ int main(int argc, char** argv) {
   render->add_flag("--reference", rf.reference,
                    "render the ground truth: the average of --spp jittered true-width passes");
   render->add_option("--spp", rf.spp, "samples per pixel of --reference (default 256)");
+  render->add_option("--frames", rf.frames,
+                     "frames of an animated scene: N, FIRST-LAST or FIRST-LAST:STEP (default 1); "
+                     "#### in -o becomes the zero-padded frame number");
+  render->add_flag("--skip-existing", rf.skipExisting,
+                   "leave frames whose output file exists (resume a range)");
   render->add_flag("-q,--quiet", rf.quiet, "print nothing on success");
 
   auto* groom = app.add_subcommand("groom", "write a generated hair mesh");

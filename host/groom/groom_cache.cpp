@@ -16,8 +16,10 @@ GroomGpu& GroomCache::get(const GroomInstance& gi) {
     e.held = key;
     it = entries_.emplace(key.get(), std::move(e)).first;
   }
-  it->second.lastFrame = frame_;
-  return *it->second.groom;
+  Entry& e = it->second;
+  e.groom->deform(gi.deformed);
+  e.lastFrame = frame_;
+  return *e.groom;
 }
 
 void GroomCache::trim() {

@@ -17,7 +17,8 @@ class GroomCache {
  public:
   explicit GroomCache(GroomStages& stages, std::size_t keepUnused = 8)
       : stages_(stages), keepUnused_(keepUnused) {}
-  // The device form of `gi`'s groom, built on first use; marks it used in this frame.
+  // The device form of `gi`'s groom, built on first use and deformed to `gi.deformed`; marks
+  // it used in this frame.
   GroomGpu& get(const GroomInstance& gi);
   // Starts a frame (grooms fetched from now on count as its own).
   void beginFrame() { ++frame_; }

@@ -28,6 +28,10 @@ std::unique_ptr<GroomInstanceGpu> GroomGpu::newInstance(const std::string& groom
   return inst;
 }
 
+void GroomGpu::deform(const std::shared_ptr<const std::vector<glm::vec3>>& cage) {
+  if (cage) throw Error("a strand-file groom has no cage to deform (only hair meshes have one)");
+}
+
 std::uint32_t GroomGpu::readTotal(const GroomInstanceGpu& inst) {
   if (inst.records == 0) return 0;
   std::uint32_t total = 0;

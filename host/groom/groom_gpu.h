@@ -89,6 +89,9 @@ class GroomGpu {
   virtual glm::vec3 boundsMax() const = 0;
   // Baked AO on or off for the next passes (hair meshes; strand files carry none).
   virtual void useAo(bool) {}
+  // Hair meshes: draw the next passes with the layer vertices `cage` (layer-major, object
+  // space), or the mesh's own when null. Strand files have no cage and refuse one.
+  virtual void deform(const std::shared_ptr<const std::vector<glm::vec3>>& cage);
   // Bytes of the shared tables plus one instance's buffers.
   std::uint64_t deviceBytes();
 

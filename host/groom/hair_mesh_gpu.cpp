@@ -49,6 +49,7 @@ HairMeshGpu::HairMeshGpu(std::shared_ptr<const HairMesh> mesh, GroomStages& stag
   for (std::size_t i = 0; i < ao_.size(); ++i) ao_[i] = data_.vertices[i].tan[3];
   std::memset(&base_, 0, sizeof(base_));
   fillGroomParams(m, data_, base_);
+  hasTangents_ = base_.has_tangents != 0;
   roots_ = &stages_.roots.forBundle(dev_, data_.maxBundleStrands);
   base_.root_set_size = roots_->size;
   const std::string what = "groom \"" + m.name + "\"";
@@ -97,6 +98,7 @@ bool HairMeshGpu::prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld,
   p.total_strands = static_cast<gpu::clh_u32>(data_.totalStrands);
   p.shadow_lod_correction = pass.shadowLodCorrection ? 1u : 0u;
   p.hit_diameter_px = pass.trueWidth ? 0.0f : mesh.appearance.minHitDiameterPx;
+  p.has_tangents = hasTangents_ ? 1u : 0u;
   upload(dev_, inst.groom, &p, 1);
   // the styling reach in view units: the object-space margin times the largest axis scale
   const float scale =
@@ -136,6 +138,43 @@ void HairMeshGpu::useAo(bool on) {
   for (std::size_t i = 0; i < v.size(); ++i) v[i].tan[3] = on ? ao_[i] : 1.0f;
   upload(dev_, vertices_, v.data(), v.size());
   aoUploaded_ = on;
+}
+
+void HairMeshGpu::deform(const std::shared_ptr<const std::vector<glm::vec3>>& cage) {
+  if (cage == cage_) return;
+  const HairMesh& m = *mesh_;
+  GroomData d;
+  if (cage) {
+    if (cage->size() != m.positions.size())
+      throw Error("groom \"" + m.name + "\": a cage of " + std::to_string(cage->size()) +
+                  " vertices for a hair mesh of " + std::to_string(m.positions.size()) +
+                  " layer vertices");
+    // a moved cage has no file tangents: they follow from the moved layers
+    HairMesh moved;
+    moved.layerCount = m.layerCount;
+    moved.vertexCount = m.vertexCount;
+    moved.faces = m.faces;
+    moved.uv = m.uv;
+    moved.positions = *cage;
+    moved.w = m.w;
+    moved.strandCount = m.strandCount;
+    moved.seed = m.seed;
+    moved.style = m.style;
+    d = prepareGroom(moved);
+  } else {
+    d = prepareGroom(m);
+  }
+  for (std::size_t i = 0; i < d.vertices.size(); ++i)
+    d.vertices[i].tan[3] = aoUploaded_ ? ao_[i] : 1.0f;
+  upload(dev_, vertices_, d.vertices.data(), d.vertices.size());
+  // ao_ keeps the rest pose's AO for useAo
+  for (std::size_t i = 0; i < d.vertices.size(); ++i) d.vertices[i].tan[3] = ao_[i];
+  data_.vertices = std::move(d.vertices);
+  data_.boundsMin = d.boundsMin;
+  data_.boundsMax = d.boundsMax;
+  data_.styleMargin = d.styleMargin;
+  hasTangents_ = !cage && !m.tangents.empty();
+  cage_ = cage;
 }
 
 // lod = 1: full detail (the LOD pass with LOD off and an unbounded reach keeps every

@@ -48,6 +48,11 @@ class HairMeshGpu final : public GroomGpu {
   glm::vec3 boundsMin() const override { return data_.boundsMin; }
   glm::vec3 boundsMax() const override { return data_.boundsMax; }
   void useAo(bool on) override;
+  // Rebuilds the layer-vertex records (positions, styling frames, bounds) from `cage` and
+  // uploads them into the same buffer; the bundles and their strand counts stay those of the
+  // rest pose, so strands keep their identity. The same cage (by identity) twice in a row
+  // costs nothing.
+  void deform(const std::shared_ptr<const std::vector<glm::vec3>>& cage) override;
 
   // AO per layer vertex of `mesh` (1 = open), computed on the device from a sample of its
   // own strands (kernels/ao.cl).
@@ -73,6 +78,8 @@ class HairMeshGpu final : public GroomGpu {
   cl::Buffer vertices_, bundles_;
   cl::Buffer exportView_;  // ClhViewGpu of strand export passes
   const RootSetsGpu::Set* roots_ = nullptr;
+  std::shared_ptr<const std::vector<glm::vec3>> cage_;  // held: its address identifies it
+  bool hasTangents_ = false;                            // the vertex records hold file tangents
 };
 
 }  // namespace clhair

@@ -44,6 +44,10 @@ void writeImage(const Image& image, const std::string& path) {
   OIIO::ImageSpec spec(image.width, image.height, 4,
                        floating ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::UINT8);
   spec.attribute("oiio:ColorSpace", floating ? "Linear" : "sRGB");
+  // No time stamp: OpenImageIO's EXR writer adds the current time unless one is given, and
+  // a file must depend on its pixels only (a frame of a range is byte-identical however and
+  // whenever it is rendered).
+  spec.attribute("DateTime", "");
   bool ok = out->open(tmp.string(), spec);
   if (ok) {
     if (floating) {

@@ -111,12 +111,16 @@ JsonReader JsonReader::object(const json& j, const std::string& key) const {
 }
 
 void JsonReader::rejectUnknown(std::initializer_list<const char*> known) const {
+  rejectUnknown(std::vector<std::string>(known.begin(), known.end()));
+}
+
+void JsonReader::rejectUnknown(const std::vector<std::string>& known) const {
   for (auto it = obj_->begin(); it != obj_->end(); ++it) {
     bool ok = false;
-    for (const char* k : known) ok |= it.key() == k;
+    for (const std::string& k : known) ok |= it.key() == k;
     if (!ok) {
       std::string list;
-      for (const char* k : known) list += std::string(list.empty() ? "" : ", ") + k;
+      for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
       fail(it.key(), "is not a known key (known: " + list + ")");
     }
   }

@@ -7,6 +7,7 @@
 
 #include <initializer_list>
 #include <string>
+#include <vector>
 
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
@@ -29,6 +30,7 @@ class JsonReader {
   // A reader for the object `j` found under `key` (fails if it is not an object).
   JsonReader object(const nlohmann::json& j, const std::string& key) const;
   void rejectUnknown(std::initializer_list<const char*> known) const;
+  void rejectUnknown(const std::vector<std::string>& known) const;
   const std::string& file() const { return file_; }
   std::string path(const std::string& key) const {
     return prefix_.empty() ? key : prefix_ + "." + key;

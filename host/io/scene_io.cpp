@@ -6,6 +6,7 @@
 // head), read and checked the same way: once per file, against the device's largest
 // allocation, every error one line naming the scene and the file as the entry wrote it.
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -17,6 +18,7 @@
 #include <glm/trigonometric.hpp>
 #include <glm/vector_relational.hpp>
 
+#include "clhair/animation.h"
 #include "clhair/error.h"
 #include "clhair/gpu_types.h"
 #include "clhair/scene.h"
@@ -31,10 +33,73 @@ using nlohmann::json;
 
 constexpr double kBig = 1e6;
 
-glm::mat4 readTransform(const JsonReader& parent, const json& j) {
+std::string showNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%g", v);
+  return buf;
+}
+
+// One keyed property: `width` numbers (1 or 3) within lo..hi.
+struct KeyField {
+  const char* name;
+  int width;
+  double lo, hi;
+};
+
+// The "keys" array and "interpolation" of the object `o`: every key holds "frame" (strictly
+// increasing) and any of `fields`; a field a key leaves out takes its value from `defaults`
+// (the object's still values, field by field in order).
+KeyTrack readKeys(const JsonReader& o, const std::vector<KeyField>& fields,
+                  const std::vector<double>& defaults) {
+  KeyTrack t;
+  for (const KeyField& f : fields) t.width += f.width;
+  const std::string interp = o.string("interpolation", "linear");
+  if (interp == "linear")
+    t.interpolation = Interpolation::Linear;
+  else if (interp == "smooth")
+    t.interpolation = Interpolation::Smooth;
+  else
+    o.fail("interpolation", "is \"" + interp + "\", expected \"linear\" or \"smooth\"");
+  const json& a = o.require("keys");
+  if (!a.is_array() || a.empty())
+    o.fail("keys", "must be a non-empty array of key objects ({\"frame\": 1, ...})");
+  if (a.size() > 100000)
+    o.fail("keys", "holds " + std::to_string(a.size()) + " keys, at most 100000 are supported");
+  std::vector<std::string> known{"frame"};
+  for (const KeyField& f : fields) known.push_back(f.name);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    JsonReader k = o.object(a[i], "keys[" + std::to_string(i) + "]");
+    k.require("frame");
+    const double frame = k.number("frame", 0.0, -1e7, 1e7);
+    if (!t.frames.empty() && !(frame > t.frames.back()))
+      k.fail("frame", "is " + showNumber(frame) + ", not after the previous key's " +
+                          showNumber(t.frames.back()) + ": keys must be in increasing frame order");
+    t.frames.push_back(frame);
+    std::size_t at = 0;
+    for (const KeyField& f : fields) {
+      if (f.width == 3) {
+        const glm::vec3 def(static_cast<float>(defaults[at]), static_cast<float>(defaults[at + 1]),
+                            static_cast<float>(defaults[at + 2]));
+        const glm::vec3 v = k.vec3(f.name, def, f.lo, f.hi);
+        t.values.insert(t.values.end(), {v.x, v.y, v.z});
+      } else {
+        t.values.push_back(k.number(f.name, defaults[at], f.lo, f.hi));
+      }
+      at += static_cast<std::size_t>(f.width);
+    }
+    k.rejectUnknown(known);
+  }
+  return t;
+}
+
+// A "transform" object: translate / rotate_y / scale or a row-major matrix. With `keys`
+// (grooms), "keys" and "interpolation" animate translate, rotate_y and scale.
+glm::mat4 readTransform(const JsonReader& parent, const json& j, KeyTrack* keys = nullptr) {
   JsonReader t = parent.object(j, "transform");
   glm::mat4 m(1.0f);
   if (t.has("matrix")) {
+    if (keys && t.has("keys"))
+      t.fail("keys", "animate translate, rotate_y and scale: give those instead of \"matrix\"");
     const json& a = t.require("matrix");
     if (!a.is_array() || a.size() != 16) t.fail("matrix", "must be 16 numbers, row-major");
     for (int r = 0; r < 4; ++r)
@@ -51,7 +116,16 @@ glm::mat4 readTransform(const JsonReader& parent, const json& j) {
   glm::vec3 translate = t.vec3("translate", glm::vec3(0.0f), -kBig, kBig);
   float rotateY = static_cast<float>(t.number("rotate_y", 0.0, -360.0, 360.0));
   float scale = static_cast<float>(t.number("scale", 1.0, 1e-6, 1e6));
-  t.rejectUnknown({"translate", "rotate_y", "scale"});
+  if (keys && (t.has("keys") || t.has("interpolation"))) {
+    *keys = readKeys(t,
+                     {{"translate", 3, -kBig, kBig},
+                      {"rotate_y", 1, -36000.0, 36000.0},
+                      {"scale", 1, 1e-6, 1e6}},
+                     {translate.x, translate.y, translate.z, rotateY, scale});
+    t.rejectUnknown({"translate", "rotate_y", "scale", "keys", "interpolation"});
+  } else {
+    t.rejectUnknown({"translate", "rotate_y", "scale"});
+  }
   m = glm::translate(m, translate);
   m = glm::rotate(m, glm::radians(rotateY), glm::vec3(0, 1, 0));
   m = glm::scale(m, glm::vec3(scale));
@@ -74,6 +148,45 @@ FilterParams readFilter(const JsonReader& parent, const json& j, FilterParams f)
   return f;
 }
 
+// The frames of a per-frame strand-file pattern ("dir/bob.####.hair", absolute): every file
+// in its folder whose name is the pattern with a frame number for the '#' run; fails when
+// there is none.
+std::shared_ptr<StrandFrames> findStrandFrames(const JsonReader& o, const std::string& pattern,
+                                               std::uint64_t maxBytes) {
+  const std::filesystem::path folder = std::filesystem::path(pattern).parent_path();
+  const std::string name = std::filesystem::path(pattern).filename().string();
+  const std::size_t end = name.find_last_of('#');
+  std::size_t begin = end;
+  while (begin > 0 && name[begin - 1] == '#') --begin;
+  const std::string prefix = name.substr(0, begin), suffix = name.substr(end + 1);
+  auto frames = std::make_shared<StrandFrames>();
+  frames->pattern = pattern;
+  frames->maxBytes = maxBytes;
+  std::size_t found = 0;
+  std::error_code ec;
+  for (std::filesystem::directory_iterator it(folder.empty() ? "." : folder, ec), last;
+       !ec && it != last; it.increment(ec)) {
+    const std::string n = it->path().filename().string();
+    if (n.size() <= prefix.size() + suffix.size() || n.compare(0, prefix.size(), prefix) != 0 ||
+        n.compare(n.size() - suffix.size(), suffix.size(), suffix) != 0)
+      continue;
+    const std::string digits = n.substr(prefix.size(), n.size() - prefix.size() - suffix.size());
+    if (digits.size() > 9 ||
+        !std::all_of(digits.begin(), digits.end(), [](unsigned char c) { return std::isdigit(c); }))
+      continue;
+    const long long number = std::stoll(digits);
+    if (framePath(name, number) != n) continue;  // other padding: not this pattern's name
+    frames->first = found == 0 ? number : std::min(frames->first, number);
+    frames->last = found == 0 ? number : std::max(frames->last, number);
+    ++found;
+  }
+  if (ec) o.fail("strands_file", "cannot list \"" + folder.string() + "\" (" + ec.message() + ")");
+  if (found == 0)
+    o.fail("strands_file", "no file matches \"" + pattern +
+                               "\" (the '#' run stands for a frame number, zero-padded)");
+  return frames;
+}
+
 // A groom entry with "strands_file": the file (read once per scene), its placement (scale,
 // up axis, then the entry's transform), appearance, LOD and filter.
 GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& base,
@@ -84,7 +197,14 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
   if (file.empty()) o.fail("strands_file", "is empty: name a .hair, .data or .tfx strand file");
   std::filesystem::path p =
       std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;
-  const std::string key = p.lexically_normal().string();
+  std::string key = p.lexically_normal().string();
+  // "bob.####.hair": one file per frame; the first one found stands for the still groom
+  std::shared_ptr<StrandFrames> frames;
+  if (framePath(key, 0) != key) {
+    frames = findStrandFrames(o, key, maxBytes);
+    key = framePath(key, frames->first);
+    p = key;
+  }
   std::error_code ec;
   const bool found = std::filesystem::exists(p, ec);
   if (ec) o.fail("strands_file", "\"" + key + "\" cannot be checked (" + ec.message() + ")");
@@ -141,11 +261,14 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
   GroomInstance g;
   g.name = o.string("name", shared->name);
   g.strands = shared;
-  glm::mat4 placement =
-      o.has("transform") ? readTransform(o, o.require("transform")) : glm::mat4(1.0f);
-  g.transform = placement * strandFileTransform(scale, up == "x"   ? UpAxis::X
-                                                       : up == "z" ? UpAxis::Z
-                                                                   : UpAxis::Y);
+  g.strandFrames = frames;
+  glm::mat4 placement = o.has("transform")
+                            ? readTransform(o, o.require("transform"), &g.transformKeys)
+                            : glm::mat4(1.0f);
+  g.fileTransform = strandFileTransform(scale, up == "x"   ? UpAxis::X
+                                               : up == "z" ? UpAxis::Z
+                                                           : UpAxis::Y);
+  g.transform = placement * g.fileTransform;
   if (o.has("filter")) {
     g.hasFilter = true;
     g.filter = readFilter(o, o.require("filter"), sceneFilter);
@@ -153,6 +276,49 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
   o.rejectUnknown(
       {"strands_file", "name", "transform", "scale", "up", "appearance", "lod", "filter"});
   return g;
+}
+
+// A hair-mesh groom entry's "cage_animation" (a cage-animation file whose vertex count must
+// be the mesh's layer vertices, read once per entry) and "wind".
+void readCageMotion(const JsonReader& o, const std::filesystem::path& base, std::uint64_t maxBytes,
+                    GroomInstance& g) {
+  if (o.has("cage_animation")) {
+    JsonReader c = o.object(o.require("cage_animation"), "cage_animation");
+    const std::string file = c.string("file", "");
+    if (file.empty()) c.fail("file", "is missing: name a cage-animation file (.cage)");
+    std::filesystem::path p =
+        std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;
+    const std::string key = p.lexically_normal().string();
+    std::error_code ec;
+    if (!std::filesystem::exists(p, ec)) c.fail("file", "\"" + key + "\" does not exist");
+    auto cage = std::make_shared<CageAnimation>();
+    try {
+      *cage = loadCageAnimation(key, maxBytes);
+    } catch (const Error& e) {
+      c.fail("file", e.what());
+    }
+    const HairMesh& m = *g.mesh;
+    const std::uint64_t expected = static_cast<std::uint64_t>(m.layerCount) * m.vertexCount;
+    if (cage->vertices != expected)
+      c.fail("file", key + " holds " + std::to_string(cage->vertices) +
+                         " vertices per frame, but the groom's cage has " +
+                         std::to_string(expected) + " (" + std::to_string(m.layerCount) +
+                         " layers of " + std::to_string(m.vertexCount) + " vertices)");
+    g.cageStartFrame = c.number("start_frame", 1.0, -1e7, 1e7);
+    c.rejectUnknown({"file", "start_frame"});
+    g.cage = std::move(cage);
+  }
+  if (o.has("wind")) {
+    JsonReader w = o.object(o.require("wind"), "wind");
+    WindParams& wind = g.wind;
+    wind.strength = static_cast<float>(w.number("strength", wind.strength, 0.0, kBig));
+    const glm::vec3 d = w.vec3("direction", wind.direction, -kBig, kBig);
+    if (glm::length(d) < 1e-6f) w.fail("direction", "must not be zero");
+    wind.direction = glm::normalize(d);
+    wind.frequency = static_cast<float>(w.number("frequency", wind.frequency, 0.0, 1000.0));
+    wind.wavelength = static_cast<float>(w.number("wavelength", wind.wavelength, 1e-6, kBig));
+    w.rejectUnknown({"strength", "direction", "frequency", "wavelength"});
+  }
 }
 
 // A "meshes" entry: the OBJ file (read once per scene), its placement (scale, up axis, then
@@ -591,7 +757,8 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
       }
       GroomInstance g;
       g.name = o.string("name", mesh->name);
-      if (o.has("transform")) g.transform = readTransform(o, o.require("transform"));
+      if (o.has("transform"))
+        g.transform = readTransform(o, o.require("transform"), &g.transformKeys);
       if (o.has("filter")) {
         g.hasFilter = true;
         g.filter = readFilter(o, o.require("filter"), s.filter);
@@ -613,7 +780,11 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
         mesh = std::make_shared<const HairMesh>(std::move(copy));
       }
       g.mesh = mesh;
-      o.rejectUnknown({"file", "name", "transform", "strands", "lod", "control_points", "filter"});
+      readCageMotion(o, base, maxStrandBytes, g);
+      // an animated entry deforms its own copy: entries naming one file share a device form
+      if (g.cage || g.wind.strength > 0.0f) g.mesh = std::make_shared<const HairMesh>(*g.mesh);
+      o.rejectUnknown({"file", "name", "transform", "strands", "lod", "control_points", "filter",
+                       "cage_animation", "wind"});
       s.grooms.push_back(g);
     }
   }
@@ -625,6 +796,8 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
   if (r.has("camera")) {
     JsonReader c = r.object(r.require("camera"), "camera");
     float fov = static_cast<float>(c.number("fov", 35.0, 1.0, 170.0));
+    const bool keyed = c.has("keys") || c.has("interpolation");
+    CameraAnimation& anim = s.cameraAnimation;
     if (c.has("preset")) {
       std::string name = c.string("preset", "mid");
       CameraPreset preset;
@@ -633,9 +806,20 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
       } catch (const Error& e) {
         c.fail("preset", e.what());
       }
-      s.camera = framePreset(s, preset, static_cast<float>(c.number("azimuth", 0.0, -360.0, 360.0)),
-                             static_cast<float>(c.number("elevation", 10.0, -89.0, 89.0)), fov);
-      c.rejectUnknown({"preset", "azimuth", "elevation", "fov"});
+      const double azimuth = c.number("azimuth", 0.0, -360.0, 360.0);
+      const double elevation = c.number("elevation", 10.0, -89.0, 89.0);
+      s.camera =
+          framePreset(s, preset, static_cast<float>(azimuth), static_cast<float>(elevation), fov);
+      if (keyed) {
+        anim.preset = true;
+        anim.framing = preset;
+        anim.keys = readKeys(c,
+                             {{"azimuth", 1, -36000.0, 36000.0},
+                              {"elevation", 1, -89.0, 89.0},
+                              {"fov", 1, 1.0, 170.0}},
+                             {azimuth, elevation, fov});
+      }
+      c.rejectUnknown({"preset", "azimuth", "elevation", "fov", "keys", "interpolation"});
     } else {
       s.camera.position = c.vec3("position", s.camera.position, -kBig, kBig);
       s.camera.target = c.vec3("target", s.camera.target, -kBig, kBig);
@@ -645,13 +829,34 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
         c.fail("target", "must differ from position");
       if (glm::length(glm::cross(s.camera.target - s.camera.position, s.camera.up)) < 1e-9f)
         c.fail("up", "must not be parallel to the viewing direction");
-      c.rejectUnknown({"position", "target", "up", "fov"});
+      if (keyed) {
+        const Camera& k = s.camera;
+        anim.keys = readKeys(c,
+                             {{"position", 3, -kBig, kBig},
+                              {"target", 3, -kBig, kBig},
+                              {"up", 3, -kBig, kBig},
+                              {"fov", 1, 1.0, 170.0}},
+                             {k.position.x, k.position.y, k.position.z, k.target.x, k.target.y,
+                              k.target.z, k.up.x, k.up.y, k.up.z, k.fovYDegrees});
+        // every key must be a camera on its own (between keys sceneAtFrame checks again)
+        for (std::size_t i = 0; i < anim.keys.frames.size(); ++i) {
+          const double* v = &anim.keys.values[i * 10];
+          const glm::vec3 pos(v[0], v[1], v[2]), target(v[3], v[4], v[5]), up(v[6], v[7], v[8]);
+          const std::string where = "keys[" + std::to_string(i) + "]";
+          if (glm::length(target - pos) < 1e-9f) c.fail(where, "target must differ from position");
+          if (glm::length(glm::cross(target - pos, up)) < 1e-9f)
+            c.fail(where, "up must not be parallel to the viewing direction");
+        }
+      }
+      c.rejectUnknown({"position", "target", "up", "fov", "keys", "interpolation"});
     }
   } else {
     s.camera = framePreset(s, CameraPreset::Mid);
   }
+  s.frameRate = r.number("frame_rate", s.frameRate, 1e-3, 1e6);
   r.rejectUnknown({"resolution", "camera", "background", "ambient", "lights", "spheres", "planes",
-                   "meshes", "grooms", "shadows", "filter", "environment", "background_image"});
+                   "meshes", "grooms", "shadows", "filter", "environment", "background_image",
+                   "frame_rate"});
   return s;
 }
 

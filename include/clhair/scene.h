@@ -16,6 +16,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
+#include "clhair/animation.h"
 #include "clhair/hair_mesh.h"
 #include "clhair/strand_groom.h"
 #include "clhair/triangle_mesh.h"
@@ -125,6 +126,32 @@ struct GroomInstance {
       1.0f};               // object -> world (strand files: includes the file's scale and up axis)
   bool hasFilter = false;  // true: `filter` overrides the scene's
   FilterParams filter;
+
+  // Animation (evaluated by sceneAtFrame). transformKeys: translate x, y, z, rotate_y
+  // (degrees), scale; when set, transform = keyed TRS * fileTransform at each frame.
+  KeyTrack transformKeys;
+  glm::mat4 fileTransform{1.0f};  // strand files: the file's scale and up axis
+  // Strand files given per frame: sceneAtFrame reads the frame's file (frames before the
+  // first and after the last found hold those), keeping `strands`' appearance and LOD.
+  std::shared_ptr<const StrandFrames> strandFrames;
+  // Hair meshes: the cage per frame (cage-animation file) starting at scene frame
+  // cageStartFrame, and the wind on the cage.
+  std::shared_ptr<const CageAnimation> cage;
+  double cageStartFrame = 1.0;
+  WindParams wind;
+  // The cage this still frame draws (layer-major like HairMesh::positions, the mesh's object
+  // space); null: the mesh's own positions. Set by sceneAtFrame.
+  std::shared_ptr<const std::vector<glm::vec3>> deformed;
+};
+
+enum class CameraPreset { Close, Mid, Far };
+
+// A keyed camera: either explicit keys (position x, y, z, target x, y, z, up x, y, z, fov)
+// or keys of a preset framing (azimuth, elevation, fov), as the scene's camera was given.
+struct CameraAnimation {
+  KeyTrack keys;  // empty: the camera does not move
+  bool preset = false;
+  CameraPreset framing = CameraPreset::Mid;
 };
 
 struct Scene {
@@ -142,12 +169,13 @@ struct Scene {
   FilterParams filter;
   ShadowParams shadows;
   EnvironmentDesc environment;
+  CameraAnimation cameraAnimation;
+  double frameRate = 24.0;  // frames per second: the wind's clock
   // Problems found while loading that do not stop the scene from rendering, one line each
   // naming the file (the CLI prints them as "clhair: warning: ...").
   std::vector<std::string> warnings;
 };
 
-enum class CameraPreset { Close, Mid, Far };
 // Frames the world bounds of all grooms at 60 / 20 / 5 % of the image height, seen from
 // the direction given by azimuth (degrees about +y, 0 looks along -z) and elevation.
 Camera framePreset(const Scene& scene, CameraPreset preset, float azimuthDeg = 0.0f,
@@ -175,5 +203,15 @@ constexpr std::uint64_t kDefaultStrandFileLimit = 2ull << 30;
 // against `maxStrandBytes` before anything is allocated: pass the device's largest
 // allocation (Device::info().maxAlloc) when a device is open.
 Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes = kDefaultStrandFileLimit);
+
+// True when some frame of the scene differs from another (keys, a cage animation, wind).
+bool isAnimated(const Scene& scene);
+
+// The still scene at `frame`: keyed camera and groom transforms interpolated, each hair
+// mesh's cage taken from its cage animation and swayed by its wind, each per-frame strand
+// file read (the nearest whole frame). Depends only on `scene`, `frame` and those files.
+// Throws clhair::Error when the interpolated camera is degenerate or a frame's strand file
+// cannot be read.
+Scene sceneAtFrame(const Scene& scene, double frame);
 
 }  // namespace clhair

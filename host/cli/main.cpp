@@ -2,6 +2,7 @@
 //
 //   clhair devices                          list OpenCL devices and what clhair would use
 //   clhair render SCENE -o OUT.png|.exr     render a scene, print per-stage times
+//                [--reference [embree|raster] --spp N]   or its ground truth (default embree)
 //   clhair groom --preset NAME -o FILE      write a generated hair mesh
 //   clhair export-strands GROOM -o F.hair   write the generated strands as cyHair (F.data: USC,
 //                                           F.tfx: TressFX 4.0, resampled to 4..64 points)
@@ -11,11 +12,15 @@
 // (--subgroup, CLHAIR_SUBGROUP) or read kernels from a source tree (--kernel-dir,
 // CLHAIR_KERNEL_DIR). Any failure prints one line "clhair: error: ..." and exits 1;
 // output files are only written when the work completed.
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 
 #include <CLI/CLI.hpp>
@@ -89,11 +94,38 @@ int cmdDevices(const DeviceOptions& opts) {
 struct RenderFlags {
   int width = 0, height = 0, msaa = 1, spp = 256;
   bool reference = false;
+  std::string referenceMethod;  // embree (also when --reference has no value) or raster
   std::string filter = "auto";
   bool widthGiven = false, heightGiven = false;
   std::string camera, lod, dispatch = "auto", ao = "on";
   bool quiet = false;
 };
+
+// Reports a reference's progress on stderr: passes done of the total and the time left,
+// estimated from the mean pass after the first (which also pays for kernel builds, shadow
+// maps and the BVH); on a terminal one line rewritten in place, else a line at most every
+// 10 s (and the first and last ones).
+std::function<void(int, int)> referenceProgress() {
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
+  const bool tty = isatty(fileno(stderr)) != 0;
+  Clock::time_point first = start, last = start;
+  return [start, tty, first, last](int done, int total) mutable {
+    const Clock::time_point now = Clock::now();
+    if (done == 1) first = now;
+    const double elapsed = std::chrono::duration<double>(now - start).count();
+    const bool end = done == total;
+    if (!tty && done > 1 && !end && std::chrono::duration<double>(now - last).count() < 10.0)
+      return;
+    last = now;
+    const double perPass =
+        done > 1 ? std::chrono::duration<double>(now - first).count() / (done - 1) : elapsed;
+    const double left = perPass * (total - done);
+    std::fprintf(stderr, "%sclhair: reference %d/%d samples, %.0f s elapsed, %.0f s left%s",
+                 tty ? "\r" : "", done, total, elapsed, left, tty && !end ? "" : "\n");
+    std::fflush(stderr);
+  };
+}
 
 int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std::string& out,
               const RenderFlags& f) {
@@ -139,8 +171,13 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     throw Error("--filter must be on, off or auto, not \"" + f.filter + "\"");
   if (f.reference && (f.spp < 1 || f.spp > 65536))
     throw Error("--spp must be 1..65536, not " + std::to_string(f.spp));
+  ReferenceOptions ref;
+  ref.spp = f.spp;
+  if (f.reference && !f.referenceMethod.empty())
+    ref.method = parseReferenceMethod(f.referenceMethod);
+  if (f.reference && !quiet) ref.progress = referenceProgress();
   Renderer renderer(dev);
-  Frame frame = f.reference ? renderer.renderReference(scene, f.spp) : renderer.render(scene, ro);
+  Frame frame = f.reference ? renderer.renderReference(scene, ref) : renderer.render(scene, ro);
   writeImage(frame.color, out);
   if (!quiet) {
     std::printf("%s: %dx%d on %s (sub-group %s), %llu strands", out.c_str(), scene.width,
@@ -310,8 +347,13 @@ int main(int argc, char** argv) {
   render->add_option("--ao", rf.ao, "baked ambient occlusion: on (default) or off");
   render->add_option("--filter", rf.filter,
                      "reconstruction filter with MSAA 1: on, off, auto (as the scene says)");
-  render->add_flag("--reference", rf.reference,
-                   "render the ground truth: the average of --spp jittered true-width passes");
+  render
+      ->add_option("--reference", rf.referenceMethod,
+                   "render the ground truth, the average of --spp shifted true-width passes "
+                   "whose hair is traced as round curves (embree, the default) or drawn by the "
+                   "strand pass (raster)")
+      ->expected(0, 1)
+      ->check(CLI::IsMember({"embree", "raster"}));
   render->add_option("--spp", rf.spp, "samples per pixel of --reference (default 256)");
   render->add_flag("-q,--quiet", rf.quiet, "print nothing on success");
 
@@ -357,6 +399,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   rf.widthGiven = render->count("--width") > 0;
+  rf.reference = render->count("--reference") > 0;
   rf.heightGiven = render->count("--height") > 0;
   try {
     DeviceOptions resolved = DeviceOptions::fromEnvironment(opts);

@@ -52,8 +52,8 @@ struct StrandTracer::Impl {
   struct Groom {
     std::uint32_t draw = 0;
     bool fileColor = false;
-    std::vector<float> tangent;  // xyz per point
-    std::vector<float> attr;     // w, ao (or blue), u (or red), v (or green) per point
+    std::vector<float> tangent;           // xyz per point
+    std::vector<float> attr;              // w, ao (or blue), u (or red), v (or green) per point
     std::vector<std::uint32_t> segFirst;  // first point of each segment
   };
   struct Hit {
@@ -158,8 +158,9 @@ void StrandTracer::addGroom(std::uint32_t draw, const StrandSet& s, const gpu::C
       a[3] = fileColor ? s.look[4 * i + 1] : s.uv[2 * st + 1];
       if (k + 1 < n) {
         g.segFirst.push_back(static_cast<std::uint32_t>(i));
-        flags.push_back(static_cast<unsigned char>((k > 0 ? RTC_CURVE_FLAG_NEIGHBOR_LEFT : 0) |
-                                                   (k + 2 < n ? RTC_CURVE_FLAG_NEIGHBOR_RIGHT : 0)));
+        flags.push_back(
+            static_cast<unsigned char>((k > 0 ? RTC_CURVE_FLAG_NEIGHBOR_LEFT : 0) |
+                                       (k + 2 < n ? RTC_CURVE_FLAG_NEIGHBOR_RIGHT : 0)));
       }
     }
     at += n;
@@ -167,8 +168,8 @@ void StrandTracer::addGroom(std::uint32_t draw, const StrandSet& s, const gpu::C
   if (g.segFirst.empty()) return;
   RTCGeometry geom = rtcNewGeometry(r.device, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
   r.check("creating the curves of groom " + std::to_string(draw));
-  auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                         RTC_FORMAT_FLOAT4, 16, P));
+  auto* vb = static_cast<float*>(
+      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 16, P));
   auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0,
                                                             RTC_FORMAT_UINT, 4, g.segFirst.size()));
   auto* fb = static_cast<unsigned char*>(
@@ -222,9 +223,8 @@ void StrandTracer::trace(const gpu::ClhViewGpu& view, const std::vector<float>& 
         rh.ray.dir_z = 1.0f;
         rh.ray.tnear = kNearZ;
         const float d = depth[idx];
-        rh.ray.tfar = d < std::numeric_limits<float>::infinity()
-                          ? d
-                          : std::numeric_limits<float>::infinity();
+        rh.ray.tfar =
+            d < std::numeric_limits<float>::infinity() ? d : std::numeric_limits<float>::infinity();
         rh.ray.time = 0.0f;
         rh.ray.mask = 0xFFFFFFFFu;
         rh.ray.id = 0;

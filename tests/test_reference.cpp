@@ -100,7 +100,8 @@ TEST(TracedReference, CoverageOfStraightStrandsIsAnalytic) {
                        static_cast<float>((35.5 - v.cx) / v.fx)};
   const float widths[3] = {static_cast<float>(0.35 / v.fx), static_cast<float>(1.0 / v.fx),
                            static_cast<float>(2.6 / v.fx)};
-  for (int k = 0; k < 3; ++k) s.grooms.push_back(verticalStrand("s" + std::to_string(k), xs[k], widths[k]));
+  for (int k = 0; k < 3; ++k)
+    s.grooms.push_back(verticalStrand("s" + std::to_string(k), xs[k], widths[k]));
   Renderer r(test::sharedDevice());
   const std::vector<double> c = coverage(r, s, kSpp, ReferenceMethod::Embree);
   double worstAnalytic = 0.0, worstSampled = 0.0;
@@ -191,8 +192,8 @@ void expectSameWords(const Scene& s, double uvShare) {
     if (gpu::clh_gbuf_u(a) != gpu::clh_gbuf_u(b) || gpu::clh_gbuf_v(a) != gpu::clh_gbuf_v(b))
       continue;
     ++uvEqual;
-    wClose += std::abs(static_cast<int>(gpu::clh_gbuf_w(a)) -
-                       static_cast<int>(gpu::clh_gbuf_w(b))) <= 2;
+    wClose +=
+        std::abs(static_cast<int>(gpu::clh_gbuf_w(a)) - static_cast<int>(gpu::clh_gbuf_w(b))) <= 2;
     aoClose += std::abs(static_cast<int>(gpu::clh_gbuf_ao(a)) -
                         static_cast<int>(gpu::clh_gbuf_ao(b))) <= 2;
     float ta[3], tb[3];
@@ -200,9 +201,10 @@ void expectSameWords(const Scene& s, double uvShare) {
     gpu::clh_oct_decode(gpu::clh_gbuf_oct(b), tb);
     tangentClose += ta[0] * tb[0] + ta[1] * tb[1] + ta[2] * tb[2] > 0.95f;
   }
-  std::printf("pixels hit by both %zu, same u, v %zu; of those w within 2 codes %zu, AO %zu, "
-              "tangent %zu\n",
-              both, uvEqual, wClose, aoClose, tangentClose);
+  std::printf(
+      "pixels hit by both %zu, same u, v %zu; of those w within 2 codes %zu, AO %zu, "
+      "tangent %zu\n",
+      both, uvEqual, wClose, aoClose, tangentClose);
   ::testing::Test::RecordProperty("both_hit", std::to_string(both));
   ::testing::Test::RecordProperty("same_uv", std::to_string(uvEqual));
   ASSERT_GT(both, 200u);
@@ -296,9 +298,10 @@ TEST(TracedReference, AgreesWithTheRasterReferenceOnThickStrands) {
   const double doubled = hairMeanAbsDiff(tracedWide, raster, none);
   RecordProperty("mean_abs_diff", std::to_string(agree));
   RecordProperty("mean_abs_diff_doubled_width", std::to_string(doubled));
-  std::printf("traced vs raster reference over the hair: mean |diff| %.5f; traced at twice the "
-              "width: %.5f\n",
-              agree, doubled);
+  std::printf(
+      "traced vs raster reference over the hair: mean |diff| %.5f; traced at twice the "
+      "width: %.5f\n",
+      agree, doubled);
   EXPECT_LT(agree, kThickTolerance);
   EXPECT_GT(doubled, kThickTolerance);
 }

@@ -2,8 +2,10 @@
 // brought up to date, the grooms are resolved to their device forms and instance slots,
 // the deep opacity maps are rebuilt if their inputs changed, the opaque scene is drawn,
 // and then every groom in turn runs lod -> scan + sizing -> strands -> shade -> filter ->
-// composite over the same target. The pieces (host/frame/, host/groom/, host/stages/)
-// each own one job; this file only orders them and reads the frame back.
+// composite over the same target (the traced reference's frames take each groom's centre
+// layer from a GBufferSource instead of the strand pass). The pieces (host/frame/,
+// host/groom/, host/stages/) each own one job; this file only orders them and reads the
+// frame back.
 #include "renderer_impl.h"
 
 #include "cl/buffers.h"

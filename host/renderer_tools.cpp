@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <utility>
 
 #include "frame/view_math.h"
 #include "groom/strand_file_gpu.h"
@@ -26,6 +27,10 @@ ReferenceMethod parseReferenceMethod(const std::string& name) {
 
 namespace {
 
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
 // The centre layers of a traced reference frame: every pixel's ray is traced once the
 // opaque scene's depth is known, then each groom takes the words of the hits on it.
 class TracedLayers final : public GBufferSource {
@@ -34,8 +39,7 @@ class TracedLayers final : public GBufferSource {
   void opaqueDrawn(const gpu::ClhViewGpu& view, const std::vector<float>& depth) override {
     const auto t0 = std::chrono::steady_clock::now();
     tracer_.trace(view, depth);
-    traceMs +=
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    traceMs += msSince(t0);
   }
   void centreLayer(std::uint32_t draw, const gpu::ClhGroomGpu& params,
                    std::vector<std::uint64_t>& words) override {
@@ -48,9 +52,10 @@ class TracedLayers final : public GBufferSource {
 };
 
 // The strands of every groom instance the camera sees, as the strand pass draws them with
-// LOD off (exported once per groom, placed per instance), in a tracer.
-std::unique_ptr<StrandTracer> traceScene(Renderer::Impl& r, const Scene& s,
-                                         const RenderOptions& o) {
+// LOD off (exported once per groom, placed per instance), in a tracer. Wall times of the
+// exports and of building the curves and their BVH go to *exportMs and *buildMs.
+std::unique_ptr<StrandTracer> traceScene(Renderer::Impl& r, const Scene& s, const RenderOptions& o,
+                                         double* exportMs, double* buildMs) {
   auto tracer = std::make_unique<StrandTracer>();
   r.grooms.beginFrame();
   const std::vector<GroomDraw> draws = r.resolveGrooms(s);
@@ -64,10 +69,16 @@ std::unique_ptr<StrandTracer> traceScene(Renderer::Impl& r, const Scene& s,
     d.groom->useAo(o.ambientOcclusion != 0);  // the exported AO is what the frame draws
     if (!d.groom->prepare(*d.state, d.instance->transform, pass)) continue;
     auto it = exported.find(d.groom);
+    auto t0 = std::chrono::steady_clock::now();
     if (it == exported.end()) it = exported.emplace(d.groom, d.groom->exportStrands(1.0f)).first;
+    *exportMs += msSince(t0);
+    t0 = std::chrono::steady_clock::now();
     tracer->addGroom(static_cast<std::uint32_t>(k), it->second, d.state->params);
+    *buildMs += msSince(t0);
   }
+  const auto t0 = std::chrono::steady_clock::now();
   tracer->commit();
+  *buildMs += msSince(t0);
   return tracer;
 }
 
@@ -91,13 +102,10 @@ Frame Renderer::renderReference(const Scene& s, const ReferenceOptions& ro) {
   o.trueWidth = true;  // no minimum hit diameter
   std::unique_ptr<StrandTracer> tracer;
   std::unique_ptr<TracedLayers> layers;
-  double buildMs = 0.0;
+  double exportMs = 0.0, buildMs = 0.0;
   if (ro.method == ReferenceMethod::Embree) {
-    const auto t0 = std::chrono::steady_clock::now();
-    tracer = traceScene(*impl_, s, o);
+    tracer = traceScene(*impl_, s, o, &exportMs, &buildMs);
     layers = std::make_unique<TracedLayers>(*tracer);
-    buildMs =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   }
   Frame sum;
   std::vector<double> acc;
@@ -120,14 +128,15 @@ Frame Renderer::renderReference(const Scene& s, const ReferenceOptions& ro) {
     if (ro.progress) ro.progress(i + 1, spp);
   }
   for (std::size_t k = 0; k < acc.size(); ++k) sum.color.rgba[k] = static_cast<float>(acc[k] / spp);
-  if (layers) {
-    StageTime build, trace;
-    build.stage = "bvh";
-    build.ms = buildMs;
-    trace.stage = "trace";
-    trace.ms = layers->traceMs;
-    sum.timings.push_back(build);
-    sum.timings.push_back(trace);
+  if (layers) {  // wall times of the traced reference's host work
+    for (auto [stage, ms] : {std::pair<const char*, double>{"export", exportMs},
+                             {"bvh", buildMs},
+                             {"trace", layers->traceMs}}) {
+      StageTime t;
+      t.stage = stage;
+      t.ms = ms;
+      sum.timings.push_back(t);
+    }
   }
   return sum;
 }

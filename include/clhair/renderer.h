@@ -107,8 +107,8 @@ class Renderer {
   // there agree. In each frame a pixel shows the strand its (shifted) centre sees at the
   // strand's true width: traced by Embree (ReferenceMethod::Embree) or drawn by the strand
   // pass (Raster); MSAA 1, no filter, no LOD, shaded by the shading kernel, composited per
-  // frame so alpha is correct. Timings sum all frames' stages (the Embree method adds a
-  // "trace" stage, its wall time).
+  // frame so alpha is correct. Timings sum all frames' stages (the Embree method adds the
+  // wall times of its host work: "export" of the strands, "bvh" build, "trace").
   Frame renderReference(const Scene& scene, const ReferenceOptions& options);
   Frame renderReference(const Scene& scene, int spp,
                         ReferenceMethod method = ReferenceMethod::Embree);

@@ -9,7 +9,9 @@
 //   atomics   64-bit atom_min throughput with and without the load skip, and each
 //             table1 MSAA-1 raster time as a multiple of that floor.
 //   quality   Lipp Fig. 7: SWR1, SWR1+F, SWR1+F+L, MSAA 2/4/8 at close/mid/far, FLIP and
-//             PSNR against the reference (jittered true-width passes), with frame times.
+//             PSNR against the reference (--ref embree: the strands traced as round curves,
+//             the default; raster: jittered true-width strand passes), with frame times;
+//             at mid also SWR1 against the other reference and the two references' times.
 //   temporal  a 30-frame orbit: mean frame-to-frame change for SWR1, SWR1+F, MSAA 4.
 //   explicit  the hair mesh vs the same strands as a cyHair file: device bytes, frame times.
 //   mesh      the head as the analytic sphere vs a ~50k-triangle OBJ-style mesh of the same
@@ -188,6 +190,7 @@ int main(int argc, char** argv) {
   int runs = 3, warmup = 1, width = 1920, height = 1080, refSpp = 64, qualityWidth = 960,
       qualityHeight = 540;
   bool quick = false;
+  std::string refName = "embree";
   app.add_option("--device", dopts.selector, "device: P:D or a name substring");
   app.add_option("--out", out, "folder for bench.json, bench.csv, bench.md");
   app.add_option(
@@ -199,6 +202,10 @@ int main(int argc, char** argv) {
   app.add_option("--height", height, "table1 height");
   app.add_option("--scenes", sceneDir, "folder with groom1.json and groom2.json");
   app.add_option("--ref-spp", refSpp, "samples per pixel of the quality reference (default 64)");
+  app.add_option("--ref", refName,
+                 "quality reference: embree (strands traced as round curves, default) or raster "
+                 "(jittered true-width strand passes)")
+      ->check(CLI::IsMember({"embree", "raster"}));
   app.add_option("--quality-width", qualityWidth, "quality and temporal sections: width");
   app.add_option("--quality-height", qualityHeight, "quality and temporal sections: height");
   app.add_flag("--quick", quick, "smaller sweep for a fast look (640x360, 1 run, MSAA 1 and 4)");
@@ -458,8 +465,11 @@ int main(int argc, char** argv) {
       // true-width passes), FLIP and PSNR, with its frame time.
       std::filesystem::create_directories(out + "/quality");
       const int qw = quick ? 320 : qualityWidth, qh = quick ? 180 : qualityHeight;
+      const ReferenceMethod refMethod = parseReferenceMethod(refName);
+      const ReferenceMethod otherMethod =
+          refMethod == ReferenceMethod::Embree ? ReferenceMethod::Raster : ReferenceMethod::Embree;
       md << "\n## Quality against the reference (" << groomNames[0] << ", " << qw << "x" << qh
-         << ", reference " << refSpp
+         << ", " << referenceMethodName(refMethod) << " reference " << refSpp
          << " spp)\n\nOver the hair's pixels (where the reference differs from the scene without "
             "hair): "
             "mean FLIP (lower is better) / PSNR dB / frame ms. Whole-image values are in "
@@ -477,9 +487,33 @@ int main(int argc, char** argv) {
           {"SWR MSAA 8", 8, 0, 0, true}};
       std::map<std::string, std::vector<std::string>> cells;
       json q;
+      std::ostringstream refMd;  // the two references at mid
+      auto hairFlip = [](const Frame& ref, const Frame& f, const std::vector<char>& mask) {
+        ImageComparison cmp = compareImages(ref.color, f.color);
+        double sum = 0.0;
+        std::size_t n = 0;
+        for (std::size_t i = 0; i < mask.size(); ++i)
+          if (mask[i]) {
+            ++n;
+            sum += cmp.flip.error[i];
+          }
+        return sum / std::max<std::size_t>(n, 1);
+      };
+      auto wallMs = [](auto&& fn) {
+        const auto t0 = std::chrono::steady_clock::now();
+        fn();
+        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+            .count();
+      };
       for (int d = 0; d < 3; ++d) {
         Scene s = framed(scenes[0], dists[d], qw, qh);
-        Frame ref = b.renderer.renderReference(s, refSpp);
+        Frame ref;
+        const double refMs =
+            wallMs([&] { ref = b.renderer.renderReference(s, refSpp, refMethod); });
+        q["reference"][distNames[d]] = {
+            {"method", referenceMethodName(refMethod)}, {"spp", refSpp}, {"wall_ms", refMs}};
+        std::fprintf(stderr, "quality %s: %s reference, %d spp, %.1f s\n", distNames[d],
+                     referenceMethodName(refMethod), refSpp, refMs / 1000.0);
         Scene bare = s;
         bare.grooms.clear();
         const Frame background = b.renderer.render(bare);
@@ -523,6 +557,31 @@ int main(int argc, char** argv) {
                                    {"frame_ms", m.total.median}, {"hair_pixels", nHair}};
           std::fprintf(stderr, "quality %s %s: hair FLIP %.4f PSNR %.1f (image FLIP %.4f)\n",
                        c.name, distNames[d], flipHair, psnrHair, cmp.flip.mean);
+          if (d == 1 && c.msaa == 1 && c.filter == 0 && c.lod == 0) {
+            // SWR1 at mid against the other reference too, over the same hair pixels
+            Frame other;
+            const double otherMs =
+                wallMs([&] { other = b.renderer.renderReference(s, refSpp, otherMethod); });
+            writeImage(other.color,
+                       out + "/quality/mid_reference_" + referenceMethodName(otherMethod) + ".png");
+            const double flipOther = hairFlip(other, f, hairMask);
+            const double flipRefs = hairFlip(ref, other, hairMask);
+            const char* a = referenceMethodName(refMethod);
+            const char* o = referenceMethodName(otherMethod);
+            refMd << "\nSWR1 at mid, mean FLIP over the hair against each reference (" << refSpp
+                  << " spp): " << a << " " << fmt(flipHair, 4) << ", " << o << " "
+                  << fmt(flipOther, 4) << "; the " << o << " reference against the " << a
+                  << " one: " << fmt(flipRefs, 4) << ". Reference wall time: " << a << " "
+                  << fmt(refMs / 1000.0, 1) << " s, " << o << " " << fmt(otherMs / 1000.0, 1)
+                  << " s.\n";
+            q["references_mid"] = {{"swr1_flip_hair_" + std::string(a), flipHair},
+                                   {"swr1_flip_hair_" + std::string(o), flipOther},
+                                   {"flip_hair_between_references", flipRefs},
+                                   {std::string(a) + "_wall_ms", refMs},
+                                   {std::string(o) + "_wall_ms", otherMs}};
+            std::fprintf(stderr, "quality SWR1 mid: hair FLIP %.4f vs %s, %.4f vs %s\n", flipHair,
+                         a, flipOther, o);
+          }
         }
       }
       for (const Config& c : configs) {
@@ -531,6 +590,7 @@ int main(int argc, char** argv) {
         md << "\n";
       }
       report["quality"] = q;
+      md << refMd.str();
       md << "\nImages: `" << out << "/quality/`.\n";
     }
 

@@ -2,8 +2,10 @@
 // brought up to date, the grooms are resolved to their device forms and instance slots,
 // the deep opacity maps are rebuilt if their inputs changed, the opaque scene is drawn,
 // and then every groom in turn runs lod -> scan + sizing -> strands -> shade -> filter ->
-// composite over the same target. The pieces (host/frame/, host/groom/, host/stages/)
-// each own one job; this file only orders them and reads the frame back.
+// composite over the same target (the traced reference's frames take each groom's centre
+// layer from a GBufferSource instead of the strand pass). The pieces (host/frame/,
+// host/groom/, host/stages/) each own one job; this file only orders them and reads the
+// frame back.
 #include "renderer_impl.h"
 
 #include "cl/buffers.h"
@@ -17,8 +19,15 @@ Renderer::~Renderer() = default;
 const Device& Renderer::device() const { return impl_->device; }
 
 Frame Renderer::render(const Scene& s, const RenderOptions& options) {
-  Impl& r = *impl_;
+  return impl_->frame(s, options, nullptr);
+}
+
+Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBufferSource* source) {
+  Impl& r = *this;
   RenderTarget& t = r.target;
+  if (source && options.msaa != 1)
+    throw Error("a given G-buffer has one sample per pixel, not MSAA " +
+                std::to_string(options.msaa));
   t.ensure(s.width, s.height, options.msaa);
   r.scene.upload(s);
   gpu::ClhViewGpu view = makeView(s.camera, s.width, s.height);
@@ -43,6 +52,12 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
   r.shadows.update(s, options, lodCorrection, draws, r.scene, &r.profiler);
   const ShadowMapInputs maps = r.shadows.maps();
   r.scene.drawOpaque(t.viewTarget(), maps, t.color, t.depth, true, &r.profiler);
+  std::vector<std::uint64_t> words;
+  if (source) {
+    std::vector<float> opaqueDepth(pixels);
+    readBack(r.dev, "the opaque scene's depth", t.depth, opaqueDepth.data(), pixels);
+    source->opaqueDrawn(view, opaqueDepth);
+  }
 
   ViewPass pass;
   pass.view = &t.view;
@@ -61,16 +76,25 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
   raster.stats = options.rasterStats;
   raster.mode = mode;
   std::vector<const GroomDraw*> drawn;
-  for (const GroomDraw& d : draws) {
+  for (std::size_t k = 0; k < draws.size(); ++k) {
+    const GroomDraw& d = draws[k];
     GroomInstanceGpu& inst = *d.state;
     d.groom->useAo(options.ambientOcclusion != 0);
     if (!d.groom->prepare(inst, d.instance->transform, pass)) continue;
     drawn.push_back(&d);
     d.groom->lod(inst, t.view, &r.profiler);
-    raster.strands =
-        mode == DispatchMode::ReadBack ? d.groom->readTotal(inst) : d.groom->strandCount();
     t.clearGBuffer(&r.profiler);
-    d.groom->raster(inst, raster, &r.profiler);
+    if (source) {
+      source->centreLayer(static_cast<std::uint32_t>(k), inst.params, words);
+      if (words.size() != pixels)
+        throw Error("a given G-buffer layer has " + std::to_string(words.size()) + " words for " +
+                    std::to_string(pixels) + " pixels");
+      upload(r.dev, t.gbuffer, words.data(), pixels);
+    } else {
+      raster.strands =
+          mode == DispatchMode::ReadBack ? d.groom->readTotal(inst) : d.groom->strandCount();
+      d.groom->raster(inst, raster, &r.profiler);
+    }
     if (options.captureGBuffer) {  // the raster's inputs, before compositing changes the depth
       const auto* gb = reinterpret_cast<const std::uint8_t*>(&inst.params);
       const auto* vb = reinterpret_cast<const std::uint8_t*>(&view);

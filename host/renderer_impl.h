@@ -21,6 +21,21 @@
 
 namespace clhair {
 
+// A centre layer that comes from elsewhere than the strand pass (the traced reference of
+// renderer_tools.cpp): the frame loop hands it the opaque scene's depth once that is drawn,
+// then asks it, groom by groom, for the words it would otherwise rasterize. The LOD pass
+// still runs (shading reads its totals); the strand pass does not.
+class GBufferSource {
+ public:
+  virtual ~GBufferSource() = default;
+  // The frame's view record and the opaque scene's view depth per pixel (+inf: nothing).
+  virtual void opaqueDrawn(const gpu::ClhViewGpu& view, const std::vector<float>& depth) = 0;
+  // The centre layer (width * height words) of groom draw `draw`, whose record for this
+  // frame is `params`.
+  virtual void centreLayer(std::uint32_t draw, const gpu::ClhGroomGpu& params,
+                           std::vector<std::uint64_t>& words) = 0;
+};
+
 struct Renderer::Impl {
   Device device;
   Device::Impl& dev;
@@ -65,6 +80,10 @@ struct Renderer::Impl {
     if (m != DispatchMode::Auto) return m;
     return dev.info.isGpu ? DispatchMode::OverLaunch : DispatchMode::ReadBack;
   }
+
+  // One frame (Renderer::render); with `source`, its centre layers replace the strand pass
+  // (MSAA 1 only).
+  Frame frame(const Scene& s, const RenderOptions& options, GBufferSource* source);
 
   // Every groom instance of the scene with its device form; the k-th instance of one
   // groom gets instance slot k. Instances of one groom share its layer vertices, so they

@@ -93,13 +93,15 @@ else
   # driver only are suppressed, see cmake/sanitizers/) holds the libFuzzer targets of the
   # file readers (10 s each on their seed corpora) and a sanitized clhair_tests and CLI.
   # It runs the tests whose time goes into host code: the file, scene and OBJ readers, the
-  # CLI's refusals, the CPU raster, references and image metrics, environment building,
-  # and the renderer API end to end on the device. The kernels' own tests (raster,
-  # shadows, filter, LOD, sub-groups, cross-compiles, Oclgrind) spend their time in PoCL
-  # and LLVM, which are not instrumented, so they run in the Release build only. Every
-  # test runs once: the Release run leaves out the ones the sanitized run has (all of them
-  # run there when clang-15 is missing), which keeps the whole command near 9 minutes.
-  host_tests='^(StrandFile[A-Za-z]*|Mesh|MeshCli|ExplicitScene|Metrics[A-Za-z]*|CpuRaster|Reference'
+  # CLI's refusals, the CPU raster, references (the Embree tracer among them) and image
+  # metrics, environment building, and the renderer API end to end on the device. The
+  # kernels' own tests (raster, shadows, filter, LOD, sub-groups, cross-compiles, Oclgrind)
+  # spend their time in PoCL and LLVM, which are not instrumented, so they run in the
+  # Release build only. Every test runs once: the Release run leaves out the ones the
+  # sanitized run has (all of them run there when clang-15 is missing), which keeps the
+  # whole command near 9 minutes.
+  host_tests='^(StrandFile[A-Za-z]*|Mesh|MeshCli|ExplicitScene|Metrics[A-Za-z]*|CpuRaster'
+  host_tests+='|Reference|TracedReference'
   host_tests+='|BsdfReference|LodMath|FastMath|Environment(Sh|Errors|Mapping|Sky|Build)|Render'
   host_tests+='|BinaryCache|ExplicitMemory|ExplicitRender|Host|Keyframes|AnimatedScene|CageFile)\.'
   host_tests+='|^Cli\.(Missing|Malformed|Absurd|Zero|HairMeshWith|Unknown|ParseErrors|Devices'

@@ -230,6 +230,8 @@ TEST(Cli, ParseErrorsAreOneErrorLineAndExitOne) {
   } cases[] = {{render + " --width abc", {"--width", "abc"}},
                {render + " --no-such-flag", {"--no-such-flag"}},
                {"render -o " + quote(out), {"scene"}},
+               {render + " --reference foo", {"--reference", "foo", "embree", "raster"}},
+               {render + " --reference --spp 0", {"--spp", "0"}},
                {"", {"subcommand"}}};
   for (const auto& c : cases) {
     SCOPED_TRACE(c.args);
@@ -246,6 +248,26 @@ TEST(Cli, ParseErrorsAreOneErrorLineAndExitOne) {
 }
 
 // ---- end to end ---------------------------------------------------------------------------
+
+// Both references run from the CLI, report their progress on stderr and write the image;
+// a bare --reference is the traced one.
+TEST(Cli, ReferenceMethodsRenderWithProgress) {
+  const std::string dir = scratchDir();
+  writeJson(dir + "/scene.json", sceneWith(assetPath("grooms/tiny.hairmesh.json")));
+  const std::string render = "render " + quote(dir + "/scene.json") + " --width 48 --height 32";
+  for (const std::string method : {"", "embree", "raster"}) {
+    SCOPED_TRACE("--reference " + method);
+    const std::string out = dir + "/ref_" + (method.empty() ? "bare" : method) + ".png";
+    const CommandResult r =
+        runCli(render + " -o " + quote(out) + " --reference " + method + " --spp 3");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("reference 3/3 samples"), std::string::npos) << r.output;
+    EXPECT_TRUE(fs::exists(out));
+    // the traced reference reports its trace stage, the raster one its strand pass
+    const bool traced = method != "raster";
+    EXPECT_EQ(r.output.find("  trace ") != std::string::npos, traced) << r.output;
+  }
+}
 
 // Pixels (x, y) whose colours differ between two images of equal size.
 bool pixelDiffers(const Image& a, const Image& b, int x, int y) {

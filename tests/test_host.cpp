@@ -79,7 +79,7 @@ TEST(Host, ReferenceModeDoesNotLeakIntoLaterFrames) {
   Renderer fresh(test::sharedDevice());
   const Frame expected = fresh.render(s);
   Renderer r(test::sharedDevice());
-  const Frame reference = r.renderReference(s, 1);
+  const Frame reference = r.renderReference(s, 1, ReferenceMethod::Raster);
   const Frame after = r.render(s);
   ASSERT_EQ(after.color.rgba.size(), expected.color.rgba.size());
   EXPECT_EQ(0, std::memcmp(after.color.rgba.data(), expected.color.rgba.data(),

@@ -368,5 +368,85 @@ TEST(Shadows, LodCorrectionIsInertWithoutLodAndUndoesPartOfLodsDarkening) {
       << "the correction removed under a tenth of the error";
 }
 
+// An opaque sphere's shadow on the ground, seen from above at about one map texel per
+// pixel, with percentage-closer filtering (ShadowParams::pcf) and without it. Thin strands
+// at the corners of a 1-unit box only frame the light's map; the row through the shadow's
+// centre does not meet their shadows.
+std::vector<float> groundRow(bool pcf) {
+  StrandGroom g;
+  g.name = "frame";
+  for (float x : {-0.5f, 0.5f})
+    for (float z : {-0.5f, 0.5f}) {
+      g.pointCounts.push_back(2);
+      g.points.push_back(glm::vec3(x, 0.0f, z));
+      g.points.push_back(glm::vec3(x, 0.5f, z));
+    }
+  g.appearance.strandWidth = 1e-4f;
+  Scene s;
+  s.width = 96;
+  s.height = 96;
+  s.ambient = glm::vec3(0.0f);
+  s.background = glm::vec3(0.0f);
+  s.grooms.emplace_back("frame", std::make_shared<const StrandGroom>(std::move(g)));
+  Plane ground;
+  ground.color = glm::vec3(0.5f);
+  s.planes.push_back(ground);
+  Sphere ball;
+  ball.center = glm::vec3(0.0f, 0.5f, 0.0f);
+  ball.radius = 0.08f;
+  s.spheres.push_back(ball);
+  Light l;
+  l.direction = glm::normalize(glm::vec3(0.6f, 1.0f, 0.0f));  // the shadow falls at x = -0.3
+  l.intensity = 2.0f;
+  l.shadows = true;
+  s.lights.push_back(l);
+  s.shadows.resolution = 256;  // 1.5 units across: 0.006 per texel
+  s.shadows.pcf = pcf;
+  s.camera.position = glm::vec3(-0.3f, 2.0f, 0.0f);  // 0.6 units across: 0.00625 per pixel
+  s.camera.target = glm::vec3(-0.3f, 0.0f, 0.0f);
+  s.camera.up = glm::vec3(0.0f, 0.0f, -1.0f);
+  s.camera.fovYDegrees = 2.0f * glm::degrees(std::atan(0.3f / 2.0f));
+  Renderer r(test::sharedDevice());
+  const Frame f = r.render(s);
+  std::vector<float> row(s.width);
+  for (int x = 0; x < s.width; ++x) row[x] = f.color.pixel(x, s.height / 2)[1];
+  return row;
+}
+
+// Pixels of a row, from the lit left end to the shadow's centre, strictly between 2 % and
+// 98 % of the lit value (the shadow edge's ramp).
+int rampPixels(const std::vector<float>& row, int centre) {
+  int n = 0;
+  for (int x = 0; x <= centre; ++x) n += row[x] > 0.02f * row[0] && row[x] < 0.98f * row[0];
+  return n;
+}
+
+TEST(Shadows, OpaqueShadowEdgesArePercentageCloserFiltered) {
+  const std::vector<float> hard = groundRow(false), soft = groundRow(true);
+  const int centre = static_cast<int>(hard.size()) / 2;  // x = -0.3, the shadow's centre
+  ASSERT_GT(hard[0], 0.05f) << "the left end of the row is lit";
+  ASSERT_EQ(hard[centre], 0.0f) << "the shadow's centre is dark (no ambient light)";
+  ASSERT_EQ(soft[centre], 0.0f);
+  // the edge: a monotonic ramp over several pixels, wider than the bilinear lookup's
+  for (int x = 1; x <= centre; ++x)
+    EXPECT_LE(soft[x], soft[x - 1] + 1e-6f) << "pixel " << x << " brightens toward the shadow";
+  const int hardRamp = rampPixels(hard, centre), softRamp = rampPixels(soft, centre);
+  RecordProperty("ramp_pixels_bilinear", std::to_string(hardRamp));
+  RecordProperty("ramp_pixels_pcf", std::to_string(softRamp));
+  EXPECT_GE(softRamp, 3);
+  EXPECT_GT(softRamp, hardRamp);
+  // fully lit and fully shadowed pixels (no edge within 4 pixels) keep their value
+  int unchanged = 0;
+  for (int x = 4; x + 4 < centre; ++x) {
+    bool flat = true;
+    for (int d = -4; d <= 4; ++d) flat &= hard[x + d] == hard[x];
+    if (!flat) continue;
+    ++unchanged;
+    EXPECT_NEAR(soft[x], hard[x], 1e-5f * hard[0]) << "pixel " << x;
+  }
+  for (int x = centre - 2; x <= centre + 2; ++x) EXPECT_EQ(soft[x], 0.0f) << "pixel " << x;
+  EXPECT_GT(unchanged, 10);
+}
+
 }  // namespace
 }  // namespace clhair

@@ -19,6 +19,7 @@ namespace {
 struct Compared {
   float maxError = 0.0f;
   float maxTangentError = 0.0f;
+  float maxUvError = 0.0f;  // the exported root uv (the G-buffer's u, v)
   float size = 0.0f;
   std::size_t strands = 0;
 };
@@ -48,6 +49,8 @@ Compared compareWithReference(Device& dev, const HairMesh& mesh) {
     const std::uint32_t C = set.pointCounts[s];
     EXPECT_EQ(C, fullDetailControlPoints(mesh));
     ReferenceStrand ref = referenceStrand(data, params, roots, b, local, C);
+    c.maxUvError = std::max({c.maxUvError, std::fabs(set.uv[2 * s] - ref.uv.x),
+                             std::fabs(set.uv[2 * s + 1] - ref.uv.y)});
     for (std::uint32_t k = 0; k < C; ++k) {
       glm::vec3 p(set.points[3 * (offset + k)], set.points[3 * (offset + k) + 1],
                   set.points[3 * (offset + k) + 2]);
@@ -74,6 +77,8 @@ TEST_P(StrandsVsReference, KernelMatchesCpuReference) {
   EXPECT_LT(c.maxError, 1e-4f * c.size) << "groom size " << c.size;
   // tangents are unit vectors built from the same points
   EXPECT_LT(c.maxTangentError, 1e-2f);
+  // the root uv the traced reference writes into its words: one 6-bit code is 1/63
+  EXPECT_LT(c.maxUvError, 1e-4f);
   RecordProperty("max_error_over_size", std::to_string(c.maxError / c.size));
 }
 

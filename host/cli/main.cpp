@@ -2,6 +2,7 @@
 //
 //   clhair devices                          list OpenCL devices and what clhair would use
 //   clhair render SCENE -o OUT.png|.exr     render a scene, print per-stage times
+//                [--reference [embree|raster] --spp N]   or its ground truth (default embree)
 //     [--frames 1-240[:STEP] -o OUT.####.exr] a frame range, one file per frame
 //   clhair groom --preset NAME -o FILE      write a generated hair mesh
 //   clhair export-strands GROOM -o F.hair   write the generated strands as cyHair (F.data: USC,
@@ -12,12 +13,15 @@
 // (--subgroup, CLHAIR_SUBGROUP) or read kernels from a source tree (--kernel-dir,
 // CLHAIR_KERNEL_DIR). Any failure prints one line "clhair: error: ..." and exits 1;
 // output files are only written when the work completed.
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 
 #include <CLI/CLI.hpp>
@@ -91,6 +95,7 @@ int cmdDevices(const DeviceOptions& opts) {
 struct RenderFlags {
   int width = 0, height = 0, msaa = 1, spp = 256;
   bool reference = false;
+  std::string referenceMethod;  // embree (also when --reference has no value) or raster
   std::string filter = "auto";
   bool widthGiven = false, heightGiven = false;
   std::string camera, lod, dispatch = "auto", ao = "on";
@@ -136,6 +141,32 @@ std::string seconds(double s) {
     std::snprintf(buf, sizeof(buf), "%dm%02ds", static_cast<int>(s / 60.0),
                   static_cast<int>(s) % 60);
   return buf;
+}
+
+// Reports a reference's progress on stderr: passes done of the total and the time left,
+// estimated from the mean pass after the first (which also pays for kernel builds, shadow
+// maps and the BVH); on a terminal one line rewritten in place, else a line at most every
+// 10 s (and the first and last ones).
+std::function<void(int, int)> referenceProgress() {
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
+  const bool tty = isatty(fileno(stderr)) != 0;
+  Clock::time_point first = start, last = start;
+  return [start, tty, first, last](int done, int total) mutable {
+    const Clock::time_point now = Clock::now();
+    if (done == 1) first = now;
+    const double elapsed = std::chrono::duration<double>(now - start).count();
+    const bool end = done == total;
+    if (!tty && done > 1 && !end && std::chrono::duration<double>(now - last).count() < 10.0)
+      return;
+    last = now;
+    const double perPass =
+        done > 1 ? std::chrono::duration<double>(now - first).count() / (done - 1) : elapsed;
+    const double left = perPass * (total - done);
+    std::fprintf(stderr, "%sclhair: reference %d/%d samples, %.0f s elapsed, %.0f s left%s",
+                 tty ? "\r" : "", done, total, elapsed, left, tty && !end ? "" : "\n");
+    std::fflush(stderr);
+  };
 }
 
 int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std::string& out,
@@ -190,6 +221,11 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     presetValue = parseCameraPreset(camera);
     preset = &presetValue;
   }
+  ReferenceOptions ref;
+  ref.spp = f.spp;
+  if (f.reference && !f.referenceMethod.empty())
+    ref.method = parseReferenceMethod(f.referenceMethod);
+  if (f.reference && !quiet) ref.progress = referenceProgress();
   Renderer renderer(dev);
   // Every frame is evaluated from the scene and its number alone and rendered from a
   // cleared target, so it is the same whichever frames this process rendered before.
@@ -214,7 +250,7 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     if (rendered == 0)
       for (const std::string& w : viewWarnings(still, scenePath))
         std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
-    Frame frame = f.reference ? renderer.renderReference(still, f.spp) : renderer.render(still, ro);
+    Frame frame = f.reference ? renderer.renderReference(still, ref) : renderer.render(still, ro);
     writeImage(frame.color, path);
     // per-frame strand files are new grooms every frame: their device forms go with it
     renderer.releaseGrooms();
@@ -402,8 +438,13 @@ int main(int argc, char** argv) {
   render->add_option("--ao", rf.ao, "baked ambient occlusion: on (default) or off");
   render->add_option("--filter", rf.filter,
                      "reconstruction filter with MSAA 1: on, off, auto (as the scene says)");
-  render->add_flag("--reference", rf.reference,
-                   "render the ground truth: the average of --spp jittered true-width passes");
+  render
+      ->add_option("--reference", rf.referenceMethod,
+                   "render the ground truth, the average of --spp shifted true-width passes "
+                   "whose hair is traced as round curves (embree, the default) or drawn by the "
+                   "strand pass (raster)")
+      ->expected(0, 1)
+      ->check(CLI::IsMember({"embree", "raster"}));
   render->add_option("--spp", rf.spp, "samples per pixel of --reference (default 256)");
   render->add_option("--frames", rf.frames,
                      "frames of an animated scene: N, FIRST-LAST or FIRST-LAST:STEP (default 1); "
@@ -454,6 +495,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   rf.widthGiven = render->count("--width") > 0;
+  rf.reference = render->count("--reference") > 0;
   rf.heightGiven = render->count("--height") > 0;
   try {
     DeviceOptions resolved = DeviceOptions::fromEnvironment(opts);

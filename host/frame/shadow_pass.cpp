@@ -70,6 +70,7 @@ ShadowPass::Key ShadowPass::keyOf(const Scene& s, const RenderOptions& o, bool l
   putValue(s.shadows.density);
   putValue(s.shadows.lodCorrection);
   putValue(s.shadows.bias);
+  putValue(s.shadows.pcf);
   for (const Sphere& sp : s.spheres) {
     putValue(sp.center);
     putValue(sp.radius);
@@ -171,6 +172,7 @@ void ShadowPass::render(const Scene& s, const RenderOptions& cameraOptions, bool
     sh.density = s.shadows.density;
     for (int k = 0; k < 3; ++k) sh.bound[k] = s.shadows.layers[k];
     sh.bias = s.shadows.bias;
+    sh.pcf = s.shadows.pcf ? 1u : 0u;
     sh.depth_near = pass.nearZ;
     sh.depth_far = pass.farZ;
     upload(dev_, one_[slot], &sh, 1);

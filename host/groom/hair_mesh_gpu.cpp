@@ -245,10 +245,24 @@ StrandSet HairMeshGpu::exportStrands(float lod) {
   std::vector<cl_uint> offsets(
       gpu::clh_lod_drawn_total_at(static_cast<gpu::clh_u32>(data_.bundles.size())) + 1);
   readBack(dev_, "strand offsets", inst->offsets, offsets.data(), offsets.size());
+  // the root sample of each strand, for its uv (clh_strand_setup in hair_style.h)
+  std::vector<glm::vec2> rootsQuad(roots_->size), rootsTri(roots_->size);
+  readBack(dev_, "root sample set", roots_->quad, rootsQuad.data(), rootsQuad.size());
+  readBack(dev_, "root sample set", roots_->triangle, rootsTri.data(), rootsTri.size());
   out.bundleOf.resize(total);
+  out.uv.resize(2 * static_cast<std::size_t>(total));
   for (std::size_t b = 0; b + 1 < offsets.size(); ++b)
-    for (cl_uint i = offsets[b]; i < offsets[b + 1] && i < total; ++i)
+    for (cl_uint i = offsets[b]; i < offsets[b + 1] && i < total; ++i) {
       out.bundleOf[i] = static_cast<std::uint32_t>(b);
+      const gpu::ClhBundle& bundle = data_.bundles[b];
+      const std::uint32_t root = std::min<std::uint32_t>(i - offsets[b], roots_->size - 1);
+      const glm::vec2 st = bundle.triangle ? rootsTri[root] : rootsQuad[root];
+      const float w0 = (1.0f - st.x) * (1.0f - st.y), w1 = st.x * (1.0f - st.y), w2 = st.x * st.y,
+                  w3 = (1.0f - st.x) * st.y;
+      for (int c = 0; c < 2; ++c)
+        out.uv[2 * i + c] = w0 * bundle.uv[c] + w1 * bundle.uv[2 + c] + w2 * bundle.uv[4 + c] +
+                            w3 * bundle.uv[6 + c];
+    }
   for (std::uint32_t s = 0; s < total; ++s) {
     const std::size_t base = static_cast<std::size_t>(s) * CLH_MAX_CONTROL_POINTS;
     for (std::uint32_t k = 0; k < out.pointCounts[s] && k < CLH_MAX_CONTROL_POINTS; ++k) {
@@ -257,6 +271,7 @@ StrandSet HairMeshGpu::exportStrands(float lod) {
       out.points.insert(out.points.end(), {q.s[0], q.s[1], q.s[2]});
       out.tangents.insert(out.tangents.end(), {tq.s[0], tq.s[1], tq.s[2]});
       out.w.push_back(q.s[3]);
+      out.ao.push_back(tq.s[3]);
     }
   }
   return out;

@@ -164,6 +164,12 @@ StrandSet StrandFileGpu::exportStrands(float lod) {
   readBack(dev_, "exported strands", points, p.data(), P);
   readBack(dev_, "exported strands", tangents, t.data(), P);
   readBack(dev_, "exported strands", countBuf, counts.data(), S);
+  // per-point file colour and thickness follow the points in the same buffer
+  std::vector<cl_float4> look;
+  if (pointWords_ >= 2 * P) {
+    look.resize(P);
+    readBack(dev_, "strand file colours", points_, look.data(), P, P);
+  }
   StrandSet out;
   for (std::size_t st = 0; st < S; ++st) {
     const std::uint32_t M = counts[st];
@@ -172,12 +178,28 @@ StrandSet StrandFileGpu::exportStrands(float lod) {
     out.pointCounts.push_back(M);
     out.bundleOf.push_back(static_cast<std::uint32_t>(st / kChunkStrands));
     out.sourceStrand.push_back(data_.sourceStrand[st]);
+    // the words' u, v as strands_explicit.cl sets them: stored root uv or a per-strand hash
+    float u, v;
+    if (!data_.uv.empty()) {
+      u = static_cast<float>(data_.uv[st] & 0xFFFFu) / 65535.0f;
+      v = static_cast<float>(data_.uv[st] >> 16) / 65535.0f;
+    } else {
+      const gpu::clh_u32 h = gpu::clh_hash2(base_.seed, static_cast<gpu::clh_u32>(st));
+      u = gpu::clh_u01(h);
+      v = gpu::clh_u01(gpu::clh_hash(h));
+    }
+    out.uv.insert(out.uv.end(), {u, v});
     for (std::uint32_t j = 0; j < M; ++j) {
       const cl_float4& q = p[first + j];
       const cl_float4& tq = t[first + j];
       out.points.insert(out.points.end(), {q.s[0], q.s[1], q.s[2]});
       out.tangents.insert(out.tangents.end(), {tq.s[0], tq.s[1], tq.s[2]});
       out.w.push_back(q.s[3]);
+      out.ao.push_back(tq.s[3]);
+      if (!look.empty()) {
+        const cl_float4& l = look[first + j];
+        out.look.insert(out.look.end(), {l.s[0], l.s[1], l.s[2], l.s[3]});
+      }
     }
   }
   return out;

@@ -679,7 +679,8 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
     s.shadows.density = static_cast<float>(o.number("density", s.shadows.density, 0.0, 1e6));
     s.shadows.lodCorrection = o.boolean("lod_correction", s.shadows.lodCorrection);
     s.shadows.bias = static_cast<float>(o.number("bias", s.shadows.bias, 0.0, 1000.0));
-    o.rejectUnknown({"resolution", "layers", "density", "lod_correction", "bias"});
+    s.shadows.pcf = o.boolean("pcf", s.shadows.pcf);
+    o.rejectUnknown({"resolution", "layers", "density", "lod_correction", "bias", "pcf"});
   }
   if (r.has("filter")) s.filter = readFilter(r, r.require("filter"), s.filter);
   if (r.has("environment")) {

@@ -169,7 +169,8 @@ typedef struct {
   float bias;       /* opaque shadow-map bias, view-depth units */
   float depth_near; /* hair depth mapping of the light's G-buffer pass */
   float depth_far;
-  float pad[12];
+  clh_u32 pcf; /* opaque surfaces: 1 percentage-closer filtering (4x4 texels), 0 bilinear */
+  float pad[11];
 } ClhShadowGpu;
 
 typedef struct {

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -40,6 +41,26 @@ struct RenderOptions {
   // Every strand at its true projected width: the grooms' minimum hit diameter is ignored
   // (the passes of renderReference).
   bool trueWidth = false;
+};
+
+// How Renderer::renderReference finds what each sample sees.
+enum class ReferenceMethod {
+  // The strands traced as round curves with Embree (the independent ground truth): the
+  // nearest fibre along the sample's ray, at its true width, shaded from the G-buffer word
+  // the strand pass would write there.
+  Embree,
+  // The strand pass itself (one centre sample per pixel, true width) on a shifted image
+  // plane: shares any coverage error of the rasterizer.
+  Raster,
+};
+const char* referenceMethodName(ReferenceMethod m);
+ReferenceMethod parseReferenceMethod(const std::string& name);  // "embree" or "raster"
+
+struct ReferenceOptions {
+  int spp = 256;  // samples per pixel, 1..65536
+  ReferenceMethod method = ReferenceMethod::Embree;
+  // Called after every sample pass with the passes done and their total.
+  std::function<void(int done, int total)> progress;
 };
 
 struct FrameStats {
@@ -81,11 +102,16 @@ class Renderer {
   Frame render(const Scene& scene, const RenderOptions& options = {});
 
   // The reference the real-time pipeline approximates: the average of `spp` frames, each
-  // shifted by a sub-pixel offset of a low-discrepancy sequence, in which a pixel is
-  // covered when its (shifted) center lies within a strand's true projected width;
-  // MSAA 1, no filter, no LOD, composited per pass so alpha is correct. Timings sum all
-  // passes.
-  Frame renderReference(const Scene& scene, int spp);
+  // shifted by the same sub-pixel offset in every pixel (an R2 low-discrepancy sequence,
+  // the first at the centre), so the opaque scene drawn for that frame and the hair seen
+  // there agree. In each frame a pixel shows the strand its (shifted) centre sees at the
+  // strand's true width: traced by Embree (ReferenceMethod::Embree) or drawn by the strand
+  // pass (Raster); MSAA 1, no filter, no LOD, shaded by the shading kernel, composited per
+  // frame so alpha is correct. Timings sum all frames' stages (the Embree method adds the
+  // wall times of its host work: "export" of the strands, "bvh" build, "trace").
+  Frame renderReference(const Scene& scene, const ReferenceOptions& options);
+  Frame renderReference(const Scene& scene, int spp,
+                        ReferenceMethod method = ReferenceMethod::Embree);
 
   // Ambient occlusion of every layer vertex (layer-major, 1 = open), computed on the
   // device from the groom's own hair density and scalp (kernels/ao.cl).

@@ -47,6 +47,10 @@ struct ShadowParams {
   float density = 1.0f;                       // transmittance = exp(-density * coverage)
   bool lodCorrection = true;                  // Lipp §3.2.3 depth shift under LOD
   float bias = 2.0f;                          // opaque shadow-map bias, texels
+  // Opaque surfaces look the maps up with percentage-closer filtering over 4x4 texels, so
+  // shadow edges on them spread over three texels; false: the bilinear blend of the four
+  // nearest texels' tests (a one-texel ramp, stair steps where a texel covers pixels).
+  bool pcf = true;
 };
 
 // The procedural default sky: a sun disc, a horizon -> zenith gradient and a ground.

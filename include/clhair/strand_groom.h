@@ -68,14 +68,21 @@ enum class UpAxis { X, Y, Z };
 //   X: (x, y, z) -> (-y, x, z), +90 degrees about +z.
 glm::mat4 strandFileTransform(float scale, UpAxis up);
 
-// Generated strands read back from the device (export-strands, tests).
+// Generated strands read back from the device (export-strands, tests, the traced
+// reference): what the strand kernels draw, point for point, with the attributes their
+// G-buffer words carry.
 struct StrandSet {
   std::vector<std::uint32_t> pointCounts;   // per strand
   std::vector<float> points;                // xyz per point, object space
   std::vector<float> tangents;              // xyz per point
   std::vector<float> w;                     // styling w per point
+  std::vector<float> ao;                    // ambient occlusion per point (1: open)
+  std::vector<float> uv;                    // root styling u, v per strand (the words' u, v)
   std::vector<std::uint32_t> bundleOf;      // bundle of each strand (explicit strands: LOD chunk)
   std::vector<std::uint32_t> sourceStrand;  // explicit strands only: index in the StrandGroom
+  // Explicit strands with per-point file colour or thickness (appearance.useFileColor):
+  // linear rgb and thickness (object units) per point; empty otherwise.
+  std::vector<float> look;
 };
 
 }  // namespace clhair

@@ -3,7 +3,8 @@
  *
  * Lambert: albedo / pi times the scene's point and directional lights (point lights fall
  * off with the squared distance), each scaled by its deep-opacity-map transmittance when
- * the light casts shadows (shadow.h: hair and the opaque scene both shadow the surface),
+ * the light casts shadows (shadow.h: hair and the opaque scene both shadow the surface;
+ * percentage-closer filtered unless the scene turns it off),
  * plus the ambient term: the environment's SH irradiance / pi when there is one, else the
  * constant ambient colour. Inputs: the world hit point `pos`, the unit normal `n` facing
  * the viewer, the albedo and the view depth `t` (the shadow lookup starts 1e-3 t off the
@@ -37,8 +38,8 @@ static inline float3 clh_opaque_shade(
     float visibility = 1.0f;
     int slot = clh_light_shadow_slot(lights_g + i);
     if (slot >= 0 && slot < CLH_MAX_SHADOWS)
-      visibility = clh_shadow_transmittance(shadows_g + slot, shadow_opaque_g, shadow_hair_g,
-                                            shadow_opacity_g, pos + n * (1e-3f * t), 0.0f);
+      visibility = clh_shadow_transmittance_opaque(shadows_g + slot, shadow_opaque_g, shadow_hair_g,
+                                                   shadow_opacity_g, pos + n * (1e-3f * t));
     radiance += albedo * lc * (visibility * falloff * fmax(dot(n, l), 0.0f) / CLH_PI);
   }
   return radiance;

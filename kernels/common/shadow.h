@@ -8,6 +8,8 @@
  * correction of Lipp §3.2.3, Delta = -log(beta) when LOD drew a fraction beta of the
  * groom's strands, so strands exposed by stochastic removal are not darkened by the
  * hair that was removed in front of them. The four texels are blended bilinearly.
+ * Opaque surfaces (clh_shadow_transmittance_opaque) filter wider when the map asks for it
+ * (ClhShadowGpu.pcf): percentage-closer filtering over the 4x4 texels around the point.
  */
 #ifndef CLHAIR_SHADOW_H
 #define CLHAIR_SHADOW_H
@@ -74,6 +76,40 @@ static inline float clh_shadow_transmittance(__global const ClhShadowGpu* sh,
                                              __global const uint* opacity_g, float3 p,
                                              float shift) {
   return clh_shadow_transmittance_v3(sh, opaque_g, hair_g, opacity_g, clh_v3_from(p), shift);
+}
+
+/* Fraction of the light reaching a point on an opaque surface. With sh->pcf the bilinear
+ * lookup above is averaged over 3 x 3 positions one texel apart around p (percentage-
+ * closer filtering): each texel of the 4 x 4 block around p weighs w_x w_y, w = (1 - a,
+ * 1, 1, a) / 3 along an axis with a the point's fraction within its texel, so the weights
+ * sum to one, a shadow edge ramps over three texels instead of one (smooth where a texel
+ * covers several pixels), and blocks that are all lit or all shadowed keep their value.
+ * The weights are continuous in p, so the result is too. */
+static inline float clh_shadow_transmittance_opaque(__global const ClhShadowGpu* sh,
+                                                    __global const float* opaque_g,
+                                                    __global const float* hair_g,
+                                                    __global const uint* opacity_g, float3 p) {
+  if (sh->pcf == 0u) return clh_shadow_transmittance(sh, opaque_g, hair_g, opacity_g, p, 0.0f);
+  if (sh->width == 0u || sh->height == 0u) return 1.0f;
+  const clh_mat34 w2v = clh_load_mat34(sh->world_to_view);
+  const float3 pv = clh_xform_point(w2v, p);
+  if (!(pv.z > 1e-6f)) return 1.0f;
+  const float u = sh->cx + sh->fx * pv.x / pv.z - 0.5f;
+  const float v = sh->cy - sh->fy * pv.y / pv.z - 0.5f;
+  if (u < -1.0f || v < -1.0f || u > (float)sh->width || v > (float)sh->height) return 1.0f;
+  const float fu = floor(u), fv = floor(v);
+  const int x0 = (int)fu - 1, y0 = (int)fv - 1;
+  const float ax = u - fu, ay = v - fv;
+  const float wx[4] = {(1.0f - ax) / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f, ax / 3.0f};
+  const float wy[4] = {(1.0f - ay) / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f, ay / 3.0f};
+  float sum = 0.0f;
+  for (int j = 0; j < 4; ++j) {
+    float row = 0.0f;
+    for (int i = 0; i < 4; ++i)
+      row += wx[i] * clh_dom_texel(sh, opaque_g, hair_g, opacity_g, x0 + i, y0 + j, pv.z, 0.0f);
+    sum += wy[j] * row;
+  }
+  return sum;
 }
 
 /* The light's shadow slot, or -1 (stored in the light colour's w). */

@@ -225,13 +225,11 @@ static inline clh_v3 clh_hair_n_tt(const clh_hair_view* hv, float phi) {
  * (width below 1e-4) takes the logistic density instead. */
 static inline clh_v3 clh_hair_n_trt(const clh_hair_view* hv, float phi) {
   float cp[5], cm[5];
-#pragma unroll
   for (int k = 0; k < 5; ++k) {
     cp[k] = clh_hair_lcdf(phi - hv->trt_phi[k], hv->inv_s);
     cm[k] = clh_hair_lcdf(-phi - hv->trt_phi[k], hv->inv_s);
   }
   clh_v3 r = clh_v3_splat(0.0f);
-#pragma unroll
   for (int k = 0; k < 4; ++k) {
     const float w = hv->trt_width[k];
     const bool thin = fabs(hv->trt_phi[k + 1] - hv->trt_phi[k]) < 1e-4f;
@@ -276,7 +274,6 @@ static inline void clh_hair_prepare_to(clh_hair_view* out, const clh_hair_materi
   out->v[0] = v0;
   out->v[1] = 0.25f * v0;
   out->v[2] = 4.0f * v0;
-#pragma unroll
   for (int p = 0; p < 3; ++p) {
     const float shift = (p == 0 ? -2.0f : p == 1 ? 1.0f : 4.0f) * m->alpha;
     float cs, sn;
@@ -300,14 +297,11 @@ static inline void clh_hair_prepare_to(clh_hair_view* out, const clh_hair_materi
   out->sigma_path = clh_v3_scale(clh_v3_fmax(m->sigma_a, 0.0f), 1.0f / cos_t);
 
   /* panels: TRT phase at the breakpoints, attenuations at the panel midpoints */
-#pragma unroll
   for (int k = 0; k < 5; ++k) {
     float h = CLH_HAIR_PANEL_H(k);
     out->trt_phi[k] = 4.0f * clh_fast_asin(h * out->inv_eta_p) - 2.0f * clh_fast_asin(h);
   }
-#pragma unroll
   for (int p = 0; p < 4; ++p) out->mass[p] = clh_v3_splat(0.0f);
-#pragma unroll
   for (int k = 0; k < 4; ++k) {
     out->trt_width[k] = fmax(fabs(out->trt_phi[k + 1] - out->trt_phi[k]), 1e-4f);
     float hm = CLH_HAIR_PANEL_HM(k);
@@ -444,7 +438,6 @@ static inline void clh_hair_env_terms_to(clh_hair_env* out, const clh_hair_view*
   float lam = 2.0f * ps / (clh_hair_exp(ps) - clh_hair_exp(-ps)); /* pi s / sinh(pi s) */
   float c_r = 0.0f, w_r = 0.0f;
   clh_v3 c_trt = clh_v3_splat(0.0f), w_trt = clh_v3_splat(0.0f);
-#pragma unroll
   for (int k = 0; k < 4; ++k) {
     float h0 = CLH_HAIR_PANEL_H(k), h1 = CLH_HAIR_PANEL_H(k + 1);
     float dh = h1 - h0;

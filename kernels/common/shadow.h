@@ -33,9 +33,8 @@ static inline float clh_dom_texel(__global const ClhShadowGpu* sh, __global cons
   if (!(d > 0.0f)) return 1.0f;
   const size_t layers = (size_t)sh->offset * CLH_DOM_LAYERS + (size_t)ty * (size_t)w + (size_t)tx;
   /* whole layers before d, the linear share of d's layer, none after it (the last layer
-   * takes everything beyond it): fixed trip, no early exit, so the loop unrolls */
+   * takes everything beyond it), without a data-dependent exit */
   float acc = 0.0f, lo = 0.0f;
-#pragma unroll
   for (int k = 0; k < CLH_DOM_LAYERS; ++k) {
     const float v = (float)opacity_g[layers + (size_t)k * plane] * (1.0f / CLH_DOM_FIXED);
     const float hi = sh->bound[k];

@@ -141,6 +141,8 @@ static inline void clh_assemble_strand(sg_ctx* sg, SG_SHARED clh_layer_pt* layer
   const uint end = (lane == (uint)(SG_SIZE - 1)) ? C : min(first + S, C);
   const uint count = end > first ? min(end - first, (uint)CLH_PTS_CAP) : 0u;
   float ao[CLH_PTS_CAP];
+  clh_noise_knots knots;
+  clh_noise_knots_init(&knots);
   for (uint i = 0; i < CLH_PTS_CAP; ++i) {
     P[i] = (float4)(0.0f);
     T[i] = (float4)(0.0f);
@@ -149,7 +151,7 @@ static inline void clh_assemble_strand(sg_ctx* sg, SG_SHARED clh_layer_pt* layer
       float3 deriv, du, dv;
       float4 base =
           clh_base_point(layers_l, layer_count, first + i, C, s.length, &deriv, &du, &dv, &ao[i]);
-      P[i] = (float4)(base.xyz + clh_style_offset(g, &s, base.w, deriv, du, dv), base.w);
+      P[i] = (float4)(base.xyz + clh_style_offset(g, &s, base.w, deriv, du, dv, &knots), base.w);
     }
   }
 

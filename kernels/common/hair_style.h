@@ -70,14 +70,41 @@ static inline float4 clh_hermite_dbasis(float t) {
                   3.0f * t2 - 2.0f * t);
 }
 
-/* Value noise in [-1, 1] along one axis: random values at integer x, smoothstep between. */
-static inline float clh_value_noise(uint key, uint channel, float x) {
-  float fl = floor(x);
-  int i = (int)fl;
-  float f = clh_smoothstep01(x - fl);
-  float a = clh_u01(clh_hash3(key, (uint)i, channel)) * 2.0f - 1.0f;
-  float b = clh_u01(clh_hash3(key, (uint)(i + 1), channel)) * 2.0f - 1.0f;
-  return mix(a, b, f);
+/* Value noise in [-1, 1] along one axis: random values at integer x, smoothstep between.
+ * The frizz uses two channels at the same x; their knot values are kept per lane while x
+ * stays between the same two knots (consecutive points of a strand mostly do), so the
+ * hashing runs once per knot interval instead of twice per point — the values are the
+ * same as hashing every time. */
+typedef struct {
+  int i;        /* the interval [i, i + 1] the values belong to; INT_MIN: none yet */
+  float a0, b0; /* channel 0 at knots i and i + 1, in [-1, 1] */
+  float a1, b1; /* channel 1 */
+} clh_noise_knots;
+
+static inline void clh_noise_knots_init(clh_noise_knots* k) { k->i = INT_MIN; }
+
+/* floor to int for |x| < 2^30, without a library call */
+static inline int clh_style_floor_i(float x) {
+  const int i = (int)x;
+  return i - ((float)i > x ? 1 : 0);
+}
+
+/* The two channels' noise at x: knot hashes hash2(hash2(key, i), channel), as
+ * clh_hash3(key, i, channel). */
+static inline void clh_value_noise2(uint key, uint channel0, uint channel1, float x,
+                                    clh_noise_knots* k, float* n0, float* n1) {
+  const int i = clh_style_floor_i(x);
+  if (i != k->i) {
+    const uint h0 = clh_hash2(key, (uint)i), h1 = clh_hash2(key, (uint)(i + 1));
+    k->a0 = clh_u01(clh_hash2(h0, channel0)) * 2.0f - 1.0f;
+    k->b0 = clh_u01(clh_hash2(h1, channel0)) * 2.0f - 1.0f;
+    k->a1 = clh_u01(clh_hash2(h0, channel1)) * 2.0f - 1.0f;
+    k->b1 = clh_u01(clh_hash2(h1, channel1)) * 2.0f - 1.0f;
+    k->i = i;
+  }
+  const float f = clh_smoothstep01(x - (float)i);
+  *n0 = mix(k->a0, k->b0, f);
+  *n1 = mix(k->a1, k->b1, f);
 }
 
 /* Clump center of the jittered uv grid nearest to uv (Voronoi over the 3x3 cells). */
@@ -156,7 +183,7 @@ static inline float4 clh_base_point(SG_SHARED const clh_layer_pt* layers_l, uint
 /* Object-space styling offset for a base point (clumping, curl/wave, frizz) in the frame
  * built from the consistent per-vertex u direction and the base-spline direction. */
 static inline float3 clh_style_offset(__global const ClhGroomGpu* g, const clh_strand* s, float w,
-                                      float3 deriv, float3 du, float3 dv) {
+                                      float3 deriv, float3 du, float3 dv, clh_noise_knots* knots) {
   float3 et = clh_normalize_or(deriv, (float3)(0.0f, 1.0f, 0.0f));
   float3 e1 = clh_normalize_or(du - dot(du, et) * et,
                                clh_normalize_or(dv - dot(dv, et) * et, (float3)(1.0f, 0.0f, 0.0f)));
@@ -177,8 +204,8 @@ static inline float3 clh_style_offset(__global const ClhGroomGpu* g, const clh_s
   }
   if (s->frizz > 0.0f) {
     float x = wc * g->frizz_frequency;
-    float n1 = clh_value_noise(s->id, CLH_RNG_FRIZZ, x);
-    float n2 = clh_value_noise(s->id, CLH_RNG_FRIZZ + 16u, x);
+    float n1, n2;
+    clh_value_noise2(s->id, CLH_RNG_FRIZZ, CLH_RNG_FRIZZ + 16u, x, knots, &n1, &n2);
     off += (s->frizz * wc * wc) * (n1 * e1 + n2 * e2);
   }
   return off;

@@ -6,7 +6,8 @@
 // the hair was composited with and against the analytic depth of a sphere; the tangent of
 // straight vertical strands against (0, 1, 0) within the octahedral code's step; motion of a
 // groom translated by a transform key against the projected translation (and against the
-// shift of the hair's coverage centroid between the two frames), zero in a range's frame 1.
+// shift of the hair's coverage centroid between the two frames), zero in a range's frame 1;
+// motion of static hair and a sphere under a keyed camera move against the projected shift.
 // Tiny images and few strands: seconds each.
 #include <gtest/gtest.h>
 
@@ -116,6 +117,34 @@ Scene strandsBeforeSphere() {
   return sc;
 }
 
+// The vertical strands of strandsBeforeSphere as a strand file with its sphere, in a
+// scene; `transform` and `cameraKeys` animate them. Renders frames 1 and 2 with every
+// layer to dir/f.1.exr and dir/f.2.exr.
+void renderTwoFrames(const std::string& dir, const json& transform, const json& cameraKeys) {
+  CyHair h;
+  const Scene still = strandsBeforeSphere();
+  for (std::uint32_t n : still.grooms[0].strands->pointCounts) h.segments.push_back(n - 1);
+  for (const glm::vec3& q : still.grooms[0].strands->points)
+    h.points.insert(h.points.end(), {q.x, q.y, q.z});
+  writeCyHair(h, dir + "/vertical.hair");
+  json groom = {{"strands_file", "vertical.hair"}, {"appearance", {{"strand_width", 0.004}}}};
+  if (!transform.empty()) groom["transform"] = transform;
+  json camera = {{"position", {0.0, 0.0, 0.3}}, {"target", {0.0, 0.0, 0.0}}, {"fov", 35}};
+  if (!cameraKeys.empty()) camera["keys"] = cameraKeys;
+  const json scene = {{"resolution", {64, 48}},
+                      {"camera", camera},
+                      {"lights", {{{"type", "directional"}, {"direction", {0.3, 1.0, 0.6}}}}},
+                      {"spheres", {{{"center", {0.0, 0.0, -0.1}}, {"radius", 0.05}}}},
+                      {"grooms", {groom}}};
+  writeFile(dir + "/scene.json", scene.dump(2));
+  const CommandResult r = runCli("render " + quote(dir + "/scene.json") +
+                                 " -q --frames 1-2 --aov all -o " + quote(dir + "/f.#.exr"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+}
+
+// The focal length in pixels of these 64x48 scenes (35 degrees vertical field of view).
+const double kFx = 0.5 * 48.0 / std::tan(35.0 * 3.14159265358979 / 360.0);
+
 }  // namespace
 
 TEST(Aov, ListParsesInTheDocumentedOrderAndRefusesUnknownNames) {
@@ -138,8 +167,8 @@ TEST(Aov, ListParsesInTheDocumentedOrderAndRefusesUnknownNames) {
 TEST(Aov, CliWritesTheDocumentedChannelsAndTheSameBeauty) {
   const std::string dir = scratchDir();
   const std::string scene = tinyAovScene(dir);
-  const CommandResult a = runCli("render " + quote(scene) + " -q --aov all -o " +
-                                 quote(dir + "/layers.exr"));
+  const CommandResult a =
+      runCli("render " + quote(scene) + " -q --aov all -o " + quote(dir + "/layers.exr"));
   ASSERT_EQ(a.exitCode, 0) << a.output;
   const CommandResult b = runCli("render " + quote(scene) + " -q -o " + quote(dir + "/plain.exr"));
   ASSERT_EQ(b.exitCode, 0) << b.output;
@@ -147,11 +176,11 @@ TEST(Aov, CliWritesTheDocumentedChannelsAndTheSameBeauty) {
   ASSERT_EQ(f.width, 64);
   ASSERT_EQ(f.height, 48);
   const std::map<std::string, OIIO::TypeDesc> want = {
-      {"R", OIIO::TypeDesc::HALF},          {"G", OIIO::TypeDesc::HALF},
-      {"B", OIIO::TypeDesc::HALF},          {"A", OIIO::TypeDesc::HALF},
-      {"Z", OIIO::TypeDesc::FLOAT},         {"hair.A", OIIO::TypeDesc::HALF},
-      {"tangent.X", OIIO::TypeDesc::HALF},  {"tangent.Y", OIIO::TypeDesc::HALF},
-      {"tangent.Z", OIIO::TypeDesc::HALF},  {"motion.X", OIIO::TypeDesc::FLOAT},
+      {"R", OIIO::TypeDesc::HALF},         {"G", OIIO::TypeDesc::HALF},
+      {"B", OIIO::TypeDesc::HALF},         {"A", OIIO::TypeDesc::HALF},
+      {"Z", OIIO::TypeDesc::FLOAT},        {"hair.A", OIIO::TypeDesc::HALF},
+      {"tangent.X", OIIO::TypeDesc::HALF}, {"tangent.Y", OIIO::TypeDesc::HALF},
+      {"tangent.Z", OIIO::TypeDesc::HALF}, {"motion.X", OIIO::TypeDesc::FLOAT},
       {"motion.Y", OIIO::TypeDesc::FLOAT}};
   EXPECT_EQ(f.channels.size(), want.size());
   for (const auto& [name, type] : want) {
@@ -277,30 +306,11 @@ TEST(Aov, RigidTranslationGivesTheProjectedTranslationInPixels) {
   // stays at view depth 0.3, so the hair moves fx * 0.013 / 0.3 (about 3.3) pixels right:
   // its motion to the previous frame is the opposite. The sphere behind does not move.
   const double dx = 0.013, depth = 0.3;
-  CyHair h;
-  const Scene still = strandsBeforeSphere();
-  for (std::uint32_t n : still.grooms[0].strands->pointCounts) h.segments.push_back(n - 1);
-  for (const glm::vec3& q : still.grooms[0].strands->points)
-    h.points.insert(h.points.end(), {q.x, q.y, q.z});
-  writeCyHair(h, dir + "/vertical.hair");
-  const json scene = {
-      {"resolution", {64, 48}},
-      {"camera", {{"position", {0.0, 0.0, depth}}, {"target", {0.0, 0.0, 0.0}}, {"fov", 35}}},
-      {"lights", {{{"type", "directional"}, {"direction", {0.3, 1.0, 0.6}}}}},
-      {"spheres", {{{"center", {0.0, 0.0, -0.1}}, {"radius", 0.05}}}},
-      {"grooms",
-       {{{"strands_file", "vertical.hair"},
-         {"appearance", {{"strand_width", 0.004}}},
-         {"transform",
-          {{"keys", {{{"frame", 1}}, {{"frame", 2}, {"translate", {dx, 0.0, 0.0}}}}}}}}}}};
-  writeFile(dir + "/scene.json", scene.dump(2));
-  const CommandResult r = runCli("render " + quote(dir + "/scene.json") +
-                                 " -q --frames 1-2 --aov all -o " + quote(dir + "/f.#.exr"));
-  ASSERT_EQ(r.exitCode, 0) << r.output;
+  renderTwoFrames(dir, {{"keys", {{{"frame", 1}}, {{"frame", 2}, {"translate", {dx, 0.0, 0.0}}}}}},
+                  {});
   const ExrFile f1 = readExr(dir + "/f.1.exr"), f2 = readExr(dir + "/f.2.exr");
   ASSERT_EQ(f2.width, 64);
-  const double fx = 0.5 * 48.0 / std::tan(glm::radians(35.0) * 0.5);
-  const double want = -fx * dx / depth;
+  const double want = -kFx * dx / depth;
   double error = 0.0, meanMotion = 0.0;
   std::size_t hair = 0, opaque = 0;
   for (std::size_t p = 0; p < 64 * 48; ++p) {
@@ -333,6 +343,43 @@ TEST(Aov, RigidTranslationGivesTheProjectedTranslationInPixels) {
     return sum / weight;
   };
   EXPECT_NEAR(centroidX(f1) - centroidX(f2), meanMotion, 0.25);
+}
+
+TEST(Aov, CameraKeysMoveEveryStaticSurfaceByTheProjectedShift) {
+  const std::string dir = scratchDir();
+  // The camera (and its target) moves +0.004 in world x from frame 1 to 2; nothing else
+  // moves. A static point at view depth z appears fx * 0.004 / z pixels further left, so
+  // its motion to the previous frame is +fx * 0.004 / z: the hair's plane and the sphere's
+  // varying depth alike, and the background stays at 0.
+  const double dx = 0.004;
+  renderTwoFrames(
+      dir, {},
+      {{{"frame", 1}}, {{"frame", 2}, {"position", {dx, 0.0, 0.3}}, {"target", {dx, 0.0, 0.0}}}});
+  const ExrFile f = readExr(dir + "/f.2.exr");
+  ASSERT_EQ(f.width, 64);
+  double hairError = 0.0, sphereError = 0.0;
+  std::size_t hair = 0, sphere = 0;
+  for (std::size_t p = 0; p < 64 * 48; ++p) {
+    const float z = f.channels.at("Z")[p];
+    const float mx = f.channels.at("motion.X")[p], my = f.channels.at("motion.Y")[p];
+    if (z == kAovBackgroundZ) {
+      EXPECT_EQ(mx, 0.0f);
+      EXPECT_EQ(my, 0.0f);
+      continue;
+    }
+    const double err = std::abs(mx - kFx * dx / z) + std::abs(my);
+    if (f.channels.at("hair.A")[p] >= 0.5f) {
+      hairError += err;
+      ++hair;
+    } else if (f.channels.at("hair.A")[p] == 0.0f) {
+      sphereError += err;
+      ++sphere;
+    }
+  }
+  ASSERT_GT(hair, 50u);
+  ASSERT_GT(sphere, 50u);
+  EXPECT_LT(hairError / static_cast<double>(hair), 0.05);
+  EXPECT_LT(sphereError / static_cast<double>(sphere), 0.05);
 }
 
 }  // namespace clhair::test

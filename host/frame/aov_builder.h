@@ -37,11 +37,11 @@ class AovBuilder {
  private:
   gpu::ClhViewGpu view_;
   std::size_t pixels_;
-  std::vector<float> lastDepth_;      // depth buffer after the last groom seen
-  std::vector<std::int32_t> owner_;   // groom owning the depth of each pixel, -1: opaque
-  std::vector<float> hairAlpha_;      // 1 - prod(1 - a_k)
-  std::vector<float> centreZ_;        // depth of the nearest centre word so far (+inf: none)
-  std::vector<float> tangent_;        // its decoded tangent, 3 per pixel
+  std::vector<float> lastDepth_;     // depth buffer after the last groom seen
+  std::vector<std::int32_t> owner_;  // groom owning the depth of each pixel, -1: opaque
+  std::vector<float> hairAlpha_;     // 1 - prod(1 - a_k)
+  std::vector<float> centreZ_;       // depth of the nearest centre word so far (+inf: none)
+  std::vector<float> tangent_;       // its decoded tangent, 3 per pixel
 };
 
 }  // namespace clhair

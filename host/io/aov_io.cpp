@@ -60,9 +60,10 @@ std::vector<Aov> parseAovList(const std::string& list) {
       std::size_t k = 0;
       while (k < std::size(kAllAovs) && name != aovName(kAllAovs[k])) ++k;
       if (k == std::size(kAllAovs))
-        throw Error("--aov \"" + list + "\": " +
-                    (name.empty() ? std::string("an empty name") : "unknown layer \"" + name + "\"") +
-                    "; expected a comma-separated list of " + knownNames());
+        throw Error(
+            "--aov \"" + list + "\": " +
+            (name.empty() ? std::string("an empty name") : "unknown layer \"" + name + "\"") +
+            "; expected a comma-separated list of " + knownNames());
       want[k] = true;
     }
     if (end == std::string::npos) break;
@@ -95,8 +96,8 @@ std::vector<ImageChannel> aovChannels(const Frame& frame, const std::vector<Aov>
         break;
       case Aov::Tangent:
         for (int c = 0; c < 3; ++c)
-          out.push_back({std::string("tangent.") + "XYZ"[c], component(frame.aovs.tangent, 3, c),
-                         true});
+          out.push_back(
+              {std::string("tangent.") + "XYZ"[c], component(frame.aovs.tangent, 3, c), true});
         break;
       case Aov::Motion:
         for (int c = 0; c < 2; ++c)

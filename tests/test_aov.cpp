@@ -7,7 +7,9 @@
 // straight vertical strands against (0, 1, 0) within the octahedral code's step; motion of a
 // groom translated by a transform key against the projected translation (and against the
 // shift of the hair's coverage centroid between the two frames), zero in a range's frame 1;
-// motion of static hair and a sphere under a keyed camera move against the projected shift.
+// motion of static hair and a sphere under a keyed camera move against the projected shift;
+// with two grooms, motion follows the groom that set the pixel's depth and hair.A combines
+// the grooms' coverages like "over".
 // Tiny images and few strands: seconds each.
 #include <gtest/gtest.h>
 
@@ -23,6 +25,7 @@
 
 #include <OpenImageIO/imageio.h>
 #include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/matrix.hpp>
 #include <glm/trigonometric.hpp>
 
@@ -380,6 +383,55 @@ TEST(Aov, CameraKeysMoveEveryStaticSurfaceByTheProjectedShift) {
   ASSERT_GT(sphere, 50u);
   EXPECT_LT(hairError / static_cast<double>(hair), 0.05);
   EXPECT_LT(sphereError / static_cast<double>(sphere), 0.05);
+}
+
+TEST(Aov, MotionFollowsTheGroomThatOwnsThePixelsDepth) {
+  // Two instances of the vertical strands through the library API: groom 0 static in the
+  // plane z = 0 (view depth 0.3), groom 1 offset by half the strand spacing and 0.05 nearer
+  // (view depth 0.25), translated +0.006 in x since the previous frame. Pixels whose depth
+  // groom 1 set move by -fx * 0.006 / 0.25; groom 0's and the sphere's do not move at all.
+  // hair.A is groom 1's coverage over groom 0's, as each alone has them.
+  Scene now = strandsBeforeSphere();
+  now.grooms.push_back(now.grooms[0]);
+  now.grooms[1].name = "nearer";
+  const glm::vec3 offset(0.005f, 0.0f, 0.05f), dx(0.006f, 0.0f, 0.0f);
+  Scene before = now;
+  before.grooms[1].transform = glm::translate(glm::mat4(1.0f), offset);
+  now.grooms[1].transform = glm::translate(glm::mat4(1.0f), offset + dx);
+  Renderer r(sharedDevice());
+  RenderOptions o;
+  o.aovs = true;
+  o.previous = &before;
+  const Frame f = r.render(now, o);
+  // each groom alone (no shadowed light: neither changes the other's shading or coverage)
+  Scene only0 = now, only1 = now;
+  only0.grooms.pop_back();
+  only1.grooms.erase(only1.grooms.begin());
+  o.previous = nullptr;
+  const std::vector<float> a0 = r.render(only0, o).aovs.hairAlpha;
+  const std::vector<float> a1 = r.render(only1, o).aovs.hairAlpha;
+  const double want = -kFx * dx.x / 0.25;
+  double error = 0.0;
+  std::size_t near = 0, far = 0;
+  for (std::size_t p = 0; p < 64 * 48; ++p) {
+    const float z = f.aovs.z[p], mx = f.aovs.motion[p * 2], my = f.aovs.motion[p * 2 + 1];
+    if (std::abs(z - 0.25f) < 1e-3f) {
+      error += std::abs(mx - want) + std::abs(my);
+      ++near;
+    } else if (z != kAovBackgroundZ) {
+      if (std::abs(z - 0.3f) < 1e-3f) ++far;
+      EXPECT_EQ(mx, 0.0f) << "pixel " << p << " at depth " << z;
+      EXPECT_EQ(my, 0.0f) << "pixel " << p << " at depth " << z;
+    }
+    // coverage combines like "over", groom 1 over groom 0
+    EXPECT_NEAR(f.aovs.hairAlpha[p], a1[p] + (1.0f - a1[p]) * a0[p], 1e-6f) << "pixel " << p;
+  }
+  ASSERT_GT(near, 30u);
+  std::size_t both = 0;  // the check above saw overlapping coverage
+  for (std::size_t p = 0; p < 64 * 48; ++p) both += a0[p] > 0.1f && a1[p] > 0.1f;
+  EXPECT_GT(both, 10u);
+  EXPECT_GT(far, 30u);
+  EXPECT_LT(error / static_cast<double>(near), 0.05) << "want " << want;
 }
 
 }  // namespace clhair::test

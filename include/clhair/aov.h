@@ -15,7 +15,6 @@
 // Inputs and outputs only: nothing here touches the device.
 #pragma once
 
-#include <limits>
 #include <string>
 #include <vector>
 

@@ -8,7 +8,10 @@
 // frame back.
 #include "renderer_impl.h"
 
+#include <optional>
+
 #include "cl/buffers.h"
+#include "frame/aov_builder.h"
 #include "frame/view_math.h"
 
 namespace clhair {
@@ -57,6 +60,16 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
     std::vector<float> opaqueDepth(pixels);
     readBack(r.dev, "the opaque scene's depth", t.depth, opaqueDepth.data(), pixels);
     source->opaqueDrawn(view, opaqueDepth);
+  }
+  // layers for compositing: gathered groom by groom from what each leaves on the device
+  const bool aovs = options.aovs && !options.rasterOnly;
+  std::optional<AovBuilder> aovBuilder;
+  std::vector<std::uint64_t> aovWords;
+  std::vector<float> aovHair, aovDepth;
+  if (aovs) {
+    aovDepth.resize(pixels);
+    readBack(r.dev, "the opaque scene's depth", t.depth, aovDepth.data(), pixels);
+    aovBuilder.emplace(view, aovDepth);
   }
 
   ViewPass pass;
@@ -124,6 +137,15 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
     r.composite.enqueue({t.viewTarget(), &inst.groom, filtered ? &t.filtered : &t.hair, &t.gbuffer,
                          &t.color, &t.depth, options.msaa, filtered ? 2 : options.msaa},
                         &r.profiler);
+    if (aovs) {
+      aovWords.resize(pixels * options.msaa);
+      aovHair.resize(pixels * 4);
+      readBack(r.dev, "the centre G-buffer layers", t.gbuffer, aovWords.data(), aovWords.size());
+      readBack(r.dev, "the shaded hair", filtered ? t.filtered : t.hair, aovHair.data(),
+               aovHair.size());
+      readBack(r.dev, "the depth after compositing", t.depth, aovDepth.data(), pixels);
+      aovBuilder->addGroom(k, inst.params, aovWords, options.msaa, aovHair, aovDepth);
+    }
   }
 
   frame.color.width = s.width;
@@ -134,6 +156,7 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
   readBack(r.dev, "the frame's depth", t.depth, frame.depth.data(), pixels);
   for (const GroomDraw* d : drawn) frame.stats.strandsDrawn += d->groom->readTotal(*d->state);
   frame.stats.shadowStrandsDrawn = r.shadows.strandsDrawn();
+  if (aovs) frame.aovs = aovBuilder->finish(frame.depth, s, options.previous);
   if (options.captureGBuffer) {
     frame.gbufferLayers = t.layers();
     frame.gbuffer.assign(pixels * t.layers(), ~std::uint64_t(0));

@@ -4,6 +4,7 @@
 //   clhair render SCENE -o OUT.png|.exr     render a scene, print per-stage times
 //                [--reference [embree|raster] --spp N]   or its ground truth (default embree)
 //     [--frames 1-240[:STEP] -o OUT.####.exr] a frame range, one file per frame
+//     [--aov rgba,z,alpha,tangent,motion|all]  layers for compositing in one EXR (docs/aovs.md)
 //   clhair groom --preset NAME -o FILE      write a generated hair mesh
 //   clhair export-strands GROOM -o F.hair   write the generated strands as cyHair (F.data: USC,
 //                                           F.tfx: TressFX 4.0, resampled to 4..64 points)
@@ -28,6 +29,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cl/cl_error.h"
+#include "clhair/aov.h"
 #include "clhair/device.h"
 #include "clhair/error.h"
 #include "clhair/hair_mesh.h"
@@ -102,6 +104,7 @@ struct RenderFlags {
   bool quiet = false;
   std::string frames;  // "N", "A-B" or "A-B:STEP"; empty: frame 1
   bool skipExisting = false;
+  std::string aov;  // --aov list; empty: the beauty alone through writeImage
 };
 
 // The frame numbers of a --frames value: "7", "1-240", "1-240:5", "240-1" (in reverse).
@@ -181,6 +184,14 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     throw Error("-o \"" + out + "\" has no '#' for the frame number, but --frames \"" + f.frames +
                 "\" names " + std::to_string(frames.size()) +
                 " frames: write e.g. out.####.exr (#### becomes 0007 for frame 7)");
+  std::vector<Aov> aovs;
+  if (!f.aov.empty()) {
+    aovs = parseAovList(f.aov);
+    if (lowerExtension(out) != ".exr")
+      throw Error("--aov \"" + f.aov + "\" writes one multi-channel OpenEXR file, but -o \"" + out +
+                  "\" is not .exr");
+    if (f.reference) throw Error("--aov is not available with --reference");
+  }
   // the device first: strand files are checked against its largest allocation as they load
   Device dev = Device::open(opts);
   Scene scene = loadScene(scenePath, dev.info().maxAlloc);
@@ -207,6 +218,7 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
   ro.dispatch = parseDispatchMode(f.dispatch);
   if (f.ao != "on" && f.ao != "off") throw Error("--ao must be on or off, not \"" + f.ao + "\"");
   ro.ambientOcclusion = f.ao == "on" ? 1 : 0;
+  ro.aovs = std::any_of(aovs.begin(), aovs.end(), [](Aov a) { return a != Aov::Rgba; });
   if (f.filter == "on")
     ro.filter = 1;
   else if (f.filter == "off")
@@ -250,8 +262,23 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     if (rendered == 0)
       for (const std::string& w : viewWarnings(still, scenePath))
         std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
+    // motion goes to the previous frame; frames 1 and before (a shot's first) have none, so
+    // they are their own previous frame and their motion is zero
+    Scene previous;
+    if (ro.aovs) {
+      previous = still;
+      if (number > 1) {
+        previous = sceneAtFrame(scene, static_cast<double>(number - 1));
+        if (preset) previous.camera = reframeCamera(previous, *preset);
+      }
+      ro.previous = &previous;
+    }
     Frame frame = f.reference ? renderer.renderReference(still, ref) : renderer.render(still, ro);
-    writeImage(frame.color, path);
+    ro.previous = nullptr;
+    if (aovs.empty())
+      writeImage(frame.color, path);
+    else
+      writeChannels(aovChannels(frame, aovs), still.width, still.height, path);
     // per-frame strand files are new grooms every frame: their device forms go with it
     renderer.releaseGrooms();
     ++rendered;
@@ -449,6 +476,9 @@ int main(int argc, char** argv) {
   render->add_option("--frames", rf.frames,
                      "frames of an animated scene: N, FIRST-LAST or FIRST-LAST:STEP (default 1); "
                      "#### in -o becomes the zero-padded frame number");
+  render->add_option("--aov", rf.aov,
+                     "layers for compositing in one multi-channel EXR: a comma-separated list of "
+                     "rgba, z, alpha, tangent, motion, or all (docs/aovs.md)");
   render->add_flag("--skip-existing", rf.skipExisting,
                    "leave frames whose output file exists (resume a range)");
   render->add_flag("-q,--quiet", rf.quiet, "print nothing on success");

@@ -41,6 +41,13 @@ struct RenderOptions {
   // Every strand at its true projected width: the grooms' minimum hit diameter is ignored
   // (the passes of renderReference).
   bool trueWidth = false;
+  // Fill Frame::aovs (clhair/aov.h): depth, hair alpha, tangent and motion per pixel. Costs
+  // a read-back of each groom's centre G-buffer layers and shaded hair.
+  bool aovs = false;
+  // With aovs: the still scene of the previous frame (sceneAtFrame(scene, frame - 1)), whose
+  // camera and groom transforms (grooms matched by index) give the motion layer; null: the
+  // motion is zero.
+  const Scene* previous = nullptr;
 };
 
 // How Renderer::renderReference finds what each sample sees.
@@ -73,6 +80,14 @@ struct FrameStats {
   std::uint64_t atomicsSkipped = 0;  // writes the plain load showed could not lower the word
 };
 
+// Layers for compositing (RenderOptions::aovs); each empty without them. Per pixel, row-major.
+struct FrameAovs {
+  std::vector<float> z;          // view depth of Frame::depth's surface, kAovBackgroundZ: none
+  std::vector<float> hairAlpha;  // the grooms' coverage, 1 - prod(1 - a_k)
+  std::vector<float> tangent;    // 3 per pixel: world unit tangent of the nearest centre word
+  std::vector<float> motion;     // 2 per pixel: pixels to the previous frame, x right, y up
+};
+
 struct Frame {
   Image color;               // composited linear RGBA (alpha 1)
   std::vector<float> depth;  // view-space depth, +inf where nothing
@@ -87,6 +102,7 @@ struct Frame {
   // of gpu_types.h, as bytes) and the scene depth its pixels were tested against.
   std::vector<std::uint8_t> rasterGroom, rasterView;
   std::vector<float> rasterDepth;
+  FrameAovs aovs;
 
   double stageMs(const std::string& stage) const;
   double totalMs() const;

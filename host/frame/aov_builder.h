@@ -1,0 +1,47 @@
+// aov_builder.h — gathers the layers for compositing (Frame::aovs, clhair/aov.h) while a
+// frame is drawn, on the host, from what each groom leaves on the device.
+//
+// Inputs, per frame: the view record, the depth of the opaque scene; per groom drawn (after
+// its composite): its record (G-buffer depth mapping), its centre sample layers, its shaded
+// (or filtered) premultiplied hair and the depth buffer after compositing. Outputs: Z, hair
+// alpha, tangent and motion planes. Invariants: the surface whose depth is in Z is the one
+// whose motion is given: a pixel belongs to the last groom whose composite lowered its depth
+// (composite.cl writes the depth of hair at least half opaque), otherwise to the opaque scene.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "clhair/gpu_types.h"
+#include "clhair/renderer.h"
+#include "clhair/scene.h"
+
+namespace clhair {
+
+class AovBuilder {
+ public:
+  AovBuilder(const gpu::ClhViewGpu& view, const std::vector<float>& opaqueDepth);
+
+  // Groom `index` (its position in Scene::grooms) after its composite: `centre` holds
+  // `layers` sample layers of width * height words, `hair` premultiplied RGBA per pixel,
+  // `depth` the depth buffer after the composite.
+  void addGroom(std::size_t index, const gpu::ClhGroomGpu& params,
+                const std::vector<std::uint64_t>& centre, int layers,
+                const std::vector<float>& hair, const std::vector<float>& depth);
+
+  // The planes for the final depth buffer of `scene`'s frame; motion from `previous` (the
+  // previous frame's still scene, grooms matched by index), zero without it.
+  FrameAovs finish(const std::vector<float>& depth, const Scene& scene,
+                   const Scene* previous) const;
+
+ private:
+  gpu::ClhViewGpu view_;
+  std::size_t pixels_;
+  std::vector<float> lastDepth_;     // depth buffer after the last groom seen
+  std::vector<std::int32_t> owner_;  // groom owning the depth of each pixel, -1: opaque
+  std::vector<float> hairAlpha_;     // 1 - prod(1 - a_k)
+  std::vector<float> centreZ_;       // depth of the nearest centre word so far (+inf: none)
+  std::vector<float> tangent_;       // its decoded tangent, 3 per pixel
+};
+
+}  // namespace clhair

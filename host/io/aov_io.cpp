@@ -1,0 +1,166 @@
+// aov_io.cpp — the --aov list, a frame's layers as named channels and writing them as one
+// multi-channel OpenEXR file through OpenImageIO (see clhair/aov.h, docs/aovs.md).
+#include <algorithm>
+#include <filesystem>
+
+#include <OpenImageIO/imageio.h>
+#include <unistd.h>
+
+#include "clhair/aov.h"
+#include "clhair/error.h"
+#include "clhair/renderer.h"
+#include "io/json_util.h"
+
+namespace clhair {
+
+namespace {
+
+constexpr Aov kAllAovs[] = {Aov::Rgba, Aov::Z, Aov::Alpha, Aov::Tangent, Aov::Motion};
+
+std::string knownNames() {
+  std::string names;
+  for (Aov a : kAllAovs) names += std::string(names.empty() ? "" : ", ") + aovName(a);
+  return names + " or all";
+}
+
+// Channel c of n interleaved per pixel.
+std::vector<float> component(const std::vector<float>& data, int n, int c) {
+  std::vector<float> out(data.size() / n);
+  for (std::size_t p = 0; p < out.size(); ++p) out[p] = data[p * n + c];
+  return out;
+}
+
+}  // namespace
+
+const char* aovName(Aov aov) {
+  switch (aov) {
+    case Aov::Rgba:
+      return "rgba";
+    case Aov::Z:
+      return "z";
+    case Aov::Alpha:
+      return "alpha";
+    case Aov::Tangent:
+      return "tangent";
+    case Aov::Motion:
+      return "motion";
+  }
+  return "?";
+}
+
+std::vector<Aov> parseAovList(const std::string& list) {
+  std::vector<bool> want(std::size(kAllAovs), false);
+  std::size_t begin = 0;
+  while (true) {
+    const std::size_t end = list.find(',', begin);
+    const std::string name = list.substr(begin, end == std::string::npos ? end : end - begin);
+    if (name == "all") {
+      std::fill(want.begin(), want.end(), true);
+    } else {
+      std::size_t k = 0;
+      while (k < std::size(kAllAovs) && name != aovName(kAllAovs[k])) ++k;
+      if (k == std::size(kAllAovs))
+        throw Error(
+            "--aov \"" + list + "\": " +
+            (name.empty() ? std::string("an empty name") : "unknown layer \"" + name + "\"") +
+            "; expected a comma-separated list of " + knownNames());
+      want[k] = true;
+    }
+    if (end == std::string::npos) break;
+    begin = end + 1;
+  }
+  std::vector<Aov> out;
+  for (std::size_t k = 0; k < want.size(); ++k)
+    if (want[k]) out.push_back(kAllAovs[k]);
+  return out;
+}
+
+std::vector<ImageChannel> aovChannels(const Frame& frame, const std::vector<Aov>& layers) {
+  const std::size_t pixels =
+      static_cast<std::size_t>(frame.color.width) * static_cast<std::size_t>(frame.color.height);
+  std::vector<ImageChannel> out;
+  for (Aov a : layers) {
+    if (a != Aov::Rgba && frame.aovs.z.size() != pixels)
+      throw Error(std::string("the layer \"") + aovName(a) +
+                  "\" needs a frame rendered with RenderOptions::aovs");
+    switch (a) {
+      case Aov::Rgba:
+        for (int c = 0; c < 4; ++c)
+          out.push_back({std::string(1, "RGBA"[c]), component(frame.color.rgba, 4, c), true});
+        break;
+      case Aov::Z:
+        out.push_back({"Z", frame.aovs.z, false});
+        break;
+      case Aov::Alpha:
+        out.push_back({"hair.A", frame.aovs.hairAlpha, true});
+        break;
+      case Aov::Tangent:
+        for (int c = 0; c < 3; ++c)
+          out.push_back(
+              {std::string("tangent.") + "XYZ"[c], component(frame.aovs.tangent, 3, c), true});
+        break;
+      case Aov::Motion:
+        for (int c = 0; c < 2; ++c)
+          out.push_back(
+              {std::string("motion.") + "XY"[c], component(frame.aovs.motion, 2, c), false});
+        break;
+    }
+  }
+  return out;
+}
+
+void writeChannels(const std::vector<ImageChannel>& channels, int width, int height,
+                   const std::string& path) {
+  const std::string ext = lowerExtension(path);
+  if (ext != ".exr")
+    throw Error(path + ": layers for compositing (--aov) need an OpenEXR file (.exr), not \"" +
+                ext + "\"");
+  const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  if (width <= 0 || height <= 0 || channels.empty())
+    throw Error(path + ": refusing to write an empty image");
+  for (const ImageChannel& c : channels)
+    if (c.values.size() != pixels)
+      throw Error(path + ": channel " + c.name + " has " + std::to_string(c.values.size()) +
+                  " values for " + std::to_string(pixels) + " pixels");
+  const int n = static_cast<int>(channels.size());
+  OIIO::ImageSpec spec(width, height, n, OIIO::TypeDesc::FLOAT);
+  spec.channelnames.clear();
+  spec.channelformats.clear();
+  for (const ImageChannel& c : channels) {
+    spec.channelnames.push_back(c.name);
+    spec.channelformats.push_back(c.half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
+  }
+  spec.alpha_channel = -1;
+  spec.z_channel = -1;
+  for (int c = 0; c < n; ++c) {
+    if (channels[c].name == "A") spec.alpha_channel = c;
+    if (channels[c].name == "Z") spec.z_channel = c;
+  }
+  spec.attribute("oiio:ColorSpace", "Linear");
+  spec.attribute("DateTime", "");  // a file depends on its pixels only (see writeImage)
+  std::vector<float> interleaved(pixels * n);
+  for (std::size_t p = 0; p < pixels; ++p)
+    for (int c = 0; c < n; ++c) interleaved[p * n + c] = channels[c].values[p];
+  // a temporary in the target folder, renamed into place: no half-written frame remains
+  std::filesystem::path target(path);
+  std::filesystem::path tmp = target.parent_path() / (".tmp-" + std::to_string(::getpid()) + "-" +
+                                                      target.filename().string());
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out) throw Error(path + ": no OpenEXR writer in this OpenImageIO");
+  bool ok = out->open(tmp.string(), spec);
+  if (ok) ok = out->write_image(OIIO::TypeDesc::FLOAT, interleaved.data());
+  ok = out->close() && ok;
+  std::error_code ec;
+  if (!ok) {
+    std::string err = out->geterror();
+    std::filesystem::remove(tmp, ec);
+    throw Error(path + ": writing the image failed (" + err + ")");
+  }
+  std::filesystem::rename(tmp, target, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw Error(path + ": cannot move the finished image into place (" + ec.message() + ")");
+  }
+}
+
+}  // namespace clhair

@@ -1,0 +1,53 @@
+// aov.h — layers for compositing (arbitrary output variables) and writing them, with the
+// beauty, as one multi-channel OpenEXR file (docs/aovs.md).
+//
+// Renderer::render fills Frame::aovs when RenderOptions::aovs is set. Every layer is a plane
+// of width * height values per channel, row-major, top row first:
+//   rgba     R, G, B, A   the composited frame (premultiplied; A is 1: the background is drawn)
+//   z        Z            view depth of the surface in Frame::depth: the opaque scene and hair
+//                         at least half opaque (composite.cl); kAovBackgroundZ where nothing
+//   alpha    hair.A       the hair's own coverage, 1 - prod(1 - a_k) over the grooms drawn
+//   tangent  tangent.X/Y/Z  world unit tangent (root to tip) of the nearest centre G-buffer
+//                         word of any groom, decoded from its octahedral code; 0 where none
+//   motion   motion.X/Y   pixels from this frame to the previous one for the surface in Z:
+//                         X to the right, Y up (the compositors' convention); rigid motion
+//                         only (camera and groom transform keys), 0 on the background
+// Inputs and outputs only: nothing here touches the device.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace clhair {
+
+struct Frame;
+
+enum class Aov { Rgba, Z, Alpha, Tangent, Motion };
+
+// `Z` where no surface was drawn: a large finite depth (compositing arithmetic on +inf
+// gives NaN, e.g. inf * 0 in a depth blend), the value Blender and others use.
+constexpr float kAovBackgroundZ = 1.0e10f;
+
+// The layers of a --aov value: a comma-separated list of rgba, z, alpha, tangent, motion,
+// or "all"; duplicates collapse, the order is always the one above. Throws clhair::Error
+// (one line naming the bad entry and the known names) for an unknown or empty entry.
+std::vector<Aov> parseAovList(const std::string& list);
+const char* aovName(Aov aov);
+
+// One named channel of an image: width * height floats.
+struct ImageChannel {
+  std::string name;
+  std::vector<float> values;
+  bool half = false;  // stored as 16-bit float (values where exactness does not matter)
+};
+
+// The channels of `layers` from a frame rendered with RenderOptions::aovs (throws
+// clhair::Error when a layer other than rgba is asked of a frame without them).
+std::vector<ImageChannel> aovChannels(const Frame& frame, const std::vector<Aov>& layers);
+
+// Writes channels as one OpenEXR file (the name must end in .exr), atomically like
+// writeImage; channels are stored in the order given.
+void writeChannels(const std::vector<ImageChannel>& channels, int width, int height,
+                   const std::string& path);
+
+}  // namespace clhair

@@ -15,8 +15,9 @@
  * groom's minimum, widened by the LOD compensation and capped at CLH_MAX_HIT_DIAMETER.
  * Writes are 64-bit atomic minima of the G-buffer word after a depth test against the
  * scene depth, skipped when a plain load shows they cannot lower the word. With
- * CLH_RASTER_OPACITY (device only) the conservative pixels add the strand's coverage to
- * the deep-opacity layer of their depth instead (Yuksel & Keyser 2008).
+ * CLH_RASTER_OPACITY (device only) the conservative pixels add the strand's area in them
+ * (width times the length of its path through the texel) to the deep-opacity layer of
+ * their depth instead (Yuksel & Keyser 2008).
  *
  * Speed (DESIGN.md, "Vectorizable kernels"): scalar arithmetic only, no vector types and no
  * library calls besides floor/ceil/sqrt; one G-buffer word per column, evaluated at the
@@ -403,12 +404,21 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
     clh_col_word col;
     clh_col_init(rc, &s, tc, &col);
 #if CLH_RASTER_OPACITY
+    /* each texel gets the strand's area in it: its width times the length of the segment's
+     * path through the texel (this column's share of the segment, split between the rows it
+     * crosses), so a texel two segments share, or a segment shorter than a texel, counts the
+     * strand once whatever the tessellation */
+    const float nlo = n0 < n1 ? n0 : n1, nhi = n0 < n1 ? n1 : n0;
+    const float path = (e1 - e0) * len * s.inv_span; /* length in this column, pixels */
+    const float rise = nhi - nlo;
     const clh_i32 jc0 = j0 > 0 ? j0 : 0, jc1 = j1 < minor_max - 1 ? j1 : minor_max - 1;
     for (clh_i32 j = jc0; j <= jc1; ++j) {
       const clh_u64 idx =
           xmajor ? (clh_u64)j * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j;
+      const float lo_j = fmax(nlo, (float)j), hi_j = fmin(nhi, (float)j + 1.0f);
+      const float share = rise > 1e-6f ? fmax(hi_j - lo_j, 0.0f) / rise : (j == j0 ? 1.0f : 0.0f);
       if (col.z < scene_depth[idx])
-        clh_opacity_add(rc, (__global uint*)gbuf, idx, col.z, opacity_w);
+        clh_opacity_add(rc, (__global uint*)gbuf, idx, col.z, fmin(opacity_w * path * share, 1.0f));
     }
 #else
     const clh_u64 cons_at = (clh_u64)CLH_MSAA * rc->plane;

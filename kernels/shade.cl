@@ -50,13 +50,16 @@ static inline void shade_material(__global const ClhGroomGpu* g, float u, float 
   /* per-strand variation from the 6-bit root uv (the same for the whole strand) */
   const uint key = clh_hash2((uint)(u * 63.0f + 0.5f), (uint)(v * 63.0f + 0.5f) ^ g->seed);
   const float vary = 1.0f + g->look[0] * (2.0f * clh_u01(key) - 1.0f);
-  const float eu = (g->melanin[0] + (g->melanin[1] - g->melanin[0]) * w) * vary;
-  const float pheo = (g->melanin[2] + (g->melanin[3] - g->melanin[2]) * w) * vary;
-  const clh_v3 c = clh_v3_make(g->root_color[0] + (g->tip_color[0] - g->root_color[0]) * w,
-                               g->root_color[1] + (g->tip_color[1] - g->root_color[1]) * w,
-                               g->root_color[2] + (g->tip_color[2] - g->root_color[2]) * w);
-  m->sigma_a = g->look[1] > 0.5f ? clh_hair_sigma_a_from_melanin(eu, pheo)
-                                 : clh_v3_scale(clh_hair_sigma_a_from_color(c, g->bsdf[1]), vary);
+  if (g->look[1] > 0.5f) {
+    const float eu = (g->melanin[0] + (g->melanin[1] - g->melanin[0]) * w) * vary;
+    const float pheo = (g->melanin[2] + (g->melanin[3] - g->melanin[2]) * w) * vary;
+    m->sigma_a = clh_hair_sigma_a_from_melanin(eu, pheo);
+  } else {
+    const clh_v3 c = clh_v3_make(g->root_color[0] + (g->tip_color[0] - g->root_color[0]) * w,
+                                 g->root_color[1] + (g->tip_color[1] - g->root_color[1]) * w,
+                                 g->root_color[2] + (g->tip_color[2] - g->root_color[2]) * w);
+    m->sigma_a = clh_v3_scale(clh_hair_sigma_a_from_color(c, g->bsdf[1]), vary);
+  }
   m->beta_m = g->bsdf[0];
   m->beta_n = g->bsdf[1];
   m->alpha = g->bsdf[2];
@@ -85,10 +88,12 @@ static inline clh_v3 shade_word(__global const ClhGroomGpu* groom_g,
 
   clh_hair_material mat;
   shade_material(groom_g, u, v, w, &mat);
-  const clh_v3 fc =
-      clh_v3_make(clh_file_color_value(clh_gbuf_u(word)), clh_file_color_value(clh_gbuf_v(word)),
-                  clh_file_color_value(clh_gbuf_ao(word)));
-  mat.sigma_a = file_color ? clh_hair_sigma_a_from_color(fc, groom_g->bsdf[1]) : mat.sigma_a;
+  if (file_color) {
+    const clh_v3 fc =
+        clh_v3_make(clh_file_color_value(clh_gbuf_u(word)), clh_file_color_value(clh_gbuf_v(word)),
+                    clh_file_color_value(clh_gbuf_ao(word)));
+    mat.sigma_a = clh_hair_sigma_a_from_color(fc, groom_g->bsdf[1]);
+  }
   clh_hair_view hv;
   clh_hair_prepare_to(&hv, &mat, T, V);
 
@@ -98,12 +103,16 @@ static inline clh_v3 shade_word(__global const ClhGroomGpu* groom_g,
     __global const ClhLightGpu* light = lights_g + i;
     const clh_v3 lc = clh_v3_make(light->color[0], light->color[1], light->color[2]);
     const clh_v3 lpos = clh_v3_make(light->pos[0], light->pos[1], light->pos[2]);
-    const bool point = light->pos[3] > 0.5f;
-    const clh_v3 d = clh_v3_sub(lpos, pos);
-    const float d2 = fmax(clh_v3_dot(d, d), 1e-8f);
-    const float l2 = fmax(clh_v3_dot(lpos, lpos), 1e-30f);
-    const clh_v3 L = point ? clh_v3_scale(d, 1.0f / sqrt(d2)) : clh_v3_scale(lpos, 1.0f / sqrt(l2));
-    float falloff = point ? 1.0f / d2 : 1.0f;
+    clh_v3 L;
+    float falloff = 1.0f;
+    if (light->pos[3] > 0.5f) { /* point light */
+      const clh_v3 d = clh_v3_sub(lpos, pos);
+      const float d2 = fmax(clh_v3_dot(d, d), 1e-8f);
+      L = clh_v3_scale(d, 1.0f / sqrt(d2));
+      falloff = 1.0f / d2;
+    } else {
+      L = clh_v3_unit(lpos);
+    }
     const int slot = clh_light_shadow_slot(light);
     if (slot >= 0 && slot < CLH_MAX_SHADOWS)
       falloff *= clh_shadow_transmittance_v3(in->params + slot, in->opaque, in->hair, in->opacity,

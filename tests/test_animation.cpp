@@ -133,12 +133,7 @@ std::string writeScene(const std::string& dir, const json& scene,
 
 // The error text of loading `scene` (empty when it loads).
 std::string loadError(const std::string& dir, const json& scene) {
-  try {
-    loadScene(writeScene(dir, scene));
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
+  return errorOf([&] { loadScene(writeScene(dir, scene)); });
 }
 
 TEST(AnimatedScene, BadKeysAreRefusedWithOneLine) {
@@ -268,12 +263,7 @@ TEST(AnimatedScene, PerFrameStrandFilesAreReadPerFrameAndHeldOutsideTheirRange) 
   EXPECT_FLOAT_EQ(firstX(sceneAtFrame(s, 9)), 0.008f);    // held after the last
   EXPECT_FLOAT_EQ(firstX(sceneAtFrame(s, -4)), 0.0f);     // and before the first
   // a frame inside the range without a file: one line naming the groom, frame and file
-  std::string err;
-  try {
-    sceneAtFrame(s, 4);
-  } catch (const Error& e) {
-    err = e.what();
-  }
+  const std::string err = errorOf([&] { sceneAtFrame(s, 4); });
   EXPECT_NE(err.find("groom \"seq\" at frame 4"), std::string::npos) << err;
   EXPECT_NE(err.find("s.0004.hair"), std::string::npos) << err;
   EXPECT_EQ(err.find('\n'), std::string::npos) << err;
@@ -465,12 +455,7 @@ TEST(CageFile, MalformedFilesAreRefusedWithOneLine) {
     SCOPED_TRACE("case " + std::to_string(i));
     const std::string path = dir + "/bad" + std::to_string(i) + ".cage";
     writeText(path, cases[i].data);
-    std::string err;
-    try {
-      loadCageAnimation(path, 1ull << 30);
-    } catch (const Error& e) {
-      err = e.what();
-    }
+    const std::string err = errorOf([&] { loadCageAnimation(path, 1ull << 30); });
     ASSERT_FALSE(err.empty()) << "the file was accepted";
     EXPECT_EQ(err.find('\n'), std::string::npos) << err;
     EXPECT_NE(err.find(path), std::string::npos) << err;
@@ -478,12 +463,7 @@ TEST(CageFile, MalformedFilesAreRefusedWithOneLine) {
       EXPECT_NE(err.find(f), std::string::npos) << "lacks \"" << f << "\": " << err;
   }
   // over the byte limit: refused before the positions are read
-  std::string err;
-  try {
-    loadCageAnimation(good, 100);
-  } catch (const Error& e) {
-    err = e.what();
-  }
+  const std::string err = errorOf([&] { loadCageAnimation(good, 100); });
   EXPECT_NE(err.find("over the limit"), std::string::npos) << err;
 }
 

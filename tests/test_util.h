@@ -104,4 +104,15 @@ inline CommandResult runCli(const std::string& args) {
   return runCommand(quote(cliPath()) + " " + args);
 }
 
+// The message of the clhair::Error that f() throws, or "" when it throws none.
+template <typename F>
+std::string errorOf(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
 }  // namespace clhair::test

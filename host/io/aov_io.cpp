@@ -1,14 +1,13 @@
 // aov_io.cpp — the --aov list, a frame's layers as named channels and writing them as one
 // multi-channel OpenEXR file through OpenImageIO (see clhair/aov.h, docs/aovs.md).
 #include <algorithm>
-#include <filesystem>
 
 #include <OpenImageIO/imageio.h>
-#include <unistd.h>
 
 #include "clhair/aov.h"
 #include "clhair/error.h"
 #include "clhair/renderer.h"
+#include "io/image_file.h"
 #include "io/json_util.h"
 
 namespace clhair {
@@ -137,30 +136,11 @@ void writeChannels(const std::vector<ImageChannel>& channels, int width, int hei
     if (channels[c].name == "Z") spec.z_channel = c;
   }
   spec.attribute("oiio:ColorSpace", "Linear");
-  spec.attribute("DateTime", "");  // a file depends on its pixels only (see writeImage)
   std::vector<float> interleaved(pixels * n);
   for (std::size_t p = 0; p < pixels; ++p)
     for (int c = 0; c < n; ++c) interleaved[p * n + c] = channels[c].values[p];
-  // a temporary in the target folder, renamed into place: no half-written frame remains
-  std::filesystem::path target(path);
-  std::filesystem::path tmp = target.parent_path() / (".tmp-" + std::to_string(::getpid()) + "-" +
-                                                      target.filename().string());
-  auto out = OIIO::ImageOutput::create(path);
-  if (!out) throw Error(path + ": no OpenEXR writer in this OpenImageIO");
-  bool ok = out->open(tmp.string(), spec);
-  if (ok) ok = out->write_image(OIIO::TypeDesc::FLOAT, interleaved.data());
-  ok = out->close() && ok;
-  std::error_code ec;
-  if (!ok) {
-    std::string err = out->geterror();
-    std::filesystem::remove(tmp, ec);
-    throw Error(path + ": writing the image failed (" + err + ")");
-  }
-  std::filesystem::rename(tmp, target, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw Error(path + ": cannot move the finished image into place (" + ec.message() + ")");
-  }
+  writeImageFile(path, spec, OIIO::TypeDesc::FLOAT, interleaved.data(),
+                 "no OpenEXR writer in this OpenImageIO");
 }
 
 }  // namespace clhair

@@ -9,6 +9,7 @@
 
 #include "clhair/error.h"
 #include "clhair/image.h"
+#include "io/image_file.h"
 #include "io/json_util.h"
 
 namespace clhair {
@@ -28,53 +29,55 @@ bool isFloatFormat(const std::string& ext) { return ext == ".exr" || ext == ".hd
 
 }  // namespace
 
-void writeImage(const Image& image, const std::string& path) {
-  if (image.width <= 0 || image.height <= 0 ||
-      image.rgba.size() != static_cast<std::size_t>(image.width) * image.height * 4)
-    throw Error(path + ": refusing to write an empty or inconsistent image");
-  const std::string ext = lowerExtension(path);
+void writeImageFile(const std::string& path, OIIO::ImageSpec spec, OIIO::TypeDesc format,
+                    const void* pixels, const std::string& noWriter) {
   // The temporary keeps the extension so OpenImageIO picks the right writer.
   std::filesystem::path target(path);
   std::filesystem::path tmp = target.parent_path() / (".tmp-" + std::to_string(::getpid()) + "-" +
                                                       target.filename().string());
   auto out = OIIO::ImageOutput::create(path);
-  if (!out)
-    throw Error(path + ": no image writer for extension \"" + ext + "\" (try .png or .exr)");
-  const bool floating = isFloatFormat(ext);
-  OIIO::ImageSpec spec(image.width, image.height, 4,
-                       floating ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::UINT8);
-  spec.attribute("oiio:ColorSpace", floating ? "Linear" : "sRGB");
+  if (!out) throw Error(path + ": " + noWriter);
   // No time stamp: OpenImageIO's EXR writer adds the current time unless one is given, and
   // a file must depend on its pixels only (a frame of a range is byte-identical however and
   // whenever it is rendered).
   spec.attribute("DateTime", "");
   bool ok = out->open(tmp.string(), spec);
-  if (ok) {
-    if (floating) {
-      ok = out->write_image(OIIO::TypeDesc::FLOAT, image.rgba.data());
-    } else {
-      std::vector<unsigned char> bytes(image.rgba.size());
-      for (std::size_t i = 0; i < bytes.size(); ++i) {
-        float v = (i % 4 == 3) ? std::min(std::max(image.rgba[i], 0.0f), 1.0f)
-                               : linearToSrgb(image.rgba[i]);
-        bytes[i] = static_cast<unsigned char>(std::lround(v * 255.0f));
-      }
-      ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
-    }
-    ok = out->close() && ok;
-  }
+  if (ok) ok = out->write_image(format, pixels);
+  ok = out->close() && ok;
+  std::error_code ec;
   if (!ok) {
     std::string err = out->geterror();
-    std::error_code ec;
     std::filesystem::remove(tmp, ec);
     throw Error(path + ": writing the image failed (" + err + ")");
   }
-  std::error_code ec;
   std::filesystem::rename(tmp, target, ec);
   if (ec) {
     std::filesystem::remove(tmp, ec);
     throw Error(path + ": cannot move the finished image into place (" + ec.message() + ")");
   }
+}
+
+void writeImage(const Image& image, const std::string& path) {
+  if (image.width <= 0 || image.height <= 0 ||
+      image.rgba.size() != static_cast<std::size_t>(image.width) * image.height * 4)
+    throw Error(path + ": refusing to write an empty or inconsistent image");
+  const std::string ext = lowerExtension(path);
+  const std::string noWriter = "no image writer for extension \"" + ext + "\" (try .png or .exr)";
+  const bool floating = isFloatFormat(ext);
+  OIIO::ImageSpec spec(image.width, image.height, 4,
+                       floating ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::UINT8);
+  spec.attribute("oiio:ColorSpace", floating ? "Linear" : "sRGB");
+  if (floating) {
+    writeImageFile(path, spec, OIIO::TypeDesc::FLOAT, image.rgba.data(), noWriter);
+    return;
+  }
+  std::vector<unsigned char> bytes(image.rgba.size());
+  for (std::size_t i = 0; i < bytes.size(); ++i) {
+    float v =
+        (i % 4 == 3) ? std::min(std::max(image.rgba[i], 0.0f), 1.0f) : linearToSrgb(image.rgba[i]);
+    bytes[i] = static_cast<unsigned char>(std::lround(v * 255.0f));
+  }
+  writeImageFile(path, spec, OIIO::TypeDesc::UINT8, bytes.data(), noWriter);
 }
 
 Image readImage(const std::string& path) {

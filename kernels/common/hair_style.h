@@ -11,6 +11,8 @@
 
 /* include after subgroup.h (SG_SHARED: where a strand's layer samples live) and
  * clhair/fast_math.h (styling without pow/sin/cos library calls per point) */
+/* clh_floor_i */
+#include "clhair/raster_core.h"
 
 /* One strand's sample on one layer: the bilinear interpolation of the layer's quad. */
 typedef struct {
@@ -83,17 +85,11 @@ typedef struct {
 
 static inline void clh_noise_knots_init(clh_noise_knots* k) { k->i = INT_MIN; }
 
-/* floor to int for |x| < 2^30, without a library call */
-static inline int clh_style_floor_i(float x) {
-  const int i = (int)x;
-  return i - ((float)i > x ? 1 : 0);
-}
-
 /* The two channels' noise at x: knot hashes hash2(hash2(key, i), channel), as
  * clh_hash3(key, i, channel). */
 static inline void clh_value_noise2(uint key, uint channel0, uint channel1, float x,
                                     clh_noise_knots* k, float* n0, float* n1) {
-  const int i = clh_style_floor_i(x);
+  const int i = clh_floor_i(x); /* raster_core.h */
   if (i != k->i) {
     const uint h0 = clh_hash2(key, (uint)i), h1 = clh_hash2(key, (uint)(i + 1));
     k->a0 = clh_u01(clh_hash2(h0, channel0)) * 2.0f - 1.0f;

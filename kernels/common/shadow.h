@@ -32,14 +32,15 @@ static inline float clh_dom_texel(__global const ClhShadowGpu* sh, __global cons
   const float d = z - z0 - shift * sh->bound[0];
   if (!(d > 0.0f)) return 1.0f;
   const size_t layers = (size_t)sh->offset * CLH_DOM_LAYERS + (size_t)ty * (size_t)w + (size_t)tx;
-  /* whole layers before d, the linear share of d's layer, none after it (the last layer
-   * takes everything beyond it), without a data-dependent exit */
   float acc = 0.0f, lo = 0.0f;
   for (int k = 0; k < CLH_DOM_LAYERS; ++k) {
     const float v = (float)opacity_g[layers + (size_t)k * plane] * (1.0f / CLH_DOM_FIXED);
     const float hi = sh->bound[k];
-    const float share = clamp((d - lo) / fmax(hi - lo, 1e-12f), 0.0f, 1.0f);
-    acc += (k == CLH_DOM_LAYERS - 1 && !(d < hi)) ? v : v * share;
+    if (d < hi) {
+      acc += v * (d - lo) / fmax(hi - lo, 1e-12f);
+      break;
+    }
+    acc += v;
     lo = hi;
   }
   return clh_fast_exp(-sh->density * acc);

@@ -2,9 +2,12 @@
 // (kernels/ao.cl): values in [0, 1], roots under the hair darker than the tips, denser hair
 // darker, the bake deterministic, and, on a slab of straight dense hair, a vertex deep
 // inside black while vertices on its side and corner keep the share of directions that
-// leave the groom without entering it.
+// leave the groom without entering it. The bake is kept in the device's cache folder, one
+// entry per groom.
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <numeric>
 
 #include <glm/vec3.hpp>
@@ -19,7 +22,7 @@ namespace {
 
 TEST(AmbientOcclusion, RootsAreDarkerThanTips) {
   HairMesh m = makeGroomPreset("long_wavy");
-  Renderer r(test::sharedDevice());
+  Renderer r(test::openWithCache("off"));  // every bake computed, none read back
   std::vector<float> ao = r.bakeAmbientOcclusion(m);
   ASSERT_EQ(ao.size(), static_cast<std::size_t>(m.layerCount) * m.vertexCount);
   for (float a : ao) {
@@ -178,6 +181,55 @@ TEST(AmbientOcclusion, InsideOfTheGroomIsDarkerThanItsOutside) {
           << "vertex (" << i << ", " << j << "), layer " << layer;
     }
   }
+}
+
+std::vector<std::filesystem::path> aoEntries(const std::string& dir) {
+  std::vector<std::filesystem::path> out;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(dir, ec))
+    if (e.path().extension() == ".ao") out.push_back(e.path());
+  return out;
+}
+
+void writeFloats(const std::filesystem::path& p, const std::vector<float>& v) {
+  std::ofstream(p, std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(v.data()),
+             static_cast<std::streamsize>(v.size() * sizeof(float)));
+}
+
+// The ambient-occlusion bake of a hair mesh is kept in the same folder: one entry per
+// groom, read back instead of baking (shown by planting an entry the bake would never
+// make), a damaged entry baked again, and another groom never served a stored bake.
+TEST(AmbientOcclusion, BakeIsKeptInTheCacheFolderPerGroom) {
+  const std::string dir = test::scratchDir() + "/ao-cache";
+  Renderer r(test::openWithCache(dir));
+  HairMesh m = hairSlab(2000);
+  const std::vector<float> baked = r.bakeAmbientOcclusion(m);
+  ASSERT_FALSE(baked.empty());
+  const std::vector<std::filesystem::path> stored = aoEntries(dir);
+  ASSERT_EQ(stored.size(), 1u) << "one bake, one entry";
+  EXPECT_EQ(std::filesystem::file_size(stored[0]), baked.size() * sizeof(float));
+  EXPECT_EQ(r.bakeAmbientOcclusion(m), baked);
+
+  // an entry the bake cannot have made (every vertex 0.25) is what the next bake returns
+  const std::vector<float> planted(baked.size(), 0.25f);
+  writeFloats(stored[0], planted);
+  EXPECT_EQ(r.bakeAmbientOcclusion(m), planted) << "the stored bake is read, not recomputed";
+
+  // damaged entries (a value outside [0, 1], a short file) are baked again and rewritten
+  std::vector<float> bad = baked;
+  bad[bad.size() / 2] = 2.0f;
+  writeFloats(stored[0], bad);
+  EXPECT_EQ(r.bakeAmbientOcclusion(m), baked);
+  writeFloats(stored[0], std::vector<float>(3, 0.5f));
+  EXPECT_EQ(r.bakeAmbientOcclusion(m), baked);
+  writeFloats(stored[0], planted);
+
+  // a different groom (more strands) has its own entry, never the planted one
+  HairMesh denser = hairSlab(4000);
+  const std::vector<float> other = r.bakeAmbientOcclusion(denser);
+  EXPECT_NE(other, planted);
+  EXPECT_EQ(aoEntries(dir).size(), 2u);
 }
 
 }  // namespace

@@ -15,22 +15,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::vector<fs::path> entries(const std::string& dir) {
+std::vector<fs::path> entries(const std::string& dir, const std::string& ext = ".clbin") {
   std::vector<fs::path> out;
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(dir, ec))
-    if (e.path().extension() == ".clbin") out.push_back(e.path());
+    if (e.path().extension() == ext) out.push_back(e.path());
   return out;
-}
-
-// Opens the shared device's platform/device with its own cache folder.
-Device openWithCache(const std::string& dir) {
-  const DeviceInfo& shared = test::sharedDevice().info();
-  DeviceOptions o;
-  o.selector = std::to_string(shared.platformIndex) + ":" + std::to_string(shared.deviceIndex);
-  o.cacheDir = dir;
-  o.kernelWarningsAsErrors = true;
-  return Device::open(o);
 }
 
 // Packs G-buffer words on the device (selftest_gbuffer): a result that needs a working program.
@@ -56,14 +46,14 @@ TEST(BinaryCache, StoresReusesAndSurvivesACorruptEntry) {
   const std::string dir = test::scratchDir() + "/cache";
   std::vector<cl_ulong> first;
   {
-    Device dev = openWithCache(dir);  // builds the self-test program
+    Device dev = test::openWithCache(dir);  // builds the self-test program
     first = packWords(dev);
   }
   const std::vector<fs::path> stored = entries(dir);
   ASSERT_EQ(stored.size(), 1u)
       << "selftest.cl (the sub-group self-test and the packing kernel share it) is stored";
   {
-    Device again = openWithCache(dir);
+    Device again = test::openWithCache(dir);
     EXPECT_EQ(packWords(again), first) << "a program taken from the cache computes the same";
   }
   EXPECT_EQ(entries(dir).size(), stored.size())
@@ -71,7 +61,7 @@ TEST(BinaryCache, StoresReusesAndSurvivesACorruptEntry) {
   for (const fs::path& p : stored)
     std::ofstream(p, std::ios::binary | std::ios::trunc) << "not a binary";
   {
-    Device rebuilt = openWithCache(dir);
+    Device rebuilt = test::openWithCache(dir);
     EXPECT_EQ(packWords(rebuilt), first) << "corrupt entries are rebuilt from source";
   }
   for (const fs::path& p : stored) EXPECT_GT(fs::file_size(p), 100u) << p << " was written again";

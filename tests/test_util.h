@@ -63,6 +63,16 @@ inline Device& sharedDevice() {
   return *dev;
 }
 
+// The shared device's platform and device opened again with its own program cache folder.
+inline Device openWithCache(const std::string& dir) {
+  const DeviceInfo& shared = sharedDevice().info();
+  DeviceOptions o;
+  o.selector = std::to_string(shared.platformIndex) + ":" + std::to_string(shared.deviceIndex);
+  o.cacheDir = dir;
+  o.kernelWarningsAsErrors = true;
+  return Device::open(o);
+}
+
 struct CommandResult {
   int exitCode = -1;
   std::string output;  // stdout and stderr together

@@ -54,6 +54,13 @@ std::string BinaryCache::key(const std::string& platform, const std::string& dev
   return digest(all) + ".clbin";
 }
 
+std::string BinaryCache::dataKey(const std::string& kind, const std::string& platform,
+                                 const std::string& device, const std::string& driver,
+                                 const std::string& inputs) {
+  std::string k = key(platform, device, driver, kind, inputs);
+  return k.substr(0, k.size() - std::string(".clbin").size()) + "." + kind;
+}
+
 bool BinaryCache::cacheablePlatform(const std::string& platformName) {
   return platformName.find("Oclgrind") == std::string::npos;
 }

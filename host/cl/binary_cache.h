@@ -9,7 +9,9 @@
 // read a half-written entry. The folder is CLHAIR_CACHE_DIR, else $XDG_CACHE_HOME/clhair,
 // else ~/.cache/clhair; CLHAIR_CACHE_DIR=off disables the cache. Simulators whose build
 // options come from their own environment (Oclgrind: OCLGRIND_BUILD_OPTIONS, which the key
-// cannot see) are never cached (cacheablePlatform).
+// cannot see) are never cached (cacheablePlatform). The same folder keeps results a device
+// computes deterministically from inputs the key can name (dataKey): the ambient-occlusion
+// bake of a hair mesh (host/groom/hair_mesh_gpu.cpp).
 #pragma once
 
 #include <optional>
@@ -29,6 +31,11 @@ class BinaryCache {
   static std::string key(const std::string& platform, const std::string& device,
                          const std::string& driver, const std::string& options,
                          const std::string& source);
+  // The entry's file name for other results computed on a device from `inputs`: `kind`
+  // names what it holds and is the file's extension (".ao": a baked ambient occlusion).
+  static std::string dataKey(const std::string& kind, const std::string& platform,
+                             const std::string& device, const std::string& driver,
+                             const std::string& inputs);
   std::optional<std::vector<unsigned char>> load(const std::string& key) const;
   // False for platforms whose builds depend on more than the key holds.
   static bool cacheablePlatform(const std::string& platformName);

@@ -6,6 +6,7 @@
 
 #include <map>
 #include <memory>
+#include <string>
 
 #include "clhair/hair_mesh.h"
 #include "groom/blue_noise.h"
@@ -55,10 +56,14 @@ class HairMeshGpu final : public GroomGpu {
   void deform(const std::shared_ptr<const std::vector<glm::vec3>>& cage) override;
 
   // AO per layer vertex of `mesh` (1 = open), computed on the device from a sample of its
-  // own strands (kernels/ao.cl).
+  // own strands (kernels/ao.cl), or taken from the device's cache folder when the same
+  // bake was made before (BinaryCache::dataKey).
   static std::vector<float> bakeAo(const HairMesh& mesh, GroomStages& stages);
 
  private:
+  // On the groom of the sampled strands: the bake, and the name of its cache entry.
+  std::vector<float> bakeSample(const HairMesh& mesh, int gridCells);
+  std::string aoCacheKey(const HairMesh& mesh) const;
   // The exported strands of one instance: CLH_MAX_CONTROL_POINTS slots per strand.
   struct Exported {
     std::uint32_t total = 0;

@@ -126,6 +126,30 @@ TEST(Shadows, LightPassLodFollowsTheLightsViewNotTheCameras) {
   EXPECT_EQ(big, wide) << "the camera's resolution changed the shadow pass";
 }
 
+// "shadows": {"lod_scale"} thins the lights' passes only: fewer strands in the maps, the
+// camera's strands unchanged, and hair behind hair about as much darker as with every
+// strand in the maps (the LOD's widening keeps their opacity).
+TEST(Shadows, LodScaleThinsOnlyTheLightsPasses) {
+  Renderer r(test::sharedDevice());
+  RenderOptions o;
+  o.filter = 0;
+  o.lod = 1;
+  auto run = [&](float lodScale) {
+    Scene s = twoPatches(true);
+    s.shadows.lodScale = lodScale;
+    return r.render(s, o);
+  };
+  const Frame full = run(1.0f), thin = run(0.25f);
+  RecordProperty("shadow_strands_full", std::to_string(full.stats.shadowStrandsDrawn));
+  RecordProperty("shadow_strands_thin", std::to_string(thin.stats.shadowStrandsDrawn));
+  EXPECT_LT(thin.stats.shadowStrandsDrawn, full.stats.shadowStrandsDrawn * 3 / 4);
+  EXPECT_EQ(thin.stats.strandsDrawn, full.stats.strandsDrawn) << "the camera's pass changed";
+  const auto [frontFull, backFull] = halves(full, 120);
+  const auto [frontThin, backThin] = halves(thin, 120);
+  ASSERT_LT(backFull, 0.9 * frontFull) << "the scene should show hair shadowing hair";
+  EXPECT_NEAR(backThin / frontThin, backFull / frontFull, 0.1 * (backFull / frontFull));
+}
+
 TEST(Shadows, MapsAreReusedWhileTheirInputsStayAndRebuiltWhenOneChanges) {
   // RenderOptions::reuseShadows keeps the deep opacity maps of the previous frame when
   // nothing they depend on changed: the second frame of a still scene skips the shadow

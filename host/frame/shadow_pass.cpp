@@ -71,6 +71,7 @@ ShadowPass::Key ShadowPass::keyOf(const Scene& s, const RenderOptions& o, bool l
   putValue(s.shadows.lodCorrection);
   putValue(s.shadows.bias);
   putValue(s.shadows.pcf);
+  putValue(s.shadows.lodScale);
   for (const Sphere& sp : s.spheres) {
     putValue(sp.center);
     putValue(sp.radius);
@@ -116,7 +117,7 @@ void ShadowPass::render(const Scene& s, const RenderOptions& cameraOptions, bool
   pass.view = &lightView_;
   pass.lod = cameraOptions.lod == 0 ? 0 : 1;
   if (cameraOptions.shadowLod >= 0) pass.lod = cameraOptions.shadowLod;
-  pass.lodLambdaScale = cameraOptions.lodLambdaScale;
+  pass.lodLambdaScale = cameraOptions.lodLambdaScale * s.shadows.lodScale;
   pass.trueWidth = cameraOptions.trueWidth;
   pass.shadowLodCorrection = lodCorrection;
   std::vector<gpu::ClhShadowGpu> params(CLH_MAX_SHADOWS);

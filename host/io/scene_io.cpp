@@ -680,7 +680,9 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
     s.shadows.lodCorrection = o.boolean("lod_correction", s.shadows.lodCorrection);
     s.shadows.bias = static_cast<float>(o.number("bias", s.shadows.bias, 0.0, 1000.0));
     s.shadows.pcf = o.boolean("pcf", s.shadows.pcf);
-    o.rejectUnknown({"resolution", "layers", "density", "lod_correction", "bias", "pcf"});
+    s.shadows.lodScale = static_cast<float>(o.number("lod_scale", s.shadows.lodScale, 1e-3, 1e3));
+    o.rejectUnknown(
+        {"resolution", "layers", "density", "lod_correction", "bias", "pcf", "lod_scale"});
   }
   if (r.has("filter")) s.filter = readFilter(r, r.require("filter"), s.filter);
   if (r.has("environment")) {

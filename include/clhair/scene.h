@@ -51,6 +51,10 @@ struct ShadowParams {
   // shadow edges on them spread over three texels; false: the bilinear blend of the four
   // nearest texels' tests (a one-texel ramp, stair steps where a texel covers pixels).
   bool pcf = true;
+  // Multiplies the LOD's lambda (Lipp Eq. 2) in the lights' passes: below 1 the maps are
+  // built from fewer strands and control points (the LOD's coverage compensation keeps
+  // their opacity), which is most of the cost of rebuilding them.
+  float lodScale = 1.0f;
 };
 
 // The procedural default sky: a sun disc, a horizon -> zenith gradient and a ground.

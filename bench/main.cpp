@@ -16,6 +16,12 @@
 //   explicit  the hair mesh vs the same strands as a cyHair file: device bytes, frame times.
 //   mesh      the head as the analytic sphere vs a ~50k-triangle OBJ-style mesh of the same
 //             sphere (generated here): frame time and the opaque + mesh stages' times.
+//   sequences a shot of the default groom in wind (assets/scenes/wind.json, 720p, --seq-frames
+//             frames, 120 by default) rendered frame after frame in one process: the time per
+//             frame after the first against the same scene as a still frame (interleaved),
+//             start-up paid once; two views of one assembly against one view; the cost of the
+//             motion layer; the warped-mask IoU of the motion vectors (clhair::motionWarpIoU)
+//             on the wind shot and on a slow turntable.
 //   floor     the strand pass against an in-run floor: the same raster as plain
 //             multithreaded C++ (host/groom/cpu_raster.h, checked word for word against
 //             the device's G-buffer), the pass's cores used (CPU time / wall time), and the
@@ -34,10 +40,12 @@
 #include <sstream>
 
 #include <CLI/CLI.hpp>
+#include <glm/trigonometric.hpp>
 #include <nlohmann/json.hpp>
 
 #include "cl/device_impl.h"
 #include "cl/dispatch.h"
+#include "clhair/aov.h"
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
 #include "clhair/strand_groom.h"
@@ -188,14 +196,15 @@ int main(int argc, char** argv) {
   std::string out = "bench-results", only,
               sceneDir = std::string(CLHAIR_SOURCE_DIR) + "/bench/scenes";
   int runs = 3, warmup = 1, width = 1920, height = 1080, refSpp = 64, qualityWidth = 960,
-      qualityHeight = 540;
+      qualityHeight = 540, seqFrames = 120;
   bool quick = false;
   std::string refName = "embree";
   app.add_option("--device", dopts.selector, "device: P:D or a name substring");
   app.add_option("--out", out, "folder for bench.json, bench.csv, bench.md");
   app.add_option(
       "--only", only,
-      "one section: table1, dispatch, scaling, atomics, quality, temporal, explicit, mesh, floor");
+      "one section: table1, dispatch, scaling, atomics, quality, temporal, explicit, mesh, floor, "
+      "sequences");
   app.add_option("--runs", runs, "timed runs per configuration (median reported)");
   app.add_option("--warmup", warmup, "untimed runs first");
   app.add_option("--width", width, "table1 width");
@@ -208,6 +217,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"embree", "raster"}));
   app.add_option("--quality-width", qualityWidth, "quality and temporal sections: width");
   app.add_option("--quality-height", qualityHeight, "quality and temporal sections: height");
+  app.add_option("--seq-frames", seqFrames, "sequences section: frames of the wind shot (120)")
+      ->check(CLI::Range(3, 100000));
   app.add_flag("--quick", quick, "smaller sweep for a fast look (640x360, 1 run, MSAA 1 and 4)");
   CLI11_PARSE(app, argc, argv);
   try {
@@ -846,6 +857,146 @@ int main(int argc, char** argv) {
       std::fprintf(stderr,
                    "default frame: wall %.1f ms, device %.1f ms; still scene: wall %.1f ms\n",
                    m.wall.median, m.total.median, still.wall.median);
+    }
+
+    if (only.empty() || only == "sequences") {
+      Scene shot = loadScene(std::string(CLHAIR_SOURCE_DIR) + "/assets/scenes/wind.json");
+      const int frames = quick ? std::min(seqFrames, 8) : seqFrames;
+      auto ms = [](std::chrono::steady_clock::time_point t0) {
+        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+            .count();
+      };
+      // the shot frame after frame (scene evaluation included: what `--frames` does), and
+      // interleaved with it the still frame: frame 1 of the shot rendered again right after
+      // itself (its deep opacity maps kept, as for any still) and after a shot frame (maps
+      // rebuilt, as every frame of a moving groom must)
+      const Scene still = sceneAtFrame(shot, 1.0);
+      std::vector<double> shotMs, stillKept, stillCold;
+      double firstMs = 0.0;
+      for (int f = 1; f <= frames; ++f) {
+        auto t0 = std::chrono::steady_clock::now();
+        const Scene s = sceneAtFrame(shot, static_cast<double>(f));
+        b.renderer.render(s, RenderOptions{});
+        const double t = ms(t0);
+        if (f == 1)
+          firstMs = t;
+        else
+          shotMs.push_back(t);
+        if (f % 4 == 2) {
+          t0 = std::chrono::steady_clock::now();
+          b.renderer.render(still, RenderOptions{});
+          stillCold.push_back(ms(t0));
+          t0 = std::chrono::steady_clock::now();
+          b.renderer.render(still, RenderOptions{});
+          stillKept.push_back(ms(t0));
+        }
+      }
+      const Stats shotS = summarize(shotMs), keptS = summarize(stillKept),
+                  coldS = summarize(stillCold);
+      double mean = 0.0;
+      for (double v : shotMs) mean += v / static_cast<double>(shotMs.size());
+      md << "\n## Sequences (assets/scenes/wind.json: the default groom in wind, " << still.width
+         << "x" << still.height << ", " << frames
+         << " frames in one process)\n\nStart-up (device, kernel compilation) " << fmt(compileMs, 0)
+         << " ms, once per process; first frame " << fmt(firstMs, 0)
+         << " ms.\n\n| | median ms | min | max | vs still (maps kept) |\n|---|---|---|---|---|\n"
+         << "| shot frames 2.." << frames << " (mean " << fmt(mean, 0) << ") | "
+         << fmt(shotS.median, 0) << " | " << fmt(shotS.min, 0) << " | " << fmt(shotS.max, 0)
+         << " | " << fmt(shotS.median / keptS.median, 3) << "x |\n"
+         << "| still frame, maps kept | " << fmt(keptS.median, 0) << " | " << fmt(keptS.min, 0)
+         << " | " << fmt(keptS.max, 0) << " | 1x |\n"
+         << "| still frame, maps rebuilt | " << fmt(coldS.median, 0) << " | " << fmt(coldS.min, 0)
+         << " | " << fmt(coldS.max, 0) << " | " << fmt(coldS.median / keptS.median, 3) << "x |\n";
+      report["sequences"]["frames"] = frames;
+      report["sequences"]["first_frame_ms"] = firstMs;
+      report["sequences"]["shot_frame_ms"] = {
+          {"median", shotS.median}, {"mean", mean}, {"min", shotS.min}, {"max", shotS.max}};
+      report["sequences"]["still_maps_kept_ms"] = keptS.median;
+      report["sequences"]["still_maps_rebuilt_ms"] = coldS.median;
+      report["sequences"]["shot_vs_still"] = shotS.median / keptS.median;
+      report["sequences"]["shot_vs_still_rebuilt"] = shotS.median / coldS.median;
+      std::fprintf(stderr,
+                   "sequences: first %.0f ms, shot median %.0f ms, still kept %.0f ms, still "
+                   "rebuilt %.0f ms (%.3fx / %.3fx)\n",
+                   firstMs, shotS.median, keptS.median, coldS.median, shotS.median / keptS.median,
+                   shotS.median / coldS.median);
+
+      // CLHAIR_BENCH_VIEWS_HOOK
+
+      // motion vectors: frame t warped to t+1 by t+1's motion (docs/aovs.md), and what the
+      // motion layer costs on a frame of the wind shot
+      auto iouPairs = [&](const Scene& seq, const std::vector<int>& starts, double& warped,
+                          double& unwarped, double* aovMs, double* plainMs) {
+        warped = unwarped = 0.0;
+        RenderOptions o;
+        o.aovs = true;
+        for (int f : starts) {
+          const Scene s0 = sceneAtFrame(seq, f), p0 = sceneAtFrame(seq, f - 1);
+          const Scene s1 = sceneAtFrame(seq, f + 1);
+          o.previous = &p0;
+          const Frame a = b.renderer.render(s0, o);
+          o.previous = &s0;
+          auto t0 = std::chrono::steady_clock::now();
+          const Frame c = b.renderer.render(s1, o);
+          if (aovMs) *aovMs += ms(t0) / static_cast<double>(starts.size());
+          if (plainMs) {
+            t0 = std::chrono::steady_clock::now();
+            b.renderer.render(s1, RenderOptions{});
+            *plainMs += ms(t0) / static_cast<double>(starts.size());
+          }
+          warped += motionWarpIoU(c.aovs, a.aovs, s1.width, s1.height) /
+                    static_cast<double>(starts.size());
+          unwarped +=
+              maskIoU(c.aovs, a.aovs, s1.width, s1.height) / static_cast<double>(starts.size());
+        }
+      };
+      std::vector<int> starts;
+      for (int f = 2; f + 1 <= std::max(frames, 3); f += std::max(1, frames / 4))
+        starts.push_back(f);
+      double windIoU, windStill, aovMs = 0.0, plainMs = 0.0;
+      iouPairs(shot, starts, windIoU, windStill, &aovMs, &plainMs);
+      // a slow turntable: the default scene (no wind), the camera orbiting 0.5 degrees a frame
+      const Scene turn = loadScene(std::string(CLHAIR_SOURCE_DIR) + "/assets/scenes/default.json");
+      double turnIoU = 0.0, turnStill = 0.0;
+      {
+        RenderOptions o;
+        o.aovs = true;
+        const int pairs = static_cast<int>(starts.size());
+        for (int i = 0; i < pairs; ++i) {
+          Scene s0 = turn, s1 = turn;
+          const glm::vec3 c = turn.camera.target;
+          auto orbit = [&](Scene& s, float deg) {
+            const glm::vec3 d = turn.camera.position - c;
+            const float a = glm::radians(deg);
+            s.camera.position = c + glm::vec3(d.x * std::cos(a) + d.z * std::sin(a), d.y,
+                                              -d.x * std::sin(a) + d.z * std::cos(a));
+          };
+          orbit(s0, 5.0f * static_cast<float>(i));
+          orbit(s1, 5.0f * static_cast<float>(i) + 0.5f);
+          o.previous = nullptr;
+          const Frame a = b.renderer.render(s0, o);
+          o.previous = &s0;
+          const Frame cf = b.renderer.render(s1, o);
+          turnIoU += motionWarpIoU(cf.aovs, a.aovs, s1.width, s1.height) / pairs;
+          turnStill += maskIoU(cf.aovs, a.aovs, s1.width, s1.height) / pairs;
+        }
+      }
+      md << "\nMotion vectors, frame t warped to t+1 by t+1's motion (docs/aovs.md, mean over "
+         << starts.size()
+         << " pairs): \n\n| shot | IoU warped | IoU not warped | target |\n|---|---|---|---|\n"
+         << "| slow turntable (default scene, 0.5 deg a frame) | " << fmt(turnIoU, 3) << " | "
+         << fmt(turnStill, 3) << " | >= 0.9 |\n"
+         << "| wind shot | " << fmt(windIoU, 3) << " | " << fmt(windStill, 3)
+         << " | >= 0.8 |\n\nA wind frame with `--aov all` (motion pass included): " << fmt(aovMs, 0)
+         << " ms, without: " << fmt(plainMs, 0) << " ms.\n";
+      report["sequences"]["iou_turntable"] = turnIoU;
+      report["sequences"]["iou_turntable_unwarped"] = turnStill;
+      report["sequences"]["iou_wind"] = windIoU;
+      report["sequences"]["iou_wind_unwarped"] = windStill;
+      report["sequences"]["aov_frame_ms"] = aovMs;
+      report["sequences"]["plain_frame_ms"] = plainMs;
+      std::fprintf(stderr, "sequences IoU: turntable %.3f (%.3f), wind %.3f (%.3f)\n", turnIoU,
+                   turnStill, windIoU, windStill);
     }
 
     std::filesystem::create_directories(out);

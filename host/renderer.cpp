@@ -16,6 +16,20 @@
 
 namespace clhair {
 
+namespace {
+
+// Whether a groom instance moves its strands between two still frames other than by its
+// transform: another cage (cage animation, wind) or another per-frame strand file.
+bool deformsBetween(const GroomInstance& now, const GroomInstance& before) {
+  if (now.strands || before.strands) return now.strands != before.strands;
+  const auto &a = now.deformed, &b = before.deformed;
+  if (a == b || !now.mesh) return false;
+  if (a && b) return *a != *b;
+  return *(a ? a : b) != now.mesh->positions;
+}
+
+}  // namespace
+
 Renderer::Renderer(Device device) : impl_(std::make_unique<Impl>(std::move(device))) {}
 Renderer::~Renderer() = default;
 
@@ -23,6 +37,18 @@ const Device& Renderer::device() const { return impl_->device; }
 
 Frame Renderer::render(const Scene& s, const RenderOptions& options) {
   return impl_->frame(s, options, nullptr);
+}
+
+std::vector<Frame> Renderer::renderViews(const Scene& s, const std::vector<Camera>& cameras,
+                                         const RenderOptions& options) {
+  if (cameras.size() > static_cast<std::size_t>(kMaxViews))
+    throw Error(std::to_string(cameras.size()) + " views; at most " + std::to_string(kMaxViews));
+  if (cameras.size() < 2) {
+    Scene one = s;
+    if (!cameras.empty()) one.camera = cameras[0];
+    return {impl_->frame(one, options, nullptr)};
+  }
+  return impl_->views(s, cameras, options);
 }
 
 Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBufferSource* source) {
@@ -64,12 +90,25 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
   // layers for compositing: gathered groom by groom from what each leaves on the device
   const bool aovs = options.aovs && !options.rasterOnly;
   std::optional<AovBuilder> aovBuilder;
-  std::vector<std::uint64_t> aovWords;
+  std::vector<std::uint64_t> aovWords, motionWords;
   std::vector<float> aovHair, aovDepth;
   if (aovs) {
     aovDepth.resize(pixels);
     readBack(r.dev, "the opaque scene's depth", t.depth, aovDepth.data(), pixels);
     aovBuilder.emplace(view, aovDepth);
+  }
+  // the previous camera's intrinsics for motion passes keep this frame's sub-pixel shift
+  const Scene* before = aovs ? options.previous : nullptr;
+  gpu::ClhMotionGpu motionParams{};
+  glm::mat4 prevWorldToView(1.0f);
+  if (before) {
+    const gpu::ClhViewGpu pv = makeView(before->camera, s.width, s.height);
+    const gpu::ClhViewGpu still = makeView(s.camera, s.width, s.height);
+    motionParams.fx = pv.fx;
+    motionParams.fy = pv.fy;
+    motionParams.cx = pv.cx + (view.cx - still.cx);
+    motionParams.cy = pv.cy + (view.cy - still.cy);
+    prevWorldToView = worldToView(before->camera);
   }
 
   ViewPass pass;
@@ -108,6 +147,22 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
           mode == DispatchMode::ReadBack ? d.groom->readTotal(inst) : d.groom->strandCount();
       d.groom->raster(inst, raster, &r.profiler);
     }
+    // a deforming groom's motion: its strands again at the previous frame, before the
+    // composite changes the depth they were tested against
+    bool motionDrawn = false;
+    if (before && !source && k < before->grooms.size() &&
+        deformsBetween(*d.instance, before->grooms[k])) {
+      storeMat34(motionParams.prev_obj_to_view, prevWorldToView * before->grooms[k].transform);
+      upload(r.dev, t.motionParams, &motionParams, 1);
+      MotionPass mp;
+      mp.params = &t.motionParams;
+      mp.motion = &t.clearedMotion(&r.profiler);
+      if (d.groom->motion(inst, before->grooms[k], mp, raster, &r.profiler)) {
+        motionWords.resize(pixels);
+        readBack(r.dev, "the motion plane", *mp.motion, motionWords.data(), pixels);
+        motionDrawn = true;
+      }
+    }
     if (options.captureGBuffer) {  // the raster's inputs, before compositing changes the depth
       const auto* gb = reinterpret_cast<const std::uint8_t*>(&inst.params);
       const auto* vb = reinterpret_cast<const std::uint8_t*>(&view);
@@ -144,7 +199,8 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
       readBack(r.dev, "the shaded hair", filtered ? t.filtered : t.hair, aovHair.data(),
                aovHair.size());
       readBack(r.dev, "the depth after compositing", t.depth, aovDepth.data(), pixels);
-      aovBuilder->addGroom(k, inst.params, aovWords, options.msaa, aovHair, aovDepth);
+      aovBuilder->addGroom(k, inst.params, aovWords, options.msaa, aovHair, aovDepth,
+                           motionDrawn ? &motionWords : nullptr);
     }
   }
 
@@ -174,6 +230,187 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
   frame.timings = r.profiler.collect();
   r.grooms.trim();
   return frame;
+}
+
+// Several views: the frame loop above with every per-view step (opaque scene, shading,
+// filter, composite, read-back) done once per view, and each hair mesh's strands assembled
+// once per groom and drawn into every view's G-buffer (strands_raster_views). The strands
+// (LOD, culling) are those of the first view in which the groom is in front of the camera.
+// Strand files draw each view on their own (their strands are read, not generated).
+std::vector<Frame> Renderer::Impl::views(const Scene& s, const std::vector<Camera>& cameras,
+                                         const RenderOptions& options) {
+  Impl& r = *this;
+  if (options.aovs || options.captureGBuffer || options.rasterOnly)
+    throw Error("several views render the beauty only (no --aov, G-buffer capture or raster-only)");
+  const std::size_t V = cameras.size();
+  while (r.viewTargets.size() + 1 < V)
+    r.viewTargets.push_back(std::make_unique<RenderTarget>(r.dev));
+  auto targetOf = [&](std::size_t v) -> RenderTarget& {
+    return v == 0 ? r.target : *r.viewTargets[v - 1];
+  };
+  std::vector<gpu::ClhViewGpu> records(V);
+  for (std::size_t v = 0; v < V; ++v) {
+    RenderTarget& t = targetOf(v);
+    t.ensure(s.width, s.height, options.msaa);
+    records[v] = makeView(cameras[v], s.width, s.height);
+    records[v].samples = static_cast<gpu::clh_u32>(options.msaa);
+    records[v].cx += options.jitterX;
+    records[v].cy += options.jitterY;
+    upload(r.dev, t.view, &records[v], 1);
+  }
+  const std::size_t pixels = r.target.pixels();
+  const std::size_t layers = static_cast<std::size_t>(options.msaa) + 1;
+  if (r.viewDepthWords != V * pixels) {
+    r.viewDepths = makeBuffer<cl_float>(r.dev, "the scene depth of every view", V * pixels);
+    r.viewDepthWords = V * pixels;
+  }
+  if (r.viewGBufferWords != V * pixels * layers) {
+    r.viewGBuffers =
+        makeBuffer<cl_ulong>(r.dev, "the G-buffers of every view", V * pixels * layers);
+    r.viewGBufferWords = V * pixels * layers;
+  }
+  if (r.viewSlots != V) {
+    r.viewRecords = makeBuffer<gpu::ClhViewGpu>(r.dev, "view parameters of every view", V);
+    r.viewGrooms = makeBuffer<gpu::ClhGroomGpu>(r.dev, "groom parameters of every view", V);
+    r.viewSlots = V;
+  }
+  upload(r.dev, r.viewRecords, records.data(), V);
+  r.scene.upload(s);
+  const DispatchMode mode = r.resolveMode(options.dispatch);
+  r.profiler.hostTiming = options.stageCores;
+  std::vector<Frame> frames(V);
+  r.shadows.reserve(s);
+  r.grooms.beginFrame();
+  std::vector<GroomDraw> draws = r.resolveGrooms(s);
+  const bool lodCorrection =
+      options.shadowLodCorrection < 0 ? s.shadows.lodCorrection : options.shadowLodCorrection == 1;
+  r.shadows.update(s, options, lodCorrection, draws, r.scene, &r.profiler);
+  const ShadowMapInputs maps = r.shadows.maps();
+  for (std::size_t v = 0; v < V; ++v) {
+    RenderTarget& t = targetOf(v);
+    r.scene.drawOpaque(t.viewTarget(), maps, t.color, t.depth, true, &r.profiler);
+  }
+  std::vector<ViewPass> passes(V);
+  for (std::size_t v = 0; v < V; ++v) {
+    ViewPass& pass = passes[v];
+    pass.view = &targetOf(v).view;
+    pass.worldToView = worldToView(cameras[v]);
+    pass.lod = options.lod;
+    pass.lodLambdaScale = options.lodLambdaScale;
+    pass.trueWidth = options.trueWidth;
+    pass.shadowLodCorrection = lodCorrection;
+  }
+  auto rasterInto = [&](RenderTarget& t) {
+    StrandRaster raster;
+    raster.view = &t.view;
+    raster.sceneDepth = &t.depth;
+    raster.gbuffer = &t.gbuffer;
+    raster.counters = &t.stats;
+    raster.pixels = pixels;
+    raster.msaa = options.msaa;
+    raster.mode = mode;
+    return raster;
+  };
+  std::vector<std::uint32_t> drawnTotal(V, 0);
+  for (std::size_t k = 0; k < draws.size(); ++k) {
+    const GroomDraw& d = draws[k];
+    GroomInstanceGpu& inst = *d.state;
+    d.groom->useAo(options.ambientOcclusion != 0);
+    // each view's record (transform, depth mapping); the LOD view's last, so that the
+    // instance holds it for the LOD pass and the assembly
+    std::vector<gpu::ClhGroomGpu> recs(V);
+    std::vector<bool> inFront(V, false);
+    std::size_t lodView = V;
+    for (std::size_t v = V; v-- > 0;) {
+      inFront[v] = d.groom->prepare(inst, d.instance->transform, passes[v]);
+      recs[v] = inst.params;
+      if (inFront[v]) lodView = v;
+    }
+    if (lodView == V) continue;
+    for (std::size_t v = 0; v < V; ++v)
+      if (!inFront[v]) {  // every point behind the eye: nothing is drawn in this view
+        std::fill(std::begin(recs[v].obj_to_view), std::end(recs[v].obj_to_view), 0.0f);
+        recs[v].obj_to_view[11] = -1.0f;
+        recs[v].depth_near = recs[lodView].depth_near;
+        recs[v].depth_far = recs[lodView].depth_far;
+      }
+    if (lodView != 0) d.groom->prepare(inst, d.instance->transform, passes[lodView]);
+    d.groom->lod(inst, targetOf(lodView).view, &r.profiler);
+    // the scene depth of every view side by side, the G-buffers cleared
+    for (std::size_t v = 0; v < V; ++v)
+      r.dev.queue.enqueueCopyBuffer(targetOf(v).depth, r.viewDepths, 0, v * pixels * sizeof(float),
+                                    pixels * sizeof(float));
+    r.target.clearWords(r.viewGBuffers, V * pixels * layers, &r.profiler);
+    upload(r.dev, r.viewGrooms, recs.data(), V);
+    StrandRaster raster = rasterInto(targetOf(lodView));
+    raster.sceneDepth = &r.viewDepths;
+    raster.gbuffer = &r.viewGBuffers;
+    raster.strands =
+        mode == DispatchMode::ReadBack ? d.groom->readTotal(inst) : d.groom->strandCount();
+    const bool together = d.groom->rasterViews(inst, raster, r.viewGrooms, r.viewRecords,
+                                               static_cast<std::uint32_t>(V), &r.profiler);
+    if (together) {
+      const std::uint32_t total = d.groom->readTotal(inst);
+      for (std::size_t v = 0; v < V; ++v) {
+        if (inFront[v]) drawnTotal[v] += total;
+        r.dev.queue.enqueueCopyBuffer(r.viewGBuffers, targetOf(v).gbuffer,
+                                      v * pixels * layers * sizeof(cl_ulong), 0,
+                                      pixels * layers * sizeof(cl_ulong));
+      }
+    }
+    for (std::size_t v = 0; v < V; ++v) {
+      if (!inFront[v]) continue;
+      RenderTarget& t = targetOf(v);
+      if (!together) {  // this groom draws each view on its own: its own LOD per view
+        d.groom->prepare(inst, d.instance->transform, passes[v]);
+        d.groom->lod(inst, t.view, &r.profiler);
+        t.clearGBuffer(&r.profiler);
+        StrandRaster own = rasterInto(t);
+        own.strands =
+            mode == DispatchMode::ReadBack ? d.groom->readTotal(inst) : d.groom->strandCount();
+        d.groom->raster(inst, own, &r.profiler);
+        drawnTotal[v] += d.groom->readTotal(inst);
+      } else {
+        upload(r.dev, inst.groom, &recs[v], 1);  // shading reads this view's depth mapping
+      }
+      ShadeStage::Params sp;
+      sp.target = t.viewTarget();
+      sp.lighting = r.scene.lighting(maps);
+      sp.groom = &inst.groom;
+      sp.offsets = &inst.offsets;
+      sp.records = inst.records;
+      sp.gbuffer = &t.gbuffer;
+      sp.hair = &t.hair;
+      sp.msaa = options.msaa;
+      r.shade.enqueue(sp, &r.profiler);
+      const FilterParams& fp = d.instance->hasFilter ? d.instance->filter : s.filter;
+      const bool filtered =
+          options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
+      if (filtered)
+        r.filter.enqueue(fp, {t.viewTarget(), &inst.groom, &t.gbuffer, &t.hair, &t.filtered},
+                         &r.profiler);
+      r.composite.enqueue(
+          {t.viewTarget(), &inst.groom, filtered ? &t.filtered : &t.hair, &t.gbuffer, &t.color,
+           &t.depth, options.msaa, filtered ? 2 : options.msaa},
+          &r.profiler);
+    }
+    inst.params = recs[lodView];
+  }
+  for (std::size_t v = 0; v < V; ++v) {
+    RenderTarget& t = targetOf(v);
+    Frame& frame = frames[v];
+    frame.color.width = s.width;
+    frame.color.height = s.height;
+    frame.color.rgba.resize(pixels * 4);
+    frame.depth.resize(pixels);
+    readBack(r.dev, "the frame", t.color, frame.color.rgba.data(), pixels * 4);
+    readBack(r.dev, "the frame's depth", t.depth, frame.depth.data(), pixels);
+    frame.stats.strandsDrawn = drawnTotal[v];
+    frame.stats.shadowStrandsDrawn = r.shadows.strandsDrawn();
+  }
+  frames[0].timings = r.profiler.collect();
+  r.grooms.trim();
+  return frames;
 }
 
 }  // namespace clhair

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <vector>
 
 #include "cl/device_impl.h"
@@ -84,6 +85,14 @@ struct Renderer::Impl {
   // One frame (Renderer::render); with `source`, its centre layers replace the strand pass
   // (MSAA 1 only).
   Frame frame(const Scene& s, const RenderOptions& options, GBufferSource* source);
+  // Several views of one assembly (Renderer::renderViews, two cameras or more).
+  std::vector<Frame> views(const Scene& s, const std::vector<Camera>& cameras,
+                           const RenderOptions& options);
+  // Targets of views after the first (which draws into `target`), and the per-view slices
+  // the multi-view strand pass reads and writes.
+  std::vector<std::unique_ptr<RenderTarget>> viewTargets;
+  cl::Buffer viewDepths, viewGBuffers, viewRecords, viewGrooms;
+  std::size_t viewDepthWords = 0, viewGBufferWords = 0, viewSlots = 0;
 
   // Every groom instance of the scene with its device form; the k-th instance of one
   // groom gets instance slot k. Instances of one groom share its layer vertices, so they

@@ -262,13 +262,80 @@ static inline void clh_draw_strand(
   clh_raster_ctx rc;                               \
   clh_raster_setup(&rc, groom_g, view_g)
 
-#if !CLH_RASTER_OPACITY
+#if CLH_RASTER_MOTION
+/* The motion pass of a deforming hair mesh (built with -DCLH_RASTER_MOTION=1), run after
+ * strands_raster over the same LOD records, scene depth and finished G-buffer: each strand
+ * is assembled from this frame's layer vertices, exactly as strands_raster drew it, and
+ * from the previous frame's (prev_verts_g: the same strand, root sample and control points
+ * on the previous cage); every fragment whose word won its pixel's conservative layer
+ * writes the screen motion between the two (raster.h, clh_raster_lane_motion) to
+ * motion_g. One strand per work-group. */
+__kernel SG_KERNEL_ATTRS void strands_motion(CLH_RASTER_PARAMS,
+                                             __global const ClhMeshVertex* prev_verts_g,
+                                             __global const ClhMotionGpu* motion_params_g,
+                                             __global ulong* motion_g) {
+  CLH_RASTER_PROLOGUE;
+  (void)strand_stride;
+  (void)stats_g;
+  rc.motion_g = motion_g;
+  const uint strand = sg_strand_index(strand_base);
+  uint bundle = 0u, local_index = 0u, C = 2u;
+  float gamma = 0.0f, coverage = 1.0f;
+  if (!clh_strand_job(groom_g, lod_g, offsets_g, bundles_g, strand, &bundle, &local_index, &C,
+                      &gamma, &coverage))
+    return;
+  float4 P[CLH_PTS_CAP], T[CLH_PTS_CAP], PP[CLH_PTS_CAP], TP[CLH_PTS_CAP];
+  clh_lane_span span, prev_span;
+  clh_assemble_strand(&sg, layers_l, strand_l, pts_l, groom_g, bundles_g + bundle, verts_g,
+                      roots_quad_g, roots_tri_g, bundle, local_index, C, gamma, P, T, &span);
+  sg_barrier(); /* the scratch is assembled into again */
+  clh_assemble_strand(&sg, layers_l, strand_l, pts_l, groom_g, bundles_g + bundle, prev_verts_g,
+                      roots_quad_g, roots_tri_g, bundle, local_index, C, gamma, PP, TP, &prev_span);
+  rc.u6 = clh_unorm_bits(span.uv.x, 6u);
+  rc.v6 = clh_unorm_bits(span.uv.y, 6u);
+  rc.coverage = coverage;
+  clh_raster_lane_motion(&rc, scene_depth_g, gbuf_g, groom_g, motion_params_g, P, T, PP, span.first,
+                         span.count, span.C, span.next_p, span.next_t, prev_span.next_p);
+}
+#elif !CLH_RASTER_OPACITY
 /* One strand per work-group: strand_base + group (read-back and over-launch sizing). */
 __kernel SG_KERNEL_ATTRS void strands_raster(CLH_RASTER_PARAMS) {
   CLH_RASTER_PROLOGUE;
   (void)strand_stride;
   clh_draw_strand(&sg, scratch, &rc, groom_g, bundles_g, verts_g, lod_g, offsets_g, roots_quad_g,
                   roots_tri_g, scene_depth_g, gbuf_g, stats_g, sg_strand_index(strand_base));
+}
+
+/* Several views of one assembly: each strand is assembled once (with groom_g, the record
+ * of the view its LOD was chosen in) and drawn into every view's G-buffer. View v has its
+ * own record view_grooms_g[v] (object -> view transform, depth mapping) and view record
+ * views_g[v]; scene_depth_g and gbuf_g hold view_count slices of width * height (times the
+ * layers) in view order, every view of the same size. One strand per work-group. */
+__kernel SG_KERNEL_ATTRS void strands_raster_views(CLH_RASTER_PARAMS,
+                                                   __global const ClhGroomGpu* view_grooms_g,
+                                                   __global const ClhViewGpu* views_g,
+                                                   uint view_count) {
+  CLH_RASTER_PROLOGUE;
+  (void)strand_stride;
+  uint bundle = 0u, local_index = 0u, C = 2u;
+  float gamma = 0.0f, coverage = 1.0f;
+  if (!clh_strand_job(groom_g, lod_g, offsets_g, bundles_g, sg_strand_index(strand_base), &bundle,
+                      &local_index, &C, &gamma, &coverage))
+    return;
+  float4 P[CLH_PTS_CAP], T[CLH_PTS_CAP];
+  clh_lane_span span;
+  clh_assemble_strand(&sg, layers_l, strand_l, pts_l, groom_g, bundles_g + bundle, verts_g,
+                      roots_quad_g, roots_tri_g, bundle, local_index, C, gamma, P, T, &span);
+  const ulong plane = (ulong)view_g->width * view_g->height;
+  for (uint v = 0; v < view_count; ++v) {
+    clh_raster_setup(&rc, view_grooms_g + v, views_g + v);
+    rc.u6 = clh_unorm_bits(span.uv.x, 6u);
+    rc.v6 = clh_unorm_bits(span.uv.y, 6u);
+    rc.coverage = coverage;
+    clh_raster_lane(&rc, scene_depth_g + v * plane, gbuf_g + v * (ulong)(CLH_MSAA + 1) * plane,
+                    stats_g, view_grooms_g + v, P, T, span.first, span.count, span.C, span.next_p,
+                    span.next_t);
+  }
 }
 
 /* Persistent grid: group g draws strands g, g + stride, g + 2 stride, ... below the total. */
@@ -309,7 +376,7 @@ __kernel SG_KERNEL_ATTRS void strands_opacity(
 }
 #endif
 
-#if !CLH_RASTER_OPACITY
+#if !CLH_RASTER_OPACITY && !CLH_RASTER_MOTION
 /* Writes the assembled strands: points_g/tangents_g hold CLH_MAX_CONTROL_POINTS float4 per
  * strand (object space; w = styling w / ambient occlusion), counts_g the point count. */
 __kernel SG_KERNEL_ATTRS void strands_export(

@@ -258,7 +258,54 @@ static inline void clh_x_draw(sg_ctx* sg, clh_raster_ctx* rc, __global const Clh
   tb.point_count = point_count;         \
   tb.has_uv = has_uv
 
-#if !CLH_RASTER_OPACITY
+#if CLH_RASTER_MOTION
+/* The motion pass of per-frame strand files (-DCLH_RASTER_MOTION=1), after
+ * strands_explicit_raster over the same LOD records, scene depth and finished G-buffer:
+ * prev_points_g holds the previous frame's points in this frame's strand order and layout
+ * (point_count entries), so each round is assembled twice, and every fragment whose word
+ * won its pixel's conservative layer writes the screen motion between the two to
+ * motion_g (raster.h, clh_raster_lane_motion). One strand per work-group. */
+__kernel SG_KERNEL_ATTRS void strands_explicit_motion(CLH_X_PARAMS,
+                                                      __global const float* scene_depth_g,
+                                                      __global ulong* gbuf_g,
+                                                      __global const float4* prev_points_g,
+                                                      __global const ClhMotionGpu* motion_params_g,
+                                                      __global ulong* motion_g, uint strand_base) {
+  SG_DECLARE(sg);
+  CLH_X_TABLES(tb);
+  clh_x_tables tbp = tb;
+  tbp.points = prev_points_g;
+  clh_raster_ctx rc;
+  clh_raster_setup(&rc, groom_g, view_g);
+  rc.motion_g = motion_g;
+  clh_x_job job;
+  if (!clh_x_find_job(groom_g, &tb, lod_g, offsets_g, sg_strand_index(strand_base), &job)) return;
+  float u, v;
+  if (tb.has_uv != 0u) {
+    const uint packed = tb.uv[job.strand];
+    u = (float)(packed & 0xFFFFu) / 65535.0f;
+    v = (float)(packed >> 16) / 65535.0f;
+  } else {
+    const uint h = clh_hash2(groom_g->seed, job.strand);
+    u = clh_u01(h);
+    v = clh_u01(clh_hash(h));
+  }
+  rc.u6 = clh_unorm_bits(u, 6u);
+  rc.v6 = clh_unorm_bits(v, 6u);
+  rc.coverage = job.coverage;
+  for (uint base = 0u; base + 1u < job.M; base += (uint)CLH_X_ROUND) {
+    float4 P[CLH_X_CAP], T[CLH_X_CAP], PP[CLH_X_CAP], TP[CLH_X_CAP];
+    clh_x_span span, prev_span;
+    clh_x_round(&sg, &tb, &job, base, P, T, &span);
+    clh_x_round(&sg, &tbp, &job, base, PP, TP, &prev_span);
+    if (groom_g->look[2] > 0.5f || groom_g->look[3] > 0.0f)
+      clh_x_file_look(&rc, groom_g, &tb, &job, &span, T);
+    clh_raster_lane_motion(&rc, scene_depth_g, gbuf_g, groom_g, motion_params_g, P, T, PP,
+                           span.first, span.count, span.points, span.next_p, span.next_t,
+                           prev_span.next_p);
+  }
+}
+#elif !CLH_RASTER_OPACITY
 /* One strand per work-group: strand_base + group (read-back and over-launch sizing). */
 __kernel SG_KERNEL_ATTRS void strands_explicit_raster(CLH_X_PARAMS,
                                                       __global const float* scene_depth_g,

@@ -129,6 +129,20 @@ void applyWind(const WindParams& wind, const HairMesh& mesh, const glm::mat4& ob
 
 }  // namespace
 
+Camera viewCamera(const Scene& scene, const View& v) {
+  if (!v.relative) return v.camera;
+  // the scene camera's frame: right, up (orthogonalised) and back
+  const Camera& c = scene.camera;
+  const glm::vec3 back = glm::normalize(c.position - c.target);
+  const glm::vec3 right = glm::normalize(glm::cross(c.up, back));
+  const glm::vec3 up = glm::cross(back, right);
+  const glm::vec3 shift = v.offset.x * right + v.offset.y * up + v.offset.z * back;
+  Camera out = c;
+  out.position += shift;
+  out.target += shift;
+  return out;
+}
+
 bool isAnimated(const Scene& scene) {
   if (!scene.cameraAnimation.keys.empty()) return true;
   for (const GroomInstance& g : scene.grooms)

@@ -5,6 +5,8 @@
 //                [--reference [embree|raster] --spp N]   or its ground truth (default embree)
 //     [--frames 1-240[:STEP] -o OUT.####.exr] a frame range, one file per frame
 //     [--aov rgba,z,alpha,tangent,motion|all]  layers for compositing in one EXR (docs/aovs.md)
+//     [--views all|NAME,...]              several views of one assembly, one file per view
+//                                         (%v in -o becomes the view's name)
 //   clhair groom --preset NAME -o FILE      write a generated hair mesh
 //   clhair export-strands GROOM -o F.hair   write the generated strands as cyHair (F.data: USC,
 //                                           F.tfx: TressFX 4.0, resampled to 4..64 points)
@@ -104,8 +106,57 @@ struct RenderFlags {
   bool quiet = false;
   std::string frames;  // "N", "A-B" or "A-B:STEP"; empty: frame 1
   bool skipExisting = false;
-  std::string aov;  // --aov list; empty: the beauty alone through writeImage
+  std::string aov;    // --aov list; empty: the beauty alone through writeImage
+  std::string views;  // --views: "all" or names; empty: all of the scene's "cameras"
 };
+
+// The views a render writes: the scene's "cameras" (all, or those --views names; "camera" is
+// the scene's own camera), or the scene's camera alone.
+std::vector<View> selectViews(const Scene& scene, const std::string& spec) {
+  View main;
+  main.name = "camera";
+  main.relative = true;  // the scene's camera itself, keys included
+  if (scene.views.empty() && (spec.empty() || spec == "all" || spec == "camera")) return {main};
+  if (spec.empty() || spec == "all") return scene.views;
+  std::vector<View> out;
+  std::size_t at = 0;
+  while (at <= spec.size()) {
+    const std::size_t comma = std::min(spec.find(',', at), spec.size());
+    const std::string name = spec.substr(at, comma - at);
+    at = comma + 1;
+    const View* found = name == "camera" ? &main : nullptr;
+    for (const View& v : scene.views)
+      if (v.name == name) found = &v;
+    if (!found) {
+      std::string known = "camera";
+      for (const View& v : scene.views) known += ", " + v.name;
+      throw Error("--views \"" + spec + "\": no view named \"" + name + "\" (the scene has " +
+                  known + ")");
+    }
+    for (const View& v : out)
+      if (v.name == name) throw Error("--views \"" + spec + "\" names \"" + name + "\" twice");
+    out.push_back(*found);
+  }
+  if (out.size() > static_cast<std::size_t>(kMaxViews))
+    throw Error("--views \"" + spec + "\": at most " + std::to_string(kMaxViews) + " views");
+  return out;
+}
+
+// The output of view `name`: every "%v" of the pattern replaced by the name; without one (and
+// several views) the name goes before the extension: out.0007.exr -> out.0007.left.exr.
+std::string viewPath(const std::string& pattern, const std::string& name, bool several) {
+  std::string p = pattern;
+  bool token = false;
+  for (std::size_t at = p.find("%v"); at != std::string::npos; at = p.find("%v", at)) {
+    p.replace(at, 2, name);
+    at += name.size();
+    token = true;
+  }
+  if (token || !several) return p;
+  const std::filesystem::path path(p);
+  return (path.parent_path() / (path.stem().string() + "." + name + path.extension().string()))
+      .string();
+}
 
 // The frame numbers of a --frames value: "7", "1-240", "1-240:5", "240-1" (in reverse).
 std::vector<long long> parseFrames(const std::string& spec) {
@@ -192,11 +243,20 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
                   "\" is not .exr");
     if (f.reference) throw Error("--aov is not available with --reference");
   }
+  if (!f.views.empty() && f.views != "all" && f.views.find_first_of("/\\") != std::string::npos)
+    throw Error("--views \"" + f.views + "\": expected all or view names");
   // the device first: strand files are checked against its largest allocation as they load
   Device dev = Device::open(opts);
   Scene scene = loadScene(scenePath, dev.info().maxAlloc);
   for (const std::string& w : scene.warnings)
     std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
+  const std::vector<View> views = selectViews(scene, f.views);
+  const bool several = views.size() > 1;
+  if (several && !aovs.empty())
+    throw Error("--aov writes one view; this render has " + std::to_string(views.size()) +
+                " (choose one with --views NAME)");
+  if (several && f.reference)
+    throw Error("--reference renders one view; choose one with --views NAME");
   if (f.widthGiven || f.heightGiven) {
     int w = f.widthGiven ? width : scene.width, h = f.heightGiven ? height : scene.height;
     if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
@@ -246,9 +306,13 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
   std::size_t rendered = 0, skipped = 0;
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const long long number = frames[i];
-    const std::string path = framePath(out, number);
+    const std::string path = framePath(viewPath(out, views[0].name, several), number);
     std::error_code ec;
-    if (f.skipExisting && std::filesystem::exists(path, ec)) {
+    bool allExist = f.skipExisting;
+    for (const View& v : views)
+      allExist = allExist &&
+                 std::filesystem::exists(framePath(viewPath(out, v.name, several), number), ec);
+    if (allExist) {
       ++skipped;
       if (!quiet && sequence)
         std::fprintf(stderr, "clhair: frame %lld (%zu/%zu): %s exists, skipped\n", number, i + 1,
@@ -259,6 +323,25 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     Scene still = sceneAtFrame(scene, static_cast<double>(number));
     // the scene's viewing angle is kept: the preset changes only the distance and framing
     if (preset) still.camera = reframeCamera(still, *preset);
+    if (several) {
+      std::vector<Camera> cameras;
+      for (const View& v : views) cameras.push_back(viewCamera(still, v));
+      const std::vector<Frame> shots = renderer.renderViews(still, cameras, ro);
+      for (std::size_t v = 0; v < views.size(); ++v)
+        writeImage(shots[v].color, framePath(viewPath(out, views[v].name, true), number));
+      renderer.releaseGrooms();
+      ++rendered;
+      if (quiet) continue;
+      const auto t1 = std::chrono::steady_clock::now();
+      const double took = std::chrono::duration<double>(t1 - t0).count();
+      const double perFrame = std::chrono::duration<double>(t1 - start).count() / rendered;
+      std::fprintf(stderr, "clhair: frame %lld (%zu/%zu), %zu views -> %s ...: %s, about %s left\n",
+                   number, i + 1, frames.size(), views.size(), path.c_str(), seconds(took).c_str(),
+                   seconds(perFrame * static_cast<double>(frames.size() - i - 1)).c_str());
+      continue;
+    }
+    if (!views[0].relative || views[0].offset != glm::vec3(0.0f))
+      still.camera = viewCamera(still, views[0]);
     if (rendered == 0)
       for (const std::string& w : viewWarnings(still, scenePath))
         std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
@@ -270,6 +353,8 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
       if (number > 1) {
         previous = sceneAtFrame(scene, static_cast<double>(number - 1));
         if (preset) previous.camera = reframeCamera(previous, *preset);
+        if (!views[0].relative || views[0].offset != glm::vec3(0.0f))
+          previous.camera = viewCamera(previous, views[0]);
       }
       ro.previous = &previous;
     }
@@ -479,6 +564,9 @@ int main(int argc, char** argv) {
   render->add_option("--aov", rf.aov,
                      "layers for compositing in one multi-channel EXR: a comma-separated list of "
                      "rgba, z, alpha, tangent, motion, or all (docs/aovs.md)");
+  render->add_option("--views", rf.views,
+                     "views of a scene with \"cameras\": all (default) or a comma-separated list "
+                     "of names (\"camera\": the scene's camera); %v in -o becomes the view's name");
   render->add_flag("--skip-existing", rf.skipExisting,
                    "leave frames whose output file exists (resume a range)");
   render->add_flag("-q,--quiet", rf.quiet, "print nothing on success");

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include <glm/matrix.hpp>
@@ -32,18 +33,23 @@ AovBuilder::AovBuilder(const gpu::ClhViewGpu& view, const std::vector<float>& op
       pixels_(static_cast<std::size_t>(view.width) * view.height),
       lastDepth_(opaqueDepth),
       owner_(pixels_, -1),
+      ownerMotion_(pixels_, kEmptyWord),
       hairAlpha_(pixels_, 0.0f),
       centreZ_(pixels_, kInf),
       tangent_(pixels_ * 3, 0.0f) {}
 
 void AovBuilder::addGroom(std::size_t index, const gpu::ClhGroomGpu& params,
                           const std::vector<std::uint64_t>& centre, int layers,
-                          const std::vector<float>& hair, const std::vector<float>& depth) {
+                          const std::vector<float>& hair, const std::vector<float>& depth,
+                          const std::vector<std::uint64_t>* motion) {
   for (std::size_t p = 0; p < pixels_; ++p) {
     // the hair is composited over what lies below it: coverages combine like alphas "over"
     const float a = std::min(std::max(hair[p * 4 + 3], 0.0f), 1.0f);
     hairAlpha_[p] = a + (1.0f - a) * hairAlpha_[p];
-    if (depth[p] < lastDepth_[p]) owner_[p] = static_cast<std::int32_t>(index);
+    if (depth[p] < lastDepth_[p]) {
+      owner_[p] = static_cast<std::int32_t>(index);
+      ownerMotion_[p] = motion ? (*motion)[p] : kEmptyWord;
+    }
     lastDepth_[p] = depth[p];
     std::uint64_t word = kEmptyWord;
     for (int s = 0; s < layers; ++s) word = std::min(word, centre[s * pixels_ + p]);
@@ -94,6 +100,16 @@ FrameAovs AovBuilder::finish(const std::vector<float>& depth, const Scene& scene
     const glm::vec4 pv((px - view_.cx) / view_.fx * z, -(py - view_.cy) / view_.fy * z, z, 1.0f);
     glm::vec4 world = viewToWorld * pv;
     const std::int32_t g = owner_[p];
+    if (g >= 0 && ownerMotion_[p] != kEmptyWord) {  // resolved by the groom's motion pass
+      const auto mx = static_cast<std::uint32_t>(ownerMotion_[p] >> 32);
+      const auto my = static_cast<std::uint32_t>(ownerMotion_[p]);
+      float x, y;
+      std::memcpy(&x, &mx, 4);
+      std::memcpy(&y, &my, 4);
+      out.motion[p * 2] = x;
+      out.motion[p * 2 + 1] = -y;  // y up
+      continue;
+    }
     if (!cameraMoved && (g < 0 || !moved[static_cast<std::size_t>(g)])) continue;
     if (g >= 0) world = back[static_cast<std::size_t>(g)] * world;
     float x0, y0;

@@ -7,6 +7,9 @@
 // alpha, tangent and motion planes. Invariants: the surface whose depth is in Z is the one
 // whose motion is given: a pixel belongs to the last groom whose composite lowered its depth
 // (composite.cl writes the depth of hair at least half opaque), otherwise to the opaque scene.
+// A deforming groom hands in the motion its motion pass resolved per pixel (the strands
+// evaluated at the previous frame, GroomGpu::motion); a rigid one's pixels are carried
+// through its change of transform and the previous camera here.
 #pragma once
 
 #include <cstdint>
@@ -24,10 +27,13 @@ class AovBuilder {
 
   // Groom `index` (its position in Scene::grooms) after its composite: `centre` holds
   // `layers` sample layers of width * height words, `hair` premultiplied RGBA per pixel,
-  // `depth` the depth buffer after the composite.
+  // `depth` the depth buffer after the composite; `motion` (or null) the groom's motion pass:
+  // per pixel the packed screen motion (x, y down, float bits x << 32 | y), all ones where
+  // it has none.
   void addGroom(std::size_t index, const gpu::ClhGroomGpu& params,
                 const std::vector<std::uint64_t>& centre, int layers,
-                const std::vector<float>& hair, const std::vector<float>& depth);
+                const std::vector<float>& hair, const std::vector<float>& depth,
+                const std::vector<std::uint64_t>* motion = nullptr);
 
   // The planes for the final depth buffer of `scene`'s frame; motion from `previous` (the
   // previous frame's still scene, grooms matched by index), zero without it.
@@ -37,11 +43,12 @@ class AovBuilder {
  private:
   gpu::ClhViewGpu view_;
   std::size_t pixels_;
-  std::vector<float> lastDepth_;     // depth buffer after the last groom seen
-  std::vector<std::int32_t> owner_;  // groom owning the depth of each pixel, -1: opaque
-  std::vector<float> hairAlpha_;     // 1 - prod(1 - a_k)
-  std::vector<float> centreZ_;       // depth of the nearest centre word so far (+inf: none)
-  std::vector<float> tangent_;       // its decoded tangent, 3 per pixel
+  std::vector<float> lastDepth_;            // depth buffer after the last groom seen
+  std::vector<std::int32_t> owner_;         // groom owning the depth of each pixel, -1: opaque
+  std::vector<std::uint64_t> ownerMotion_;  // the owner's motion-pass word, all ones: none
+  std::vector<float> hairAlpha_;            // 1 - prod(1 - a_k)
+  std::vector<float> centreZ_;              // depth of the nearest centre word so far (+inf: none)
+  std::vector<float> tangent_;              // its decoded tangent, 3 per pixel
 };
 
 }  // namespace clhair

@@ -9,6 +9,7 @@ namespace clhair {
 RenderTarget::RenderTarget(Device::Impl& dev) : dev_(dev), clear_(dev) {
   view = makeBuffer<gpu::ClhViewGpu>(dev, "view parameters", 1);
   stats = makeBuffer<cl_uint>(dev, "raster statistics", 4);
+  motionParams = makeBuffer<gpu::ClhMotionGpu>(dev, "motion parameters", 1);
 }
 
 void RenderTarget::ensure(int w, int h, int msaa) {
@@ -33,6 +34,19 @@ void RenderTarget::ensure(int w, int h, int msaa) {
   width_ = w;
   height_ = h;
   layers_ = msaa + 1;
+}
+
+cl::Buffer& RenderTarget::clearedMotion(Profiler* profiler) {
+  if (motionPixels_ != pixels()) {
+    motion_ = makeBuffer<cl_ulong>(dev_, "the motion plane", pixels());
+    motionPixels_ = pixels();
+  }
+  clear_.words(motion_, pixels(), ~std::uint64_t(0), "clear", profiler);
+  return motion_;
+}
+
+void RenderTarget::clearWords(const cl::Buffer& buffer, std::size_t count, Profiler* profiler) {
+  clear_.words(buffer, count, ~std::uint64_t(0), "clear", profiler);
 }
 
 void RenderTarget::clearGBuffer(Profiler* profiler) {

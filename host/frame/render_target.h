@@ -17,6 +17,11 @@ class RenderTarget {
   // Checks the size (1..kMaxImageSide per side) and sample count (1, 2, 4, 8).
   void ensure(int width, int height, int msaa);
   void clearGBuffer(Profiler* profiler);
+  // The plane of a groom's motion pass (ulong per pixel, allocated on first use), cleared to
+  // all ones.
+  cl::Buffer& clearedMotion(Profiler* profiler);
+  // Fills `count` words of `buffer` with the empty G-buffer word.
+  void clearWords(const cl::Buffer& buffer, std::size_t count, Profiler* profiler);
 
   ViewTarget viewTarget() const { return {&view, width_, height_}; }
   std::size_t pixels() const {
@@ -29,11 +34,14 @@ class RenderTarget {
   cl::Buffer hair, filtered;  // float4 per pixel
   cl::Buffer gbuffer;         // ulong per pixel and layer
   cl::Buffer stats;           // uint[4] raster counters
+  cl::Buffer motionParams;    // one ClhMotionGpu
 
  private:
   Device::Impl& dev_;
   ClearStage clear_;
   int width_ = 0, height_ = 0, layers_ = 0;
+  cl::Buffer motion_;
+  std::size_t motionPixels_ = 0;
 };
 
 }  // namespace clhair

@@ -32,6 +32,16 @@ void GroomGpu::deform(const std::shared_ptr<const std::vector<glm::vec3>>& cage)
   if (cage) throw Error("a strand-file groom has no cage to deform (only hair meshes have one)");
 }
 
+bool GroomGpu::rasterViews(GroomInstanceGpu&, const StrandRaster&, const cl::Buffer&,
+                           const cl::Buffer&, std::uint32_t, Profiler*) {
+  return false;
+}
+
+bool GroomGpu::motion(GroomInstanceGpu&, const GroomInstance&, const MotionPass&,
+                      const StrandRaster&, Profiler*) {
+  return false;
+}
+
 std::uint32_t GroomGpu::readTotal(const GroomInstanceGpu& inst) {
   if (inst.records == 0) return 0;
   std::uint32_t total = 0;

@@ -92,6 +92,18 @@ class GroomGpu {
   // Hair meshes: draw the next passes with the layer vertices `cage` (layer-major, object
   // space), or the mesh's own when null. Strand files have no cage and refuse one.
   virtual void deform(const std::shared_ptr<const std::vector<glm::vec3>>& cage);
+  // Several views of one assembly (StrandStage::rasterViews); false when this groom draws
+  // each view on its own instead (nothing drawn).
+  virtual bool rasterViews(GroomInstanceGpu& inst, const StrandRaster& r,
+                           const cl::Buffer& viewGrooms, const cl::Buffer& views,
+                           std::uint32_t count, Profiler* profiler);
+  // The motion pass (MotionPass, right after raster() with the same `r`): screen motion to
+  // the previous frame of every pixel the groom's conservative layer won, the strands
+  // evaluated a second time from `previous` (the previous frame's record of this groom
+  // instance: its cage, or its per-frame strand file). False when the groom cannot give it
+  // (nothing written; the caller keeps rigid motion).
+  virtual bool motion(GroomInstanceGpu& inst, const GroomInstance& previous, const MotionPass& m,
+                      const StrandRaster& r, Profiler* profiler);
   // Bytes of the shared tables plus one instance's buffers.
   std::uint64_t deviceBytes();
 

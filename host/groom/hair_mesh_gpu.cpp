@@ -149,18 +149,7 @@ void HairMeshGpu::deform(const std::shared_ptr<const std::vector<glm::vec3>>& ca
       throw Error("groom \"" + m.name + "\": a cage of " + std::to_string(cage->size()) +
                   " vertices for a hair mesh of " + std::to_string(m.positions.size()) +
                   " layer vertices");
-    // a moved cage has no file tangents: they follow from the moved layers
-    HairMesh moved;
-    moved.layerCount = m.layerCount;
-    moved.vertexCount = m.vertexCount;
-    moved.faces = m.faces;
-    moved.uv = m.uv;
-    moved.positions = *cage;
-    moved.w = m.w;
-    moved.strandCount = m.strandCount;
-    moved.seed = m.seed;
-    moved.style = m.style;
-    d = prepareGroom(moved);
+    d = movedRecords(*cage);
   } else {
     d = prepareGroom(m);
   }
@@ -175,6 +164,50 @@ void HairMeshGpu::deform(const std::shared_ptr<const std::vector<glm::vec3>>& ca
   data_.styleMargin = d.styleMargin;
   hasTangents_ = !cage && !m.tangents.empty();
   cage_ = cage;
+}
+
+bool HairMeshGpu::rasterViews(GroomInstanceGpu& inst, const StrandRaster& r,
+                              const cl::Buffer& viewGrooms, const cl::Buffer& views,
+                              std::uint32_t count, Profiler* profiler) {
+  stages_.strands.rasterViews(inputs(inst), r, viewGrooms, views, count, profiler);
+  return true;
+}
+
+GroomData HairMeshGpu::movedRecords(const std::vector<glm::vec3>& cage) const {
+  const HairMesh& m = *mesh_;
+  HairMesh moved;
+  moved.layerCount = m.layerCount;
+  moved.vertexCount = m.vertexCount;
+  moved.faces = m.faces;
+  moved.uv = m.uv;
+  moved.positions = cage;
+  moved.w = m.w;
+  moved.strandCount = m.strandCount;
+  moved.seed = m.seed;
+  moved.style = m.style;
+  return prepareGroom(moved);
+}
+
+bool HairMeshGpu::motion(GroomInstanceGpu& inst, const GroomInstance& previous, const MotionPass& m,
+                         const StrandRaster& r, Profiler* profiler) {
+  if (hasTangents_) return false;
+  const std::shared_ptr<const std::vector<glm::vec3>>& cage = previous.deformed;
+  if (cage && cage->size() != mesh_->positions.size())
+    throw Error("groom \"" + mesh_->name + "\": the previous frame's cage has " +
+                std::to_string(cage->size()) + " vertices for a hair mesh of " +
+                std::to_string(mesh_->positions.size()) + " layer vertices");
+  if (!prevValid_ || cage != prevCage_) {
+    const GroomData d = movedRecords(cage ? *cage : mesh_->positions);
+    if (!prevVertices_())
+      prevVertices_ = makeBuffer(dev_, "groom \"" + mesh_->name + "\" previous layer vertices",
+                                 d.vertices.size(), d.vertices.data());
+    else
+      upload(dev_, prevVertices_, d.vertices.data(), d.vertices.size());
+    prevCage_ = cage;
+    prevValid_ = true;
+  }
+  stages_.strands.motion(inputs(inst), prevVertices_, m, r, profiler);
+  return true;
 }
 
 // lod = 1: full detail (the LOD pass with LOD off and an unbounded reach keeps every

@@ -54,6 +54,13 @@ class HairMeshGpu final : public GroomGpu {
   // rest pose, so strands keep their identity. The same cage (by identity) twice in a row
   // costs nothing.
   void deform(const std::shared_ptr<const std::vector<glm::vec3>>& cage) override;
+  bool rasterViews(GroomInstanceGpu& inst, const StrandRaster& r, const cl::Buffer& viewGrooms,
+                   const cl::Buffer& views, std::uint32_t count, Profiler* profiler) override;
+  // The previous frame's strands from previous.deformed (the rest pose when null); only
+  // while this frame's layer vertices carry no file tangents (a deformed cage never does),
+  // so both frames build their tangents alike.
+  bool motion(GroomInstanceGpu& inst, const GroomInstance& previous, const MotionPass& m,
+              const StrandRaster& r, Profiler* profiler) override;
 
   // AO per layer vertex of `mesh` (1 = open), computed on the device from a sample of its
   // own strands (kernels/ao.cl), or taken from the device's cache folder when the same
@@ -73,6 +80,9 @@ class HairMeshGpu final : public GroomGpu {
   std::unique_ptr<GroomInstanceGpu> makeInstance() override;
   std::uint64_t sharedBytes() const override;
   StrandStage::Inputs inputs(const GroomInstanceGpu& inst) const;
+  // Layer-vertex records of the mesh with its layer vertices at `cage` (file tangents
+  // dropped: they follow from the moved layers).
+  GroomData movedRecords(const std::vector<glm::vec3>& cage) const;
 
   std::shared_ptr<const HairMesh> mesh_;
   GroomStages& stages_;
@@ -85,6 +95,10 @@ class HairMeshGpu final : public GroomGpu {
   const RootSetsGpu::Set* roots_ = nullptr;
   std::shared_ptr<const std::vector<glm::vec3>> cage_;  // held: its address identifies it
   bool hasTangents_ = false;                            // the vertex records hold file tangents
+  // the previous frame's layer-vertex records for the motion pass, and the cage they are of
+  cl::Buffer prevVertices_;
+  std::shared_ptr<const std::vector<glm::vec3>> prevCage_;
+  bool prevValid_ = false;
 };
 
 }  // namespace clhair

@@ -129,6 +129,34 @@ void StrandFileGpu::opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::u
   stages_.explicitStrands.opacity(inputs(inst), o, strands, profiler);
 }
 
+bool StrandFileGpu::motion(GroomInstanceGpu& inst, const GroomInstance& previous,
+                           const MotionPass& m, const StrandRaster& r, Profiler* profiler) {
+  const std::shared_ptr<const StrandGroom>& prev = previous.strands;
+  if (!prev) return false;
+  if (prev != prevGroom_) {
+    const StrandGroom& before = *prev;
+    if (before.pointCounts != groom_->pointCounts) return false;  // no point correspondence
+    std::vector<std::size_t> first(before.pointCounts.size() + 1, 0);
+    for (std::size_t s = 0; s < before.pointCounts.size(); ++s)
+      first[s + 1] = first[s] + before.pointCounts[s];
+    if (first.back() != before.points.size()) return false;
+    std::vector<glm::vec4> pts(std::max<std::size_t>(data_.totalPoints, 1));
+    for (std::size_t st = 0; st < data_.totalStrands; ++st) {
+      const std::uint32_t src = data_.sourceStrand[st];
+      const std::uint32_t at = data_.strandOffsets[st], n = data_.strandOffsets[st + 1] - at;
+      if (src >= before.pointCounts.size() || n != before.pointCounts[src]) return false;
+      for (std::uint32_t k = 0; k < n; ++k)
+        pts[at + k] = glm::vec4(before.points[first[src] + k],
+                                static_cast<float>(k) / static_cast<float>(n - 1));
+    }
+    prevPoints_ = makeBuffer<cl_float4>(dev_, "groom \"" + groom_->name + "\" previous points",
+                                        pts.size(), reinterpret_cast<const cl_float4*>(pts.data()));
+    prevGroom_ = prev;
+  }
+  stages_.explicitStrands.motion(inputs(inst), prevPoints_, m, r, profiler);
+  return true;
+}
+
 // The strands as drawn at LOD value `lod`, every chunk at that value: the records
 // lod_chunks would write, computed here.
 StrandSet StrandFileGpu::exportStrands(float lod) {

@@ -25,6 +25,10 @@ class StrandFileGpu final : public GroomGpu {
   void opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands,
                Profiler* profiler) override;
   StrandSet exportStrands(float lod) override;
+  // The previous frame's strands from previous.strands (a per-frame file): only when every
+  // strand has as many points in both files (point k of strand s is the same point).
+  bool motion(GroomInstanceGpu& inst, const GroomInstance& previous, const MotionPass& m,
+              const StrandRaster& r, Profiler* profiler) override;
   glm::vec3 boundsMin() const override { return data_.boundsMin; }
   glm::vec3 boundsMax() const override { return data_.boundsMax; }
 
@@ -39,6 +43,8 @@ class StrandFileGpu final : public GroomGpu {
   std::size_t pointWords_ = 0;  // float4 in points_: the points, then file colours
   gpu::ClhGroomGpu base_{};
   cl::Buffer points_, strandOffsets_, uv_, chunks_, chunkBounds_;
+  cl::Buffer prevPoints_;  // the motion pass: previous frame's points in this order
+  std::shared_ptr<const StrandGroom> prevGroom_;
 };
 
 }  // namespace clhair

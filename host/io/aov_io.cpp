@@ -1,6 +1,7 @@
 // aov_io.cpp — the --aov list, a frame's layers as named channels and writing them as one
 // multi-channel OpenEXR file through OpenImageIO (see clhair/aov.h, docs/aovs.md).
 #include <algorithm>
+#include <cmath>
 
 #include <OpenImageIO/imageio.h>
 
@@ -72,6 +73,71 @@ std::vector<Aov> parseAovList(const std::string& list) {
   for (std::size_t k = 0; k < want.size(); ++k)
     if (want[k]) out.push_back(kAllAovs[k]);
   return out;
+}
+
+namespace {
+
+// Frame `before`'s hair alpha carried to `now`'s pixels along `now`'s motion (scaled by
+// `scale`: 1 warps, 0 does not), thresholded, against `now`'s hair mask: intersection over
+// union.
+double warpIoU(const FrameAovs& now, const FrameAovs& before, int width, int height, float scale) {
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  if (now.hairAlpha.size() != n || before.hairAlpha.size() != n || now.motion.size() != 2 * n ||
+      now.z.size() != n)
+    throw Error("mask IoU: both frames need their AOVs at " + std::to_string(width) + "x" +
+                std::to_string(height));
+  // frame t's alpha, bilinear between pixel centres, 0 outside the image
+  auto alphaAt = [&](float x, float y) {
+    x -= 0.5f;
+    y -= 0.5f;
+    const float fx0 = std::floor(x), fy0 = std::floor(y);
+    const int x0 = static_cast<int>(fx0), y0 = static_cast<int>(fy0);
+    const float tx = x - fx0, ty = y - fy0;
+    float sum = 0.0f;
+    for (int dy = 0; dy < 2; ++dy)
+      for (int dx = 0; dx < 2; ++dx) {
+        const int xx = x0 + dx, yy = y0 + dy;
+        if (xx < 0 || yy < 0 || xx >= width || yy >= height) continue;
+        sum += (dx ? tx : 1.0f - tx) * (dy ? ty : 1.0f - ty) *
+               before.hairAlpha[static_cast<std::size_t>(yy) * width + xx];
+      }
+    return sum;
+  };
+  std::size_t both = 0, either = 0;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      // the motion of the nearest surface around the pixel, so that background the hair has
+      // just uncovered follows the hair (the reprojection of temporal filters)
+      std::size_t q = static_cast<std::size_t>(y) * width + x;
+      float best = now.z[q];
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int xx = x + dx, yy = y + dy;
+          if (xx < 0 || yy < 0 || xx >= width || yy >= height) continue;
+          const std::size_t k = static_cast<std::size_t>(yy) * width + xx;
+          if (now.z[k] < best) {
+            best = now.z[k];
+            q = k;
+          }
+        }
+      const float px = static_cast<float>(x) + 0.5f + scale * now.motion[2 * q];
+      const float py = static_cast<float>(y) + 0.5f - scale * now.motion[2 * q + 1];
+      const bool a = alphaAt(px, py) >= 0.5f;
+      const bool b = now.hairAlpha[static_cast<std::size_t>(y) * width + x] >= 0.5f;
+      both += a && b;
+      either += a || b;
+    }
+  return either == 0 ? 1.0 : static_cast<double>(both) / static_cast<double>(either);
+}
+
+}  // namespace
+
+double motionWarpIoU(const FrameAovs& now, const FrameAovs& before, int width, int height) {
+  return warpIoU(now, before, width, height, 1.0f);
+}
+
+double maskIoU(const FrameAovs& now, const FrameAovs& before, int width, int height) {
+  return warpIoU(now, before, width, height, 0.0f);
 }
 
 std::vector<ImageChannel> aovChannels(const Frame& frame, const std::vector<Aov>& layers) {

@@ -856,10 +856,41 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
   } else {
     s.camera = framePreset(s, CameraPreset::Mid);
   }
+  if (r.has("cameras")) {
+    const json& cams = r.require("cameras");
+    if (!cams.is_array() || cams.empty() || cams.size() > static_cast<std::size_t>(kMaxViews))
+      r.fail("cameras", "must be an array of 1 to " + std::to_string(kMaxViews) + " views");
+    for (std::size_t i = 0; i < cams.size(); ++i) {
+      JsonReader c = r.object(cams[i], "cameras[" + std::to_string(i) + "]");
+      View v;
+      v.name = c.string("name", "");
+      if (v.name.empty() || v.name.find_first_of("/\\%#") != std::string::npos)
+        c.fail("name", "a view needs a name without / \\ % or #");
+      for (const View& o : s.views)
+        if (o.name == v.name) c.fail("name", "\"" + v.name + "\" names two views");
+      if (c.has("offset")) {
+        v.relative = true;
+        v.offset = c.vec3("offset", v.offset, -kBig, kBig);
+        c.rejectUnknown({"name", "offset"});
+      } else {
+        Camera& k = v.camera;
+        k.position = c.vec3("position", k.position, -kBig, kBig);
+        k.target = c.vec3("target", k.target, -kBig, kBig);
+        k.up = c.vec3("up", k.up, -kBig, kBig);
+        k.fovYDegrees = static_cast<float>(c.number("fov", 35.0, 1.0, 170.0));
+        if (glm::length(k.target - k.position) < 1e-9f)
+          c.fail("target", "must differ from position");
+        if (glm::length(glm::cross(k.target - k.position, k.up)) < 1e-9f)
+          c.fail("up", "must not be parallel to the viewing direction");
+        c.rejectUnknown({"name", "position", "target", "up", "fov"});
+      }
+      s.views.push_back(v);
+    }
+  }
   s.frameRate = r.number("frame_rate", s.frameRate, 1e-3, 1e6);
-  r.rejectUnknown({"resolution", "camera", "background", "ambient", "lights", "spheres", "planes",
-                   "meshes", "grooms", "shadows", "filter", "environment", "background_image",
-                   "frame_rate"});
+  r.rejectUnknown({"resolution", "camera", "cameras", "background", "ambient", "lights", "spheres",
+                   "planes", "meshes", "grooms", "shadows", "filter", "environment",
+                   "background_image", "frame_rate"});
   return s;
 }
 

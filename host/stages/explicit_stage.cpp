@@ -58,6 +58,22 @@ void ExplicitStage::lod(const Inputs& in, const cl::Buffer& view, Profiler* prof
               in.chunkCount, profiler);
 }
 
+void ExplicitStage::motion(const Inputs& in, const cl::Buffer& previous, const MotionPass& m,
+                           const StrandRaster& r, Profiler* profiler) {
+  cl::Kernel& k = kernel("strands_explicit_motion", "strands_explicit.cl",
+                         "-DCLH_MSAA=" + std::to_string(r.msaa) + " -DCLH_RASTER_MOTION=1");
+  KernelArgs a = bindTables(k, in, *r.view, "motion", sizeof(gpu::ClhViewGpu));
+  a.buffer("scene depth", *r.sceneDepth, r.pixels * sizeof(float))
+      .buffer("G-buffer", *r.gbuffer,
+              r.pixels * static_cast<std::uint64_t>(r.msaa + 1) * sizeof(cl_ulong))
+      .buffer("previous points", previous, std::uint64_t(in.pointCount) * 4 * sizeof(float))
+      .buffer("motion parameters", *m.params, sizeof(gpu::ClhMotionGpu))
+      .buffer("motion", *m.motion, r.pixels * sizeof(cl_ulong));
+  const cl_uint last = a.next();
+  if (r.strands == 0) return;
+  dispatchStrands(dev_, k, "motion", r.strands, last, profiler);
+}
+
 void ExplicitStage::raster(const Inputs& in, const StrandRaster& r, Profiler* profiler) {
   if (r.msaa != 1 && r.msaa != 2 && r.msaa != 4 && r.msaa != 8)
     throw Error("MSAA must be 1, 2, 4 or 8 samples, not " + std::to_string(r.msaa));

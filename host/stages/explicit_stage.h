@@ -39,6 +39,10 @@ class ExplicitStage {
   void lod(const Inputs& in, const cl::Buffer& view, Profiler* profiler);
   void raster(const Inputs& in, const StrandRaster& r, Profiler* profiler);
   void opacity(const Inputs& in, const OpacityPass& o, std::uint32_t strands, Profiler* profiler);
+  // The motion pass: `previous` holds the previous frame's points (pointCount float4, this
+  // groom's order); r is the raster pass just run.
+  void motion(const Inputs& in, const cl::Buffer& previous, const MotionPass& m,
+              const StrandRaster& r, Profiler* profiler);
   // outPoints/outTangents: float4[pointCount]; outCounts: uint[strandCount] (0 = not drawn).
   void exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& outPoints,
                      cl::Buffer& outTangents, cl::Buffer& outCounts, Profiler* profiler);

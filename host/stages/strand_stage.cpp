@@ -70,6 +70,60 @@ void StrandStage::opacity(const Inputs& in, const OpacityPass& o, std::uint32_t 
   dispatchStrands(dev_, opacity_, "shadow", strands, a.next(), profiler);
 }
 
+void StrandStage::rasterViews(const Inputs& in, const StrandRaster& r, const cl::Buffer& viewGrooms,
+                              const cl::Buffer& views, std::uint32_t count, Profiler* profiler) {
+  auto it = views_.find(r.msaa);
+  if (it == views_.end())
+    it = views_
+             .emplace(r.msaa, dev_.kernel("strands.cl", "strands_raster_views",
+                                          "-DCLH_MSAA=" + std::to_string(r.msaa)))
+             .first;
+  cl::Kernel& k = it->second;
+  const std::uint64_t V = count;
+  KernelArgs a(k, "strands");
+  a.buffer("groom", *in.groom, sizeof(gpu::ClhGroomGpu))
+      .buffer("view", *r.view, sizeof(gpu::ClhViewGpu));
+  bindGroom(a, in);
+  a.buffer("scene depth of every view", *r.sceneDepth, V * r.pixels * sizeof(float))
+      .buffer("G-buffers of every view", *r.gbuffer,
+              V * r.pixels * static_cast<std::uint64_t>(r.msaa + 1) * sizeof(cl_ulong))
+      .buffer("raster counters", *r.counters, 4 * sizeof(cl_uint));
+  const cl_uint baseArg = a.next();
+  a.value("strand base", 0u).value("strand stride", 0u);
+  a.buffer("view grooms", viewGrooms, V * sizeof(gpu::ClhGroomGpu))
+      .buffer("views", views, V * sizeof(gpu::ClhViewGpu))
+      .value("view count", static_cast<cl_uint>(count));
+  if (r.strands == 0) return;
+  dispatchStrands(dev_, k, "strands", r.strands, baseArg, profiler);
+}
+
+void StrandStage::motion(const Inputs& in, const cl::Buffer& previous, const MotionPass& m,
+                         const StrandRaster& r, Profiler* profiler) {
+  auto it = motion_.find(r.msaa);
+  if (it == motion_.end())
+    it = motion_
+             .emplace(r.msaa, dev_.kernel("strands.cl", "strands_motion",
+                                          "-DCLH_MSAA=" + std::to_string(r.msaa) +
+                                              " -DCLH_RASTER_MOTION=1"))
+             .first;
+  cl::Kernel& k = it->second;
+  KernelArgs a(k, "motion");
+  a.buffer("groom", *in.groom, sizeof(gpu::ClhGroomGpu))
+      .buffer("view", *r.view, sizeof(gpu::ClhViewGpu));
+  bindGroom(a, in);
+  a.buffer("scene depth", *r.sceneDepth, r.pixels * sizeof(float))
+      .buffer("G-buffer", *r.gbuffer,
+              r.pixels * static_cast<std::uint64_t>(r.msaa + 1) * sizeof(cl_ulong))
+      .buffer("raster counters", *r.counters, 4 * sizeof(cl_uint));
+  const cl_uint baseArg = a.next();
+  a.value("strand base", 0u).value("strand stride", 0u);
+  a.buffer("previous vertices", previous, in.vertexTotal * sizeof(gpu::ClhMeshVertex))
+      .buffer("motion parameters", *m.params, sizeof(gpu::ClhMotionGpu))
+      .buffer("motion", *m.motion, r.pixels * sizeof(cl_ulong));
+  if (r.strands == 0) return;
+  dispatchStrands(dev_, k, "motion", r.strands, baseArg, profiler);
+}
+
 void StrandStage::exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& points,
                                 cl::Buffer& tangents, cl::Buffer& counts, Profiler* profiler) {
   const std::uint64_t slots = std::uint64_t(strands) * CLH_MAX_CONTROL_POINTS;

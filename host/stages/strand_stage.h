@@ -34,6 +34,13 @@ struct OpacityPass {
   std::size_t texels = 0;                   // all slots
 };
 
+// The motion pass of a deforming groom (kernels/strands.cl, strands_explicit.cl built with
+// CLH_RASTER_MOTION), run right after its raster pass over the same G-buffer and depth.
+struct MotionPass {
+  const cl::Buffer* params = nullptr;  // one ClhMotionGpu: previous transform and camera
+  cl::Buffer* motion = nullptr;        // ulong per pixel, cleared to all ones
+};
+
 class StrandStage {
  public:
   explicit StrandStage(Device::Impl& dev);
@@ -51,6 +58,15 @@ class StrandStage {
   };
   void raster(const Inputs& in, const StrandRaster& r, Profiler* profiler);
   void opacity(const Inputs& in, const OpacityPass& o, std::uint32_t strands, Profiler* profiler);
+  // Several views of one assembly (strands_raster_views): r.view is the view the LOD was
+  // chosen in (sizes every view), r.sceneDepth and r.gbuffer hold `count` slices in view
+  // order, viewGrooms and views one record per view. Read-back or over-launch sizing.
+  void rasterViews(const Inputs& in, const StrandRaster& r, const cl::Buffer& viewGrooms,
+                   const cl::Buffer& views, std::uint32_t count, Profiler* profiler);
+  // The motion pass: `previous` holds the layer vertices of the previous frame (as many as
+  // in.vertices); r is the raster pass just run (read-back sizing: r.strands exact).
+  void motion(const Inputs& in, const cl::Buffer& previous, const MotionPass& m,
+              const StrandRaster& r, Profiler* profiler);
   // points/tangents: float4 * CLH_MAX_CONTROL_POINTS per strand; counts: uint per strand.
   void exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& points,
                      cl::Buffer& tangents, cl::Buffer& counts, Profiler* profiler);
@@ -59,7 +75,7 @@ class StrandStage {
   cl::Kernel& rasterKernel(int msaa, bool stats, bool persistent);
   void bindGroom(KernelArgs& a, const Inputs& in);
   Device::Impl& dev_;
-  std::map<int, cl::Kernel> raster_;
+  std::map<int, cl::Kernel> raster_, motion_, views_;
   cl::Kernel export_, opacity_;
 };
 

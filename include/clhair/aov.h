@@ -10,8 +10,9 @@
 //   tangent  tangent.X/Y/Z  world unit tangent (root to tip) of the nearest centre G-buffer
 //                         word of any groom, decoded from its octahedral code; 0 where none
 //   motion   motion.X/Y   pixels from this frame to the previous one for the surface in Z:
-//                         X to the right, Y up (the compositors' convention); rigid motion
-//                         only (camera and groom transform keys), 0 on the background
+//                         X to the right, Y up (the compositors' convention); camera and
+//                         transform keys, and deforming grooms through their motion pass
+//                         (cage animation, wind, per-frame strand files); 0 on the background
 // Inputs and outputs only: nothing here touches the device.
 #pragma once
 
@@ -21,6 +22,7 @@
 namespace clhair {
 
 struct Frame;
+struct FrameAovs;
 
 enum class Aov { Rgba, Z, Alpha, Tangent, Motion };
 
@@ -44,6 +46,17 @@ struct ImageChannel {
 // The channels of `layers` from a frame rendered with RenderOptions::aovs (throws
 // clhair::Error when a layer other than rgba is asked of a frame without them).
 std::vector<ImageChannel> aovChannels(const Frame& frame, const std::vector<Aov>& layers);
+
+// How well the motion layer explains the change between two frames (docs/aovs.md, "Checking
+// motion"): frame t's hair alpha (`before`) warped to frame t+1 (`now`) by t+1's motion
+// vectors, which point to frame t: each pixel of t+1 samples t's alpha bilinearly at
+// (x + motion.X, y - motion.Y), the vector taken from the nearest surface (smallest Z) in its
+// 3x3 neighbourhood so that background the hair has just uncovered follows the hair. The
+// warped alpha >= 0.5 against t+1's hair.A >= 0.5: intersection over union (1 when they agree,
+// also when both are empty). Both frames width x height with their AOVs.
+double motionWarpIoU(const FrameAovs& now, const FrameAovs& before, int width, int height);
+// The same intersection over union without moving anything (what motion 0 would give).
+double maskIoU(const FrameAovs& now, const FrameAovs& before, int width, int height);
 
 // Writes channels as one OpenEXR file (the name must end in .exr), atomically like
 // writeImage; channels are stored in the order given.

@@ -143,6 +143,16 @@ typedef struct {
   float eye[4];
 } ClhViewGpu;
 
+/* ---- the previous frame of a deforming groom, 64 bytes ----------------------------------
+ * The motion pass (strands.cl / strands_explicit.cl built with CLH_RASTER_MOTION) evaluates
+ * each strand a second time from the previous frame's cage or points and projects it with
+ * the previous frame's object -> view transform and camera (same pixel conventions as
+ * ClhViewGpu).                                                                            */
+typedef struct {
+  float prev_obj_to_view[12];
+  float fx, fy, cx, cy;
+} ClhMotionGpu;
+
 /* ---- lights and opaque primitives ---------------------------------------------------- */
 typedef struct {
   float pos[4];   /* w = 1: point light at xyz; w = 0: directional, xyz points to the light */

@@ -54,8 +54,14 @@ namespace gpu {
 #ifndef CLH_RASTER_OPACITY
 #define CLH_RASTER_OPACITY 0 /* 1: build deep-opacity layers instead of the G-buffer */
 #endif
+#ifndef CLH_RASTER_MOTION
+#define CLH_RASTER_MOTION 0 /* 1: resolve the motion of the words already drawn */
+#endif
 #if CLH_RASTER_OPACITY && !defined(CLH_DEVICE_CODE)
 #error "the opacity pass exists on the device only"
+#endif
+#if CLH_RASTER_MOTION && (!defined(CLH_DEVICE_CODE) || CLH_RASTER_OPACITY || CLH_RASTER_STATS)
+#error "the motion pass exists on the device only, without opacity or statistics"
 #endif
 
 /* One end of a segment: view-space position, world tangent (any length), AO, styling w,
@@ -66,6 +72,9 @@ typedef struct {
   float tx, ty, tz;
   float ao, w;
   float iz, sx, sy; /* 1 / z and the screen position, when z >= near */
+#if CLH_RASTER_MOTION
+  float mx, my; /* screen motion to the previous frame, pixels (y down) */
+#endif
 } ClhRasterVertex;
 
 /* Per-view (and per-strand: coverage, u6, v6) raster constants. */
@@ -85,6 +94,9 @@ typedef struct {
   __global const float* hair_depth_g; /* z0 per texel, at dom_offset */
   clh_u64 dom_offset;
   float bound[CLH_DOM_LAYERS];
+#endif
+#if CLH_RASTER_MOTION
+  __global clh_u64* motion_g; /* per pixel: the winning word's motion, packed */
 #endif
 } clh_raster_ctx;
 
@@ -210,6 +222,9 @@ typedef struct {
   float aoa, aob, wa, wb;
   float inv_span; /* 1 / (mb - ma) */
   float span;
+#if CLH_RASTER_MOTION
+  float mxa, mya, mxb, myb; /* screen motion at both ends */
+#endif
 } clh_seg;
 
 CLH_FN float clh_lerpf(float a, float b, float t) { return a + (b - a) * t; }
@@ -288,7 +303,19 @@ CLH_FN void clh_col_write(const clh_raster_ctx* rc, const clh_seg* s,
     c->word = clh_segment_word(rc, s, c->t, &z);
     c->have = 1;
   }
+#if CLH_RASTER_MOTION
+  /* The motion pass draws the same fragments again over the finished G-buffer: a fragment
+   * of the conservative layer (which every candidate reaches, so its word is the nearest
+   * hair in the pixel) whose word is the one that won gives the pixel its motion. Equal
+   * words from different fragments resolve by atom_min over the packed motion, so the
+   * result does not depend on the order either. */
+  (void)counts;
+  if (layer_at != (clh_u64)CLH_MSAA * rc->plane || gbuf[layer_at + idx] != c->word) return;
+  const float mx = clh_lerpf(s->mxa, s->mxb, c->t), my = clh_lerpf(s->mya, s->myb, c->t);
+  atom_min(rc->motion_g + idx, ((clh_u64)as_uint(mx) << 32) | (clh_u64)as_uint(my));
+#else
   clh_gbuf_write(gbuf, counts, layer_at + idx, c->word);
+#endif
 }
 
 /* Draws the segment a-b. */
@@ -308,6 +335,10 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
     c.tz = clh_lerpf(a.tz, b.tz, t);
     c.ao = clh_lerpf(a.ao, b.ao, t);
     c.w = clh_lerpf(a.w, b.w, t);
+#if CLH_RASTER_MOTION
+    c.mx = clh_lerpf(a.mx, b.mx, t);
+    c.my = clh_lerpf(a.my, b.my, t);
+#endif
     clh_raster_project(rc, &c);
     if (a.z < near_z) {
       a = c;
@@ -349,6 +380,12 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
   s.wb = hi_v.w * s.izb;
   s.span = mb - s.ma;
   s.inv_span = 1.0f / s.span;
+#if CLH_RASTER_MOTION
+  s.mxa = lo_v.mx;
+  s.mya = lo_v.my;
+  s.mxb = hi_v.mx;
+  s.myb = hi_v.my;
+#endif
 
   const clh_i32 major_max = xmajor ? rc->width : rc->height;
   const clh_i32 minor_max = xmajor ? rc->height : rc->width;

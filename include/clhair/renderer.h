@@ -45,8 +45,8 @@ struct RenderOptions {
   // a read-back of each groom's centre G-buffer layers and shaded hair.
   bool aovs = false;
   // With aovs: the still scene of the previous frame (sceneAtFrame(scene, frame - 1)), whose
-  // camera and groom transforms (grooms matched by index) give the motion layer; null: the
-  // motion is zero.
+  // camera, groom transforms and cages or per-frame strands (grooms matched by index) give the
+  // motion layer; null: the motion is zero.
   const Scene* previous = nullptr;
 };
 
@@ -116,6 +116,13 @@ class Renderer {
   Renderer& operator=(const Renderer&) = delete;
 
   Frame render(const Scene& scene, const RenderOptions& options = {});
+  // Several views of one assembly (docs/scene-format.md, "Several views"): one frame per
+  // camera, in order. Every hair-mesh strand is generated once and drawn into every view's
+  // G-buffer; its level of detail and culling are those of the first camera that sees the
+  // groom. One camera: exactly render() with that camera. Not with aovs, captureGBuffer or
+  // rasterOnly (throws clhair::Error).
+  std::vector<Frame> renderViews(const Scene& scene, const std::vector<Camera>& cameras,
+                                 const RenderOptions& options = {});
 
   // The reference the real-time pipeline approximates: the average of `spp` frames, each
   // shifted by the same sub-pixel offset in every pixel (an R2 low-discrepancy sequence,

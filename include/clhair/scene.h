@@ -162,10 +162,22 @@ struct CameraAnimation {
   CameraPreset framing = CameraPreset::Mid;
 };
 
+// One named view of a scene with several ("cameras", docs/scene-format.md): a camera of its
+// own, or (relative) the scene's camera moved by `offset` in that camera's view space (x
+// right, y up, z back), so it follows the camera's keys (a stereo rig).
+struct View {
+  std::string name;
+  bool relative = false;
+  glm::vec3 offset{0.0f};
+  Camera camera;  // when not relative
+};
+constexpr int kMaxViews = 16;
+
 struct Scene {
   int width = 1280;
   int height = 720;
   Camera camera;
+  std::vector<View> views;  // "cameras": empty for a scene of one view, `camera`
   glm::vec3 background{0.05f, 0.06f, 0.08f};
   std::string backgroundImage;  // an image behind everything, stretched over the frame
   glm::vec3 ambient{0.05f};
@@ -211,6 +223,9 @@ constexpr std::uint64_t kDefaultStrandFileLimit = 2ull << 30;
 // against `maxStrandBytes` before anything is allocated: pass the device's largest
 // allocation (Device::info().maxAlloc) when a device is open.
 Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes = kDefaultStrandFileLimit);
+
+// The camera of view `v` of the scene (its own, or the scene's camera moved by the offset).
+Camera viewCamera(const Scene& scene, const View& v);
 
 // True when some frame of the scene differs from another (keys, a cage animation, wind).
 bool isAnimated(const Scene& scene);

@@ -92,4 +92,56 @@ static inline void clh_raster_lane(clh_raster_ctx* rc, __global const float* sce
 #endif
 }
 
+#if CLH_RASTER_MOTION
+/* The motion pass (-DCLH_RASTER_MOTION=1): a lane's run drawn as clh_raster_lane draws it,
+ * each vertex carrying its screen motion to the previous frame: the same point of the
+ * strand evaluated from the previous frame's cage or points (PP, next_pp: object space of
+ * that frame), projected with the previous transform and camera (m_g), minus its projection
+ * now. A vertex behind either camera's near plane moves by 0. */
+static inline void clh_raster_lane_motion(clh_raster_ctx* rc, __global const float* scene_depth_g,
+                                          __global ulong* gbuf_g, __global const ClhGroomGpu* g,
+                                          __global const ClhMotionGpu* m_g, const float4* P,
+                                          const float4* T, const float4* PP, uint first, uint count,
+                                          uint total, float4 next_p, float4 next_t,
+                                          float4 next_pp) {
+  float to_view[12], to_world[12], prev_view[12];
+  for (int k = 0; k < 12; ++k) {
+    to_view[k] = g->obj_to_view[k];
+    to_world[k] = g->obj_to_world[k];
+    prev_view[k] = m_g->prev_obj_to_view[k];
+  }
+  const float pfx = m_g->fx, pfy = m_g->fy, pcx = m_g->cx, pcy = m_g->cy;
+  ClhRasterVertex prev;
+  uint counts[4] = {0u, 0u, 0u, 0u};
+  for (uint i = 0; i <= count; ++i) {
+    if (first + i >= total) break;
+    const float4 p = (i < count) ? P[i] : next_p;
+    const float4 t = (i < count) ? T[i] : next_t;
+    const float4 pp = (i < count) ? PP[i] : next_pp;
+    ClhRasterVertex v;
+    float o[3];
+    clh_xform3(to_view, p.x, p.y, p.z, 1.0f, o);
+    v.x = o[0];
+    v.y = o[1];
+    v.z = o[2];
+    clh_xform3(to_world, t.x, t.y, t.z, 0.0f, o);
+    v.tx = o[0];
+    v.ty = o[1];
+    v.tz = o[2];
+    v.ao = t.w;
+    v.w = p.w;
+    clh_raster_project(rc, &v);
+    clh_xform3(prev_view, pp.x, pp.y, pp.z, 1.0f, o);
+    v.mx = 0.0f;
+    v.my = 0.0f;
+    if (o[2] >= rc->near_z && v.z >= rc->near_z) {
+      v.mx = pcx + pfx * o[0] / o[2] - v.sx;
+      v.my = pcy - pfy * o[1] / o[2] - v.sy;
+    }
+    if (i > 0u) clh_raster_segment(rc, scene_depth_g, gbuf_g, counts, prev, v);
+    prev = v;
+  }
+}
+#endif
+
 #endif /* CLHAIR_RASTER_H */

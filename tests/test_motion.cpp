@@ -175,7 +175,8 @@ TEST(Motion, WindMotionMovesTheNextFrameOntoThePrevious) {
   const Frame a = renderWithMotion(r, shot, 4), b = renderWithMotion(r, shot, 5);
   double moving = 0.0;
   for (std::size_t p = 0; p < b.aovs.z.size(); ++p)
-    if (b.aovs.hairAlpha[p] >= 0.5f) moving = std::max<double>(moving, std::abs(b.aovs.motion[2 * p]));
+    if (b.aovs.hairAlpha[p] >= 0.5f)
+      moving = std::max<double>(moving, std::abs(b.aovs.motion[2 * p]));
   const double warped = motionWarpIoU(b.aovs, a.aovs, 96, 72);
   const double still = maskIoU(b.aovs, a.aovs, 96, 72);
   EXPECT_GT(moving, 1.0);
@@ -218,14 +219,13 @@ TEST(Views, EachViewOfATwoViewRenderIsTheSingleViewRenderOfItsCamera) {
   // groom, so neither culls or thins what the other draws).
   const std::string dir = scratchDir();
   const json groom = {{"file", assetPath("grooms/tiny.hairmesh.json")}, {"strands", 800}};
-  const json extra = {
-      {"cameras",
-       {{{"name", "left"}, {"offset", {-0.01, 0.0, 0.0}}},
-        {{"name", "side"},
-         {"position", {0.12, 0.04, 0.16}},
-         {"target", {0.0, 0.025, 0.0}},
-         {"fov", 40}}}},
-      {"spheres", {{{"center", {0.0, 0.0, -0.02}}, {"radius", 0.02}}}}};
+  const json extra = {{"cameras",
+                       {{{"name", "left"}, {"offset", {-0.01, 0.0, 0.0}}},
+                        {{"name", "side"},
+                         {"position", {0.12, 0.04, 0.16}},
+                         {"target", {0.0, 0.025, 0.0}},
+                         {"fov", 40}}}},
+                      {"spheres", {{{"center", {0.0, 0.0, -0.02}}, {"radius", 0.02}}}}};
   const Scene scene = loadScene(writeScene(dir, groom, 80, 60, extra));
   ASSERT_EQ(scene.views.size(), 2u);
   std::vector<Camera> cams;

@@ -334,6 +334,14 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
       if (quiet) continue;
       const auto t1 = std::chrono::steady_clock::now();
       const double took = std::chrono::duration<double>(t1 - t0).count();
+      if (!sequence) {  // the stage times of all views together
+        std::printf("%s ...: %zu views of %dx%d on %s\n", path.c_str(), views.size(), still.width,
+                    still.height, dev.info().name.c_str());
+        for (const StageTime& t : shots[0].timings)
+          std::printf("  %-10s %9.2f ms\n", t.stage.c_str(), t.ms);
+        std::printf("  %-10s %9.2f ms\n", "total", shots[0].totalMs());
+        continue;
+      }
       const double perFrame = std::chrono::duration<double>(t1 - start).count() / rendered;
       std::fprintf(stderr, "clhair: frame %lld (%zu/%zu), %zu views -> %s ...: %s, about %s left\n",
                    number, i + 1, frames.size(), views.size(), path.c_str(), seconds(took).c_str(),

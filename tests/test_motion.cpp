@@ -273,6 +273,12 @@ TEST(Views, CliWritesOneFilePerViewAndRefusesUnknownNames) {
   c = runCli("render " + quote(scene) + " -q --aov all -o " + quote(dir + "/x.exr"));
   EXPECT_EQ(c.exitCode, 1);
   EXPECT_NE(onlyErrorLine(c.output).find("--aov writes one view"), std::string::npos) << c.output;
+  // a malformed "cameras" entry: one line naming the file and the entry
+  const json twice = {{"cameras", {{{"name", "a"}, {"offset", {0, 0, 0}}}, {{"name", "a"}}}}};
+  c = runCli("render " + quote(writeScene(dir, groom, 48, 36, twice)) + " -q -o " +
+             quote(dir + "/t.png"));
+  EXPECT_EQ(c.exitCode, 1);
+  EXPECT_NE(onlyErrorLine(c.output).find("cameras[1].name"), std::string::npos) << c.output;
 }
 
 }  // namespace clhair::test

@@ -16,6 +16,11 @@
 
 namespace clhair {
 
+// Under a segment budget, grooms whose drawn bundles all have an LOD value below this (with
+// the default lambda of 3, a bundle under a twelfth of the image height) also drop every
+// other control point (Kulikov 2025: far models draw half their vertices).
+constexpr float kBudgetFarLod = 0.25f;
+
 Renderer::Renderer(Device device) : impl_(std::make_unique<Impl>(std::move(device))) {}
 Renderer::~Renderer() = default;
 
@@ -49,6 +54,7 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
   r.shadows.reserve(s);  // before the grooms: see ShadowPass::reserve
   r.grooms.beginFrame();
   std::vector<GroomDraw> draws = r.resolveGrooms(s);
+  r.frameLod.bind(draws);  // every draw's LOD records in one buffer, for the segment budget
 
   const bool lodCorrection =
       options.shadowLodCorrection < 0 ? s.shadows.lodCorrection : options.shadowLodCorrection == 1;
@@ -88,14 +94,25 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
   raster.msaa = options.msaa;
   raster.stats = options.rasterStats;
   raster.mode = mode;
+  // every groom's LOD pre-pass, then the segment budget over all of them on the device
   std::vector<const GroomDraw*> drawn;
+  std::vector<char> active(draws.size(), 0);
   for (std::size_t k = 0; k < draws.size(); ++k) {
     const GroomDraw& d = draws[k];
-    GroomInstanceGpu& inst = *d.state;
     d.groom->useAo(options.ambientOcclusion != 0);
-    if (!d.groom->prepare(inst, d.instance->transform, pass)) continue;
+    if (!d.groom->prepare(*d.state, d.instance->transform, pass)) continue;
+    active[k] = 1;
     drawn.push_back(&d);
-    d.groom->lod(inst, t.view, &r.profiler);
+    d.groom->lod(*d.state, t.view, &r.profiler);
+  }
+  const std::uint64_t budget = options.segmentBudget < 0
+                                   ? s.segmentBudget
+                                   : static_cast<std::uint64_t>(options.segmentBudget);
+  r.frameLod.enqueue(draws, active, budget, kBudgetFarLod, &r.profiler);
+  for (std::size_t k = 0; k < draws.size(); ++k) {
+    if (!active[k]) continue;
+    const GroomDraw& d = draws[k];
+    GroomInstanceGpu& inst = *d.state;
     t.clearGBuffer(&r.profiler);
     if (source) {
       source->centreLayer(static_cast<std::uint32_t>(k), inst.params, words);
@@ -154,7 +171,28 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
   frame.depth.resize(pixels);
   readBack(r.dev, "the frame", t.color, frame.color.rgba.data(), pixels * 4);
   readBack(r.dev, "the frame's depth", t.depth, frame.depth.data(), pixels);
-  for (const GroomDraw* d : drawn) frame.stats.strandsDrawn += d->groom->readTotal(*d->state);
+  {
+    const FrameLod::Result lod = r.frameLod.read(draws.size());
+    frame.stats.segmentBudget = budget;
+    frame.stats.overBudget = lod.over;
+    frame.stats.budgetScale = lod.scale;
+    frame.stats.segmentsBeforeBudget = lod.lodSegments;
+    for (std::size_t k = 0; k < draws.size(); ++k) {
+      GroomDrawStats g;
+      g.instance = k;
+      g.name = draws[k].instance->name;
+      g.drawn = active[k] != 0;
+      if (g.drawn) {
+        g.strands = lod.draw[4 * k];
+        g.segments = lod.draw[4 * k + 1];
+        g.visibleStrands = lod.draw[4 * k + 2];
+        g.halved = (lod.draw[4 * k + 3] & CLH_BUDGET_HALVED) != 0;
+      }
+      frame.stats.strandsDrawn += g.strands;
+      frame.stats.segmentsPlanned += g.segments;
+      frame.stats.grooms.push_back(std::move(g));
+    }
+  }
   frame.stats.shadowStrandsDrawn = r.shadows.strandsDrawn();
   if (aovs) frame.aovs = aovBuilder->finish(frame.depth, s, options.previous);
   if (options.captureGBuffer) {

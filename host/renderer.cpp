@@ -8,7 +8,10 @@
 // frame back.
 #include "renderer_impl.h"
 
+#include <algorithm>
 #include <optional>
+
+#include <glm/geometric.hpp>
 
 #include "cl/buffers.h"
 #include "frame/aov_builder.h"
@@ -16,10 +19,28 @@
 
 namespace clhair {
 
-// Under a segment budget, grooms whose drawn bundles all have an LOD value below this (with
-// the default lambda of 3, a bundle under a twelfth of the image height) also drop every
-// other control point (Kulikov 2025: far models draw half their vertices).
-constexpr float kBudgetFarLod = 0.25f;
+// Under a segment budget, grooms whose bounding sphere spans less than this share of the
+// image height also drop every other control point (Kulikov 2025: far models draw half
+// their vertices).
+constexpr float kBudgetFarShare = 0.2f;
+
+namespace {
+
+// Whether a groom placed by `objToWorld` is far under the segment budget (kBudgetFarShare).
+bool farGroom(const GroomGpu& g, const glm::mat4& objToWorld, const glm::mat4& worldToView,
+              const gpu::ClhViewGpu& view) {
+  const glm::vec3 lo = g.boundsMin(), hi = g.boundsMax();
+  const glm::vec3 c = glm::vec3(objToWorld * glm::vec4(0.5f * (lo + hi), 1.0f));
+  const float scale =
+      std::max({glm::length(glm::vec3(objToWorld[0])), glm::length(glm::vec3(objToWorld[1])),
+                glm::length(glm::vec3(objToWorld[2]))});
+  const float radius = 0.5f * glm::length(hi - lo) * scale;
+  const float z = (worldToView * glm::vec4(c, 1.0f)).z;
+  if (!(z > radius)) return false;  // the camera is near or inside it
+  return view.fy * 2.0f * radius / z < kBudgetFarShare * static_cast<float>(view.height);
+}
+
+}  // namespace
 
 Renderer::Renderer(Device device) : impl_(std::make_unique<Impl>(std::move(device))) {}
 Renderer::~Renderer() = default;
@@ -96,19 +117,20 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
   raster.mode = mode;
   // every groom's LOD pre-pass, then the segment budget over all of them on the device
   std::vector<const GroomDraw*> drawn;
-  std::vector<char> active(draws.size(), 0);
+  std::vector<char> active(draws.size(), 0), far(draws.size(), 0);
   for (std::size_t k = 0; k < draws.size(); ++k) {
     const GroomDraw& d = draws[k];
     d.groom->useAo(options.ambientOcclusion != 0);
     if (!d.groom->prepare(*d.state, d.instance->transform, pass)) continue;
     active[k] = 1;
+    far[k] = farGroom(*d.groom, d.instance->transform, pass.worldToView, view) ? 1 : 0;
     drawn.push_back(&d);
     d.groom->lod(*d.state, t.view, &r.profiler);
   }
   const std::uint64_t budget = options.segmentBudget < 0
                                    ? s.segmentBudget
                                    : static_cast<std::uint64_t>(options.segmentBudget);
-  r.frameLod.enqueue(draws, active, budget, kBudgetFarLod, &r.profiler);
+  r.frameLod.enqueue(draws, active, far, budget, &r.profiler);
   for (std::size_t k = 0; k < draws.size(); ++k) {
     if (!active[k]) continue;
     const GroomDraw& d = draws[k];

@@ -21,7 +21,7 @@
  * budget_plan and budget_apply (the segment budget, Kulikov 2025 "LODs"): once every
  * groom's pre-pass has run, all grooms' LOD records lie in one buffer (the arena, see
  * ClhBudgetDraw in gpu_types.h). budget_plan (one work-group) sums their segments; over
- * the budget, grooms whose bundles all have L below far_lod draw every other control
+ * the budget, far grooms (small on screen, marked by the host) draw every other control
  * point, and then every groom keeps N' = max(1, floor(f N)) of the N strands of each
  * drawn bundle, with the largest f <= budget / total that fits. budget_apply (one
  * work-group per groom) rewrites the records, counts and scan, and reports each groom's
@@ -277,7 +277,7 @@ static ulong clh_budget_total(__global const ClhBudgetDraw* draws_g, uint draws,
  * header and word 3 (the flags) and budget_apply the rest. */
 __kernel __attribute__((reqd_work_group_size(SCAN_WG, 1, 1))) void budget_plan(
     __global const ClhBudgetDraw* draws_g, uint draws, __global const ClhLodRecord* rec_g,
-    __global const uint* words_g, ulong budget, float far_lod, __global uint* state_g) {
+    __global const uint* words_g, ulong budget, __global uint* state_g) {
   __local uint sums_l[SCAN_WG];
   const uint lid = (uint)get_local_id(0);
   __global uint* flags_g = state_g + CLH_BUDGET_HEADER + 3u;
@@ -287,19 +287,9 @@ __kernel __attribute__((reqd_work_group_size(SCAN_WG, 1, 1))) void budget_plan(
   const bool over = budget > 0ul && total > budget;
   float f = 1.0f;
   if (over) {
-    /* far grooms: every drawn bundle's L below far_lod */
-    for (uint d = lid; d < draws; d += SCAN_WG) {
-      __global const ClhBudgetDraw* dr = draws_g + d;
-      float max_l = 0.0f;
-      uint drawn = 0u;
-      for (uint b = 0u; dr->active != 0u && b < dr->records; ++b) {
-        const ClhLodRecord r = rec_g[dr->records_at + b];
-        if (r.strands == 0u) continue;
-        drawn = 1u;
-        max_l = fmax(max_l, r.lod);
-      }
-      flags_g[4u * d] = drawn != 0u && max_l < far_lod ? CLH_BUDGET_HALVED : 0u;
-    }
+    /* far grooms (the host marks them by their size on screen) */
+    for (uint d = lid; d < draws; d += SCAN_WG)
+      flags_g[4u * d] = draws_g[d].far != 0u ? CLH_BUDGET_HALVED : 0u;
     barrier(CLK_GLOBAL_MEM_FENCE);
     const ulong halved = clh_budget_total(draws_g, draws, rec_g, words_g, flags_g, 1.0f, sums_l);
     if (halved > budget) {
@@ -322,7 +312,7 @@ __kernel __attribute__((reqd_work_group_size(SCAN_WG, 1, 1))) void budget_plan(
   if (lid == 0u) {
     state_g[0] = as_uint(f);
     state_g[1] = over ? 1u : 0u;
-    state_g[2] = as_uint(far_lod);
+    state_g[2] = 0u;
     state_g[3] = (uint)(total & 0xFFFFFFFFul);
     state_g[4] = (uint)(total >> 32);
     state_g[5] = state_g[6] = state_g[7] = 0u;

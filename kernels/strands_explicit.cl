@@ -38,6 +38,7 @@
  * opacity layers of one light), strands_explicit_export (drawn points and tangents, tests).
  */
 #include "clhair/gpu_types.h"
+#include "clhair/lod_math.h"
 #include "subgroup.h"
 #include "clh_math.h"
 #include "raster.h"

@@ -18,9 +18,8 @@ FrameLod::FrameLod(Device::Impl& dev)
     : dev_(dev),
       plan_(dev.kernel("lod.cl", "budget_plan", kOptions)),
       apply_(dev.kernel("lod.cl", "budget_apply", kOptions)) {
-  const cl_uint bits = clCall("querying the sub-buffer alignment", [&] {
-    return dev.device.getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>();
-  });
+  const cl_uint bits = clCall("querying the sub-buffer alignment",
+                              [&] { return dev.device.getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>(); });
   align_ = std::max<std::size_t>(bits / 8, 64);
 }
 
@@ -43,9 +42,8 @@ void FrameLod::bind(const std::vector<GroomDraw>& draws) {
     d.min_points = 3u;
   }
   if (bytes >= (std::size_t(1) << 32))
-    throw Error("the LOD records of " + std::to_string(draws.size()) +
-                " groom instances need " + std::to_string(bytes >> 20) +
-                " MiB in one buffer; at most 4 GiB are supported");
+    throw Error("the LOD records of " + std::to_string(draws.size()) + " groom instances need " +
+                std::to_string(bytes >> 20) + " MiB in one buffer; at most 4 GiB are supported");
   if (bytes > arenaBytes_ || !arena_()) {
     arenaBytes_ = std::max(bytes + bytes / 2, align_);
     arena_ = makeBuffer<std::uint8_t>(dev_, "LOD records of all grooms", arenaBytes_);
@@ -73,10 +71,13 @@ void FrameLod::bind(const std::vector<GroomDraw>& draws) {
 }
 
 void FrameLod::enqueue(const std::vector<GroomDraw>& draws, const std::vector<char>& active,
-                       std::uint64_t budget, float farLod, Profiler* profiler) {
+                       const std::vector<char>& far, std::uint64_t budget, Profiler* profiler) {
   const std::size_t D = draws.size();
   if (D == 0) return;
-  for (std::size_t k = 0; k < D; ++k) layout_[k].active = active[k] ? 1u : 0u;
+  for (std::size_t k = 0; k < D; ++k) {
+    layout_[k].active = active[k] ? 1u : 0u;
+    layout_[k].far = far[k] ? 1u : 0u;
+  }
   ensureCapacity<gpu::ClhBudgetDraw>(dev_, table_, tableCap_, "groom draw table", D);
   upload(dev_, table_, layout_.data(), D);
   const std::size_t words = CLH_BUDGET_HEADER + 4 * D;
@@ -88,7 +89,6 @@ void FrameLod::enqueue(const std::vector<GroomDraw>& draws, const std::vector<ch
       .buffer("LOD records", arena_, arenaBytes_)
       .buffer("counts and offsets", arena_, arenaBytes_)
       .value("budget", static_cast<cl_ulong>(budget))
-      .value("far LOD", farLod)
       .buffer("state", state_, words * sizeof(cl_uint));
   const cl::NDRange wg(LodStage::kScanWorkGroup);
   dispatch(dev_, plan_, "lod", wg, wg, profiler);

@@ -29,10 +29,10 @@ class FrameLod {
   void bind(const std::vector<GroomDraw>& draws);
   // After the camera pass's pre-pass of every draw (active[k]: draw k was prepared and its
   // records are fresh): the budget's plan and its application, on the device. budget 0:
-  // none (the per-draw totals are still gathered). farLod: grooms whose drawn bundles all
-  // have L below it drop every other control point when over budget.
+  // none (the per-draw totals are still gathered). far[k]: draw k is small on screen and
+  // drops every other control point when over budget.
   void enqueue(const std::vector<GroomDraw>& draws, const std::vector<char>& active,
-               std::uint64_t budget, float farLod, Profiler* profiler);
+               const std::vector<char>& far, std::uint64_t budget, Profiler* profiler);
 
   struct Result {
     float scale = 1.0f;               // the factor f applied to every bundle's strands

@@ -277,7 +277,9 @@ CLH_FN clh_u32 clh_lod_segment_total_at(clh_u32 n) { return n + 2u; }
  * layouts above for `records` bundles or chunks.
  *   kind    0: hair mesh (a strand draws C - 1 segments), 1: strand file (its chunk's mean)
  *   active  1: the draw was prepared in this frame's camera pass (its records are fresh)
- *   min_points  the least control-point count the budget may halve a record's C to     */
+ *   min_points  the least control-point count the budget may halve a record's C to
+ *   far     1: the groom is small on screen; over budget it drops every other control
+ *           point (Kulikov 2025)                                                        */
 typedef struct {
   clh_u32 records_at;
   clh_u32 counts_at;
@@ -286,13 +288,13 @@ typedef struct {
   clh_u32 kind;
   clh_u32 active;
   clh_u32 min_points;
-  clh_u32 pad0;
+  clh_u32 far;
 } ClhBudgetDraw;
 
 /* What budget_plan decides for the frame and budget_apply reports per draw: a header of
  * CLH_BUDGET_HEADER words, then 4 words per draw.
  *   header: [0] the factor f (f32 bits; 1 when within budget), [1] 1: the LOD pre-passes
- *           exceeded the budget, [2] far_lod (f32 bits), [3] and [4]: the segment total of
+ *           exceeded the budget, [2] 0, [3] and [4]: the segment total of
  *           the pre-passes (low and high 32 bits), [5..7] 0
  *   per draw: strands, segments, visible strands, flags (CLH_BUDGET_HALVED: every other
  *           control point dropped)                                                      */

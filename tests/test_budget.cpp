@@ -224,8 +224,8 @@ TEST(Budget, BadBudgetsAndCapsAreOneErrorLine) {
   const std::string dir = scratchDir();
   const std::string out = dir + "/out.png";
   const std::vector<std::pair<std::string, json>> scene = {
-      {"segment_budget", -1},          {"segment_budget", 1e300}, {"segment_budget", "NaN"},
-      {"segment_budget", 2.5},         {"segment_budget", 5e9},   {"max_strands", -3},
+      {"segment_budget", -1},  {"segment_budget", 1e300}, {"segment_budget", "NaN"},
+      {"segment_budget", 2.5}, {"segment_budget", 5e9},   {"max_strands", -3},
       {"max_strands", 1e12}};
   for (const auto& [key, value] : scene) {
     json s = cliScene();

@@ -122,7 +122,9 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
     const GroomDraw& d = draws[k];
     d.groom->useAo(options.ambientOcclusion != 0);
     if (!d.groom->prepare(*d.state, d.instance->transform, pass)) continue;
-    active[k] = 1;
+    // the budget is a stage of LOD: a groom drawn without LOD keeps every strand
+    active[k] = static_cast<char>(d.state->params.lod_enabled ? CLH_BUDGET_DRAW_BUDGETED
+                                                              : CLH_BUDGET_DRAW_FIXED);
     far[k] = farGroom(*d.groom, d.instance->transform, pass.worldToView, view) ? 1 : 0;
     drawn.push_back(&d);
     d.groom->lod(*d.state, t.view, &r.profiler);

@@ -20,7 +20,9 @@
  *
  * budget_plan and budget_apply (the segment budget, Kulikov 2025 "LODs"): once every
  * groom's pre-pass has run, all grooms' LOD records lie in one buffer (the arena, see
- * ClhBudgetDraw in gpu_types.h). budget_plan (one work-group) sums their segments; over
+ * ClhBudgetDraw in gpu_types.h). budget_plan (one work-group) sums the segments of the
+ * grooms drawn with LOD (the budget is a stage of LOD; grooms drawn without it keep every
+ * strand and do not count); over
  * the budget, far grooms (small on screen, marked by the host) draw every other control
  * point, and then every groom keeps N' = max(1, floor(f N)) of the N strands of each
  * drawn bundle, with the largest f <= budget / total that fits. budget_apply (one
@@ -257,7 +259,7 @@ static ulong clh_budget_total(__global const ClhBudgetDraw* draws_g, uint draws,
   ulong total = 0ul;
   for (uint d = 0u; d < draws; ++d) {
     __global const ClhBudgetDraw* dr = draws_g + d;
-    if (dr->active == 0u) continue;
+    if (dr->active != CLH_BUDGET_DRAW_BUDGETED) continue;
     const uint n = dr->records;
     for (uint b = lid; b < n; b += SCAN_WG) {
       const ClhLodRecord r = rec_g[dr->records_at + b];
@@ -289,7 +291,9 @@ __kernel __attribute__((reqd_work_group_size(SCAN_WG, 1, 1))) void budget_plan(
   if (over) {
     /* far grooms (the host marks them by their size on screen) */
     for (uint d = lid; d < draws; d += SCAN_WG)
-      flags_g[4u * d] = draws_g[d].far != 0u ? CLH_BUDGET_HALVED : 0u;
+      flags_g[4u * d] = draws_g[d].far != 0u && draws_g[d].active == CLH_BUDGET_DRAW_BUDGETED
+                            ? CLH_BUDGET_HALVED
+                            : 0u;
     barrier(CLK_GLOBAL_MEM_FENCE);
     const ulong halved = clh_budget_total(draws_g, draws, rec_g, words_g, flags_g, 1.0f, sums_l);
     if (halved > budget) {
@@ -339,7 +343,7 @@ __kernel __attribute__((reqd_work_group_size(SCAN_WG, 1, 1))) void budget_apply(
   __global uint* offsets = words_g + dr->offsets_at;
   const float f = as_float(state_g[0]);
   const bool halve = (out[3] & CLH_BUDGET_HALVED) != 0u;
-  if (state_g[1] != 0u) {
+  if (state_g[1] != 0u && dr->active == CLH_BUDGET_DRAW_BUDGETED) {
     for (uint b = lid; b < n; b += SCAN_WG) {
       ClhLodRecord r = rec_g[dr->records_at + b];
       const uint C = r.control_points;

@@ -1,7 +1,8 @@
 // test_budget.cpp — the segment budget, the per-asset strand cap and `clhair render --stats`.
 //
 // Budget: three instances of the tiny hair mesh and a strand file of equal-length strands,
-// LOD off, with a budget of half their segments: the factor is exactly 1/2, so every
+// drawn with LOD at a lambda so large that every bundle keeps full detail (the budget is a
+// stage of LOD), with a budget of half their segments: the factor is exactly 1/2, so every
 // bundle or chunk keeps floor(N / 2) strands (at least one), counted here from the groom's
 // own bundle table; the total the LOD records schedule and the segments the raster counts
 // are both within the budget. A budget far below one strand per bundle leaves each groom
@@ -35,6 +36,8 @@ using nlohmann::json;
 std::shared_ptr<const StrandGroom> fringe(std::uint32_t n, std::uint32_t points) {
   StrandGroom g;
   g.name = "fringe";
+  g.lod.enabled = true;
+  g.lod.lambda = 1000.0f;  // L = 1: full detail, the budget alone reduces
   for (std::uint32_t s = 0; s < n; ++s) {
     g.pointCounts.push_back(points);
     const float x = -0.02f + 0.04f * (static_cast<float>(s) + 0.5f) / static_cast<float>(n);
@@ -56,8 +59,13 @@ Scene smallScene(const std::shared_ptr<const HairMesh>& tiny, int instances, boo
   return s;
 }
 
+// The tiny preset drawn with LOD at L = 1 everywhere (lambda 1000): full detail, under the
+// budget.
 std::shared_ptr<const HairMesh> tinyMesh() {
-  return std::make_shared<const HairMesh>(makeGroomPreset("tiny"));
+  HairMesh m = makeGroomPreset("tiny");
+  m.lod.enabled = true;
+  m.lod.lambda = 1000.0f;
+  return std::make_shared<const HairMesh>(std::move(m));
 }
 
 TEST(Budget, ProportionalReductionIsExactAndHolds) {
@@ -65,7 +73,6 @@ TEST(Budget, ProportionalReductionIsExactAndHolds) {
   auto tiny = tinyMesh();
   const Scene s = smallScene(tiny, 3, true);
   RenderOptions o;
-  o.lod = 0;
   o.segmentBudget = 0;
   const Frame full = r.render(s, o);
   const std::uint64_t perTiny = tiny->strandCount * (tiny->controlPoints - 1);
@@ -101,6 +108,13 @@ TEST(Budget, ProportionalReductionIsExactAndHolds) {
   for (int i = 0; i < 3; ++i)
     EXPECT_EQ(starved.stats.grooms[i].strands, prepareGroom(*tiny).bundles.size()) << i;
   EXPECT_EQ(starved.stats.grooms[3].strands, 2u);
+
+  // grooms drawn without LOD keep every strand and do not count
+  o.lod = 0;
+  o.segmentBudget = static_cast<std::int64_t>(total / 2);
+  const Frame lodOff = r.render(s, o);
+  EXPECT_FALSE(lodOff.stats.overBudget);
+  EXPECT_EQ(lodOff.stats.segmentsPlanned, total);
 }
 
 TEST(Budget, FarGroomsDropEveryOtherControlPoint) {
@@ -109,7 +123,6 @@ TEST(Budget, FarGroomsDropEveryOtherControlPoint) {
   Scene s = smallScene(tiny, 1, false);
   s.camera.position = {0.0f, 0.03f, 3.0f};  // the groom is a few pixels tall
   RenderOptions o;
-  o.lod = 0;
   o.segmentBudget = 0;
   const Frame full = r.render(s, o);
   ASSERT_TRUE(full.stats.grooms[0].drawn);
@@ -124,7 +137,6 @@ TEST(Budget, FarGroomsDropEveryOtherControlPoint) {
 // Summed hair alpha of a frame (the grooms' coverage).
 double coverage(Renderer& r, const Scene& s, std::int64_t budget) {
   RenderOptions o;
-  o.lod = 0;
   o.aovs = true;
   o.segmentBudget = budget;
   const Frame f = r.render(s, o);
@@ -148,6 +160,8 @@ TEST(Budget, CoverageStaysWithinTenPercentUnderTheBudget) {
   HairMesh m = makeGroomPreset("curly_medium");
   m.strandCount = 2000;
   m.appearance.minHitDiameterPx = 0.5f;
+  m.lod.enabled = true;
+  m.lod.lambda = 1000.0f;  // full detail: the budget alone reduces
   const Scene s = coverageScene(m, 96, 72);
   const double full = coverage(r, s, 0);
   ASSERT_GT(full, 50.0);

@@ -75,7 +75,7 @@ void FrameLod::enqueue(const std::vector<GroomDraw>& draws, const std::vector<ch
   const std::size_t D = draws.size();
   if (D == 0) return;
   for (std::size_t k = 0; k < D; ++k) {
-    layout_[k].active = active[k] ? 1u : 0u;
+    layout_[k].active = static_cast<gpu::clh_u32>(active[k]);
     layout_[k].far = far[k] ? 1u : 0u;
   }
   ensureCapacity<gpu::ClhBudgetDraw>(dev_, table_, tableCap_, "groom draw table", D);

@@ -27,8 +27,9 @@ class FrameLod {
 
   // Places every draw's LOD buffers in the arena (grown when needed).
   void bind(const std::vector<GroomDraw>& draws);
-  // After the camera pass's pre-pass of every draw (active[k]: draw k was prepared and its
-  // records are fresh): the budget's plan and its application, on the device. budget 0:
+  // After the camera pass's pre-pass of every draw (active[k]: 0 not drawn,
+  // CLH_BUDGET_DRAW_FIXED drawn without LOD, CLH_BUDGET_DRAW_BUDGETED drawn with LOD and
+  // under the budget): the budget's plan and its application, on the device. budget 0:
   // none (the per-draw totals are still gathered). far[k]: draw k is small on screen and
   // drops every other control point when over budget.
   void enqueue(const std::vector<GroomDraw>& draws, const std::vector<char>& active,

@@ -276,7 +276,9 @@ CLH_FN clh_u32 clh_lod_segment_total_at(clh_u32 n) { return n + 2u; }
  * records_at (in ClhLodRecord units), counts_at and offsets_at (in uint units), with the
  * layouts above for `records` bundles or chunks.
  *   kind    0: hair mesh (a strand draws C - 1 segments), 1: strand file (its chunk's mean)
- *   active  1: the draw was prepared in this frame's camera pass (its records are fresh)
+ *   active  0: not drawn this frame; CLH_BUDGET_DRAW_FIXED: prepared in the camera pass
+ *           (its records are fresh) without LOD, so the budget neither counts nor cuts
+ *           it; CLH_BUDGET_DRAW_BUDGETED: prepared with LOD, under the budget
  *   min_points  the least control-point count the budget may halve a record's C to
  *   far     1: the groom is small on screen; over budget it drops every other control
  *           point (Kulikov 2025)                                                        */
@@ -299,6 +301,8 @@ typedef struct {
  *   per draw: strands, segments, visible strands, flags (CLH_BUDGET_HALVED: every other
  *           control point dropped)                                                      */
 #define CLH_BUDGET_HEADER 8u
+#define CLH_BUDGET_DRAW_FIXED 1u
+#define CLH_BUDGET_DRAW_BUDGETED 2u
 #define CLH_BUDGET_HALVED 1u
 
 /* ---- the 64-bit G-buffer word --------------------------------------------------------

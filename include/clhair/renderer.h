@@ -45,7 +45,7 @@ struct RenderOptions {
   // a read-back of each groom's centre G-buffer layers and shaded hair.
   bool aovs = false;
   // Segment budget (Scene::segmentBudget): -1 as the scene says, 0 none, > 0 at most this
-  // many segments per frame over all grooms.
+  // many segments per frame over all grooms drawn with LOD.
   std::int64_t segmentBudget = -1;
   // With aovs: the still scene of the previous frame (sceneAtFrame(scene, frame - 1)), whose
   // camera and groom transforms (grooms matched by index) give the motion layer; null: the

@@ -192,9 +192,10 @@ struct Scene {
   EnvironmentDesc environment;
   CameraAnimation cameraAnimation;
   double frameRate = 24.0;  // frames per second: the wind's clock
-  // The most segments all grooms together draw in one frame (Kulikov 2025): over it, every
-  // groom's strands are cut in proportion and far grooms drop every other control point
-  // (host/frame/frame_lod.h). 0: no budget.
+  // The most segments all grooms drawn with LOD together draw in one frame (Kulikov 2025):
+  // over it, every such groom's strands are cut in proportion and far ones drop every
+  // other control point (host/frame/frame_lod.h). Grooms drawn without LOD keep every
+  // strand and do not count. 0: no budget.
   std::uint64_t segmentBudget = kDefaultSegmentBudget;
   // Problems found while loading that do not stop the scene from rendering, one line each
   // naming the file (the CLI prints them as "clhair: warning: ...").

@@ -8,13 +8,21 @@
 // frame back.
 #include "renderer_impl.h"
 
+#include <algorithm>
 #include <optional>
+
+#include <glm/geometric.hpp>
 
 #include "cl/buffers.h"
 #include "frame/aov_builder.h"
 #include "frame/view_math.h"
 
 namespace clhair {
+
+// Under a segment budget, grooms whose bounding sphere spans less than this share of the
+// image height also drop every other control point (Kulikov 2025: far models draw half
+// their vertices).
+constexpr float kBudgetFarShare = 0.2f;
 
 namespace {
 
@@ -26,6 +34,20 @@ bool deformsBetween(const GroomInstance& now, const GroomInstance& before) {
   if (a == b || !now.mesh) return false;
   if (a && b) return *a != *b;
   return *(a ? a : b) != now.mesh->positions;
+}
+
+// Whether a groom placed by `objToWorld` is far under the segment budget (kBudgetFarShare).
+bool farGroom(const GroomGpu& g, const glm::mat4& objToWorld, const glm::mat4& worldToView,
+              const gpu::ClhViewGpu& view) {
+  const glm::vec3 lo = g.boundsMin(), hi = g.boundsMax();
+  const glm::vec3 c = glm::vec3(objToWorld * glm::vec4(0.5f * (lo + hi), 1.0f));
+  const float scale =
+      std::max({glm::length(glm::vec3(objToWorld[0])), glm::length(glm::vec3(objToWorld[1])),
+                glm::length(glm::vec3(objToWorld[2]))});
+  const float radius = 0.5f * glm::length(hi - lo) * scale;
+  const float z = (worldToView * glm::vec4(c, 1.0f)).z;
+  if (!(z > radius)) return false;  // the camera is near or inside it
+  return view.fy * 2.0f * radius / z < kBudgetFarShare * static_cast<float>(view.height);
 }
 
 }  // namespace
@@ -75,6 +97,7 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
   r.shadows.reserve(s);  // before the grooms: see ShadowPass::reserve
   r.grooms.beginFrame();
   std::vector<GroomDraw> draws = r.resolveGrooms(s);
+  r.frameLod.bind(draws);  // every draw's LOD records in one buffer, for the segment budget
 
   const bool lodCorrection =
       options.shadowLodCorrection < 0 ? s.shadows.lodCorrection : options.shadowLodCorrection == 1;
@@ -127,14 +150,28 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
   raster.msaa = options.msaa;
   raster.stats = options.rasterStats;
   raster.mode = mode;
+  // every groom's LOD pre-pass, then the segment budget over all of them on the device
   std::vector<const GroomDraw*> drawn;
+  std::vector<char> active(draws.size(), 0), far(draws.size(), 0);
   for (std::size_t k = 0; k < draws.size(); ++k) {
     const GroomDraw& d = draws[k];
-    GroomInstanceGpu& inst = *d.state;
     d.groom->useAo(options.ambientOcclusion != 0);
-    if (!d.groom->prepare(inst, d.instance->transform, pass)) continue;
+    if (!d.groom->prepare(*d.state, d.instance->transform, pass)) continue;
+    // the budget is a stage of LOD: a groom drawn without LOD keeps every strand
+    active[k] = static_cast<char>(d.state->params.lod_enabled ? CLH_BUDGET_DRAW_BUDGETED
+                                                              : CLH_BUDGET_DRAW_FIXED);
+    far[k] = farGroom(*d.groom, d.instance->transform, pass.worldToView, view) ? 1 : 0;
     drawn.push_back(&d);
-    d.groom->lod(inst, t.view, &r.profiler);
+    d.groom->lod(*d.state, t.view, &r.profiler);
+  }
+  const std::uint64_t budget = options.segmentBudget < 0
+                                   ? s.segmentBudget
+                                   : static_cast<std::uint64_t>(options.segmentBudget);
+  r.frameLod.enqueue(draws, active, far, budget, &r.profiler);
+  for (std::size_t k = 0; k < draws.size(); ++k) {
+    if (!active[k]) continue;
+    const GroomDraw& d = draws[k];
+    GroomInstanceGpu& inst = *d.state;
     t.clearGBuffer(&r.profiler);
     if (source) {
       source->centreLayer(static_cast<std::uint32_t>(k), inst.params, words);
@@ -210,7 +247,28 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
   frame.depth.resize(pixels);
   readBack(r.dev, "the frame", t.color, frame.color.rgba.data(), pixels * 4);
   readBack(r.dev, "the frame's depth", t.depth, frame.depth.data(), pixels);
-  for (const GroomDraw* d : drawn) frame.stats.strandsDrawn += d->groom->readTotal(*d->state);
+  {
+    const FrameLod::Result lod = r.frameLod.read(draws.size());
+    frame.stats.segmentBudget = budget;
+    frame.stats.overBudget = lod.over;
+    frame.stats.budgetScale = lod.scale;
+    frame.stats.segmentsBeforeBudget = lod.lodSegments;
+    for (std::size_t k = 0; k < draws.size(); ++k) {
+      GroomDrawStats g;
+      g.instance = k;
+      g.name = draws[k].instance->name;
+      g.drawn = active[k] != 0;
+      if (g.drawn) {
+        g.strands = lod.draw[4 * k];
+        g.segments = lod.draw[4 * k + 1];
+        g.visibleStrands = lod.draw[4 * k + 2];
+        g.halved = (lod.draw[4 * k + 3] & CLH_BUDGET_HALVED) != 0;
+      }
+      frame.stats.strandsDrawn += g.strands;
+      frame.stats.segmentsPlanned += g.segments;
+      frame.stats.grooms.push_back(std::move(g));
+    }
+  }
   frame.stats.shadowStrandsDrawn = r.shadows.strandsDrawn();
   if (aovs) frame.aovs = aovBuilder->finish(frame.depth, s, options.previous);
   if (options.captureGBuffer) {
@@ -282,6 +340,9 @@ std::vector<Frame> Renderer::Impl::views(const Scene& s, const std::vector<Camer
   r.shadows.reserve(s);
   r.grooms.beginFrame();
   std::vector<GroomDraw> draws = r.resolveGrooms(s);
+  // the instances' LOD records live in the frame's LOD buffer (no segment budget across
+  // views: each groom's LOD is that of its first view)
+  r.frameLod.bind(draws);
   const bool lodCorrection =
       options.shadowLodCorrection < 0 ? s.shadows.lodCorrection : options.shadowLodCorrection == 1;
   r.shadows.update(s, options, lodCorrection, draws, r.scene, &r.profiler);

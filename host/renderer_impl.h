@@ -10,6 +10,7 @@
 
 #include "cl/device_impl.h"
 #include "clhair/renderer.h"
+#include "frame/frame_lod.h"
 #include "frame/render_target.h"
 #include "frame/scene_gpu.h"
 #include "frame/shadow_pass.h"
@@ -53,6 +54,7 @@ struct Renderer::Impl {
   RenderTarget target;
   SceneGpu scene;
   ShadowPass shadows;
+  FrameLod frameLod;
   Profiler profiler;
 
   explicit Impl(Device d)
@@ -69,7 +71,8 @@ struct Renderer::Impl {
         composite(dev),
         target(dev),
         scene(dev),
-        shadows(dev) {}
+        shadows(dev),
+        frameLod(dev) {}
 
   // CPU devices: the benchmark's dispatch section (bench/README.md) measured read-back and
   // over-launch level within noise on PoCL, persistent no better, and read-back launches

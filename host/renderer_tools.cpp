@@ -99,7 +99,8 @@ Frame Renderer::renderReference(const Scene& s, const ReferenceOptions& ro) {
   o.lod = 0;
   o.msaa = 1;
   o.filter = 0;
-  o.trueWidth = true;  // no minimum hit diameter
+  o.trueWidth = true;   // no minimum hit diameter
+  o.segmentBudget = 0;  // every strand of every groom
   std::unique_ptr<StrandTracer> tracer;
   std::unique_ptr<TracedLayers> layers;
   double exportMs = 0.0, buildMs = 0.0;

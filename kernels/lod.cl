@@ -14,9 +14,21 @@
  * scan_bundles and the strand dispatch sizing are shared.
  *
  * scan_bundles (one work-group of SCAN_WG items): exclusive scan of the counts into
- * offsets[0..n), then the drawn total (the host reads it back to size the strand pass)
- * and the visible total, the full-detail strand count of the bundles not culled, so
- * shading knows the fraction beta of visible strands LOD kept.
+ * offsets[0..n), then the drawn total (the host reads it back to size the strand pass),
+ * the visible total, the full-detail strand count of the bundles not culled, so shading
+ * knows the fraction beta of visible strands LOD kept, and the segment total.
+ *
+ * budget_plan and budget_apply (the segment budget, Kulikov 2025 "LODs"): once every
+ * groom's pre-pass has run, all grooms' LOD records lie in one buffer (the arena, see
+ * ClhBudgetDraw in gpu_types.h). budget_plan (one work-group) sums the segments of the
+ * grooms drawn with LOD (the budget is a stage of LOD; grooms drawn without it keep every
+ * strand and do not count); over
+ * the budget, far grooms (small on screen, marked by the host) draw every other control
+ * point, and then every groom keeps N' = max(1, floor(f N)) of the N strands of each
+ * drawn bundle, with the largest f <= budget / total that fits. budget_apply (one
+ * work-group per groom) rewrites the records, counts and scan, and reports each groom's
+ * strands and segments. The strand kernels widen the surviving strands by N / N' as for
+ * LOD (clh_lod_record_coverage).
  */
 #include "clhair/gpu_types.h"
 #include "clhair/lod_math.h"
@@ -85,12 +97,16 @@ __kernel void lod_bundles(__global const ClhGroomGpu* groom_g, __global const Cl
   counts_g[b] = rec.strands;
   /* the full-detail count of every bundle not culled, for beta = drawn / visible */
   counts_g[clh_lod_full_count_at(g->bundle_count, b)] = rec.strands > 0u ? n_full : 0u;
+  counts_g[clh_lod_segment_count_at(g->bundle_count, b)] =
+      rec.strands * (max(rec.control_points, 2u) - 1u);
 }
 
 /* bounds_g: 2 float4 per chunk (AABB min, max); chunks_g: uint4 (first strand, strand
- * count, LOD delta bits, 0). */
+ * count, LOD delta bits, 0); strand_offsets_g: the first stored point of each of the
+ * strand_count strands and the point count after the last (strands_explicit.cl). */
 __kernel void lod_chunks(__global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
                          __global const float4* bounds_g, __global const uint4* chunks_g,
+                         __global const uint* strand_offsets_g, uint strand_count, uint point_count,
                          __global ClhLodRecord* lod_g, __global uint* counts_g) {
   uint c = (uint)get_global_id(0);
   __global const ClhGroomGpu* g = groom_g;
@@ -125,11 +141,39 @@ __kernel void lod_chunks(__global const ClhGroomGpu* groom_g, __global const Clh
   lod_g[c] = rec;
   counts_g[c] = rec.strands;
   counts_g[clh_lod_full_count_at(g->bundle_count, c)] = rec.strands > 0u ? n_full : 0u;
+  /* the segments of the strands drawn: the first N_LOD of the chunk, each at its own step */
+  const uint c_full = clamp(g->control_points, 3u, (uint)CLH_MAX_CONTROL_POINTS);
+  const uint C = clamp(rec.control_points, 3u, c_full);
+  uint segments = 0u;
+  for (uint k = 0u; k < min(rec.strands, n_full); ++k) {
+    const uint st = chunk.x + k;
+    if (st >= strand_count) break;
+    const uint first = min(strand_offsets_g[st], point_count);
+    const uint last = clamp(strand_offsets_g[st + 1u], first, point_count);
+    segments += clh_explicit_segments(last - first, C, c_full);
+  }
+  counts_g[clh_lod_segment_count_at(g->bundle_count, c)] = segments;
 }
 
-__kernel __attribute__((reqd_work_group_size(SCAN_WG, 1, 1))) void scan_bundles(
-    __global const uint* counts_g, __global uint* offsets_g, uint n) {
-  __local uint sums_l[SCAN_WG];
+/* Sum of v over the work-group (every item must call it; sums_l holds SCAN_WG words). */
+static inline uint clh_group_sum(uint v, __local uint* sums_l) {
+  const uint lid = (uint)get_local_id(0);
+  barrier(CLK_LOCAL_MEM_FENCE);
+  sums_l[lid] = v;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  for (uint off = SCAN_WG / 2u; off > 0u; off >>= 1) {
+    if (lid < off) sums_l[lid] += sums_l[lid + off];
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+  const uint sum = sums_l[0];
+  barrier(CLK_LOCAL_MEM_FENCE);
+  return sum;
+}
+
+/* The scan of n bundles' counts into offsets with the three totals (gpu_types.h), by one
+ * work-group of SCAN_WG items (uniform control flow). */
+static void clh_scan_counts(__global const uint* counts_g, __global uint* offsets_g, uint n,
+                            __local uint* sums_l) {
   uint lid = (uint)get_local_id(0);
   uint carry = 0u;
   for (uint base = 0u; base < n; base += SCAN_WG) {
@@ -149,15 +193,180 @@ __kernel __attribute__((reqd_work_group_size(SCAN_WG, 1, 1))) void scan_bundles(
     barrier(CLK_LOCAL_MEM_FENCE);
   }
   if (lid == 0u) offsets_g[clh_lod_drawn_total_at(n)] = carry;
-  /* the visible total: the sum of the full counts, counts[n .. 2n) */
-  uint partial = 0u;
-  for (uint i = lid; i < n; i += SCAN_WG) partial += counts_g[clh_lod_full_count_at(n, i)];
-  barrier(CLK_LOCAL_MEM_FENCE);
-  sums_l[lid] = partial;
-  barrier(CLK_LOCAL_MEM_FENCE);
-  for (uint off = SCAN_WG / 2u; off > 0u; off >>= 1) {
-    if (lid < off) sums_l[lid] += sums_l[lid + off];
-    barrier(CLK_LOCAL_MEM_FENCE);
+  /* the visible total, the sum of counts[n .. 2n), and the segment total, counts[2n .. 3n) */
+  uint visible = 0u, segments = 0u;
+  for (uint i = lid; i < n; i += SCAN_WG) {
+    visible += counts_g[clh_lod_full_count_at(n, i)];
+    segments += counts_g[clh_lod_segment_count_at(n, i)];
   }
-  if (lid == 0u) offsets_g[clh_lod_visible_total_at(n)] = sums_l[0];
+  visible = clh_group_sum(visible, sums_l);
+  segments = clh_group_sum(segments, sums_l);
+  if (lid == 0u) {
+    offsets_g[clh_lod_visible_total_at(n)] = visible;
+    offsets_g[clh_lod_segment_total_at(n)] = segments;
+  }
+}
+
+__kernel __attribute__((reqd_work_group_size(SCAN_WG, 1, 1))) void scan_bundles(
+    __global const uint* counts_g, __global uint* offsets_g, uint n) {
+  __local uint sums_l[SCAN_WG];
+  clh_scan_counts(counts_g, offsets_g, n, sums_l);
+}
+
+/* ---- the segment budget --------------------------------------------------------------- */
+
+/* Control points of a record whose groom drops every other point: 2^(k-1) + 1 from
+ * 2^k + 1, not below min_points (nor 3). */
+static inline uint clh_budget_halved_points(uint C, uint min_points) {
+  const uint halved = (C - 1u) / 2u + 1u;
+  return max(halved, max(min_points, 3u));
+}
+
+/* Strands a drawn bundle keeps under the factor f: at least one. */
+static inline uint clh_budget_strands(uint n, float f) {
+  if (n == 0u || !(f < 1.0f)) return n;
+  const float kept = floor((float)n * f);
+  return kept < 1.0f ? 1u : min((uint)kept, n);
+}
+
+/* Segments of a record with `segs` segments over `n` strands once it keeps `kept` strands
+ * at C (halved: at the halved C). Hair meshes: exact. Strand files: the chunk's mean per
+ * strand (exact when its strands have equal point counts; a halved strand of k segments
+ * keeps ceil(k / 2) <= (k + 1) / 2 of them). */
+static inline ulong clh_budget_segments(__global const ClhBudgetDraw* d, uint n, uint segs, uint C,
+                                        uint C2, uint kept) {
+  if (n == 0u) return 0ul;
+  if (d->kind == 0u) return (ulong)kept * (ulong)(max(C2, 2u) - 1u);
+  const ulong N = n, S = segs, K = kept;
+  if (C2 == C) return (K * S + N - 1ul) / N;
+  return (K * (S + N) + 2ul * N - 1ul) / (2ul * N);
+}
+
+/* Sum over a work-group of 64-bit values held as two 32-bit halves per item. */
+static inline ulong clh_group_sum64(ulong v, __local uint* sums_l) {
+  const uint lo = clh_group_sum((uint)(v & 0xFFFFu), sums_l);
+  const uint mid = clh_group_sum((uint)((v >> 16) & 0xFFFFu), sums_l);
+  const uint hi = clh_group_sum((uint)(v >> 32), sums_l);
+  return (ulong)lo + ((ulong)mid << 16) + ((ulong)hi << 32);
+}
+
+/* The frame's segments with factor f, far grooms (CLH_BUDGET_HALVED in their flags,
+ * flags_g[4 d]) halved. */
+static ulong clh_budget_total(__global const ClhBudgetDraw* draws_g, uint draws,
+                              __global const ClhLodRecord* rec_g, __global const uint* words_g,
+                              __global const uint* flags_g, float f, __local uint* sums_l) {
+  const uint lid = (uint)get_local_id(0);
+  ulong total = 0ul;
+  for (uint d = 0u; d < draws; ++d) {
+    __global const ClhBudgetDraw* dr = draws_g + d;
+    if (dr->active != CLH_BUDGET_DRAW_BUDGETED) continue;
+    const uint n = dr->records;
+    for (uint b = lid; b < n; b += SCAN_WG) {
+      const ClhLodRecord r = rec_g[dr->records_at + b];
+      const uint segs = words_g[dr->counts_at + clh_lod_segment_count_at(n, b)];
+      const uint C2 = (flags_g[4u * d] & CLH_BUDGET_HALVED) != 0u
+                          ? clh_budget_halved_points(r.control_points, dr->min_points)
+                          : r.control_points;
+      const uint C = r.control_points;
+      total +=
+          clh_budget_segments(dr, r.strands, segs, C, min(C2, C), clh_budget_strands(r.strands, f));
+    }
+  }
+  return clh_group_sum64(total, sums_l);
+}
+
+/* state_g: the header then 4 words per draw (gpu_types.h), of which budget_plan writes the
+ * header and word 3 (the flags) and budget_apply the rest. */
+__kernel __attribute__((reqd_work_group_size(SCAN_WG, 1, 1))) void budget_plan(
+    __global const ClhBudgetDraw* draws_g, uint draws, __global const ClhLodRecord* rec_g,
+    __global const uint* words_g, ulong budget, __global uint* state_g) {
+  __local uint sums_l[SCAN_WG];
+  const uint lid = (uint)get_local_id(0);
+  __global uint* flags_g = state_g + CLH_BUDGET_HEADER + 3u;
+  for (uint d = lid; d < draws; d += SCAN_WG) flags_g[4u * d] = 0u;
+  barrier(CLK_GLOBAL_MEM_FENCE);
+  const ulong total = clh_budget_total(draws_g, draws, rec_g, words_g, flags_g, 1.0f, sums_l);
+  const bool over = budget > 0ul && total > budget;
+  float f = 1.0f;
+  if (over) {
+    /* far grooms (the host marks them by their size on screen) */
+    for (uint d = lid; d < draws; d += SCAN_WG)
+      flags_g[4u * d] = draws_g[d].far != 0u && draws_g[d].active == CLH_BUDGET_DRAW_BUDGETED
+                            ? CLH_BUDGET_HALVED
+                            : 0u;
+    barrier(CLK_GLOBAL_MEM_FENCE);
+    const ulong halved = clh_budget_total(draws_g, draws, rec_g, words_g, flags_g, 1.0f, sums_l);
+    if (halved > budget) {
+      /* proportional: f = budget / total; when the one-strand floors push the sum over,
+       * the largest f that fits, by bisection (0: one strand per drawn bundle) */
+      f = fmin((float)budget / (float)halved, 1.0f);
+      if (clh_budget_total(draws_g, draws, rec_g, words_g, flags_g, f, sums_l) > budget) {
+        float lo = 0.0f, hi = f;
+        for (int it = 0; it < 24; ++it) {
+          const float mid = 0.5f * (lo + hi);
+          if (clh_budget_total(draws_g, draws, rec_g, words_g, flags_g, mid, sums_l) > budget)
+            hi = mid;
+          else
+            lo = mid;
+        }
+        f = lo;
+      }
+    }
+  }
+  if (lid == 0u) {
+    state_g[0] = as_uint(f);
+    state_g[1] = over ? 1u : 0u;
+    state_g[2] = 0u;
+    state_g[3] = (uint)(total & 0xFFFFFFFFul);
+    state_g[4] = (uint)(total >> 32);
+    state_g[5] = state_g[6] = state_g[7] = 0u;
+  }
+}
+
+/* One work-group per draw: applies the plan to the draw's records and counts, scans them
+ * again and reports its strands, segments and visible strands. */
+__kernel __attribute__((reqd_work_group_size(SCAN_WG, 1, 1))) void budget_apply(
+    __global const ClhBudgetDraw* draws_g, uint draws, __global ClhLodRecord* rec_g,
+    __global uint* words_g, __global uint* state_g) {
+  __local uint sums_l[SCAN_WG];
+  const uint d = (uint)get_group_id(0);
+  const uint lid = (uint)get_local_id(0);
+  if (d >= draws) return; /* uniform per group */
+  __global const ClhBudgetDraw* dr = draws_g + d;
+  __global uint* out = state_g + CLH_BUDGET_HEADER + 4u * d;
+  if (dr->active == 0u) {
+    if (lid == 0u) out[0] = out[1] = out[2] = 0u;
+    return;
+  }
+  const uint n = dr->records;
+  __global uint* counts = words_g + dr->counts_at;
+  __global uint* offsets = words_g + dr->offsets_at;
+  const float f = as_float(state_g[0]);
+  const bool halve = (out[3] & CLH_BUDGET_HALVED) != 0u;
+  if (state_g[1] != 0u && dr->active == CLH_BUDGET_DRAW_BUDGETED) {
+    for (uint b = lid; b < n; b += SCAN_WG) {
+      ClhLodRecord r = rec_g[dr->records_at + b];
+      const uint C = r.control_points;
+      const uint C2 = halve ? min(clh_budget_halved_points(C, dr->min_points), C) : C;
+      const uint kept = clh_budget_strands(r.strands, f);
+      const ulong segs =
+          clh_budget_segments(dr, r.strands, counts[clh_lod_segment_count_at(n, b)], C, C2, kept);
+      r.strands = kept;
+      if (C2 != C) {
+        r.control_points = C2;
+        r.gamma = 0.0f; /* no morph: the level is fixed for the frame */
+      }
+      rec_g[dr->records_at + b] = r;
+      counts[b] = kept;
+      counts[clh_lod_segment_count_at(n, b)] = (uint)min(segs, (ulong)0xFFFFFFFFu);
+    }
+    barrier(CLK_GLOBAL_MEM_FENCE | CLK_LOCAL_MEM_FENCE);
+    clh_scan_counts(counts, offsets, n, sums_l);
+    barrier(CLK_GLOBAL_MEM_FENCE | CLK_LOCAL_MEM_FENCE);
+  }
+  if (lid == 0u) {
+    out[0] = offsets[clh_lod_drawn_total_at(n)];
+    out[1] = offsets[clh_lod_segment_total_at(n)];
+    out[2] = offsets[clh_lod_visible_total_at(n)];
+  }
 }

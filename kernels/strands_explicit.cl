@@ -38,6 +38,7 @@
  * opacity layers of one light), strands_explicit_export (drawn points and tangents, tests).
  */
 #include "clhair/gpu_types.h"
+#include "clhair/lod_math.h"
 #include "subgroup.h"
 #include "clh_math.h"
 #include "raster.h"
@@ -89,13 +90,11 @@ static inline bool clh_x_find_job(__global const ClhGroomGpu* g, const clh_x_tab
   if (n < 2u) return false;
   const uint c_full = clamp(g->control_points, 3u, (uint)CLH_MAX_CONTROL_POINTS);
   const uint C = clamp(lod.control_points, 3u, c_full);
-  uint step = 1u;
-  while ((C - 1u) * step < c_full - 1u) step <<= 1;
+  uint coarse = 1u;
+  while ((C - 1u) * coarse < c_full - 1u) coarse <<= 1;
+  const uint step = clh_explicit_step(n, C, c_full); /* lod_math.h, shared with lod_chunks */
   float gamma = clamp(lod.gamma, 0.0f, 1.0f);
-  while (step > 1u && n - 1u < 2u * step) {
-    step >>= 1;
-    gamma = 0.0f; /* the strand is already at its coarsest level */
-  }
+  if (step < coarse) gamma = 0.0f;      /* the strand is already at its coarsest level */
   if (n - 1u < 4u * step) gamma = 0.0f; /* the next level would keep fewer than 3 points */
   job->strand = s;
   job->first = first;

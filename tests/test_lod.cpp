@@ -159,7 +159,7 @@ TEST(LodRecord, FixedLevelRecordFollowsTheEquations) {
 }
 
 // scan_bundles against a CPU scan for bundle counts around the work-group size: the
-// exclusive scan, the drawn and the visible total at the indices gpu_types.h names, and
+// exclusive scan, the drawn, visible and segment totals at the indices gpu_types.h names, and
 // nothing written past clh_lod_offsets_length(n).
 TEST(LodScan, OffsetsMatchACpuScanAtTheNamedIndices) {
   auto& d = *test::sharedDevice().impl();
@@ -170,7 +170,7 @@ TEST(LodScan, OffsetsMatchACpuScanAtTheNamedIndices) {
     SCOPED_TRACE("n = " + std::to_string(n));
     std::vector<cl_uint> counts(clh_lod_counts_length(n), 0u);
     std::vector<cl_uint> expected(clh_lod_offsets_length(n), 0u);
-    std::uint32_t drawn = 0, visible = 0;
+    std::uint32_t drawn = 0, visible = 0, segments = 0;
     for (std::uint32_t b = 0; b < n; ++b) {
       const std::uint32_t h = clh_hash2(n, b);
       const std::uint32_t full = h % 200u;  // some bundles are empty
@@ -178,12 +178,15 @@ TEST(LodScan, OffsetsMatchACpuScanAtTheNamedIndices) {
       const std::uint32_t n_lod = culled ? 0u : std::min(full, 1u + (h >> 16) % 200u);
       counts[b] = n_lod;
       counts[clh_lod_full_count_at(n, b)] = n_lod > 0u ? full : 0u;
+      counts[clh_lod_segment_count_at(n, b)] = n_lod * (1u + (h >> 24) % 64u);
       expected[b] = drawn;
       drawn += n_lod;
       visible += counts[clh_lod_full_count_at(n, b)];
+      segments += counts[clh_lod_segment_count_at(n, b)];
     }
     expected[clh_lod_drawn_total_at(n)] = drawn;
     expected[clh_lod_visible_total_at(n)] = visible;
+    expected[clh_lod_segment_total_at(n)] = segments;
     std::vector<cl_uint> out(expected.size() + 4, kCanary);
     cl::Buffer bc(d.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                   counts.size() * sizeof(cl_uint), counts.data());

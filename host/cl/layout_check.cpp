@@ -25,5 +25,6 @@ static_assert(sizeof(ClhLodRecord) == 16, "ClhLodRecord layout");
 static_assert(offsetof(ClhLodRecord, strands) == 0 && offsetof(ClhLodRecord, control_points) == 4 &&
                   offsetof(ClhLodRecord, lod) == 8 && offsetof(ClhLodRecord, gamma) == 12,
               "ClhLodRecord member offsets (the bit table in gpu_types.h)");
+static_assert(sizeof(ClhBudgetDraw) == 32, "ClhBudgetDraw layout");
 
 }  // namespace clhair::gpu

@@ -106,9 +106,50 @@ struct RenderFlags {
   bool quiet = false;
   std::string frames;  // "N", "A-B" or "A-B:STEP"; empty: frame 1
   bool skipExisting = false;
-  std::string aov;    // --aov list; empty: the beauty alone through writeImage
-  std::string views;  // --views: "all" or names; empty: all of the scene's "cameras"
+  std::string aov;            // --aov list; empty: the beauty alone through writeImage
+  std::string views;          // --views: "all" or names; empty: all of the scene's "cameras"
+  bool stats = false;         // --stats: strands and segments per groom instance
+  std::string segmentBudget;  // --segment-budget; empty: the scene's
 };
+
+// The --segment-budget value: a whole number 0 (none) .. kMaxSegmentBudget.
+std::int64_t parseSegmentBudget(const std::string& v) {
+  const std::string hint = "--segment-budget \"" + v +
+                           "\": expected a whole number of segments 0.." +
+                           std::to_string(kMaxSegmentBudget) + " (0: no budget)";
+  if (v.empty() || v.size() > 10 ||
+      !std::all_of(v.begin(), v.end(), [](unsigned char c) { return std::isdigit(c); }))
+    throw Error(hint);
+  const unsigned long long n = std::stoull(v);
+  if (n > kMaxSegmentBudget) throw Error(hint);
+  return static_cast<std::int64_t>(n);
+}
+
+// --stats: what each groom instance drew (from its LOD records) and the frame's totals.
+void printStats(const FrameStats& st) {
+  std::size_t drawn = 0;
+  for (const GroomDrawStats& g : st.grooms) {
+    if (!g.drawn) {
+      std::printf("groom %zu \"%s\": not drawn (behind the camera)\n", g.instance, g.name.c_str());
+      continue;
+    }
+    ++drawn;
+    std::printf("groom %zu \"%s\": %u strands, %llu segments, %u visible strands%s\n", g.instance,
+                g.name.c_str(), g.strands, static_cast<unsigned long long>(g.segments),
+                g.visibleStrands, g.halved ? ", every other control point" : "");
+  }
+  std::printf("total: %zu of %zu grooms drawn, %llu strands, %llu segments", drawn,
+              st.grooms.size(), static_cast<unsigned long long>(st.strandsDrawn),
+              static_cast<unsigned long long>(st.segmentsPlanned));
+  if (st.segmentBudget == 0)
+    std::printf(" (no segment budget)\n");
+  else if (st.overBudget)
+    std::printf(" (budget %llu: the LOD passes asked for %llu, strands scaled by %.4f)\n",
+                static_cast<unsigned long long>(st.segmentBudget),
+                static_cast<unsigned long long>(st.segmentsBeforeBudget), st.budgetScale);
+  else
+    std::printf(" (budget %llu, not reached)\n", static_cast<unsigned long long>(st.segmentBudget));
+}
 
 // The views a render writes: the scene's "cameras" (all, or those --views names; "camera" is
 // the scene's own camera), or the scene's camera alone.
@@ -285,6 +326,7 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     ro.filter = 0;
   else if (f.filter != "auto")
     throw Error("--filter must be on, off or auto, not \"" + f.filter + "\"");
+  if (!f.segmentBudget.empty()) ro.segmentBudget = parseSegmentBudget(f.segmentBudget);
   if (f.reference && (f.spp < 1 || f.spp > 65536))
     throw Error("--spp must be 1..65536, not " + std::to_string(f.spp));
   const CameraPreset* preset = nullptr;
@@ -376,6 +418,10 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     renderer.releaseGrooms();
     ++rendered;
     const auto t1 = std::chrono::steady_clock::now();
+    if (f.stats) {
+      if (sequence) std::printf("frame %lld:\n", number);
+      printStats(frame.stats);
+    }
     if (quiet) continue;
     if (sequence) {
       const double took = std::chrono::duration<double>(t1 - t0).count();
@@ -578,6 +624,10 @@ int main(int argc, char** argv) {
   render->add_flag("--skip-existing", rf.skipExisting,
                    "leave frames whose output file exists (resume a range)");
   render->add_flag("-q,--quiet", rf.quiet, "print nothing on success");
+  render->add_flag("--stats", rf.stats,
+                   "print the strands and segments each groom instance draws, and the totals");
+  render->add_option("--segment-budget", rf.segmentBudget,
+                     "most segments of all grooms per frame (0: none; default: the scene's)");
 
   auto* groom = app.add_subcommand("groom", "write a generated hair mesh");
   std::string preset, groomOut;

@@ -60,6 +60,10 @@ struct GroomInstanceGpu {
   cl::Buffer offsets;         // their scan and totals (clh_lod_drawn_total_at(records))
   std::uint32_t records = 0;  // bundles or chunks
   float reach = 0.0f;         // hair meshes: styling reach in view units
+  // Where lod, counts and offsets live when they are views of the frame's LOD arena
+  // (host/frame/frame_lod.h): the arena's generation and this instance's byte offset.
+  std::uint64_t arenaGeneration = 0;
+  std::size_t arenaAt = 0;
 };
 
 class GroomGpu {
@@ -79,6 +83,8 @@ class GroomGpu {
   std::uint32_t readTotal(const GroomInstanceGpu& inst);
   // Every strand of the groom (the bound of an over-launched dispatch).
   virtual std::uint32_t strandCount() const = 0;
+  // Stored strands (strand files): a record's segments depend on each strand's length.
+  virtual bool storedStrands() const { return false; }
   virtual void raster(GroomInstanceGpu& inst, const StrandRaster& r, Profiler* profiler) = 0;
   virtual void opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands,
                        Profiler* profiler) = 0;

@@ -18,6 +18,7 @@ class StrandFileGpu final : public GroomGpu {
 
   bool prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld, const ViewPass& pass) override;
   void lod(GroomInstanceGpu& inst, const cl::Buffer& view, Profiler* profiler) override;
+  bool storedStrands() const override { return true; }
   std::uint32_t strandCount() const override {
     return static_cast<std::uint32_t>(data_.totalStrands);
   }

@@ -192,7 +192,8 @@ std::shared_ptr<StrandFrames> findStrandFrames(const JsonReader& o, const std::s
 GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& base,
                               const FilterParams& sceneFilter, std::uint64_t maxBytes,
                               std::map<std::string, std::shared_ptr<const StrandGroom>>& loaded,
-                              std::vector<std::string>& warnings) {
+                              std::map<std::string, std::shared_ptr<const StrandGroom>>& variants,
+                              std::uint64_t sceneCap, std::vector<std::string>& warnings) {
   const std::string file = o.string("strands_file", "");
   if (file.empty()) o.fail("strands_file", "is empty: name a .hair, .data or .tfx strand file");
   std::filesystem::path p =
@@ -220,44 +221,62 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
     lod.morphWindow = static_cast<float>(l.number("morph_window", lod.morphWindow, 0.0, 1.0));
     l.rejectUnknown({"enabled", "lambda", "morph_window"});
   }
+  const auto cap =
+      static_cast<std::uint64_t>(o.integer64("max_strands", static_cast<long long>(sceneCap), 0,
+                                             static_cast<long long>(kMaxStrandPoints)));
   const float scale = static_cast<float>(o.number("scale", 1.0, 1e-6, 1e6));
   const std::string up = o.string("up", "y");
   if (up != "x" && up != "y" && up != "z")
     o.fail("up", "is \"" + up + "\", expected \"x\", \"y\" or \"z\"");
-  // the first entry of a file takes it as read; later ones copy it (the points too)
-  StrandGroom groom;
-  auto it = loaded.find(key);
-  if (it != loaded.end()) {
-    groom = *it->second;
+  // entries that name one file with the same look, LOD and cap share one groom (and so one
+  // device form); the first entry of a file takes it as read, other variants copy it
+  const auto dumpOf = [&](const char* k) { return o.has(k) ? o.require(k).dump() : ""; };
+  const std::string variant =
+      key + "\n" + dumpOf("appearance") + "\n" + dumpOf("lod") + "\n" + std::to_string(cap);
+  std::shared_ptr<const StrandGroom> shared;
+  if (const auto same = variants.find(variant); same != variants.end()) {
+    shared = same->second;
   } else {
-    try {
-      std::vector<std::string> notes;
-      groom = loadStrandGroom(key, maxBytes, nullptr, &notes);
-      for (const std::string& n : notes)
-        warnings.push_back(o.file() + ": " + o.path("strands_file") + ": " + n);
-    } catch (const Error& e) {
-      o.fail("strands_file", e.what());
+    StrandGroom groom;
+    const auto it = loaded.find(key);
+    const bool firstRead = it == loaded.end();
+    if (!firstRead) {
+      groom = *it->second;
+    } else {
+      try {
+        std::vector<std::string> notes;
+        groom = loadStrandGroom(key, maxBytes, nullptr, &notes);
+        for (const std::string& n : notes)
+          warnings.push_back(o.file() + ": " + o.path("strands_file") + ": " + n);
+      } catch (const Error& e) {
+        o.fail("strands_file", e.what());
+      }
     }
+    // per-point colours and thicknesses are drawn only when asked for; say so either way
+    const bool fileLook = !groom.colors.empty() || !groom.thickness.empty();
+    const std::string arrays = !groom.colors.empty() && !groom.thickness.empty()
+                                   ? "colours and thicknesses"
+                               : !groom.colors.empty() ? "colours"
+                                                       : "thicknesses";
+    if (fileLook && !look.useFileColor && firstRead)
+      warnings.push_back(o.file() + ": " + o.path("strands_file") + ": " + key + " has per-point " +
+                         arrays +
+                         ", ignored: the groom's appearance is used (set \"appearance\": "
+                         "{\"use_file_color\": true} " +
+                         "to draw them)");
+    if (!fileLook && look.useFileColor)
+      warnings.push_back(
+          o.file() + ": " + o.path("appearance.use_file_color") + ": " + key +
+          " has no per-point colours or thicknesses, the groom's appearance is used");
+    groom.appearance = look;
+    groom.lod = lod;
+    const bool capped = cap > 0 && groom.pointCounts.size() > cap;
+    if (firstRead && capped) loaded[key] = std::make_shared<const StrandGroom>(groom);
+    capStrands(groom, cap);
+    shared = std::make_shared<const StrandGroom>(std::move(groom));
+    if (firstRead && !capped) loaded[key] = shared;
+    variants[variant] = shared;
   }
-  // per-point colours and thicknesses are drawn only when asked for; say so either way
-  const bool fileLook = !groom.colors.empty() || !groom.thickness.empty();
-  const std::string arrays = !groom.colors.empty() && !groom.thickness.empty()
-                                 ? "colours and thicknesses"
-                             : !groom.colors.empty() ? "colours"
-                                                     : "thicknesses";
-  if (fileLook && !look.useFileColor && it == loaded.end())
-    warnings.push_back(o.file() + ": " + o.path("strands_file") + ": " + key + " has per-point " +
-                       arrays +
-                       ", ignored: the groom's appearance is used (set \"appearance\": "
-                       "{\"use_file_color\": true} " +
-                       "to draw them)");
-  if (!fileLook && look.useFileColor)
-    warnings.push_back(o.file() + ": " + o.path("appearance.use_file_color") + ": " + key +
-                       " has no per-point colours or thicknesses, the groom's appearance is used");
-  groom.appearance = look;
-  groom.lod = lod;
-  auto shared = std::make_shared<const StrandGroom>(std::move(groom));
-  if (it == loaded.end()) loaded[key] = shared;
   GroomInstance g;
   g.name = o.string("name", shared->name);
   g.strands = shared;
@@ -273,8 +292,8 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
     g.hasFilter = true;
     g.filter = readFilter(o, o.require("filter"), sceneFilter);
   }
-  o.rejectUnknown(
-      {"strands_file", "name", "transform", "scale", "up", "appearance", "lod", "filter"});
+  o.rejectUnknown({"strands_file", "name", "transform", "scale", "up", "appearance", "lod",
+                   "filter", "max_strands"});
   return g;
 }
 
@@ -726,8 +745,12 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
     o.rejectUnknown({"file", "sky", "intensity", "rotate_y", "visible"});
   }
 
-  std::map<std::string, std::shared_ptr<const HairMesh>> loaded;
-  std::map<std::string, std::shared_ptr<const StrandGroom>> loadedStrands;
+  std::map<std::string, std::shared_ptr<const HairMesh>> loaded, loadedVariants;
+  std::map<std::string, std::shared_ptr<const StrandGroom>> loadedStrands, strandVariants;
+  s.segmentBudget = static_cast<std::uint64_t>(
+      r.integer64("segment_budget", static_cast<long long>(s.segmentBudget), 0,
+                  static_cast<long long>(kMaxSegmentBudget)));
+  const auto sceneCap = static_cast<std::uint64_t>(r.integer64("max_strands", 0, 0, 50'000'000));
   if (r.has("grooms")) {
     const json& a = r.require("grooms");
     if (!a.is_array()) r.fail("grooms", "must be an array");
@@ -738,8 +761,8 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
                "give exactly one of \"file\" (a hair mesh) and \"strands_file\" (a .hair, .data or "
                ".tfx strand file)");
       if (o.has("strands_file")) {
-        s.grooms.push_back(
-            readStrandGroom(o, base, s.filter, maxStrandBytes, loadedStrands, s.warnings));
+        s.grooms.push_back(readStrandGroom(o, base, s.filter, maxStrandBytes, loadedStrands,
+                                           strandVariants, sceneCap, s.warnings));
         continue;
       }
       std::string file = o.string("file", "");
@@ -766,7 +789,15 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
         g.hasFilter = true;
         g.filter = readFilter(o, o.require("filter"), s.filter);
       }
-      if (o.has("strands") || o.has("lod") || o.has("control_points")) {
+      const auto cap = static_cast<std::uint64_t>(
+          o.integer64("max_strands", static_cast<long long>(sceneCap), 0, 50'000'000));
+      const auto dumpOf = [&](const char* k) { return o.has(k) ? o.require(k).dump() : ""; };
+      const std::string variant = key + "\n" + dumpOf("strands") + "\n" + dumpOf("lod") + "\n" +
+                                  dumpOf("control_points") + "\n" + std::to_string(cap);
+      if (const auto same = loadedVariants.find(variant); same != loadedVariants.end()) {
+        mesh = same->second;  // the same overrides and cap: one device form for all entries
+      } else if (o.has("strands") || o.has("lod") || o.has("control_points") ||
+                 (cap > 0 && static_cast<std::uint64_t>(mesh->strandCount) > cap)) {
         HairMesh copy = *mesh;
         copy.strandCount = o.integer64("strands", copy.strandCount, 0, 50'000'000);
         copy.controlPoints =
@@ -779,15 +810,17 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
               static_cast<float>(l.number("morph_window", copy.lod.morphWindow, 0.0, 1.0));
           l.rejectUnknown({"enabled", "lambda", "morph_window"});
         }
+        capStrands(copy, cap);
         validateHairMesh(copy, path + ": grooms[" + std::to_string(i) + "]");
         mesh = std::make_shared<const HairMesh>(std::move(copy));
       }
+      loadedVariants[variant] = mesh;
       g.mesh = mesh;
       readCageMotion(o, base, maxStrandBytes, g);
       // an animated entry deforms its own copy: entries naming one file share a device form
       if (g.cage || g.wind.strength > 0.0f) g.mesh = std::make_shared<const HairMesh>(*g.mesh);
       o.rejectUnknown({"file", "name", "transform", "strands", "lod", "control_points", "filter",
-                       "cage_animation", "wind"});
+                       "cage_animation", "wind", "max_strands"});
       s.grooms.push_back(g);
     }
   }
@@ -890,7 +923,7 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
   s.frameRate = r.number("frame_rate", s.frameRate, 1e-3, 1e6);
   r.rejectUnknown({"resolution", "camera", "cameras", "background", "ambient", "lights", "spheres",
                    "planes", "meshes", "grooms", "shadows", "filter", "environment",
-                   "background_image", "frame_rate"});
+                   "background_image", "frame_rate", "segment_budget", "max_strands"});
   return s;
 }
 

@@ -50,6 +50,10 @@ void ExplicitStage::lod(const Inputs& in, const cl::Buffer& view, Profiler* prof
       .buffer("view", view, sizeof(gpu::ClhViewGpu))
       .buffer("chunk bounds", *in.chunkBounds, 2 * K * 4 * sizeof(float))
       .buffer("chunks", *in.chunks, K * 4 * sizeof(cl_uint))
+      .buffer("strand offsets", *in.strandOffsets,
+              (std::uint64_t(in.strandCount) + 1) * sizeof(cl_uint))
+      .value("strand count", static_cast<cl_uint>(in.strandCount))
+      .value("point count", static_cast<cl_uint>(in.pointCount))
       .buffer("LOD records", *in.lod, K * sizeof(gpu::ClhLodRecord))
       .buffer("counts", *in.counts,
               std::uint64_t(gpu::clh_lod_counts_length(in.chunkCount)) * sizeof(cl_uint));

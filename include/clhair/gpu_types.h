@@ -256,23 +256,64 @@ CLH_FN float clh_lod_record_coverage(ClhLodRecord r, clh_u32 n_full) {
 }
 
 /* ---- the LOD counts and their scan, for n bundles (or chunks) --------------------------
- * counts: lod_bundles / lod_chunks -> scan_bundles, clh_lod_counts_length(n) = 2n uints
+ * counts: lod_bundles / lod_chunks -> scan_bundles, clh_lod_counts_length(n) = 3n uints
  *   [b]      N_LOD of bundle b (its record's strands)
  *   [n + b]  N of bundle b when it is not culled, else 0    (clh_lod_full_count_at)
+ *   [2n + b] segments bundle b draws: N_LOD (C - 1) for a hair mesh; for a strand-file
+ *            chunk the sum over its drawn strands of their drawn points - 1
+ *                                                            (clh_lod_segment_count_at)
  * offsets: scan_bundles -> strand kernels, shade.cl and the host,
- *   clh_lod_offsets_length(n) = n + 2 uints
+ *   clh_lod_offsets_length(n) = n + 3 uints
  *   [b]      exclusive scan of counts[0..n): the first draw index of bundle b
  *   [n]      drawn total, the sum of N_LOD: sizes the strand pass (clh_lod_drawn_total_at)
  *   [n + 1]  visible total, the sum of counts[n..2n): full-detail strands of the bundles
  *            not culled; beta = drawn / visible (Lipp §3.2.3, shade.cl)
  *                                                            (clh_lod_visible_total_at)
+ *   [n + 2]  segment total, the sum of counts[2n..3n)       (clh_lod_segment_total_at)
  * A draw index i < offsets[n] belongs to the last bundle b with offsets[b] <= i and is
  * that bundle's (i - offsets[b])-th strand.                                            */
-CLH_FN clh_u32 clh_lod_counts_length(clh_u32 n) { return 2u * n; }
+CLH_FN clh_u32 clh_lod_counts_length(clh_u32 n) { return 3u * n; }
 CLH_FN clh_u32 clh_lod_full_count_at(clh_u32 n, clh_u32 b) { return n + b; }
-CLH_FN clh_u32 clh_lod_offsets_length(clh_u32 n) { return n + 2u; }
+CLH_FN clh_u32 clh_lod_segment_count_at(clh_u32 n, clh_u32 b) { return 2u * n + b; }
+CLH_FN clh_u32 clh_lod_offsets_length(clh_u32 n) { return n + 3u; }
 CLH_FN clh_u32 clh_lod_drawn_total_at(clh_u32 n) { return n; }
 CLH_FN clh_u32 clh_lod_visible_total_at(clh_u32 n) { return n + 1u; }
+CLH_FN clh_u32 clh_lod_segment_total_at(clh_u32 n) { return n + 2u; }
+
+/* ---- the segment budget: one frame's LOD records of every groom in one buffer, 32 bytes
+ * per groom draw (host/frame/frame_lod.h, lod.cl: budget_plan, budget_apply).
+ * The records, counts and offsets of draw d lie in one shared buffer (the "arena") at
+ * records_at (in ClhLodRecord units), counts_at and offsets_at (in uint units), with the
+ * layouts above for `records` bundles or chunks.
+ *   kind    0: hair mesh (a strand draws C - 1 segments), 1: strand file (its chunk's mean)
+ *   active  0: not drawn this frame; CLH_BUDGET_DRAW_FIXED: prepared in the camera pass
+ *           (its records are fresh) without LOD, so the budget neither counts nor cuts
+ *           it; CLH_BUDGET_DRAW_BUDGETED: prepared with LOD, under the budget
+ *   min_points  the least control-point count the budget may halve a record's C to
+ *   far     1: the groom is small on screen; over budget it drops every other control
+ *           point (Kulikov 2025)                                                        */
+typedef struct {
+  clh_u32 records_at;
+  clh_u32 counts_at;
+  clh_u32 offsets_at;
+  clh_u32 records;
+  clh_u32 kind;
+  clh_u32 active;
+  clh_u32 min_points;
+  clh_u32 far;
+} ClhBudgetDraw;
+
+/* What budget_plan decides for the frame and budget_apply reports per draw: a header of
+ * CLH_BUDGET_HEADER words, then 4 words per draw.
+ *   header: [0] the factor f (f32 bits; 1 when within budget), [1] 1: the LOD pre-passes
+ *           exceeded the budget, [2] 0, [3] and [4]: the segment total of
+ *           the pre-passes (low and high 32 bits), [5..7] 0
+ *   per draw: strands, segments, visible strands, flags (CLH_BUDGET_HALVED: every other
+ *           control point dropped)                                                      */
+#define CLH_BUDGET_HEADER 8u
+#define CLH_BUDGET_DRAW_FIXED 1u
+#define CLH_BUDGET_DRAW_BUDGETED 2u
+#define CLH_BUDGET_HALVED 1u
 
 /* ---- the 64-bit G-buffer word --------------------------------------------------------
  *  bits 63..40  depth, 24 bits: view z mapped linearly from [near, far]; smaller = closer

@@ -81,6 +81,24 @@ CLH_FN ClhLodRecord clh_lod_record_at(float L, clh_u32 n_full, float delta, clh_
                              clh_lod_morph(L, min_points, c_full, window));
 }
 
+/* Strand files (strands_explicit.cl): drawn point j of a stored strand of n points is
+ * stored point min(j * step, n - 1), with step the power of two that brings the chunk's
+ * C points up to the full-detail c_full (C_full of the LOD formulas), halved again while
+ * the strand would keep fewer than 3 points. */
+CLH_FN clh_u32 clh_explicit_step(clh_u32 n, clh_u32 C, clh_u32 c_full) {
+  clh_u32 step = 1u;
+  while ((C - 1u) * step < c_full - 1u) step <<= 1;
+  while (step > 1u && n - 1u < 2u * step) step >>= 1;
+  return step;
+}
+
+/* The segments a stored strand of n >= 2 points draws at the chunk's C (0 below 2). */
+CLH_FN clh_u32 clh_explicit_segments(clh_u32 n, clh_u32 C, clh_u32 c_full) {
+  if (n < 2u) return 0u;
+  const clh_u32 step = clh_explicit_step(n, C, c_full);
+  return (n - 1u + step - 1u) / step;
+}
+
 #ifndef CLH_DEVICE_CODE
 } /* namespace gpu */
 } /* namespace clhair */

@@ -44,6 +44,9 @@ struct RenderOptions {
   // Fill Frame::aovs (clhair/aov.h): depth, hair alpha, tangent and motion per pixel. Costs
   // a read-back of each groom's centre G-buffer layers and shaded hair.
   bool aovs = false;
+  // Segment budget (Scene::segmentBudget): -1 as the scene says, 0 none, > 0 at most this
+  // many segments per frame over all grooms drawn with LOD.
+  std::int64_t segmentBudget = -1;
   // With aovs: the still scene of the previous frame (sceneAtFrame(scene, frame - 1)), whose
   // camera, groom transforms and cages or per-frame strands (grooms matched by index) give the
   // motion layer; null: the motion is zero.
@@ -70,11 +73,31 @@ struct ReferenceOptions {
   std::function<void(int done, int total)> progress;
 };
 
+// What one groom instance drew in the camera pass, from its LOD records as the strand
+// pass read them (after the segment budget).
+struct GroomDrawStats {
+  std::size_t instance = 0;          // index in Scene::grooms
+  std::string name;                  // GroomInstance::name
+  bool drawn = false;                // false: entirely behind the camera (nothing below is set)
+  std::uint32_t strands = 0;         // strands drawn
+  std::uint64_t segments = 0;        // segments drawn (strand files under the budget: see docs)
+  std::uint32_t visibleStrands = 0;  // full-detail strands of the bundles not culled
+  bool halved = false;               // every other control point dropped by the segment budget
+};
+
 struct FrameStats {
   std::uint64_t strandsDrawn = 0;
+  // Segments the strand passes draw, from the LOD records (after the segment budget), and
+  // the total of the LOD pre-passes before it.
+  std::uint64_t segmentsPlanned = 0;
+  std::uint64_t segmentsBeforeBudget = 0;
+  std::uint64_t segmentBudget = 0;       // the budget this frame used (0: none)
+  bool overBudget = false;               // the pre-passes exceeded it and strands were reduced
+  float budgetScale = 1.0f;              // the factor applied to every bundle's strand count
+  std::vector<GroomDrawStats> grooms;    // one per groom instance of the scene, in order
   std::uint64_t shadowStrandsDrawn = 0;  // strands drawn into the deep opacity maps, all lights
   // with RenderOptions::rasterStats only:
-  std::uint64_t segmentsDrawn = 0;
+  std::uint64_t segmentsDrawn = 0;   // segments the raster walked (after near clipping)
   std::uint64_t pixelWrites = 0;     // G-buffer writes that passed coverage and depth tests
   std::uint64_t atomicsIssued = 0;   // atom_min calls
   std::uint64_t atomicsSkipped = 0;  // writes the plain load showed could not lower the word

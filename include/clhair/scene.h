@@ -154,6 +154,19 @@ struct GroomInstance {
 
 enum class CameraPreset { Close, Mid, Far };
 
+// The per-asset strand cap (Kulikov 2025: at most so many strands per model, applied at
+// load): a groom of more than `cap` strands keeps `cap` of them, spread evenly over the
+// groom (a hair mesh: the first `cap` of its progressive root sets; a strand file: every
+// (N / cap)-th strand), and its fibres widen by N / cap (strand width, minimum hit diameter
+// up to 3 pixels, file thicknesses) so the groom covers about what it covered. Returns the
+// widening (1: nothing changed). cap 0: no cap.
+float capStrands(HairMesh& mesh, std::uint64_t cap);
+float capStrands(StrandGroom& groom, std::uint64_t cap);
+
+// Scene::segmentBudget's default and its largest accepted value.
+constexpr std::uint64_t kDefaultSegmentBudget = 2'000'000;
+constexpr std::uint64_t kMaxSegmentBudget = 4'000'000'000;
+
 // A keyed camera: either explicit keys (position x, y, z, target x, y, z, up x, y, z, fov)
 // or keys of a preset framing (azimuth, elevation, fov), as the scene's camera was given.
 struct CameraAnimation {
@@ -191,6 +204,11 @@ struct Scene {
   EnvironmentDesc environment;
   CameraAnimation cameraAnimation;
   double frameRate = 24.0;  // frames per second: the wind's clock
+  // The most segments all grooms drawn with LOD together draw in one frame (Kulikov 2025):
+  // over it, every such groom's strands are cut in proportion and far ones drop every
+  // other control point (host/frame/frame_lod.h). Grooms drawn without LOD keep every
+  // strand and do not count. 0: no budget.
+  std::uint64_t segmentBudget = kDefaultSegmentBudget;
   // Problems found while loading that do not stop the scene from rendering, one line each
   // naming the file (the CLI prints them as "clhair: warning: ...").
   std::vector<std::string> warnings;

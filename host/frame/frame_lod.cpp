@@ -1,0 +1,116 @@
+// frame_lod.cpp — see frame_lod.h.
+#include "frame/frame_lod.h"
+
+#include <algorithm>
+#include <cstring>
+
+#include "cl/buffers.h"
+#include "stages/lod_stage.h"
+
+namespace clhair {
+
+namespace {
+std::size_t alignUp(std::size_t n, std::size_t a) { return (n + a - 1) / a * a; }
+const std::string kOptions = "-DSCAN_WG=" + std::to_string(LodStage::kScanWorkGroup);
+}  // namespace
+
+FrameLod::FrameLod(Device::Impl& dev)
+    : dev_(dev),
+      plan_(dev.kernel("lod.cl", "budget_plan", kOptions)),
+      apply_(dev.kernel("lod.cl", "budget_apply", kOptions)) {
+  const cl_uint bits = clCall("querying the sub-buffer alignment",
+                              [&] { return dev.device.getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>(); });
+  align_ = std::max<std::size_t>(bits / 8, 64);
+}
+
+void FrameLod::bind(const std::vector<GroomDraw>& draws) {
+  layout_.assign(draws.size(), gpu::ClhBudgetDraw{});
+  std::vector<std::size_t> at(draws.size());
+  std::size_t bytes = 0;
+  for (std::size_t k = 0; k < draws.size(); ++k) {
+    const std::uint32_t n = draws[k].state->records;
+    gpu::ClhBudgetDraw& d = layout_[k];
+    at[k] = bytes;
+    d.records = n;
+    d.records_at = static_cast<gpu::clh_u32>(bytes / sizeof(gpu::ClhLodRecord));
+    bytes = alignUp(bytes + std::max<std::size_t>(n, 1) * sizeof(gpu::ClhLodRecord), align_);
+    d.counts_at = static_cast<gpu::clh_u32>(bytes / sizeof(cl_uint));
+    bytes = alignUp(bytes + gpu::clh_lod_counts_length(std::max<std::uint32_t>(n, 1)) * 4, align_);
+    d.offsets_at = static_cast<gpu::clh_u32>(bytes / sizeof(cl_uint));
+    bytes = alignUp(bytes + gpu::clh_lod_offsets_length(n) * 4, align_);
+    d.kind = draws[k].groom->storedStrands() ? 1u : 0u;
+    d.min_points = 3u;
+  }
+  if (bytes >= (std::size_t(1) << 32))
+    throw Error("the LOD records of " + std::to_string(draws.size()) + " groom instances need " +
+                std::to_string(bytes >> 20) + " MiB in one buffer; at most 4 GiB are supported");
+  if (bytes > arenaBytes_ || !arena_()) {
+    arenaBytes_ = std::max(bytes + bytes / 2, align_);
+    arena_ = makeBuffer<std::uint8_t>(dev_, "LOD records of all grooms", arenaBytes_);
+    ++generation_;
+  }
+  for (std::size_t k = 0; k < draws.size(); ++k) {
+    GroomInstanceGpu& inst = *draws[k].state;
+    if (inst.arenaGeneration == generation_ && inst.arenaAt == at[k]) continue;
+    const gpu::ClhBudgetDraw& d = layout_[k];
+    const std::uint32_t n = d.records;
+    auto view = [&](std::size_t origin, std::size_t size) {
+      cl_buffer_region region{origin, size};
+      return clCall("creating a view of the LOD records", [&] {
+        return arena_.createSubBuffer(CL_MEM_READ_WRITE, CL_BUFFER_CREATE_TYPE_REGION, &region);
+      });
+    };
+    inst.lod = view(std::size_t(d.records_at) * sizeof(gpu::ClhLodRecord),
+                    std::max<std::size_t>(n, 1) * sizeof(gpu::ClhLodRecord));
+    inst.counts = view(std::size_t(d.counts_at) * 4,
+                       gpu::clh_lod_counts_length(std::max<std::uint32_t>(n, 1)) * 4);
+    inst.offsets = view(std::size_t(d.offsets_at) * 4, gpu::clh_lod_offsets_length(n) * 4);
+    inst.arenaGeneration = generation_;
+    inst.arenaAt = at[k];
+  }
+}
+
+void FrameLod::enqueue(const std::vector<GroomDraw>& draws, const std::vector<char>& active,
+                       const std::vector<char>& far, std::uint64_t budget, Profiler* profiler) {
+  const std::size_t D = draws.size();
+  if (D == 0) return;
+  for (std::size_t k = 0; k < D; ++k) {
+    layout_[k].active = static_cast<gpu::clh_u32>(active[k]);
+    layout_[k].far = far[k] ? 1u : 0u;
+  }
+  ensureCapacity<gpu::ClhBudgetDraw>(dev_, table_, tableCap_, "groom draw table", D);
+  upload(dev_, table_, layout_.data(), D);
+  const std::size_t words = CLH_BUDGET_HEADER + 4 * D;
+  ensureCapacity<cl_uint>(dev_, state_, stateCap_, "segment budget state", words);
+  const auto d32 = static_cast<cl_uint>(D);
+  KernelArgs(plan_, "lod")
+      .buffer("draws", table_, D * sizeof(gpu::ClhBudgetDraw))
+      .value("draw count", d32)
+      .buffer("LOD records", arena_, arenaBytes_)
+      .buffer("counts and offsets", arena_, arenaBytes_)
+      .value("budget", static_cast<cl_ulong>(budget))
+      .buffer("state", state_, words * sizeof(cl_uint));
+  const cl::NDRange wg(LodStage::kScanWorkGroup);
+  dispatch(dev_, plan_, "lod", wg, wg, profiler);
+  KernelArgs(apply_, "lod")
+      .buffer("draws", table_, D * sizeof(gpu::ClhBudgetDraw))
+      .value("draw count", d32)
+      .buffer("LOD records", arena_, arenaBytes_)
+      .buffer("counts and offsets", arena_, arenaBytes_)
+      .buffer("state", state_, words * sizeof(cl_uint));
+  dispatch(dev_, apply_, "lod", cl::NDRange(D * LodStage::kScanWorkGroup), wg, profiler);
+}
+
+FrameLod::Result FrameLod::read(std::size_t draws) {
+  Result r;
+  if (draws == 0) return r;
+  std::vector<cl_uint> s(CLH_BUDGET_HEADER + 4 * draws);
+  readBack(dev_, "the segment budget's outcome", state_, s.data(), s.size());
+  std::memcpy(&r.scale, &s[0], 4);
+  r.over = s[1] != 0;
+  r.lodSegments = std::uint64_t(s[3]) | (std::uint64_t(s[4]) << 32);
+  r.draw.assign(s.begin() + CLH_BUDGET_HEADER, s.end());
+  return r;
+}
+
+}  // namespace clhair

@@ -747,7 +747,8 @@ int main(int argc, char** argv) {
          << "| distance | C++ floor ms | explicit strands ms (x floor) | generated strands ms (x "
             "floor) | "
             "cores used: explicit / generated | floor words differing "
-            "|\n|---|---|---|---|---|---|\n";
+            "| with identity layer, x without: explicit / generated "
+            "|\n|---|---|---|---|---|---|---|\n";
       // the three distances, then the default scene's camera (closer than "close": the
       // strand pass of the default frame)
       const Scene defaultView =
@@ -772,6 +773,23 @@ int main(int argc, char** argv) {
         o.rasterOnly = true;
         Measured mx = b.measure(sx, o, false);
         Measured mg = b.measure(sg, o, false);
+        // the identity layer's cost: the same passes with and without it, interleaved
+        RenderOptions oi = o;
+        oi.strandIds = true;
+        double idRatio[2] = {0.0, 0.0};
+        for (int k = 0; k < 2; ++k) {
+          const Scene& sk = k == 0 ? sx : sg;
+          std::vector<double> off, on;
+          for (int i = 0; i < warmup + runs; ++i) {
+            const double a = b.renderer.render(sk, o).stageMs("strands");
+            const double c = b.renderer.render(sk, oi).stageMs("strands");
+            if (i >= warmup) {
+              off.push_back(a);
+              on.push_back(c);
+            }
+          }
+          idRatio[k] = summarize(on).median / std::max(summarize(off).median, 1e-9);
+        }
         // the floor: inputs captured from the device's own pass, then timed on the CPU
         RenderOptions oc = o;
         oc.captureGBuffer = true;
@@ -795,13 +813,16 @@ int main(int argc, char** argv) {
         const double ex = stageMedian(mx, "strands"), ge = stageMedian(mg, "strands");
         md << "| " << rowNames[d] << " | " << fmt(fl) << " | " << fmt(ex) << " (" << fmt(ex / fl)
            << "x) | " << fmt(ge) << " (" << fmt(ge / fl) << "x) | " << fmt(mx.cores.median) << " / "
-           << fmt(mg.cores.median) << " | " << differ << " |\n";
+           << fmt(mg.cores.median) << " | " << differ << " | " << fmt(idRatio[0]) << " / "
+           << fmt(idRatio[1]) << " |\n";
         report["floor"][rowNames[d]] = {{"floor_ms", fl},
                                         {"explicit", measuredJson(mx)},
                                         {"generated", measuredJson(mg)},
                                         {"explicit_x_floor", ex / fl},
                                         {"generated_x_floor", ge / fl},
-                                        {"floor_words_differing", differ}};
+                                        {"floor_words_differing", differ},
+                                        {"identity_x_explicit", idRatio[0]},
+                                        {"identity_x_generated", idRatio[1]}};
         std::fprintf(stderr,
                      "floor %s: C++ %.1f ms, explicit %.1f ms (%.2fx, %.2f cores), generated %.1f "
                      "ms (%.2fx, %.2f cores), %zu words differ\n",

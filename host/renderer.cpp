@@ -123,7 +123,8 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
       raster.ids = ids;
       d.groom->raster(inst, raster, &r.profiler);
     }
-    LinkStage::Params lp{t.viewTarget(), &inst.groom, &t.gbuffer, d.groom->strandCount()};
+    LinkStage::Params lp{t.viewTarget(), &inst.groom, &t.gbuffer, d.groom->strandCount(),
+                         t.usedLayers()};
     if (huang) {
       if (!r.linkStage) r.linkStage = std::make_unique<LinkStage>(r.dev);
       r.linkStage->select(fp, lp, &r.profiler);

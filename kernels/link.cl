@@ -180,10 +180,13 @@ static inline int link_hash_find(__global uint* table_g, uint size, uint strand,
   *inserted = false;
   for (uint p = 0u; p < CLH_HASH_PROBES && p < size; ++p) {
     __global uint* e = table_g + 4u * (size_t)at;
-    uint seen = e[0];
-    if (seen == 0u && insert) {
+    /* inserting: only atomics touch the keys (other work-items claim entries meanwhile) */
+    uint seen;
+    if (insert) {
       seen = atomic_cmpxchg(e, 0u, key);
       *inserted = seen == 0u;
+    } else {
+      seen = e[0];
     }
     if (seen == key || *inserted) return (int)at;
     if (seen == 0u) return -1; /* lookup: absent */

@@ -20,7 +20,7 @@ LinkStage::LinkStage(Device::Impl& dev)
 
 namespace {
 std::uint64_t gbufferBytes(const LinkStage::Params& p) {
-  return std::uint64_t(p.target.pixels()) * (CLH_LAYER_LINKED + 1) * sizeof(cl_ulong);
+  return std::uint64_t(p.target.pixels()) * std::uint64_t(p.layers) * sizeof(cl_ulong);
 }
 }  // namespace
 
@@ -54,6 +54,9 @@ void LinkStage::select(const FilterParams& f, const Params& p, Profiler* profile
   upload(dev_, flags_, zeros.data(), words_);
   upload(dev_, table_, zeros.data(), std::size_t(tableSize_) * 4u);
   if (!f.link) return;
+  if (p.layers < int(CLH_LAYER_LINKED) + 1)
+    throw Error("hair linking needs " + std::to_string(CLH_LAYER_LINKED + 1) +
+                " G-buffer layers, not " + std::to_string(p.layers));
   KernelArgs(select_, "link")
       .buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
       .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))

@@ -34,8 +34,9 @@ class LinkStage {
   struct Params {
     ViewTarget target;
     const cl::Buffer* groom = nullptr;  // ClhGroomGpu
-    cl::Buffer* gbuffer = nullptr;      // 6 layers (CLH_LAYER_LINKED + 1), MSAA 1
+    cl::Buffer* gbuffer = nullptr;      // `layers` layers, MSAA 1
     std::uint32_t strandIds = 0;        // identities run below this (the groom's strands)
+    int layers = CLH_LAYER_LINKED + 1;  // CLH_LAYER_ID + 1 without linking
   };
   // Uploads the settings, clears the bitmap, table and counters, and picks the sources.
   void select(const FilterParams& f, const Params& p, Profiler* profiler);

@@ -28,14 +28,17 @@ void RenderTarget::ensure(int w, int h, int msaa) {
     filtered = makeBuffer<cl_float4>(dev_, "the " + res + " filtered hair buffer", n);
     layers_ = 0;
   }
-  if (layers_ != msaa + 1 || msaa != msaa_)
+  // the identity and linking layers a groom asked for (useLayers) stay while the size and
+  // sample count do
+  if (layers_ < msaa + 1 || msaa != msaa_) {
     gbuffer = makeBuffer<cl_ulong>(
         dev_, "the " + res + " G-buffer with " + std::to_string(msaa + 1) + " layers",
         n * static_cast<std::size_t>(msaa + 1));
+    layers_ = msaa + 1;
+  }
   width_ = w;
   height_ = h;
-  layers_ = msaa + 1;
-  used_ = layers_;
+  used_ = msaa + 1;
   msaa_ = msaa;
 }
 

@@ -8,6 +8,7 @@
 // frame back.
 #include "renderer_impl.h"
 
+#include <algorithm>
 #include <optional>
 
 #include "cl/buffers.h"
@@ -25,6 +26,23 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
   return impl_->frame(s, options, nullptr);
 }
 
+// G-buffer layers a groom with filter settings `fp` uses: the samples and the conservative
+// layer, then the identity layer (Huang's filter, strand identities) and the hair linking
+// layers (gpu_types.h).
+static int gbufferLayers(const FilterParams& fp, const RenderOptions& options, bool given) {
+  const bool filtered =
+      options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
+  const bool huang = filtered && !options.rasterOnly &&
+                     (options.filterMethod < 0 ? fp.method == FilterParams::Method::Huang
+                                               : options.filterMethod == 1);
+  const bool ids = huang || options.strandIds;
+  if (ids && options.msaa != 1)
+    throw Error("strand identities (the strand.id layer) need MSAA 1, not " +
+                std::to_string(options.msaa));
+  if (huang && fp.link && !given) return static_cast<int>(CLH_LAYER_LINKED) + 1;
+  return ids ? static_cast<int>(CLH_LAYER_ID) + 1 : options.msaa + 1;
+}
+
 Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBufferSource* source) {
   Impl& r = *this;
   RenderTarget& t = r.target;
@@ -32,6 +50,12 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
     throw Error("a given G-buffer has one sample per pixel, not MSAA " +
                 std::to_string(options.msaa));
   t.ensure(s.width, s.height, options.msaa);
+  // the G-buffer layers the grooms will ask for, allocated once before any is drawn
+  int layersNeeded = options.msaa + 1;
+  for (const GroomInstance& gi : s.grooms)
+    layersNeeded = std::max(layersNeeded, gbufferLayers(gi.hasFilter ? gi.filter : s.filter,
+                                                        options, source != nullptr));
+  t.useLayers(layersNeeded);
   r.scene.upload(s);
   gpu::ClhViewGpu view = makeView(s.camera, s.width, s.height);
   view.samples = static_cast<gpu::clh_u32>(options.msaa);
@@ -104,11 +128,7 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
                                                  : options.filterMethod == 1);
     const bool linking = huang && fp.link && !source;
     const bool ids = huang || options.strandIds;
-    if (ids && options.msaa != 1)
-      throw Error("strand identities (the strand.id layer) need MSAA 1, not " +
-                  std::to_string(options.msaa));
-    t.useLayers(linking ? static_cast<int>(CLH_LAYER_LINKED) + 1
-                        : (ids ? static_cast<int>(CLH_LAYER_ID) + 1 : options.msaa + 1));
+    t.useLayers(gbufferLayers(fp, options, source != nullptr));
     t.clearGBuffer(&r.profiler);
     if (source) {
       source->centreLayer(static_cast<std::uint32_t>(k), inst.params, words);

@@ -204,6 +204,7 @@ int main(int argc, char** argv) {
   int runs = 3, warmup = 1, width = 1920, height = 1080, refSpp = 64, qualityWidth = 960,
       qualityHeight = 540, seqFrames = 120;
   bool quick = false;
+  std::string qualityGrooms = "1";
   std::string refName = "embree";
   app.add_option("--device", dopts.selector, "device: P:D or a name substring");
   app.add_option("--out", out, "folder for bench.json, bench.csv, bench.md");
@@ -222,6 +223,8 @@ int main(int argc, char** argv) {
                  "(jittered true-width strand passes)")
       ->check(CLI::IsMember({"embree", "raster"}));
   app.add_option("--quality-width", qualityWidth, "quality and temporal sections: width");
+  app.add_option("--quality-grooms", qualityGrooms,
+                 "quality section: 1 (groom1, default), 2 (groom2) or both");
   app.add_option("--quality-height", qualityHeight, "quality and temporal sections: height");
   app.add_option("--seq-frames", seqFrames, "sequences section: frames of the wind shot (120)")
       ->check(CLI::Range(3, 100000));
@@ -485,26 +488,25 @@ int main(int argc, char** argv) {
       const ReferenceMethod refMethod = parseReferenceMethod(refName);
       const ReferenceMethod otherMethod =
           refMethod == ReferenceMethod::Embree ? ReferenceMethod::Raster : ReferenceMethod::Embree;
-      md << "\n## Quality against the reference (" << groomNames[0] << ", " << qw << "x" << qh
-         << ", " << referenceMethodName(refMethod) << " reference " << refSpp
-         << " spp)\n\nOver the hair's pixels (where the reference differs from the scene without "
-            "hair): "
-            "mean FLIP (lower is better) / PSNR dB / frame ms. Whole-image values are in "
-            "bench.json.\n\n"
-            "| configuration | close | mid | far |\n|---|---|---|---|\n";
+      if (qualityGrooms != "1" && qualityGrooms != "2" && qualityGrooms != "both")
+        throw Error("--quality-grooms must be 1, 2 or both, not \"" + qualityGrooms + "\"");
       struct Config {
         const char* name;
         int msaa, filter, lod;
         bool promote;  // the filter's strand connection (Lipp §3.3.2)
+        int huang;     // 0: Lipp's filter; else Huang's with 1 linking, 2 + alpha fix, 3 + filter
       };
-      const Config configs[] = {
-          {"SWR1", 1, 0, 0, true},       {"SWR1+F", 1, 1, 0, true},
-          {"SWR1+F+L", 1, 1, 1, true},   {"SWR1+F, no promotion", 1, 1, 0, false},
-          {"SWR MSAA 2", 2, 0, 0, true}, {"SWR MSAA 4", 4, 0, 0, true},
-          {"SWR MSAA 8", 8, 0, 0, true}};
-      std::map<std::string, std::vector<std::string>> cells;
-      json q;
-      std::ostringstream refMd;  // the two references at mid
+      const Config configs[] = {{"SWR1", 1, 0, 0, true, 0},
+                                {"SWR1+F", 1, 1, 0, true, 0},
+                                {"SWR1+F+L", 1, 1, 1, true, 0},
+                                {"SWR1+F, no promotion", 1, 1, 0, false, 0},
+                                {"SWR1+H linking", 1, 1, 0, true, 1},
+                                {"SWR1+H linking+alpha fix", 1, 1, 0, true, 2},
+                                {"SWR1+H (linking+alpha fix+anisotropic)", 1, 1, 0, true, 3},
+                                {"SWR1+H+L", 1, 1, 1, true, 3},
+                                {"SWR MSAA 2", 2, 0, 0, true, 0},
+                                {"SWR MSAA 4", 4, 0, 0, true, 0},
+                                {"SWR MSAA 8", 8, 0, 0, true, 0}};
       auto hairFlip = [](const Frame& ref, const Frame& f, const std::vector<char>& mask) {
         ImageComparison cmp = compareImages(ref.color, f.color);
         double sum = 0.0;
@@ -522,92 +524,123 @@ int main(int argc, char** argv) {
         return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
             .count();
       };
-      for (int d = 0; d < 3; ++d) {
-        Scene s = framed(scenes[0], dists[d], qw, qh);
-        Frame ref;
-        const double refMs =
-            wallMs([&] { ref = b.renderer.renderReference(s, refSpp, refMethod); });
-        q["reference"][distNames[d]] = {
-            {"method", referenceMethodName(refMethod)}, {"spp", refSpp}, {"wall_ms", refMs}};
-        std::fprintf(stderr, "quality %s: %s reference, %d spp, %.1f s\n", distNames[d],
-                     referenceMethodName(refMethod), refSpp, refMs / 1000.0);
-        Scene bare = s;
-        bare.grooms.clear();
-        const Frame background = b.renderer.render(bare);
-        std::vector<char> hairMask(ref.depth.size(), 0);
-        for (std::size_t i = 0; i < hairMask.size(); ++i)
-          for (int c = 0; c < 3; ++c)
-            hairMask[i] |=
-                std::fabs(ref.color.rgba[4 * i + c] - background.color.rgba[4 * i + c]) > 1e-4f;
-        const std::string refPath = out + "/quality/" + distNames[d] + "_reference.png";
-        writeImage(ref.color, refPath);
-        for (const Config& c : configs) {
-          RenderOptions o;
-          o.msaa = c.msaa;
-          o.filter = c.filter;
-          o.lod = c.lod;
-          Scene sc = s;
-          sc.filter.promote = c.promote;
-          for (GroomInstance& g : sc.grooms) g.filter.promote = c.promote;
-          Measured m = b.measure(sc, o, false);
-          Frame f = b.renderer.render(sc, o);
-          ImageComparison cmp = compareImages(ref.color, f.color);
-          // the same measures restricted to the hair's pixels
-          const double psnrHair = computePsnr(ref.color, f.color, &hairMask).psnrDb;
-          double flipHair = 0.0;
-          std::size_t nHair = 0;
+      json q;
+      for (int g = 0; g < 2; ++g) {
+        if ((g == 0 && qualityGrooms == "2") || (g == 1 && qualityGrooms == "1")) continue;
+        const std::string gtag = g == 0 ? "" : "groom2_";  // groom1 keeps its file names
+        md << "\n## Quality against the reference (" << groomNames[g] << ", " << qw << "x" << qh
+           << ", " << referenceMethodName(refMethod) << " reference " << refSpp
+           << " spp)\n\nOver the hair's pixels (where the reference differs from the scene "
+              "without hair): mean FLIP (lower is better) / PSNR dB / frame ms. Whole-image "
+              "values are in bench.json. SWR1+H: Huang's filter (DESIGN.md).\n\n"
+              "| configuration | close | mid | far |\n|---|---|---|---|\n";
+        std::map<std::string, std::vector<std::string>> cells;
+        json& qg = g == 0 ? q : q["groom2"];
+        std::ostringstream refMd;  // the two references at mid
+        for (int d = 0; d < 3; ++d) {
+          Scene s = framed(scenes[g], dists[d], qw, qh);
+          Frame ref;
+          const double refMs =
+              wallMs([&] { ref = b.renderer.renderReference(s, refSpp, refMethod); });
+          qg["reference"][distNames[d]] = {
+              {"method", referenceMethodName(refMethod)}, {"spp", refSpp}, {"wall_ms", refMs}};
+          std::fprintf(stderr, "quality %s %s: %s reference, %d spp, %.1f s\n", groomNames[g],
+                       distNames[d], referenceMethodName(refMethod), refSpp, refMs / 1000.0);
+          Scene bare = s;
+          bare.grooms.clear();
+          const Frame background = b.renderer.render(bare);
+          std::vector<char> hairMask(ref.depth.size(), 0);
           for (std::size_t i = 0; i < hairMask.size(); ++i)
-            if (hairMask[i]) {
-              ++nHair;
-              flipHair += cmp.flip.error[i];
+            for (int c = 0; c < 3; ++c)
+              hairMask[i] |=
+                  std::fabs(ref.color.rgba[4 * i + c] - background.color.rgba[4 * i + c]) > 1e-4f;
+          const std::string refPath = out + "/quality/" + gtag + distNames[d] + "_reference.png";
+          writeImage(ref.color, refPath);
+          for (const Config& c : configs) {
+            RenderOptions o;
+            o.msaa = c.msaa;
+            o.filter = c.filter;
+            o.lod = c.lod;
+            Scene sc = s;
+            std::vector<FilterParams*> fps{&sc.filter};
+            for (GroomInstance& gi : sc.grooms) fps.push_back(&gi.filter);
+            for (FilterParams* fp : fps) {
+              fp->promote = c.promote;
+              fp->method = c.huang ? FilterParams::Method::Huang : FilterParams::Method::Lipp;
+              fp->alphaFix = c.huang >= 2;
+              fp->aniso = c.huang >= 3;
             }
-          flipHair /= std::max<std::size_t>(nHair, 1);
-          std::string name = c.name;
-          std::string file = name;
-          for (char& ch : file)
-            if (ch == ' ' || ch == '+' || ch == ',') ch = '_';
-          writeImage(f.color, out + "/quality/" + distNames[d] + "_" + file + ".png");
-          cells[name].push_back(fmt(flipHair, 4) + " / " + fmt(psnrHair, 1) + " / " +
-                                fmt(m.total.median));
-          q[name][distNames[d]] = {{"flip_hair", flipHair},      {"psnr_hair_db", psnrHair},
-                                   {"flip", cmp.flip.mean},      {"psnr_db", cmp.psnr.psnrDb},
-                                   {"frame_ms", m.total.median}, {"hair_pixels", nHair}};
-          std::fprintf(stderr, "quality %s %s: hair FLIP %.4f PSNR %.1f (image FLIP %.4f)\n",
-                       c.name, distNames[d], flipHair, psnrHair, cmp.flip.mean);
-          if (d == 1 && c.msaa == 1 && c.filter == 0 && c.lod == 0) {
-            // SWR1 at mid against the other reference too, over the same hair pixels
-            Frame other;
-            const double otherMs =
-                wallMs([&] { other = b.renderer.renderReference(s, refSpp, otherMethod); });
-            writeImage(other.color,
-                       out + "/quality/mid_reference_" + referenceMethodName(otherMethod) + ".png");
-            const double flipOther = hairFlip(other, f, hairMask);
-            const double flipRefs = hairFlip(ref, other, hairMask);
-            const char* a = referenceMethodName(refMethod);
-            const char* o = referenceMethodName(otherMethod);
-            refMd << "\nSWR1 at mid, mean FLIP over the hair against each reference (" << refSpp
-                  << " spp): " << a << " " << fmt(flipHair, 4) << ", " << o << " "
-                  << fmt(flipOther, 4) << "; the " << o << " reference against the " << a
-                  << " one: " << fmt(flipRefs, 4) << ". Reference wall time: " << a << " "
-                  << fmt(refMs / 1000.0, 1) << " s, " << o << " " << fmt(otherMs / 1000.0, 1)
-                  << " s.\n";
-            q["references_mid"] = {{"swr1_flip_hair_" + std::string(a), flipHair},
-                                   {"swr1_flip_hair_" + std::string(o), flipOther},
-                                   {"flip_hair_between_references", flipRefs},
-                                   {std::string(a) + "_wall_ms", refMs},
-                                   {std::string(o) + "_wall_ms", otherMs}};
-            std::fprintf(stderr, "quality SWR1 mid: hair FLIP %.4f vs %s, %.4f vs %s\n", flipHair,
-                         a, flipOther, o);
+            Measured m = b.measure(sc, o, false);
+            Frame f = b.renderer.render(sc, o);
+            ImageComparison cmp = compareImages(ref.color, f.color);
+            // the same measures restricted to the hair's pixels
+            const double psnrHair = computePsnr(ref.color, f.color, &hairMask).psnrDb;
+            double flipHair = 0.0;
+            std::size_t nHair = 0;
+            for (std::size_t i = 0; i < hairMask.size(); ++i)
+              if (hairMask[i]) {
+                ++nHair;
+                flipHair += cmp.flip.error[i];
+              }
+            flipHair /= std::max<std::size_t>(nHair, 1);
+            std::string name = c.name;
+            std::string file = name;
+            for (char& ch : file)
+              if (ch == ' ' || ch == '+' || ch == ',' || ch == '(' || ch == ')') ch = '_';
+            writeImage(f.color, out + "/quality/" + gtag + distNames[d] + "_" + file + ".png");
+            // the filter's share of the frame: Huang's link and filter stages, or Lipp's
+            const double filterMs = stageMedian(m, "link") + stageMedian(m, "filter");
+            cells[name].push_back(fmt(flipHair, 4) + " / " + fmt(psnrHair, 1) + " / " +
+                                  fmt(m.total.median));
+            qg[name][distNames[d]] = {{"flip_hair", flipHair},
+                                      {"psnr_hair_db", psnrHair},
+                                      {"flip", cmp.flip.mean},
+                                      {"psnr_db", cmp.psnr.psnrDb},
+                                      {"frame_ms", m.total.median},
+                                      {"hair_pixels", nHair},
+                                      {"filter_ms", filterMs},
+                                      {"linked_pixels", f.stats.linkedPixels},
+                                      {"link_turned_away", f.stats.linkTurnedAway}};
+            std::fprintf(stderr,
+                         "quality %s %s %s: hair FLIP %.4f PSNR %.1f (image FLIP %.4f), frame "
+                         "%.1f ms, filter %.1f ms\n",
+                         groomNames[g], c.name, distNames[d], flipHair, psnrHair, cmp.flip.mean,
+                         m.total.median, filterMs);
+            if (g == 0 && d == 1 && c.msaa == 1 && c.filter == 0 && c.lod == 0) {
+              // SWR1 at mid against the other reference too, over the same hair pixels
+              Frame other;
+              const double otherMs =
+                  wallMs([&] { other = b.renderer.renderReference(s, refSpp, otherMethod); });
+              writeImage(other.color, out + "/quality/mid_reference_" +
+                                          referenceMethodName(otherMethod) + ".png");
+              const double flipOther = hairFlip(other, f, hairMask);
+              const double flipRefs = hairFlip(ref, other, hairMask);
+              const char* a = referenceMethodName(refMethod);
+              const char* o = referenceMethodName(otherMethod);
+              refMd << "\nSWR1 at mid, mean FLIP over the hair against each reference (" << refSpp
+                    << " spp): " << a << " " << fmt(flipHair, 4) << ", " << o << " "
+                    << fmt(flipOther, 4) << "; the " << o << " reference against the " << a
+                    << " one: " << fmt(flipRefs, 4) << ". Reference wall time: " << a << " "
+                    << fmt(refMs / 1000.0, 1) << " s, " << o << " " << fmt(otherMs / 1000.0, 1)
+                    << " s.\n";
+              q["references_mid"] = {{"swr1_flip_hair_" + std::string(a), flipHair},
+                                     {"swr1_flip_hair_" + std::string(o), flipOther},
+                                     {"flip_hair_between_references", flipRefs},
+                                     {std::string(a) + "_wall_ms", refMs},
+                                     {std::string(o) + "_wall_ms", otherMs}};
+              std::fprintf(stderr, "quality SWR1 mid: hair FLIP %.4f vs %s, %.4f vs %s\n", flipHair,
+                           a, flipOther, o);
+            }
           }
         }
-      }
-      for (const Config& c : configs) {
-        md << "| " << c.name << " |";
-        for (const std::string& cell : cells[c.name]) md << " " << cell << " |";
-        md << "\n";
+        for (const Config& c : configs) {
+          md << "| " << c.name << " |";
+          for (const std::string& cell : cells[c.name]) md << " " << cell << " |";
+          md << "\n";
+        }
+        md << refMd.str();
       }
       report["quality"] = q;
-      md << refMd.str();
       md << "\nImages: `" << out << "/quality/`.\n";
     }
 
@@ -887,7 +920,8 @@ int main(int argc, char** argv) {
          << "| distance | C++ floor ms | explicit strands ms (x floor) | generated strands ms (x "
             "floor) | "
             "cores used: explicit / generated | floor words differing "
-            "|\n|---|---|---|---|---|---|\n";
+            "| with identity layer, x without: explicit / generated "
+            "|\n|---|---|---|---|---|---|---|\n";
       // the three distances, then the default scene's camera (closer than "close": the
       // strand pass of the default frame)
       const Scene defaultView =
@@ -912,6 +946,23 @@ int main(int argc, char** argv) {
         o.rasterOnly = true;
         Measured mx = b.measure(sx, o, false);
         Measured mg = b.measure(sg, o, false);
+        // the identity layer's cost: the same passes with and without it, interleaved
+        RenderOptions oi = o;
+        oi.strandIds = true;
+        double idRatio[2] = {0.0, 0.0};
+        for (int k = 0; k < 2; ++k) {
+          const Scene& sk = k == 0 ? sx : sg;
+          std::vector<double> off, on;
+          for (int i = 0; i < warmup + runs; ++i) {
+            const double a = b.renderer.render(sk, o).stageMs("strands");
+            const double c = b.renderer.render(sk, oi).stageMs("strands");
+            if (i >= warmup) {
+              off.push_back(a);
+              on.push_back(c);
+            }
+          }
+          idRatio[k] = summarize(on).median / std::max(summarize(off).median, 1e-9);
+        }
         // the floor: inputs captured from the device's own pass, then timed on the CPU
         RenderOptions oc = o;
         oc.captureGBuffer = true;
@@ -935,13 +986,16 @@ int main(int argc, char** argv) {
         const double ex = stageMedian(mx, "strands"), ge = stageMedian(mg, "strands");
         md << "| " << rowNames[d] << " | " << fmt(fl) << " | " << fmt(ex) << " (" << fmt(ex / fl)
            << "x) | " << fmt(ge) << " (" << fmt(ge / fl) << "x) | " << fmt(mx.cores.median) << " / "
-           << fmt(mg.cores.median) << " | " << differ << " |\n";
+           << fmt(mg.cores.median) << " | " << differ << " | " << fmt(idRatio[0]) << " / "
+           << fmt(idRatio[1]) << " |\n";
         report["floor"][rowNames[d]] = {{"floor_ms", fl},
                                         {"explicit", measuredJson(mx)},
                                         {"generated", measuredJson(mg)},
                                         {"explicit_x_floor", ex / fl},
                                         {"generated_x_floor", ge / fl},
-                                        {"floor_words_differing", differ}};
+                                        {"floor_words_differing", differ},
+                                        {"identity_x_explicit", idRatio[0]},
+                                        {"identity_x_generated", idRatio[1]}};
         std::fprintf(stderr,
                      "floor %s: C++ %.1f ms, explicit %.1f ms (%.2fx, %.2f cores), generated %.1f "
                      "ms (%.2fx, %.2f cores), %zu words differ\n",

@@ -61,6 +61,23 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
   return impl_->frame(s, options, nullptr);
 }
 
+// G-buffer layers a groom with filter settings `fp` uses: the samples and the conservative
+// layer, then the identity layer (Huang's filter, strand identities) and the hair linking
+// layers (gpu_types.h).
+static int gbufferLayers(const FilterParams& fp, const RenderOptions& options, bool given) {
+  const bool filtered =
+      options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
+  const bool huang = filtered && !options.rasterOnly &&
+                     (options.filterMethod < 0 ? fp.method == FilterParams::Method::Huang
+                                               : options.filterMethod == 1);
+  const bool ids = huang || options.strandIds;
+  if (ids && options.msaa != 1)
+    throw Error("strand identities (the strand.id layer) need MSAA 1, not " +
+                std::to_string(options.msaa));
+  if (huang && fp.link && !given) return static_cast<int>(CLH_LAYER_LINKED) + 1;
+  return ids ? static_cast<int>(CLH_LAYER_ID) + 1 : options.msaa + 1;
+}
+
 std::vector<Frame> Renderer::renderViews(const Scene& s, const std::vector<Camera>& cameras,
                                          const RenderOptions& options) {
   if (cameras.size() > static_cast<std::size_t>(kMaxViews))
@@ -80,6 +97,12 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
     throw Error("a given G-buffer has one sample per pixel, not MSAA " +
                 std::to_string(options.msaa));
   t.ensure(s.width, s.height, options.msaa);
+  // the G-buffer layers the grooms will ask for, allocated once before any is drawn
+  int layersNeeded = options.msaa + 1;
+  for (const GroomInstance& gi : s.grooms)
+    layersNeeded = std::max(layersNeeded, gbufferLayers(gi.hasFilter ? gi.filter : s.filter,
+                                                        options, source != nullptr));
+  t.useLayers(layersNeeded);
   r.scene.upload(s);
   gpu::ClhViewGpu view = makeView(s.camera, s.width, s.height);
   view.samples = static_cast<gpu::clh_u32>(options.msaa);
@@ -113,7 +136,7 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
   // layers for compositing: gathered groom by groom from what each leaves on the device
   const bool aovs = options.aovs && !options.rasterOnly;
   std::optional<AovBuilder> aovBuilder;
-  std::vector<std::uint64_t> aovWords, motionWords;
+  std::vector<std::uint64_t> aovWords, aovIds, motionWords;
   std::vector<float> aovHair, aovDepth;
   if (aovs) {
     aovDepth.resize(pixels);
@@ -172,6 +195,15 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
     if (!active[k]) continue;
     const GroomDraw& d = draws[k];
     GroomInstanceGpu& inst = *d.state;
+    const FilterParams& fp = d.instance->hasFilter ? d.instance->filter : s.filter;
+    const bool filtered =
+        options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
+    const bool huang = filtered && !options.rasterOnly &&
+                       (options.filterMethod < 0 ? fp.method == FilterParams::Method::Huang
+                                                 : options.filterMethod == 1);
+    const bool linking = huang && fp.link && !source;
+    const bool ids = huang || options.strandIds;
+    t.useLayers(gbufferLayers(fp, options, source != nullptr));
     t.clearGBuffer(&r.profiler);
     if (source) {
       source->centreLayer(static_cast<std::uint32_t>(k), inst.params, words);
@@ -182,6 +214,8 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
     } else {
       raster.strands =
           mode == DispatchMode::ReadBack ? d.groom->readTotal(inst) : d.groom->strandCount();
+      raster.layers = t.usedLayers();
+      raster.ids = ids;
       d.groom->raster(inst, raster, &r.profiler);
     }
     // a deforming groom's motion: its strands again at the previous frame, before the
@@ -199,6 +233,23 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
         readBack(r.dev, "the motion plane", *mp.motion, motionWords.data(), pixels);
         motionDrawn = true;
       }
+    }
+    LinkStage::Params lp{t.viewTarget(), &inst.groom, &t.gbuffer, d.groom->strandCount(),
+                         t.usedLayers()};
+    if (huang) {
+      if (!r.linkStage) r.linkStage = std::make_unique<LinkStage>(r.dev);
+      r.linkStage->select(fp, lp, &r.profiler);
+      if (linking) {
+        StrandRaster curve = raster;
+        curve.ids = false;
+        curve.curve = true;
+        curve.stats = false;
+        curve.linkFlags = &r.linkStage->flags();
+        curve.linkWords = r.linkStage->flagWords();
+        d.groom->raster(inst, curve, &r.profiler);
+        r.linkStage->propagate(lp, &r.profiler);
+      }
+      r.linkStage->merge(lp, linking, &r.profiler);
     }
     if (options.captureGBuffer) {  // the raster's inputs, before compositing changes the depth
       const auto* gb = reinterpret_cast<const std::uint8_t*>(&inst.params);
@@ -220,24 +271,38 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
     sp.hair = &t.hair;
     sp.msaa = options.msaa;
     r.shade.enqueue(sp, &r.profiler);
-    const FilterParams& fp = d.instance->hasFilter ? d.instance->filter : s.filter;
-    const bool filtered =
-        options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
-    if (filtered)
+    cl::Buffer* result = &t.hair;
+    if (huang) {
+      result = r.linkStage->finish(lp, fp.aniso, t.hair, t.filtered, &r.profiler);
+      const LinkCounters c = r.linkStage->counters();
+      frame.stats.linkSelecting += c.selecting;
+      frame.stats.linkedPixels += c.filled;
+      frame.stats.linkStrands += c.strands;
+      frame.stats.linkTurnedAway += c.turnedAway;
+    } else if (filtered) {
       r.filter.enqueue(fp, {t.viewTarget(), &inst.groom, &t.gbuffer, &t.hair, &t.filtered},
                        &r.profiler);
-    r.composite.enqueue({t.viewTarget(), &inst.groom, filtered ? &t.filtered : &t.hair, &t.gbuffer,
-                         &t.color, &t.depth, options.msaa, filtered ? 2 : options.msaa},
+      result = &t.filtered;
+    }
+    // depth from the samples, plus the conservative layer after Lipp's filter (the centre
+    // layer holds the linked pixels after Huang's)
+    r.composite.enqueue({t.viewTarget(), &inst.groom, result, &t.gbuffer, &t.color, &t.depth,
+                         options.msaa, filtered && !huang ? 2 : options.msaa},
                         &r.profiler);
     if (aovs) {
       aovWords.resize(pixels * options.msaa);
       aovHair.resize(pixels * 4);
       readBack(r.dev, "the centre G-buffer layers", t.gbuffer, aovWords.data(), aovWords.size());
-      readBack(r.dev, "the shaded hair", filtered ? t.filtered : t.hair, aovHair.data(),
-               aovHair.size());
+      readBack(r.dev, "the shaded hair", *result, aovHair.data(), aovHair.size());
+      if (options.strandIds) {  // the identity layer of this groom
+        aovIds.resize(pixels);
+        readBack(r.dev, "the strand identities", t.gbuffer, aovIds.data(), pixels,
+                 pixels * CLH_LAYER_ID);
+      }
       readBack(r.dev, "the depth after compositing", t.depth, aovDepth.data(), pixels);
       aovBuilder->addGroom(k, inst.params, aovWords, options.msaa, aovHair, aovDepth,
-                           motionDrawn ? &motionWords : nullptr);
+                           motionDrawn ? &motionWords : nullptr,
+                           options.strandIds ? &aovIds : nullptr);
     }
   }
 
@@ -272,8 +337,8 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
   frame.stats.shadowStrandsDrawn = r.shadows.strandsDrawn();
   if (aovs) frame.aovs = aovBuilder->finish(frame.depth, s, options.previous);
   if (options.captureGBuffer) {
-    frame.gbufferLayers = t.layers();
-    frame.gbuffer.assign(pixels * t.layers(), ~std::uint64_t(0));
+    frame.gbufferLayers = t.usedLayers();
+    frame.gbuffer.assign(pixels * t.usedLayers(), ~std::uint64_t(0));
     if (!drawn.empty())
       readBack(r.dev, "the G-buffer", t.gbuffer, frame.gbuffer.data(), frame.gbuffer.size());
   }

@@ -19,6 +19,7 @@
 #include "stages/ao_stage.h"
 #include "stages/composite_stage.h"
 #include "stages/filter_stage.h"
+#include "stages/link_stage.h"
 #include "stages/shade_stage.h"
 
 namespace clhair {
@@ -50,6 +51,7 @@ struct Renderer::Impl {
   GroomCache grooms;
   ShadeStage shade;
   FilterStage filter;
+  std::unique_ptr<LinkStage> linkStage;  // built on first use (kernels/link.cl)
   CompositeStage composite;
   RenderTarget target;
   SceneGpu scene;

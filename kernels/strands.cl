@@ -230,6 +230,10 @@ static inline void clh_draw_strand(
   if (!clh_strand_job(g, lod_g, offsets_g, bundles_g, strand, &bundle, &local_index, &C, &gamma,
                       &coverage))
     return;
+  const uint id = bundles_g[bundle].first_strand + local_index;
+#if CLH_RASTER_CURVE
+  if (!clh_raster_curve_wanted(rc, id)) return; /* uniform per group */
+#endif
   float4 P[CLH_PTS_CAP], T[CLH_PTS_CAP];
   clh_lane_span span;
   clh_assemble_strand(sg, scratch.layers, scratch.strand, scratch.pts, g, bundles_g + bundle,
@@ -238,6 +242,7 @@ static inline void clh_draw_strand(
   rc->u6 = clh_unorm_bits(span.uv.x, 6u);
   rc->v6 = clh_unorm_bits(span.uv.y, 6u);
   rc->coverage = coverage;
+  clh_raster_identity(rc, id, 0.0f, 1.0f / (float)(span.C - 1u));
   clh_raster_lane(rc, scene_depth_g, gbuf_g, stats_g, g, P, T, span.first, span.count, span.C,
                   span.next_p, span.next_t);
 }
@@ -248,7 +253,18 @@ static inline void clh_draw_strand(
       __global const ClhLodRecord *lod_g, __global const uint *offsets_g,                  \
       __global const float2 *roots_quad_g, __global const float2 *roots_tri_g,             \
       __global const float *scene_depth_g, __global ulong *gbuf_g, __global uint *stats_g, \
-      uint strand_base, uint strand_stride
+      uint strand_base, uint strand_stride CLH_CURVE_PARAMS
+
+#if CLH_RASTER_CURVE
+/* the curve pass (hair linking): the source strands' bitmap */
+#define CLH_CURVE_PARAMS , __global const uint *link_flags_g, uint link_words
+#define CLH_CURVE_SETUP(rc)         \
+  (rc).link_flags_g = link_flags_g; \
+  (rc).link_words = link_words
+#else
+#define CLH_CURVE_PARAMS
+#define CLH_CURVE_SETUP(rc) (void)0
+#endif
 
 #define CLH_RASTER_PROLOGUE                        \
   SG_DECLARE(sg);                                  \
@@ -260,7 +276,8 @@ static inline void clh_draw_strand(
   scratch.strand = strand_l;                       \
   scratch.pts = pts_l;                             \
   clh_raster_ctx rc;                               \
-  clh_raster_setup(&rc, groom_g, view_g)
+  clh_raster_setup(&rc, groom_g, view_g);          \
+  CLH_CURVE_SETUP(rc)
 
 #if CLH_RASTER_MOTION
 /* The motion pass of a deforming hair mesh (built with -DCLH_RASTER_MOTION=1), run after

@@ -217,6 +217,9 @@ static inline void clh_x_draw(sg_ctx* sg, clh_raster_ctx* rc, __global const Clh
                               __global ulong* gbuf_g, __global uint* stats_g, uint index) {
   clh_x_job job;
   if (!clh_x_find_job(g, tb, lod_g, offsets_g, index, &job)) return;
+#if CLH_RASTER_CURVE
+  if (!clh_raster_curve_wanted(rc, job.strand)) return; /* uniform per group */
+#endif
   float u, v;
   if (tb->has_uv != 0u) {
     const uint packed = tb->uv[job.strand];
@@ -235,6 +238,7 @@ static inline void clh_x_draw(sg_ctx* sg, clh_raster_ctx* rc, __global const Clh
     clh_x_span span;
     clh_x_round(sg, tb, &job, base, P, T, &span);
     if (g->look[2] > 0.5f || g->look[3] > 0.0f) clh_x_file_look(rc, g, tb, &job, &span, T);
+    clh_raster_identity(rc, job.strand, (float)span.base, 1.0f / (float)(job.M - 1u));
     clh_raster_lane(rc, scene_depth_g, gbuf_g, stats_g, g, P, T, span.first, span.count,
                     span.points, span.next_p, span.next_t);
   }
@@ -306,14 +310,24 @@ __kernel SG_KERNEL_ATTRS void strands_explicit_motion(CLH_X_PARAMS,
 }
 #elif !CLH_RASTER_OPACITY
 /* One strand per work-group: strand_base + group (read-back and over-launch sizing). */
+#if CLH_RASTER_CURVE
+#define CLH_X_CURVE_PARAMS , __global const uint *link_flags_g, uint link_words
+#else
+#define CLH_X_CURVE_PARAMS
+#endif
 __kernel SG_KERNEL_ATTRS void strands_explicit_raster(CLH_X_PARAMS,
                                                       __global const float* scene_depth_g,
                                                       __global ulong* gbuf_g,
-                                                      __global uint* stats_g, uint strand_base) {
+                                                      __global uint* stats_g,
+                                                      uint strand_base CLH_X_CURVE_PARAMS) {
   SG_DECLARE(sg);
   CLH_X_TABLES(tb);
   clh_raster_ctx rc;
   clh_raster_setup(&rc, groom_g, view_g);
+#if CLH_RASTER_CURVE
+  rc.link_flags_g = link_flags_g;
+  rc.link_words = link_words;
+#endif
   clh_x_draw(&sg, &rc, groom_g, &tb, lod_g, offsets_g, scene_depth_g, gbuf_g, stats_g,
              sg_strand_index(strand_base));
 }
@@ -326,6 +340,10 @@ __kernel SG_KERNEL_ATTRS void strands_explicit_raster_persistent(
   CLH_X_TABLES(tb);
   clh_raster_ctx rc;
   clh_raster_setup(&rc, groom_g, view_g);
+#if CLH_RASTER_CURVE
+  rc.link_flags_g = 0; /* the curve pass uses strands_explicit_raster */
+  rc.link_words = 0u;
+#endif
   const uint total = clh_lod_drawn_total(offsets_g, groom_g->bundle_count);
   for (uint index = sg_strand_index(0u); index < total;
        index += SG_STRAND_STRIDE(max(strand_stride, 1u)))

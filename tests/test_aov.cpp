@@ -151,8 +151,8 @@ const double kFx = 0.5 * 48.0 / std::tan(35.0 * 3.14159265358979 / 360.0);
 }  // namespace
 
 TEST(Aov, ListParsesInTheDocumentedOrderAndRefusesUnknownNames) {
-  EXPECT_EQ(parseAovList("all"),
-            (std::vector<Aov>{Aov::Rgba, Aov::Z, Aov::Alpha, Aov::Tangent, Aov::Motion}));
+  EXPECT_EQ(parseAovList("all"), (std::vector<Aov>{Aov::Rgba, Aov::Z, Aov::Alpha, Aov::Tangent,
+                                                   Aov::Motion, Aov::Strand}));
   EXPECT_EQ(parseAovList("motion,z,motion"), (std::vector<Aov>{Aov::Z, Aov::Motion}));
   for (const char* bad : {"z,depth", "", "z,,rgba", "Z"}) {
     SCOPED_TRACE(bad);
@@ -162,7 +162,8 @@ TEST(Aov, ListParsesInTheDocumentedOrderAndRefusesUnknownNames) {
     } catch (const Error& e) {
       const std::string msg = e.what();
       EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
-      EXPECT_NE(msg.find("rgba, z, alpha, tangent, motion or all"), std::string::npos) << msg;
+      EXPECT_NE(msg.find("rgba, z, alpha, tangent, motion, strand or all"), std::string::npos)
+          << msg;
     }
   }
 }
@@ -179,12 +180,13 @@ TEST(Aov, CliWritesTheDocumentedChannelsAndTheSameBeauty) {
   ASSERT_EQ(f.width, 64);
   ASSERT_EQ(f.height, 48);
   const std::map<std::string, OIIO::TypeDesc> want = {
-      {"R", OIIO::TypeDesc::HALF},         {"G", OIIO::TypeDesc::HALF},
-      {"B", OIIO::TypeDesc::HALF},         {"A", OIIO::TypeDesc::HALF},
-      {"Z", OIIO::TypeDesc::FLOAT},        {"hair.A", OIIO::TypeDesc::HALF},
-      {"tangent.X", OIIO::TypeDesc::HALF}, {"tangent.Y", OIIO::TypeDesc::HALF},
-      {"tangent.Z", OIIO::TypeDesc::HALF}, {"motion.X", OIIO::TypeDesc::FLOAT},
-      {"motion.Y", OIIO::TypeDesc::FLOAT}};
+      {"R", OIIO::TypeDesc::HALF},          {"G", OIIO::TypeDesc::HALF},
+      {"B", OIIO::TypeDesc::HALF},          {"A", OIIO::TypeDesc::HALF},
+      {"Z", OIIO::TypeDesc::FLOAT},         {"hair.A", OIIO::TypeDesc::HALF},
+      {"tangent.X", OIIO::TypeDesc::HALF},  {"tangent.Y", OIIO::TypeDesc::HALF},
+      {"tangent.Z", OIIO::TypeDesc::HALF},  {"motion.X", OIIO::TypeDesc::FLOAT},
+      {"motion.Y", OIIO::TypeDesc::FLOAT},  {"strand.groom", OIIO::TypeDesc::FLOAT},
+      {"strand.id", OIIO::TypeDesc::FLOAT}, {"strand.u", OIIO::TypeDesc::FLOAT}};
   EXPECT_EQ(f.channels.size(), want.size());
   for (const auto& [name, type] : want) {
     SCOPED_TRACE(name);

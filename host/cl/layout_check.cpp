@@ -20,6 +20,7 @@ static_assert(sizeof(ClhSphereGpu) == 32, "ClhSphereGpu layout");
 static_assert(sizeof(ClhPlaneGpu) == 32, "ClhPlaneGpu layout");
 static_assert(sizeof(ClhSceneGpu) == 64, "ClhSceneGpu layout");
 static_assert(sizeof(ClhFilterGpu) == 32, "ClhFilterGpu layout");
+static_assert(sizeof(ClhLinkGpu) == 48, "ClhLinkGpu layout");
 static_assert(sizeof(ClhShadowGpu) == 160, "ClhShadowGpu layout");
 static_assert(sizeof(ClhLodRecord) == 16, "ClhLodRecord layout");
 static_assert(offsetof(ClhLodRecord, strands) == 0 && offsetof(ClhLodRecord, control_points) == 4 &&

@@ -4,7 +4,8 @@
 //   clhair render SCENE -o OUT.png|.exr     render a scene, print per-stage times
 //                [--reference [embree|raster] --spp N]   or its ground truth (default embree)
 //     [--frames 1-240[:STEP] -o OUT.####.exr] a frame range, one file per frame
-//     [--aov rgba,z,alpha,tangent,motion|all]  layers for compositing in one EXR (docs/aovs.md)
+//     [--aov rgba,z,alpha,tangent,motion,strand|all]  layers for compositing in one EXR
+//     (docs/aovs.md)
 //     [--views all|NAME,...]              several views of one assembly, one file per view
 //                                         (%v in -o becomes the view's name)
 //   clhair groom --preset NAME -o FILE      write a generated hair mesh
@@ -283,6 +284,15 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
       throw Error("--aov \"" + f.aov + "\" writes one multi-channel OpenEXR file, but -o \"" + out +
                   "\" is not .exr");
     if (f.reference) throw Error("--aov is not available with --reference");
+    const auto strand = std::find(aovs.begin(), aovs.end(), Aov::Strand);
+    if (strand != aovs.end() && f.msaa != 1) {
+      // "all" means every layer this frame can have; naming the layer asks for MSAA 1
+      const bool all = ("," + f.aov + ",").find(",all,") != std::string::npos;
+      if (!all)
+        throw Error("--aov strand needs --msaa 1 (one strand per pixel), not --msaa " +
+                    std::to_string(f.msaa));
+      aovs.erase(strand);
+    }
   }
   if (!f.views.empty() && f.views != "all" && f.views.find_first_of("/\\") != std::string::npos)
     throw Error("--views \"" + f.views + "\": expected all or view names");
@@ -320,12 +330,17 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
   if (f.ao != "on" && f.ao != "off") throw Error("--ao must be on or off, not \"" + f.ao + "\"");
   ro.ambientOcclusion = f.ao == "on" ? 1 : 0;
   ro.aovs = std::any_of(aovs.begin(), aovs.end(), [](Aov a) { return a != Aov::Rgba; });
-  if (f.filter == "on")
+  ro.strandIds = std::find(aovs.begin(), aovs.end(), Aov::Strand) != aovs.end();
+  if (f.filter == "on") {
     ro.filter = 1;
-  else if (f.filter == "off")
+  } else if (f.filter == "off") {
     ro.filter = 0;
-  else if (f.filter != "auto")
-    throw Error("--filter must be on, off or auto, not \"" + f.filter + "\"");
+  } else if (f.filter == "lipp" || f.filter == "huang") {
+    ro.filter = 1;
+    ro.filterMethod = f.filter == "huang" ? 1 : 0;
+  } else if (f.filter != "auto") {
+    throw Error("--filter must be on, off, auto, lipp or huang, not \"" + f.filter + "\"");
+  }
   if (!f.segmentBudget.empty()) ro.segmentBudget = parseSegmentBudget(f.segmentBudget);
   if (f.reference && (f.spp < 1 || f.spp > 65536))
     throw Error("--spp must be 1..65536, not " + std::to_string(f.spp));
@@ -603,7 +618,8 @@ int main(int argc, char** argv) {
                      "strand dispatch sizing: auto, readback, overlaunch, persistent");
   render->add_option("--ao", rf.ao, "baked ambient occlusion: on (default) or off");
   render->add_option("--filter", rf.filter,
-                     "reconstruction filter with MSAA 1: on, off, auto (as the scene says)");
+                     "reconstruction filter with MSAA 1: on, off, auto (as the scene says), lipp "
+                     "or huang (on, with that method; docs/scene-format.md)");
   render
       ->add_option("--reference", rf.referenceMethod,
                    "render the ground truth, the average of --spp shifted true-width passes "
@@ -617,7 +633,7 @@ int main(int argc, char** argv) {
                      "#### in -o becomes the zero-padded frame number");
   render->add_option("--aov", rf.aov,
                      "layers for compositing in one multi-channel EXR: a comma-separated list of "
-                     "rgba, z, alpha, tangent, motion, or all (docs/aovs.md)");
+                     "rgba, z, alpha, tangent, motion, strand, or all (docs/aovs.md)");
   render->add_option("--views", rf.views,
                      "views of a scene with \"cameras\": all (default) or a comma-separated list "
                      "of names (\"camera\": the scene's camera); %v in -o becomes the view's name");

@@ -36,12 +36,15 @@ AovBuilder::AovBuilder(const gpu::ClhViewGpu& view, const std::vector<float>& op
       ownerMotion_(pixels_, kEmptyWord),
       hairAlpha_(pixels_, 0.0f),
       centreZ_(pixels_, kInf),
-      tangent_(pixels_ * 3, 0.0f) {}
+      tangent_(pixels_ * 3, 0.0f),
+      strand_(pixels_ * 3, -1.0f) {}
 
 void AovBuilder::addGroom(std::size_t index, const gpu::ClhGroomGpu& params,
                           const std::vector<std::uint64_t>& centre, int layers,
                           const std::vector<float>& hair, const std::vector<float>& depth,
-                          const std::vector<std::uint64_t>* motion) {
+                          const std::vector<std::uint64_t>* motion,
+                          const std::vector<std::uint64_t>* ids) {
+  if (ids) ids_ = true;
   for (std::size_t p = 0; p < pixels_; ++p) {
     // the hair is composited over what lies below it: coverages combine like alphas "over"
     const float a = std::min(std::max(hair[p * 4 + 3], 0.0f), 1.0f);
@@ -59,6 +62,14 @@ void AovBuilder::addGroom(std::size_t index, const gpu::ClhGroomGpu& params,
     if (!(z < centreZ_[p])) continue;
     centreZ_[p] = z;
     gpu::clh_oct_decode(gpu::clh_gbuf_oct(word), &tangent_[p * 3]);
+    if (!ids) continue;
+    const std::uint64_t id = (*ids)[p];
+    const bool known = id != kEmptyWord;
+    strand_[p * 3] = known ? static_cast<float>(index) : -1.0f;
+    strand_[p * 3 + 1] = known ? static_cast<float>(gpu::clh_id_strand(id)) : -1.0f;
+    strand_[p * 3 + 2] =
+        known ? static_cast<float>(gpu::clh_id_pos(id)) / static_cast<float>(CLH_ID_POS_MAX)
+              : -1.0f;
   }
 }
 
@@ -67,6 +78,7 @@ FrameAovs AovBuilder::finish(const std::vector<float>& depth, const Scene& scene
   FrameAovs out;
   out.hairAlpha = hairAlpha_;
   out.tangent = tangent_;
+  if (ids_) out.strand = strand_;
   out.z.resize(pixels_);
   out.motion.assign(pixels_ * 2, 0.0f);
   for (std::size_t p = 0; p < pixels_; ++p)

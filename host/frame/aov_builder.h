@@ -29,11 +29,13 @@ class AovBuilder {
   // `layers` sample layers of width * height words, `hair` premultiplied RGBA per pixel,
   // `depth` the depth buffer after the composite; `motion` (or null) the groom's motion pass:
   // per pixel the packed screen motion (x, y down, float bits x << 32 | y), all ones where
-  // it has none.
+  // it has none. `ids`, when given, holds the identity word of every pixel's centre word
+  // (gpu_types.h).
   void addGroom(std::size_t index, const gpu::ClhGroomGpu& params,
                 const std::vector<std::uint64_t>& centre, int layers,
                 const std::vector<float>& hair, const std::vector<float>& depth,
-                const std::vector<std::uint64_t>* motion = nullptr);
+                const std::vector<std::uint64_t>* motion = nullptr,
+                const std::vector<std::uint64_t>* ids = nullptr);
 
   // The planes for the final depth buffer of `scene`'s frame; motion from `previous` (the
   // previous frame's still scene, grooms matched by index), zero without it.
@@ -49,6 +51,8 @@ class AovBuilder {
   std::vector<float> hairAlpha_;            // 1 - prod(1 - a_k)
   std::vector<float> centreZ_;              // depth of the nearest centre word so far (+inf: none)
   std::vector<float> tangent_;              // its decoded tangent, 3 per pixel
+  std::vector<float> strand_;               // its groom, strand and u, 3 per pixel (with ids)
+  bool ids_ = false;
 };
 
 }  // namespace clhair

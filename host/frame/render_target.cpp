@@ -4,6 +4,8 @@
 #include "cl/buffers.h"
 #include "clhair/scene.h"
 
+#include <algorithm>
+
 namespace clhair {
 
 RenderTarget::RenderTarget(Device::Impl& dev) : dev_(dev), clear_(dev) {
@@ -27,13 +29,30 @@ void RenderTarget::ensure(int w, int h, int msaa) {
     filtered = makeBuffer<cl_float4>(dev_, "the " + res + " filtered hair buffer", n);
     layers_ = 0;
   }
-  if (layers_ != msaa + 1)
+  // the identity and linking layers a groom asked for (useLayers) stay while the size and
+  // sample count do
+  if (layers_ < msaa + 1 || msaa != msaa_) {
     gbuffer = makeBuffer<cl_ulong>(
         dev_, "the " + res + " G-buffer with " + std::to_string(msaa + 1) + " layers",
         n * static_cast<std::size_t>(msaa + 1));
+    layers_ = msaa + 1;
+  }
   width_ = w;
   height_ = h;
-  layers_ = msaa + 1;
+  used_ = msaa + 1;
+  msaa_ = msaa;
+}
+
+void RenderTarget::useLayers(int layers) {
+  layers = std::max(layers, msaa_ + 1);
+  if (layers > layers_) {
+    const std::string res = std::to_string(width_) + "x" + std::to_string(height_);
+    gbuffer = makeBuffer<cl_ulong>(
+        dev_, "the " + res + " G-buffer with " + std::to_string(layers) + " layers",
+        pixels() * static_cast<std::size_t>(layers));
+    layers_ = layers;
+  }
+  used_ = layers;
 }
 
 cl::Buffer& RenderTarget::clearedMotion(Profiler* profiler) {
@@ -50,7 +69,7 @@ void RenderTarget::clearWords(const cl::Buffer& buffer, std::size_t count, Profi
 }
 
 void RenderTarget::clearGBuffer(Profiler* profiler) {
-  clear_.words(gbuffer, pixels() * static_cast<std::size_t>(layers_), ~std::uint64_t(0), "clear",
+  clear_.words(gbuffer, pixels() * static_cast<std::size_t>(used_), ~std::uint64_t(0), "clear",
                profiler);
 }
 

@@ -2,7 +2,9 @@
 // (the hair is composited into them), the shaded and filtered hair of the groom being
 // drawn, its G-buffer (MSAA sample layers plus the conservative layer), the raster
 // counters and the camera's view record; plus the clear of the G-buffer before each
-// groom's strand pass. Buffers are reallocated only when the size or sample count changes.
+// groom's strand pass (the layers a groom uses: the samples, the conservative layer and,
+// when asked, the identity and hair linking layers). Buffers are reallocated only when the size or
+// sample count changes.
 #pragma once
 
 #include "cl/dispatch.h"
@@ -16,12 +18,16 @@ class RenderTarget {
   explicit RenderTarget(Device::Impl& dev);
   // Checks the size (1..kMaxImageSide per side) and sample count (1, 2, 4, 8).
   void ensure(int width, int height, int msaa);
+  // At least `layers` G-buffer layers (the identity and hair linking layers follow the
+  // conservative one, gpu_types.h); clearGBuffer then clears the first `layers`.
+  void useLayers(int layers);
   void clearGBuffer(Profiler* profiler);
   // The plane of a groom's motion pass (ulong per pixel, allocated on first use), cleared to
   // all ones.
   cl::Buffer& clearedMotion(Profiler* profiler);
   // Fills `count` words of `buffer` with the empty G-buffer word.
   void clearWords(const cl::Buffer& buffer, std::size_t count, Profiler* profiler);
+  int usedLayers() const { return used_; }
 
   ViewTarget viewTarget() const { return {&view, width_, height_}; }
   std::size_t pixels() const {
@@ -39,7 +45,7 @@ class RenderTarget {
  private:
   Device::Impl& dev_;
   ClearStage clear_;
-  int width_ = 0, height_ = 0, layers_ = 0;
+  int width_ = 0, height_ = 0, layers_ = 0, used_ = 0, msaa_ = 1;
   cl::Buffer motion_;
   std::size_t motionPixels_ = 0;
 };

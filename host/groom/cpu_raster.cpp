@@ -87,6 +87,7 @@ void drawStrand(const clh_raster_ctx& base, const ClhGroomGpu& g, const Explicit
     cur.tz = o[2];
     cur.ao = 1.0f;
     cur.w = P[k].w;
+    cur.u = 0.0f;
     clh_raster_project(&rc, &cur);
     if (k > 0) clh_raster_segment(&rc, depth, gbuf, counts, prev, cur);
     prev = cur;

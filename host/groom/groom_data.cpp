@@ -127,6 +127,7 @@ GroomData prepareGroom(const HairMesh& m) {
     }
     b.triangle = tri ? 1u : 0u;
     b.strand_count = counts[f];
+    b.first_strand = static_cast<std::uint32_t>(out.totalStrands);
     b.lod_delta =
         gpu::clh_u01(gpu::clh_hash3(m.seed, static_cast<std::uint32_t>(f), CLH_RNG_LOD_DELTA));
     out.maxBundleStrands = std::max(out.maxBundleStrands, counts[f]);

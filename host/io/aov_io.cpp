@@ -15,7 +15,7 @@ namespace clhair {
 
 namespace {
 
-constexpr Aov kAllAovs[] = {Aov::Rgba, Aov::Z, Aov::Alpha, Aov::Tangent, Aov::Motion};
+constexpr Aov kAllAovs[] = {Aov::Rgba, Aov::Z, Aov::Alpha, Aov::Tangent, Aov::Motion, Aov::Strand};
 
 std::string knownNames() {
   std::string names;
@@ -44,6 +44,8 @@ const char* aovName(Aov aov) {
       return "tangent";
     case Aov::Motion:
       return "motion";
+    case Aov::Strand:
+      return "strand";
   }
   return "?";
 }
@@ -148,6 +150,8 @@ std::vector<ImageChannel> aovChannels(const Frame& frame, const std::vector<Aov>
     if (a != Aov::Rgba && frame.aovs.z.size() != pixels)
       throw Error(std::string("the layer \"") + aovName(a) +
                   "\" needs a frame rendered with RenderOptions::aovs");
+    if (a == Aov::Strand && frame.aovs.strand.size() != pixels * 3)
+      throw Error("the layer \"strand\" needs a frame rendered with RenderOptions::strandIds");
     switch (a) {
       case Aov::Rgba:
         for (int c = 0; c < 4; ++c)
@@ -168,6 +172,11 @@ std::vector<ImageChannel> aovChannels(const Frame& frame, const std::vector<Aov>
         for (int c = 0; c < 2; ++c)
           out.push_back(
               {std::string("motion.") + "XY"[c], component(frame.aovs.motion, 2, c), false});
+        break;
+      case Aov::Strand:  // full 32-bit floats: the indices are exact below 2^24
+        out.push_back({"strand.groom", component(frame.aovs.strand, 3, 0), false});
+        out.push_back({"strand.id", component(frame.aovs.strand, 3, 1), false});
+        out.push_back({"strand.u", component(frame.aovs.strand, 3, 2), false});
         break;
     }
   }

@@ -143,8 +143,31 @@ FilterParams readFilter(const JsonReader& parent, const json& j, FilterParams f)
   f.depthMismatch = static_cast<float>(o.number("depth_mismatch", f.depthMismatch, 0.0, 10.0));
   f.strip = static_cast<float>(o.number("strip", f.strip, 0.0, 8.0));
   f.promote = o.boolean("promote", f.promote);
-  o.rejectUnknown({"enabled", "radius", "s_parallel", "s_perp", "sigma_c", "depth_reject",
-                   "depth_mismatch", "strip", "promote"});
+  if (o.has("method")) {
+    const std::string m = o.string("method", "lipp");
+    if (m == "lipp")
+      f.method = FilterParams::Method::Lipp;
+    else if (m == "huang")
+      f.method = FilterParams::Method::Huang;
+    else
+      o.fail("method", "must be \"lipp\" or \"huang\", not \"" + m + "\"");
+  }
+  f.link = o.boolean("link", f.link);
+  f.linkThreshold = static_cast<float>(o.number("link_threshold", f.linkThreshold, 0.0, 1.0));
+  f.linkSigma = static_cast<float>(o.number("link_sigma", f.linkSigma, 0.1, 10.0));
+  f.linkMaxSteps = o.integer("link_max_steps", f.linkMaxSteps, 1, 4096);
+  f.alphaFix = o.boolean("alpha_fix", f.alphaFix);
+  f.linkTable = o.integer("link_table", f.linkTable, 0, 1 << 26);
+  f.aniso = o.boolean("aniso", f.aniso);
+  f.sigmaD = static_cast<float>(o.number("sigma_d", f.sigmaD, 1e-3, 10.0));
+  f.sigmaTheta = static_cast<float>(o.number("sigma_theta", f.sigmaTheta, 1e-3, 10.0));
+  f.sigmaCAniso = static_cast<float>(o.number("sigma_c_aniso", f.sigmaCAniso, 1e-3, 100.0));
+  f.kernelK = static_cast<float>(o.number("kernel_k", f.kernelK, 0.0, 1.0));
+  o.rejectUnknown(
+      {"enabled",        "radius",         "s_parallel", "s_perp",     "sigma_c", "depth_reject",
+       "depth_mismatch", "strip",          "promote",    "method",     "link",    "link_threshold",
+       "link_sigma",     "link_max_steps", "alpha_fix",  "link_table", "aniso",   "sigma_d",
+       "sigma_theta",    "sigma_c_aniso",  "kernel_k"});
   return f;
 }
 

@@ -81,24 +81,28 @@ void ExplicitStage::motion(const Inputs& in, const cl::Buffer& previous, const M
 void ExplicitStage::raster(const Inputs& in, const StrandRaster& r, Profiler* profiler) {
   if (r.msaa != 1 && r.msaa != 2 && r.msaa != 4 && r.msaa != 8)
     throw Error("MSAA must be 1, 2, 4 or 8 samples, not " + std::to_string(r.msaa));
-  const bool persistent = r.mode == DispatchMode::Persistent;
-  const std::string opts =
-      "-DCLH_MSAA=" + std::to_string(r.msaa) + (r.stats ? " -DCLH_RASTER_STATS=1" : "");
+  if ((r.ids || r.curve) && r.msaa != 1)
+    throw Error("strand identities need MSAA 1, not " + std::to_string(r.msaa));
+  const bool persistent = r.mode == DispatchMode::Persistent && !r.curve;
+  const std::string opts = r.options();
   cl::Kernel& k =
       kernel(persistent ? "strands_explicit_raster_persistent" : "strands_explicit_raster",
              "strands_explicit.cl", opts);
-  KernelArgs a = bindTables(k, in, *r.view, "strands", sizeof(gpu::ClhViewGpu));
+  KernelArgs a = bindTables(k, in, *r.view, r.stage(), sizeof(gpu::ClhViewGpu));
   a.buffer("scene depth", *r.sceneDepth, r.pixels * sizeof(float))
-      .buffer("G-buffer", *r.gbuffer,
-              r.pixels * static_cast<std::uint64_t>(r.msaa + 1) * sizeof(cl_ulong))
+      .buffer("G-buffer", *r.gbuffer, r.gbufferBytes())
       .buffer("raster counters", *r.counters, 4 * sizeof(cl_uint));
-  // the last argument: the first strand of a chunked launch, or the persistent grid's size
+  // the first strand of a chunked launch, or the persistent grid's size
   const cl_uint last = a.next();
+  a.value("strand base", 0u);
+  if (r.curve)
+    a.buffer("source strands", *r.linkFlags, std::uint64_t(r.linkWords) * sizeof(cl_uint))
+        .value("source strand words", static_cast<cl_uint>(r.linkWords));
   if (r.strands == 0) return;
   if (persistent)
-    dispatchStrandsPersistent(dev_, k, "strands", r.strands, last, profiler);
+    dispatchStrandsPersistent(dev_, k, r.stage(), r.strands, last, profiler);
   else
-    dispatchStrands(dev_, k, "strands", r.strands, last, profiler);
+    dispatchStrands(dev_, k, r.stage(), r.strands, last, profiler);
 }
 
 void ExplicitStage::opacity(const Inputs& in, const OpacityPass& o, std::uint32_t strands,

@@ -11,16 +11,7 @@ StrandStage::StrandStage(Device::Impl& dev)
     : dev_(dev),
       export_(dev.kernel("strands.cl", "strands_export")),
       opacity_(dev.kernel("strands.cl", "strands_opacity", "-DCLH_RASTER_OPACITY=1")) {
-  rasterKernel(1, false, false);  // build the common variant up front
-}
-
-cl::Kernel& StrandStage::rasterKernel(int msaa, bool stats, bool persistent) {
-  int key = msaa * 4 + (stats ? 2 : 0) + (persistent ? 1 : 0);
-  auto it = raster_.find(key);
-  if (it != raster_.end()) return it->second;
-  std::string opts = "-DCLH_MSAA=" + std::to_string(msaa) + (stats ? " -DCLH_RASTER_STATS=1" : "");
-  return raster_[key] = dev_.kernel(
-             "strands.cl", persistent ? "strands_raster_persistent" : "strands_raster", opts);
+  raster_["-DCLH_MSAA=1|0"] = dev.kernel("strands.cl", "strands_raster", "-DCLH_MSAA=1");
 }
 
 // groom, [view], bundles, vertices, lod, offsets, roots: the leading arguments of every
@@ -39,22 +30,35 @@ void StrandStage::bindGroom(KernelArgs& a, const Inputs& in) {
 void StrandStage::raster(const Inputs& in, const StrandRaster& r, Profiler* profiler) {
   if (r.msaa != 1 && r.msaa != 2 && r.msaa != 4 && r.msaa != 8)
     throw Error("MSAA must be 1, 2, 4 or 8 samples, not " + std::to_string(r.msaa));
-  cl::Kernel& k = rasterKernel(r.msaa, r.stats, r.mode == DispatchMode::Persistent);
-  KernelArgs a(k, "strands");
+  if ((r.ids || r.curve) && r.msaa != 1)
+    throw Error("strand identities need MSAA 1, not " + std::to_string(r.msaa));
+  const bool persistent = r.mode == DispatchMode::Persistent && !r.curve;
+  const std::string key = r.options() + (persistent ? "|1" : "|0");
+  auto it = raster_.find(key);
+  if (it == raster_.end())
+    it = raster_
+             .emplace(key, dev_.kernel("strands.cl",
+                                       persistent ? "strands_raster_persistent" : "strands_raster",
+                                       r.options()))
+             .first;
+  cl::Kernel& k = it->second;
+  KernelArgs a(k, r.stage());
   a.buffer("groom", *in.groom, sizeof(gpu::ClhGroomGpu))
       .buffer("view", *r.view, sizeof(gpu::ClhViewGpu));
   bindGroom(a, in);
   a.buffer("scene depth", *r.sceneDepth, r.pixels * sizeof(float))
-      .buffer("G-buffer", *r.gbuffer,
-              r.pixels * static_cast<std::uint64_t>(r.msaa + 1) * sizeof(cl_ulong))
+      .buffer("G-buffer", *r.gbuffer, r.gbufferBytes())
       .buffer("raster counters", *r.counters, 4 * sizeof(cl_uint));
   const cl_uint baseArg = a.next();
   a.value("strand base", 0u).value("strand stride", 0u);
+  if (r.curve)
+    a.buffer("source strands", *r.linkFlags, std::uint64_t(r.linkWords) * sizeof(cl_uint))
+        .value("source strand words", static_cast<cl_uint>(r.linkWords));
   if (r.strands == 0) return;
-  if (r.mode == DispatchMode::Persistent)
-    dispatchStrandsPersistent(dev_, k, "strands", r.strands, baseArg + 1, profiler);
+  if (persistent)
+    dispatchStrandsPersistent(dev_, k, r.stage(), r.strands, baseArg + 1, profiler);
   else
-    dispatchStrands(dev_, k, "strands", r.strands, baseArg, profiler);
+    dispatchStrands(dev_, k, r.stage(), r.strands, baseArg, profiler);
 }
 
 void StrandStage::opacity(const Inputs& in, const OpacityPass& o, std::uint32_t strands,

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <map>
+#include <string>
 
 #include "cl/dispatch.h"
 
@@ -22,6 +23,23 @@ struct StrandRaster {
   bool stats = false;
   DispatchMode mode = DispatchMode::ReadBack;
   std::uint32_t strands = 0;  // ReadBack: the exact total; otherwise an upper bound
+  int layers = 0;             // layers of `gbuffer` (0: msaa + 1)
+  bool ids = false;           // also write the identity layer (layer msaa + 1, MSAA 1)
+  // the curve pass of hair linking: only the strands flagged in linkFlags (linkWords uints)
+  // draw their centre lines into layers CLH_LAYER_CURVE and CLH_LAYER_CURVE_ID
+  bool curve = false;
+  const cl::Buffer* linkFlags = nullptr;
+  std::uint32_t linkWords = 0;
+
+  std::uint64_t gbufferBytes() const {
+    return static_cast<std::uint64_t>(pixels) *
+           static_cast<std::uint64_t>(layers > 0 ? layers : msaa + 1) * 8u;
+  }
+  std::string stage() const { return curve ? "link" : "strands"; }  // for timings
+  std::string options() const {
+    return "-DCLH_MSAA=" + std::to_string(msaa) + (stats ? " -DCLH_RASTER_STATS=1" : "") +
+           (curve ? " -DCLH_RASTER_CURVE=1" : (ids ? " -DCLH_STRAND_ID=1" : ""));
+  }
 };
 
 // The deep-opacity accumulation of one light (ShadowPass): the light's view and maps.
@@ -72,10 +90,10 @@ class StrandStage {
                      cl::Buffer& tangents, cl::Buffer& counts, Profiler* profiler);
 
  private:
-  cl::Kernel& rasterKernel(int msaa, bool stats, bool persistent);
   void bindGroom(KernelArgs& a, const Inputs& in);
   Device::Impl& dev_;
-  std::map<int, cl::Kernel> raster_, motion_, views_;
+  std::map<std::string, cl::Kernel> raster_;
+  std::map<int, cl::Kernel> motion_, views_;
   cl::Kernel export_, opacity_;
 };
 

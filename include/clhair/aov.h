@@ -13,6 +13,12 @@
 //                         X to the right, Y up (the compositors' convention); camera and
 //                         transform keys, and deforming grooms through their motion pass
 //                         (cage animation, wind, per-frame strand files); 0 on the background
+//   strand   strand.groom, strand.id, strand.u  the strand of the nearest centre word of
+//                         any groom: its groom (index in Scene::grooms), its index in that
+//                         groom at full detail (hair meshes: bundle by bundle, strand files:
+//                         file order) and its position root (0) to tip (1); -1 in all three
+//                         where no strand is; 32-bit floats, exact for indices below 2^24
+//                         (the identity word's limit). MSAA 1 only.
 // Inputs and outputs only: nothing here touches the device.
 #pragma once
 
@@ -24,14 +30,14 @@ namespace clhair {
 struct Frame;
 struct FrameAovs;
 
-enum class Aov { Rgba, Z, Alpha, Tangent, Motion };
+enum class Aov { Rgba, Z, Alpha, Tangent, Motion, Strand };
 
 // `Z` where no surface was drawn: a large finite depth (compositing arithmetic on +inf
 // gives NaN, e.g. inf * 0 in a depth blend), the value Blender and others use.
 constexpr float kAovBackgroundZ = 1.0e10f;
 
 // The layers of a --aov value: a comma-separated list of rgba, z, alpha, tangent, motion,
-// or "all"; duplicates collapse, the order is always the one above. Throws clhair::Error
+// strand, or "all"; duplicates collapse, the order is always the one above. Throws clhair::Error
 // (one line naming the bad entry and the known names) for an unknown or empty entry.
 std::vector<Aov> parseAovList(const std::string& list);
 const char* aovName(Aov aov);

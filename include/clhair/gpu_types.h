@@ -69,13 +69,15 @@ typedef struct {
  * strand_count : N, strands of this bundle at full detail
  * triangle     : 1 for triangle faces (roots come from the triangle blue-noise set)
  * lod_delta    : per-bundle random offset delta in [0,1) of Lipp Eq. 1
+ * first_strand : strands of the bundles before this one at full detail: strand k of the
+ *                bundle is strand first_strand + k of the groom (its identity, below)
  * uv    : root uv of the four corners (u0 v0 u1 v1 u2 v2 u3 v3)                         */
 typedef struct {
   clh_i32 vtx[4];
   clh_u32 strand_count;
   clh_u32 triangle;
   float lod_delta;
-  clh_u32 pad0;
+  clh_u32 first_strand;
   float uv[8];
 } ClhBundle;
 
@@ -410,6 +412,61 @@ CLH_FN clh_u32 clh_gbuf_u(clh_u64 word) { return (clh_u32)(word >> 18) & 63u; }
 CLH_FN clh_u32 clh_gbuf_v(clh_u64 word) { return (clh_u32)(word >> 12) & 63u; }
 CLH_FN clh_u32 clh_gbuf_w(clh_u64 word) { return (clh_u32)(word >> 6) & 63u; }
 CLH_FN clh_u32 clh_gbuf_ao(clh_u64 word) { return (clh_u32)word & 63u; }
+
+/* ---- the strand identity word (a second 64-bit word per pixel of the centre layer) -----
+ *  bits 63..40  depth code, the same 24 bits as the G-buffer word's
+ *  bits 39..16  strand, 24 bits: its index in the groom at full detail (hair meshes: the
+ *               bundle's first_strand plus the strand's index in the bundle; strand files:
+ *               the strand's index in the file), independent of LOD and of the frame
+ *  bits 15..1   position along the strand, 15 bits: u in [0, 1] from root to tip (point
+ *               index over the point count minus one, linear within a segment)
+ *  bit   0      1: written by hair linking (a propagated pixel), 0: drawn by the strand pass
+ * Written next to the centre word with the same depth test and its own atom_min, so the
+ * two name the same strand wherever their depth codes differ from every competitor's;
+ * strands that tie in depth code may leave the word of one and the identity of another.
+ * All ones is empty, as for the G-buffer word.                                            */
+#define CLH_ID_STRAND_BITS 24u
+#define CLH_ID_MAX_STRAND 0xFFFFFEu /* all ones is the empty word's */
+#define CLH_ID_POS_MAX 32767u
+
+CLH_FN clh_u64 clh_id_pack(clh_u32 depth24, clh_u32 strand, clh_u32 pos15, clh_u32 linked) {
+  return ((clh_u64)(depth24 & 0xFFFFFFu) << 40) | ((clh_u64)(strand & 0xFFFFFFu) << 16) |
+         ((clh_u64)(pos15 & 0x7FFFu) << 1) | (clh_u64)(linked & 1u);
+}
+CLH_FN clh_u32 clh_id_strand(clh_u64 id) { return (clh_u32)(id >> 16) & 0xFFFFFFu; }
+CLH_FN clh_u32 clh_id_pos(clh_u64 id) { return (clh_u32)(id >> 1) & 0x7FFFu; }
+CLH_FN clh_u32 clh_id_linked(clh_u64 id) { return (clh_u32)id & 1u; }
+CLH_FN clh_u32 clh_id_pos_code(float u) {
+  return (clh_u32)(clh_clamp01(u) * (float)CLH_ID_POS_MAX + 0.5f);
+}
+
+/* ---- hair linking, alpha fix and the anisotropic filter (Huang et al. 2025), 48 bytes --
+ * Layers of the G-buffer past the conservative one (MSAA 1): CLH_LAYER_ID the identity
+ * words of the centre layer; with linking, CLH_LAYER_CURVE / CLH_LAYER_CURVE_ID the words
+ * and identities of the source strands' centre lines (one pixel per column or row), and
+ * CLH_LAYER_LINKED the identities linking propagated into empty pixels.                  */
+#define CLH_LAYER_ID 2u
+#define CLH_LAYER_CURVE 3u
+#define CLH_LAYER_CURVE_ID 4u
+#define CLH_LAYER_LINKED 5u
+#define CLH_LINK_NONE 0xFFFFFFFFu
+/* the hash table of the alpha fix: 4 uints per entry (key = strand + 1, 0: free; M; N; 0) */
+#define CLH_HASH_PROBES 32u
+/* link counters: [0] pixels selecting a source, [1] pixels filled, [2] strands counted,
+ * [3] strands the full table turned away, [4..7] hair bounds min x, min y, max x, max y */
+#define CLH_LINK_COUNTERS 8u
+typedef struct {
+  float align_threshold; /* epsilon_align of Huang Eq. 5 */
+  float sigma_px;        /* sigma of the proximity term of Huang Eq. 4, pixels */
+  clh_u32 max_steps;     /* pixels one propagation may fill */
+  clh_u32 table_size;    /* entries of the alpha fix's hash table */
+  clh_u32 alpha_fix;     /* 1: alpha = M / (M + N) per strand (Huang Eq. 8-10) */
+  clh_u32 aniso;         /* 1: the orientation-aware filter follows (Huang Eq. 11-13) */
+  float sigma_d, sigma_theta, sigma_c; /* Huang Eq. 11 */
+  float kernel_k;                      /* Huang Eq. 13: r = k sqrt(Bx By) */
+  clh_u32 strand_words;                /* words of the source-strand bitmap */
+  clh_u32 pad0;
+} ClhLinkGpu;
 
 /* ---- random numbers: identical streams on host and device ----------------------------
  * lowbias32 integer hash (Chris Wellons' hash-prospector), combined per key.            */

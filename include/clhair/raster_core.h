@@ -19,6 +19,13 @@
  * (width times the length of its path through the texel) to the deep-opacity layer of
  * their depth instead (Yuksel & Keyser 2008).
  *
+ * With CLH_STRAND_ID every centre-sample write (MSAA 1) is followed by one of the strand
+ * identity word (gpu_types.h) into layer CLH_MSAA + 1, with its own atom_min; off, the walk
+ * is the same instructions as before. With CLH_RASTER_CURVE (device only, hair linking)
+ * the segment leaves only its centre line, one pixel per column (the pixel holding the line
+ * at the column's centre), as G-buffer word and identity in layers CLH_LAYER_CURVE and
+ * CLH_LAYER_CURVE_ID.
+ *
  * Speed (DESIGN.md, "Vectorizable kernels"): scalar arithmetic only, no vector types and no
  * library calls besides floor/ceil/sqrt; one G-buffer word per column, evaluated at the
  * column's centre clamped to the segment and shared by the conservative pixels and the
@@ -57,6 +64,15 @@ namespace gpu {
 #ifndef CLH_RASTER_MOTION
 #define CLH_RASTER_MOTION 0 /* 1: resolve the motion of the words already drawn */
 #endif
+#ifndef CLH_STRAND_ID
+#define CLH_STRAND_ID 0 /* 1: write the identity layer next to the centre layer */
+#endif
+#ifndef CLH_RASTER_CURVE
+#define CLH_RASTER_CURVE 0 /* 1: draw the centre lines of hair linking's source strands */
+#endif
+#if CLH_RASTER_CURVE && !defined(CLH_DEVICE_CODE)
+#error "the curve pass exists on the device only"
+#endif
 #if CLH_RASTER_OPACITY && !defined(CLH_DEVICE_CODE)
 #error "the opacity pass exists on the device only"
 #endif
@@ -72,6 +88,7 @@ typedef struct {
   float tx, ty, tz;
   float ao, w;
   float iz, sx, sy; /* 1 / z and the screen position, when z >= near */
+  float u;          /* position along the strand in [0, 1] (the identity word) */
 #if CLH_RASTER_MOTION
   float mx, my; /* screen motion to the previous frame, pixels (y down) */
 #endif
@@ -89,7 +106,13 @@ typedef struct {
   float min_diameter; /* smallest hit diameter, pixels */
   float coverage;     /* LOD compensation N / N_LOD */
   clh_u32 u6, v6;
-  clh_u64 plane; /* words per G-buffer layer */
+  clh_u64 plane;         /* words per G-buffer layer */
+  clh_u64 id_strand;     /* the strand's identity bits (strand << 16), CLH_STRAND_ID */
+  float u_base, u_scale; /* vertex k of a lane's run lies at u = (u_base + k) * u_scale */
+#if CLH_RASTER_CURVE
+  __global const clh_u32* link_flags_g; /* source strands of hair linking, one bit each */
+  clh_u32 link_words;
+#endif
 #if CLH_RASTER_OPACITY
   __global const float* hair_depth_g; /* z0 per texel, at dom_offset */
   clh_u64 dom_offset;
@@ -121,6 +144,16 @@ CLH_FN void clh_raster_init(clh_raster_ctx* rc, float fx, float fy, float cx, fl
   rc->coverage = 1.0f;
   rc->u6 = 0u;
   rc->v6 = 0u;
+  rc->id_strand = 0u;
+  rc->u_base = 0.0f;
+  rc->u_scale = 0.0f;
+}
+
+/* Sets the strand's identity (gpu_types.h) and how its vertices map to u. */
+CLH_FN void clh_raster_identity(clh_raster_ctx* rc, clh_u32 strand, float u_base, float u_scale) {
+  rc->id_strand = (clh_u64)(strand < CLH_ID_MAX_STRAND ? strand : CLH_ID_MAX_STRAND) << 16;
+  rc->u_base = u_base;
+  rc->u_scale = u_scale;
 }
 
 /* Sample positions within the pixel (Direct3D 2x/4x/8x patterns, y down). */
@@ -190,6 +223,7 @@ CLH_FN void clh_gbuf_write(CLH_GLOBAL clh_u64* gbuf, clh_u32* counts, clh_u64 at
  * the scene depth test, whatever the order, as without the early test. */
 typedef struct {
   float t;       /* screen parameter of the column's word */
+  float u;       /* position along the strand there (CLH_STRAND_ID) */
   float z;       /* its view depth */
   clh_u32 dcode; /* its depth code */
   int have;      /* word computed */
@@ -220,6 +254,7 @@ typedef struct {
   float ma, na, iza, izb;
   float ta[3], tb[3]; /* tangents / z */
   float aoa, aob, wa, wb;
+  float ua, ub;   /* position along the strand at the ends */
   float inv_span; /* 1 / (mb - ma) */
   float span;
 #if CLH_RASTER_MOTION
@@ -276,6 +311,16 @@ CLH_FN void clh_col_init(const clh_raster_ctx* rc, const clh_seg* s, float t, cl
   c->dcode = clh_raster_depth_code(rc, c->z);
   c->have = 0;
   c->word = 0;
+#if CLH_STRAND_ID || CLH_RASTER_CURVE
+  c->u = clh_lerpf(s->ua, s->ub, t);
+#else
+  c->u = 0.0f;
+#endif
+}
+
+/* The identity word of the column's strand (gpu_types.h). */
+CLH_FN clh_u64 clh_col_id(const clh_raster_ctx* rc, const clh_col_word* c) {
+  return ((clh_u64)c->dcode << 40) | rc->id_strand | ((clh_u64)clh_id_pos_code(c->u) << 1);
 }
 
 CLH_FN void clh_col_write(const clh_raster_ctx* rc, const clh_seg* s,
@@ -315,6 +360,13 @@ CLH_FN void clh_col_write(const clh_raster_ctx* rc, const clh_seg* s,
   atom_min(rc->motion_g + idx, ((clh_u64)as_uint(mx) << 32) | (clh_u64)as_uint(my));
 #else
   clh_gbuf_write(gbuf, counts, layer_at + idx, c->word);
+#if CLH_STRAND_ID && CLH_MSAA == 1
+  /* the identity of a centre-sample write, by the same depth test (counters untouched) */
+  if (layer_at == 0u) {
+    clh_u32 none[4] = {0u, 0u, 0u, 0u};
+    clh_gbuf_write(gbuf, none, (clh_u64)(CLH_MSAA + 1) * rc->plane + idx, clh_col_id(rc, c));
+  }
+#endif
 #endif
 }
 
@@ -335,6 +387,7 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
     c.tz = clh_lerpf(a.tz, b.tz, t);
     c.ao = clh_lerpf(a.ao, b.ao, t);
     c.w = clh_lerpf(a.w, b.w, t);
+    c.u = clh_lerpf(a.u, b.u, t);
 #if CLH_RASTER_MOTION
     c.mx = clh_lerpf(a.mx, b.mx, t);
     c.my = clh_lerpf(a.my, b.my, t);
@@ -378,6 +431,8 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
   s.aob = hi_v.ao * s.izb;
   s.wa = lo_v.w * s.iza;
   s.wb = hi_v.w * s.izb;
+  s.ua = lo_v.u;
+  s.ub = hi_v.u;
   s.span = mb - s.ma;
   s.inv_span = 1.0f / s.span;
 #if CLH_RASTER_MOTION
@@ -391,7 +446,7 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
   const clh_i32 minor_max = xmajor ? rc->height : rc->width;
   const float slope = (nb - s.na) * s.inv_span;
   const float cosv = s.span / len; /* minor-axis offsets times cosv = perpendicular distance */
-#if CLH_RASTER_OPACITY
+#if CLH_RASTER_OPACITY || CLH_RASTER_CURVE
   (void)cosv;
 #endif
 
@@ -440,7 +495,28 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
     tc = tc < 0.0f ? 0.0f : (tc > 1.0f ? 1.0f : tc);
     clh_col_word col;
     clh_col_init(rc, &s, tc, &col);
-#if CLH_RASTER_OPACITY
+#if CLH_RASTER_CURVE
+    /* the centre line: the pixel holding the line at the column's centre, when the centre
+     * belongs to this segment (consecutive segments never share a column's centre) */
+    (void)j0;
+    (void)j1;
+    {
+      const float ms = (float)i + 0.5f;
+      const float nl = s.na + (ms - s.ma) * slope;
+      const clh_i32 j = clh_floor_i(nl);
+      if (ms >= s.ma && ms < mb && j >= 0 && j < minor_max) {
+        const clh_u64 idx =
+            xmajor ? (clh_u64)j * width + (clh_u64)i : (clh_u64)i * width + (clh_u64)j;
+        if (col.z < scene_depth[idx]) {
+          float z;
+          clh_gbuf_write(gbuf, counts, (clh_u64)CLH_LAYER_CURVE * rc->plane + idx,
+                         clh_segment_word(rc, &s, col.t, &z));
+          clh_gbuf_write(gbuf, counts, (clh_u64)CLH_LAYER_CURVE_ID * rc->plane + idx,
+                         clh_col_id(rc, &col));
+        }
+      }
+    }
+#elif CLH_RASTER_OPACITY
     /* each texel gets the strand's area in it: its width times the length of the segment's
      * path through the texel (this column's share of the segment, split between the rows it
      * crosses), so a texel two segments share, or a segment shorter than a texel, counts the

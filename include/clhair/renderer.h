@@ -22,9 +22,12 @@ namespace clhair {
 struct RenderOptions {
   int lod = -1;  // -1: as each groom says; 0: off; 1: on
   float lodLambdaScale = 1.0f;
-  int msaa = 1;        // samples per pixel: 1, 2, 4 or 8 (software MSAA, averaged)
-  int filter = -1;     // reconstruction filter with MSAA 1: -1 as the scene says, 0 off, 1 on
-  int shadowLod = -1;  // LOD in the lights' passes: -1 on unless lod == 0, 0 off, 1 on
+  int msaa = 1;     // samples per pixel: 1, 2, 4 or 8 (software MSAA, averaged)
+  int filter = -1;  // reconstruction filter with MSAA 1: -1 as the scene says, 0 off, 1 on
+  // which filter: -1 as the scene says (FilterParams::method), 0 Lipp, 1 Huang (linking,
+  // alpha fix, anisotropic filter)
+  int filterMethod = -1;
+  int shadowLod = -1;            // LOD in the lights' passes: -1 on unless lod == 0, 0 off, 1 on
   int shadowLodCorrection = -1;  // Lipp §3.2.3 depth shift: -1 as the scene says, 0 off, 1 on
   DispatchMode dispatch = DispatchMode::Auto;
   bool rasterStats = false;  // count pixel writes and atomics (slower; benchmark)
@@ -47,6 +50,10 @@ struct RenderOptions {
   // Segment budget (Scene::segmentBudget): -1 as the scene says, 0 none, > 0 at most this
   // many segments per frame over all grooms drawn with LOD.
   std::int64_t segmentBudget = -1;
+  // The strand pass also writes the identity layer next to the centre layer (MSAA 1 only;
+  // gpu_types.h), and with aovs the frame gets the strand layer (clhair/aov.h). Huang's
+  // filter writes it whatever this says.
+  bool strandIds = false;
   // With aovs: the still scene of the previous frame (sceneAtFrame(scene, frame - 1)), whose
   // camera, groom transforms and cages or per-frame strands (grooms matched by index) give the
   // motion layer; null: the motion is zero.
@@ -101,6 +108,11 @@ struct FrameStats {
   std::uint64_t pixelWrites = 0;     // G-buffer writes that passed coverage and depth tests
   std::uint64_t atomicsIssued = 0;   // atom_min calls
   std::uint64_t atomicsSkipped = 0;  // writes the plain load showed could not lower the word
+  // hair linking (FilterParams::Method::Huang), summed over the grooms:
+  std::uint64_t linkSelecting = 0;   // empty pixels that chose a source strand
+  std::uint64_t linkedPixels = 0;    // pixels filled by linking
+  std::uint64_t linkStrands = 0;     // strands in the alpha fix's hash table
+  std::uint64_t linkTurnedAway = 0;  // pixels whose strand found the hash table full
 };
 
 // Layers for compositing (RenderOptions::aovs); each empty without them. Per pixel, row-major.
@@ -109,6 +121,8 @@ struct FrameAovs {
   std::vector<float> hairAlpha;  // the grooms' coverage, 1 - prod(1 - a_k)
   std::vector<float> tangent;    // 3 per pixel: world unit tangent of the nearest centre word
   std::vector<float> motion;     // 2 per pixel: pixels to the previous frame, x right, y up
+  // with RenderOptions::strandIds, 3 per pixel: groom index, strand index, u (-1: none)
+  std::vector<float> strand;
 };
 
 struct Frame {

@@ -115,6 +115,23 @@ struct FilterParams {
   float strip = 0.5f;  // alpha strip: neighbours within this many pixels of the tangent line
   bool promote =
       true;  // promote conservative-only pixels (Lipp §3.3.2); off: only center hits are drawn
+
+  // Which filter runs: "lipp" (the reconstruction filter above) or "huang" (hair linking,
+  // alpha fix and the orientation-aware anisotropic filter of Huang et al. 2025, §4;
+  // kernels/link.cl), whose parts can be switched off one by one.
+  enum class Method { Lipp, Huang };
+  Method method = Method::Lipp;
+  bool link = true;            // Huang §4.1: fill empty pixels along source strands
+  float linkThreshold = 0.5f;  // epsilon_align of Eq. 5
+  float linkSigma = 1.5f;      // sigma of Eq. 4's proximity term, pixels
+  int linkMaxSteps = 64;       // pixels one propagation may fill
+  bool alphaFix = true;        // Huang §4.2: alpha = M / (M + N) per strand
+  int linkTable = 0;           // hash-table entries (0: twice the groom's strands, see link_stage)
+  bool aniso = true;           // Huang §4.3: the orientation-aware filter
+  float sigmaD = 0.1f;         // Eq. 11, distance in units of the major axis r
+  float sigmaTheta = 0.1f;     // Eq. 11, radians
+  float sigmaCAniso = 0.9f;    // Eq. 11, colour
+  float kernelK = 0.01f;       // Eq. 13: r = k sqrt(Bx By), clamped to 1..8 pixels
 };
 
 // Exactly one of `mesh` and `strands` is set.

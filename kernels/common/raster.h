@@ -36,6 +36,14 @@ static inline void clh_raster_setup(clh_raster_ctx* rcp, __global const ClhGroom
   *rcp = rc;
 }
 
+#if CLH_RASTER_CURVE
+/* The curve pass draws only the strands hair linking chose as sources (filter.cl). */
+static inline bool clh_raster_curve_wanted(const clh_raster_ctx* rc, uint strand) {
+  const uint word = strand >> 5;
+  return word < rc->link_words && ((rc->link_flags_g[word] >> (strand & 31u)) & 1u) != 0u;
+}
+#endif
+
 #if CLH_RASTER_OPACITY
 /* The deep-opacity pass of one light (-DCLH_RASTER_OPACITY=1): its texels in the shared
  * maps and its layer bounds (ClhShadowGpu), and the nearest hair depth z0 per texel. */
@@ -80,6 +88,7 @@ static inline void clh_raster_lane(clh_raster_ctx* rc, __global const float* sce
     v.tz = o[2];
     v.ao = t.w;
     v.w = p.w;
+    v.u = (rc->u_base + (float)(first + i)) * rc->u_scale;
     clh_raster_project(rc, &v);
     if (i > 0u) clh_raster_segment(rc, scene_depth_g, gbuf_g, counts, prev, v);
     prev = v;

@@ -1,0 +1,135 @@
+// link_stage.cpp — see link_stage.h.
+#include "stages/link_stage.h"
+
+#include <algorithm>
+#include <vector>
+
+#include "cl/buffers.h"
+
+namespace clhair {
+
+LinkStage::LinkStage(Device::Impl& dev)
+    : dev_(dev),
+      select_(dev.kernel("link.cl", "link_select")),
+      propagate_(dev.kernel("link.cl", "link_propagate")),
+      merge_(dev.kernel("link.cl", "link_merge")),
+      alpha_(dev.kernel("link.cl", "link_alpha")),
+      aniso_(dev.kernel("link.cl", "link_aniso")),
+      params_(makeBuffer<gpu::ClhLinkGpu>(dev, "hair linking parameters", 1)),
+      counters_(makeBuffer<cl_uint>(dev, "hair linking counters", CLH_LINK_COUNTERS)) {}
+
+namespace {
+std::uint64_t gbufferBytes(const LinkStage::Params& p) {
+  return std::uint64_t(p.target.pixels()) * std::uint64_t(p.layers) * sizeof(cl_ulong);
+}
+}  // namespace
+
+void LinkStage::select(const FilterParams& f, const Params& p, Profiler* profiler) {
+  const std::size_t pixels = p.target.pixels();
+  words_ = (p.strandIds + 31u) / 32u + 1u;
+  words_ += words_ & 1u;  // whole 64-bit words for the clear
+  const std::uint64_t wanted =
+      f.linkTable > 0 ? std::uint64_t(f.linkTable) : std::uint64_t(p.strandIds) * 2u + 16u;
+  tableSize_ = static_cast<std::uint32_t>(std::min<std::uint64_t>(wanted, 1u << 26));
+  ensureCapacity<cl_uint>(dev_, choice_, choiceCap_, "hair linking sources", pixels);
+  ensureCapacity<cl_uint>(dev_, flags_, flagsCap_, "hair linking strand bitmap", words_);
+  ensureCapacity<cl_uint>(dev_, table_, tableCap_, "alpha fix hash table",
+                          std::size_t(tableSize_) * 4u);
+  gpu::ClhLinkGpu g{};
+  g.align_threshold = f.linkThreshold;
+  g.sigma_px = f.linkSigma;
+  g.max_steps = static_cast<gpu::clh_u32>(std::max(f.link ? f.linkMaxSteps : 0, 0));
+  g.table_size = tableSize_;
+  g.alpha_fix = f.alphaFix ? 1u : 0u;
+  g.aniso = f.aniso ? 1u : 0u;
+  g.sigma_d = f.sigmaD;
+  g.sigma_theta = f.sigmaTheta;
+  g.sigma_c = f.sigmaCAniso;
+  g.kernel_k = f.kernelK;
+  g.strand_words = words_;
+  upload(dev_, params_, &g, 1);
+  const cl_uint init[CLH_LINK_COUNTERS] = {0, 0, 0, 0, 0xFFFFFFFFu, 0xFFFFFFFFu, 0, 0};
+  upload(dev_, counters_, init, CLH_LINK_COUNTERS);
+  std::vector<cl_uint> zeros(std::max<std::size_t>(words_, std::size_t(tableSize_) * 4u), 0u);
+  upload(dev_, flags_, zeros.data(), words_);
+  upload(dev_, table_, zeros.data(), std::size_t(tableSize_) * 4u);
+  if (!f.link) return;
+  if (p.layers < int(CLH_LAYER_LINKED) + 1)
+    throw Error("hair linking needs " + std::to_string(CLH_LAYER_LINKED + 1) +
+                " G-buffer layers, not " + std::to_string(p.layers));
+  KernelArgs(select_, "link")
+      .buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
+      .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
+      .buffer("link parameters", params_, sizeof(gpu::ClhLinkGpu))
+      .buffer("G-buffer", *p.gbuffer, gbufferBytes(p))
+      .buffer("sources", choice_, pixels * sizeof(cl_uint))
+      .buffer("source strands", flags_, std::uint64_t(words_) * sizeof(cl_uint))
+      .buffer("link counters", counters_, CLH_LINK_COUNTERS * sizeof(cl_uint));
+  dispatch(dev_, select_, "link", cl::NDRange(p.target.width, p.target.height), cl::NDRange(8, 8),
+           profiler);
+}
+
+void LinkStage::propagate(const Params& p, Profiler* profiler) {
+  KernelArgs(propagate_, "link")
+      .buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
+      .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
+      .buffer("link parameters", params_, sizeof(gpu::ClhLinkGpu))
+      .buffer("G-buffer", *p.gbuffer, gbufferBytes(p))
+      .buffer("sources", choice_, p.target.pixels() * sizeof(cl_uint));
+  dispatch(dev_, propagate_, "link", cl::NDRange(p.target.width, p.target.height),
+           cl::NDRange(8, 8), profiler);
+}
+
+void LinkStage::merge(const Params& p, bool linking, Profiler* profiler) {
+  KernelArgs(merge_, "link")
+      .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
+      .buffer("link parameters", params_, sizeof(gpu::ClhLinkGpu))
+      .buffer("G-buffer", *p.gbuffer, gbufferBytes(p))
+      .buffer("source strands", flags_, std::uint64_t(words_) * sizeof(cl_uint))
+      .buffer("hash table", table_, std::uint64_t(tableSize_) * 4 * sizeof(cl_uint))
+      .buffer("link counters", counters_, CLH_LINK_COUNTERS * sizeof(cl_uint))
+      .value("linking", static_cast<cl_uint>(linking ? 1 : 0));
+  dispatch(dev_, merge_, "link", cl::NDRange(p.target.width, p.target.height), cl::NDRange(8, 8),
+           profiler);
+}
+
+cl::Buffer* LinkStage::finish(const Params& p, bool aniso, cl::Buffer& hair, cl::Buffer& out,
+                              Profiler* profiler) {
+  const std::uint64_t colourBytes = std::uint64_t(p.target.pixels()) * 4 * sizeof(float);
+  KernelArgs(alpha_, "filter")
+      .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
+      .buffer("link parameters", params_, sizeof(gpu::ClhLinkGpu))
+      .buffer("G-buffer", *p.gbuffer, gbufferBytes(p))
+      .buffer("source strands", flags_, std::uint64_t(words_) * sizeof(cl_uint))
+      .buffer("hash table", table_, std::uint64_t(tableSize_) * 4 * sizeof(cl_uint))
+      .buffer("hair colour", hair, colourBytes)
+      .buffer("alpha-fixed colour", out, colourBytes);
+  dispatch(dev_, alpha_, "filter", cl::NDRange(p.target.width, p.target.height), cl::NDRange(8, 8),
+           profiler);
+  if (!aniso) return &out;
+  KernelArgs(aniso_, "filter")
+      .buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
+      .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
+      .buffer("link parameters", params_, sizeof(gpu::ClhLinkGpu))
+      .buffer("G-buffer", *p.gbuffer, gbufferBytes(p))
+      .buffer("link counters", counters_, CLH_LINK_COUNTERS * sizeof(cl_uint))
+      .buffer("alpha-fixed colour", out, colourBytes)
+      .buffer("filtered colour", hair, colourBytes);
+  dispatch(dev_, aniso_, "filter", cl::NDRange(p.target.width, p.target.height), cl::NDRange(8, 8),
+           profiler);
+  return &hair;
+}
+
+LinkCounters LinkStage::counters() {
+  cl_uint c[CLH_LINK_COUNTERS];
+  readBack(dev_, "hair linking counters", counters_, c, CLH_LINK_COUNTERS);
+  LinkCounters r;
+  r.selecting = c[0];
+  r.filled = c[1];
+  r.strands = c[2];
+  r.turnedAway = c[3];
+  for (int k = 0; k < 4; ++k) r.bounds[k] = c[4 + k];
+  return r;
+}
+
+}  // namespace clhair

@@ -8,7 +8,8 @@
 //   scaling   strands 16k -> 256k at a fixed view; resolution 720p -> 4K at a fixed groom.
 //   atomics   64-bit atom_min throughput with and without the load skip, and each
 //             table1 MSAA-1 raster time as a multiple of that floor.
-//   quality   Lipp Fig. 7: SWR1, SWR1+F, SWR1+F+L, MSAA 2/4/8 at close/mid/far, FLIP and
+//   quality   Lipp Fig. 7: SWR1, SWR1+F, SWR1+F+L (LOD strands with the single-fibre BSDF,
+//             and with Huang's aggregated one), MSAA 2/4/8 at close/mid/far, FLIP and
 //             PSNR against the reference (--ref embree: the strands traced as round curves,
 //             the default; raster: jittered true-width strand passes), with frame times;
 //             at mid also SWR1 against the other reference and the two references' times.
@@ -478,13 +479,17 @@ int main(int argc, char** argv) {
       struct Config {
         const char* name;
         int msaa, filter, lod;
-        bool promote;  // the filter's strand connection (Lipp §3.3.2)
+        bool promote;          // the filter's strand connection (Lipp §3.3.2)
+        int lodAggregate = 0;  // LOD strands: single fibre or aggregated BCSDF (Huang 2024)
       };
-      const Config configs[] = {
-          {"SWR1", 1, 0, 0, true},       {"SWR1+F", 1, 1, 0, true},
-          {"SWR1+F+L", 1, 1, 1, true},   {"SWR1+F, no promotion", 1, 1, 0, false},
-          {"SWR MSAA 2", 2, 0, 0, true}, {"SWR MSAA 4", 4, 0, 0, true},
-          {"SWR MSAA 8", 8, 0, 0, true}};
+      const Config configs[] = {{"SWR1", 1, 0, 0, true},
+                                {"SWR1+F", 1, 1, 0, true},
+                                {"SWR1+F+L", 1, 1, 1, true},
+                                {"SWR1+F+L, aggregated LOD BSDF", 1, 1, 1, true, 1},
+                                {"SWR1+F, no promotion", 1, 1, 0, false},
+                                {"SWR MSAA 2", 2, 0, 0, true},
+                                {"SWR MSAA 4", 4, 0, 0, true},
+                                {"SWR MSAA 8", 8, 0, 0, true}};
       std::map<std::string, std::vector<std::string>> cells;
       json q;
       std::ostringstream refMd;  // the two references at mid
@@ -529,6 +534,7 @@ int main(int argc, char** argv) {
           o.msaa = c.msaa;
           o.filter = c.filter;
           o.lod = c.lod;
+          o.lodAggregate = c.lodAggregate;
           Scene sc = s;
           sc.filter.promote = c.promote;
           for (GroomInstance& g : sc.grooms) g.filter.promote = c.promote;

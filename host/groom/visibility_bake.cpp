@@ -299,6 +299,28 @@ VisibilityBake bakeVisibility(const StrandSet& s, float fibreRadius,
   work();
   for (std::thread& t : pool) t.join();
   es.check("tracing");
+  // A G-buffer word's w is interpolated along its segment, so a strand with fewer points
+  // than w cells reaches cells no sample point fell into: fill each (u, v) column's gaps by
+  // linear interpolation between its baked cells along w (nearest beyond its ends).
+  std::vector<char> baked(CLH_VIS_CELLS, 0);
+  for (std::uint32_t c : cells) baked[c] = 1;
+  for (std::uint32_t col = 0; col < CLH_VIS_AXIS * CLH_VIS_AXIS; ++col) {
+    const std::uint32_t base = col * CLH_VIS_AXIS;
+    int prev = -1;
+    for (int w = 0; w <= static_cast<int>(CLH_VIS_AXIS); ++w) {
+      const bool end = w == static_cast<int>(CLH_VIS_AXIS);
+      if (!end && !baked[base + w]) continue;
+      const int from = prev < 0 ? 0 : prev + 1, to = end ? static_cast<int>(CLH_VIS_AXIS) : w;
+      for (int g = from; g < to && (prev >= 0 || !end); ++g) {
+        const float* a = &bake.sh[std::size_t(base + (prev >= 0 ? prev : w)) * CLH_VIS_COEFFS];
+        const float* b = &bake.sh[std::size_t(base + (end ? prev : w)) * CLH_VIS_COEFFS];
+        const float t = prev >= 0 && !end ? static_cast<float>(g - prev) / (w - prev) : 0.0f;
+        for (std::uint32_t q = 0; q < CLH_VIS_COEFFS; ++q)
+          bake.sh[std::size_t(base + g) * CLH_VIS_COEFFS + q] = a[q] + (b[q] - a[q]) * t;
+      }
+      if (!end) prev = w;
+    }
+  }
   if (stats) {
     stats->cells = cells.size();
     stats->points = pointsTraced;

@@ -13,9 +13,11 @@
 // HAIR_MAX_SCATTER_EVENTS more (the head is opaque), a ray's count is capped at
 // kMaxEventsPerRay, and a ray that meets nothing counts -HAIR_MAX_SCATTER_EVENTS (Kulikov's
 // miss bias). The counts are projected onto L1 SH and averaged over the cell's points.
-// Output: a VisibilityBake (include/clhair/visibility.h); cells no point reached stay zero
-// (visibility 1). Deterministic for a given input and options (per-point seeds; the
-// threads only split the points).
+// Output: a VisibilityBake (include/clhair/visibility.h). A word's w is interpolated along
+// its segment, so cells between a strand's points are filled by linear interpolation along
+// w between the baked cells of their (u, v) column (the nearest one beyond its ends);
+// columns no point reached stay zero (visibility 1). Deterministic for a given input and options
+// (per-point seeds; the threads only split the points).
 #pragma once
 
 #include <cstdint>

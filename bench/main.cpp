@@ -8,7 +8,8 @@
 //   scaling   strands 16k -> 256k at a fixed view; resolution 720p -> 4K at a fixed groom.
 //   atomics   64-bit atom_min throughput with and without the load skip, and each
 //             table1 MSAA-1 raster time as a multiple of that floor.
-//   quality   Lipp Fig. 7: SWR1, SWR1+F, SWR1+F+L, MSAA 2/4/8 at close/mid/far, FLIP and
+//   quality   Lipp Fig. 7: SWR1, SWR1+F, SWR1+F+L (LOD strands with the single-fibre BSDF,
+//             and with Huang's aggregated one), MSAA 2/4/8 at close/mid/far, FLIP and
 //             PSNR against the reference (--ref embree: the strands traced as round curves,
 //             the default; raster: jittered true-width strand passes), with frame times;
 //             at mid also SWR1 against the other reference and the two references' times.
@@ -494,11 +495,13 @@ int main(int argc, char** argv) {
         const char* name;
         int msaa, filter, lod;
         bool promote;  // the filter's strand connection (Lipp §3.3.2)
-        int huang;     // 0: Lipp's filter; else Huang's with 1 linking, 2 + alpha fix, 3 + filter
+        int huang;     // 0: Lipp's filter; else Huang's: 1 linking, 2 + alpha fix, 3 + filter
+        int lodAggregate = 0;  // LOD strands: single fibre or aggregated BCSDF (Huang 2024)
       };
       const Config configs[] = {{"SWR1", 1, 0, 0, true, 0},
                                 {"SWR1+F", 1, 1, 0, true, 0},
                                 {"SWR1+F+L", 1, 1, 1, true, 0},
+                                {"SWR1+F+L, aggregated LOD BSDF", 1, 1, 1, true, 0, 1},
                                 {"SWR1+F, no promotion", 1, 1, 0, false, 0},
                                 {"SWR1+H linking", 1, 1, 0, true, 1},
                                 {"SWR1+H linking+alpha fix", 1, 1, 0, true, 2},
@@ -561,6 +564,7 @@ int main(int argc, char** argv) {
             o.msaa = c.msaa;
             o.filter = c.filter;
             o.lod = c.lod;
+            o.lodAggregate = c.lodAggregate;
             Scene sc = s;
             std::vector<FilterParams*> fps{&sc.filter};
             for (GroomInstance& gi : sc.grooms) fps.push_back(&gi.filter);

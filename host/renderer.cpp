@@ -12,8 +12,10 @@
 #include <optional>
 
 #include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
 
 #include "cl/buffers.h"
+#include "clhair/visibility_sh.h"
 #include "frame/aov_builder.h"
 #include "frame/view_math.h"
 
@@ -88,6 +90,46 @@ std::vector<Frame> Renderer::renderViews(const Scene& s, const std::vector<Camer
     return {impl_->frame(one, options, nullptr)};
   }
   return impl_->views(s, cameras, options);
+}
+
+void Renderer::Impl::bindVisibility(const GroomInstance& gi, bool enabled, bool lodAggregate,
+                                    ShadeStage::Params& sp) {
+  gpu::ClhVisibilityGpu v{};
+  v.lod_aggregate = lodAggregate ? 1u : 0u;
+  const cl::Buffer* table = nullptr;
+  if (enabled && gi.visibility) {
+    auto it = visibilityTables.find(gi.visibility.get());
+    if (it == visibilityTables.end()) {
+      const std::vector<float>& sh = gi.visibility->sh;
+      if (sh.size() != std::size_t(CLH_VIS_CELLS) * CLH_VIS_COEFFS)
+        throw Error("groom \"" + gi.name + "\": its baked visibility holds " +
+                    std::to_string(sh.size()) + " coefficients, need " +
+                    std::to_string(std::size_t(CLH_VIS_CELLS) * CLH_VIS_COEFFS));
+      cl::Buffer b = makeBuffer<cl_float4>(dev, "baked visibility", CLH_VIS_CELLS);
+      upload(dev, b, reinterpret_cast<const cl_float4*>(sh.data()), CLH_VIS_CELLS);
+      it = visibilityTables.emplace(gi.visibility.get(), std::make_pair(gi.visibility, b)).first;
+    }
+    table = &it->second.second;
+    const glm::mat4 inv = glm::inverse(gi.transform);
+    for (int row = 0; row < 3; ++row)
+      for (int col = 0; col < 4; ++col) v.world_to_obj[4 * row + col] = inv[col][row];
+    v.absorption = gi.visibilityAbsorption;
+    v.cells = CLH_VIS_CELLS;
+    v.enabled = 1;
+  }
+  if (!table) {
+    if (!visibilityNone()) {
+      const cl_float4 zero{};
+      visibilityNone = makeBuffer<cl_float4>(dev, "no baked visibility", 1, &zero);
+    }
+    table = &visibilityNone;
+  }
+  if (!visibilityParams())
+    visibilityParams = makeBuffer<gpu::ClhVisibilityGpu>(dev, "baked visibility record", 1);
+  upload(dev, visibilityParams, &v, 1);
+  sp.visibility = &visibilityParams;
+  sp.visibilityTable = table;
+  sp.visibilityCells = table == &visibilityNone ? 1u : static_cast<std::uint32_t>(CLH_VIS_CELLS);
 }
 
 Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBufferSource* source) {
@@ -270,6 +312,7 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
     sp.gbuffer = &t.gbuffer;
     sp.hair = &t.hair;
     sp.msaa = options.msaa;
+    r.bindVisibility(*d.instance, options.bakedVisibility != 0, options.lodAggregate != 0, sp);
     r.shade.enqueue(sp, &r.profiler);
     cl::Buffer* result = &t.hair;
     if (huang) {
@@ -508,6 +551,7 @@ std::vector<Frame> Renderer::Impl::views(const Scene& s, const std::vector<Camer
       sp.gbuffer = &t.gbuffer;
       sp.hair = &t.hair;
       sp.msaa = options.msaa;
+      r.bindVisibility(*d.instance, options.bakedVisibility != 0, options.lodAggregate != 0, sp);
       r.shade.enqueue(sp, &r.profiler);
       const FilterParams& fp = d.instance->hasFilter ? d.instance->filter : s.filter;
       const bool filtered =

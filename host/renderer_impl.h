@@ -58,6 +58,11 @@ struct Renderer::Impl {
   ShadowPass shadows;
   FrameLod frameLod;
   Profiler profiler;
+  // Baked visibility tables on the device, by bake (kept alive with it), the per-draw
+  // ClhVisibilityGpu and a one-cell table for grooms without a bake.
+  std::map<const VisibilityBake*, std::pair<std::shared_ptr<const VisibilityBake>, cl::Buffer>>
+      visibilityTables;
+  cl::Buffer visibilityParams, visibilityNone;
 
   explicit Impl(Device d)
       : device(std::move(d)),
@@ -86,6 +91,13 @@ struct Renderer::Impl {
     if (m != DispatchMode::Auto) return m;
     return dev.info.isGpu ? DispatchMode::OverLaunch : DispatchMode::ReadBack;
   }
+
+  // The shading pass's baked-visibility inputs for groom instance `gi`: its table (uploaded
+  // on first use) and its ClhVisibilityGpu, or a disabled record when it has no bake or
+  // `enabled` is false; the record also says whether LOD strands take the aggregated BCSDF.
+  // It is rewritten per draw (the queue is in order).
+  void bindVisibility(const GroomInstance& gi, bool enabled, bool lodAggregate,
+                      ShadeStage::Params& sp);
 
   // One frame (Renderer::render); with `source`, its centre layers replace the strand pass
   // (MSAA 1 only).

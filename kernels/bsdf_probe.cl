@@ -11,9 +11,19 @@
  *    4 (clh_hair_bsdf: the full one-call f, clh_hair_eval_cos luminance)
  *    5 (env spec_weight, ggx_alpha)
  * Every f is without the cosine. Work-items past `count` do nothing.
+ *
+ * bsdf_probe_agg: the aggregated BCSDF (Huang 2024) on the same records, with the cluster's
+ * fibre count k in slot 7 and its widening w in slot 11. Output 2 float4 per record:
+ *    0 (clh_hair_agg_eval_cos rgb, luminance)   1 (clh_hair_eval_cos rgb, luminance)
+ * bsdf_probe_visibility: the baked-visibility lookup (kernels/common/visibility.h); record i
+ * is 8 floats: SH c0..c3, light direction xyz (world), unused; output float4 per record:
+ *    (transmittance, clamped events, unclamped SH value in the object-space direction, 0)
  */
+/* gpu_types.h first: its FP_CONTRACT OFF then governs the BSDF code as in shade.cl */
+#include "clhair/gpu_types.h"
 #include "clhair/fast_math.h"
 #include "hair_bsdf.h"
+#include "visibility.h"
 
 #define BSDF_PROBE_IN 20
 #define BSDF_PROBE_OUT 6
@@ -59,4 +69,46 @@ __kernel void bsdf_probe_sigma(__global const float* rec_g, uint count, __global
   out_g[2 * (size_t)i] = (float4)(clh_v3_f3(clh_hair_sigma_a_from_melanin(r[0], r[1])), 0.0f);
   out_g[2 * (size_t)i + 1] =
       (float4)(clh_v3_f3(clh_hair_sigma_a_from_color(clh_v3_make(r[4], r[5], r[6]), r[2])), 0.0f);
+}
+
+__kernel void bsdf_probe_agg(__global const float* rec_g, uint count, __global float4* out_g) {
+  uint i = (uint)get_global_id(0);
+  if (i >= count) return;
+  __global const float* r = rec_g + (size_t)i * BSDF_PROBE_IN;
+  clh_hair_material m;
+  m.sigma_a = clh_v3_make(r[0], r[1], r[2]);
+  m.beta_m = r[3];
+  m.beta_n = r[4];
+  m.alpha = r[5];
+  m.eta = r[6];
+  clh_v3 t = clh_v3_make(r[8], r[9], r[10]);
+  clh_v3 wo = clh_v3_make(r[12], r[13], r[14]);
+  clh_v3 wi = clh_v3_make(r[16], r[17], r[18]);
+  clh_hair_view hv;
+  clh_hair_prepare_to(&hv, &m, t, wo);
+  clh_hair_agg ag;
+  clh_hair_agg_prepare_to(&ag, &hv, r[7], r[11]);
+  const clh_v3 lum = clh_v3_make(0.2126f, 0.7152f, 0.0722f);
+  const clh_v3 fa = clh_hair_agg_eval_cos(&hv, &ag, wi);
+  const clh_v3 fs = clh_hair_eval_cos(&hv, wi);
+  out_g[2 * (size_t)i] = (float4)(clh_v3_f3(fa), clh_v3_dot(fa, lum));
+  out_g[2 * (size_t)i + 1] = (float4)(clh_v3_f3(fs), clh_v3_dot(fs, lum));
+}
+
+__kernel void bsdf_probe_visibility(__global const ClhVisibilityGpu* vis_g,
+                                    __global const float* rec_g, uint count,
+                                    __global float4* out_g) {
+  uint i = (uint)get_global_id(0);
+  if (i >= count) return;
+  __global const float* r = rec_g + (size_t)i * 8;
+  const float4 sh = (float4)(r[0], r[1], r[2], r[3]);
+  const clh_v3 l = clh_v3_make(r[4], r[5], r[6]);
+  __global const float* m = vis_g->world_to_obj;
+  const float x = m[0] * l.x + m[1] * l.y + m[2] * l.z;
+  const float y = m[4] * l.x + m[5] * l.y + m[6] * l.z;
+  const float z = m[8] * l.x + m[9] * l.y + m[10] * l.z;
+  const float inv = 1.0f / sqrt(fmax(x * x + y * y + z * z, 1e-20f));
+  out_g[i] = (float4)(clh_vis_transmittance(vis_g, sh, l),
+                      clh_vis_events(sh.x, sh.y, sh.z, sh.w, x * inv, y * inv, z * inv),
+                      clh_vis_sh_eval(sh.x, sh.y, sh.z, sh.w, x * inv, y * inv, z * inv), 0.0f);
 }

@@ -12,6 +12,12 @@
  * with the GGX roughness and weight that stand for R + TRT, and its SH irradiance at
  * that normal (and at its opposite for TT) for the diffuse part; without an environment
  * the constant ambient lights the same energies. Probe light is darkened by the baked AO.
+ * Lights without a deep opacity map are dimmed by the groom's baked spherical visibility
+ * when it has one (Kulikov 2025; clhair/visibility_sh.h): exp(-absorption * events), events
+ * the clamped L1 SH of the word's (u, v, w) cell toward the light, scaled by the share of
+ * fibres LOD kept. Where LOD drew a strand for a cluster of 1/beta fibres, the lights are
+ * shaded with the aggregated BCSDF of Huang et al. 2024 (hair_bsdf.h) instead of the
+ * single-fibre one; probe lighting keeps the single fibre's energies.
  * With CLH_MSAA samples per pixel every sample layer is shaded and averaged (the MSAA
  * resolve). Output: premultiplied RGBA, alpha = fraction of samples hit.
  *
@@ -25,6 +31,7 @@
 #include "shadow.h"
 #include "env_lookup.h"
 #include "clhair/fast_math.h"
+#include "visibility.h"
 #include "hair_bsdf.h"
 
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
@@ -42,6 +49,11 @@ typedef struct {
   __global const float4* env_texels;
   __global const ClhEnvLevel* env_levels;
   __global const float* env_sh;
+  __global const ClhVisibilityGpu* vis; /* baked visibility of this groom instance */
+  __global const float4* vis_sh;        /* its SH table, vis->cells cells */
+  float vis_scale; /* share of the full groom's fibres this LOD pass keeps (ghost correction) */
+  float cluster_k; /* fibres a drawn strand stands for (1: full detail, single-fibre BSDF) */
+  float cluster_w; /* how many times a fibre's width it is drawn */
 } shade_inputs;
 
 /* The fibre material at styling coordinates (u, v, w). */
@@ -96,6 +108,19 @@ static inline clh_v3 shade_word(__global const ClhGroomGpu* groom_g,
   }
   clh_hair_view hv;
   clh_hair_prepare_to(&hv, &mat, T, V);
+  /* a LOD strand standing for a cluster: the aggregated BCSDF (Huang 2024, hair_bsdf.h) */
+  const bool agg = in->cluster_k > 1.0f;
+  clh_hair_agg ag;
+  if (agg) clh_hair_agg_prepare_to(&ag, &hv, in->cluster_k, in->cluster_w);
+
+  /* baked visibility: the cell of this word's styling codes (a file-colour groom's u, v
+   * hold colour, so it has none); scaled down where LOD removed fibres */
+  const bool use_vis = in->vis->enabled != 0u && !file_color;
+  float4 vis_sh = (float4)(0.0f);
+  if (use_vis) {
+    const uint cell = clh_vis_cell(clh_gbuf_u(word), clh_gbuf_v(word), clh_gbuf_w(word));
+    if (cell < in->vis->cells) vis_sh = in->vis_sh[cell] * in->vis_scale;
+  }
 
   clh_v3 radiance = clh_v3_splat(0.0f);
   const uint nl = min(scene_g->light_count, (uint)CLH_MAX_LIGHTS);
@@ -117,9 +142,13 @@ static inline clh_v3 shade_word(__global const ClhGroomGpu* groom_g,
     if (slot >= 0 && slot < CLH_MAX_SHADOWS)
       falloff *= clh_shadow_transmittance_v3(in->params + slot, in->opaque, in->hair, in->opacity,
                                              pos, in->lod_shift);
+    else if (use_vis)
+      falloff *= clh_vis_transmittance(in->vis, vis_sh, L);
     if (falloff > 0.0f)
       radiance =
-          clh_v3_add(radiance, clh_v3_scale(clh_v3_mul(lc, clh_hair_eval_cos(&hv, L)), falloff));
+          clh_v3_add(radiance, clh_v3_scale(clh_v3_mul(lc, agg ? clh_hair_agg_eval_cos(&hv, &ag, L)
+                                                               : clh_hair_eval_cos(&hv, L)),
+                                            falloff));
   }
 
   /* probe lighting, darkened by the baked AO */
@@ -148,7 +177,8 @@ __kernel void shade_deferred(
     __global const ClhShadowGpu* shadows_g, __global const float* shadow_opaque_g,
     __global const float* shadow_hair_g, __global const uint* shadow_opacity_g,
     __global const float4* env_texels_g, __global const ClhEnvLevel* env_levels_g,
-    __global const float* env_sh_g, __global const ulong* gbuf_g, __global const uint* offsets_g,
+    __global const float* env_sh_g, __global const ClhVisibilityGpu* vis_g,
+    __global const float4* vis_sh_g, __global const ulong* gbuf_g, __global const uint* offsets_g,
     __global float4* hair_g) {
   const uint x = (uint)get_global_id(0), y = (uint)get_global_id(1);
   const uint width = view_g->width, height = view_g->height;
@@ -163,22 +193,34 @@ __kernel void shade_deferred(
   in.env_texels = env_texels_g;
   in.env_levels = env_levels_g;
   in.env_sh = env_sh_g;
+  in.vis = vis_g;
+  in.vis_sh = vis_sh_g;
 
   /* Lipp Eq. 8 with beta the share of the hair's coverage this frame kept: the fraction
    * of the visible bundles' strands the LOD pass drew, times the widening that
    * compensated it (N / N_LOD, bounded by the widest hit band) at this pixel's depth */
   in.lod_shift = 0.0f;
+  in.vis_scale = 1.0f;
+  in.cluster_k = 1.0f;
+  in.cluster_w = 1.0f;
   const uint nb = groom_g->bundle_count;
   const float drawn = nb > 0u ? (float)offsets_g[clh_lod_drawn_total_at(nb)] : 0.0f;
   const float visible = nb > 0u ? (float)offsets_g[clh_lod_visible_total_at(nb)] : 0.0f;
   const float beta = visible > 0.0f ? drawn / visible : 1.0f;
   const ulong w0 = gbuf_g[idx];
-  if (groom_g->shadow_lod_correction != 0u && beta > 0.0f && beta < 1.0f && w0 != CLH_GBUF_EMPTY) {
+  if (beta > 0.0f && beta < 1.0f && w0 != CLH_GBUF_EMPTY) {
     const float z = clh_depth_decode(clh_gbuf_depth(w0), groom_g->depth_near, groom_g->depth_far);
     const float width_px = fmax(view_g->fy * groom_g->strand_width / z, groom_g->hit_diameter_px);
     const float widen = fmin(1.0f / beta, CLH_MAX_HIT_DIAMETER / fmax(width_px, 1e-6f));
     const float kept = fmin(beta * fmax(widen, 1.0f), 1.0f);
-    in.lod_shift = -0.693147181f * clh_fast_log2(kept);
+    if (groom_g->shadow_lod_correction != 0u) in.lod_shift = -0.693147181f * clh_fast_log2(kept);
+    /* the bake counted every fibre; the fibres this pass left out and its widening did not
+     * make up for no longer scatter (Kulikov's "ghosts"): fewer events in proportion */
+    in.vis_scale = kept;
+    if (vis_g->lod_aggregate != 0u) {
+      in.cluster_k = 1.0f / beta;
+      in.cluster_w = fmax(widen, 1.0f);
+    }
   }
 
   float sr = 0.0f, sg = 0.0f, sb = 0.0f;

@@ -24,6 +24,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <functional>
 #include <iostream>
@@ -39,6 +40,7 @@
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
 #include "groom/presets.h"
+#include "groom/visibility_bake.h"
 #include "io/cyhair.h"
 #include "io/json_util.h"
 #include "io/tressfx.h"
@@ -103,7 +105,7 @@ struct RenderFlags {
   std::string referenceMethod;  // embree (also when --reference has no value) or raster
   std::string filter = "auto";
   bool widthGiven = false, heightGiven = false;
-  std::string camera, lod, dispatch = "auto", ao = "on";
+  std::string camera, lod, dispatch = "auto", ao = "on", visibility = "on", lodBsdf = "single";
   bool quiet = false;
   std::string frames;  // "N", "A-B" or "A-B:STEP"; empty: frame 1
   bool skipExisting = false;
@@ -329,6 +331,12 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
   ro.dispatch = parseDispatchMode(f.dispatch);
   if (f.ao != "on" && f.ao != "off") throw Error("--ao must be on or off, not \"" + f.ao + "\"");
   ro.ambientOcclusion = f.ao == "on" ? 1 : 0;
+  if (f.visibility != "on" && f.visibility != "off")
+    throw Error("--visibility must be on or off, not \"" + f.visibility + "\"");
+  ro.bakedVisibility = f.visibility == "on" ? 1 : 0;
+  if (f.lodBsdf != "aggregated" && f.lodBsdf != "single")
+    throw Error("--lod-bsdf must be aggregated or single, not \"" + f.lodBsdf + "\"");
+  ro.lodAggregate = f.lodBsdf == "aggregated" ? 1 : 0;
   ro.aovs = std::any_of(aovs.begin(), aovs.end(), [](Aov a) { return a != Aov::Rgba; });
   ro.strandIds = std::find(aovs.begin(), aovs.end(), Aov::Strand) != aovs.end();
   if (f.filter == "on") {
@@ -463,6 +471,48 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
         stderr, "clhair: %zu frames rendered, %zu skipped, %s\n", rendered, skipped,
         seconds(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count())
             .c_str());
+  return 0;
+}
+
+int cmdBakeVisibility(const DeviceOptions& opts, const std::string& scenePath,
+                      const std::string& out, int groom, int rays, int perCell) {
+  if (rays < 1 || rays > 4096) throw Error("--rays must be 1..4096, not " + std::to_string(rays));
+  if (perCell < 1 || perCell > 64)
+    throw Error("--points-per-cell must be 1..64, not " + std::to_string(perCell));
+  const Scene scene = loadScene(scenePath);
+  if (groom < 0 || static_cast<std::size_t>(groom) >= scene.grooms.size())
+    throw Error(scenePath + ": --groom " + std::to_string(groom) +
+                " does not exist, the scene has " + std::to_string(scene.grooms.size()) +
+                " groom(s)");
+  const GroomInstance& gi = scene.grooms[static_cast<std::size_t>(groom)];
+  if (gi.strands && gi.strands->appearance.useFileColor)
+    throw Error(scenePath + ": groom \"" + gi.name +
+                "\" is drawn with its file colours, whose G-buffer words carry no styling uv to "
+                "look a bake up by");
+  Device dev = Device::open(opts);
+  Renderer renderer(dev);
+  VisibilityBakeOptions o;
+  o.raysPerPoint = static_cast<std::uint32_t>(rays);
+  o.pointsPerCell = static_cast<std::uint32_t>(perCell);
+  VisibilityBakeStats st;
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::clock_t c0 = std::clock();
+  const VisibilityBake bake =
+      bakeGroomVisibility(renderer, scene, static_cast<std::size_t>(groom), o, &st);
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+  writeVisibility(bake, out);
+  std::printf(
+      "%s: groom \"%s\" (%u strands), %llu cells, %llu points, %llu rays, %.2f events "
+      "per ray that hit, %.1f s (%.1f s of CPU time over all threads)\n",
+      out.c_str(), gi.name.c_str(), bake.strands, static_cast<unsigned long long>(st.cells),
+      static_cast<unsigned long long>(st.points), static_cast<unsigned long long>(st.rays),
+      st.meanEvents, secs, cpu);
+  if (gi.strands && gi.strands->rootUv.empty())
+    std::fprintf(stderr,
+                 "clhair: warning: %s has no root uv: its strands' cells are keyed by a hash, so "
+                 "each cell averages unrelated strands and the bake varies only along them\n",
+                 gi.name.c_str());
   return 0;
 }
 
@@ -617,6 +667,11 @@ int main(int argc, char** argv) {
   render->add_option("--dispatch", rf.dispatch,
                      "strand dispatch sizing: auto, readback, overlaunch, persistent");
   render->add_option("--ao", rf.ao, "baked ambient occlusion: on (default) or off");
+  render->add_option("--visibility", rf.visibility,
+                     "grooms' baked visibility (scene key \"visibility\"): on (default) or off");
+  render->add_option("--lod-bsdf", rf.lodBsdf,
+                     "BSDF of strands LOD widened for a cluster: single (default, the "
+                     "single-fibre BSDF) or aggregated (Huang 2024)");
   render->add_option("--filter", rf.filter,
                      "reconstruction filter with MSAA 1: on, off, auto (as the scene says), lipp "
                      "or huang (on, with that method; docs/scene-format.md)");
@@ -658,6 +713,18 @@ int main(int argc, char** argv) {
   bakeCmd->add_option("-o,--output", bakeOut, "output hair-mesh file with per-vertex AO")
       ->required();
 
+  auto* visCmd = app.add_subcommand(
+      "bake-visibility",
+      "bake a groom's spherical visibility for self-shadowing (Embree; docs/scene-format.md)");
+  std::string visScene, visOut;
+  int visGroom = 0, visRays = 32, visPerCell = 4;
+  visCmd->add_option("scene", visScene, "scene file: the groom and its head")->required();
+  visCmd->add_option("-o,--output", visOut, "output baked visibility file (.clhvis)")->required();
+  visCmd->add_option("--groom", visGroom, "index of the groom in the scene (default 0)");
+  visCmd->add_option("--rays", visRays, "rays per sample point (default 32)");
+  visCmd->add_option("--points-per-cell", visPerCell,
+                     "sample points per (u, v, w) cell (default 4)");
+
   auto* exportCmd = app.add_subcommand("export-strands",
                                        "write the generated strands as a cyHair .hair file "
                                        "(USC-HairSalon when the name ends in .data, "
@@ -696,6 +763,8 @@ int main(int argc, char** argv) {
     if (*groom) return cmdGroom(preset, groomOut, strands);
     if (*exportCmd) return cmdExport(resolved, groomPath, hairOut);
     if (*bakeCmd) return cmdBakeAo(resolved, bakeIn, bakeOut);
+    if (*visCmd)
+      return cmdBakeVisibility(resolved, visScene, visOut, visGroom, visRays, visPerCell);
     if (*compare) return cmdCompare(compareA, compareB, cf);
   } catch (const Error& e) {
     std::fprintf(stderr, "clhair: error: %s\n", e.what());

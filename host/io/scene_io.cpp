@@ -210,13 +210,48 @@ std::shared_ptr<StrandFrames> findStrandFrames(const JsonReader& o, const std::s
   return frames;
 }
 
+// A groom entry's "visibility": {"file": a baked visibility file, "absorption"}, read once
+// per file and checked against the groom it was baked for (`strands` at full detail).
+void readVisibilityEntry(const JsonReader& o, const std::filesystem::path& base,
+                         std::uint64_t strands, bool fileColor,
+                         std::map<std::string, std::shared_ptr<const VisibilityBake>>& loaded,
+                         GroomInstance& g) {
+  if (!o.has("visibility")) return;
+  JsonReader v = o.object(o.require("visibility"), "visibility");
+  const std::string file = v.string("file", "");
+  if (file.empty()) v.fail("file", "is missing: name a baked visibility file (.clhvis)");
+  if (fileColor)
+    v.fail("file",
+           "a groom drawn with its file colours keeps no styling uv in the G-buffer, so it "
+           "cannot look up baked visibility");
+  std::filesystem::path p =
+      std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;
+  const std::string key = p.lexically_normal().string();
+  auto it = loaded.find(key);
+  if (it == loaded.end()) {
+    try {
+      it = loaded.emplace(key, std::make_shared<const VisibilityBake>(readVisibility(key))).first;
+    } catch (const Error& e) {
+      v.fail("file", e.what());
+    }
+  }
+  if (it->second->strands != strands)
+    v.fail("file", key + " was baked for a groom of " + std::to_string(it->second->strands) +
+                       " strands, this groom has " + std::to_string(strands) +
+                       " (bake it again with clhair bake-visibility)");
+  g.visibility = it->second;
+  g.visibilityAbsorption = static_cast<float>(v.number("absorption", 0.5, 0.0, 100.0));
+  v.rejectUnknown({"file", "absorption"});
+}
+
 // A groom entry with "strands_file": the file (read once per scene), its placement (scale,
 // up axis, then the entry's transform), appearance, LOD and filter.
-GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& base,
-                              const FilterParams& sceneFilter, std::uint64_t maxBytes,
-                              std::map<std::string, std::shared_ptr<const StrandGroom>>& loaded,
-                              std::map<std::string, std::shared_ptr<const StrandGroom>>& variants,
-                              std::uint64_t sceneCap, std::vector<std::string>& warnings) {
+GroomInstance readStrandGroom(
+    const JsonReader& o, const std::filesystem::path& base, const FilterParams& sceneFilter,
+    std::uint64_t maxBytes, std::map<std::string, std::shared_ptr<const StrandGroom>>& loaded,
+    std::map<std::string, std::shared_ptr<const StrandGroom>>& variants,
+    std::map<std::string, std::shared_ptr<const VisibilityBake>>& loadedVisibility,
+    std::uint64_t sceneCap, std::vector<std::string>& warnings) {
   const std::string file = o.string("strands_file", "");
   if (file.empty()) o.fail("strands_file", "is empty: name a .hair, .data or .tfx strand file");
   std::filesystem::path p =
@@ -315,8 +350,9 @@ GroomInstance readStrandGroom(const JsonReader& o, const std::filesystem::path& 
     g.hasFilter = true;
     g.filter = readFilter(o, o.require("filter"), sceneFilter);
   }
+  readVisibilityEntry(o, base, shared->pointCounts.size(), look.useFileColor, loadedVisibility, g);
   o.rejectUnknown({"strands_file", "name", "transform", "scale", "up", "appearance", "lod",
-                   "filter", "max_strands"});
+                   "filter", "max_strands", "visibility"});
   return g;
 }
 
@@ -774,6 +810,7 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
       r.integer64("segment_budget", static_cast<long long>(s.segmentBudget), 0,
                   static_cast<long long>(kMaxSegmentBudget)));
   const auto sceneCap = static_cast<std::uint64_t>(r.integer64("max_strands", 0, 0, 50'000'000));
+  std::map<std::string, std::shared_ptr<const VisibilityBake>> loadedVisibility;
   if (r.has("grooms")) {
     const json& a = r.require("grooms");
     if (!a.is_array()) r.fail("grooms", "must be an array");
@@ -785,7 +822,7 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
                ".tfx strand file)");
       if (o.has("strands_file")) {
         s.grooms.push_back(readStrandGroom(o, base, s.filter, maxStrandBytes, loadedStrands,
-                                           strandVariants, sceneCap, s.warnings));
+                                           strandVariants, loadedVisibility, sceneCap, s.warnings));
         continue;
       }
       std::string file = o.string("file", "");
@@ -842,8 +879,10 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
       readCageMotion(o, base, maxStrandBytes, g);
       // an animated entry deforms its own copy: entries naming one file share a device form
       if (g.cage || g.wind.strength > 0.0f) g.mesh = std::make_shared<const HairMesh>(*g.mesh);
+      readVisibilityEntry(o, base, static_cast<std::uint64_t>(g.mesh->strandCount), false,
+                          loadedVisibility, g);
       o.rejectUnknown({"file", "name", "transform", "strands", "lod", "control_points", "filter",
-                       "cage_animation", "wind", "max_strands"});
+                       "cage_animation", "wind", "max_strands", "visibility"});
       s.grooms.push_back(g);
     }
   }

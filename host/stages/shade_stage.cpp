@@ -1,6 +1,8 @@
 // shade_stage.cpp — see shade_stage.h.
 #include "stages/shade_stage.h"
 
+#include <algorithm>
+
 namespace clhair {
 
 ShadeStage::ShadeStage(Device::Impl& dev) : dev_(dev) { kernel(1); }
@@ -21,6 +23,9 @@ cl::Event ShadeStage::enqueue(const Params& p, Profiler* profiler) {
       .buffer("scene", *p.lighting.scene, sizeof(gpu::ClhSceneGpu));
   bindLightsAndShadows(a, p.lighting);
   bindEnvironment(a, p.lighting.env);
+  a.buffer("visibility", *p.visibility, sizeof(gpu::ClhVisibilityGpu))
+      .buffer("visibility table", *p.visibilityTable,
+              std::uint64_t(std::max<std::uint32_t>(p.visibilityCells, 1)) * 4 * sizeof(float));
   a.buffer("G-buffer", *p.gbuffer,
            pixels * static_cast<std::uint64_t>(p.msaa + 1) * sizeof(cl_ulong))
       .buffer("strand offsets", *p.offsets,

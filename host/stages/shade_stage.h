@@ -19,6 +19,9 @@ class ShadeStage {
     std::uint32_t records = 0;            // bundles or chunks of the scan
     const cl::Buffer* gbuffer = nullptr;  // ulong per pixel, msaa + 1 layers
     cl::Buffer* hair = nullptr;           // float4 per pixel
+    const cl::Buffer* visibility = nullptr;       // ClhVisibilityGpu of the groom instance
+    const cl::Buffer* visibilityTable = nullptr;  // float4 per SH cell (one when it has none)
+    std::uint32_t visibilityCells = 0;
     int msaa = 1;
   };
   cl::Event enqueue(const Params& p, Profiler* profiler);

@@ -221,6 +221,24 @@ typedef struct {
   clh_u32 promote;      /* 1: conservative-only pixels are promoted (§3.3.2), 0: left empty */
 } ClhFilterGpu;
 
+/* ---- baked spherical visibility of one groom instance, 64 bytes ------------------------
+ * (Kulikov 2025, "precomputed self-shadowing"; include/clhair/visibility_sh.h, shade.cl)
+ * world_to_obj : 3x4 row-major inverse of the instance's object -> world transform; only
+ *                its linear part is used, to turn light directions into the bake's space
+ * absorption   : visibility = exp(-absorption * max(0, SH(light direction)))
+ * cells        : SH cells in the table (CLH_VIS_CELLS), 0 when the groom has no bake
+ * enabled      : 1 to look the table up for lights without a deep opacity map
+ * lod_aggregate: 1 to shade strands LOD widened with the aggregated BCSDF (Huang 2024,
+ *                hair_bsdf.h), 0 with the single-fibre one (this record is the groom
+ *                instance's per-draw shading record)                                     */
+typedef struct {
+  float world_to_obj[12];
+  float absorption;
+  clh_u32 cells;
+  clh_u32 enabled;
+  clh_u32 lod_aggregate;
+} ClhVisibilityGpu;
+
 /* ---- LOD record: one per bundle of a hair mesh or chunk of a strand file, 16 bytes -----
  * Written by lod_bundles / lod_chunks (lod.cl), or by the host when it fixes L itself
  * (strand export, clh_lod_record_at in lod_math.h); read by the strand kernels

@@ -41,6 +41,14 @@ struct RenderOptions {
   // camera does not enter them). false: rebuild them every frame.
   bool reuseShadows = true;
   int ambientOcclusion = 1;  // 1: baked AO (baked on first use when the mesh has none), 0: off
+  // 1: grooms with a baked visibility (GroomInstance::visibility) use it for the lights
+  // without a deep opacity map; 0: ignore it (the frame is then bit-identical to one without)
+  int bakedVisibility = 1;
+  // 1: strands LOD widened to stand for a cluster are shaded with the aggregated BCSDF
+  // (Huang et al. 2024); 0 (default): with the single-fibre BSDF like full-detail strands.
+  // Off by default: against the traced full-groom reference it raises the LOD frame's FLIP
+  // (docs/hair-shading.md §6, `clhair_bench --only quality`).
+  int lodAggregate = 0;
   // Every strand at its true projected width: the grooms' minimum hit diameter is ignored
   // (the passes of renderReference).
   bool trueWidth = false;

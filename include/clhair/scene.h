@@ -20,6 +20,7 @@
 #include "clhair/hair_mesh.h"
 #include "clhair/strand_groom.h"
 #include "clhair/triangle_mesh.h"
+#include "clhair/visibility.h"
 
 namespace clhair {
 
@@ -167,6 +168,11 @@ struct GroomInstance {
   // The cage this still frame draws (layer-major like HairMesh::positions, the mesh's object
   // space); null: the mesh's own positions. Set by sceneAtFrame.
   std::shared_ptr<const std::vector<glm::vec3>> deformed;
+  // Baked spherical visibility (clhair bake-visibility, include/clhair/visibility.h): shading
+  // multiplies every light without a deep opacity map by exp(-visibilityAbsorption * events),
+  // events the bake's clamped SH toward the light. Null: no bake (today's shading).
+  std::shared_ptr<const VisibilityBake> visibility;
+  float visibilityAbsorption = 0.5f;
 };
 
 enum class CameraPreset { Close, Mid, Far };

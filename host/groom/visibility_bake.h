@@ -1,0 +1,74 @@
+// visibility_bake.h — the offline bake of a groom's spherical visibility with Embree
+// (Kulikov 2025, "precomputed self-shadowing"; `clhair bake-visibility`).
+//
+// Input: the groom's strands as the kernels draw them at full detail (object space, with the
+// u, v, w their G-buffer words carry), the fibre radius in object units, and the opaque
+// occluders (the head: the scene's spheres and meshes) as triangles in the same space.
+// Sample points are binned by the words' cell (visibility_sh.h); each cell keeps up to
+// `pointsPerCell` of its points, chosen by a hash (a uniform sample over the strands that
+// pass through it). From every sample point `raysPerPoint` stratified directions are traced
+// twice: against the occluders (the distance to the head) and then, up to that distance,
+// against the strands as Embree round linear curves, counting every other strand the ray
+// passes (its own strand is skipped). A ray that reaches the head counts
+// HAIR_MAX_SCATTER_EVENTS more (the head is opaque), a ray's count is capped at
+// kMaxEventsPerRay, and a ray that meets nothing counts -HAIR_MAX_SCATTER_EVENTS (Kulikov's
+// miss bias). The counts are projected onto L1 SH and averaged over the cell's points.
+// Output: a VisibilityBake (include/clhair/visibility.h). A word's w is interpolated along
+// its segment, so cells between a strand's points are filled by linear interpolation along
+// w between the baked cells of their (u, v) column (the nearest one beyond its ends);
+// columns no point reached stay zero (visibility 1). Deterministic for a given input and options
+// (per-point seeds; the threads only split the points).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "clhair/renderer.h"
+#include "clhair/scene.h"
+#include "clhair/strand_groom.h"
+#include "clhair/visibility.h"
+
+namespace clhair {
+
+constexpr float kMaxEventsPerRay = 20.0f;
+
+struct VisibilityBakeOptions {
+  std::uint32_t raysPerPoint = 32;
+  std::uint32_t pointsPerCell = 4;
+  unsigned threads = 0;  // 0: every hardware thread
+};
+
+struct VisibilityBakeStats {
+  std::uint64_t cells = 0;   // cells holding at least one sample point
+  std::uint64_t points = 0;  // sample points traced
+  std::uint64_t rays = 0;
+  double meanEvents = 0.0;  // over the rays that hit something
+};
+
+// `groomStrands` is written into the bake (checked against the groom when a scene loads it).
+VisibilityBake bakeVisibility(const StrandSet& strands, float fibreRadius,
+                              const std::vector<glm::vec3>& triPositions,
+                              const std::vector<std::uint32_t>& triIndices,
+                              std::uint32_t groomStrands, const VisibilityBakeOptions& options,
+                              VisibilityBakeStats* stats = nullptr);
+
+// Bakes groom `groom` of scene `s` (`clhair bake-visibility`): its strands at full detail as
+// the kernels generate or draw them (exported through `r`), in its object space, against
+// itself and the scene's spheres (tessellated) and meshes as the head; planes are left out
+// (a floor would shadow every downward direction). The fibre radius is half the groom's
+// strand width in object units.
+VisibilityBake bakeGroomVisibility(Renderer& r, const Scene& s, std::size_t groom,
+                                   const VisibilityBakeOptions& options,
+                                   VisibilityBakeStats* stats = nullptr);
+
+// The L1 SH coefficients (Y00, Y1-1, Y10, Y11) of `count` values f_k at unit directions
+// dirs[3k..3k+2], each standing for 4 pi / count of the sphere: the Monte Carlo projection the
+// bake uses, exposed for the round-trip test.
+void projectL1(const float* dirs, const float* values, std::uint32_t count, float out[4]);
+
+// `count` stratified unit directions (a spherical Fibonacci set rotated by `seed`), xyz each.
+void sphereDirections(std::uint32_t count, std::uint32_t seed, float* out);
+
+}  // namespace clhair

@@ -556,6 +556,11 @@ std::vector<Frame> Renderer::Impl::views(const Scene& s, const std::vector<Camer
       const FilterParams& fp = d.instance->hasFilter ? d.instance->filter : s.filter;
       const bool filtered =
           options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
+      if (filtered && (options.filterMethod < 0 ? fp.method == FilterParams::Method::Huang
+                                                : options.filterMethod == 1))
+        throw Error("groom \"" + d.instance->name +
+                    "\": Huang's filter takes one view at a time; render the views one by one "
+                    "(--views NAME) or use Lipp's filter");
       if (filtered)
         r.filter.enqueue(fp, {t.viewTarget(), &inst.groom, &t.gbuffer, &t.hair, &t.filtered},
                          &r.profiler);

@@ -273,6 +273,13 @@ TEST(Views, CliWritesOneFilePerViewAndRefusesUnknownNames) {
   c = runCli("render " + quote(scene) + " -q --aov all -o " + quote(dir + "/x.exr"));
   EXPECT_EQ(c.exitCode, 1);
   EXPECT_NE(onlyErrorLine(c.output).find("--aov writes one view"), std::string::npos) << c.output;
+  // Huang's filter runs on one view at a time: refused, nothing written (it was silently
+  // replaced by Lipp's filter once)
+  c = runCli("render " + quote(scene) + " -q --filter huang -o " + quote(dir + "/h.png"));
+  EXPECT_EQ(c.exitCode, 1);
+  EXPECT_NE(onlyErrorLine(c.output).find("Huang's filter takes one view"), std::string::npos)
+      << c.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/h.left.png"));
   // a malformed "cameras" entry: one line naming the file and the entry
   const json twice = {{"cameras", {{{"name", "a"}, {"offset", {0, 0, 0}}}, {{"name", "a"}}}}};
   c = runCli("render " + quote(writeScene(dir, groom, 48, 36, twice)) + " -q -o " +

@@ -132,6 +132,21 @@ void Renderer::Impl::bindVisibility(const GroomInstance& gi, bool enabled, bool 
   sp.visibilityCells = table == &visibilityNone ? 1u : static_cast<std::uint32_t>(CLH_VIS_CELLS);
 }
 
+void Renderer::Impl::shadeGroom(RenderTarget& t, const GroomInstance& gi, GroomInstanceGpu& inst,
+                                const ShadowMapInputs& maps, const RenderOptions& options) {
+  ShadeStage::Params sp;
+  sp.target = t.viewTarget();
+  sp.lighting = scene.lighting(maps);
+  sp.groom = &inst.groom;
+  sp.offsets = &inst.offsets;
+  sp.records = inst.records;
+  sp.gbuffer = &t.gbuffer;
+  sp.hair = &t.hair;
+  sp.msaa = options.msaa;
+  bindVisibility(gi, options.bakedVisibility != 0, options.lodAggregate != 0, sp);
+  shade.enqueue(sp, &profiler);
+}
+
 Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBufferSource* source) {
   Impl& r = *this;
   RenderTarget& t = r.target;
@@ -303,17 +318,7 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
                pixels);
     }
     if (options.rasterOnly) continue;
-    ShadeStage::Params sp;
-    sp.target = t.viewTarget();
-    sp.lighting = r.scene.lighting(maps);
-    sp.groom = &inst.groom;
-    sp.offsets = &inst.offsets;
-    sp.records = inst.records;
-    sp.gbuffer = &t.gbuffer;
-    sp.hair = &t.hair;
-    sp.msaa = options.msaa;
-    r.bindVisibility(*d.instance, options.bakedVisibility != 0, options.lodAggregate != 0, sp);
-    r.shade.enqueue(sp, &r.profiler);
+    r.shadeGroom(t, *d.instance, inst, maps, options);
     cl::Buffer* result = &t.hair;
     if (huang) {
       result = r.linkStage->finish(lp, fp.aniso, t.hair, t.filtered, &r.profiler);
@@ -542,17 +547,7 @@ std::vector<Frame> Renderer::Impl::views(const Scene& s, const std::vector<Camer
       } else {
         upload(r.dev, inst.groom, &recs[v], 1);  // shading reads this view's depth mapping
       }
-      ShadeStage::Params sp;
-      sp.target = t.viewTarget();
-      sp.lighting = r.scene.lighting(maps);
-      sp.groom = &inst.groom;
-      sp.offsets = &inst.offsets;
-      sp.records = inst.records;
-      sp.gbuffer = &t.gbuffer;
-      sp.hair = &t.hair;
-      sp.msaa = options.msaa;
-      r.bindVisibility(*d.instance, options.bakedVisibility != 0, options.lodAggregate != 0, sp);
-      r.shade.enqueue(sp, &r.profiler);
+      r.shadeGroom(t, *d.instance, inst, maps, options);
       const FilterParams& fp = d.instance->hasFilter ? d.instance->filter : s.filter;
       const bool filtered =
           options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);

@@ -98,6 +98,10 @@ struct Renderer::Impl {
   // It is rewritten per draw (the queue is in order).
   void bindVisibility(const GroomInstance& gi, bool enabled, bool lodAggregate,
                       ShadeStage::Params& sp);
+  // Shades instance `gi` (device state `inst`) from target `t`'s G-buffer into its hair
+  // buffer, with the frame's lights and maps and the groom's baked visibility.
+  void shadeGroom(RenderTarget& t, const GroomInstance& gi, GroomInstanceGpu& inst,
+                  const ShadowMapInputs& maps, const RenderOptions& options);
 
   // One frame (Renderer::render); with `source`, its centre layers replace the strand pass
   // (MSAA 1 only).

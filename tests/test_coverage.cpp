@@ -136,8 +136,8 @@ TEST(Coverage, PixelCoverageMatchesSupersampledTrapezoid) {
         worst = std::max(worst, e);
         sum += e;
         ++pixels;
-        EXPECT_LE(e, bound) << "pixel " << x << ", " << y << " of segment (" << t.ax << ", "
-                            << t.ay << ")-(" << t.bx << ", " << t.by << ") width " << t.wa;
+        EXPECT_LE(e, bound) << "pixel " << x << ", " << y << " of segment (" << t.ax << ", " << t.ay
+                            << ")-(" << t.bx << ", " << t.by << ") width " << t.wa;
       }
   }
   std::printf("[ coverage ] %d pixels: max |analytic - supersampled| %.5f, mean %.6f\n", pixels,
@@ -332,8 +332,8 @@ TEST(Coverage, FrontoParallelStrandHasTheStripsCoverageAndAlphaProfile) {
   for (std::size_t x = 20; x < 44; ++x) {  // columns well inside the strand
     double column = 0.0;
     for (std::size_t y = 0; y < H; ++y) {
-      const double strip = std::max(
-          0.0, std::min(double(y) + 1.0, yc + half) - std::max(double(y), yc - half));
+      const double strip =
+          std::max(0.0, std::min(double(y) + 1.0, yc + half) - std::max(double(y), yc - half));
       const float c = gpu::clh_cover_sum(cov[y * W + x]);
       column += c;
       // a column may hold two segments' parts, each rounded to 1/1024
@@ -343,6 +343,22 @@ TEST(Coverage, FrontoParallelStrandHasTheStripsCoverageAndAlphaProfile) {
       if (strip > 0.0) ++checked;
     }
     EXPECT_NEAR(column, 0.6, 0.01 * 0.6) << "column " << x << ": the strand's width";
+    // one layer per pixel, scaled to the pixel's alpha: the hair's colour over alpha (its
+    // premultiplied colour is the frame minus the background's share) is the same in every
+    // pixel of the column, whatever its coverage
+    const glm::vec3 bg = Scene().background;
+    std::vector<glm::vec3> unpremultiplied;
+    for (std::size_t y = 0; y < H; ++y) {
+      const float a = f.aovs.hairAlpha[y * W + x];
+      if (a < 0.05f) continue;
+      const float* c = &f.color.rgba[4 * (y * W + x)];
+      unpremultiplied.push_back((glm::vec3(c[0], c[1], c[2]) - (1.0f - a) * bg) / a);
+    }
+    ASSERT_GE(unpremultiplied.size(), 2u) << "column " << x;
+    for (const glm::vec3& u : unpremultiplied)
+      for (int ch = 0; ch < 3; ++ch)
+        EXPECT_NEAR(u[ch], unpremultiplied[0][ch], 0.02f * unpremultiplied[0][ch] + 2e-3f)
+            << "column " << x << " channel " << ch;
   }
   EXPECT_GE(checked, 24);
 }
@@ -389,8 +405,8 @@ TEST(Coverage, CliRendersCoverageAndRefusesUnknownRasterInOneLine) {
       << bad.output;
   EXPECT_FALSE(std::filesystem::exists(dir + "/b.png"));
 
-  const CommandResult msaa = runCli("render " + quote(scene) + " -q --raster coverage --msaa 4 -o " +
-                                    quote(dir + "/m.png"));
+  const CommandResult msaa = runCli("render " + quote(scene) +
+                                    " -q --raster coverage --msaa 4 -o " + quote(dir + "/m.png"));
   EXPECT_NE(msaa.exitCode, 0);
   EXPECT_EQ(std::count(msaa.output.begin(), msaa.output.end(), '\n'), 1) << msaa.output;
 

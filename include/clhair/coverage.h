@@ -42,7 +42,7 @@ namespace gpu {
 #define CLH_COVER_X1 5.0f        /* additive coverage at which alpha reaches 1 */
 #define CLH_COVER_B1 (-3.38309f) /* the fit (tests/coverage_sim.h reproduces it) */
 #define CLH_COVER_B2 3.39994f
-#define CLH_COVER_MAX_ERROR 0.0252f  /* against the simulation's bin means, x in [0, 8] */
+#define CLH_COVER_MAX_ERROR 0.0252f /* against the simulation's bin means, x in [0, 8] */
 #define CLH_COVER_MEAN_ERROR 0.0054f
 
 /* Alpha of a pixel whose fragments' coverages sum to x (fully covered pixels). */
@@ -100,8 +100,7 @@ CLH_FN float clh_poly_area(const clh_poly8* p) {
 /* The trapezoid of segment (ax, ay)-(bx, by) with full widths wa, wb at its ends (screen
  * pixels): the ends pushed out by half their width along the unit normal. False when the
  * segment has no length. */
-CLH_FN int clh_trapezoid(float ax, float ay, float bx, float by, float wa, float wb,
-                         clh_poly8* q) {
+CLH_FN int clh_trapezoid(float ax, float ay, float bx, float by, float wa, float wb, clh_poly8* q) {
   const float dx = bx - ax, dy = by - ay;
   const float len = sqrt(dx * dx + dy * dy);
   if (!(len > 1e-6f) || !(len < 1e7f)) return 0;

@@ -75,8 +75,6 @@ static bool coverMode(const Scene& s, const RenderOptions& options) {
         std::to_string(options.msaa));
   if (cover && options.strandIds)
     throw Error("the coverage raster has no strand identity layer (use the lines raster)");
-  if (cover && options.aovs && options.previous)
-    throw Error("the coverage raster has no motion layer (use the lines raster)");
   return cover;
 }
 
@@ -305,6 +303,10 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
     bool motionDrawn = false;
     if (before && !source && k < before->grooms.size() &&
         deformsBetween(*d.instance, before->grooms[k])) {
+      if (cover)
+        throw Error("groom \"" + d.instance->name +
+                    "\" deforms: the coverage raster has no motion pass for its motion layer "
+                    "(use the lines raster)");
       storeMat34(motionParams.prev_obj_to_view, prevWorldToView * before->grooms[k].transform);
       upload(r.dev, t.motionParams, &motionParams, 1);
       MotionPass mp;

@@ -1,5 +1,5 @@
 /* coverage_probe.cl — the coverage mode's device code (clhair/coverage.h, raster_core.h)
- * run on its own for the tests (tests/test_coverage.cpp); built with -DCLH_RASTER_COVER=1.
+ * run on its own for the tests (tests/test_coverage.cpp); CLH_RASTER_COVER is 1 by default.
  *
  * coverage_probe_area: one work-item per pixel of a width x height grid writes the area of
  * one trapezoid (ax, ay, bx, by, wa, wb in trap_g) inside its pixel.
@@ -11,6 +11,9 @@
  * of pixel 0 of a one-pixel G-buffer and adds coverage (i % 7) / 8 (the raster's two
  * writes, in whatever order the device runs the work-items).
  */
+#ifndef CLH_RASTER_COVER
+#define CLH_RASTER_COVER 1 /* the coverage raster is what this file probes */
+#endif
 #include "clhair/gpu_types.h"
 #include "clhair/raster_core.h"
 

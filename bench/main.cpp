@@ -614,7 +614,7 @@ int main(int argc, char** argv) {
                          "%.1f ms, filter %.1f ms\n",
                          groomNames[g], c.name, distNames[d], flipHair, psnrHair, cmp.flip.mean,
                          m.total.median, filterMs);
-            if (g == 0 && d == 1 && c.msaa == 1 && c.filter == 0 && c.lod == 0) {
+            if (g == 0 && d == 1 && c.msaa == 1 && c.filter == 0 && c.lod == 0 && c.raster == 0) {
               // SWR1 at mid against the other reference too, over the same hair pixels
               Frame other;
               const double otherMs =

@@ -396,6 +396,12 @@ TEST(Coverage, CliRendersCoverageAndRefusesUnknownRasterInOneLine) {
   EXPECT_EQ(ok.exitCode, 0) << ok.output;
   EXPECT_TRUE(std::filesystem::exists(dir + "/c.png"));
 
+  // layers for compositing of a still scene (the CLI hands the renderer the previous frame)
+  const CommandResult aov =
+      runCli("render " + quote(scene) + " -q --raster coverage --aov rgba,alpha -o " +
+             quote(dir + "/c.exr"));
+  EXPECT_EQ(aov.exitCode, 0) << aov.output;
+
   const CommandResult bad =
       runCli("render " + quote(scene) + " -q --raster trapezoid -o " + quote(dir + "/b.png"));
   EXPECT_NE(bad.exitCode, 0);

@@ -9,7 +9,8 @@
 //   atomics   64-bit atom_min throughput with and without the load skip, and each
 //             table1 MSAA-1 raster time as a multiple of that floor.
 //   quality   Lipp Fig. 7: SWR1, SWR1+F, SWR1+F+L (LOD strands with the single-fibre BSDF,
-//             and with Huang's aggregated one), MSAA 2/4/8 at close/mid/far, FLIP and
+//             and with Huang's aggregated one), MSAA 2/4/8, the coverage raster
+//             (Kulikov 2025) at close/mid/far, FLIP and
 //             PSNR against the reference (--ref embree: the strands traced as round curves,
 //             the default; raster: jittered true-width strand passes), with frame times;
 //             at mid also SWR1 against the other reference and the two references' times.
@@ -497,6 +498,7 @@ int main(int argc, char** argv) {
         bool promote;  // the filter's strand connection (Lipp §3.3.2)
         int huang;     // 0: Lipp's filter; else Huang's: 1 linking, 2 + alpha fix, 3 + filter
         int lodAggregate = 0;  // LOD strands: single fibre or aggregated BCSDF (Huang 2024)
+        int raster = 0;        // 0 lines, 1 coverage (Kulikov 2025, clhair/coverage.h)
       };
       const Config configs[] = {{"SWR1", 1, 0, 0, true, 0},
                                 {"SWR1+F", 1, 1, 0, true, 0},
@@ -509,7 +511,8 @@ int main(int argc, char** argv) {
                                 {"SWR1+H+L", 1, 1, 1, true, 3},
                                 {"SWR MSAA 2", 2, 0, 0, true, 0},
                                 {"SWR MSAA 4", 4, 0, 0, true, 0},
-                                {"SWR MSAA 8", 8, 0, 0, true, 0}};
+                                {"SWR MSAA 8", 8, 0, 0, true, 0},
+                                {"SWR coverage", 1, 0, 0, true, 0, 0, 1}};
       auto hairFlip = [](const Frame& ref, const Frame& f, const std::vector<char>& mask) {
         ImageComparison cmp = compareImages(ref.color, f.color);
         double sum = 0.0;
@@ -565,6 +568,7 @@ int main(int argc, char** argv) {
             o.filter = c.filter;
             o.lod = c.lod;
             o.lodAggregate = c.lodAggregate;
+            o.raster = c.raster;
             Scene sc = s;
             std::vector<FilterParams*> fps{&sc.filter};
             for (GroomInstance& gi : sc.grooms) fps.push_back(&gi.filter);
@@ -610,7 +614,7 @@ int main(int argc, char** argv) {
                          "%.1f ms, filter %.1f ms\n",
                          groomNames[g], c.name, distNames[d], flipHair, psnrHair, cmp.flip.mean,
                          m.total.median, filterMs);
-            if (g == 0 && d == 1 && c.msaa == 1 && c.filter == 0 && c.lod == 0) {
+            if (g == 0 && d == 1 && c.msaa == 1 && c.filter == 0 && c.lod == 0 && c.raster == 0) {
               // SWR1 at mid against the other reference too, over the same hair pixels
               Frame other;
               const double otherMs =

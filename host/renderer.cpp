@@ -15,6 +15,7 @@
 #include <glm/matrix.hpp>
 
 #include "cl/buffers.h"
+#include "clhair/coverage.h"
 #include "clhair/visibility_sh.h"
 #include "frame/aov_builder.h"
 #include "frame/view_math.h"
@@ -63,10 +64,26 @@ Frame Renderer::render(const Scene& s, const RenderOptions& options) {
   return impl_->frame(s, options, nullptr);
 }
 
+// Whether a frame draws in the coverage mode (clhair/coverage.h), and the option checks
+// that mode asks for.
+static bool coverMode(const Scene& s, const RenderOptions& options) {
+  const bool cover = options.raster < 0 ? s.raster == RasterMode::Coverage : options.raster == 1;
+  if (cover && options.msaa != 1)
+    throw Error(
+        "the coverage raster takes one sample per pixel (its coverage is analytic), not "
+        "MSAA " +
+        std::to_string(options.msaa));
+  if (cover && options.strandIds)
+    throw Error("the coverage raster has no strand identity layer (use the lines raster)");
+  return cover;
+}
+
 // G-buffer layers a groom with filter settings `fp` uses: the samples and the conservative
 // layer, then the identity layer (Huang's filter, strand identities) and the hair linking
-// layers (gpu_types.h).
-static int gbufferLayers(const FilterParams& fp, const RenderOptions& options, bool given) {
+// layers (gpu_types.h); in the coverage mode its three layers and the coverage plane.
+static int gbufferLayers(const FilterParams& fp, const RenderOptions& options, bool given,
+                         bool cover) {
+  if (cover) return static_cast<int>(CLH_LAYER_COVERAGE) + 1;
   const bool filtered =
       options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
   const bool huang = filtered && !options.rasterOnly &&
@@ -133,7 +150,8 @@ void Renderer::Impl::bindVisibility(const GroomInstance& gi, bool enabled, bool 
 }
 
 void Renderer::Impl::shadeGroom(RenderTarget& t, const GroomInstance& gi, GroomInstanceGpu& inst,
-                                const ShadowMapInputs& maps, const RenderOptions& options) {
+                                const ShadowMapInputs& maps, const RenderOptions& options,
+                                bool cover) {
   ShadeStage::Params sp;
   sp.target = t.viewTarget();
   sp.lighting = scene.lighting(maps);
@@ -143,6 +161,7 @@ void Renderer::Impl::shadeGroom(RenderTarget& t, const GroomInstance& gi, GroomI
   sp.gbuffer = &t.gbuffer;
   sp.hair = &t.hair;
   sp.msaa = options.msaa;
+  sp.cover = cover;
   bindVisibility(gi, options.bakedVisibility != 0, options.lodAggregate != 0, sp);
   shade.enqueue(sp, &profiler);
 }
@@ -153,12 +172,14 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
   if (source && options.msaa != 1)
     throw Error("a given G-buffer has one sample per pixel, not MSAA " +
                 std::to_string(options.msaa));
+  const bool cover = coverMode(s, options);
+  if (source && cover) throw Error("a given G-buffer has no coverage layers");
   t.ensure(s.width, s.height, options.msaa);
   // the G-buffer layers the grooms will ask for, allocated once before any is drawn
   int layersNeeded = options.msaa + 1;
   for (const GroomInstance& gi : s.grooms)
     layersNeeded = std::max(layersNeeded, gbufferLayers(gi.hasFilter ? gi.filter : s.filter,
-                                                        options, source != nullptr));
+                                                        options, source != nullptr, cover));
   t.useLayers(layersNeeded);
   r.scene.upload(s);
   gpu::ClhViewGpu view = makeView(s.camera, s.width, s.height);
@@ -230,6 +251,7 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
   raster.msaa = options.msaa;
   raster.stats = options.rasterStats;
   raster.mode = mode;
+  raster.cover = cover;
   // every groom's LOD pre-pass, then the segment budget over all of them on the device
   std::vector<const GroomDraw*> drawn;
   std::vector<char> active(draws.size(), 0), far(draws.size(), 0);
@@ -253,14 +275,15 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
     const GroomDraw& d = draws[k];
     GroomInstanceGpu& inst = *d.state;
     const FilterParams& fp = d.instance->hasFilter ? d.instance->filter : s.filter;
+    // the coverage mode has no filter: its alpha comes from the coverage layer
     const bool filtered =
-        options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
+        !cover && options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
     const bool huang = filtered && !options.rasterOnly &&
                        (options.filterMethod < 0 ? fp.method == FilterParams::Method::Huang
                                                  : options.filterMethod == 1);
     const bool linking = huang && fp.link && !source;
     const bool ids = huang || options.strandIds;
-    t.useLayers(gbufferLayers(fp, options, source != nullptr));
+    t.useLayers(gbufferLayers(fp, options, source != nullptr, cover));
     t.clearGBuffer(&r.profiler);
     if (source) {
       source->centreLayer(static_cast<std::uint32_t>(k), inst.params, words);
@@ -280,6 +303,10 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
     bool motionDrawn = false;
     if (before && !source && k < before->grooms.size() &&
         deformsBetween(*d.instance, before->grooms[k])) {
+      if (cover)
+        throw Error("groom \"" + d.instance->name +
+                    "\" deforms: the coverage raster has no motion pass for its motion layer "
+                    "(use the lines raster)");
       storeMat34(motionParams.prev_obj_to_view, prevWorldToView * before->grooms[k].transform);
       upload(r.dev, t.motionParams, &motionParams, 1);
       MotionPass mp;
@@ -318,7 +345,7 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
                pixels);
     }
     if (options.rasterOnly) continue;
-    r.shadeGroom(t, *d.instance, inst, maps, options);
+    r.shadeGroom(t, *d.instance, inst, maps, options, cover);
     cl::Buffer* result = &t.hair;
     if (huang) {
       result = r.linkStage->finish(lp, fp.aniso, t.hair, t.filtered, &r.profiler);
@@ -413,6 +440,8 @@ std::vector<Frame> Renderer::Impl::views(const Scene& s, const std::vector<Camer
   Impl& r = *this;
   if (options.aovs || options.captureGBuffer || options.rasterOnly)
     throw Error("several views render the beauty only (no --aov, G-buffer capture or raster-only)");
+  if (coverMode(s, options))
+    throw Error("the coverage raster renders one view at a time (choose one with --views NAME)");
   const std::size_t V = cameras.size();
   while (r.viewTargets.size() + 1 < V)
     r.viewTargets.push_back(std::make_unique<RenderTarget>(r.dev));

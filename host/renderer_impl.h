@@ -101,7 +101,7 @@ struct Renderer::Impl {
   // Shades instance `gi` (device state `inst`) from target `t`'s G-buffer into its hair
   // buffer, with the frame's lights and maps and the groom's baked visibility.
   void shadeGroom(RenderTarget& t, const GroomInstance& gi, GroomInstanceGpu& inst,
-                  const ShadowMapInputs& maps, const RenderOptions& options);
+                  const ShadowMapInputs& maps, const RenderOptions& options, bool cover = false);
 
   // One frame (Renderer::render); with `source`, its centre layers replace the strand pass
   // (MSAA 1 only).

@@ -100,6 +100,7 @@ Frame Renderer::renderReference(const Scene& s, const ReferenceOptions& ro) {
   o.msaa = 1;
   o.filter = 0;
   o.trueWidth = true;   // no minimum hit diameter
+  o.raster = 0;         // point samples of the strands, whatever the scene's raster
   o.segmentBudget = 0;  // every strand of every groom
   std::unique_ptr<StrandTracer> tracer;
   std::unique_ptr<TracedLayers> layers;

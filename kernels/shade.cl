@@ -20,6 +20,9 @@
  * single-fibre one; probe lighting keeps the single fibre's energies.
  * With CLH_MSAA samples per pixel every sample layer is shaded and averaged (the MSAA
  * resolve). Output: premultiplied RGBA, alpha = fraction of samples hit.
+ * Built with CLH_RASTER_COVER (the coverage mode, clhair/coverage.h) the pixel's alpha is
+ * reconstructed from its additive coverage and its three depth-ordered layers are shaded
+ * and combined front to back (the rule is at the end of shade_deferred).
  *
  * Cost (DESIGN.md, "Vectorizable kernels"): scalar arithmetic (clh_v3, clh_math.h) and the
  * straight-line functions of clhair/fast_math.h, no library calls besides sqrt; empty
@@ -33,11 +36,18 @@
 #include "clhair/fast_math.h"
 #include "visibility.h"
 #include "hair_bsdf.h"
+#include "clhair/coverage.h"
 
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 
 #ifndef CLH_MSAA
 #define CLH_MSAA 1
+#endif
+#ifndef CLH_RASTER_COVER
+#define CLH_RASTER_COVER 0
+#endif
+#if CLH_RASTER_COVER && CLH_MSAA != 1
+#error "the coverage mode shades one sample per pixel"
 #endif
 
 typedef struct {
@@ -223,6 +233,46 @@ __kernel void shade_deferred(
     }
   }
 
+#if CLH_RASTER_COVER
+  /* The coverage mode. alpha: the additive coverage through the fitted curve. Each layer's
+   * own coverage is estimated as min(1, its strand's projected width in pixels, widened as
+   * the raster widened it for LOD) (the word has no room for the fragment's coverage), and
+   * the layers are combined front to back with it: F = sum_k c_k a_k prod_{j<k} (1 - a_j),
+   * A3 = 1 - prod_k (1 - a_k). When alpha <= A3 the pixel is F scaled by alpha / A3; else
+   * the hair the three layers leave uncovered, alpha - A3, takes the deepest layer's
+   * colour: F + (alpha - A3) c_last. */
+  const float alpha = clh_cover_alpha(
+      clh_cover_sum(((__global const uint*)(gbuf_g + (size_t)CLH_LAYER_COVERAGE * plane))[idx]));
+  float fr = 0.0f, fg = 0.0f, fb = 0.0f, trans = 1.0f;
+  clh_v3 last = clh_v3_splat(0.0f);
+  for (uint k = 0; k < CLH_COVER_LAYERS; ++k) {
+    const ulong word = gbuf_g[k * plane + idx];
+    if (word == CLH_GBUF_EMPTY) break;
+    const clh_v3 c =
+        shade_word(groom_g, view_g, scene_g, lights_g, &in, word, (float)x + 0.5f, (float)y + 0.5f);
+    const float z = clh_depth_decode(clh_gbuf_depth(word), groom_g->depth_near, groom_g->depth_far);
+    const float wpx = view_g->fy * groom_g->strand_width / fmax(z, 1e-6f);
+    const float widened = beta > 0.0f && beta < 1.0f ? wpx / beta : wpx;
+    const float a = clamp(fmin(widened, CLH_MAX_HIT_DIAMETER), 1e-3f, 1.0f);
+    fr += trans * a * c.x;
+    fg += trans * a * c.y;
+    fb += trans * a * c.z;
+    trans *= 1.0f - a;
+    last = c;
+  }
+  const float a3 = 1.0f - trans;
+  float4 out = (float4)(0.0f);
+  if (a3 > 0.0f && alpha > 0.0f) {
+    if (alpha <= a3) {
+      const float k = alpha / a3;
+      out = (float4)(fr * k, fg * k, fb * k, alpha);
+    } else {
+      const float rest = alpha - a3;
+      out = (float4)(fr + rest * last.x, fg + rest * last.y, fb + rest * last.z, alpha);
+    }
+  }
+  hair_g[idx] = out;
+#else
   float sr = 0.0f, sg = 0.0f, sb = 0.0f;
   uint hits = 0u;
   for (uint s = 0; s < CLH_MSAA; ++s) {
@@ -237,4 +287,5 @@ __kernel void shade_deferred(
     ++hits;
   }
   hair_g[idx] = (float4)(sr, sg, sb, (float)hits) / (float)CLH_MSAA;
+#endif
 }

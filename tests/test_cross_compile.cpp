@@ -153,7 +153,7 @@ INSTANTIATE_TEST_SUITE_P(Kernels, CrossCompile,
 
 // The compile-time variants the host builds besides the default one: the strand kernels'
 // deep-opacity pass, raster counters and every MSAA count; the shading and compositing
-// resolve of MSAA 8.
+// resolve of MSAA 8; the coverage raster and its shading.
 struct Variant {
   const char* file;
   const char* defines;
@@ -167,6 +167,9 @@ const Variant kVariants[] = {
     {"strands_explicit.cl", "-DCLH_MSAA=4", "msaa4"},
     {"shade.cl", "-DCLH_MSAA=8", "msaa8"},
     {"composite.cl", "-DCLH_MSAA=8", "msaa8"},
+    {"strands.cl", "-DCLH_RASTER_COVER=1", "coverage"},
+    {"strands_explicit.cl", "-DCLH_RASTER_COVER=1", "coverage"},
+    {"shade.cl", "-DCLH_RASTER_COVER=1", "coverage"},
 };
 
 class CrossCompileVariant : public ::testing::TestWithParam<std::tuple<int, int>> {};

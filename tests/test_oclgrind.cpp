@@ -207,6 +207,21 @@ TEST_P(Oclgrind, RenderWithLodMsaaAndPersistentGridHasNoReports) {
   EXPECT_TRUE(fs::exists(out)) << out << " was not written";
 }
 
+TEST_P(Oclgrind, RenderInCoverageModeHasNoReports) {
+  // the coverage raster (trapezoids, chained layers, coverage plane) and its shading
+  if (!haveOclgrind()) GTEST_SKIP() << "oclgrind not installed";
+  const bool uninit = GetParam();
+  const std::string dir = scratchDir();
+  const std::string scene = sourceDir() + "/tests/data/oclgrind_tiny.json";
+  const std::string out = dir + "/tiny-coverage.png";
+  OclgrindRun run =
+      runUnderOclgrind(dir, uninit ? "render-coverage-uninit" : "render-coverage", uninit,
+                       "render " + quote(scene) + " -o " + quote(out) + " --raster coverage");
+  expectClean(run, {"lod_bundles", "strands_raster", "shade_deferred", "composite_over"},
+              "clhair render --raster coverage");
+  EXPECT_TRUE(fs::exists(out)) << out << " was not written";
+}
+
 TEST_P(Oclgrind, ExportStrandsHasNoReports) {
   if (!haveOclgrind()) GTEST_SKIP() << "oclgrind not installed";
   const bool uninit = GetParam();

@@ -113,6 +113,7 @@ struct RenderFlags {
   std::string views;          // --views: "all" or names; empty: all of the scene's "cameras"
   bool stats = false;         // --stats: strands and segments per groom instance
   std::string segmentBudget;  // --segment-budget; empty: the scene's
+  std::string raster;         // --raster lines|coverage; empty: the scene's
 };
 
 // The --segment-budget value: a whole number 0 (none) .. kMaxSegmentBudget.
@@ -350,6 +351,10 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     throw Error("--filter must be on, off, auto, lipp or huang, not \"" + f.filter + "\"");
   }
   if (!f.segmentBudget.empty()) ro.segmentBudget = parseSegmentBudget(f.segmentBudget);
+  if (f.raster == "lines" || f.raster == "coverage")
+    ro.raster = f.raster == "coverage" ? 1 : 0;
+  else if (!f.raster.empty())
+    throw Error("--raster must be lines or coverage, not \"" + f.raster + "\"");
   if (f.reference && (f.spp < 1 || f.spp > 65536))
     throw Error("--spp must be 1..65536, not " + std::to_string(f.spp));
   const CameraPreset* preset = nullptr;
@@ -699,6 +704,10 @@ int main(int argc, char** argv) {
                    "print the strands and segments each groom instance draws, and the totals");
   render->add_option("--segment-budget", rf.segmentBudget,
                      "most segments of all grooms per frame (0: none; default: the scene's)");
+  render->add_option("--raster", rf.raster,
+                     "strand raster: lines (default: centre samples, Lipp) or coverage "
+                     "(trapezoids with analytic coverage, three layers and a coverage layer; "
+                     "scene key \"raster\")");
 
   auto* groom = app.add_subcommand("groom", "write a generated hair mesh");
   std::string preset, groomOut;

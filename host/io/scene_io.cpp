@@ -983,9 +983,18 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
     }
   }
   s.frameRate = r.number("frame_rate", s.frameRate, 1e-3, 1e6);
+  if (r.has("raster")) {
+    const std::string m = r.string("raster", "lines");
+    if (m == "lines")
+      s.raster = RasterMode::Lines;
+    else if (m == "coverage")
+      s.raster = RasterMode::Coverage;
+    else
+      r.fail("raster", "must be \"lines\" or \"coverage\", not \"" + m + "\"");
+  }
   r.rejectUnknown({"resolution", "camera", "cameras", "background", "ambient", "lights", "spheres",
                    "planes", "meshes", "grooms", "shadows", "filter", "environment",
-                   "background_image", "frame_rate", "segment_budget", "max_strands"});
+                   "background_image", "frame_rate", "segment_budget", "max_strands", "raster"});
   return s;
 }
 

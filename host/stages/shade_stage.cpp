@@ -2,20 +2,31 @@
 #include "stages/shade_stage.h"
 
 #include <algorithm>
+#include <utility>
+
+#include "clhair/coverage.h"
 
 namespace clhair {
 
-ShadeStage::ShadeStage(Device::Impl& dev) : dev_(dev) { kernel(1); }
+ShadeStage::ShadeStage(Device::Impl& dev) : dev_(dev) { kernel(1, false); }
 
-cl::Kernel& ShadeStage::kernel(int msaa) {
-  auto it = kernels_.find(msaa);
+cl::Kernel& ShadeStage::kernel(int msaa, bool cover) {
+  auto it = kernels_.find({msaa, cover});
   if (it != kernels_.end()) return it->second;
-  return kernels_[msaa] =
-             dev_.kernel("shade.cl", "shade_deferred", "-DCLH_MSAA=" + std::to_string(msaa));
+  return kernels_[{msaa, cover}] = dev_.kernel(
+             "shade.cl", "shade_deferred",
+             "-DCLH_MSAA=" + std::to_string(msaa) + (cover ? " -DCLH_RASTER_COVER=1" : ""));
 }
 
 cl::Event ShadeStage::enqueue(const Params& p, Profiler* profiler) {
-  cl::Kernel& k = kernel(p.msaa);
+  if (p.cover && p.msaa != 1)
+    throw Error("the coverage mode shades one sample per pixel, not MSAA " +
+                std::to_string(p.msaa));
+  cl::Kernel& k = kernel(p.msaa, p.cover);
+  // the coverage mode's three layers and coverage plane; otherwise the samples and the
+  // conservative layer
+  const std::uint64_t layers =
+      p.cover ? CLH_LAYER_COVERAGE + 1u : static_cast<std::uint64_t>(p.msaa + 1);
   const std::uint64_t pixels = p.target.pixels();
   KernelArgs a(k, "shade");
   a.buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
@@ -26,8 +37,7 @@ cl::Event ShadeStage::enqueue(const Params& p, Profiler* profiler) {
   a.buffer("visibility", *p.visibility, sizeof(gpu::ClhVisibilityGpu))
       .buffer("visibility table", *p.visibilityTable,
               std::uint64_t(std::max<std::uint32_t>(p.visibilityCells, 1)) * 4 * sizeof(float));
-  a.buffer("G-buffer", *p.gbuffer,
-           pixels * static_cast<std::uint64_t>(p.msaa + 1) * sizeof(cl_ulong))
+  a.buffer("G-buffer", *p.gbuffer, pixels * layers * sizeof(cl_ulong))
       .buffer("strand offsets", *p.offsets,
               std::uint64_t(gpu::clh_lod_offsets_length(p.records)) * sizeof(cl_uint))
       .buffer("hair colour", *p.hair, pixels * 4 * sizeof(float));

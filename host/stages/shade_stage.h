@@ -3,6 +3,7 @@
 #pragma once
 
 #include <map>
+#include <utility>
 
 #include "stages/stage_inputs.h"
 
@@ -23,13 +24,14 @@ class ShadeStage {
     const cl::Buffer* visibilityTable = nullptr;  // float4 per SH cell (one when it has none)
     std::uint32_t visibilityCells = 0;
     int msaa = 1;
+    bool cover = false;  // coverage mode: three layers and the coverage plane (coverage.h)
   };
   cl::Event enqueue(const Params& p, Profiler* profiler);
 
  private:
-  cl::Kernel& kernel(int msaa);
+  cl::Kernel& kernel(int msaa, bool cover);
   Device::Impl& dev_;
-  std::map<int, cl::Kernel> kernels_;
+  std::map<std::pair<int, bool>, cl::Kernel> kernels_;
 };
 
 }  // namespace clhair

@@ -28,6 +28,9 @@ struct StrandRaster {
   // the curve pass of hair linking: only the strands flagged in linkFlags (linkWords uints)
   // draw their centre lines into layers CLH_LAYER_CURVE and CLH_LAYER_CURVE_ID
   bool curve = false;
+  // coverage mode (clhair/coverage.h): trapezoids into three depth-ordered layers and the
+  // additive coverage plane (layers 0..3, MSAA 1)
+  bool cover = false;
   const cl::Buffer* linkFlags = nullptr;
   std::uint32_t linkWords = 0;
 
@@ -38,7 +41,8 @@ struct StrandRaster {
   std::string stage() const { return curve ? "link" : "strands"; }  // for timings
   std::string options() const {
     return "-DCLH_MSAA=" + std::to_string(msaa) + (stats ? " -DCLH_RASTER_STATS=1" : "") +
-           (curve ? " -DCLH_RASTER_CURVE=1" : (ids ? " -DCLH_STRAND_ID=1" : ""));
+           (curve ? " -DCLH_RASTER_CURVE=1" : (ids ? " -DCLH_STRAND_ID=1" : "")) +
+           (cover ? " -DCLH_RASTER_COVER=1" : "");
   }
 };
 

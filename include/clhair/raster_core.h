@@ -19,6 +19,13 @@
  * (width times the length of its path through the texel) to the deep-opacity layer of
  * their depth instead (Yuksel & Keyser 2008).
  *
+ * With CLH_RASTER_COVER (device only, MSAA 1) the segment is a trapezoid of the strand's
+ * true projected width at each end (no minimum hit diameter; widened for LOD, capped at
+ * CLH_MAX_HIT_DIAMETER): every pixel it overlaps gets the exact overlap area as coverage,
+ * and, in front of the scene depth, its word (at the point of the segment nearest the
+ * pixel centre) enters the three depth-ordered layers by chained atom_min and its coverage
+ * x 1024 is added to the coverage plane (clhair/coverage.h has the layout).
+ *
  * With CLH_STRAND_ID every centre-sample write (MSAA 1) is followed by one of the strand
  * identity word (gpu_types.h) into layer CLH_MSAA + 1, with its own atom_min; off, the walk
  * is the same instructions as before. With CLH_RASTER_CURVE (device only, hair linking)
@@ -37,6 +44,7 @@
 #ifndef CLHAIR_RASTER_CORE_H
 #define CLHAIR_RASTER_CORE_H
 
+#include "clhair/coverage.h"
 #include "clhair/gpu_types.h"
 
 #ifdef CLH_DEVICE_CODE
@@ -69,6 +77,13 @@ namespace gpu {
 #endif
 #ifndef CLH_RASTER_CURVE
 #define CLH_RASTER_CURVE 0 /* 1: draw the centre lines of hair linking's source strands */
+#endif
+#ifndef CLH_RASTER_COVER
+#define CLH_RASTER_COVER 0 /* 1: coverage mode, trapezoids into three layers + coverage */
+#endif
+#if CLH_RASTER_COVER && (!defined(CLH_DEVICE_CODE) || CLH_MSAA != 1 || CLH_RASTER_OPACITY || \
+                         CLH_RASTER_MOTION || CLH_RASTER_CURVE || CLH_STRAND_ID)
+#error "the coverage mode exists on the device only, at MSAA 1, without the other passes"
 #endif
 #if CLH_RASTER_CURVE && !defined(CLH_DEVICE_CODE)
 #error "the curve pass exists on the device only"
@@ -370,6 +385,111 @@ CLH_FN void clh_col_write(const clh_raster_ctx* rc, const clh_seg* s,
 #endif
 }
 
+#if CLH_RASTER_COVER
+/* Inserts `word` into the three depth-ordered layers of pixel idx: an atom_min per layer,
+ * the larger of the word and the one it met moving on to the next layer, until a layer was
+ * empty. Whatever the order of the insertions, each layer ends with the k-th smallest of
+ * the words inserted (the words passed from layer k to k + 1 are all its words but the
+ * smallest). With the load skip, a word not below the third layer's is not inserted (words
+ * only decrease, so it could never enter). */
+CLH_FN void clh_cover_insert(__global clh_u64* gbuf, clh_u64 plane, clh_u64 idx, clh_u64 word) {
+  __global clh_u64* pixel = gbuf + idx; /* layer k of the pixel at pixel[k * plane] */
+#if CLH_ATOMIC_LOAD_SKIP
+  if (word >= pixel[(clh_u64)(CLH_COVER_LAYERS - 1) * plane]) return;
+#endif
+  for (int k = 0; k < CLH_COVER_LAYERS; ++k) {
+    const clh_u64 old = atom_min(pixel + (clh_u64)k * plane, word);
+    if (old == CLH_GBUF_EMPTY) return;
+    word = old > word ? old : word;
+  }
+}
+
+/* Adds a fragment's coverage (share of the pixel, 0..1) to the coverage plane. */
+CLH_FN void clh_cover_add(__global clh_u64* gbuf, clh_u64 plane, clh_u64 idx, float coverage) {
+  const clh_u32 add = (clh_u32)(coverage * CLH_COVER_FIXED + 0.5f);
+  if (add > 0u)
+    atomic_add((__global clh_u32*)(gbuf + (clh_u64)CLH_LAYER_COVERAGE * plane) + idx, add);
+}
+
+/* The strand's projected width at an end of 1 / z = iz, pixels (LOD widening, capped). */
+CLH_FN float clh_cover_width(const clh_raster_ctx* rc, float iz) {
+  const float d = rc->width_px1 * iz * rc->coverage;
+  return d < CLH_MAX_HIT_DIAMETER ? d : CLH_MAX_HIT_DIAMETER;
+}
+
+/* Draws segment a-b (in front of the near plane) as a trapezoid: column by column over its
+ * screen box (the trapezoid's slice of each column, then each row the slice reaches), the
+ * exact overlap area per pixel. */
+CLH_FN void clh_cover_segment(const clh_raster_ctx* rc, __global const float* scene_depth,
+                              __global clh_u64* gbuf, clh_u32* counts, const ClhRasterVertex* a,
+                              const ClhRasterVertex* b) {
+  clh_poly8 q;
+  if (!clh_trapezoid(a->sx, a->sy, b->sx, b->sy, clh_cover_width(rc, a->iz),
+                     clh_cover_width(rc, b->iz), &q))
+    return;
+#if CLH_RASTER_STATS
+  counts[3] += 1u;
+#else
+  (void)counts;
+#endif
+  clh_seg s; /* the attributes over z at both ends, a to b (t = 0 at a) */
+  s.iza = a->iz;
+  s.izb = b->iz;
+  s.ta[0] = a->tx * a->iz;
+  s.ta[1] = a->ty * a->iz;
+  s.ta[2] = a->tz * a->iz;
+  s.tb[0] = b->tx * b->iz;
+  s.tb[1] = b->ty * b->iz;
+  s.tb[2] = b->tz * b->iz;
+  s.aoa = a->ao * a->iz;
+  s.aob = b->ao * b->iz;
+  s.wa = a->w * a->iz;
+  s.wb = b->w * b->iz;
+  const float dx = b->sx - a->sx, dy = b->sy - a->sy;
+  const float inv_len2 = 1.0f / (dx * dx + dy * dy);
+  float xlo = q.x[0], xhi = q.x[0], ylo = q.y[0], yhi = q.y[0];
+  for (int k = 1; k < 4; ++k) {
+    xlo = fmin(xlo, q.x[k]);
+    xhi = fmax(xhi, q.x[k]);
+    ylo = fmin(ylo, q.y[k]);
+    yhi = fmax(yhi, q.y[k]);
+  }
+  if (!(xhi > 0.0f) || !(yhi > 0.0f) || !(xlo < (float)rc->width) || !(ylo < (float)rc->height))
+    return;
+  const clh_i32 i0 = xlo > 0.0f ? clh_floor_i(xlo) : 0;
+  const clh_i32 i1 = xhi < (float)rc->width ? clh_ceil_i(xhi) : rc->width; /* exclusive */
+  const clh_u64 width = (clh_u64)rc->width;
+  for (clh_i32 i = i0; i < i1; ++i) {
+    clh_poly8 col;
+    clh_poly_column(&q, (float)i, &col);
+    if (col.n < 3) continue;
+    float clo = col.y[0], chi = col.y[0];
+    for (int k = 1; k < col.n; ++k) {
+      clo = fmin(clo, col.y[k]);
+      chi = fmax(chi, col.y[k]);
+    }
+    const clh_i32 j0 = clo > 0.0f ? clh_floor_i(clo) : 0;
+    const clh_i32 j1 = chi < (float)rc->height ? clh_ceil_i(chi) : rc->height;
+    for (clh_i32 j = j0; j < j1; ++j) {
+      const float area = clh_poly_row_area(&col, (float)j);
+      if (!(area > 0.0f)) continue;
+      const clh_u64 idx = (clh_u64)j * width + (clh_u64)i;
+      /* the fragment: the segment's point nearest the pixel centre */
+      float t = (((float)i + 0.5f - a->sx) * dx + ((float)j + 0.5f - a->sy) * dy) * inv_len2;
+      t = t < 0.0f ? 0.0f : (t > 1.0f ? 1.0f : t);
+      const float z = 1.0f / clh_lerpf(s.iza, s.izb, t);
+      if (!(z < scene_depth[idx])) continue;
+#if CLH_RASTER_STATS
+      counts[0] += 1u;
+#endif
+      float zw;
+      clh_cover_insert(gbuf, rc->plane, idx, clh_segment_word(rc, &s, t, &zw));
+      clh_cover_add(gbuf, rc->plane, idx, area > 1.0f ? 1.0f : area);
+    }
+  }
+}
+#endif
+
 /* Draws the segment a-b. */
 CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float* scene_depth,
                                CLH_GLOBAL clh_u64* gbuf, clh_u32* counts, ClhRasterVertex a,
@@ -399,6 +519,10 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
       b = c;
     }
   }
+#if CLH_RASTER_COVER
+  clh_cover_segment(rc, scene_depth, gbuf, counts, &a, &b);
+  return;
+#endif
   const float iza = a.iz, izb = b.iz;
   const float xa = a.sx, ya = a.sy;
   const float xb = b.sx, yb = b.sy;

@@ -27,6 +27,9 @@ struct RenderOptions {
   // which filter: -1 as the scene says (FilterParams::method), 0 Lipp, 1 Huang (linking,
   // alpha fix, anisotropic filter)
   int filterMethod = -1;
+  // The strand raster (Scene::raster): -1 as the scene says, 0 lines, 1 coverage (MSAA 1,
+  // one view; no filter, strand identities, or motion layer of deforming grooms)
+  int raster = -1;
   int shadowLod = -1;            // LOD in the lights' passes: -1 on unless lod == 0, 0 off, 1 on
   int shadowLodCorrection = -1;  // Lipp §3.2.3 depth shift: -1 as the scene says, 0 off, 1 on
   DispatchMode dispatch = DispatchMode::Auto;

@@ -177,6 +177,13 @@ struct GroomInstance {
 
 enum class CameraPreset { Close, Mid, Far };
 
+// How the strand pass draws (scene key "raster", `clhair render --raster`): Lines, one
+// centre sample and a conservative layer per pixel (Lipp 2026, the default); Coverage,
+// segments as trapezoids with analytic pixel coverage into three depth-ordered layers and
+// an additive coverage layer whose alpha is reconstructed when compositing (Kulikov 2025;
+// clhair/coverage.h).
+enum class RasterMode { Lines, Coverage };
+
 // The per-asset strand cap (Kulikov 2025: at most so many strands per model, applied at
 // load): a groom of more than `cap` strands keeps `cap` of them, spread evenly over the
 // groom (a hair mesh: the first `cap` of its progressive root sets; a strand file: every
@@ -232,6 +239,7 @@ struct Scene {
   // other control point (host/frame/frame_lod.h). Grooms drawn without LOD keep every
   // strand and do not count. 0: no budget.
   std::uint64_t segmentBudget = kDefaultSegmentBudget;
+  RasterMode raster = RasterMode::Lines;  // "raster": "lines" or "coverage"
   // Problems found while loading that do not stop the scene from rendering, one line each
   // naming the file (the CLI prints them as "clhair: warning: ...").
   std::vector<std::string> warnings;

@@ -358,23 +358,28 @@ __kernel void link_aniso(__global const ClhGroomGpu* groom_g, __global const Clh
   const float3 dp = link_display(cp.xyz);
   float4 sum = (float4)(0.0f);
   float wsum = 0.0f;
-  for (int dy = -ri; dy <= ri; ++dy) {
+  /* only the ellipse's bounding box (its half extents along x and y, a little margin) holds
+   * pixels that can count; without a tangent only P itself does */
+  const int rx =
+      has_t ? min(ri, (int)ceil(sqrt(r * r * t.x * t.x + minor * minor * t.y * t.y) + 1e-3f)) : 0;
+  const int ry =
+      has_t ? min(ri, (int)ceil(sqrt(r * r * t.y * t.y + minor * minor * t.x * t.x) + 1e-3f)) : 0;
+  for (int dy = -ry; dy <= ry; ++dy) {
     const int qy = y + dy;
     if (qy < 0 || qy >= height) continue;
-    for (int dx = -ri; dx <= ri; ++dx) {
+    for (int dx = -rx; dx <= rx; ++dx) {
       const int qx = x + dx;
       if (qx < 0 || qx >= width) continue;
       const float2 d = (float2)((float)dx, (float)dy);
       const float d2 = dot(d, d);
-      float along = 0.0f, across = 0.0f, theta = 0.0f;
+      float theta = 0.0f;
       if (d2 > 0.0f) {
-        if (!has_t) continue;
-        along = dot(d, t);
-        across = d.x * t.y - d.y * t.x;
-        /* the angle between the tangent line and d, in [0, pi/2] */
-        theta = atan2(fabs(across), fabs(along));
+        const float along = dot(d, t);
+        const float across = d.x * t.y - d.y * t.x;
         /* the ellipse: major axis r along the tangent, minor axis across */
         if ((along * along) / (r * r) + (across * across) / (minor * minor) > 1.0f) continue;
+        /* the angle between the tangent line and d, in [0, pi/2] */
+        theta = atan2(fabs(across), fabs(along));
       }
       const size_t q = (size_t)qy * (size_t)width + (size_t)qx;
       const float4 cq = in_g[q];

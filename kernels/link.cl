@@ -46,7 +46,9 @@
  *                  alpha (M + N) C = M C: what it had (Eq. 10). Other pixels stay opaque.
  *  link_aniso      the orientation-aware filter (Eq. 11-12) of the premultiplied result
  *                  over the ellipse of major axis r = k sqrt(Bx By) (Eq. 13, clamped to
- *                  1..8 pixels) along the pixel's screen tangent, minor axis r / 4:
+ *                  1..3 pixels: longer kernels measured farther from the reference, most
+ *                  on curly hair, whose strands leave a straight ellipse within a few
+ *                  pixels; DESIGN.md) along the pixel's screen tangent, minor axis r / 4:
  *                  w = exp(-(d/r)^2 / sd^2) exp(-theta^2 / st^2) exp(-|Cp - Cq|^2 / sc^2),
  *                  distance in units of r (the paper's sigma_d = 0.1 is relative), theta
  *                  the angle between the tangent line and Q - P, colours as c / (1 + c).
@@ -63,7 +65,7 @@
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
 
-#define LINK_MAX_RADIUS 8
+#define LINK_MAX_RADIUS 3
 
 /* Unit screen direction (x right, y down) of the word's world tangent at pixel (x, y). */
 static inline float2 link_screen_tangent(__global const ClhViewGpu* view_g,

@@ -383,11 +383,11 @@ TEST(Link, AnisotropicFilterSmoothsAlongAStrandAndDoesNotMixParallelStrands) {
   FilterParams f = linkOnly();
   f.aniso = true;
   f.sigmaD = 1.0f;   // a wide kernel, so the normalisation and the ellipse matter
-  f.kernelK = 0.2f;  // r = 0.2 sqrt(36 * 12) ~ 4 px
+  f.kernelK = 0.2f;  // r = 0.2 sqrt(36 * 12) ~ 4 px, clamped to 3
   const LinkResult r = runLink(
       s, f, [&](clh_u32 k) { return k == 1 ? kRed : (k == 2 ? kBlue : (k == 3 ? bright : dark)); });
-  // away from the strands' ends (the kernel's reach, ceil(r) = 5 px: the ends fade into the
-  // empty pixels past them, as the matte's filter does)
+  // away from the strands' ends (past the kernel's reach: the ends fade into the empty
+  // pixels past them, as the matte's filter does)
   for (int x = 8; x <= 31; ++x) {
     const cl_float4 a = r.out[14 * W + x], b = r.out[16 * W + x];
     for (int c = 0; c < 3; ++c) {
@@ -407,6 +407,25 @@ TEST(Link, AnisotropicFilterSmoothsAlongAStrandAndDoesNotMixParallelStrands) {
   }
   EXPECT_LT(hi - lo, 0.2f) << "not smoothed along the strand (input spread 0.4)";
   EXPECT_NEAR(mean, 0.4, 0.02);
+}
+
+TEST(Link, AnisotropicKernelReachesAtMostThreePixels) {
+  // a horizontal strand of one colour with one differently coloured pixel at x = 24; the
+  // screen box asks for a far longer kernel (k = 1), which is clamped to r = 3 px: the
+  // pixel 2 px from the odd one takes some of it, the pixel 4 px away none
+  Synthetic s;
+  for (int x = 4; x <= 36; ++x)
+    s.drawn(x, 20, x == 24 ? 2 : 1, float(x - 4) / 32.0f, 1.5f, 1.0f, 0.0f, x == 24 ? kBlue : kRed);
+  FilterParams f = linkOnly();
+  f.aniso = true;
+  f.kernelK = 1.0f;
+  const LinkResult r = runLink(s, f, [](clh_u32 k) { return k == 2 ? kBlue : kRed; });
+  for (int c = 0; c < 4; ++c) {
+    EXPECT_FLOAT_EQ(r.out[20 * W + 20].s[c], kRed.s[c]) << "reached 4 px, channel " << c;
+    EXPECT_FLOAT_EQ(r.out[20 * W + 28].s[c], kRed.s[c]) << "reached 4 px, channel " << c;
+  }
+  EXPECT_GT(r.out[20 * W + 22].s[2], kRed.s[2] + 0.01f) << "no reach at 2 px";
+  EXPECT_GT(r.out[20 * W + 26].s[2], kRed.s[2] + 0.01f) << "no reach at 2 px";
 }
 
 // ---- rendered frames ---------------------------------------------------------------------

@@ -134,7 +134,7 @@ struct FilterParams {
   float sigmaD = 0.5f;       // Eq. 11, distance in units of the major axis r
   float sigmaTheta = 0.3f;   // Eq. 11, radians
   float sigmaCAniso = 0.9f;  // Eq. 11, colour
-  float kernelK = 0.02f;     // Eq. 13: r = k sqrt(Bx By), clamped to 1..8 pixels
+  float kernelK = 0.02f;     // Eq. 13: r = k sqrt(Bx By), clamped to 1..3 pixels
 };
 
 // Exactly one of `mesh` and `strands` is set.

@@ -731,12 +731,14 @@ int main(int argc, char** argv) {
         int msaa, filter;
         int huang = 0;  // 0: Lipp's filter; else Huang's: 1 linking, 2 + alpha fix, 3 + filter
       };
+      int temporalRows = 0;
       for (const Config& c :
            {Config{"SWR1", 1, 0}, Config{"SWR1+F", 1, 1}, Config{"SWR1+H linking", 1, 1, 1},
             Config{"SWR1+H linking+alpha fix", 1, 1, 2},
             Config{"SWR1+H (linking+alpha fix+anisotropic)", 1, 1, 3},
             Config{"SWR MSAA 4", 4, 0}}) {
         if (!temporalChosen.empty() && !temporalChosen.count(c.name)) continue;
+        ++temporalRows;
         RenderOptions o;
         o.msaa = c.msaa;
         o.filter = c.filter;
@@ -770,6 +772,10 @@ int main(int argc, char** argv) {
         md << "| " << c.name << " | " << fmt(flicker, 5) << " |\n";
         report["temporal"][c.name] = flicker;
         std::fprintf(stderr, "temporal %s: %.5f\n", c.name, flicker);
+      }
+      if (temporalRows == 0) {
+        md << "| (none: --quality-configs names none of this section's rows) | |\n";
+        std::fprintf(stderr, "temporal: --quality-configs names none of this section's rows\n");
       }
     }
 

@@ -14,7 +14,8 @@
 //             PSNR against the reference (--ref embree: the strands traced as round curves,
 //             the default; raster: jittered true-width strand passes), with frame times;
 //             at mid also SWR1 against the other reference and the two references' times.
-//   temporal  a 30-frame orbit: mean frame-to-frame change for SWR1, SWR1+F, MSAA 4.
+//   temporal  a 30-frame orbit: mean frame-to-frame change for SWR1, SWR1+F (Lipp's
+//             filter), SWR1 with Huang's filter and its parts, MSAA 4.
 //   explicit  the hair mesh vs the same strands as a cyHair file: device bytes, frame times.
 //   mesh      the head as the analytic sphere vs a ~50k-triangle OBJ-style mesh of the same
 //             sphere (generated here): frame time and the opaque + mesh stages' times.
@@ -43,6 +44,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include <CLI/CLI.hpp>
@@ -208,13 +210,18 @@ int main(int argc, char** argv) {
   bool quick = false;
   std::string qualityGrooms = "1";
   std::string refName = "embree";
+  std::string refCache;        // quality: folder of references kept between runs
+  std::string qualityConfigs;  // quality: the configurations to run (comma-separated names)
+  std::string qualityDistances = "close,mid,far";
   app.add_option("--device", dopts.selector, "device: P:D or a name substring");
   app.add_option("--out", out, "folder for bench.json, bench.csv, bench.md");
   app.add_option(
       "--only", only,
       "one section: table1, dispatch, scaling, atomics, quality, temporal, explicit, mesh, crowd, "
       "floor, sequences");
-  app.add_option("--runs", runs, "timed runs per configuration (median reported)");
+  app.add_option("--runs", runs,
+                 "timed runs per configuration (median reported); the quality section takes 0 "
+                 "for the times of the one frame it compares");
   app.add_option("--warmup", warmup, "untimed runs first");
   app.add_option("--width", width, "table1 width");
   app.add_option("--height", height, "table1 height");
@@ -228,6 +235,15 @@ int main(int argc, char** argv) {
   app.add_option("--quality-grooms", qualityGrooms,
                  "quality section: 1 (groom1, default), 2 (groom2) or both");
   app.add_option("--quality-height", qualityHeight, "quality and temporal sections: height");
+  app.add_option("--ref-cache", refCache,
+                 "quality section: keep each reference as EXR in this folder and read it back "
+                 "when it is there (for runs of one revision: the file names carry groom, "
+                 "distance, size, method and spp, not the code)");
+  app.add_option("--quality-distances", qualityDistances,
+                 "quality section: the distances to run (comma-separated: close, mid, far)");
+  app.add_option("--quality-configs", qualityConfigs,
+                 "quality and temporal sections: only these configurations (comma-separated "
+                 "names as in the tables, e.g. \"SWR1,SWR MSAA 4\"); default all");
   app.add_option("--seq-frames", seqFrames, "sequences section: frames of the wind shot (120)")
       ->check(CLI::Range(3, 100000));
   app.add_flag("--quick", quick, "smaller sweep for a fast look (640x360, 1 run, MSAA 1 and 4)");
@@ -513,6 +529,40 @@ int main(int argc, char** argv) {
                                 {"SWR MSAA 4", 4, 0, 0, true, 0},
                                 {"SWR MSAA 8", 8, 0, 0, true, 0},
                                 {"SWR coverage", 1, 0, 0, true, 0, 0, 1}};
+      auto splitList = [](const std::string& list) {
+        std::set<std::string> items;
+        for (std::size_t at = 0; !list.empty() && at <= list.size();) {
+          const std::size_t comma = std::min(list.find(',', at), list.size());
+          items.insert(list.substr(at, comma - at));
+          at = comma + 1;
+        }
+        return items;
+      };
+      const std::set<std::string> chosen = splitList(qualityConfigs);
+      const std::set<std::string> distances = splitList(qualityDistances);
+      for (const std::string& name : distances)
+        if (name != "close" && name != "mid" && name != "far")
+          throw Error("--quality-distances: no distance \"" + name + "\" (close, mid, far)");
+      for (const std::string& name : chosen)
+        if (std::none_of(std::begin(configs), std::end(configs),
+                         [&](const Config& c) { return name == c.name; }))
+          throw Error("--quality-configs: no configuration \"" + name + "\"");
+      if (!refCache.empty()) std::filesystem::create_directories(refCache);
+      // the reference of one groom and distance, from the cache when it holds it
+      auto reference = [&](const Scene& s, int g, int d, ReferenceMethod method) {
+        const std::string path = refCache + "/groom" + std::to_string(g + 1) + "_" + distNames[d] +
+                                 "_" + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                                 "_" + referenceMethodName(method) + "_" + std::to_string(refSpp) +
+                                 "spp.exr";
+        Frame f;
+        if (!refCache.empty() && std::filesystem::exists(path)) {
+          f.color = readImage(path);
+          return f;
+        }
+        f = b.renderer.renderReference(s, refSpp, method);
+        if (!refCache.empty()) writeImage(f.color, path);
+        return f;
+      };
       auto hairFlip = [](const Frame& ref, const Frame& f, const std::vector<char>& mask) {
         ImageComparison cmp = compareImages(ref.color, f.color);
         double sum = 0.0;
@@ -539,15 +589,21 @@ int main(int argc, char** argv) {
            << " spp)\n\nOver the hair's pixels (where the reference differs from the scene "
               "without hair): mean FLIP (lower is better) / PSNR dB / frame ms. Whole-image "
               "values are in bench.json. SWR1+H: Huang's filter (DESIGN.md).\n\n"
-              "| configuration | close | mid | far |\n|---|---|---|---|\n";
+              "| configuration |";
+        for (int d = 0; d < 3; ++d)
+          if (distances.count(distNames[d])) md << " " << distNames[d] << " |";
+        md << "\n|---|";
+        for (int d = 0; d < 3; ++d)
+          if (distances.count(distNames[d])) md << "---|";
+        md << "\n";
         std::map<std::string, std::vector<std::string>> cells;
         json& qg = g == 0 ? q : q["groom2"];
         std::ostringstream refMd;  // the two references at mid
         for (int d = 0; d < 3; ++d) {
+          if (!distances.count(distNames[d])) continue;
           Scene s = framed(scenes[g], dists[d], qw, qh);
           Frame ref;
-          const double refMs =
-              wallMs([&] { ref = b.renderer.renderReference(s, refSpp, refMethod); });
+          const double refMs = wallMs([&] { ref = reference(s, g, d, refMethod); });
           qg["reference"][distNames[d]] = {
               {"method", referenceMethodName(refMethod)}, {"spp", refSpp}, {"wall_ms", refMs}};
           std::fprintf(stderr, "quality %s %s: %s reference, %d spp, %.1f s\n", groomNames[g],
@@ -555,7 +611,7 @@ int main(int argc, char** argv) {
           Scene bare = s;
           bare.grooms.clear();
           const Frame background = b.renderer.render(bare);
-          std::vector<char> hairMask(ref.depth.size(), 0);
+          std::vector<char> hairMask(ref.color.rgba.size() / 4, 0);
           for (std::size_t i = 0; i < hairMask.size(); ++i)
             for (int c = 0; c < 3; ++c)
               hairMask[i] |=
@@ -563,6 +619,7 @@ int main(int argc, char** argv) {
           const std::string refPath = out + "/quality/" + gtag + distNames[d] + "_reference.png";
           writeImage(ref.color, refPath);
           for (const Config& c : configs) {
+            if (!chosen.empty() && !chosen.count(c.name)) continue;
             RenderOptions o;
             o.msaa = c.msaa;
             o.filter = c.filter;
@@ -578,8 +635,15 @@ int main(int argc, char** argv) {
               fp->alphaFix = c.huang >= 2;
               fp->aniso = c.huang >= 3;
             }
-            Measured m = b.measure(sc, o, false);
             Frame f = b.renderer.render(sc, o);
+            // --runs 0 (quick tuning runs): the times of this one frame
+            Measured m;
+            if (runs > 0) {
+              m = b.measure(sc, o, false);
+            } else {
+              for (const StageTime& t : f.timings) m.stages[t.stage] = summarize({t.ms});
+              m.total = summarize({f.totalMs()});
+            }
             ImageComparison cmp = compareImages(ref.color, f.color);
             // the same measures restricted to the hair's pixels
             const double psnrHair = computePsnr(ref.color, f.color, &hairMask).psnrDb;
@@ -617,8 +681,7 @@ int main(int argc, char** argv) {
             if (g == 0 && d == 1 && c.msaa == 1 && c.filter == 0 && c.lod == 0 && c.raster == 0) {
               // SWR1 at mid against the other reference too, over the same hair pixels
               Frame other;
-              const double otherMs =
-                  wallMs([&] { other = b.renderer.renderReference(s, refSpp, otherMethod); });
+              const double otherMs = wallMs([&] { other = reference(s, g, d, otherMethod); });
               writeImage(other.color, out + "/quality/mid_reference_" +
                                           referenceMethodName(otherMethod) + ".png");
               const double flipOther = hairFlip(other, f, hairMask);
@@ -642,6 +705,7 @@ int main(int argc, char** argv) {
           }
         }
         for (const Config& c : configs) {
+          if (!chosen.empty() && !chosen.count(c.name)) continue;
           md << "| " << c.name << " |";
           for (const std::string& cell : cells[c.name]) md << " " << cell << " |";
           md << "\n";
@@ -660,12 +724,25 @@ int main(int argc, char** argv) {
          << "-frame orbit of 0.5 deg per frame, " << tw << "x" << th
          << ")\n\nMean absolute sRGB change between consecutive frames (lower is steadier):\n\n| "
             "configuration | flicker |\n|---|---|\n";
+      std::set<std::string> temporalChosen;  // --quality-configs, the names this section has
+      for (std::size_t at = 0; !qualityConfigs.empty() && at <= qualityConfigs.size();) {
+        const std::size_t comma = std::min(qualityConfigs.find(',', at), qualityConfigs.size());
+        temporalChosen.insert(qualityConfigs.substr(at, comma - at));
+        at = comma + 1;
+      }
       struct Config {
         const char* name;
         int msaa, filter;
+        int huang = 0;  // 0: Lipp's filter; else Huang's: 1 linking, 2 + alpha fix, 3 + filter
       };
+      int temporalRows = 0;
       for (const Config& c :
-           {Config{"SWR1", 1, 0}, Config{"SWR1+F", 1, 1}, Config{"SWR MSAA 4", 4, 0}}) {
+           {Config{"SWR1", 1, 0}, Config{"SWR1+F", 1, 1}, Config{"SWR1+H linking", 1, 1, 1},
+            Config{"SWR1+H linking+alpha fix", 1, 1, 2},
+            Config{"SWR1+H (linking+alpha fix+anisotropic)", 1, 1, 3},
+            Config{"SWR MSAA 4", 4, 0}}) {
+        if (!temporalChosen.empty() && !temporalChosen.count(c.name)) continue;
+        ++temporalRows;
         RenderOptions o;
         o.msaa = c.msaa;
         o.filter = c.filter;
@@ -677,6 +754,13 @@ int main(int argc, char** argv) {
           s.width = tw;
           s.height = th;
           s.camera = framePreset(s, CameraPreset::Mid, 35.0f + 0.5f * f, 10.0f, 35.0f);
+          std::vector<FilterParams*> fps{&s.filter};
+          for (GroomInstance& gi : s.grooms) fps.push_back(&gi.filter);
+          for (FilterParams* fp : fps) {
+            fp->method = c.huang ? FilterParams::Method::Huang : FilterParams::Method::Lipp;
+            fp->alphaFix = c.huang >= 2;
+            fp->aniso = c.huang >= 3;
+          }
           Frame fr = b.renderer.render(s, o);
           std::vector<float> srgb(fr.color.rgba.size() / 4 * 3);
           for (std::size_t i = 0; i < srgb.size(); ++i)
@@ -692,6 +776,10 @@ int main(int argc, char** argv) {
         md << "| " << c.name << " | " << fmt(flicker, 5) << " |\n";
         report["temporal"][c.name] = flicker;
         std::fprintf(stderr, "temporal %s: %.5f\n", c.name, flicker);
+      }
+      if (temporalRows == 0) {
+        md << "| (none: --quality-configs names none of this section's rows) | |\n";
+        std::fprintf(stderr, "temporal: --quality-configs names none of this section's rows\n");
       }
     }
 

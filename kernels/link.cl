@@ -21,14 +21,22 @@
  *                  root to tip, points at it), the next pixel is the neighbour on the line
  *                  whose u lies nearest beyond the current one; empty pixels receive the
  *                  strand's identity (linked bit set) in the linked layer. The walk stops
- *                  at the strand's end (no pixel beyond), the image border, a pixel with a
- *                  centre word, or after max_steps pixels. This walks the rasterised
- *                  curve pixel by pixel where Eq. 6-7 step along u adaptively: the same
- *                  pixels, without a step size to tune.
+ *                  at the strand's end (no pixel beyond), the image border, a pixel a
+ *                  nearer strand drew (the strand goes behind it: Huang's "filled pixel"),
+ *                  or after max_steps pixels. It walks on through the strand's own drawn
+ *                  pixels and through pixels a farther strand drew: the strand passes in
+ *                  front there without having won the one sample, so such a pixel is on
+ *                  its visible path; it is recorded in the linked layer too (nearest
+ *                  strand first), for the alpha fix's N, but never drawn. This walks the
+ *                  rasterised curve pixel by pixel where Eq. 6-7 step along u adaptively:
+ *                  the same pixels, without a step size to tune.
  *  link_merge      an empty pixel with a linked identity takes the curve layer's word of
  *                  that strand there (its true depth, tangent, w and AO) and the identity;
  *                  then every pixel of a flagged strand counts into the strand's hash
- *                  entry (M drawn, N linked), and the hair's screen bounds are taken.
+ *                  entry (M drawn, N linked), a drawn pixel with a nearer linked strand
+ *                  recorded also into that strand's N, and the hair's screen bounds are
+ *                  taken. So M / (M + N) estimates the strand's coverage of the pixels on
+ *                  its visible path, over background and over farther hair alike.
  *  (shading)       shade.cl shades the merged centre layer.
  *  link_alpha      alpha = M / (M + N) per flagged strand (Eq. 8): the pixel becomes
  *                  alpha (C, 1) + (1 - alpha) B, premultiplied, where B is the mean of the
@@ -38,7 +46,9 @@
  *                  alpha (M + N) C = M C: what it had (Eq. 10). Other pixels stay opaque.
  *  link_aniso      the orientation-aware filter (Eq. 11-12) of the premultiplied result
  *                  over the ellipse of major axis r = k sqrt(Bx By) (Eq. 13, clamped to
- *                  1..8 pixels) along the pixel's screen tangent, minor axis r / 4:
+ *                  1..3 pixels: longer kernels measured farther from the reference, most
+ *                  on curly hair, whose strands leave a straight ellipse within a few
+ *                  pixels; DESIGN.md) along the pixel's screen tangent, minor axis r / 4:
  *                  w = exp(-(d/r)^2 / sd^2) exp(-theta^2 / st^2) exp(-|Cp - Cq|^2 / sc^2),
  *                  distance in units of r (the paper's sigma_d = 0.1 is relative), theta
  *                  the angle between the tangent line and Q - P, colours as c / (1 + c).
@@ -55,7 +65,7 @@
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
 
-#define LINK_MAX_RADIUS 8
+#define LINK_MAX_RADIUS 3
 
 /* Unit screen direction (x right, y down) of the word's world tangent at pixel (x, y). */
 static inline float2 link_screen_tangent(__global const ClhViewGpu* view_g,
@@ -163,9 +173,22 @@ __kernel void link_propagate(__global const ClhGroomGpu* groom_g, __global const
     }
     if (next_x < 0) return; /* the strand ends here, leaves the image or is hidden */
     const size_t q = (size_t)next_y * (size_t)width + (size_t)next_x;
-    if (gbuf_g[q] != CLH_GBUF_EMPTY) return; /* a filled pixel */
-    atom_min(gbuf_g + (size_t)CLH_LAYER_LINKED * plane + q,
-             clh_id_pack(clh_gbuf_depth(next_id), strand, (uint)next_u, 1u));
+    const ulong drawn = gbuf_g[q];
+    const uint depth = clh_gbuf_depth(next_id);
+    if (drawn != CLH_GBUF_EMPTY) {
+      const ulong qid = gbuf_g[(size_t)CLH_LAYER_ID * plane + q];
+      const bool own = qid != CLH_GBUF_EMPTY && clh_id_strand(qid) == strand;
+      /* a nearer strand drew it: this one goes behind there (Huang's "filled pixel") */
+      if (!own && clh_gbuf_depth(drawn) <= depth) return;
+      /* its own pixel, or a farther strand's that it passes in front of without having
+       * won the centre sample: walk on; the latter is recorded for the alpha fix's N */
+      if (!own)
+        atom_min(gbuf_g + (size_t)CLH_LAYER_LINKED * plane + q,
+                 clh_id_pack(depth, strand, (uint)next_u, 1u));
+    } else {
+      atom_min(gbuf_g + (size_t)CLH_LAYER_LINKED * plane + q,
+               clh_id_pack(depth, strand, (uint)next_u, 1u));
+    }
     cx = next_x;
     cy = next_y;
     cu = next_u;
@@ -193,6 +216,22 @@ static inline int link_hash_find(__global uint* table_g, uint size, uint strand,
     at = at + 1u == size ? 0u : at + 1u;
   }
   return -1;
+}
+
+/* One pixel into the counts of the strand `id` names (M drawn, N linked), when it is a
+ * source strand; a strand the full table has no room for is counted as turned away. */
+static inline void link_count(__global const ClhLinkGpu* link_g, __global const uint* flags_g,
+                              __global uint* table_g, __global uint* counters_g, ulong id) {
+  const uint strand = clh_id_strand(id);
+  if (!link_flagged(flags_g, link_g->strand_words, strand)) return;
+  bool inserted = false;
+  const int e = link_hash_find(table_g, link_g->table_size, strand, true, &inserted);
+  if (e < 0) {
+    atomic_inc(counters_g + 3);
+    return;
+  }
+  if (inserted) atomic_inc(counters_g + 2);
+  atomic_inc(table_g + 4u * (size_t)e + (clh_id_linked(id) ? 2u : 1u));
 }
 
 __kernel void link_merge(__global const ClhViewGpu* view_g, __global const ClhLinkGpu* link_g,
@@ -225,17 +264,14 @@ __kernel void link_merge(__global const ClhViewGpu* view_g, __global const ClhLi
   atomic_min(counters_g + 5, (uint)y);
   atomic_max(counters_g + 6, (uint)x);
   atomic_max(counters_g + 7, (uint)y);
-  if (link_g->alpha_fix == 0u || id == CLH_GBUF_EMPTY) return;
-  const uint strand = clh_id_strand(id);
-  if (!link_flagged(flags_g, link_g->strand_words, strand)) return;
-  bool inserted = false;
-  const int e = link_hash_find(table_g, link_g->table_size, strand, true, &inserted);
-  if (e < 0) {
-    atomic_inc(counters_g + 3);
-    return;
-  }
-  if (inserted) atomic_inc(counters_g + 2);
-  atomic_inc(table_g + 4u * (size_t)e + (clh_id_linked(id) ? 2u : 1u));
+  if (link_g->alpha_fix == 0u) return;
+  if (id != CLH_GBUF_EMPTY) link_count(link_g, flags_g, table_g, counters_g, id);
+  if (linking == 0u || id == CLH_GBUF_EMPTY || clh_id_linked(id) != 0u) return;
+  /* a linked strand passing in front of the strand drawn here, which won the sample: the
+   * pixel is on its visible path, so it counts into its N (never drawn: one word a pixel) */
+  const ulong over = gbuf_g[(size_t)CLH_LAYER_LINKED * plane + idx];
+  if (over != CLH_GBUF_EMPTY && clh_id_strand(over) != clh_id_strand(id))
+    link_count(link_g, flags_g, table_g, counters_g, over);
 }
 
 __kernel void link_alpha(__global const ClhViewGpu* view_g, __global const ClhLinkGpu* link_g,
@@ -269,17 +305,22 @@ __kernel void link_alpha(__global const ClhViewGpu* view_g, __global const ClhLi
     out_g[idx] = (float4)(c, 1.0f);
     return;
   }
-  /* the background of this strand: its neighbours of other strands or none */
+  /* What lies behind the strand in the rest of the pixel. A linked pixel's own sample saw
+   * the background: transparent (the scene shows through at compositing). A drawn pixel's
+   * sample saw only the strand: the mean of the neighbours of other strands, each as its
+   * sample saw it (a linked neighbour is background, transparent, like an empty one). */
   float4 bg = (float4)(0.0f);
+  const bool linked = clh_id_linked(id) != 0u;
   float count = 0.0f;
-  for (int dy = -1; dy <= 1; ++dy) {
+  for (int dy = linked ? 2 : -1; dy <= 1; ++dy) {
     for (int dx = -1; dx <= 1; ++dx) {
       const int qx = x + dx, qy = y + dy;
       if ((dx == 0 && dy == 0) || qx < 0 || qy < 0 || qx >= width || qy >= height) continue;
       const size_t q = (size_t)qy * (size_t)width + (size_t)qx;
       const ulong qid = gbuf_g[(size_t)CLH_LAYER_ID * plane + q];
       if (qid != CLH_GBUF_EMPTY && clh_id_strand(qid) == strand) continue;
-      if (gbuf_g[q] != CLH_GBUF_EMPTY) bg += (float4)(hair_g[q].xyz, 1.0f);
+      if (gbuf_g[q] != CLH_GBUF_EMPTY && (qid == CLH_GBUF_EMPTY || !clh_id_linked(qid)))
+        bg += (float4)(hair_g[q].xyz, 1.0f);
       count += 1.0f;
     }
   }
@@ -319,23 +360,28 @@ __kernel void link_aniso(__global const ClhGroomGpu* groom_g, __global const Clh
   const float3 dp = link_display(cp.xyz);
   float4 sum = (float4)(0.0f);
   float wsum = 0.0f;
-  for (int dy = -ri; dy <= ri; ++dy) {
+  /* only the ellipse's bounding box (its half extents along x and y, a little margin) holds
+   * pixels that can count; without a tangent only P itself does */
+  const int rx =
+      has_t ? min(ri, (int)ceil(sqrt(r * r * t.x * t.x + minor * minor * t.y * t.y) + 1e-3f)) : 0;
+  const int ry =
+      has_t ? min(ri, (int)ceil(sqrt(r * r * t.y * t.y + minor * minor * t.x * t.x) + 1e-3f)) : 0;
+  for (int dy = -ry; dy <= ry; ++dy) {
     const int qy = y + dy;
     if (qy < 0 || qy >= height) continue;
-    for (int dx = -ri; dx <= ri; ++dx) {
+    for (int dx = -rx; dx <= rx; ++dx) {
       const int qx = x + dx;
       if (qx < 0 || qx >= width) continue;
       const float2 d = (float2)((float)dx, (float)dy);
       const float d2 = dot(d, d);
-      float along = 0.0f, across = 0.0f, theta = 0.0f;
+      float theta = 0.0f;
       if (d2 > 0.0f) {
-        if (!has_t) continue;
-        along = dot(d, t);
-        across = d.x * t.y - d.y * t.x;
-        /* the angle between the tangent line and d, in [0, pi/2] */
-        theta = atan2(fabs(across), fabs(along));
+        const float along = dot(d, t);
+        const float across = d.x * t.y - d.y * t.x;
         /* the ellipse: major axis r along the tangent, minor axis across */
         if ((along * along) / (r * r) + (across * across) / (minor * minor) > 1.0f) continue;
+        /* the angle between the tangent line and d, in [0, pi/2] */
+        theta = atan2(fabs(across), fabs(along));
       }
       const size_t q = (size_t)qy * (size_t)width + (size_t)qx;
       const float4 cq = in_g[q];

@@ -5,15 +5,16 @@
 // pass would fill them (one pixel per column on the strand's line): a dashed diagonal strand
 // comes out linked along its line only, with alpha = M / (M + N) from its own counts and
 // its radiance conserved to 1 %; two crossing strands are each linked along their own line
-// with their own identity; nothing is filled past a strand's end or over a filled pixel; a
-// hash table too small for the strands turns the rest away, counts them and leaves them at
-// alpha 1; the anisotropic filter keeps a uniform strand's colour and does not mix two
-// parallel strands. Rendered frames: the identity layer leaves the centre layer word for word
-// as it was and carries the centre word's depth; its strands are the groom's (two known
-// strands give two ids, read back from the CLI's EXR with OpenImageIO); linking of a sub-pixel
-// strand file keeps the hair's total coverage; for a hair mesh the regenerated centre lines
-// of the source strands run through their drawn pixels.
-// Tiny sizes: each test takes about a second or two.
+// with their own identity; nothing is filled past a strand's end or over a filled pixel, nor
+// past a nearer strand's pixel, while a walk passes its own drawn pixels and farther strands'
+// ones (which count into its N); a hash table too small for the strands turns the rest
+// away, counts them and leaves them at alpha 1; the anisotropic filter keeps a uniform
+// strand's colour and does not mix two parallel strands. Rendered frames: the identity layer leaves
+// the centre layer word for word as it was and carries the centre word's depth; its strands are the
+// groom's (two known strands give two ids, read back from the CLI's EXR with OpenImageIO); linking
+// of a sub-pixel strand file keeps the hair's total coverage; for a hair mesh the regenerated
+// centre lines of the source strands run through their drawn pixels. Tiny sizes: each test takes
+// about a second or two.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -245,7 +246,8 @@ TEST(Link, CrossingStrandsAreEachLinkedAlongTheirOwnLine) {
 TEST(Link, NothingIsFilledPastTheStrandsEndOrOverAFilledPixel) {
   Synthetic s;
   // strand 3: drawn at its first two pixels, its line runs on to (24, 24), where it ends; a
-  // pixel of strand 4 sits on the line at (12, 12)
+  // pixel of strand 4, nearer (z 1.4 against 1.5), sits on the line at (12, 12): strand 3
+  // goes behind it there
   for (int i = 2; i <= 24; ++i) {
     const float u = float(i - 2) / 22.0f;
     s.line(i, i, 3, u, 1.5f, 1.0f, 1.0f);
@@ -269,6 +271,76 @@ TEST(Link, NothingIsFilledPastTheStrandsEndOrOverAFilledPixel) {
   // strand 6's root side is filled down to its first line pixel (24, 26), no further
   EXPECT_NE(r.gbuf[26 * W + 24], kEmpty);
   EXPECT_EQ(r.gbuf[27 * W + 23], kEmpty);
+}
+
+TEST(Link, WalkPassesItsOwnPixelsAndFartherStrandsAndCountsThemForAlpha) {
+  Synthetic s;
+  // strand 3 along x = y from (2, 2) to (20, 20), z 1.5, drawn at 2, 3 and 14; strand 4, a
+  // vertical one behind it (z 1.8), won the centre sample at (8, 8)
+  const int first = 2, last = 20;
+  auto own = [](int i) { return i == 2 || i == 3 || i == 14; };
+  for (int i = first; i <= last; ++i) {
+    const float u = float(i - first) / float(last - first);
+    s.line(i, i, 3, u, 1.5f, 1.0f, 1.0f);
+    if (own(i)) s.drawn(i, i, 3, u, 1.5f, 1.0f, 1.0f, kRed);
+  }
+  s.drawn(8, 8, 4, 0.5f, 1.8f, 0.0f, 1.0f, kBlue);
+  const LinkResult r = runLink(s, linkOnly(), [](clh_u32 k) { return k == 4 ? kBlue : kRed; });
+  // past the farther strand's pixel and past its own drawn pixel the walk goes on
+  for (int i = first; i <= last; ++i) {
+    const std::size_t p = std::size_t(i) * W + i;
+    SCOPED_TRACE(testing::Message() << "pixel " << i);
+    const clh_u64 id = r.gbuf[CLH_LAYER_ID * kPlane + p];
+    if (i == 8) {  // never overwritten: one word a pixel, the sample's strand keeps it
+      EXPECT_EQ(clh_id_strand(id), 4u);
+      EXPECT_EQ(clh_id_linked(id), 0u);
+      continue;
+    }
+    ASSERT_NE(r.gbuf[p], kEmpty) << "a gap of strand 3 stayed empty";
+    EXPECT_EQ(clh_id_strand(id), 3u);
+    EXPECT_EQ(clh_id_linked(id), own(i) ? 0u : 1u);
+  }
+  // M = 3 drawn; N = the 15 filled pixels and (8, 8), where strand 3 passes in front
+  const int M = 3, filled = (last - first + 1) - M - 1;
+  EXPECT_EQ(r.counters.filled, std::uint32_t(filled));
+  const float alpha = float(M) / float(M + filled + 1);
+  for (int i = first; i <= last; ++i) {
+    if (i != 8) {
+      EXPECT_NEAR(r.out[std::size_t(i) * W + i].s[3], alpha, 1e-6f) << i;
+    }
+  }
+}
+
+TEST(Link, AlphaFixBlendsLinkedPixelsOverTheBackgroundAndDrawnOnesOverTheirNeighbours) {
+  Synthetic s;
+  // the dashed diagonal strand 5, and beside it (one pixel to the right) a fully drawn blue
+  // strand 9: a linked pixel of strand 5 saw the background, so behind its alpha there is
+  // nothing (the scene, at compositing); a drawn pixel saw only strand 5, so behind it lies
+  // the mean of its other neighbours, blue strand 9 among them
+  const int first = 3, last = 30;
+  auto dash = [&](int i) { return (i - first) % 5 < 2 || i == last; };
+  diagonal(s, 5, first, last, 1.3f, dash);
+  for (int i = first; i <= last; ++i)
+    s.drawn(i + 1, i, 9, float(i - first) / float(last - first), 1.3f, 1.0f, 1.0f, kBlue);
+  const LinkResult r = runLink(s, linkOnly(), [](clh_u32 k) { return k == 9 ? kBlue : kRed; });
+  int M = 0;
+  for (int i = first; i <= last; ++i) M += dash(i);
+  const float alpha = float(M) / float(last - first + 1);
+  int linked = 0;
+  for (int i = first + 1; i < last; ++i) {
+    const std::size_t p = std::size_t(i) * W + i;
+    SCOPED_TRACE(testing::Message() << "pixel " << i);
+    ASSERT_EQ(clh_id_strand(r.gbuf[CLH_LAYER_ID * kPlane + p]), 5u);
+    if (!dash(i)) {  // exactly the strand's share, nothing of strand 9
+      ++linked;
+      EXPECT_NEAR(r.out[p].s[3], alpha, 1e-6f);
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.out[p].s[c], alpha * kRed.s[c], 1e-6f) << c;
+    } else {  // strand 9 shows behind it: more blue and more cover than the share alone
+      EXPECT_GT(r.out[p].s[2], alpha * kRed.s[2] + 0.05f);
+      EXPECT_GT(r.out[p].s[3], alpha + 0.05f);
+    }
+  }
+  EXPECT_GT(linked, 10);
 }
 
 TEST(Link, AFullHashTableTurnsStrandsAwayCountedAndLeavesThemAtAlphaOne) {
@@ -311,11 +383,11 @@ TEST(Link, AnisotropicFilterSmoothsAlongAStrandAndDoesNotMixParallelStrands) {
   FilterParams f = linkOnly();
   f.aniso = true;
   f.sigmaD = 1.0f;   // a wide kernel, so the normalisation and the ellipse matter
-  f.kernelK = 0.2f;  // r = 0.2 sqrt(36 * 12) ~ 4 px
+  f.kernelK = 0.2f;  // r = 0.2 sqrt(36 * 12) ~ 4 px, clamped to 3
   const LinkResult r = runLink(
       s, f, [&](clh_u32 k) { return k == 1 ? kRed : (k == 2 ? kBlue : (k == 3 ? bright : dark)); });
-  // away from the strands' ends (the kernel's reach, ceil(r) = 5 px: the ends fade into the
-  // empty pixels past them, as the matte's filter does)
+  // away from the strands' ends (past the kernel's reach: the ends fade into the empty
+  // pixels past them, as the matte's filter does)
   for (int x = 8; x <= 31; ++x) {
     const cl_float4 a = r.out[14 * W + x], b = r.out[16 * W + x];
     for (int c = 0; c < 3; ++c) {
@@ -335,6 +407,25 @@ TEST(Link, AnisotropicFilterSmoothsAlongAStrandAndDoesNotMixParallelStrands) {
   }
   EXPECT_LT(hi - lo, 0.2f) << "not smoothed along the strand (input spread 0.4)";
   EXPECT_NEAR(mean, 0.4, 0.02);
+}
+
+TEST(Link, AnisotropicKernelReachesAtMostThreePixels) {
+  // a horizontal strand of one colour with one differently coloured pixel at x = 24; the
+  // screen box asks for a far longer kernel (k = 1), which is clamped to r = 3 px: the
+  // pixel 2 px from the odd one takes some of it, the pixel 4 px away none
+  Synthetic s;
+  for (int x = 4; x <= 36; ++x)
+    s.drawn(x, 20, x == 24 ? 2 : 1, float(x - 4) / 32.0f, 1.5f, 1.0f, 0.0f, x == 24 ? kBlue : kRed);
+  FilterParams f = linkOnly();
+  f.aniso = true;
+  f.kernelK = 1.0f;
+  const LinkResult r = runLink(s, f, [](clh_u32 k) { return k == 2 ? kBlue : kRed; });
+  for (int c = 0; c < 4; ++c) {
+    EXPECT_FLOAT_EQ(r.out[20 * W + 20].s[c], kRed.s[c]) << "reached 4 px, channel " << c;
+    EXPECT_FLOAT_EQ(r.out[20 * W + 28].s[c], kRed.s[c]) << "reached 4 px, channel " << c;
+  }
+  EXPECT_GT(r.out[20 * W + 22].s[2], kRed.s[2] + 0.01f) << "no reach at 2 px";
+  EXPECT_GT(r.out[20 * W + 26].s[2], kRed.s[2] + 0.01f) << "no reach at 2 px";
 }
 
 // ---- rendered frames ---------------------------------------------------------------------

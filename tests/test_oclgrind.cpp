@@ -177,7 +177,14 @@ TEST_P(Oclgrind, RenderTinyGroomHasNoReports) {
 
 // Optimised only: the -cl-opt-disable --uninitialized run reports "control flow depends on
 // uninitialized value" in link_propagate on the source index link_select wrote for every
-// pixel; not explained yet (open), so that variant is not asserted here.
+// pixel (the first test of it, then everything that follows from it), for the pixels
+// around the hair. Still open, so that variant is not asserted here. Ruled out by edited
+// kernel copies, each still reporting: link_select writing every pixel's entry before
+// anything else; storing only "none" or 0 as the entry; a constant score (no tangent, no
+// depth decode); no atomics in link_select; no curve pass; link_propagate returning right
+// after the test; plain stores instead of its atom_min; the tangent helper inlined. With a
+// constant score the entry depends only on whether the neighbours' centre and identity words
+// are empty, and testing either one alone still reports; link_select itself reports nothing.
 TEST(OclgrindHuang, RenderWithHuangsFilterHasNoReports) {
   // the identity layer, hair linking (with the curve pass), alpha fix and anisotropic filter
   if (!haveOclgrind()) GTEST_SKIP() << "oclgrind not installed";

@@ -734,7 +734,13 @@ int main(int argc, char** argv) {
         return s;
       };
       std::vector<Truth> truth;
-      for (int f = 0; f < frames; ++f) truth.push_back(truthOf(orbitAt(f)));
+      std::size_t hairPerFrame = 0;
+      for (int f = 0; f < frames; ++f) {
+        truth.push_back(truthOf(orbitAt(f)));
+        hairPerFrame += static_cast<std::size_t>(
+            std::count(truth.back().mask.begin(), truth.back().mask.end(), 1));
+      }
+      hairPerFrame /= static_cast<std::size_t>(frames);
       md << "\n## Temporal stability (" << groomNames[0] << ", mid, " << frames
          << "-frame orbit of 0.5 deg per frame, " << tw << "x" << th
          << ")\n\nFlicker: mean absolute sRGB change between consecutive frames (lower is "
@@ -744,15 +750,21 @@ int main(int argc, char** argv) {
          << " spp). Reprojection: the hair of the frames before carried along the motion "
             "vectors and blended (DESIGN.md, \"Temporal reprojection\"); unprotected: without "
             "its depth rule and neighbourhood clamp. Frames rendered: outputs and history "
-            "frames together, in one pass over the range.\n\n| configuration | flicker | FLIP "
-            "(hair) | ms per frame | frames rendered |\n|---|---|---|---|---|\n";
+            "frames together, in one pass over the range. Flicker (hair): the same change over "
+            "the pixels that are hair in either frame's reference. Dropped / clamped: pixels "
+            "per frame whose history the depth rule dropped / the clamp changed (the hair "
+            "covers about "
+         << hairPerFrame
+         << " pixels a frame).\n\n| configuration | flicker | flicker (hair) | FLIP (hair) | "
+            "dropped / clamped | ms per frame | frames rendered |\n|---|---|---|---|---|---|---|\n";
       for (const Config& c : configs) {
         FrameSequence seq(
             b.renderer, [&](long long f) { return protectedScene(orbitAt(f), c); }, optionsOf(c),
             0);
-        double total = 0.0, flip = 0.0;
+        double total = 0.0, flip = 0.0, totalHair = 0.0;
         std::vector<float> prev;
         double renderMs = 0.0;
+        TemporalStats steps;
         for (int f = 0; f < frames; ++f) {
           const auto r0 = std::chrono::steady_clock::now();
           const Frame fr = seq.render(f);
@@ -760,26 +772,47 @@ int main(int argc, char** argv) {
               std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - r0)
                   .count();
           flip += hairFlipOf(truth[static_cast<std::size_t>(f)], fr);
+          steps.rejected += seq.lastStats().rejected;
+          steps.clamped += seq.lastStats().clamped;
           std::vector<float> srgb = srgbOf(fr);
           if (!prev.empty()) {
-            double diff = 0.0;
-            for (std::size_t i = 0; i < srgb.size(); ++i) diff += std::fabs(srgb[i] - prev[i]);
+            double diff = 0.0, diffHair = 0.0;
+            std::size_t nHair = 0;
+            const std::vector<char>& m0 = truth[static_cast<std::size_t>(f - 1)].mask;
+            const std::vector<char>& m1 = truth[static_cast<std::size_t>(f)].mask;
+            for (std::size_t i = 0; i < srgb.size(); ++i) {
+              const float d = std::fabs(srgb[i] - prev[i]);
+              diff += d;
+              if (m0[i / 3] || m1[i / 3]) {
+                diffHair += d;
+                ++nHair;
+              }
+            }
             total += diff / static_cast<double>(srgb.size());
+            totalHair += diffHair / static_cast<double>(std::max<std::size_t>(nHair, 1));
           }
           prev.swap(srgb);
         }
-        const double flicker = total / (frames - 1);
+        const double flicker = total / (frames - 1), flickerHair = totalHair / (frames - 1);
         flip /= frames;
-        md << "| " << c.name << " | " << fmt(flicker, 5) << " | " << fmt(flip, 4) << " | "
+        const double dropped = static_cast<double>(steps.rejected) / frames;
+        const double clamped = static_cast<double>(steps.clamped) / frames;
+        md << "| " << c.name << " | " << fmt(flicker, 5) << " | " << fmt(flickerHair, 4) << " | "
+           << fmt(flip, 4) << " | " << fmt(dropped, 0) << " / " << fmt(clamped, 0) << " | "
            << fmt(renderMs / frames, 0) << " | " << seq.framesRendered() << " |\n";
         // the first three rows keep their flat numbers in bench.json (earlier reports)
         if (c.history == 0) report["temporal"][c.name] = flicker;
         report["temporal_study"][c.name] = {{"flicker", flicker},
+                                            {"flicker_hair", flickerHair},
                                             {"flip_hair", flip},
+                                            {"dropped_per_frame", dropped},
+                                            {"clamped_per_frame", clamped},
                                             {"ms_per_frame", renderMs / frames},
                                             {"frames_rendered", seq.framesRendered()}};
-        std::fprintf(stderr, "temporal %s: flicker %.5f, hair FLIP %.4f, %.0f ms a frame\n", c.name,
-                     flicker, flip, renderMs / frames);
+        std::fprintf(stderr,
+                     "temporal %s: flicker %.5f (hair %.4f), hair FLIP %.4f, dropped %.0f clamped "
+                     "%.0f, %.0f ms a frame\n",
+                     c.name, flicker, flickerHair, flip, dropped, clamped, renderMs / frames);
       }
       // a fast shot: the groom translated sideways about 8 px a frame, camera still
       const int fastFrames = quick ? 5 : 10;
@@ -812,9 +845,9 @@ int main(int argc, char** argv) {
          << " world units, about 8 px, a frame; camera still; " << fastFrames
          << " frames): in the pixels each frame vacated (hair alpha >= 0.5 in the frame before, "
             "no hair within a pixel now), the blended hair alpha (0 is right: they are "
-            "background), and the share of them above 0.01; FLIP as above.\n\n| configuration | "
-            "vacated pixels | trail alpha mean | trail alpha max | share > 0.01 | FLIP (hair) "
-            "|\n|---|---|---|---|---|---|\n";
+            "background), and the share of them above 0.01; FLIP, dropped and clamped as "
+            "above.\n\n| configuration | vacated pixels | trail alpha mean | trail alpha max | "
+            "share > 0.01 | FLIP (hair) | dropped / clamped |\n|---|---|---|---|---|---|---|\n";
       for (const Config& c : configs) {
         if (c.msaa != 1 || c.filter != 1) continue;  // SWR1+F with and without reprojection
         RenderOptions o = optionsOf(c);
@@ -824,9 +857,12 @@ int main(int argc, char** argv) {
         std::size_t vacated = 0, trail = 0;
         double mean = 0.0, flip = 0.0;
         float worst = 0.0f;
+        TemporalStats steps;
         for (int f = 0; f < fastFrames; ++f) {
           const Frame fr = seq.render(f);
           flip += hairFlipOf(fastTruth[static_cast<std::size_t>(f)], fr);
+          steps.rejected += seq.lastStats().rejected;
+          steps.clamped += seq.lastStats().clamped;
           if (f == 0) continue;
           const std::vector<float>& before = ownAlpha[static_cast<std::size_t>(f - 1)];
           const std::vector<float>& now = ownAlpha[static_cast<std::size_t>(f)];
@@ -852,12 +888,17 @@ int main(int argc, char** argv) {
         flip /= fastFrames;
         const double share = static_cast<double>(trail) / std::max<std::size_t>(vacated, 1);
         md << "| " << c.name << " | " << vacated << " | " << fmt(mean, 5) << " | " << fmt(worst, 4)
-           << " | " << fmt(share, 4) << " | " << fmt(flip, 4) << " |\n";
-        report["temporal_study"]["fast_shot"][c.name] = {{"vacated_pixels", vacated},
-                                                         {"trail_alpha_mean", mean},
-                                                         {"trail_alpha_max", worst},
-                                                         {"trail_share", share},
-                                                         {"flip_hair", flip}};
+           << " | " << fmt(share, 4) << " | " << fmt(flip, 4) << " | "
+           << fmt(static_cast<double>(steps.rejected) / fastFrames, 0) << " / "
+           << fmt(static_cast<double>(steps.clamped) / fastFrames, 0) << " |\n";
+        report["temporal_study"]["fast_shot"][c.name] = {
+            {"vacated_pixels", vacated},
+            {"trail_alpha_mean", mean},
+            {"trail_alpha_max", worst},
+            {"trail_share", share},
+            {"flip_hair", flip},
+            {"dropped_per_frame", static_cast<double>(steps.rejected) / fastFrames},
+            {"clamped_per_frame", static_cast<double>(steps.clamped) / fastFrames}};
         std::fprintf(stderr,
                      "temporal fast shot %s: %zu vacated, trail mean %.5f max %.4f share %.4f, "
                      "hair FLIP %.4f\n",

@@ -221,6 +221,11 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
     readBack(r.dev, "the opaque scene's depth", t.depth, aovDepth.data(), pixels);
     aovBuilder.emplace(view, aovDepth);
   }
+  std::vector<float> aovOpaque;
+  if (aovs) {  // the colour under the hair: temporal reprojection recomposes the frame on it
+    aovOpaque.resize(pixels * 4);
+    readBack(r.dev, "the opaque scene's colour", t.color, aovOpaque.data(), aovOpaque.size());
+  }
   // the previous camera's intrinsics for motion passes keep this frame's sub-pixel shift
   const Scene* before = aovs ? options.previous : nullptr;
   gpu::ClhMotionGpu motionParams{};
@@ -410,7 +415,10 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
     }
   }
   frame.stats.shadowStrandsDrawn = r.shadows.strandsDrawn();
-  if (aovs) frame.aovs = aovBuilder->finish(frame.depth, s, options.previous);
+  if (aovs) {
+    frame.aovs = aovBuilder->finish(frame.depth, s, options.previous);
+    frame.aovs.opaque = std::move(aovOpaque);
+  }
   if (options.captureGBuffer) {
     frame.gbufferLayers = t.usedLayers();
     frame.gbuffer.assign(pixels * t.usedLayers(), ~std::uint64_t(0));

@@ -558,6 +558,39 @@ TEST(FrameRange, FramesAreIdenticalInARangeAloneAndReversed) {
   EXPECT_TRUE(fs::exists(dir + "/range.0055.exr"));
 }
 
+TEST(FrameRange, FramesWithReprojectionAreIdenticalInARangeAloneAndReversed) {
+  // the scene of the test above with temporal reprojection over 2 frames: each frame blends
+  // frames it renders itself or holds from earlier in the same range, so it must not depend
+  // on which frames the process rendered before
+  const std::string dir = scratchDir();
+  saveCageAnimation(restCage(60, 0.0005f), dir + "/moving.cage");
+  const json groom = {
+      {"transform",
+       {{"interpolation", "smooth"},
+        {"keys", {{{"frame", 1}, {"rotate_y", -20}}, {{"frame", 60}, {"rotate_y", 40}}}}}},
+      {"cage_animation", {{"file", "moving.cage"}}},
+      {"wind", {{"strength", 0.01}, {"direction", {1, 0, 0.5}}, {"frequency", 1}}}};
+  const json camera = {
+      {"keys", {{{"frame", 1}}, {{"frame", 60}, {"position", {0.05, 0.04, 0.2}}}}}};
+  const std::string scene = writeScene(dir, tinyScene(groom, camera));
+  renderFrames(scene, "3-55:2", dir, "range", "--temporal 2");
+  renderFrames(scene, "7", dir, "alone7", "--temporal 2");
+  renderFrames(scene, "53", dir, "alone53", "--temporal 2");
+  renderFrames(scene, "55-3:2", dir, "reversed", "--temporal 2");
+  renderFrames(scene, "52-54", dir, "split", "--temporal 2");
+  renderFrames(scene, "7", dir, "plain", "--temporal 0");
+  for (const char* f : {"0007", "0053"}) {
+    SCOPED_TRACE(f);
+    const std::string a = readBytes(dir + "/range." + f + ".exr");
+    ASSERT_GT(a.size(), 100u);
+    EXPECT_TRUE(a == readBytes(dir + "/alone" + std::to_string(std::stoi(f)) + "." + f + ".exr"));
+    EXPECT_TRUE(a == readBytes(dir + "/reversed." + f + ".exr"));
+  }
+  EXPECT_TRUE(readBytes(dir + "/range.0053.exr") == readBytes(dir + "/split.0053.exr"));
+  // the reprojection reaches the image
+  EXPECT_FALSE(readBytes(dir + "/range.0007.exr") == readBytes(dir + "/plain.0007.exr"));
+}
+
 TEST(FrameRange, StaticAnimationRendersEveryFrameLikeTheStill) {
   const std::string dir = scratchDir();
   saveCageAnimation(restCage(4), dir + "/rest.cage");

@@ -8,6 +8,7 @@
 //     (docs/aovs.md)
 //     [--views all|NAME,...]              several views of one assembly, one file per view
 //                                         (%v in -o becomes the view's name)
+//     [--temporal K]                      blend the hair of the K frames before (reprojected)
 //   clhair groom --preset NAME -o FILE      write a generated hair mesh
 //   clhair export-strands GROOM -o F.hair   write the generated strands as cyHair (F.data: USC,
 //                                           F.tfx: TressFX 4.0, resampled to 4..64 points)
@@ -39,6 +40,7 @@
 #include "clhair/hair_mesh.h"
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
+#include "clhair/temporal.h"
 #include "groom/presets.h"
 #include "groom/visibility_bake.h"
 #include "io/cyhair.h"
@@ -114,7 +116,20 @@ struct RenderFlags {
   bool stats = false;         // --stats: strands and segments per groom instance
   std::string segmentBudget;  // --segment-budget; empty: the scene's
   std::string raster;         // --raster lines|coverage; empty: the scene's
+  std::string temporal;       // --temporal; empty: the scene's "temporal"
 };
+
+// The --temporal value: frames of history, a whole number 0 (off) .. kMaxTemporalHistory.
+int parseTemporal(const std::string& v) {
+  const std::string hint = "--temporal \"" + v + "\": expected frames of history 0.." +
+                           std::to_string(kMaxTemporalHistory) + " (0: off)";
+  if (v.empty() || v.size() > 2 ||
+      !std::all_of(v.begin(), v.end(), [](unsigned char c) { return std::isdigit(c); }))
+    throw Error(hint);
+  const int n = std::stoi(v);
+  if (n > kMaxTemporalHistory) throw Error(hint);
+  return n;
+}
 
 // The --segment-budget value: a whole number 0 (none) .. kMaxSegmentBudget.
 std::int64_t parseSegmentBudget(const std::string& v) {
@@ -355,6 +370,13 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     ro.raster = f.raster == "coverage" ? 1 : 0;
   else if (!f.raster.empty())
     throw Error("--raster must be lines or coverage, not \"" + f.raster + "\"");
+  if (!f.temporal.empty()) ro.temporal = parseTemporal(f.temporal);
+  const bool temporal = (ro.temporal < 0 ? scene.temporal.history : ro.temporal) > 0;
+  if (temporal && (several || f.reference))
+    throw Error(std::string("temporal reprojection (--temporal or the scene's \"temporal\") ") +
+                "renders one view with the real-time pipeline, not " +
+                (several ? "several views (choose one with --views NAME)" : "--reference") +
+                "; --temporal 0 turns it off");
   if (f.reference && (f.spp < 1 || f.spp > 65536))
     throw Error("--spp must be 1..65536, not " + std::to_string(f.spp));
   const CameraPreset* preset = nullptr;
@@ -369,6 +391,17 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     ref.method = parseReferenceMethod(f.referenceMethod);
   if (f.reference && !quiet) ref.progress = referenceProgress();
   Renderer renderer(dev);
+  // the still scene of frame n as this command renders it (also for the previous frames)
+  auto stillAt = [&](long long n) {
+    Scene st = sceneAtFrame(scene, static_cast<double>(n));
+    if (preset) st.camera = reframeCamera(st, *preset);
+    if (!views[0].relative || views[0].offset != glm::vec3(0.0f))
+      st.camera = viewCamera(st, views[0]);
+    return st;
+  };
+  // with reprojection, each frame blends the frames before it, rendered or held by the sequence
+  // (clhair/temporal.h): still the same frame whatever this process rendered before
+  FrameSequence sequenceFrames(renderer, stillAt, ro);
   // Every frame is evaluated from the scene and its number alone and rendered from a
   // cleared target, so it is the same whichever frames this process rendered before.
   const bool sequence = !f.frames.empty();
@@ -436,7 +469,9 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
       }
       ro.previous = &previous;
     }
-    Frame frame = f.reference ? renderer.renderReference(still, ref) : renderer.render(still, ro);
+    Frame frame = f.reference ? renderer.renderReference(still, ref)
+                  : temporal  ? sequenceFrames.render(number)
+                              : renderer.render(still, ro);
     ro.previous = nullptr;
     if (aovs.empty())
       writeImage(frame.color, path);
@@ -702,6 +737,10 @@ int main(int argc, char** argv) {
   render->add_flag("-q,--quiet", rf.quiet, "print nothing on success");
   render->add_flag("--stats", rf.stats,
                    "print the strands and segments each groom instance draws, and the totals");
+  render->add_option("--temporal", rf.temporal,
+                     "temporal reprojection: blend each frame's hair with the K frames before it, "
+                     "carried along the motion vectors (0: off; default: the scene's \"temporal\", "
+                     "off; DESIGN.md)");
   render->add_option("--segment-budget", rf.segmentBudget,
                      "most segments of all grooms per frame (0: none; default: the scene's)");
   render->add_option("--raster", rf.raster,

@@ -37,7 +37,8 @@ AovBuilder::AovBuilder(const gpu::ClhViewGpu& view, const std::vector<float>& op
       hairAlpha_(pixels_, 0.0f),
       centreZ_(pixels_, kInf),
       tangent_(pixels_ * 3, 0.0f),
-      strand_(pixels_ * 3, -1.0f) {}
+      strand_(pixels_ * 3, -1.0f),
+      hair_(pixels_ * 4, 0.0f) {}
 
 void AovBuilder::addGroom(std::size_t index, const gpu::ClhGroomGpu& params,
                           const std::vector<std::uint64_t>& centre, int layers,
@@ -49,6 +50,12 @@ void AovBuilder::addGroom(std::size_t index, const gpu::ClhGroomGpu& params,
     // the hair is composited over what lies below it: coverages combine like alphas "over"
     const float a = std::min(std::max(hair[p * 4 + 3], 0.0f), 1.0f);
     hairAlpha_[p] = a + (1.0f - a) * hairAlpha_[p];
+    const float* h = &hair[p * 4];
+    if (h[3] > 0.0f) {  // composite.cl's rule, alpha carried along the same way
+      float* acc = &hair_[p * 4];
+      for (int c = 0; c < 3; ++c) acc[c] = h[c] + (1.0f - h[3]) * acc[c];
+      acc[3] = h[3] + (1.0f - h[3]) * acc[3];
+    }
     if (depth[p] < lastDepth_[p]) {
       owner_[p] = static_cast<std::int32_t>(index);
       ownerMotion_[p] = motion ? (*motion)[p] : kEmptyWord;
@@ -78,6 +85,7 @@ FrameAovs AovBuilder::finish(const std::vector<float>& depth, const Scene& scene
   FrameAovs out;
   out.hairAlpha = hairAlpha_;
   out.tangent = tangent_;
+  out.hair = hair_;
   if (ids_) out.strand = strand_;
   out.z.resize(pixels_);
   out.motion.assign(pixels_ * 2, 0.0f);

@@ -4,12 +4,12 @@
 // Inputs, per frame: the view record, the depth of the opaque scene; per groom drawn (after
 // its composite): its record (G-buffer depth mapping), its centre sample layers, its shaded
 // (or filtered) premultiplied hair and the depth buffer after compositing. Outputs: Z, hair
-// alpha, tangent and motion planes. Invariants: the surface whose depth is in Z is the one
-// whose motion is given: a pixel belongs to the last groom whose composite lowered its depth
-// (composite.cl writes the depth of hair at least half opaque), otherwise to the opaque scene.
-// A deforming groom hands in the motion its motion pass resolved per pixel (the strands
-// evaluated at the previous frame, GroomGpu::motion); a rigid one's pixels are carried
-// through its change of transform and the previous camera here.
+// alpha, tangent, motion and the hair layer (premultiplied, composited like composite.cl).
+// Invariants: the surface whose depth is in Z is the one whose motion is given: a pixel belongs to
+// the last groom whose composite lowered its depth (composite.cl writes the depth of hair at least
+// half opaque), otherwise to the opaque scene. A deforming groom hands in the motion its motion
+// pass resolved per pixel (the strands evaluated at the previous frame, GroomGpu::motion); a rigid
+// one's pixels are carried through its change of transform and the previous camera here.
 #pragma once
 
 #include <cstdint>
@@ -52,6 +52,7 @@ class AovBuilder {
   std::vector<float> centreZ_;              // depth of the nearest centre word so far (+inf: none)
   std::vector<float> tangent_;              // its decoded tangent, 3 per pixel
   std::vector<float> strand_;               // its groom, strand and u, 3 per pixel (with ids)
+  std::vector<float> hair_;                 // the grooms' premultiplied RGBA, composited
   bool ids_ = false;
 };
 

@@ -992,9 +992,19 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
     else
       r.fail("raster", "must be \"lines\" or \"coverage\", not \"" + m + "\"");
   }
+  if (r.has("temporal")) {  // temporal reprojection (clhair/temporal.h), off by default
+    JsonReader o = r.object(r.require("temporal"), "temporal");
+    TemporalParams& tp = s.temporal;
+    tp.history = o.integer("history", tp.history, 0, kMaxTemporalHistory);
+    tp.blend = static_cast<float>(o.number("blend", tp.blend, 1e-3, 1.0));
+    tp.depthTolerance =
+        static_cast<float>(o.number("depth_tolerance", tp.depthTolerance, 1e-4, 10.0));
+    o.rejectUnknown({"history", "blend", "depth_tolerance"});
+  }
   r.rejectUnknown({"resolution", "camera", "cameras", "background", "ambient", "lights", "spheres",
                    "planes", "meshes", "grooms", "shadows", "filter", "environment",
-                   "background_image", "frame_rate", "segment_budget", "max_strands", "raster"});
+                   "background_image", "frame_rate", "segment_budget", "max_strands", "raster",
+                   "temporal"});
   return s;
 }
 

@@ -69,6 +69,10 @@ struct RenderOptions {
   // camera, groom transforms and cages or per-frame strands (grooms matched by index) give the
   // motion layer; null: the motion is zero.
   const Scene* previous = nullptr;
+  // Temporal reprojection (TemporalParams in clhair/scene.h): frames of history, -1 as the
+  // scene's "temporal" says, 0 off, 1..kMaxTemporalHistory. Read by FrameSequence
+  // (clhair/temporal.h), which renders the frames before; render() draws the still alone.
+  int temporal = -1;
 };
 
 // How Renderer::renderReference finds what each sample sees.
@@ -134,6 +138,11 @@ struct FrameAovs {
   std::vector<float> motion;     // 2 per pixel: pixels to the previous frame, x right, y up
   // with RenderOptions::strandIds, 3 per pixel: groom index, strand index, u (-1: none)
   std::vector<float> strand;
+  // 4 per pixel: the grooms' premultiplied RGBA composited over transparent black (alpha is
+  // hairAlpha before clamping), and the opaque scene's colour before any hair; the frame's
+  // colour is hair + (1 - hair alpha) * opaque (temporal reprojection recomposes it)
+  std::vector<float> hair;
+  std::vector<float> opaque;
 };
 
 struct Frame {

@@ -104,6 +104,22 @@ struct MeshInstance {
   glm::vec3 color{0.5f};      // linear albedo
 };
 
+// Temporal reprojection of the hair (clhair/temporal.h, DESIGN.md "Temporal reprojection"):
+// a frame's hair is blended with the hair of the `history` frames before it, carried to it
+// along the motion vectors; history that the depth or the current neighbourhood contradicts
+// is dropped. Off by default.
+struct TemporalParams {
+  int history = 0;     // frames before this one in the blend, 0 (off) .. kMaxTemporalHistory
+  float blend = 0.5f;  // weight of the newer frame at each step of the window, (0, 1]
+  // History is dropped where the nearest depth around the pixel and around where it was
+  // differ by more than this share of the depth (or one of them is the background).
+  float depthTolerance = 0.05f;
+  // Study switches (the benchmark turns them off to show what they prevent):
+  bool clamp = true;        // the carried history clamped to the current 3x3 range
+  bool rejectDepth = true;  // the depth rule above
+};
+constexpr int kMaxTemporalHistory = 8;
+
 // Reconstruction filter (Lipp et al. 2026 §3.3), defaults from the paper where it gives them.
 struct FilterParams {
   bool enabled = true;
@@ -233,6 +249,7 @@ struct Scene {
   std::vector<GroomInstance> grooms;
   FilterParams filter;
   ShadowParams shadows;
+  TemporalParams temporal;
   EnvironmentDesc environment;
   CameraAnimation cameraAnimation;
   double frameRate = 24.0;  // frames per second: the wind's clock

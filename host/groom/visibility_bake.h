@@ -7,9 +7,12 @@
 // Sample points are binned by the words' cell (visibility_sh.h); each cell keeps up to
 // `pointsPerCell` of its points, chosen by a hash (a uniform sample over the strands that
 // pass through it). From every sample point `raysPerPoint` stratified directions are traced
-// twice: against the occluders (the distance to the head) and then, up to that distance,
-// against the strands as Embree round linear curves, counting every other strand the ray
-// passes (its own strand is skipped). A ray that reaches the head counts
+// twice, in packets of the point's rays: against the occluders (the distance to the head)
+// and then, up to that distance, against the strands as Embree round linear curves, one
+// curve per segment stored in Morton order of the segment midpoints (cache-friendly vertex
+// gathers), counting every other strand the ray passes (its own strand is skipped) in an
+// occlusion query whose filter rejects hits until the count reaches the cap past which it
+// no longer matters. A ray that reaches the head counts
 // HAIR_MAX_SCATTER_EVENTS more (the head is opaque), a ray's count is capped at
 // kMaxEventsPerRay, and a ray that meets nothing counts -HAIR_MAX_SCATTER_EVENTS (Kulikov's
 // miss bias). The counts are projected onto L1 SH and averaged over the cell's points.

@@ -47,6 +47,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -161,6 +162,20 @@ json measuredJson(const Measured& m) {
   j["atomics_issued"] = m.counts.atomicsIssued;
   j["atomics_skipped"] = m.counts.atomicsSkipped;
   return j;
+}
+
+// Sets the reconstruction filter of the scene and of each groom in it: Lipp's (huang 0) or
+// Huang's parts (1 linking, 2 + alpha fix, 3 + anisotropic filter), and the strand connection
+// when given.
+void useFilter(Scene& s, int huang, std::optional<bool> promote = std::nullopt) {
+  std::vector<FilterParams*> fps{&s.filter};
+  for (GroomInstance& gi : s.grooms) fps.push_back(&gi.filter);
+  for (FilterParams* fp : fps) {
+    if (promote) fp->promote = *promote;
+    fp->method = huang ? FilterParams::Method::Huang : FilterParams::Method::Lipp;
+    fp->alphaFix = huang >= 2;
+    fp->aniso = huang >= 3;
+  }
 }
 
 double stageMedian(const Measured& m, const std::string& stage) {
@@ -636,14 +651,7 @@ int main(int argc, char** argv) {
             o.lodAggregate = c.lodAggregate;
             o.raster = c.raster;
             Scene sc = s;
-            std::vector<FilterParams*> fps{&sc.filter};
-            for (GroomInstance& gi : sc.grooms) fps.push_back(&gi.filter);
-            for (FilterParams* fp : fps) {
-              fp->promote = c.promote;
-              fp->method = c.huang ? FilterParams::Method::Huang : FilterParams::Method::Lipp;
-              fp->alphaFix = c.huang >= 2;
-              fp->aniso = c.huang >= 3;
-            }
+            useFilter(sc, c.huang, c.promote);
             Frame f = b.renderer.render(sc, o);
             // --runs 0 (quick tuning runs): the times of this one frame
             Measured m;
@@ -801,13 +809,7 @@ int main(int argc, char** argv) {
       auto protectedScene = [](Scene s, const Config& c) {
         s.temporal.clamp = c.protect;
         s.temporal.rejectDepth = c.protect;
-        std::vector<FilterParams*> fps{&s.filter};
-        for (GroomInstance& gi : s.grooms) fps.push_back(&gi.filter);
-        for (FilterParams* fp : fps) {
-          fp->method = c.huang ? FilterParams::Method::Huang : FilterParams::Method::Lipp;
-          fp->alphaFix = c.huang >= 2;
-          fp->aniso = c.huang >= 3;
-        }
+        useFilter(s, c.huang);
         return s;
       };
       auto orbitAt = [&](long long f) {

@@ -53,6 +53,32 @@ bool farGroom(const GroomGpu& g, const glm::mat4& objToWorld, const glm::mat4& w
   return view.fy * 2.0f * radius / z < kBudgetFarShare * static_cast<float>(view.height);
 }
 
+// The camera's pass of a groom (LOD, widths) into render target `t` seen from `camera`.
+ViewPass cameraPass(RenderTarget& t, const Camera& camera, const RenderOptions& options,
+                    bool lodCorrection) {
+  ViewPass pass;
+  pass.view = &t.view;
+  pass.worldToView = worldToView(camera);
+  pass.lod = options.lod;
+  pass.lodLambdaScale = options.lodLambdaScale;
+  pass.trueWidth = options.trueWidth;
+  pass.shadowLodCorrection = lodCorrection;
+  return pass;
+}
+
+// The strand raster's buffers in render target `t`.
+StrandRaster rasterInto(RenderTarget& t, std::size_t pixels, int msaa, DispatchMode mode) {
+  StrandRaster raster;
+  raster.view = &t.view;
+  raster.sceneDepth = &t.depth;
+  raster.gbuffer = &t.gbuffer;
+  raster.counters = &t.stats;
+  raster.pixels = pixels;
+  raster.msaa = msaa;
+  raster.mode = mode;
+  return raster;
+}
+
 }  // namespace
 
 Renderer::Renderer(Device device) : impl_(std::make_unique<Impl>(std::move(device))) {}
@@ -240,22 +266,9 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
     prevWorldToView = worldToView(before->camera);
   }
 
-  ViewPass pass;
-  pass.view = &t.view;
-  pass.worldToView = worldToView(s.camera);
-  pass.lod = options.lod;
-  pass.lodLambdaScale = options.lodLambdaScale;
-  pass.trueWidth = options.trueWidth;
-  pass.shadowLodCorrection = lodCorrection;
-  StrandRaster raster;
-  raster.view = &t.view;
-  raster.sceneDepth = &t.depth;
-  raster.gbuffer = &t.gbuffer;
-  raster.counters = &t.stats;
-  raster.pixels = pixels;
-  raster.msaa = options.msaa;
+  ViewPass pass = cameraPass(t, s.camera, options, lodCorrection);
+  StrandRaster raster = rasterInto(t, pixels, options.msaa, mode);
   raster.stats = options.rasterStats;
-  raster.mode = mode;
   raster.cover = cover;
   // every groom's LOD pre-pass, then the segment budget over all of them on the device
   std::vector<const GroomDraw*> drawn;
@@ -502,26 +515,8 @@ std::vector<Frame> Renderer::Impl::views(const Scene& s, const std::vector<Camer
     r.scene.drawOpaque(t.viewTarget(), maps, t.color, t.depth, true, &r.profiler);
   }
   std::vector<ViewPass> passes(V);
-  for (std::size_t v = 0; v < V; ++v) {
-    ViewPass& pass = passes[v];
-    pass.view = &targetOf(v).view;
-    pass.worldToView = worldToView(cameras[v]);
-    pass.lod = options.lod;
-    pass.lodLambdaScale = options.lodLambdaScale;
-    pass.trueWidth = options.trueWidth;
-    pass.shadowLodCorrection = lodCorrection;
-  }
-  auto rasterInto = [&](RenderTarget& t) {
-    StrandRaster raster;
-    raster.view = &t.view;
-    raster.sceneDepth = &t.depth;
-    raster.gbuffer = &t.gbuffer;
-    raster.counters = &t.stats;
-    raster.pixels = pixels;
-    raster.msaa = options.msaa;
-    raster.mode = mode;
-    return raster;
-  };
+  for (std::size_t v = 0; v < V; ++v)
+    passes[v] = cameraPass(targetOf(v), cameras[v], options, lodCorrection);
   std::vector<std::uint32_t> drawnTotal(V, 0);
   for (std::size_t k = 0; k < draws.size(); ++k) {
     const GroomDraw& d = draws[k];
@@ -553,7 +548,7 @@ std::vector<Frame> Renderer::Impl::views(const Scene& s, const std::vector<Camer
                                     pixels * sizeof(float));
     r.target.clearWords(r.viewGBuffers, V * pixels * layers, &r.profiler);
     upload(r.dev, r.viewGrooms, recs.data(), V);
-    StrandRaster raster = rasterInto(targetOf(lodView));
+    StrandRaster raster = rasterInto(targetOf(lodView), pixels, options.msaa, mode);
     raster.sceneDepth = &r.viewDepths;
     raster.gbuffer = &r.viewGBuffers;
     raster.strands =
@@ -576,7 +571,7 @@ std::vector<Frame> Renderer::Impl::views(const Scene& s, const std::vector<Camer
         d.groom->prepare(inst, d.instance->transform, passes[v]);
         d.groom->lod(inst, t.view, &r.profiler);
         t.clearGBuffer(&r.profiler);
-        StrandRaster own = rasterInto(t);
+        StrandRaster own = rasterInto(t, pixels, options.msaa, mode);
         own.strands =
             mode == DispatchMode::ReadBack ? d.groom->readTotal(inst) : d.groom->strandCount();
         d.groom->raster(inst, own, &r.profiler);

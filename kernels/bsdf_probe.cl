@@ -28,19 +28,26 @@
 #define BSDF_PROBE_IN 20
 #define BSDF_PROBE_OUT 6
 
+/* The material and directions of a BSDF_PROBE_IN-float record (layout above). */
+static inline void probe_record(__global const float* r, clh_hair_material* m, clh_v3* t,
+                                clh_v3* wo, clh_v3* wi) {
+  m->sigma_a = clh_v3_make(r[0], r[1], r[2]);
+  m->beta_m = r[3];
+  m->beta_n = r[4];
+  m->alpha = r[5];
+  m->eta = r[6];
+  *t = clh_v3_make(r[8], r[9], r[10]);
+  *wo = clh_v3_make(r[12], r[13], r[14]);
+  *wi = clh_v3_make(r[16], r[17], r[18]);
+}
+
 __kernel void bsdf_probe_eval(__global const float* rec_g, uint count, __global float4* out_g) {
   uint i = (uint)get_global_id(0);
   if (i >= count) return;
   __global const float* r = rec_g + (size_t)i * BSDF_PROBE_IN;
   clh_hair_material m;
-  m.sigma_a = clh_v3_make(r[0], r[1], r[2]);
-  m.beta_m = r[3];
-  m.beta_n = r[4];
-  m.alpha = r[5];
-  m.eta = r[6];
-  clh_v3 t = clh_v3_make(r[8], r[9], r[10]);
-  clh_v3 wo = clh_v3_make(r[12], r[13], r[14]);
-  clh_v3 wi = clh_v3_make(r[16], r[17], r[18]);
+  clh_v3 t, wo, wi;
+  probe_record(r, &m, &t, &wo, &wi);
 
   clh_hair_view hv;
   clh_hair_prepare_to(&hv, &m, t, wo);
@@ -76,14 +83,8 @@ __kernel void bsdf_probe_agg(__global const float* rec_g, uint count, __global f
   if (i >= count) return;
   __global const float* r = rec_g + (size_t)i * BSDF_PROBE_IN;
   clh_hair_material m;
-  m.sigma_a = clh_v3_make(r[0], r[1], r[2]);
-  m.beta_m = r[3];
-  m.beta_n = r[4];
-  m.alpha = r[5];
-  m.eta = r[6];
-  clh_v3 t = clh_v3_make(r[8], r[9], r[10]);
-  clh_v3 wo = clh_v3_make(r[12], r[13], r[14]);
-  clh_v3 wi = clh_v3_make(r[16], r[17], r[18]);
+  clh_v3 t, wo, wi;
+  probe_record(r, &m, &t, &wo, &wi);
   clh_hair_view hv;
   clh_hair_prepare_to(&hv, &m, t, wo);
   clh_hair_agg ag;

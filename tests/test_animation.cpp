@@ -528,9 +528,9 @@ void renderFrames(const std::string& scene, const std::string& frames, const std
   ASSERT_EQ(r.exitCode, 0) << r.output;
 }
 
-TEST(FrameRange, FramesAreIdenticalInARangeAloneAndReversed) {
-  const std::string dir = scratchDir();
-  // everything that animates at once: camera and transform keys, wind and a moving cage
+// A scene in `dir` where everything animates at once: camera and transform keys, wind and a
+// moving cage; returns its path.
+std::string writeEverythingAnimated(const std::string& dir) {
   saveCageAnimation(restCage(60, 0.0005f), dir + "/moving.cage");
   const json groom = {
       {"transform",
@@ -540,7 +540,12 @@ TEST(FrameRange, FramesAreIdenticalInARangeAloneAndReversed) {
       {"wind", {{"strength", 0.01}, {"direction", {1, 0, 0.5}}, {"frequency", 1}}}};
   const json camera = {
       {"keys", {{{"frame", 1}}, {{"frame", 60}, {"position", {0.05, 0.04, 0.2}}}}}};
-  const std::string scene = writeScene(dir, tinyScene(groom, camera));
+  return writeScene(dir, tinyScene(groom, camera));
+}
+
+TEST(FrameRange, FramesAreIdenticalInARangeAloneAndReversed) {
+  const std::string dir = scratchDir();
+  const std::string scene = writeEverythingAnimated(dir);
   renderFrames(scene, "3-55:2", dir, "range");
   renderFrames(scene, "7", dir, "alone7");
   renderFrames(scene, "53", dir, "alone53");
@@ -563,16 +568,7 @@ TEST(FrameRange, FramesWithReprojectionAreIdenticalInARangeAloneAndReversed) {
   // frames it renders itself or holds from earlier in the same range, so it must not depend
   // on which frames the process rendered before
   const std::string dir = scratchDir();
-  saveCageAnimation(restCage(60, 0.0005f), dir + "/moving.cage");
-  const json groom = {
-      {"transform",
-       {{"interpolation", "smooth"},
-        {"keys", {{{"frame", 1}, {"rotate_y", -20}}, {{"frame", 60}, {"rotate_y", 40}}}}}},
-      {"cage_animation", {{"file", "moving.cage"}}},
-      {"wind", {{"strength", 0.01}, {"direction", {1, 0, 0.5}}, {"frequency", 1}}}};
-  const json camera = {
-      {"keys", {{{"frame", 1}}, {{"frame", 60}, {"position", {0.05, 0.04, 0.2}}}}}};
-  const std::string scene = writeScene(dir, tinyScene(groom, camera));
+  const std::string scene = writeEverythingAnimated(dir);
   renderFrames(scene, "3-55:2", dir, "range", "--temporal 2");
   renderFrames(scene, "7", dir, "alone7", "--temporal 2");
   renderFrames(scene, "53", dir, "alone53", "--temporal 2");

@@ -4,6 +4,7 @@
 // and LOD's effect on coverage at a distance.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -391,6 +392,59 @@ TEST(LodCoverage, FarCoverageStaysWithinTenPercent) {
   RecordProperty("strands_lod_on", std::to_string(nOn));
   EXPECT_LT(nOn, nOff / 2) << "LOD should remove most strands at far";
   EXPECT_LT(std::fabs(on - off) / off, 0.10) << "coverage off " << off << " on " << on;
+}
+
+TEST(LodAggregate, LightAtTheEyeReachesEveryClusterDirectly) {
+  // The aggregated BCSDF (Huang 2024, hair_bsdf.h) on the strands LOD widened at far, lit by
+  // one point light at the camera (phi = 0 at every fibre). A drawn strand widened w times for
+  // k fibres stands for k fibres side by side, k / w deep: a dense cluster (rho = 1), whose
+  // view-facing fibre the light reaches directly, so the aggregate adds its B lobe to the
+  // single fibre and takes nothing away. The same G-buffer is shaded both ways: every hair
+  // pixel must be at least as bright, the hair brighter on the whole. Taking the cluster as
+  // round (rho = k / w^2) shadows it by S = 1 - c_m (1 - rho) and fails.
+  HairMesh mesh = makeGroomPreset("long_wavy");
+  Scene s;
+  s.width = 960;
+  s.height = 540;
+  s.background = glm::vec3(0.0f);
+  s.ambient = glm::vec3(0.0f);
+  s.grooms.push_back({"g", std::make_shared<const HairMesh>(mesh), glm::mat4(1.0f)});
+  s.camera = framePreset(s, CameraPreset::Far, 30.0f);
+  Light eye;
+  eye.type = Light::Type::Point;
+  eye.position = s.camera.position;
+  eye.intensity = glm::dot(s.camera.position - s.camera.target,
+                           s.camera.position - s.camera.target);  // about 1 at the groom
+  s.lights = {eye};
+  Renderer r(test::sharedDevice());
+  RenderOptions o;
+  o.lod = 1;
+  o.filter = 0;
+  const Frame single = r.render(s, o);
+  o.lodAggregate = 1;
+  const Frame agg = r.render(s, o);
+  ASSERT_EQ(agg.stats.grooms.size(), 1u);
+  ASSERT_LT(agg.stats.grooms[0].strands, agg.stats.grooms[0].visibleStrands / 2)
+      << "LOD thins the groom";
+  double sumS = 0.0, sumA = 0.0;
+  std::size_t hair = 0;
+  for (std::size_t i = 0; i < single.color.rgba.size(); i += 4) {
+    double ls = 0.0, la = 0.0;
+    for (int c = 0; c < 3; ++c) {
+      ASSERT_GE(agg.color.rgba[i + c], single.color.rgba[i + c]) << "pixel " << i / 4;
+      ls += single.color.rgba[i + c];
+      la += agg.color.rgba[i + c];
+    }
+    hair += ls > 0.0;
+    sumS += ls;
+    sumA += la;
+  }
+  ASSERT_GT(hair, 200u);
+  RecordProperty("hair_pixels", std::to_string(hair));
+  RecordProperty("aggregate_over_single", std::to_string(sumA / sumS));
+  std::printf("light at the eye, far: %zu hair pixels, aggregate / single %.4f\n", hair,
+              sumA / sumS);
+  EXPECT_GT(sumA, sumS * 1.001);
 }
 
 }  // namespace

@@ -91,7 +91,7 @@ __kernel void bsdf_probe_agg(__global const float* rec_g, uint count, __global f
   clh_hair_agg ag;
   clh_hair_agg_prepare_to(&ag, &hv, r[7], r[11], r[15]);
   const clh_v3 lum = clh_v3_make(0.2126f, 0.7152f, 0.0722f);
-  const clh_v3 fa = clh_hair_agg_eval_cos(&hv, &ag, wi);
+  const clh_v3 fa = clh_hair_agg_eval_cos(&hv, &ag, wi, 1);
   const clh_v3 fs = clh_hair_eval_cos(&hv, wi);
   out_g[2 * (size_t)i] = (float4)(clh_v3_f3(fa), clh_v3_dot(fa, lum));
   out_g[2 * (size_t)i + 1] = (float4)(clh_v3_f3(fs), clh_v3_dot(fs, lum));

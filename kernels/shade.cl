@@ -150,16 +150,20 @@ static inline clh_v3 shade_word(__global const ClhGroomGpu* groom_g,
       L = clh_v3_unit(lpos);
     }
     const int slot = clh_light_shadow_slot(light);
-    if (slot >= 0 && slot < CLH_MAX_SHADOWS)
+    const bool mapped = slot >= 0 && slot < CLH_MAX_SHADOWS;
+    if (mapped)
       falloff *= clh_shadow_transmittance_v3(in->params + slot, in->opaque, in->hair, in->opacity,
                                              pos, in->lod_shift);
     else if (use_vis)
       falloff *= clh_vis_transmittance(in->vis, vis_sh, L);
+    /* the aggregate: the cluster's fibres between the light and the shaded one are already in
+     * a deep opacity map (drawn with the LOD's coverage) or a bake (of every fibre) */
     if (falloff > 0.0f)
-      radiance =
-          clh_v3_add(radiance, clh_v3_scale(clh_v3_mul(lc, agg ? clh_hair_agg_eval_cos(&hv, &ag, L)
-                                                               : clh_hair_eval_cos(&hv, L)),
-                                            falloff));
+      radiance = clh_v3_add(
+          radiance,
+          clh_v3_scale(clh_v3_mul(lc, agg ? clh_hair_agg_eval_cos(&hv, &ag, L, !(mapped || use_vis))
+                                          : clh_hair_eval_cos(&hv, L)),
+                       falloff));
   }
 
   /* probe lighting, darkened by the baked AO */

@@ -498,9 +498,12 @@ static inline void clh_hair_agg_prepare_to(clh_hair_agg* out, const clh_hair_vie
 }
 
 /* f_agg cos(theta_i) for a light: the aggregated counterpart of clh_hair_eval_cos (equal to
- * it when k = 1: then no other fibre is crossed, S = 1 and the B^ lobe is zero). */
+ * it when k = 1: then no other fibre is crossed, S = 1 and the B^ lobe is zero).
+ * attenuate = 0 leaves out the a_F^(n-1) of the fibres crossed (their spread stays): for a
+ * light whose transmittance through the hair already counts them (shade.cl: a deep opacity
+ * map drawn with the LOD's coverage compensation, or a visibility bake of every fibre). */
 static inline clh_v3 clh_hair_agg_eval_cos(const clh_hair_view* hv, const clh_hair_agg* ag,
-                                           clh_v3 wi) {
+                                           clh_v3 wi, int attenuate) {
   float sin_i = clamp(clh_v3_dot(hv->t, wi), -1.0f, 1.0f);
   clh_v3 wp = clh_v3_sub(wi, clh_v3_scale(hv->t, sin_i));
   float l2 = clh_v3_dot(wp, wp);
@@ -525,7 +528,7 @@ static inline clh_v3 clh_hair_agg_eval_cos(const clh_hair_view* hv, const clh_ha
                                               clh_v3_scale(clh_hair_n_tt(hv, phi), m[1])),
                                    clh_v3_scale(clh_hair_n_trt(hv, phi), m[2])),
                         clh_v3_scale(clh_hair_diffuse(hv), cos_i));
-  if (nm1 > 0.0f) f = clh_v3_mul(f, clh_hair_exp3(clh_v3_scale(ag->ln_af, nm1)));
+  if (attenuate && nm1 > 0.0f) f = clh_v3_mul(f, clh_hair_exp3(clh_v3_scale(ag->ln_af, nm1)));
   if (cos_phi <= 0.0f) return f;
   /* front half: B^ lobe (Eq. 10-11) and shadowing-masking (Eq. 12-15) */
   const float mb =

@@ -543,7 +543,9 @@ int main(int argc, char** argv) {
       const Config configs[] = {{"SWR1", 1, 0, 0, true, 0},
                                 {"SWR1+F", 1, 1, 0, true, 0},
                                 {"SWR1+F+L", 1, 1, 1, true, 0},
-                                {"SWR1+F+L, aggregated LOD BSDF", 1, 1, 1, true, 0, 1},
+                                {"SWR1+F+L aggregated", 1, 1, 1, true, 0, 1},
+                                {"SWR1+L", 1, 0, 1, true, 0},
+                                {"SWR1+L aggregated", 1, 0, 1, true, 0, 1},
                                 {"SWR1+F, no promotion", 1, 1, 0, false, 0},
                                 {"SWR1+H linking", 1, 1, 0, true, 1},
                                 {"SWR1+H linking+alpha fix", 1, 1, 0, true, 2},
@@ -642,6 +644,8 @@ int main(int argc, char** argv) {
                   std::fabs(ref.color.rgba[4 * i + c] - background.color.rgba[4 * i + c]) > 1e-4f;
           const std::string refPath = out + "/quality/" + gtag + distNames[d] + "_reference.png";
           writeImage(ref.color, refPath);
+          // the scene without hair: the hair's pixels are where the reference differs from it
+          writeImage(background.color, out + "/quality/" + gtag + distNames[d] + "_background.png");
           for (const Config& c : configs) {
             if (!chosen.empty() && !chosen.count(c.name)) continue;
             RenderOptions o;

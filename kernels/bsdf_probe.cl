@@ -13,7 +13,8 @@
  * Every f is without the cosine. Work-items past `count` do nothing.
  *
  * bsdf_probe_agg: the aggregated BCSDF (Huang 2024) on the same records, with the cluster's
- * fibre count k in slot 7 and its widening w in slot 11. Output 2 float4 per record:
+ * fibre count k in slot 7, its widening w in slot 11 and its depth t (fibre widths along the
+ * view) in slot 15. Output 2 float4 per record:
  *    0 (clh_hair_agg_eval_cos rgb, luminance)   1 (clh_hair_eval_cos rgb, luminance)
  * bsdf_probe_visibility: the baked-visibility lookup (kernels/common/visibility.h); record i
  * is 8 floats: SH c0..c3, light direction xyz (world), unused; output float4 per record:
@@ -88,9 +89,9 @@ __kernel void bsdf_probe_agg(__global const float* rec_g, uint count, __global f
   clh_hair_view hv;
   clh_hair_prepare_to(&hv, &m, t, wo);
   clh_hair_agg ag;
-  clh_hair_agg_prepare_to(&ag, &hv, r[7], r[11]);
+  clh_hair_agg_prepare_to(&ag, &hv, r[7], r[11], r[15]);
   const clh_v3 lum = clh_v3_make(0.2126f, 0.7152f, 0.0722f);
-  const clh_v3 fa = clh_hair_agg_eval_cos(&hv, &ag, wi);
+  const clh_v3 fa = clh_hair_agg_eval_cos(&hv, &ag, wi, 1);
   const clh_v3 fs = clh_hair_eval_cos(&hv, wi);
   out_g[2 * (size_t)i] = (float4)(clh_v3_f3(fa), clh_v3_dot(fa, lum));
   out_g[2 * (size_t)i + 1] = (float4)(clh_v3_f3(fs), clh_v3_dot(fs, lum));

@@ -64,6 +64,7 @@ typedef struct {
   float vis_scale; /* share of the full groom's fibres this LOD pass keeps (ghost correction) */
   float cluster_k; /* fibres a drawn strand stands for (1: full detail, single-fibre BSDF) */
   float cluster_w; /* how many times a fibre's width it is drawn */
+  float cluster_t; /* how many fibre widths deep it is along the view */
 } shade_inputs;
 
 /* The fibre material at styling coordinates (u, v, w). */
@@ -121,7 +122,7 @@ static inline clh_v3 shade_word(__global const ClhGroomGpu* groom_g,
   /* a LOD strand standing for a cluster: the aggregated BCSDF (Huang 2024, hair_bsdf.h) */
   const bool agg = in->cluster_k > 1.0f;
   clh_hair_agg ag;
-  if (agg) clh_hair_agg_prepare_to(&ag, &hv, in->cluster_k, in->cluster_w);
+  if (agg) clh_hair_agg_prepare_to(&ag, &hv, in->cluster_k, in->cluster_w, in->cluster_t);
 
   /* baked visibility: the cell of this word's styling codes (a file-colour groom's u, v
    * hold colour, so it has none); scaled down where LOD removed fibres */
@@ -149,16 +150,20 @@ static inline clh_v3 shade_word(__global const ClhGroomGpu* groom_g,
       L = clh_v3_unit(lpos);
     }
     const int slot = clh_light_shadow_slot(light);
-    if (slot >= 0 && slot < CLH_MAX_SHADOWS)
+    const bool mapped = slot >= 0 && slot < CLH_MAX_SHADOWS;
+    if (mapped)
       falloff *= clh_shadow_transmittance_v3(in->params + slot, in->opaque, in->hair, in->opacity,
                                              pos, in->lod_shift);
     else if (use_vis)
       falloff *= clh_vis_transmittance(in->vis, vis_sh, L);
+    /* the aggregate: the cluster's fibres between the light and the shaded one are already in
+     * a deep opacity map (drawn with the LOD's coverage) or a bake (of every fibre) */
     if (falloff > 0.0f)
-      radiance =
-          clh_v3_add(radiance, clh_v3_scale(clh_v3_mul(lc, agg ? clh_hair_agg_eval_cos(&hv, &ag, L)
-                                                               : clh_hair_eval_cos(&hv, L)),
-                                            falloff));
+      radiance = clh_v3_add(
+          radiance,
+          clh_v3_scale(clh_v3_mul(lc, agg ? clh_hair_agg_eval_cos(&hv, &ag, L, !(mapped || use_vis))
+                                          : clh_hair_eval_cos(&hv, L)),
+                       falloff));
   }
 
   /* probe lighting, darkened by the baked AO */
@@ -213,6 +218,7 @@ __kernel void shade_deferred(
   in.vis_scale = 1.0f;
   in.cluster_k = 1.0f;
   in.cluster_w = 1.0f;
+  in.cluster_t = 1.0f;
   const uint nb = groom_g->bundle_count;
   const float drawn = nb > 0u ? (float)offsets_g[clh_lod_drawn_total_at(nb)] : 0.0f;
   const float visible = nb > 0u ? (float)offsets_g[clh_lod_visible_total_at(nb)] : 0.0f;
@@ -228,8 +234,11 @@ __kernel void shade_deferred(
      * make up for no longer scatter (Kulikov's "ghosts"): fewer events in proportion */
     in.vis_scale = kept;
     if (vis_g->lod_aggregate != 0u) {
+      /* the k fibres cover the drawn width w side by side only when they lie k / w deep:
+       * the cluster is as deep as the widening leaves its fibres (rho = 1) */
       in.cluster_k = 1.0f / beta;
       in.cluster_w = fmax(widen, 1.0f);
+      in.cluster_t = fmax(in.cluster_k / in.cluster_w, 1.0f);
     }
   }
 

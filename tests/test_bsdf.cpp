@@ -616,8 +616,9 @@ TEST(BsdfDevice, OneCallEqualsPartsAndIsFinite) {
 // Aggregated BCSDF (Huang et al. 2024)
 // ---------------------------------------------------------------------------------------
 
-// Runs bsdf_probe_agg: records carry k in slot 7 and the widening w in slot 11; returns two
-// float4 per record (aggregated f cos, single-fibre f cos; luminance in .w).
+// Runs bsdf_probe_agg: records carry k in slot 7, the widening w in slot 11 and the depth t in
+// slot 15; returns two float4 per record (aggregated f cos, single-fibre f cos; luminance in
+// .w).
 std::vector<cl_float4> runAggProbe(const std::vector<float>& records) {
   auto& d = *test::sharedDevice().impl();
   const cl_uint n = static_cast<cl_uint>(records.size() / kIn);
@@ -642,22 +643,32 @@ std::vector<cl_float4> runAggProbe(const std::vector<float>& records) {
 
 // Huang et al. 2024's aggregated BCSDF times cos(theta_i), per channel, in double, written
 // from the paper's equations with clhair's geometric choices (documented in hair_bsdf.h):
-//   Eq. 8-9   inherited lobes a_F^(n-1) M_p(v_p + (n-1) v_TT) N_p, n - 1 = behind max(0, -cos phi)
+//   §4        the cluster's ellipse: semi-axes w r across the view, t r along it,
+//             rho = k / (w t), a chord l meets rho l sqrt(k / (pi w t r^2)) fibres
+//   Eq. 8-9   inherited lobes a_F^(n-1) M_p(v_p + (n-1) v_TT) N_p, n - 1 the other fibres on
+//             the chord from the view-facing fibre toward a light behind (0 in front)
 //   Eq. 10-11 B lobe (A_1 + A_3 + A_1+) (1 - 1/k) capped at 1 - own energy, I_B / pi,
 //             M of variance v_R + v_TRT
-//   Eq. 12-15 S = P_s a_F + P_n
+//   Eq. 12-15 S = P_s a_F + P_n in the front half, 1 in the back half
 // on the Chiang reference's h-averaged lobes (nbar: Ñ_0..2 and Ā_3 at this phi; abar: Ā_0..3
-// at theta_o). nm1Scale = 0 gives the single-fibre reference f cos(theta_i).
-Rgb aggregatedReference(const ChiangMaterial& m, const FibreAngles& a, double k, double w,
+// at theta_o). aggregate = false gives the single-fibre reference f cos(theta_i).
+Rgb aggregatedReference(const ChiangMaterial& m, const FibreAngles& a, double k, double w, double t,
                         const std::array<Rgb, 4>& nbar, const std::array<Rgb, 4>& abar,
                         bool aggregate) {
   k = std::max(k, 1.0);
   w = std::clamp(w, 1.0, k);
-  const double rho = aggregate ? std::min(k / (w * w), 1.0) : 1.0;
+  t = std::clamp(t, 1.0, k);
+  const double rho = aggregate ? std::min(k / (w * t), 1.0) : 1.0;
   const double other = aggregate ? 1.0 - 1.0 / k : 0.0;
-  const double behind = 2.0 * rho * other * std::sqrt(k / kPi);
-  const double cosPhi = std::cos(a.phi);
-  const double nm1 = behind * std::max(0.0, -cosPhi);
+  const double perR = rho * std::sqrt(k / (kPi * w * t));  // fibres per fibre radius of chord
+  const double nMax = aggregate ? k - 1.0 : 0.0;
+  const double cosPhi = std::cos(a.phi), sinPhi = std::sin(a.phi);
+  double nm1 = 0.0;
+  if (cosPhi < 0.0) {
+    const double lr = -2.0 * cosPhi / (t * (cosPhi * cosPhi / (t * t) + sinPhi * sinPhi / (w * w)));
+    nm1 = std::clamp(lr * perR - 1.0, 0.0, nMax);
+  }
+  const double behind = std::clamp(2.0 * t * perR - 1.0, 0.0, nMax);
   const auto v = ref::longitudinalVariances(m.betaM);
   const double thetaO = std::atan2(a.sinThetaO, a.cosThetaO);
   const double shift[4] = {-2.0 * m.alpha, m.alpha, 4.0 * m.alpha, 0.0};
@@ -671,8 +682,8 @@ Rgb aggregatedReference(const ChiangMaterial& m, const FibreAngles& a, double k,
                                                       a.cosThetaO, v[0] + v[2]) /
                                        kPi
                                  : 0.0;
-  const double ps = (1.0 - rho) * std::min(1.0 - cosPhi, 1.0);
-  const double pn = std::max(1.0 - ps - (1.0 - rho) * 0.2, 0.0);
+  const double ps = cosPhi > 0.0 ? (1.0 - rho) * (1.0 - cosPhi) : 0.0;
+  const double pn = cosPhi > 0.0 ? std::max(1.0 - ps - (1.0 - rho) * 0.2, 0.0) : 1.0;
   Rgb out{};
   for (int c = 0; c < 3; ++c) {
     const double aF = abar[1][c] + 0.5 * abar[3][c];
@@ -684,8 +695,8 @@ Rgb aggregatedReference(const ChiangMaterial& m, const FibreAngles& a, double k,
     const double aF2 = aF * aF;
     const double a1 = aB * aF2 / (1.0 - aF2);
     const double a3 = aB * aB * aB * aF2 / std::pow(1.0 - aF2, 3.0);
-    double a1p = 0.0;  // Eq. 10: sum_{i=1..n} a_F^(2i-1), continued to real n = behind
-    a1p = 0.6 * aB * aF * (1.0 - std::pow(aF, 2.0 * behind)) / (1.0 - aF2);
+    // Eq. 10: sum_{i=1..n} a_F^(2i-1), continued to real n = behind
+    const double a1p = 0.6 * aB * aF * (1.0 - std::pow(aF, 2.0 * behind)) / (1.0 - aF2);
     const double eB = std::min(other * (a1 + a3 + a1p), std::max(1.0 - own, 0.0));
     out[c] = (ps * aF + pn) * (inherited + eB * mB);
   }
@@ -702,13 +713,13 @@ TEST(BsdfAggregate, MatchesPaperReference) {
   const int nT = 48, nP = 36;
   const ChiangMaterial mats[] = {material(0.3, 0.3), material(1.5, 0.4), material(6.0, 0.3)};
   const double thetas[] = {10.0, 50.0};
-  const double ks[][2] = {{4, 4}, {16, 16}, {16, 3}};
+  const double ks[][3] = {{4, 4, 1}, {16, 16, 1}, {16, 3, 16.0 / 3}, {16, 4, 16}};
   Rng rng(11);
   struct Job {
     std::size_t first;
     Grid g;
     const ChiangMaterial* m;
-    double sinO, k, w;
+    double sinO, k, w, t;
   };
   std::vector<Job> jobs;
   std::vector<float> recs;
@@ -716,13 +727,14 @@ TEST(BsdfAggregate, MatchesPaperReference) {
     for (double th : thetas)
       for (const auto& kw : ks) {
         Frame f = randomFrame(rng);
-        Job j{recs.size() / kIn, makeGrid(nT, nP, rng), &m, std::sin(deg(th)), kw[0], kw[1]};
+        Job j{recs.size() / kIn, makeGrid(nT, nP, rng), &m, std::sin(deg(th)), kw[0], kw[1], kw[2]};
         const Vec3 wo = f.dir(j.sinO, 0.0);
         for (size_t c = 0; c < j.g.sinT.size(); ++c) {
           float r[kIn];
           putRecord(r, m, f.t, wo, f.dir(j.g.sinT[c], j.g.phi(c)));
           r[7] = static_cast<float>(j.k);
           r[11] = static_cast<float>(j.w);
+          r[15] = static_cast<float>(j.t);
           recs.insert(recs.end(), r, r + kIn);
         }
         jobs.push_back(std::move(j));
@@ -743,8 +755,8 @@ TEST(BsdfAggregate, MatchesPaperReference) {
       a.cosThetaI = std::sqrt(std::max(0.0, 1 - a.sinThetaI * a.sinThetaI));
       a.phi = j.g.phi(c);
       const double dw = j.g.cellWeight(c) / std::max(a.cosThetaI, 1e-12);  // dtheta dphi x2
-      const Rgb ra = aggregatedReference(*j.m, a, j.k, j.w, nbar[c % j.g.nPhi], abar, true);
-      const Rgb rs = aggregatedReference(*j.m, a, j.k, j.w, nbar[c % j.g.nPhi], abar, false);
+      const Rgb ra = aggregatedReference(*j.m, a, j.k, j.w, j.t, nbar[c % j.g.nPhi], abar, true);
+      const Rgb rs = aggregatedReference(*j.m, a, j.k, j.w, j.t, nbar[c % j.g.nPhi], abar, false);
       const cl_float4& da = out[2 * (j.first + c)];
       const cl_float4& ds = out[2 * (j.first + c) + 1];
       const double la = 0.2126 * ra[0] + 0.7152 * ra[1] + 0.0722 * ra[2];
@@ -758,10 +770,11 @@ TEST(BsdfAggregate, MatchesPaperReference) {
     }
     const double eA = errA / std::max(sumA, 1e-12), eS = errS / std::max(sumS, 1e-12);
     std::printf(
-        "aggregate k %4.1f w %4.1f sigma_a.g %.3f theta_o %4.1f: energy ref %.4f (single "
+        "aggregate k %4.1f w %4.1f t %4.1f sigma_a.g %.3f theta_o %4.1f: energy ref %.4f (single "
         "%.4f) device %.4f (single %.4f), error %.4f (single %.4f)\n",
-        j.k, j.w, j.m->sigmaA[1], std::asin(j.sinO) * 180 / kPi, sumA, sumS, devA, devS, eA, eS);
-    EXPECT_LE(eA, eS + 0.03) << "k " << j.k << " w " << j.w << " theta_o "
+        j.k, j.w, j.t, j.m->sigmaA[1], std::asin(j.sinO) * 180 / kPi, sumA, sumS, devA, devS, eA,
+        eS);
+    EXPECT_LE(eA, eS + 0.03) << "k " << j.k << " w " << j.w << " t " << j.t << " theta_o "
                              << std::asin(j.sinO) * 180 / kPi;
     worstMargin = std::max(worstMargin, eA - eS);
   }
@@ -782,6 +795,7 @@ TEST(BsdfAggregate, OneFibreIsTheSingleFibreModel) {
     putRecord(r, m, f.t, f.dir(2 * rng.u() - 1, 0.0), f.dir(2 * rng.u() - 1, 2 * kPi * rng.u()));
     r[7] = 1.0f;
     r[11] = i % 2 ? 1.0f : 3.0f;
+    r[15] = i % 3 ? 1.0f : 4.0f;
     recs.insert(recs.end(), r, r + kIn);
   }
   const auto out = runAggProbe(recs);
@@ -789,13 +803,71 @@ TEST(BsdfAggregate, OneFibreIsTheSingleFibreModel) {
     for (int c = 0; c < 4; ++c) ASSERT_EQ(out[2 * i].s[c], out[2 * i + 1].s[c]) << "record " << i;
 }
 
+// Records of random fibres and directions with the light in the viewer's half of azimuths
+// (front = true: cos phi > 0) or in the far half, for a cluster (k, w, t).
+std::vector<float> aggRecords(Rng& rng, int n, bool front, float k, float w, float t) {
+  std::vector<float> recs;
+  for (int i = 0; i < n; ++i) {
+    ChiangMaterial m = material(10 * rng.u(), 0.1 + 0.9 * rng.u(), 0.15 + 0.45 * rng.u());
+    Frame f = randomFrame(rng);
+    const double phi = (front ? -0.49 : 0.51) * kPi + 0.98 * kPi * rng.u();
+    float r[kIn];
+    putRecord(r, m, f.t, f.dir(1.8 * rng.u() - 0.9, 0.0), f.dir(1.8 * rng.u() - 0.9, phi));
+    r[7] = k;
+    r[11] = w;
+    r[15] = t;
+    recs.insert(recs.end(), r, r + kIn);
+  }
+  return recs;
+}
+
+TEST(BsdfAggregate, FrontLightReachesADenseClustersFibreDirectly) {
+  // Huang §4: light from the viewer's half reaches the shaded fibre without crossing others
+  // (n = 1), and a dense cluster (rho = 1) has no shadowing-masking (P_s = P_m = 0), so the
+  // aggregate is the single fibre plus the B lobe, never less. The clusters are the ones the
+  // LOD draws: 16 fibres side by side in a strand 16 times as wide (one fibre deep), and 16
+  // in a strand widened 4 times (4 deep). A model that takes the cluster as round (rho = k /
+  // w^2 = 1/16 for the first) shadows it by up to a_F and fails.
+  Rng rng(17);
+  const float cases[][3] = {{16, 16, 1}, {16, 4, 4}};
+  for (const auto& c : cases) {
+    const auto out = runAggProbe(aggRecords(rng, 400, true, c[0], c[1], c[2]));
+    double sumA = 0, sumS = 0;
+    for (std::size_t i = 0; i < out.size() / 2; ++i) {
+      for (int ch = 0; ch < 3; ++ch)
+        ASSERT_GE(out[2 * i].s[ch], out[2 * i + 1].s[ch])
+            << "k " << c[0] << " w " << c[1] << " record " << i << " channel " << ch;
+      sumA += out[2 * i].s[3];
+      sumS += out[2 * i + 1].s[3];
+    }
+    std::printf("dense cluster k %.0f w %.0f t %.0f, front light: aggregate / single %.4f\n", c[0],
+                c[1], c[2], sumA / sumS);
+    EXPECT_GT(sumA, sumS);  // the B lobe adds light
+  }
+}
+
+TEST(BsdfAggregate, BackLightCrossingNoOtherFibreIsNotShadowed) {
+  // Huang §4: the shadowing-masking term S is for |phi| < pi/2; light from the far half is
+  // attenuated only by the a_F of the fibres it crosses (Eq. 8). 4 fibres in a strand 4 wide
+  // and 4 deep (rho = 1/4) leave so much room that a chord from the view-facing fibre meets
+  // at most 0.56 fibres (n - 1 = 0): light from behind arrives whole and there is no B lobe
+  // there, so the aggregate equals the single fibre exactly. Applying S in the far half too
+  // (P_s = 1 - rho there) darkens it to about 0.75 a_F + 0.1 and fails.
+  Rng rng(23);
+  const auto out = runAggProbe(aggRecords(rng, 400, false, 4.0f, 4.0f, 4.0f));
+  for (std::size_t i = 0; i < out.size() / 2; ++i)
+    for (int ch = 0; ch < 4; ++ch)
+      ASSERT_EQ(out[2 * i].s[ch], out[2 * i + 1].s[ch]) << "record " << i;
+}
+
 TEST(BsdfAggregate, EnergyAtMostOne) {
   // White furnace of the aggregate: ∫ f_agg cos(theta_i) dw_i <= 1 + 1% (quadrature) per
-  // channel, for white, light and dark fibres and clusters of 4 to 64 fibres.
+  // channel, for white, light and dark fibres and clusters of 4 to 64 fibres (dense and
+  // sparse).
   const int nT = 96, nP = 48;
   const ChiangMaterial mats[] = {material(0, 0.2), material(0, 0.6), material(0.3, 0.3),
                                  material(6.0, 0.3)};
-  const double ks[][2] = {{4, 4}, {16, 3}, {64, 64}};
+  const double ks[][3] = {{4, 4, 1}, {16, 3, 16.0 / 3}, {64, 64, 1}, {16, 4, 16}};
   const double thetas[] = {0.0, 45.0, 80.0};
   Rng rng(3);
   std::vector<float> recs;
@@ -812,6 +884,7 @@ TEST(BsdfAggregate, EnergyAtMostOne) {
           putRecord(r, m, f.t, wo, f.dir(g.sinT[k], g.phi(k)));
           r[7] = static_cast<float>(kw[0]);
           r[11] = static_cast<float>(kw[1]);
+          r[15] = static_cast<float>(kw[2]);
           recs.insert(recs.end(), r, r + kIn);
         }
       }

@@ -214,6 +214,23 @@ TEST_P(Oclgrind, RenderWithLodMsaaAndPersistentGridHasNoReports) {
   EXPECT_TRUE(fs::exists(out)) << out << " was not written";
 }
 
+TEST(OclgrindAggregate, RenderWithTheAggregatedLodBsdfHasNoReports) {
+  // LOD strands shaded with the aggregated BCSDF (Huang 2024, hair_bsdf.h): far and 128x96,
+  // where LOD draws 19 of the 61 strands and the hair still covers pixel centres (the frame
+  // differs from the single-fibre one)
+  if (!haveOclgrind()) GTEST_SKIP() << "oclgrind not installed";
+  const std::string dir = scratchDir();
+  const std::string scene = sourceDir() + "/tests/data/oclgrind_tiny.json";
+  const std::string out = dir + "/tiny-aggregate.png";
+  OclgrindRun run =
+      runUnderOclgrind(dir, "render-aggregate", false,
+                       "render " + quote(scene) + " -o " + quote(out) +
+                           " --camera far --width 128 --height 96 --lod on --lod-bsdf aggregated");
+  expectClean(run, {"lod_bundles", "scan_bundles", "strands_raster", "shade_deferred"},
+              "clhair render --camera far --lod on --lod-bsdf aggregated");
+  EXPECT_TRUE(fs::exists(out)) << out << " was not written";
+}
+
 TEST_P(Oclgrind, RenderInCoverageModeHasNoReports) {
   // the coverage raster (trapezoids, chained layers, coverage plane) and its shading
   if (!haveOclgrind()) GTEST_SKIP() << "oclgrind not installed";

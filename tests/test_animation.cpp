@@ -587,6 +587,23 @@ TEST(FrameRange, FramesWithReprojectionAreIdenticalInARangeAloneAndReversed) {
   EXPECT_FALSE(readBytes(dir + "/range.0007.exr") == readBytes(dir + "/plain.0007.exr"));
 }
 
+TEST(FrameRange, WindFramesWithHairShadowsAreIdenticalInARangeAndAlone) {
+  // Wind moves the strands while the groom, its transform and the lights stay: the deep
+  // opacity maps must follow the cage, or a frame rendered after another in one process
+  // keeps that frame's hair shadows (frame 9 of a range from 1 differed from frame 9 alone).
+  const std::string dir = scratchDir();
+  json scene =
+      tinyScene({{"wind", {{"strength", 0.02}, {"direction", {1, 0, 0.5}}, {"frequency", 1}}}});
+  scene["lights"][0]["shadows"] = true;
+  const std::string path = writeScene(dir, scene);
+  renderFrames(path, "1-9:8", dir, "range");
+  renderFrames(path, "9", dir, "alone");
+  const std::string a = readBytes(dir + "/range.0009.exr");
+  ASSERT_GT(a.size(), 100u);
+  EXPECT_TRUE(a == readBytes(dir + "/alone.0009.exr"));
+  EXPECT_FALSE(a == readBytes(dir + "/range.0001.exr")) << "the wind does not reach the image";
+}
+
 TEST(FrameRange, StaticAnimationRendersEveryFrameLikeTheStill) {
   const std::string dir = scratchDir();
   saveCageAnimation(restCage(4), dir + "/rest.cage");

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -153,8 +154,9 @@ TEST(Shadows, LodScaleThinsOnlyTheLightsPasses) {
 TEST(Shadows, MapsAreReusedWhileTheirInputsStayAndRebuiltWhenOneChanges) {
   // RenderOptions::reuseShadows keeps the deep opacity maps of the previous frame when
   // nothing they depend on changed: the second frame of a still scene skips the shadow
-  // passes and equals a frame that rebuilt them; moving a light or a groom, or changing a
-  // shadow setting, rebuilds them, so every frame equals a fresh renderer's.
+  // passes and equals a frame that rebuilt them; moving a light or a groom, changing a
+  // shadow setting or deforming a groom's cage rebuilds them, so every frame equals a fresh
+  // renderer's.
   Renderer r(test::sharedDevice());
   RenderOptions o;
   o.filter = 0;
@@ -191,6 +193,18 @@ TEST(Shadows, MapsAreReusedWhileTheirInputsStayAndRebuiltWhenOneChanges) {
   Scene denser = groomMoved;
   denser.shadows.density = 3.0f;
   freshEquals(denser, "shadow density changed");
+  // a deformed cage (a frame of wind or cage animation) moves the strands without changing
+  // the groom or its transform: the maps follow it
+  auto lifted = std::make_shared<std::vector<glm::vec3>>(denser.grooms[0].mesh->positions);
+  for (glm::vec3& p : *lifted) p += glm::vec3(0.0f, 0.006f, 0.004f);
+  Scene deformed = denser;
+  for (GroomInstance& g : deformed.grooms) g.deformed = lifted;
+  freshEquals(deformed, "cage deformed");
+  // the same cage evaluated again (another copy, as every sceneAtFrame makes) keeps them
+  Scene again = denser;
+  auto copy = std::make_shared<const std::vector<glm::vec3>>(*lifted);
+  for (GroomInstance& g : again.grooms) g.deformed = copy;
+  EXPECT_FALSE(hasShadowStage(r.render(again, o))) << "an equal cage rebuilt the shadow maps";
 }
 
 // The ground in the shadow of a fur ball against the transmittance Beer-Lambert gives the

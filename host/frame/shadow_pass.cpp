@@ -85,6 +85,11 @@ ShadowPass::Key ShadowPass::keyOf(const Scene& s, const RenderOptions& o, bool l
     k.held.push_back(g.mesh);
     k.held.push_back(g.strands);
     putValue(g.transform);
+    // the cage this frame deforms the hair mesh to (wind, cage animation): by value, since
+    // every evaluation of a frame makes its own copy
+    const std::size_t cage = g.deformed ? g.deformed->size() : 0;
+    putValue(cage);
+    if (cage) put(g.deformed->data(), cage * sizeof(glm::vec3));
   }
   putValue(o.lod);
   putValue(o.shadowLod);

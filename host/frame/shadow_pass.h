@@ -5,7 +5,7 @@
 // depth, the strands' nearest depth bounds the first layer, and the opacity passes fill
 // CLH_DOM_LAYERS layers per texel. The maps are reused across frames while nothing they
 // depend on changes (RenderOptions::reuseShadows): lights, shadow settings, opaque
-// primitives, grooms and their transforms, LOD options — not the camera.
+// primitives, grooms, their transforms and deformed cages, LOD options — not the camera.
 #pragma once
 
 #include <array>
@@ -39,8 +39,8 @@ class ShadowPass {
 
  private:
   // Everything the maps depend on, to reuse them while it stays the same: the bytes of the
-  // lights, shadow settings, opaque primitives, transforms and options, and the identity
-  // of every groom and mesh (held, so an address is never reused).
+  // lights, shadow settings, opaque primitives, transforms, deformed cages and options, and
+  // the identity of every groom and mesh (held, so an address is never reused).
   struct Key {
     std::vector<unsigned char> bytes;
     std::vector<std::shared_ptr<const void>> held;

@@ -48,22 +48,6 @@ static inline float filter_depth(ulong word, float near_z, float scale) {
   return near_z + scale * (float)clh_gbuf_depth(word);
 }
 
-/* e^x for x <= 0: clh_fast_exp's polynomial (fast_math.h, relative error below 1e-6)
- * evaluated in Estrin's order instead of Horner's, which halves its chain of dependent
- * operations (the window loop waits on it); the two orders differ by float rounding. */
-static inline float filter_exp(float x) {
-  float t = x * 1.44269504f;
-  t = t < -126.0f ? -126.0f : (t > 0.0f ? 0.0f : t);
-  const float fl = (float)(int)t - ((float)(int)t > t ? 1.0f : 0.0f); /* floor */
-  const float f = t - fl;                                             /* [0, 1) */
-  const float f2 = f * f;
-  const float p01 = 9.9999970e-1f + 6.9315684e-1f * f;
-  const float p23 = 2.4013717e-1f + 5.5848695e-2f * f;
-  const float p45 = 8.9845192e-3f + 1.8724892e-3f * f;
-  const float p = p01 + f2 * (p23 + f2 * p45);
-  return as_float((uint)((int)fl + 127) << 23) * p;
-}
-
 /* The display value c / (1 + c) of each channel with one division for the three. */
 static inline float3 filter_display(float3 c) {
   const float3 d = 1.0f + c;
@@ -180,14 +164,14 @@ __kernel void filter_reconstruct(__global const ClhGroomGpu* groom_g,
       /* a pixel with its own colour never uses the neighbours at other depths */
       if (own_colour && !at_depth) continue;
       const float3 c_q = hair_g[q].xyz;
-      /* the spatial and the colour weight as one exponential of the summed exponents (no
-       * library call in the window loop) */
+      /* the spatial and the colour weight as one exponential of the summed exponents
+       * (fast_math.h: no library call in the window loop, a short chain) */
       float e = e_spatial;
       if (own_colour) {
         const float3 dc = c_p_disp - filter_display(c_q);
         e += dot(dc, dc) * inv_c2;
       }
-      const float w = filter_exp(-e);
+      const float w = clh_fast_exp_neg(-e);
       if (!at_depth) {
         any_sum += w * c_q;
         any_wsum += w;

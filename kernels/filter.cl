@@ -28,6 +28,11 @@
  * Neighbours whose depth differs from the reference by more than depth_reject (relative)
  * give it no colour, so colour never crosses a depth edge. Colour distances use c / (1 + c) so
  * HDR radiance compares like display values.
+ * Cost (DESIGN.md, "Vectorizable kernels"): on a CPU the window loop waits on each weight's
+ * chain of dependent operations (branches on the neighbours' hits and depths leave little
+ * to overlap), so the chain is kept short: depths compared as 24-bit codes, the spatial
+ * exponent as a quadratic along the row, the spatial and colour weights as one exponential
+ * whose polynomial is evaluated in Estrin's order, one division for the display colour.
  */
 #include "clhair/gpu_types.h"
 #include "clh_math.h"
@@ -37,8 +42,17 @@
 
 #define FILTER_MAX_RADIUS 8
 
-static inline float filter_depth(ulong word, float near_z, float far_z) {
-  return clh_depth_decode(clh_gbuf_depth(word), near_z, far_z);
+/* clh_depth_decode with its division by the code range as a product (per tap, one
+ * rounding apart): near_z + scale * code, scale = (far_z - near_z) / CLH_DEPTH_MAX_CODE. */
+static inline float filter_depth(ulong word, float near_z, float scale) {
+  return near_z + scale * (float)clh_gbuf_depth(word);
+}
+
+/* The display value c / (1 + c) of each channel with one division for the three. */
+static inline float3 filter_display(float3 c) {
+  const float3 d = 1.0f + c;
+  const float inv = 1.0f / (d.x * d.y * d.z);
+  return (float3)(c.x * (d.y * d.z), c.y * (d.x * d.z), c.z * (d.x * d.y)) * inv;
 }
 
 /* Unit screen-space direction of the world tangent t at view-space point pv. */
@@ -49,8 +63,6 @@ static inline float2 filter_screen_tangent(clh_mat34 w2v, float fx, float fy, fl
   float l2 = dot(d, d);
   return l2 > 1e-20f ? d * rsqrt(l2) : (float2)(1.0f, 0.0f);
 }
-
-static inline float3 filter_display(float3 c) { return c / (1.0f + c); }
 
 __kernel void filter_reconstruct(__global const ClhGroomGpu* groom_g,
                                  __global const ClhViewGpu* view_g,
@@ -68,9 +80,10 @@ __kernel void filter_reconstruct(__global const ClhGroomGpu* groom_g,
     out_g[idx] = (float4)(0.0f);
     return;
   }
-  const float near_z = groom_g->depth_near, far_z = groom_g->depth_far;
-  const float z_center = is_center ? filter_depth(gp, near_z, far_z) : 0.0f;
-  const float z_cons = is_cons ? filter_depth(ap, near_z, far_z) : 0.0f;
+  const float near_z = groom_g->depth_near;
+  const float z_scale = (groom_g->depth_far - near_z) * (1.0f / (float)CLH_DEPTH_MAX_CODE);
+  const float z_center = is_center ? filter_depth(gp, near_z, z_scale) : 0.0f;
+  const float z_cons = is_cons ? filter_depth(ap, near_z, z_scale) : 0.0f;
   /* a strand in front of the center hit: reconstruct it and blend it over */
   const bool overlay =
       is_center && is_cons && z_cons < z_center * (1.0f - filter_g->depth_mismatch);
@@ -93,48 +106,76 @@ __kernel void filter_reconstruct(__global const ClhGroomGpu* groom_g,
   const float inv_par2 = 1.0f / (s_par * s_par), inv_perp2 = 1.0f / (s_perp * s_perp);
   const float inv_c2 = 1.0f / (filter_g->sigma_c * filter_g->sigma_c);
   const float reject = filter_g->depth_reject * z_ref;
+  const float strip2 = filter_g->strip * filter_g->strip;
+  /* The depth tests on the neighbours' 24-bit codes (no decode per tap): a depth
+   * near_z + z_scale * code lies within reject of z_ref when the code lies in
+   * [code_lo, code_lo + code_span], and at or behind z_ref - reject when it is
+   * >= code_behind. */
+  const bool coded = z_scale > 0.0f; /* else every code decodes to near_z = z_ref */
+  const float c_ref = coded ? (z_ref - near_z) / z_scale : 0.0f;
+  const float c_rej = coded ? reject / z_scale : 0.0f;
+  const float code_top = (float)CLH_DEPTH_MAX_CODE + 1.0f;
+  const float lo_f = coded ? clamp(ceil(c_ref - c_rej), 0.0f, code_top) : 0.0f;
+  const float hi_f = coded ? clamp(floor(c_ref + c_rej), -1.0f, code_top) : code_top;
+  const uint code_behind = (uint)lo_f; /* the codes at or behind z_ref - reject */
+  /* an empty range (no code within reject) starts above every code */
+  const uint code_lo = (uint)(hi_f >= lo_f ? lo_f : code_top);
+  const uint code_span = hi_f >= lo_f ? (uint)(hi_f - lo_f) : 0u;
+  /* With the unit tangent (tx, ty) a tap (dx, dy) has d_par = dx tx + dy ty and the signed
+   * d_perp = dy tx - dx ty, so along a window row the spatial exponent
+   * d_par^2 / s_par^2 + d_perp^2 / s_perp^2 is the quadratic (k2 dx + k1) dx + k0. */
+  const float k2 = tp.x * tp.x * inv_par2 + tp.y * tp.y * inv_perp2;
+  const float k1_dy = 2.0f * tp.x * tp.y * (inv_par2 - inv_perp2);
+  const float k0_dy2 = tp.y * tp.y * inv_par2 + tp.x * tp.x * inv_perp2;
 
   float3 sum = (float3)(0.0f);
   float wsum = 0.0f, h_center = 0.0f, h_cons = 0.0f;
   float3 any_sum = (float3)(0.0f);
   float any_wsum = 0.0f;
-  for (int dy = -r; dy <= r; ++dy) {
-    const int qy = y + dy;
-    if (qy < 0 || qy >= height) continue;
-    for (int dx = -r; dx <= r; ++dx) {
-      const int qx = x + dx;
-      if (qx < 0 || qx >= width) continue;
-      const size_t q = (size_t)qy * (size_t)width + (size_t)qx;
+  /* the window clipped to the image: no bounds test per tap */
+  const int dx0 = max(-r, -x), dx1 = min(r, width - 1 - x);
+  const int dy0 = max(-r, -y), dy1 = min(r, height - 1 - y);
+  for (int dy = dy0; dy <= dy1; ++dy) {
+    const float fy = (float)dy;
+    const float k1 = k1_dy * fy, k0 = k0_dy2 * fy * fy, perp_row = fy * tp.x;
+    const size_t row = (size_t)(y + dy) * (size_t)width + (size_t)x;
+    for (int dx = dx0; dx <= dx1; ++dx) {
+      const size_t q = row + (size_t)dx;
+      const float fx = (float)dx;
       const ulong gq = gbuf_g[q];
       const bool q_hit = gq != CLH_GBUF_EMPTY;
-      const float zq = q_hit ? filter_depth(gq, near_z, far_z) : 0.0f;
-      const float2 d = (float2)((float)dx, (float)dy);
-      const float d_par = dot(d, tp);
-      const float2 perp = d - d_par * tp;
-      const float d_perp2 = dot(perp, perp);
-      if (d_perp2 <= filter_g->strip * filter_g->strip) {
-        if (q_hit && (overlay ? fabs(zq - z_ref) <= reject : zq >= z_ref - reject)) {
+      const uint cq = clh_gbuf_depth(gq);
+      const float d_perp = perp_row - fx * tp.y;
+      if (d_perp * d_perp <= strip2) {
+        if (q_hit && (overlay ? cq - code_lo <= code_span : cq >= code_behind)) {
           h_center += 1.0f;
         } else {
           const ulong aq = gbuf_g[plane + q];
-          const float za = aq != CLH_GBUF_EMPTY ? filter_depth(aq, near_z, far_z) : 0.0f;
-          if (aq != CLH_GBUF_EMPTY && (overlay ? fabs(za - z_ref) <= reject : za >= z_ref - reject))
+          const uint ca = clh_gbuf_depth(aq);
+          if (aq != CLH_GBUF_EMPTY && (overlay ? ca - code_lo <= code_span : ca >= code_behind))
             h_cons += 1.0f;
         }
       }
-      const float e_spatial = d_par * d_par * inv_par2 + d_perp2 * inv_perp2;
+      const float e_spatial = (k2 * fx + k1) * fx + k0;
       /* exp(-24) < 4e-11: negligible beside any nearer neighbour */
       if (!q_hit || e_spatial > 24.0f) continue;
+      /* unsigned: codes below code_lo wrap past the span */
+      const bool at_depth = cq - code_lo <= code_span;
+      /* a pixel with its own colour never uses the neighbours at other depths */
+      if (own_colour && !at_depth) continue;
       const float3 c_q = hair_g[q].xyz;
-      float w = clh_fast_exp(-e_spatial); /* fast_math.h: no library call in the window loop */
-      if (!(fabs(zq - z_ref) <= reject)) {
+      /* the spatial and the colour weight as one exponential of the summed exponents
+       * (fast_math.h: no library call in the window loop, a short chain) */
+      float e = e_spatial;
+      if (own_colour) {
+        const float3 dc = c_p_disp - filter_display(c_q);
+        e += dot(dc, dc) * inv_c2;
+      }
+      const float w = clh_fast_exp_neg(-e);
+      if (!at_depth) {
         any_sum += w * c_q;
         any_wsum += w;
         continue;
-      }
-      if (own_colour) {
-        const float3 dc = c_p_disp - filter_display(c_q);
-        w *= clh_fast_exp(-dot(dc, dc) * inv_c2);
       }
       sum += w * c_q;
       wsum += w;

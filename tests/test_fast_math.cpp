@@ -24,6 +24,25 @@ TEST(FastMath, Exp2RelativeErrorOverItsRange) {
   EXPECT_NEAR(clh_fast_exp2(1000.0f), std::exp2(126.0), std::exp2(126.0) * 5e-7);  // clamped
 }
 
+TEST(FastMath, ExpNegRelativeErrorOverItsRangeAndCloseToExp) {
+  double worst = 0.0, worst_vs_exp = 0.0;
+  for (int i = 0; i <= 2000000; ++i) {
+    const float x = -87.0f * static_cast<float>(i) / 2000000.0f;
+    const double exact = std::exp(static_cast<double>(x));
+    // the stated bound: 1e-6 plus the rounding of x log2(e) (6e-8 |x| relative)
+    const double bound = 1e-6 + 6e-8 * std::abs(static_cast<double>(x));
+    worst = std::max(worst, std::abs(clh_fast_exp_neg(x) / exact - 1.0) / bound);
+    // the same polynomial as clh_fast_exp in another order: a few float roundings apart
+    worst_vs_exp = std::max(
+        worst_vs_exp, std::abs(static_cast<double>(clh_fast_exp_neg(x)) / clh_fast_exp(x) - 1.0));
+  }
+  EXPECT_LT(worst, 1.0) << "worst error as a multiple of the stated bound";
+  EXPECT_LT(worst_vs_exp, 5e-7);
+  EXPECT_EQ(clh_fast_exp_neg(0.0f), clh_fast_exp_neg(-0.0f));
+  EXPECT_EQ(clh_fast_exp_neg(1.0f), clh_fast_exp_neg(0.0f));  // x > 0 is taken as 0
+  EXPECT_NEAR(clh_fast_exp_neg(-1000.0f), std::exp2(-126.0), std::exp2(-126.0) * 1e-6);
+}
+
 TEST(FastMath, Log2AbsoluteErrorOverEveryBinade) {
   double worst = 0.0;
   for (int e = -126; e < 128; ++e)

@@ -83,6 +83,23 @@ CLH_FN float clh_fast_pow(float x, float y) {
 /* e^x. Relative error below 1e-6 for |x| < 87. */
 CLH_FN float clh_fast_exp(float x) { return clh_fast_exp2(x * 1.44269504f); }
 
+/* e^x for x <= 0 (x > 0 is taken as 0): clh_fast_exp's polynomial evaluated in Estrin's
+ * order, three levels of dependent operations instead of Horner's five, for loops that wait
+ * on each result (the filter's window). Relative error below 1e-6 + 6e-8 |x| (the second
+ * term is the rounding of x log2(e)) for x in [-87, 0]; the two orders differ by float
+ * rounding. */
+CLH_FN float clh_fast_exp_neg(float x) {
+  float t = x * 1.44269504f;
+  t = t < -126.0f ? -126.0f : (t > 0.0f ? 0.0f : t);
+  const float fl = (float)(clh_i32)t - ((float)(clh_i32)t > t ? 1.0f : 0.0f); /* floor */
+  const float f = t - fl;                                                     /* [0, 1) */
+  const float f2 = f * f;
+  const float p01 = 9.9999970e-1f + 6.9315684e-1f * f;
+  const float p23 = 2.4013717e-1f + 5.5848695e-2f * f;
+  const float p45 = 8.9845192e-3f + 1.8724892e-3f * f;
+  return CLH_AS_FLOAT((clh_u32)((clh_i32)fl + 127) << 23) * (p01 + f2 * (p23 + f2 * p45));
+}
+
 /* sin and cos of x together. Absolute error below 1e-6 for |x| < 1e4 (the argument is
  * reduced by multiples of pi/2 in two parts, Cody-Waite). */
 CLH_FN void clh_fast_sincos(float x, float* s_out, float* c_out) {

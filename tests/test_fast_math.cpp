@@ -24,6 +24,18 @@ TEST(FastMath, Exp2RelativeErrorOverItsRange) {
   EXPECT_NEAR(clh_fast_exp2(1000.0f), std::exp2(126.0), std::exp2(126.0) * 5e-7);  // clamped
 }
 
+TEST(FastMath, ExpRelativeErrorOverItsRange) {
+  double worst = 0.0;
+  for (int i = 0; i <= 2000000; ++i) {
+    const float x = -87.0f + 174.0f * static_cast<float>(i) / 2000000.0f;
+    const double exact = std::exp(static_cast<double>(x));
+    // the stated bound: 1e-6 plus the rounding of x log2(e) (6e-8 |x| relative)
+    const double bound = 1e-6 + 6e-8 * std::abs(static_cast<double>(x));
+    worst = std::max(worst, std::abs(clh_fast_exp(x) / exact - 1.0) / bound);
+  }
+  EXPECT_LT(worst, 1.0) << "worst error as a multiple of the stated bound";
+}
+
 TEST(FastMath, ExpNegRelativeErrorOverItsRangeAndCloseToExp) {
   double worst = 0.0, worst_vs_exp = 0.0;
   for (int i = 0; i <= 2000000; ++i) {

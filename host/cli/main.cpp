@@ -795,7 +795,7 @@ int main(int argc, char** argv) {
   std::string visScene, visOut;
   int visGroom = 0, visRays = 32, visPerCell = 4;
   bool visVerbose = false;
-  std::string visDirections = "per-cell";
+  std::string visDirections = "per-point";
   int visCellStride = 1;
   visCmd->add_option("scene", visScene, "scene file: the groom and its head")->required();
   visCmd->add_option("-o,--output", visOut, "output baked visibility file (.clhvis)")->required();
@@ -807,8 +807,8 @@ int main(int argc, char** argv) {
                    "print each phase's wall and CPU time to stderr (the tracing phase also "
                    "its threads' time waiting for a core)");
   visCmd->add_option("--directions", visDirections,
-                     "per-cell (default): one stratified direction set per cell dealt out to its "
-                     "points; per-point: each point its own set (the earlier estimator)");
+                     "per-point (default): each sample point its own stratified set of directions; "
+                     "per-cell: one set per cell dealt out to its points");
   visCmd->add_option("--cell-stride", visCellStride,
                      "bake only about one occupied cell in N (by hash), the rest left zero: a "
                      "sample of the table for estimator studies (default 1: every cell)");

@@ -329,14 +329,17 @@ VisibilityBake bakeVisibility(const StrandSet& s, float fibreRadius,
     for (std::size_t ci = next++; ci < cells.size(); ci = next++) {
       const std::uint32_t cell = cells[ci];
       float sum[4] = {0, 0, 0, 0};
-      std::uint64_t* keys = &chosen[std::size_t(cell) * K];
-      std::sort(keys, keys + K);  // smallest hash first; the unused slots (~0) last
-      const auto n = static_cast<std::uint32_t>(std::find(keys, keys + K, ~0ull) - keys);
-      // PerCell: one stratified set of n x R directions for the cell, seeded by its first
-      // point, dealt out to its n points in turn (point k takes directions k, k + n, ...),
-      // so the union of the cell's rays covers the sphere evenly; PerPoint: every point its
-      // own set of R. Averaged over the points, both are the cell's L1 projection with every
-      // ray weighing 4 pi / (n R).
+      // the cell's points in slot order (a slot is filled only after every one before it)
+      std::uint64_t keys[64];
+      const std::uint64_t* slots = &chosen[std::size_t(cell) * K];
+      const auto n = static_cast<std::uint32_t>(std::find(slots, slots + K, ~0ull) - slots);
+      std::copy_n(slots, n, keys);
+      // PerCell: one stratified set of n x R directions for the cell, seeded by its point of
+      // smallest hash, dealt out to its n points in turn (point k takes directions k, k + n,
+      // ...), so the union of the cell's rays covers the sphere evenly; PerPoint: every point
+      // its own set of R. Averaged over the points, both are the cell's L1 projection with
+      // every ray weighing 4 pi / (n R).
+      if (o.directions == VisibilityBakeOptions::Directions::PerCell) std::sort(keys, keys + n);
       if (o.directions == VisibilityBakeOptions::Directions::PerCell)
         sphereDirections(n * R, static_cast<std::uint32_t>(keys[0] & 0xFFFFFFFFu), cellDirs.data());
       for (std::uint32_t k = 0; k < n; ++k) {

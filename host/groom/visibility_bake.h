@@ -42,11 +42,12 @@ struct VisibilityBakeOptions {
   std::uint32_t raysPerPoint = 32;
   std::uint32_t pointsPerCell = 4;
   unsigned threads = 0;  // 0: every hardware thread
-  // How a cell's rays get their directions: PerCell deals one stratified set of n x R
-  // directions out to the cell's n points (the union covers the sphere evenly); PerPoint
-  // gives every point its own set of R (the estimator before PerCell, kept for comparison).
-  enum class Directions { PerCell, PerPoint };
-  Directions directions = Directions::PerCell;
+  // How a cell's rays get their directions: PerPoint (default) gives every point its own
+  // stratified set of R, rotated by the point; PerCell deals one set of n x R directions out
+  // to the cell's n points, so their union covers the sphere evenly (measured no better
+  // overall: docs/scene-format.md, "Visibility bake estimator").
+  enum class Directions { PerPoint, PerCell };
+  Directions directions = Directions::PerPoint;
   // Bake only the occupied cells whose hash is 0 modulo cellStride and leave every other
   // cell zero (no interpolation along w): a sample of the table for estimator studies.
   std::uint32_t cellStride = 1;

@@ -398,6 +398,85 @@ TEST(VisibilityBake, MatchesBruteForceCount) {
   EXPECT_GT(saturated, cells * int(R) / 50);  // the cap is exercised
 }
 
+// A small dense groom whose cells each hold 8 points: 200 wavy strands of 17 points in a
+// 6 mm square, fibre radius 0.15 mm, a floor below as the head; strands take their root uv
+// from a 5 x 5 grid of columns, 8 strands each, so every (u, v, w) cell averages 8 strands.
+StrandSet denseCellsGroom() {
+  StrandSet s;
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<float> pos(-0.003f, 0.003f), phase(0.0f, 6.2832f);
+  const std::uint32_t n = 17;
+  for (std::uint32_t st = 0; st < 200; ++st) {
+    const float x = pos(rng), z = pos(rng), ph = phase(rng);
+    const std::uint32_t col = st % 25;
+    s.pointCounts.push_back(n);
+    s.uv.insert(s.uv.end(), {0.1f + 0.2f * static_cast<float>(col % 5),
+                             0.1f + 0.2f * static_cast<float>(col / 5)});
+    for (std::uint32_t k = 0; k < n; ++k) {
+      const float t = static_cast<float>(k) / (n - 1);
+      s.points.insert(s.points.end(), {x + 0.001f * std::sin(ph + 6.0f * t), 0.012f * t,
+                                       z + 0.001f * std::cos(ph + 5.0f * t)});
+      s.tangents.insert(s.tangents.end(), {0.0f, 1.0f, 0.0f});
+      s.w.push_back(t);
+      s.ao.push_back(1.0f);
+    }
+  }
+  return s;
+}
+
+TEST(VisibilityBake, EstimatorErrorAgainstHighCountReference) {
+  // The estimator against a high-count reference (256 rays for each of the 8 points of every
+  // cell), in the mean absolute SH coefficient over the 425 cells holding points: the
+  // defaults (32 rays, 4 points per cell, PerPoint directions) and PerCell directions at the
+  // same counts must both be closer than a deliberately worse estimator, the defaults with a
+  // quarter of the rays (8 per point). With one point per cell PerCell gives that point the
+  // same directions as PerPoint, so the tables are identical.
+  const StrandSet s = denseCellsGroom();
+  const float floorY = -5e-4f;
+  const std::vector<glm::vec3> tri = {
+      {-1.0f, floorY, -1.0f}, {1.0f, floorY, -1.0f}, {1.0f, floorY, 1.0f}, {-1.0f, floorY, 1.0f}};
+  const std::vector<std::uint32_t> idx = {0, 1, 2, 0, 2, 3};
+  using D = VisibilityBakeOptions::Directions;
+  auto bake = [&](std::uint32_t rays, std::uint32_t perCell, D d) {
+    VisibilityBakeOptions o;
+    o.raysPerPoint = rays;
+    o.pointsPerCell = perCell;
+    o.directions = d;
+    VisibilityBakeStats st;
+    VisibilityBake b = bakeVisibility(s, 1.5e-4f, tri, idx, 200, o, &st);
+    EXPECT_EQ(st.cells, 25u * 17u);
+    return b;
+  };
+  const VisibilityBakeOptions defaults;
+  ASSERT_EQ(defaults.directions, D::PerPoint);
+  const VisibilityBake ref = bake(256, 8, D::PerPoint);
+  std::vector<char> baked(CLH_VIS_CELLS, 0);  // the cells holding points (not interpolated)
+  for (std::size_t st = 0, i = 0; st < s.pointCounts.size(); ++st)
+    for (std::uint32_t k = 0; k < s.pointCounts[st]; ++k, ++i)
+      baked[gpu::clh_vis_cell(gpu::clh_unorm_bits(s.uv[2 * st], 6u),
+                              gpu::clh_unorm_bits(s.uv[2 * st + 1], 6u),
+                              gpu::clh_unorm_bits(s.w[i], 6u))] = 1;
+  auto error = [&](const VisibilityBake& b) {
+    double sum = 0.0;
+    int n = 0;
+    for (std::size_t i = 0; i < ref.sh.size(); ++i)
+      if (baked[i / 4]) {
+        sum += std::fabs(b.sh[i] - ref.sh[i]);
+        ++n;
+      }
+    EXPECT_EQ(n, 25 * 17 * 4);
+    return sum / std::max(n, 1);
+  };
+  const double perPoint = error(bake(defaults.raysPerPoint, defaults.pointsPerCell, D::PerPoint));
+  const double perCell = error(bake(defaults.raysPerPoint, defaults.pointsPerCell, D::PerCell));
+  const double worse = error(bake(defaults.raysPerPoint / 4, defaults.pointsPerCell, D::PerPoint));
+  std::printf("mean |SH - reference|: defaults %.4f, PerCell %.4f, a quarter of the rays %.4f\n",
+              perPoint, perCell, worse);
+  EXPECT_LT(perPoint, worse);
+  EXPECT_LT(perCell, worse);
+  EXPECT_EQ(bake(16, 1, D::PerCell).sh, bake(16, 1, D::PerPoint).sh);
+}
+
 // The slab as a scene: 1200 vertical strands in x in [-20, 20] mm, z in [-10, 10] mm with
 // root uv from (x, z), one directional light from +x without a deep opacity map, the camera
 // on the x axis at `cameraX` looking at the slab; no ambient light, black background.

@@ -515,11 +515,19 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
 }
 
 int cmdBakeVisibility(const DeviceOptions& opts, const std::string& scenePath,
-                      const std::string& out, int groom, int rays, int perCell) {
+                      const std::string& out, int groom, int rays, int perCell, bool verbose,
+                      const std::string& directions, int cellStride) {
   if (rays < 1 || rays > 4096) throw Error("--rays must be 1..4096, not " + std::to_string(rays));
   if (perCell < 1 || perCell > 64)
     throw Error("--points-per-cell must be 1..64, not " + std::to_string(perCell));
+  if (directions != "per-cell" && directions != "per-point")
+    throw Error("--directions must be per-cell or per-point, not \"" + directions + "\"");
+  if (cellStride < 1)
+    throw Error("--cell-stride must be 1 or more, not " + std::to_string(cellStride));
+  VisibilityBakeStats st;
+  BakePhaseTimer timer(&st);
   const Scene scene = loadScene(scenePath);
+  timer.finish("scene");
   if (groom < 0 || static_cast<std::size_t>(groom) >= scene.grooms.size())
     throw Error(scenePath + ": --groom " + std::to_string(groom) +
                 " does not exist, the scene has " + std::to_string(scene.grooms.size()) +
@@ -531,17 +539,37 @@ int cmdBakeVisibility(const DeviceOptions& opts, const std::string& scenePath,
                 "look a bake up by");
   Device dev = Device::open(opts);
   Renderer renderer(dev);
+  timer.finish("device");
   VisibilityBakeOptions o;
   o.raysPerPoint = static_cast<std::uint32_t>(rays);
   o.pointsPerCell = static_cast<std::uint32_t>(perCell);
-  VisibilityBakeStats st;
+  o.directions = directions == "per-point" ? VisibilityBakeOptions::Directions::PerPoint
+                                           : VisibilityBakeOptions::Directions::PerCell;
+  o.cellStride = static_cast<std::uint32_t>(cellStride);
   const auto t0 = std::chrono::steady_clock::now();
   const std::clock_t c0 = std::clock();
   const VisibilityBake bake =
       bakeGroomVisibility(renderer, scene, static_cast<std::size_t>(groom), o, &st);
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+  BakePhaseTimer writeTimer(&st);
   writeVisibility(bake, out);
+  writeTimer.finish("write");
+  if (verbose) {
+    // one line per phase: wall, CPU over all threads, and the cores that CPU time kept busy;
+    // for the split tracing, the workers' time waiting for a core (other processes' load)
+    // and the rest (blocked or idle)
+    for (const BakePhase& p : st.phases) {
+      std::fprintf(stderr, "clhair: bake phase %-8s wall %8.2f s  cpu %8.2f s  (%.2f cores)",
+                   p.name.c_str(), p.wallSeconds, p.cpuSeconds,
+                   p.wallSeconds > 0.0 ? p.cpuSeconds / p.wallSeconds : 0.0);
+      if (p.threads > 0 && p.waitSeconds >= 0.0)
+        std::fprintf(stderr, "  %u threads: waiting for a core %.2f s, blocked or idle %.2f s",
+                     p.threads, p.waitSeconds,
+                     std::max(0.0, p.threads * p.wallSeconds - p.cpuSeconds - p.waitSeconds));
+      std::fprintf(stderr, "\n");
+    }
+  }
   std::printf(
       "%s: groom \"%s\" (%u strands), %llu cells, %llu points, %llu rays, %.2f events "
       "per ray that hit, %.1f s (%.1f s of CPU time over all threads)\n",
@@ -766,12 +794,24 @@ int main(int argc, char** argv) {
       "bake a groom's spherical visibility for self-shadowing (Embree; docs/scene-format.md)");
   std::string visScene, visOut;
   int visGroom = 0, visRays = 32, visPerCell = 4;
+  bool visVerbose = false;
+  std::string visDirections = "per-point";
+  int visCellStride = 1;
   visCmd->add_option("scene", visScene, "scene file: the groom and its head")->required();
   visCmd->add_option("-o,--output", visOut, "output baked visibility file (.clhvis)")->required();
   visCmd->add_option("--groom", visGroom, "index of the groom in the scene (default 0)");
   visCmd->add_option("--rays", visRays, "rays per sample point (default 32)");
   visCmd->add_option("--points-per-cell", visPerCell,
                      "sample points per (u, v, w) cell (default 4)");
+  visCmd->add_flag("-v,--verbose", visVerbose,
+                   "print each phase's wall and CPU time to stderr (the tracing phase also "
+                   "its threads' time waiting for a core)");
+  visCmd->add_option("--directions", visDirections,
+                     "per-point (default): each sample point its own stratified set of directions; "
+                     "per-cell: one set per cell dealt out to its points");
+  visCmd->add_option("--cell-stride", visCellStride,
+                     "bake only about one occupied cell in N (by hash), the rest left zero: a "
+                     "sample of the table for estimator studies (default 1: every cell)");
 
   auto* exportCmd = app.add_subcommand("export-strands",
                                        "write the generated strands as a cyHair .hair file "
@@ -812,7 +852,8 @@ int main(int argc, char** argv) {
     if (*exportCmd) return cmdExport(resolved, groomPath, hairOut);
     if (*bakeCmd) return cmdBakeAo(resolved, bakeIn, bakeOut);
     if (*visCmd)
-      return cmdBakeVisibility(resolved, visScene, visOut, visGroom, visRays, visPerCell);
+      return cmdBakeVisibility(resolved, visScene, visOut, visGroom, visRays, visPerCell,
+                               visVerbose, visDirections, visCellStride);
     if (*compare) return cmdCompare(compareA, compareB, cf);
   } catch (const Error& e) {
     std::fprintf(stderr, "clhair: error: %s\n", e.what());

@@ -4,12 +4,15 @@
 #include <embree3/rtcore.h>
 
 #include <sys/mman.h>
+#include <time.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <limits>
+#include <mutex>
 #include <string>
 #include <thread>
 
@@ -82,7 +85,40 @@ struct EmbreeScene {
   }
 };
 
+double clockSeconds(clockid_t id) {
+  timespec t{};
+  clock_gettime(id, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+// The calling thread's time on a CPU and waiting on a run queue, in seconds, from
+// /proc/thread-self/schedstat; {-1, -1} where the kernel does not keep it.
+std::pair<double, double> threadSchedSeconds() {
+  std::ifstream in("/proc/thread-self/schedstat");
+  unsigned long long run = 0, wait = 0;
+  if (!(in >> run >> wait)) return {-1.0, -1.0};
+  return {1e-9 * static_cast<double>(run), 1e-9 * static_cast<double>(wait)};
+}
+
 }  // namespace
+
+BakePhaseTimer::BakePhaseTimer(VisibilityBakeStats* stats)
+    : stats_(stats),
+      wall0_(clockSeconds(CLOCK_MONOTONIC)),
+      cpu0_(clockSeconds(CLOCK_PROCESS_CPUTIME_ID)) {}
+
+BakePhase& BakePhaseTimer::finish(const std::string& name) {
+  const double wall = clockSeconds(CLOCK_MONOTONIC), cpu = clockSeconds(CLOCK_PROCESS_CPUTIME_ID);
+  BakePhase p;
+  p.name = name;
+  p.wallSeconds = wall - wall0_;
+  p.cpuSeconds = cpu - cpu0_;
+  wall0_ = wall;
+  cpu0_ = cpu;
+  if (!stats_) return scratch_ = p;
+  stats_->phases.push_back(p);
+  return stats_->phases.back();
+}
 
 void sphereDirections(std::uint32_t count, std::uint32_t seed, float* out) {
   // golden-angle spiral with equal-area z bands; the seed turns it about z and jitters z
@@ -126,6 +162,8 @@ VisibilityBake bakeVisibility(const StrandSet& s, float fibreRadius,
   if (o.raysPerPoint == 0 || o.raysPerPoint > 4096 || o.pointsPerCell == 0 || o.pointsPerCell > 64)
     throw Error("visibility bake: " + std::to_string(o.raysPerPoint) + " rays per point and " +
                 std::to_string(o.pointsPerCell) + " points per cell, need 1..4096 and 1..64");
+  if (o.cellStride == 0)
+    throw Error("visibility bake: a cell stride of 0, need 1 or more (1: every cell)");
   if (!(fibreRadius > 0.0f) || !std::isfinite(fibreRadius))
     throw Error("visibility bake: fibre radius " + std::to_string(fibreRadius) +
                 " is not positive");
@@ -134,6 +172,7 @@ VisibilityBake bakeVisibility(const StrandSet& s, float fibreRadius,
   for (std::uint32_t i : triIndices)
     if (i >= triPositions.size()) throw Error("visibility bake: occluder index out of range");
 
+  BakePhaseTimer timer(stats);
   EmbreeScene es;
   es.device = rtcNewDevice("hugepages=1");  // the BVH nodes on huge pages (fewer TLB misses)
   if (!es.device) throw Error("visibility bake: Embree could not create a device");
@@ -240,9 +279,11 @@ VisibilityBake bakeVisibility(const StrandSet& s, float fibreRadius,
     rtcAttachGeometry(es.head, g);
     rtcReleaseGeometry(g);
   }
+  timer.finish("segments");
   rtcCommitScene(es.hair);
   rtcCommitScene(es.head);
   es.check("building the BVHs");
+  timer.finish("bvh");
 
   // each cell keeps the pointsPerCell points of smallest hash: key = hash << 32 | point
   const std::uint32_t K = o.pointsPerCell;
@@ -262,7 +303,7 @@ VisibilityBake bakeVisibility(const StrandSet& s, float fibreRadius,
   }
   std::vector<std::uint32_t> cells;  // cells with at least one point
   for (std::uint32_t c = 0; c < CLH_VIS_CELLS; ++c)
-    for (std::uint32_t k = 0; k < K; ++k)
+    for (std::uint32_t k = 0; k < K && gpu::clh_hash2(c, 0xce115u) % o.cellStride == 0; ++k)
       if (chosen[std::size_t(c) * K + k] != ~0ull) {
         cells.push_back(c);
         break;
@@ -276,19 +317,39 @@ VisibilityBake bakeVisibility(const StrandSet& s, float fibreRadius,
   bake.sh.assign(std::size_t(CLH_VIS_CELLS) * CLH_VIS_COEFFS, 0.0f);
   std::atomic<std::size_t> next{0};
   std::atomic<std::uint64_t> pointsTraced{0}, raysHit{0}, eventSum{0};
+  std::mutex schedMutex;
+  double waitSum = 0.0;
+  bool waitKnown = true;
+  timer.finish("samples");
   const std::uint32_t R = o.raysPerPoint;
   auto work = [&] {
-    std::vector<float> dirs(3 * R), values(R);
+    const std::pair<double, double> sched0 = threadSchedSeconds();
+    std::vector<float> cellDirs(3 * std::size_t(R) * K), dirs(3 * R), values(R);
     std::uint64_t traced = 0, hit = 0, events = 0;
     for (std::size_t ci = next++; ci < cells.size(); ci = next++) {
       const std::uint32_t cell = cells[ci];
       float sum[4] = {0, 0, 0, 0};
-      std::uint32_t n = 0;
-      for (std::uint32_t k = 0; k < K; ++k) {
-        const std::uint64_t key = chosen[std::size_t(cell) * K + k];
-        if (key == ~0ull) continue;
-        const auto i = static_cast<std::uint32_t>(key & 0xFFFFFFFFu);
-        sphereDirections(R, i, dirs.data());
+      // the cell's points in slot order (a slot is filled only after every one before it)
+      std::uint64_t keys[64];
+      const std::uint64_t* slots = &chosen[std::size_t(cell) * K];
+      const auto n = static_cast<std::uint32_t>(std::find(slots, slots + K, ~0ull) - slots);
+      std::copy_n(slots, n, keys);
+      // PerCell: one stratified set of n x R directions for the cell, seeded by its point of
+      // smallest hash, dealt out to its n points in turn (point k takes directions k, k + n,
+      // ...), so the union of the cell's rays covers the sphere evenly; PerPoint: every point
+      // its own set of R. Averaged over the points, both are the cell's L1 projection with
+      // every ray weighing 4 pi / (n R).
+      if (o.directions == VisibilityBakeOptions::Directions::PerCell) std::sort(keys, keys + n);
+      if (o.directions == VisibilityBakeOptions::Directions::PerCell)
+        sphereDirections(n * R, static_cast<std::uint32_t>(keys[0] & 0xFFFFFFFFu), cellDirs.data());
+      for (std::uint32_t k = 0; k < n; ++k) {
+        const auto i = static_cast<std::uint32_t>(keys[k] & 0xFFFFFFFFu);
+        if (o.directions == VisibilityBakeOptions::Directions::PerCell) {
+          for (std::uint32_t r = 0; r < R; ++r)
+            std::copy_n(&cellDirs[3 * (std::size_t(r) * n + k)], 3, &dirs[3 * r]);
+        } else {
+          sphereDirections(R, i, dirs.data());
+        }
         const float* org = &s.points[3 * std::size_t(i)];
         for (std::uint32_t r0 = 0; r0 < R; r0 += kPacket) {
           const std::uint32_t m = std::min<std::uint32_t>(kPacket, R - r0);
@@ -360,7 +421,6 @@ VisibilityBake bakeVisibility(const StrandSet& s, float fibreRadius,
         float c[4];
         projectL1(dirs.data(), values.data(), R, c);
         for (int q = 0; q < 4; ++q) sum[q] += c[q];
-        ++n;
         ++traced;
       }
       for (int q = 0; q < 4; ++q)
@@ -369,6 +429,10 @@ VisibilityBake bakeVisibility(const StrandSet& s, float fibreRadius,
     pointsTraced += traced;
     raysHit += hit;
     eventSum += events;
+    const std::pair<double, double> sched1 = threadSchedSeconds();
+    const std::lock_guard<std::mutex> lock(schedMutex);
+    waitKnown = waitKnown && sched0.second >= 0.0 && sched1.second >= 0.0;
+    waitSum += sched1.second - sched0.second;
   };
   const unsigned threads =
       o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency());
@@ -377,12 +441,17 @@ VisibilityBake bakeVisibility(const StrandSet& s, float fibreRadius,
   work();
   for (std::thread& t : pool) t.join();
   es.check("tracing");
+  BakePhase& trace = timer.finish("trace");
+  trace.threads = threads;
+  trace.waitSeconds = waitKnown ? waitSum : -1.0;
   // A G-buffer word's w is interpolated along its segment, so a strand with fewer points
   // than w cells reaches cells no sample point fell into: fill each (u, v) column's gaps by
-  // linear interpolation between its baked cells along w (nearest beyond its ends).
+  // linear interpolation between its baked cells along w (nearest beyond its ends). A bake
+  // of a cell sample (cellStride > 1) leaves the rest zero.
   std::vector<char> baked(CLH_VIS_CELLS, 0);
   for (std::uint32_t c : cells) baked[c] = 1;
-  for (std::uint32_t col = 0; col < CLH_VIS_AXIS * CLH_VIS_AXIS; ++col) {
+  const std::uint32_t columns = o.cellStride == 1 ? CLH_VIS_AXIS * CLH_VIS_AXIS : 0;
+  for (std::uint32_t col = 0; col < columns; ++col) {
     const std::uint32_t base = col * CLH_VIS_AXIS;
     int prev = -1;
     for (int w = 0; w <= static_cast<int>(CLH_VIS_AXIS); ++w) {
@@ -399,6 +468,7 @@ VisibilityBake bakeVisibility(const StrandSet& s, float fibreRadius,
       if (!end) prev = w;
     }
   }
+  timer.finish("fill");
   if (stats) {
     stats->cells = cells.size();
     stats->points = pointsTraced;
@@ -415,7 +485,9 @@ VisibilityBake bakeGroomVisibility(Renderer& r, const Scene& s, std::size_t groo
     throw Error("bake-visibility: groom " + std::to_string(groom) +
                 " does not exist, the scene has " + std::to_string(s.grooms.size()));
   const GroomInstance& gi = s.grooms[groom];
+  BakePhaseTimer timer(stats);
   const StrandSet strands = gi.mesh ? r.generateStrands(*gi.mesh) : r.generateStrands(*gi.strands);
+  timer.finish("strands");
   const glm::mat4 toObj = glm::inverse(gi.transform);
   const float scale = std::cbrt(std::fabs(glm::determinant(glm::mat3(gi.transform))));
   const float width =

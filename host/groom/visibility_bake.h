@@ -24,6 +24,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -41,6 +42,29 @@ struct VisibilityBakeOptions {
   std::uint32_t raysPerPoint = 32;
   std::uint32_t pointsPerCell = 4;
   unsigned threads = 0;  // 0: every hardware thread
+  // How a cell's rays get their directions: PerPoint (default) gives every point its own
+  // stratified set of R, rotated by the point; PerCell deals one set of n x R directions out
+  // to the cell's n points, so their union covers the sphere evenly (measured no better
+  // overall: docs/scene-format.md, "Visibility bake estimator").
+  enum class Directions { PerPoint, PerCell };
+  Directions directions = Directions::PerPoint;
+  // Bake only the occupied cells whose hash is 0 modulo cellStride and leave every other
+  // cell zero (no interpolation along w): a sample of the table for estimator studies.
+  std::uint32_t cellStride = 1;
+};
+
+// Where a bake's time goes (`clhair bake-visibility --verbose`). cpuSeconds is the whole
+// process's CPU time over the phase (every thread, Embree's and the OpenCL runtime's too).
+// For the tracing phase, `threads` workers split the points; waitSeconds is the time they
+// were runnable but waiting for a core (the kernel's schedstat: other processes' load) and
+// the rest of threads x wall that is neither CPU nor waiting is time they were blocked or
+// idle (-1: the kernel does not report it).
+struct BakePhase {
+  std::string name;
+  double wallSeconds = 0.0;
+  double cpuSeconds = 0.0;
+  unsigned threads = 0;  // 0: not a split phase
+  double waitSeconds = -1.0;
 };
 
 struct VisibilityBakeStats {
@@ -48,6 +72,20 @@ struct VisibilityBakeStats {
   std::uint64_t points = 0;  // sample points traced
   std::uint64_t rays = 0;
   double meanEvents = 0.0;  // over the rays that hit something
+  std::vector<BakePhase> phases;
+};
+
+// Wall and process CPU time from construction; `finish` appends the phase to `stats` (if
+// any) and starts the next one.
+class BakePhaseTimer {
+ public:
+  explicit BakePhaseTimer(VisibilityBakeStats* stats);
+  BakePhase& finish(const std::string& name);
+
+ private:
+  VisibilityBakeStats* stats_;
+  BakePhase scratch_;
+  double wall0_ = 0.0, cpu0_ = 0.0;
 };
 
 // `groomStrands` is written into the bake (checked against the groom when a scene loads it).

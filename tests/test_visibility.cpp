@@ -206,6 +206,18 @@ void addStrand(StrandSet& s, float x, float z, float u, float v) {
   }
 }
 
+// n points of a wavy strand 12 mm tall rooted at (x, z), its wobble's phase ph.
+void addWavyPoints(StrandSet& s, float x, float z, float ph, std::uint32_t n) {
+  for (std::uint32_t k = 0; k < n; ++k) {
+    const float t = static_cast<float>(k) / (n - 1);
+    s.points.insert(s.points.end(), {x + 0.001f * std::sin(ph + 6.0f * t), 0.012f * t,
+                                     z + 0.001f * std::cos(ph + 5.0f * t)});
+    s.tangents.insert(s.tangents.end(), {0.0f, 1.0f, 0.0f});
+    s.w.push_back(t);
+    s.ao.push_back(1.0f);
+  }
+}
+
 float eventsToward(const VisibilityBake& b, float u, float v, float w, float x, float y, float z) {
   const std::uint32_t cell = gpu::clh_vis_cell(
       gpu::clh_unorm_bits(u, 6u), gpu::clh_unorm_bits(v, 6u), gpu::clh_unorm_bits(w, 6u));
@@ -323,14 +335,7 @@ TEST(VisibilityBake, MatchesBruteForceCount) {
     s.pointCounts.push_back(n);
     s.uv.insert(s.uv.end(),
                 {static_cast<float>(st % 12) / 11.0f, static_cast<float>(st / 12) / 7.0f});
-    for (std::uint32_t k = 0; k < n; ++k) {
-      const float t = static_cast<float>(k) / (n - 1);
-      s.points.insert(s.points.end(), {x + 0.001f * std::sin(ph + 6.0f * t), 0.012f * t,
-                                       z + 0.001f * std::cos(ph + 5.0f * t)});
-      s.tangents.insert(s.tangents.end(), {0.0f, 1.0f, 0.0f});
-      s.w.push_back(t);
-      s.ao.push_back(1.0f);
-    }
+    addWavyPoints(s, x, z, ph, n);
   }
   const float radius = 4e-4f, floorY = -5e-4f;
   const std::vector<glm::vec3> tri = {
@@ -412,14 +417,7 @@ StrandSet denseCellsGroom() {
     s.pointCounts.push_back(n);
     s.uv.insert(s.uv.end(), {0.1f + 0.2f * static_cast<float>(col % 5),
                              0.1f + 0.2f * static_cast<float>(col / 5)});
-    for (std::uint32_t k = 0; k < n; ++k) {
-      const float t = static_cast<float>(k) / (n - 1);
-      s.points.insert(s.points.end(), {x + 0.001f * std::sin(ph + 6.0f * t), 0.012f * t,
-                                       z + 0.001f * std::cos(ph + 5.0f * t)});
-      s.tangents.insert(s.tangents.end(), {0.0f, 1.0f, 0.0f});
-      s.w.push_back(t);
-      s.ao.push_back(1.0f);
-    }
+    addWavyPoints(s, x, z, ph, n);
   }
   return s;
 }

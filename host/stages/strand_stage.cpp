@@ -28,12 +28,7 @@ void StrandStage::bindGroom(KernelArgs& a, const Inputs& in) {
 }
 
 void StrandStage::raster(const Inputs& in, const StrandRaster& r, Profiler* profiler) {
-  if (r.msaa != 1 && r.msaa != 2 && r.msaa != 4 && r.msaa != 8)
-    throw Error("MSAA must be 1, 2, 4 or 8 samples, not " + std::to_string(r.msaa));
-  if ((r.ids || r.curve) && r.msaa != 1)
-    throw Error("strand identities need MSAA 1, not " + std::to_string(r.msaa));
-  if (r.cover && (r.msaa != 1 || r.ids || r.curve))
-    throw Error("the coverage raster draws one sample per pixel without strand identities");
+  r.check();
   const bool persistent = r.mode == DispatchMode::Persistent && !r.curve;
   const std::string key = r.options() + (persistent ? "|1" : "|0");
   auto it = raster_.find(key);

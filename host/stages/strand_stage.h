@@ -9,6 +9,7 @@
 #include <string>
 
 #include "cl/dispatch.h"
+#include "clhair/error.h"
 
 namespace clhair {
 
@@ -37,6 +38,15 @@ struct StrandRaster {
   std::uint64_t gbufferBytes() const {
     return static_cast<std::uint64_t>(pixels) *
            static_cast<std::uint64_t>(layers > 0 ? layers : msaa + 1) * 8u;
+  }
+  // Refuses the combinations no raster kernel is built for (both strand stages call it).
+  void check() const {
+    if (msaa != 1 && msaa != 2 && msaa != 4 && msaa != 8)
+      throw Error("MSAA must be 1, 2, 4 or 8 samples, not " + std::to_string(msaa));
+    if ((ids || curve) && msaa != 1)
+      throw Error("strand identities need MSAA 1, not " + std::to_string(msaa));
+    if (cover && (msaa != 1 || ids || curve))
+      throw Error("the coverage raster draws one sample per pixel without strand identities");
   }
   std::string stage() const { return curve ? "link" : "strands"; }  // for timings
   std::string options() const {

@@ -339,12 +339,14 @@ VisibilityBake bakeVisibility(const StrandSet& s, float fibreRadius,
       // ...), so the union of the cell's rays covers the sphere evenly; PerPoint: every point
       // its own set of R. Averaged over the points, both are the cell's L1 projection with
       // every ray weighing 4 pi / (n R).
-      if (o.directions == VisibilityBakeOptions::Directions::PerCell) std::sort(keys, keys + n);
-      if (o.directions == VisibilityBakeOptions::Directions::PerCell)
+      const bool perCell = o.directions == VisibilityBakeOptions::Directions::PerCell;
+      if (perCell) {
+        std::sort(keys, keys + n);
         sphereDirections(n * R, static_cast<std::uint32_t>(keys[0] & 0xFFFFFFFFu), cellDirs.data());
+      }
       for (std::uint32_t k = 0; k < n; ++k) {
         const auto i = static_cast<std::uint32_t>(keys[k] & 0xFFFFFFFFu);
-        if (o.directions == VisibilityBakeOptions::Directions::PerCell) {
+        if (perCell) {
           for (std::uint32_t r = 0; r < R; ++r)
             std::copy_n(&cellDirs[3 * (std::size_t(r) * n + k)], 3, &dirs[3 * r]);
         } else {

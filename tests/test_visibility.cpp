@@ -344,9 +344,11 @@ TEST(VisibilityBake, MatchesBruteForceCount) {
   VisibilityBakeOptions o;
   o.raysPerPoint = 32;
   o.pointsPerCell = 1;
+  o.maxEvents = 20;
   const VisibilityBake b = bakeVisibility(s, radius, tri, idx, strands, o);
 
   const std::uint32_t R = o.raysPerPoint;
+  const auto cap = static_cast<float>(o.maxEvents);
   std::vector<float> dirs(3 * R), values(R);
   int cells = 0, exact = 0, saturated = 0, headRays = 0;
   double worst = 0.0;
@@ -374,8 +376,8 @@ TEST(VisibilityBake, MatchesBruteForceCount) {
             }
           }
         }
-        float e = std::min(static_cast<float>(count) + (head ? 5.0f : 0.0f), kMaxEventsPerRay);
-        saturated += e >= kMaxEventsPerRay;
+        float e = std::min(static_cast<float>(count) + (head ? 5.0f : 0.0f), cap);
+        saturated += e >= cap;
         headRays += head;
         values[r] = e > 0.0f ? e : -CLH_HAIR_MAX_SCATTER_EVENTS;
       }
@@ -425,9 +427,9 @@ StrandSet denseCellsGroom() {
 TEST(VisibilityBake, EstimatorErrorAgainstHighCountReference) {
   // The estimator against a high-count reference (256 rays for each of the 8 points of every
   // cell), in the mean absolute SH coefficient over the 425 cells holding points: the
-  // defaults (32 rays, 4 points per cell, PerPoint directions) and PerCell directions at the
+  // defaults (16 rays, 4 points per cell, PerPoint directions) and PerCell directions at the
   // same counts must both be closer than a deliberately worse estimator, the defaults with a
-  // quarter of the rays (8 per point). With one point per cell PerCell gives that point the
+  // quarter of the rays (4 per point). With one point per cell PerCell gives that point the
   // same directions as PerPoint, so the tables are identical.
   const StrandSet s = denseCellsGroom();
   const float floorY = -5e-4f;
@@ -473,6 +475,61 @@ TEST(VisibilityBake, EstimatorErrorAgainstHighCountReference) {
   EXPECT_LT(perPoint, worse);
   EXPECT_LT(perCell, worse);
   EXPECT_EQ(bake(16, 1, D::PerCell).sh, bake(16, 1, D::PerPoint).sh);
+}
+
+TEST(VisibilityBake, DefaultCapIsCloserToTheTransmittanceThanTwenty) {
+  // What shading uses is exp(-A x max(0, SH(l))); what it stands for is the mean
+  // transmittance exp(-A x events) of the rays themselves. The study mode keeps the latter
+  // (64 fixed directions, 8 points per cell, events up to 32). At the scene's default
+  // absorption A = 0.5, the L1 table of the default cap (10 events) must be closer to it than
+  // a cap of 20, and the default 16 rays per point no more than 5 % further from it than 32.
+  const StrandSet s = denseCellsGroom();
+  const float floorY = -5e-4f;
+  const std::vector<glm::vec3> tri = {
+      {-1.0f, floorY, -1.0f}, {1.0f, floorY, -1.0f}, {1.0f, floorY, 1.0f}, {-1.0f, floorY, 1.0f}};
+  const std::vector<std::uint32_t> idx = {0, 1, 2, 0, 2, 3};
+  VisibilityBakeOptions ro;
+  ro.raysPerPoint = 64;
+  ro.pointsPerCell = 8;
+  ro.maxEvents = kMaxEventsLimit;
+  ro.transmittance = true;
+  VisibilityBakeStats rs;
+  bakeVisibility(s, 1.5e-4f, tri, idx, 200, ro, &rs);
+  ASSERT_EQ(rs.transmittance.size(), std::size_t(kTransmittanceAbsorptions) * CLH_VIS_CELLS * 64);
+  ASSERT_EQ(kTransmittanceAbsorption[2], 0.5f);
+  const float* ref = &rs.transmittance[std::size_t(2) * CLH_VIS_CELLS * 64];
+  std::vector<float> dirs(3 * 64);
+  fibonacciDirections(64, dirs.data());
+  auto error = [&](std::uint32_t rays, std::uint32_t cap) {
+    VisibilityBakeOptions o;
+    o.raysPerPoint = rays;
+    o.maxEvents = cap;
+    const VisibilityBake b = bakeVisibility(s, 1.5e-4f, tri, idx, 200, o);
+    double sum = 0.0;
+    int n = 0;
+    for (std::uint32_t c = 0; c < CLH_VIS_CELLS; ++c) {
+      const float* t = &ref[std::size_t(c) * 64];
+      if (std::all_of(t, t + 64, [](float v) { return v == 0.0f; })) continue;  // no points
+      const float* sh = &b.sh[std::size_t(c) * 4];
+      for (std::uint32_t d = 0; d < 64; ++d, ++n)
+        sum +=
+            std::fabs(std::exp(-0.5f * gpu::clh_vis_events(sh[0], sh[1], sh[2], sh[3], dirs[3 * d],
+                                                           dirs[3 * d + 1], dirs[3 * d + 2])) -
+                      t[d]);
+    }
+    EXPECT_EQ(n, 25 * 17 * 64);
+    return sum / std::max(n, 1);
+  };
+  const VisibilityBakeOptions defaults;
+  ASSERT_EQ(defaults.maxEvents, 10u);
+  const double cap10 = error(defaults.raysPerPoint, 10), cap20 = error(defaults.raysPerPoint, 20);
+  const double rays32 = error(32, 10);
+  std::printf(
+      "mean |visibility - transmittance| at A = 0.5: cap 10 %.4f, cap 20 %.4f; "
+      "cap 10 with 32 rays %.4f\n",
+      cap10, cap20, rays32);
+  EXPECT_LT(cap10, cap20);
+  EXPECT_LT(cap10, 1.05 * rays32);
 }
 
 // The slab as a scene: 1200 vertical strands in x in [-20, 20] mm, z in [-10, 10] mm with
@@ -620,6 +677,33 @@ TEST(VisibilityRender, CliBakesRendersAndRefusesBadFiles) {
   EXPECT_NE(noGroom.exitCode, 0);
   EXPECT_NE(test::onlyErrorLine(noGroom.output).find("does not exist"), std::string::npos);
   EXPECT_FALSE(std::filesystem::exists(dir + "/x.clhvis"));
+  // the event cap and the study mode's options: one error line each, nothing written
+  for (const std::string& args : {std::string("--max-events 0"), std::string("--max-events 33"),
+                                  std::string("--transmittance-out ") +
+                                      test::quote(dir + "/t.clhtrn") + " --directions per-cell"}) {
+    const auto refused = test::runCli("bake-visibility " + test::quote(scene) + " -o " +
+                                      test::quote(dir + "/x.clhvis") + " " + args);
+    EXPECT_NE(refused.exitCode, 0) << args;
+    EXPECT_NE(test::onlyErrorLine(refused.output).find("--"), std::string::npos) << refused.output;
+    EXPECT_FALSE(std::filesystem::exists(dir + "/x.clhvis")) << args;
+    EXPECT_FALSE(std::filesystem::exists(dir + "/t.clhtrn")) << args;
+  }
+  // the study mode writes a table of 4 absorptions x 64^3 cells x the rays' directions
+  const auto study =
+      test::runCli("bake-visibility " + test::quote(scene) + " -o " +
+                   test::quote(dir + "/s.clhvis") + " --rays 8 --points-per-cell 1 " +
+                   "--max-events 32 --transmittance-out " + test::quote(dir + "/s.clhtrn"));
+  ASSERT_EQ(study.exitCode, 0) << study.output;
+  const std::string table = readBytes(dir + "/s.clhtrn");
+  ASSERT_EQ(table.size(), 20u + 4u * 4u + 4u * 4u * CLH_VIS_CELLS * 8u);
+  EXPECT_EQ(table.substr(0, 8), "CLHTRN01");
+  float t = 0.0f, most = 0.0f;
+  for (std::size_t i = 36; i < table.size(); i += 4) {
+    std::memcpy(&t, table.data() + i, 4);
+    ASSERT_TRUE(t >= 0.0f && t <= 1.0f) << t;
+    most = std::max(most, t);
+  }
+  EXPECT_GT(most, 0.5f);  // some cell sees open sky
 }
 
 }  // namespace

@@ -41,8 +41,10 @@
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
 #include "clhair/temporal.h"
+#include "clhair/visibility_sh.h"
 #include "groom/presets.h"
 #include "groom/visibility_bake.h"
+#include "io/binary_file.h"
 #include "io/cyhair.h"
 #include "io/json_util.h"
 #include "io/tressfx.h"
@@ -514,16 +516,47 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
   return 0;
 }
 
+// `clhair bake-visibility`'s options as given on the command line (defaults:
+// VisibilityBakeOptions).
+struct BakeVisibilityFlags {
+  int groom = 0;
+  int rays = static_cast<int>(VisibilityBakeOptions{}.raysPerPoint);
+  int perCell = static_cast<int>(VisibilityBakeOptions{}.pointsPerCell);
+  int maxEvents = static_cast<int>(VisibilityBakeOptions{}.maxEvents);
+  bool verbose = false;
+  std::string directions = "per-point";
+  int cellStride = 1;
+  std::string transmittanceOut;
+};
+
+// The study mode's table: "CLHTRN01", u32 absorptions, cells, directions, the absorptions as
+// f32, then f32 [absorption][cell][direction] (little-endian; scripts/compare-visibility.py).
+void writeTransmittance(const VisibilityBakeStats& st, std::uint32_t rays,
+                        const std::string& path) {
+  std::string out("CLHTRN01", 8);
+  appendU32(out, kTransmittanceAbsorptions);
+  appendU32(out, CLH_VIS_CELLS);
+  appendU32(out, rays);
+  for (float a : kTransmittanceAbsorption) appendF32(out, a);
+  for (float t : st.transmittance) appendF32(out, t);
+  writeTextAtomically(path, out);
+}
+
 int cmdBakeVisibility(const DeviceOptions& opts, const std::string& scenePath,
-                      const std::string& out, int groom, int rays, int perCell, bool verbose,
-                      const std::string& directions, int cellStride) {
+                      const std::string& out, const BakeVisibilityFlags& f) {
+  const int rays = f.rays, perCell = f.perCell, groom = f.groom;
   if (rays < 1 || rays > 4096) throw Error("--rays must be 1..4096, not " + std::to_string(rays));
   if (perCell < 1 || perCell > 64)
     throw Error("--points-per-cell must be 1..64, not " + std::to_string(perCell));
-  if (directions != "per-cell" && directions != "per-point")
-    throw Error("--directions must be per-cell or per-point, not \"" + directions + "\"");
-  if (cellStride < 1)
-    throw Error("--cell-stride must be 1 or more, not " + std::to_string(cellStride));
+  if (f.maxEvents < 1 || f.maxEvents > static_cast<int>(kMaxEventsLimit))
+    throw Error("--max-events must be 1.." + std::to_string(kMaxEventsLimit) + ", not " +
+                std::to_string(f.maxEvents));
+  if (f.directions != "per-cell" && f.directions != "per-point")
+    throw Error("--directions must be per-cell or per-point, not \"" + f.directions + "\"");
+  if (f.cellStride < 1)
+    throw Error("--cell-stride must be 1 or more, not " + std::to_string(f.cellStride));
+  if (!f.transmittanceOut.empty() && f.directions != "per-point")
+    throw Error("--transmittance-out traces per-point directions, not --directions per-cell");
   VisibilityBakeStats st;
   BakePhaseTimer timer(&st);
   const Scene scene = loadScene(scenePath);
@@ -543,9 +576,11 @@ int cmdBakeVisibility(const DeviceOptions& opts, const std::string& scenePath,
   VisibilityBakeOptions o;
   o.raysPerPoint = static_cast<std::uint32_t>(rays);
   o.pointsPerCell = static_cast<std::uint32_t>(perCell);
-  o.directions = directions == "per-point" ? VisibilityBakeOptions::Directions::PerPoint
-                                           : VisibilityBakeOptions::Directions::PerCell;
-  o.cellStride = static_cast<std::uint32_t>(cellStride);
+  o.maxEvents = static_cast<std::uint32_t>(f.maxEvents);
+  o.directions = f.directions == "per-point" ? VisibilityBakeOptions::Directions::PerPoint
+                                             : VisibilityBakeOptions::Directions::PerCell;
+  o.cellStride = static_cast<std::uint32_t>(f.cellStride);
+  o.transmittance = !f.transmittanceOut.empty();
   const auto t0 = std::chrono::steady_clock::now();
   const std::clock_t c0 = std::clock();
   const VisibilityBake bake =
@@ -554,8 +589,9 @@ int cmdBakeVisibility(const DeviceOptions& opts, const std::string& scenePath,
   const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
   BakePhaseTimer writeTimer(&st);
   writeVisibility(bake, out);
+  if (o.transmittance) writeTransmittance(st, o.raysPerPoint, f.transmittanceOut);
   writeTimer.finish("write");
-  if (verbose) {
+  if (f.verbose) {
     // one line per phase: wall, CPU over all threads, and the cores that CPU time kept busy;
     // for the split tracing, the workers' time waiting for a core (other processes' load)
     // and the rest (blocked or idle)
@@ -793,25 +829,33 @@ int main(int argc, char** argv) {
       "bake-visibility",
       "bake a groom's spherical visibility for self-shadowing (Embree; docs/scene-format.md)");
   std::string visScene, visOut;
-  int visGroom = 0, visRays = 32, visPerCell = 4;
-  bool visVerbose = false;
-  std::string visDirections = "per-point";
-  int visCellStride = 1;
+  BakeVisibilityFlags vf;
   visCmd->add_option("scene", visScene, "scene file: the groom and its head")->required();
   visCmd->add_option("-o,--output", visOut, "output baked visibility file (.clhvis)")->required();
-  visCmd->add_option("--groom", visGroom, "index of the groom in the scene (default 0)");
-  visCmd->add_option("--rays", visRays, "rays per sample point (default 32)");
-  visCmd->add_option("--points-per-cell", visPerCell,
-                     "sample points per (u, v, w) cell (default 4)");
-  visCmd->add_flag("-v,--verbose", visVerbose,
+  visCmd->add_option("--groom", vf.groom, "index of the groom in the scene (default 0)");
+  visCmd->add_option("--rays", vf.rays,
+                     "rays per sample point (default " + std::to_string(vf.rays) + ")");
+  visCmd->add_option(
+      "--points-per-cell", vf.perCell,
+      "sample points per (u, v, w) cell (default " + std::to_string(vf.perCell) + ")");
+  visCmd->add_option("--max-events", vf.maxEvents,
+                     "a ray's scattering events are clamped at this count (1.." +
+                         std::to_string(kMaxEventsLimit) + ", default " +
+                         std::to_string(vf.maxEvents) +
+                         "; about 5 / absorption is closest to the true shadowing)");
+  visCmd->add_flag("-v,--verbose", vf.verbose,
                    "print each phase's wall and CPU time to stderr (the tracing phase also "
                    "its threads' time waiting for a core)");
-  visCmd->add_option("--directions", visDirections,
+  visCmd->add_option("--directions", vf.directions,
                      "per-point (default): each sample point its own stratified set of directions; "
                      "per-cell: one set per cell dealt out to its points");
-  visCmd->add_option("--cell-stride", visCellStride,
+  visCmd->add_option("--cell-stride", vf.cellStride,
                      "bake only about one occupied cell in N (by hash), the rest left zero: a "
                      "sample of the table for estimator studies (default 1: every cell)");
+  visCmd->add_option("--transmittance-out", vf.transmittanceOut,
+                     "estimator study: trace every point in the same --rays directions and also "
+                     "write each cell's mean transmittance per direction before the SH fit "
+                     "(scripts/compare-visibility.py --transmittance)");
 
   auto* exportCmd = app.add_subcommand("export-strands",
                                        "write the generated strands as a cyHair .hair file "
@@ -851,9 +895,7 @@ int main(int argc, char** argv) {
     if (*groom) return cmdGroom(preset, groomOut, strands);
     if (*exportCmd) return cmdExport(resolved, groomPath, hairOut);
     if (*bakeCmd) return cmdBakeAo(resolved, bakeIn, bakeOut);
-    if (*visCmd)
-      return cmdBakeVisibility(resolved, visScene, visOut, visGroom, visRays, visPerCell,
-                               visVerbose, visDirections, visCellStride);
+    if (*visCmd) return cmdBakeVisibility(resolved, visScene, visOut, vf);
     if (*compare) return cmdCompare(compareA, compareB, cf);
   } catch (const Error& e) {
     std::fprintf(stderr, "clhair: error: %s\n", e.what());

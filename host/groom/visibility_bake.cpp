@@ -28,7 +28,6 @@ namespace clhair {
 namespace {
 
 constexpr float kPi = 3.14159265358979323846f;
-static_assert(kMaxEventsPerRay <= 32.0f, "a ray counts at most 32 distinct strands");
 
 // A ray's context: Embree hands it to the curve filter, which counts the distinct strands
 // the ray passes (a tube can report its entry and exit, and a ray can cross a strand at a
@@ -46,7 +45,7 @@ struct CountContext {
   // per ray of the packet (the ray's id): the cap, the count, the strands counted
   std::uint32_t cap[kPacket];
   std::uint32_t count[kPacket];
-  std::uint32_t seen[kPacket][32];
+  std::uint32_t seen[kPacket][kMaxEventsLimit];
 };
 
 void countStrands(const RTCFilterFunctionNArguments* args) {
@@ -138,6 +137,17 @@ void sphereDirections(std::uint32_t count, std::uint32_t seed, float* out) {
   }
 }
 
+void fibonacciDirections(std::uint32_t count, float* out) {
+  const double golden = 3.14159265358979323846 * (3.0 - std::sqrt(5.0));
+  for (std::uint32_t k = 0; k < count; ++k) {
+    const double h = k + 0.5, z = 1.0 - 2.0 * h / count;
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    out[3 * k] = static_cast<float>(r * std::cos(golden * h));
+    out[3 * k + 1] = static_cast<float>(r * std::sin(golden * h));
+    out[3 * k + 2] = static_cast<float>(z);
+  }
+}
+
 void projectL1(const float* dirs, const float* values, std::uint32_t count, float out[4]) {
   double c[4] = {0.0, 0.0, 0.0, 0.0};
   for (std::uint32_t k = 0; k < count; ++k) {
@@ -162,6 +172,11 @@ VisibilityBake bakeVisibility(const StrandSet& s, float fibreRadius,
   if (o.raysPerPoint == 0 || o.raysPerPoint > 4096 || o.pointsPerCell == 0 || o.pointsPerCell > 64)
     throw Error("visibility bake: " + std::to_string(o.raysPerPoint) + " rays per point and " +
                 std::to_string(o.pointsPerCell) + " points per cell, need 1..4096 and 1..64");
+  if (o.maxEvents == 0 || o.maxEvents > kMaxEventsLimit)
+    throw Error("visibility bake: a cap of " + std::to_string(o.maxEvents) +
+                " events per ray, need 1.." + std::to_string(kMaxEventsLimit));
+  if (o.transmittance && o.directions != VisibilityBakeOptions::Directions::PerPoint)
+    throw Error("visibility bake: the transmittance study traces per-point directions");
   if (o.cellStride == 0)
     throw Error("visibility bake: a cell stride of 0, need 1 or more (1: every cell)");
   if (!(fibreRadius > 0.0f) || !std::isfinite(fibreRadius))
@@ -322,6 +337,11 @@ VisibilityBake bakeVisibility(const StrandSet& s, float fibreRadius,
   bool waitKnown = true;
   timer.finish("samples");
   const std::uint32_t R = o.raysPerPoint;
+  const auto maxEvents = static_cast<float>(o.maxEvents);
+  std::vector<float> transmittance(
+      o.transmittance ? std::size_t(kTransmittanceAbsorptions) * CLH_VIS_CELLS * R : 0, 0.0f);
+  std::vector<float> fixedDirs(o.transmittance ? 3 * std::size_t(R) : 0);
+  if (o.transmittance) fibonacciDirections(R, fixedDirs.data());
   auto work = [&] {
     const std::pair<double, double> sched0 = threadSchedSeconds();
     std::vector<float> cellDirs(3 * std::size_t(R) * K), dirs(3 * R), values(R);
@@ -349,6 +369,8 @@ VisibilityBake bakeVisibility(const StrandSet& s, float fibreRadius,
         if (perCell) {
           for (std::uint32_t r = 0; r < R; ++r)
             std::copy_n(&cellDirs[3 * (std::size_t(r) * n + k)], 3, &dirs[3 * r]);
+        } else if (o.transmittance) {
+          std::copy(fixedDirs.begin(), fixedDirs.end(), dirs.begin());
         } else {
           sphereDirections(R, i, dirs.data());
         }
@@ -385,9 +407,12 @@ VisibilityBake bakeVisibility(const StrandSet& s, float fibreRadius,
           bool head[kPacket];
           for (unsigned l = 0; l < kPacket; ++l) {
             head[l] = rh.hit.geomID[l] != RTC_INVALID_GEOMETRY_ID;
-            // past this many fibres the ray's events are clamped to kMaxEventsPerRay
-            cc.cap[l] = static_cast<std::uint32_t>(kMaxEventsPerRay) -
-                        (head[l] ? static_cast<std::uint32_t>(CLH_HAIR_MAX_SCATTER_EVENTS) : 0u);
+            // past this many fibres the ray's events are clamped to maxEvents (a ray toward
+            // the head already holds its HAIR_MAX_SCATTER_EVENTS)
+            const auto headEvents = static_cast<std::uint32_t>(CLH_HAIR_MAX_SCATTER_EVENTS);
+            cc.cap[l] = !head[l]                   ? o.maxEvents
+                        : o.maxEvents > headEvents ? o.maxEvents - headEvents
+                                                   : 0u;
             cc.count[l] = 0;
           }
           // the hair in packets of 8 (measured faster than 16 or single rays here)
@@ -412,12 +437,15 @@ VisibilityBake bakeVisibility(const StrandSet& s, float fibreRadius,
           for (unsigned l = 0; l < m; ++l) {
             float e =
                 static_cast<float>(cc.count[l]) + (head[l] ? CLH_HAIR_MAX_SCATTER_EVENTS : 0.0f);
-            e = std::min(e, kMaxEventsPerRay);
+            e = std::min(e, maxEvents);
             if (e > 0.0f) {
               ++hit;
               events += static_cast<std::uint64_t>(e);
             }
             values[r0 + l] = e > 0.0f ? e : -CLH_HAIR_MAX_SCATTER_EVENTS;
+            for (std::uint32_t a = 0; a < kTransmittanceAbsorptions && o.transmittance; ++a)
+              transmittance[(std::size_t(a) * CLH_VIS_CELLS + cell) * R + r0 + l] +=
+                  std::exp(-kTransmittanceAbsorption[a] * e) / static_cast<float>(n);
           }
         }
         float c[4];
@@ -476,6 +504,7 @@ VisibilityBake bakeVisibility(const StrandSet& s, float fibreRadius,
     stats->points = pointsTraced;
     stats->rays = pointsTraced * R;
     stats->meanEvents = raysHit > 0 ? static_cast<double>(eventSum) / raysHit : 0.0;
+    stats->transmittance = std::move(transmittance);
   }
   return bake;
 }

@@ -14,13 +14,13 @@
 // occlusion query whose filter rejects hits until the count reaches the cap past which it
 // no longer matters. A ray that reaches the head counts
 // HAIR_MAX_SCATTER_EVENTS more (the head is opaque), a ray's count is capped at
-// kMaxEventsPerRay, and a ray that meets nothing counts -HAIR_MAX_SCATTER_EVENTS (Kulikov's
-// miss bias). The counts are projected onto L1 SH and averaged over the cell's points.
-// Output: a VisibilityBake (include/clhair/visibility.h). A word's w is interpolated along
-// its segment, so cells between a strand's points are filled by linear interpolation along
-// w between the baked cells of their (u, v) column (the nearest one beyond its ends);
-// columns no point reached stay zero (visibility 1). Deterministic for a given input and options
-// (per-point seeds; the threads only split the points).
+// VisibilityBakeOptions::maxEvents, and a ray that meets nothing counts
+// -HAIR_MAX_SCATTER_EVENTS (Kulikov's miss bias). The counts are projected onto L1 SH and averaged
+// over the cell's points. Output: a VisibilityBake (include/clhair/visibility.h). A word's w is
+// interpolated along its segment, so cells between a strand's points are filled by linear
+// interpolation along w between the baked cells of their (u, v) column (the nearest one beyond its
+// ends); columns no point reached stay zero (visibility 1). Deterministic for a given input and
+// options (per-point seeds; the threads only split the points).
 #pragma once
 
 #include <cstdint>
@@ -36,12 +36,21 @@
 
 namespace clhair {
 
-constexpr float kMaxEventsPerRay = 20.0f;
+constexpr std::uint32_t kMaxEventsLimit = 32;  // the most a ray can count (its filter's memory)
+constexpr std::uint32_t kTransmittanceAbsorptions = 4;
+// The absorptions the transmittance study mode evaluates (the scene's default is 0.5).
+constexpr float kTransmittanceAbsorption[kTransmittanceAbsorptions] = {0.125f, 0.25f, 0.5f, 1.0f};
 
 struct VisibilityBakeOptions {
-  std::uint32_t raysPerPoint = 32;
+  // The defaults come from a study against the groom's true transmittance (docs/scene-format.md,
+  // "Visibility bake estimator"): the L1 fit, not the ray count, dominates the error, so 16
+  // rays per point lose under 1 % of accuracy against 32, and a cap of 10 events is closer to
+  // the transmittance at the scene's default absorption (0.5) than a cap of 20, while each ray
+  // stops earlier.
+  std::uint32_t raysPerPoint = 16;
   std::uint32_t pointsPerCell = 4;
-  unsigned threads = 0;  // 0: every hardware thread
+  std::uint32_t maxEvents = 10;  // a ray's count is clamped here (1..kMaxEventsLimit)
+  unsigned threads = 0;          // 0: every hardware thread
   // How a cell's rays get their directions: PerPoint (default) gives every point its own
   // stratified set of R, rotated by the point; PerCell deals one set of n x R directions out
   // to the cell's n points, so their union covers the sphere evenly (measured no better
@@ -51,6 +60,12 @@ struct VisibilityBakeOptions {
   // Bake only the occupied cells whose hash is 0 modulo cellStride and leave every other
   // cell zero (no interpolation along w): a sample of the table for estimator studies.
   std::uint32_t cellStride = 1;
+  // Study mode (`--transmittance-out`): every point traces the same raysPerPoint spherical
+  // Fibonacci directions (k + 1/2 spacing, no rotation) and the stats keep, per cell,
+  // direction and absorption A of kTransmittanceAbsorption, the points' mean transmittance
+  // exp(-A x events) of the ray model before any L1 projection: the reference the estimator
+  // study compares bakes' exp(-A x max(0, SH)) against. Needs PerPoint directions.
+  bool transmittance = false;
 };
 
 // Where a bake's time goes (`clhair bake-visibility --verbose`). cpuSeconds is the whole
@@ -73,6 +88,9 @@ struct VisibilityBakeStats {
   std::uint64_t rays = 0;
   double meanEvents = 0.0;  // over the rays that hit something
   std::vector<BakePhase> phases;
+  // Study mode only: [absorption][cell][direction] (kTransmittanceAbsorptions x CLH_VIS_CELLS
+  // x raysPerPoint), zero for cells without points.
+  std::vector<float> transmittance;
 };
 
 // Wall and process CPU time from construction; `finish` appends the phase to `stats` (if
@@ -111,5 +129,9 @@ void projectL1(const float* dirs, const float* values, std::uint32_t count, floa
 
 // `count` stratified unit directions (a spherical Fibonacci set rotated by `seed`), xyz each.
 void sphereDirections(std::uint32_t count, std::uint32_t seed, float* out);
+
+// The study mode's fixed directions: z_k = 1 - (2k + 1) / count, azimuth (k + 1/2) times the
+// golden angle (scripts/compare-visibility.py evaluates the same set).
+void fibonacciDirections(std::uint32_t count, float* out);
 
 }  // namespace clhair

@@ -34,8 +34,9 @@ struct VisibilityBake {
   std::vector<float> sh;  // 4 per cell, CLH_VIS_CELLS cells
 };
 
-// Largest |coefficient| a file may hold: a ray counts at most kMaxEventsPerRay events, so
-// |c_i| <= 4 pi * 0.49 * kMaxEventsPerRay ~ 123; the bound leaves room and catches garbage.
+// Largest |coefficient| a file may hold: a ray counts at most 32 events (the bake's
+// kMaxEventsLimit), so |c_i| <= 4 pi * 0.49 * 32 ~ 197; the bound leaves room and catches
+// garbage.
 constexpr float kMaxVisibilityCoefficient = 1000.0f;
 constexpr std::uint32_t kVisibilityHeaderBytes = 40;
 

@@ -652,14 +652,12 @@ int main(int argc, char** argv) {
           md << "\n## Quality against the reference (" << groomNames[g] << ", " << qw << "x" << qh
              << ", " << referenceMethodName(refMethod) << " reference " << refSpp << " spp"
              << (maps ? ", every light with a deep opacity map" : "")
-             << ")\n\nOver the hair's pixels (where the reference differs from the scene "
-                "without hair): mean FLIP (lower is better) / PSNR dB / frame ms. Whole-image "
-                "values are in bench.json. SWR1+H: Huang's filter (DESIGN.md).\n\n"
-             << (maps ? "With the maps the hair also shadows the head, so here the hair's "
-                        "pixels are those where a sample of the reference saw hair in front of "
-                        "the scene.\n\n"
-                      : "")
-             << "| configuration |";
+             << ")\n\nOver the hair's pixels ("
+             << (maps ? "where a sample of the reference saw hair in front of the scene: with "
+                        "the maps the hair also shadows the head"
+                      : "where the reference differs from the scene without hair")
+             << "): mean FLIP (lower is better) / PSNR dB / frame ms. Whole-image values are in "
+                "bench.json. SWR1+H: Huang's filter (DESIGN.md).\n\n| configuration |";
           for (int d = 0; d < 3; ++d)
             if (distances.count(distNames[d])) md << " " << distNames[d] << " |";
           md << "\n|---|";

@@ -136,8 +136,8 @@ TEST(Shadows, TracedReferenceMapsHoldTheFullGroomWhileLodFramesUseTheirLod) {
   RenderOptions o;
   o.filter = 0;
   o.lod = 1;
-  o.lodLambdaScale = 0.25f;  // LOD drops strands in the light's view
-  const Scene s = twoPatches(true);
+  Scene s = twoPatches(true);
+  s.shadows.lodScale = 0.25f;  // LOD in the lights' passes drops strands (lod_scale)
   const Frame lod = r.render(s, o);
   const Frame ref = r.renderReference(s, 2, ReferenceMethod::Embree);
   const Frame lodAgain = r.render(s, o);  // the maps follow each frame's own LOD

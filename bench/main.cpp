@@ -639,154 +639,152 @@ int main(int argc, char** argv) {
             .count();
       };
       json q;
-      for (int lighting = 0; lighting < 2; ++lighting)
-        for (int g = 0; g < 2; ++g) {
-          if ((g == 0 && qualityGrooms == "2") || (g == 1 && qualityGrooms == "1")) continue;
-          // lighting 1: every light of the groom's scene with a deep opacity map, so that the
-          // reference (maps of the full groom) and the frames (maps drawn with their LOD) are
-          // shadowed between fibres by the same model
-          const bool maps = lighting == 1;
-          if ((maps && qualityLights == "plain") || (!maps && qualityLights == "maps")) continue;
-          const std::string ltag = maps ? "maps_" : "";               // plain keeps its file names
-          const std::string gtag = ltag + (g == 0 ? "" : "groom2_");  // groom1 keeps its names
-          md << "\n## Quality against the reference (" << groomNames[g] << ", " << qw << "x" << qh
-             << ", " << referenceMethodName(refMethod) << " reference " << refSpp << " spp"
-             << (maps ? ", every light with a deep opacity map" : "")
-             << ")\n\nOver the hair's pixels ("
-             << (maps ? "where a sample of the reference saw hair in front of the scene: with "
-                        "the maps the hair also shadows the head"
-                      : "where the reference differs from the scene without hair")
-             << "): mean FLIP (lower is better) / PSNR dB / frame ms. Whole-image values are in "
-                "bench.json. SWR1+H: Huang's filter (DESIGN.md).\n\n| configuration |";
-          for (int d = 0; d < 3; ++d)
-            if (distances.count(distNames[d])) md << " " << distNames[d] << " |";
-          md << "\n|---|";
-          for (int d = 0; d < 3; ++d)
-            if (distances.count(distNames[d])) md << "---|";
-          md << "\n";
-          std::map<std::string, std::vector<std::string>> cells;
-          json& ql = maps ? q["lights_maps"] : q;
-          json& qg = g == 0 ? ql : ql["groom2"];
-          std::ostringstream refMd;  // the two references at mid
-          for (int d = 0; d < 3; ++d) {
-            if (!distances.count(distNames[d])) continue;
-            Scene s = framed(scenes[g], dists[d], qw, qh);
-            if (maps)
-              for (Light& light : s.lights) light.shadows = true;
-            Frame ref;
-            const double refMs = wallMs([&] { ref = reference(s, g, d, refMethod, ltag); });
-            qg["reference"][distNames[d]] = {
-                {"method", referenceMethodName(refMethod)}, {"spp", refSpp}, {"wall_ms", refMs}};
-            std::fprintf(stderr, "quality %s%s %s: %s reference, %d spp, %.1f s\n", ltag.c_str(),
-                         groomNames[g], distNames[d], referenceMethodName(refMethod), refSpp,
-                         refMs / 1000.0);
-            Scene bare = s;
-            bare.grooms.clear();
-            const Frame background = b.renderer.render(bare);
-            std::vector<char> hairMask(ref.color.rgba.size() / 4, 0);
-            for (std::size_t i = 0; i < hairMask.size(); ++i)
-              if (maps)  // the hair's shadows change the head too: where a sample saw hair
-                hairMask[i] = ref.depth[i] < background.depth[i] * (1.0f - 1e-6f);
-              else
-                for (int c = 0; c < 3; ++c)
-                  hairMask[i] |= std::fabs(ref.color.rgba[4 * i + c] -
-                                           background.color.rgba[4 * i + c]) > 1e-4f;
-            qg["reference"][distNames[d]]["hair_luminance"] = hairLuminance(ref, hairMask);
-            const std::string refPath = out + "/quality/" + gtag + distNames[d] + "_reference.png";
-            writeImage(ref.color, refPath);
-            // the scene without hair: the hair's pixels are where the reference differs from it
-            writeImage(background.color,
-                       out + "/quality/" + gtag + distNames[d] + "_background.png");
-            for (const Config& c : configs) {
-              if (!chosen.empty() && !chosen.count(c.name)) continue;
-              RenderOptions o;
-              o.msaa = c.msaa;
-              o.filter = c.filter;
-              o.lod = c.lod;
-              o.lodAggregate = c.lodAggregate;
-              o.raster = c.raster;
-              Scene sc = s;
-              useFilter(sc, c.huang, c.promote);
-              Frame f = b.renderer.render(sc, o);
-              // --runs 0 (quick tuning runs): the times of this one frame
-              Measured m;
-              if (runs > 0) {
-                m = b.measure(sc, o, false);
-              } else {
-                for (const StageTime& t : f.timings) m.stages[t.stage] = summarize({t.ms});
-                m.total = summarize({f.totalMs()});
-              }
-              ImageComparison cmp = compareImages(ref.color, f.color);
-              // the same measures restricted to the hair's pixels
-              const double psnrHair = computePsnr(ref.color, f.color, &hairMask).psnrDb;
-              double flipHair = 0.0;
-              std::size_t nHair = 0;
-              for (std::size_t i = 0; i < hairMask.size(); ++i)
-                if (hairMask[i]) {
-                  ++nHair;
-                  flipHair += cmp.flip.error[i];
-                }
-              flipHair /= std::max<std::size_t>(nHair, 1);
-              std::string name = c.name;
-              std::string file = name;
-              for (char& ch : file)
-                if (ch == ' ' || ch == '+' || ch == ',' || ch == '(' || ch == ')') ch = '_';
-              writeImage(f.color, out + "/quality/" + gtag + distNames[d] + "_" + file + ".png");
-              // the filter's share of the frame: Huang's link and filter stages, or Lipp's
-              const double filterMs = stageMedian(m, "link") + stageMedian(m, "filter");
-              cells[name].push_back(fmt(flipHair, 4) + " / " + fmt(psnrHair, 1) + " / " +
-                                    fmt(m.total.median));
-              qg[name][distNames[d]] = {{"flip_hair", flipHair},
-                                        {"psnr_hair_db", psnrHair},
-                                        {"flip", cmp.flip.mean},
-                                        {"psnr_db", cmp.psnr.psnrDb},
-                                        {"frame_ms", m.total.median},
-                                        {"hair_pixels", nHair},
-                                        {"hair_luminance", hairLuminance(f, hairMask)},
-                                        {"filter_ms", filterMs},
-                                        {"linked_pixels", f.stats.linkedPixels},
-                                        {"link_turned_away", f.stats.linkTurnedAway}};
-              std::fprintf(stderr,
-                           "quality %s%s %s %s: hair FLIP %.4f PSNR %.1f (image FLIP %.4f), frame "
-                           "%.1f ms, filter %.1f ms\n",
-                           ltag.c_str(), groomNames[g], c.name, distNames[d], flipHair, psnrHair,
-                           cmp.flip.mean, m.total.median, filterMs);
-              if (!maps && g == 0 && d == 1 && c.msaa == 1 && c.filter == 0 && c.lod == 0 &&
-                  c.raster == 0) {
-                // SWR1 at mid against the other reference too, over the same hair pixels
-                Frame other;
-                const double otherMs =
-                    wallMs([&] { other = reference(s, g, d, otherMethod, ltag); });
-                writeImage(other.color, out + "/quality/mid_reference_" +
-                                            referenceMethodName(otherMethod) + ".png");
-                const double flipOther = hairFlip(other, f, hairMask);
-                const double flipRefs = hairFlip(ref, other, hairMask);
-                const char* a = referenceMethodName(refMethod);
-                const char* o = referenceMethodName(otherMethod);
-                refMd << "\nSWR1 at mid, mean FLIP over the hair against each reference (" << refSpp
-                      << " spp): " << a << " " << fmt(flipHair, 4) << ", " << o << " "
-                      << fmt(flipOther, 4) << "; the " << o << " reference against the " << a
-                      << " one: " << fmt(flipRefs, 4) << ". Reference wall time: " << a << " "
-                      << fmt(refMs / 1000.0, 1) << " s, " << o << " " << fmt(otherMs / 1000.0, 1)
-                      << " s.\n";
-                q["references_mid"] = {{"swr1_flip_hair_" + std::string(a), flipHair},
-                                       {"swr1_flip_hair_" + std::string(o), flipOther},
-                                       {"flip_hair_between_references", flipRefs},
-                                       {std::string(a) + "_wall_ms", refMs},
-                                       {std::string(o) + "_wall_ms", otherMs}};
-                std::fprintf(stderr, "quality SWR1 mid: hair FLIP %.4f vs %s, %.4f vs %s\n",
-                             flipHair, a, flipOther, o);
-              }
-            }
-          }
+      for (int run = 0; run < 4; ++run) {  // plain lights, then lights with maps
+        const int lighting = run / 2, g = run % 2;
+        if ((g == 0 && qualityGrooms == "2") || (g == 1 && qualityGrooms == "1")) continue;
+        // lighting 1: every light of the groom's scene with a deep opacity map, so that the
+        // reference (maps of the full groom) and the frames (maps drawn with their LOD) are
+        // shadowed between fibres by the same model
+        const bool maps = lighting == 1;
+        if ((maps && qualityLights == "plain") || (!maps && qualityLights == "maps")) continue;
+        const std::string ltag = maps ? "maps_" : "";               // plain keeps its file names
+        const std::string gtag = ltag + (g == 0 ? "" : "groom2_");  // groom1 keeps its names
+        md << "\n## Quality against the reference (" << groomNames[g] << ", " << qw << "x" << qh
+           << ", " << referenceMethodName(refMethod) << " reference " << refSpp << " spp"
+           << (maps ? ", every light with a deep opacity map" : "")
+           << ")\n\nOver the hair's pixels ("
+           << (maps ? "where a sample of the reference saw hair in front of the scene: with "
+                      "the maps the hair also shadows the head"
+                    : "where the reference differs from the scene without hair")
+           << "): mean FLIP (lower is better) / PSNR dB / frame ms. Whole-image values are in "
+              "bench.json. SWR1+H: Huang's filter (DESIGN.md).\n\n| configuration |";
+        for (int d = 0; d < 3; ++d)
+          if (distances.count(distNames[d])) md << " " << distNames[d] << " |";
+        md << "\n|---|";
+        for (int d = 0; d < 3; ++d)
+          if (distances.count(distNames[d])) md << "---|";
+        md << "\n";
+        std::map<std::string, std::vector<std::string>> cells;
+        json& ql = maps ? q["lights_maps"] : q;
+        json& qg = g == 0 ? ql : ql["groom2"];
+        std::ostringstream refMd;  // the two references at mid
+        for (int d = 0; d < 3; ++d) {
+          if (!distances.count(distNames[d])) continue;
+          Scene s = framed(scenes[g], dists[d], qw, qh);
+          if (maps)
+            for (Light& light : s.lights) light.shadows = true;
+          Frame ref;
+          const double refMs = wallMs([&] { ref = reference(s, g, d, refMethod, ltag); });
+          qg["reference"][distNames[d]] = {
+              {"method", referenceMethodName(refMethod)}, {"spp", refSpp}, {"wall_ms", refMs}};
+          std::fprintf(stderr, "quality %s%s %s: %s reference, %d spp, %.1f s\n", ltag.c_str(),
+                       groomNames[g], distNames[d], referenceMethodName(refMethod), refSpp,
+                       refMs / 1000.0);
+          Scene bare = s;
+          bare.grooms.clear();
+          const Frame background = b.renderer.render(bare);
+          std::vector<char> hairMask(ref.color.rgba.size() / 4, 0);
+          for (std::size_t i = 0; i < hairMask.size(); ++i)
+            if (maps)  // the hair's shadows change the head too: where a sample saw hair
+              hairMask[i] = ref.depth[i] < background.depth[i] * (1.0f - 1e-6f);
+            else
+              for (int c = 0; c < 3; ++c)
+                hairMask[i] |=
+                    std::fabs(ref.color.rgba[4 * i + c] - background.color.rgba[4 * i + c]) > 1e-4f;
+          qg["reference"][distNames[d]]["hair_luminance"] = hairLuminance(ref, hairMask);
+          const std::string refPath = out + "/quality/" + gtag + distNames[d] + "_reference.png";
+          writeImage(ref.color, refPath);
+          // the scene without hair: the hair's pixels are where the reference differs from it
+          writeImage(background.color, out + "/quality/" + gtag + distNames[d] + "_background.png");
           for (const Config& c : configs) {
             if (!chosen.empty() && !chosen.count(c.name)) continue;
-            md << "| " << c.name << " |";
-            for (const std::string& cell : cells[c.name]) md << " " << cell << " |";
-            md << "\n";
+            RenderOptions o;
+            o.msaa = c.msaa;
+            o.filter = c.filter;
+            o.lod = c.lod;
+            o.lodAggregate = c.lodAggregate;
+            o.raster = c.raster;
+            Scene sc = s;
+            useFilter(sc, c.huang, c.promote);
+            Frame f = b.renderer.render(sc, o);
+            // --runs 0 (quick tuning runs): the times of this one frame
+            Measured m;
+            if (runs > 0) {
+              m = b.measure(sc, o, false);
+            } else {
+              for (const StageTime& t : f.timings) m.stages[t.stage] = summarize({t.ms});
+              m.total = summarize({f.totalMs()});
+            }
+            ImageComparison cmp = compareImages(ref.color, f.color);
+            // the same measures restricted to the hair's pixels
+            const double psnrHair = computePsnr(ref.color, f.color, &hairMask).psnrDb;
+            double flipHair = 0.0;
+            std::size_t nHair = 0;
+            for (std::size_t i = 0; i < hairMask.size(); ++i)
+              if (hairMask[i]) {
+                ++nHair;
+                flipHair += cmp.flip.error[i];
+              }
+            flipHair /= std::max<std::size_t>(nHair, 1);
+            std::string name = c.name;
+            std::string file = name;
+            for (char& ch : file)
+              if (ch == ' ' || ch == '+' || ch == ',' || ch == '(' || ch == ')') ch = '_';
+            writeImage(f.color, out + "/quality/" + gtag + distNames[d] + "_" + file + ".png");
+            // the filter's share of the frame: Huang's link and filter stages, or Lipp's
+            const double filterMs = stageMedian(m, "link") + stageMedian(m, "filter");
+            cells[name].push_back(fmt(flipHair, 4) + " / " + fmt(psnrHair, 1) + " / " +
+                                  fmt(m.total.median));
+            qg[name][distNames[d]] = {{"flip_hair", flipHair},
+                                      {"psnr_hair_db", psnrHair},
+                                      {"flip", cmp.flip.mean},
+                                      {"psnr_db", cmp.psnr.psnrDb},
+                                      {"frame_ms", m.total.median},
+                                      {"hair_pixels", nHair},
+                                      {"hair_luminance", hairLuminance(f, hairMask)},
+                                      {"filter_ms", filterMs},
+                                      {"linked_pixels", f.stats.linkedPixels},
+                                      {"link_turned_away", f.stats.linkTurnedAway}};
+            std::fprintf(stderr,
+                         "quality %s%s %s %s: hair FLIP %.4f PSNR %.1f (image FLIP %.4f), frame "
+                         "%.1f ms, filter %.1f ms\n",
+                         ltag.c_str(), groomNames[g], c.name, distNames[d], flipHair, psnrHair,
+                         cmp.flip.mean, m.total.median, filterMs);
+            if (!maps && g == 0 && d == 1 && c.msaa == 1 && c.filter == 0 && c.lod == 0 &&
+                c.raster == 0) {
+              // SWR1 at mid against the other reference too, over the same hair pixels
+              Frame other;
+              const double otherMs = wallMs([&] { other = reference(s, g, d, otherMethod, ltag); });
+              writeImage(other.color, out + "/quality/mid_reference_" +
+                                          referenceMethodName(otherMethod) + ".png");
+              const double flipOther = hairFlip(other, f, hairMask);
+              const double flipRefs = hairFlip(ref, other, hairMask);
+              const char* a = referenceMethodName(refMethod);
+              const char* o = referenceMethodName(otherMethod);
+              refMd << "\nSWR1 at mid, mean FLIP over the hair against each reference (" << refSpp
+                    << " spp): " << a << " " << fmt(flipHair, 4) << ", " << o << " "
+                    << fmt(flipOther, 4) << "; the " << o << " reference against the " << a
+                    << " one: " << fmt(flipRefs, 4) << ". Reference wall time: " << a << " "
+                    << fmt(refMs / 1000.0, 1) << " s, " << o << " " << fmt(otherMs / 1000.0, 1)
+                    << " s.\n";
+              q["references_mid"] = {{"swr1_flip_hair_" + std::string(a), flipHair},
+                                     {"swr1_flip_hair_" + std::string(o), flipOther},
+                                     {"flip_hair_between_references", flipRefs},
+                                     {std::string(a) + "_wall_ms", refMs},
+                                     {std::string(o) + "_wall_ms", otherMs}};
+              std::fprintf(stderr, "quality SWR1 mid: hair FLIP %.4f vs %s, %.4f vs %s\n", flipHair,
+                           a, flipOther, o);
+            }
           }
-          md << refMd.str();
         }
+        for (const Config& c : configs) {
+          if (!chosen.empty() && !chosen.count(c.name)) continue;
+          md << "| " << c.name << " |";
+          for (const std::string& cell : cells[c.name]) md << " " << cell << " |";
+          md << "\n";
+        }
+        md << refMd.str();
+      }
       report["quality"] = q;
       md << "\nImages: `" << out << "/quality/`.\n";
     }

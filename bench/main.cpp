@@ -529,7 +529,6 @@ int main(int argc, char** argv) {
     if (only.empty() || only == "quality") {
       // Lipp Fig. 7: each configuration against the reference (average of refSpp jittered
       // true-width passes), FLIP and PSNR, with its frame time.
-      std::filesystem::create_directories(out + "/quality");
       const int qw = quick ? 320 : qualityWidth, qh = quick ? 180 : qualityHeight;
       const ReferenceMethod refMethod = parseReferenceMethod(refName);
       const ReferenceMethod otherMethod =
@@ -538,6 +537,7 @@ int main(int argc, char** argv) {
         throw Error("--quality-grooms must be 1, 2 or both, not \"" + qualityGrooms + "\"");
       if (qualityLights != "plain" && qualityLights != "maps" && qualityLights != "both")
         throw Error("--quality-lights must be plain, maps or both, not \"" + qualityLights + "\"");
+      std::filesystem::create_directories(out + "/quality");
       struct Config {
         const char* name;
         int msaa, filter, lod;

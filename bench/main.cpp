@@ -234,6 +234,7 @@ int main(int argc, char** argv) {
   std::string refCache;        // quality: folder of references kept between runs
   std::string qualityConfigs;  // quality: the configurations to run (comma-separated names)
   std::string qualityDistances = "close,mid,far";
+  std::string qualityLights = "plain";  // quality: plain, maps or both
   app.add_option("--device", dopts.selector, "device: P:D or a name substring");
   app.add_option("--out", out, "folder for bench.json, bench.csv, bench.md");
   app.add_option(
@@ -262,6 +263,9 @@ int main(int argc, char** argv) {
                  "distance, size, method and spp, not the code)");
   app.add_option("--quality-distances", qualityDistances,
                  "quality section: the distances to run (comma-separated: close, mid, far)");
+  app.add_option("--quality-lights", qualityLights,
+                 "quality section: the grooms' lights plain (no hair shadows, default), maps (each "
+                 "with a deep opacity map, shadows between fibres) or both");
   app.add_option("--quality-configs", qualityConfigs,
                  "quality and temporal sections: only these configurations (comma-separated "
                  "names as in the tables, e.g. \"SWR1,SWR MSAA 4\"); default all");
@@ -525,13 +529,15 @@ int main(int argc, char** argv) {
     if (only.empty() || only == "quality") {
       // Lipp Fig. 7: each configuration against the reference (average of refSpp jittered
       // true-width passes), FLIP and PSNR, with its frame time.
-      std::filesystem::create_directories(out + "/quality");
       const int qw = quick ? 320 : qualityWidth, qh = quick ? 180 : qualityHeight;
       const ReferenceMethod refMethod = parseReferenceMethod(refName);
       const ReferenceMethod otherMethod =
           refMethod == ReferenceMethod::Embree ? ReferenceMethod::Raster : ReferenceMethod::Embree;
       if (qualityGrooms != "1" && qualityGrooms != "2" && qualityGrooms != "both")
         throw Error("--quality-grooms must be 1, 2 or both, not \"" + qualityGrooms + "\"");
+      if (qualityLights != "plain" && qualityLights != "maps" && qualityLights != "both")
+        throw Error("--quality-lights must be plain, maps or both, not \"" + qualityLights + "\"");
+      std::filesystem::create_directories(out + "/quality");
       struct Config {
         const char* name;
         int msaa, filter, lod;
@@ -575,18 +581,32 @@ int main(int argc, char** argv) {
           throw Error("--quality-configs: no configuration \"" + name + "\"");
       if (!refCache.empty()) std::filesystem::create_directories(refCache);
       // the reference of one groom and distance, from the cache when it holds it
-      auto reference = [&](const Scene& s, int g, int d, ReferenceMethod method) {
-        const std::string path = refCache + "/groom" + std::to_string(g + 1) + "_" + distNames[d] +
-                                 "_" + std::to_string(s.width) + "x" + std::to_string(s.height) +
-                                 "_" + referenceMethodName(method) + "_" + std::to_string(refSpp) +
-                                 "spp.exr";
+      auto reference = [&](const Scene& s, int g, int d, ReferenceMethod method,
+                           const std::string& ltag) {
+        const std::string path = refCache + "/groom" + std::to_string(g + 1) + "_" + ltag +
+                                 distNames[d] + "_" + std::to_string(s.width) + "x" +
+                                 std::to_string(s.height) + "_" + referenceMethodName(method) +
+                                 "_" + std::to_string(refSpp) + "spp.exr";
+        // the depth (the hair mask of the lighting with maps) as raw floats beside it
+        const std::string depthPath = path + ".depth";
         Frame f;
         if (!refCache.empty() && std::filesystem::exists(path)) {
           f.color = readImage(path);
-          return f;
+          if (ltag.empty()) return f;  // plain: the mask is from the colour alone
+          f.depth.resize(static_cast<std::size_t>(f.color.width) * f.color.height);
+          std::ifstream in(depthPath, std::ios::binary);
+          in.read(reinterpret_cast<char*>(f.depth.data()),
+                  static_cast<std::streamsize>(f.depth.size() * sizeof(float)));
+          if (in && in.gcount() == static_cast<std::streamsize>(f.depth.size() * sizeof(float)))
+            return f;
         }
         f = b.renderer.renderReference(s, refSpp, method);
-        if (!refCache.empty()) writeImage(f.color, path);
+        if (!refCache.empty()) {
+          writeImage(f.color, path);
+          std::ofstream o(depthPath, std::ios::binary);
+          o.write(reinterpret_cast<const char*>(f.depth.data()),
+                  static_cast<std::streamsize>(f.depth.size() * sizeof(float)));
+        }
         return f;
       };
       auto hairFlip = [](const Frame& ref, const Frame& f, const std::vector<char>& mask) {
@@ -600,6 +620,18 @@ int main(int argc, char** argv) {
           }
         return sum / std::max<std::size_t>(n, 1);
       };
+      // mean linear luminance over the hair's pixels (brighter or darker than the reference)
+      auto hairLuminance = [](const Frame& f, const std::vector<char>& mask) {
+        double sum = 0.0;
+        std::size_t n = 0;
+        for (std::size_t i = 0; i < mask.size(); ++i)
+          if (mask[i]) {
+            ++n;
+            sum += 0.2126 * f.color.rgba[4 * i] + 0.7152 * f.color.rgba[4 * i + 1] +
+                   0.0722 * f.color.rgba[4 * i + 2];
+          }
+        return sum / std::max<std::size_t>(n, 1);
+      };
       auto wallMs = [](auto&& fn) {
         const auto t0 = std::chrono::steady_clock::now();
         fn();
@@ -607,15 +639,25 @@ int main(int argc, char** argv) {
             .count();
       };
       json q;
-      for (int g = 0; g < 2; ++g) {
+      for (int run = 0; run < 4; ++run) {  // plain lights, then lights with maps
+        const int lighting = run / 2, g = run % 2;
         if ((g == 0 && qualityGrooms == "2") || (g == 1 && qualityGrooms == "1")) continue;
-        const std::string gtag = g == 0 ? "" : "groom2_";  // groom1 keeps its file names
+        // lighting 1: every light of the groom's scene with a deep opacity map, so that the
+        // reference (maps of the full groom) and the frames (maps drawn with their LOD) are
+        // shadowed between fibres by the same model
+        const bool maps = lighting == 1;
+        if ((maps && qualityLights == "plain") || (!maps && qualityLights == "maps")) continue;
+        const std::string ltag = maps ? "maps_" : "";               // plain keeps its file names
+        const std::string gtag = ltag + (g == 0 ? "" : "groom2_");  // groom1 keeps its names
         md << "\n## Quality against the reference (" << groomNames[g] << ", " << qw << "x" << qh
-           << ", " << referenceMethodName(refMethod) << " reference " << refSpp
-           << " spp)\n\nOver the hair's pixels (where the reference differs from the scene "
-              "without hair): mean FLIP (lower is better) / PSNR dB / frame ms. Whole-image "
-              "values are in bench.json. SWR1+H: Huang's filter (DESIGN.md).\n\n"
-              "| configuration |";
+           << ", " << referenceMethodName(refMethod) << " reference " << refSpp << " spp"
+           << (maps ? ", every light with a deep opacity map" : "")
+           << ")\n\nOver the hair's pixels ("
+           << (maps ? "where a sample of the reference saw hair in front of the scene: with "
+                      "the maps the hair also shadows the head"
+                    : "where the reference differs from the scene without hair")
+           << "): mean FLIP (lower is better) / PSNR dB / frame ms. Whole-image values are in "
+              "bench.json. SWR1+H: Huang's filter (DESIGN.md).\n\n| configuration |";
         for (int d = 0; d < 3; ++d)
           if (distances.count(distNames[d])) md << " " << distNames[d] << " |";
         md << "\n|---|";
@@ -623,25 +665,33 @@ int main(int argc, char** argv) {
           if (distances.count(distNames[d])) md << "---|";
         md << "\n";
         std::map<std::string, std::vector<std::string>> cells;
-        json& qg = g == 0 ? q : q["groom2"];
+        json& ql = maps ? q["lights_maps"] : q;
+        json& qg = g == 0 ? ql : ql["groom2"];
         std::ostringstream refMd;  // the two references at mid
         for (int d = 0; d < 3; ++d) {
           if (!distances.count(distNames[d])) continue;
           Scene s = framed(scenes[g], dists[d], qw, qh);
+          if (maps)
+            for (Light& light : s.lights) light.shadows = true;
           Frame ref;
-          const double refMs = wallMs([&] { ref = reference(s, g, d, refMethod); });
+          const double refMs = wallMs([&] { ref = reference(s, g, d, refMethod, ltag); });
           qg["reference"][distNames[d]] = {
               {"method", referenceMethodName(refMethod)}, {"spp", refSpp}, {"wall_ms", refMs}};
-          std::fprintf(stderr, "quality %s %s: %s reference, %d spp, %.1f s\n", groomNames[g],
-                       distNames[d], referenceMethodName(refMethod), refSpp, refMs / 1000.0);
+          std::fprintf(stderr, "quality %s%s %s: %s reference, %d spp, %.1f s\n", ltag.c_str(),
+                       groomNames[g], distNames[d], referenceMethodName(refMethod), refSpp,
+                       refMs / 1000.0);
           Scene bare = s;
           bare.grooms.clear();
           const Frame background = b.renderer.render(bare);
           std::vector<char> hairMask(ref.color.rgba.size() / 4, 0);
           for (std::size_t i = 0; i < hairMask.size(); ++i)
-            for (int c = 0; c < 3; ++c)
-              hairMask[i] |=
-                  std::fabs(ref.color.rgba[4 * i + c] - background.color.rgba[4 * i + c]) > 1e-4f;
+            if (maps)  // the hair's shadows change the head too: where a sample saw hair
+              hairMask[i] = ref.depth[i] < background.depth[i] * (1.0f - 1e-6f);
+            else
+              for (int c = 0; c < 3; ++c)
+                hairMask[i] |=
+                    std::fabs(ref.color.rgba[4 * i + c] - background.color.rgba[4 * i + c]) > 1e-4f;
+          qg["reference"][distNames[d]]["hair_luminance"] = hairLuminance(ref, hairMask);
           const std::string refPath = out + "/quality/" + gtag + distNames[d] + "_reference.png";
           writeImage(ref.color, refPath);
           // the scene without hair: the hair's pixels are where the reference differs from it
@@ -691,18 +741,20 @@ int main(int argc, char** argv) {
                                       {"psnr_db", cmp.psnr.psnrDb},
                                       {"frame_ms", m.total.median},
                                       {"hair_pixels", nHair},
+                                      {"hair_luminance", hairLuminance(f, hairMask)},
                                       {"filter_ms", filterMs},
                                       {"linked_pixels", f.stats.linkedPixels},
                                       {"link_turned_away", f.stats.linkTurnedAway}};
             std::fprintf(stderr,
-                         "quality %s %s %s: hair FLIP %.4f PSNR %.1f (image FLIP %.4f), frame "
+                         "quality %s%s %s %s: hair FLIP %.4f PSNR %.1f (image FLIP %.4f), frame "
                          "%.1f ms, filter %.1f ms\n",
-                         groomNames[g], c.name, distNames[d], flipHair, psnrHair, cmp.flip.mean,
-                         m.total.median, filterMs);
-            if (g == 0 && d == 1 && c.msaa == 1 && c.filter == 0 && c.lod == 0 && c.raster == 0) {
+                         ltag.c_str(), groomNames[g], c.name, distNames[d], flipHair, psnrHair,
+                         cmp.flip.mean, m.total.median, filterMs);
+            if (!maps && g == 0 && d == 1 && c.msaa == 1 && c.filter == 0 && c.lod == 0 &&
+                c.raster == 0) {
               // SWR1 at mid against the other reference too, over the same hair pixels
               Frame other;
-              const double otherMs = wallMs([&] { other = reference(s, g, d, otherMethod); });
+              const double otherMs = wallMs([&] { other = reference(s, g, d, otherMethod, ltag); });
               writeImage(other.color, out + "/quality/mid_reference_" +
                                           referenceMethodName(otherMethod) + ".png");
               const double flipOther = hairFlip(other, f, hairMask);

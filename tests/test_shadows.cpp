@@ -127,6 +127,30 @@ TEST(Shadows, LightPassLodFollowsTheLightsViewNotTheCameras) {
   EXPECT_EQ(big, wide) << "the camera's resolution changed the shadow pass";
 }
 
+// The traced reference (the quality table's ground truth, `clhair_bench --quality-lights
+// maps`) shades through deep opacity maps built from the full groom at true width, whatever
+// LOD the frames it judges use for theirs: a LOD frame draws fewer strands into its maps,
+// the reference every strand, and its hair behind hair is darker (the maps are read).
+TEST(Shadows, TracedReferenceMapsHoldTheFullGroomWhileLodFramesUseTheirLod) {
+  Renderer r(test::sharedDevice());
+  RenderOptions o;
+  o.filter = 0;
+  o.lod = 1;
+  Scene s = twoPatches(true);
+  s.shadows.lodScale = 0.25f;  // LOD in the lights' passes drops strands (lod_scale)
+  const Frame lod = r.render(s, o);
+  const Frame ref = r.renderReference(s, 2, ReferenceMethod::Embree);
+  const Frame lodAgain = r.render(s, o);  // the maps follow each frame's own LOD
+  RecordProperty("shadow_strands_lod", std::to_string(lod.stats.shadowStrandsDrawn));
+  RecordProperty("shadow_strands_reference", std::to_string(ref.stats.shadowStrandsDrawn));
+  EXPECT_EQ(ref.stats.shadowStrandsDrawn, 6000u) << "the reference's maps: 2 patches x 3000";
+  EXPECT_GT(lod.stats.shadowStrandsDrawn, 0u);
+  EXPECT_LT(lod.stats.shadowStrandsDrawn, 6000u) << "the LOD frame's maps should be thinned";
+  EXPECT_EQ(lodAgain.stats.shadowStrandsDrawn, lod.stats.shadowStrandsDrawn);
+  const auto [front, back] = halves(ref, s.width);
+  EXPECT_LT(back, 0.9 * front) << "the reference should show hair shadowing hair";
+}
+
 // "shadows": {"lod_scale"} thins the lights' passes only: fewer strands in the maps, the
 // camera's strands unchanged, and hair behind hair about as much darker as with every
 // strand in the maps (the LOD's widening keeps their opacity).

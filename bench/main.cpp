@@ -766,7 +766,9 @@ int main(int argc, char** argv) {
                                 {"SWR1 + reprojection (3 frames)", 1, 0, 3, true},
                                 {"SWR1+F + reprojection (1 frame)", 1, 1, 1, true},
                                 {"SWR1+F + reprojection (3 frames)", 1, 1, 3, true},
-                                {"SWR1+F + reprojection (3 frames), unprotected", 1, 1, 3, false}};
+                                {"SWR1+F + reprojection (3 frames), unprotected", 1, 1, 3, false},
+                                {"SWR1+H + reprojection (1 frame)", 1, 1, 1, true, 3},
+                                {"SWR1+H + reprojection (3 frames)", 1, 1, 3, true, 3}};
       auto srgbOf = [](const Frame& fr) {
         std::vector<float> srgb(fr.color.rgba.size() / 4 * 3);
         for (std::size_t i = 0; i < srgb.size(); ++i)

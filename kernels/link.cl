@@ -386,6 +386,12 @@ __kernel void link_aniso(__global const ClhGroomGpu* groom_g, __global const Clh
         const float across = d.x * t.y - d.y * t.x;
         /* the ellipse: major axis r along the tangent, minor axis across */
         if ((along * along) / (r * r) + (across * across) / (minor * minor) > 1.0f) continue;
+        /* an empty pixel beside the strand's line is no sample of hair: averaged in, it
+         * would spread the strand's coverage sideways (past its ends, on the line, it
+         * fades them as the matte's filter does) */
+        if (fabs(across) > 0.5f &&
+            gbuf_g[(size_t)qy * (size_t)width + (size_t)qx] == CLH_GBUF_EMPTY)
+          continue;
         /* the angle between the tangent line and d, in [0, pi/2] */
         theta = atan2(fabs(across), fabs(along));
       }

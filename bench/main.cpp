@@ -16,7 +16,8 @@
 //             at mid also SWR1 against the other reference and the two references' times.
 //   temporal  a 30-frame orbit: mean frame-to-frame change for SWR1, SWR1+F (Lipp's
 //             filter), SWR1 with Huang's filter and its parts, MSAA 4, and with temporal
-//             reprojection (clhair/temporal.h) on: flicker, FLIP against a per-frame
+//             reprojection (clhair/temporal.h) on, after SWR1, Lipp's filter or Huang's:
+//             flicker, FLIP against a per-frame
 //             reference (--temporal-ref-spp), and on a fast shot the hair left in the pixels
 //             the groom vacated.
 //   explicit  the hair mesh vs the same strands as a cyHair file: device bytes, frame times.
@@ -818,7 +819,9 @@ int main(int argc, char** argv) {
                                 {"SWR1 + reprojection (3 frames)", 1, 0, 3, true},
                                 {"SWR1+F + reprojection (1 frame)", 1, 1, 1, true},
                                 {"SWR1+F + reprojection (3 frames)", 1, 1, 3, true},
-                                {"SWR1+F + reprojection (3 frames), unprotected", 1, 1, 3, false}};
+                                {"SWR1+F + reprojection (3 frames), unprotected", 1, 1, 3, false},
+                                {"SWR1+H + reprojection (1 frame)", 1, 1, 1, true, 3},
+                                {"SWR1+H + reprojection (3 frames)", 1, 1, 3, true, 3}};
       auto srgbOf = [](const Frame& fr) {
         std::vector<float> srgb(fr.color.rgba.size() / 4 * 3);
         for (std::size_t i = 0; i < srgb.size(); ++i)

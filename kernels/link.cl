@@ -46,9 +46,11 @@
  *                  alpha (M + N) C = M C: what it had (Eq. 10). Other pixels stay opaque.
  *  link_aniso      the orientation-aware filter (Eq. 11-12) of the premultiplied result
  *                  over the ellipse of major axis r = k sqrt(Bx By) (Eq. 13, clamped to
- *                  1..3 pixels: longer kernels measured farther from the reference, most
+ *                  2..3 pixels: longer kernels measured farther from the reference, most
  *                  on curly hair, whose strands leave a straight ellipse within a few
- *                  pixels; DESIGN.md) along the pixel's screen tangent, minor axis r / 4:
+ *                  pixels; below 2 the ellipse holds only P, whose noise is one sample's
+ *                  whatever the hair's size; DESIGN.md) along the pixel's screen tangent,
+ *                  minor axis r / 2 (the paper's aspect ratio rho, left open there):
  *                  w = exp(-(d/r)^2 / sd^2) exp(-theta^2 / st^2) exp(-|Cp - Cq|^2 / sc^2),
  *                  distance in units of r (the paper's sigma_d = 0.1 is relative), theta
  *                  the angle between the tangent line and Q - P, colours as c / (1 + c).
@@ -65,7 +67,10 @@
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
 
+/* the kernel's major axis r in pixels (Eq. 13 clamped) and its minor axis over r (rho) */
+#define LINK_MIN_RADIUS 2
 #define LINK_MAX_RADIUS 3
+#define LINK_ASPECT 0.5f
 
 /* Unit screen direction (x right, y down) of the word's world tangent at pixel (x, y). */
 static inline float2 link_screen_tangent(__global const ClhViewGpu* view_g,
@@ -349,9 +354,10 @@ __kernel void link_aniso(__global const ClhGroomGpu* groom_g, __global const Clh
       counters_g[6] >= counters_g[4] ? (float)(counters_g[6] - counters_g[4] + 1u) : 1.0f;
   const float by =
       counters_g[7] >= counters_g[5] ? (float)(counters_g[7] - counters_g[5] + 1u) : 1.0f;
-  const float r = clamp(link_g->kernel_k * sqrt(bx * by), 1.0f, (float)LINK_MAX_RADIUS);
+  const float r =
+      clamp(link_g->kernel_k * sqrt(bx * by), (float)LINK_MIN_RADIUS, (float)LINK_MAX_RADIUS);
   const int ri = (int)ceil(r);
-  const float minor = fmax(0.25f * r, 0.5f);
+  const float minor = LINK_ASPECT * r;
   const float2 t = link_screen_tangent(view_g, groom_g, word, x, y);
   const bool has_t = dot(t, t) > 0.5f;
   const float inv_d2 = 1.0f / (link_g->sigma_d * link_g->sigma_d * r * r);
@@ -380,6 +386,12 @@ __kernel void link_aniso(__global const ClhGroomGpu* groom_g, __global const Clh
         const float across = d.x * t.y - d.y * t.x;
         /* the ellipse: major axis r along the tangent, minor axis across */
         if ((along * along) / (r * r) + (across * across) / (minor * minor) > 1.0f) continue;
+        /* an empty pixel beside the strand's line is no sample of hair: averaged in, it
+         * would spread the strand's coverage sideways (past its ends, on the line, it
+         * fades them as the matte's filter does) */
+        if (fabs(across) > 0.5f &&
+            gbuf_g[(size_t)qy * (size_t)width + (size_t)qx] == CLH_GBUF_EMPTY)
+          continue;
         /* the angle between the tangent line and d, in [0, pi/2] */
         theta = atan2(fabs(across), fabs(along));
       }

@@ -9,12 +9,14 @@
 // past a nearer strand's pixel, while a walk passes its own drawn pixels and farther strands'
 // ones (which count into its N); a hash table too small for the strands turns the rest
 // away, counts them and leaves them at alpha 1; the anisotropic filter keeps a uniform
-// strand's colour and does not mix two parallel strands. Rendered frames: the identity layer leaves
-// the centre layer word for word as it was and carries the centre word's depth; its strands are the
-// groom's (two known strands give two ids, read back from the CLI's EXR with OpenImageIO); linking
-// of a sub-pixel strand file keeps the hair's total coverage; for a hair mesh the regenerated
-// centre lines of the source strands run through their drawn pixels. Tiny sizes: each test takes
-// about a second or two.
+// strand's colour and does not mix two parallel strands two pixels apart, reaches no
+// farther than 3 px and, on a hair only a few pixels large, still 1 px (its 2 px floor),
+// and in dense hair takes in a little of the row beside a pixel, nothing of rows farther. Rendered
+// frames: the identity layer leaves the centre layer word for word as it was and carries the centre
+// word's depth; its strands are the groom's (two known strands give two ids, read back from the
+// CLI's EXR with OpenImageIO); linking of a sub-pixel strand file keeps the hair's total coverage;
+// for a hair mesh the regenerated centre lines of the source strands run through their drawn
+// pixels. Tiny sizes: each test takes about a second or two.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -426,6 +428,52 @@ TEST(Link, AnisotropicKernelReachesAtMostThreePixels) {
   }
   EXPECT_GT(r.out[20 * W + 22].s[2], kRed.s[2] + 0.01f) << "no reach at 2 px";
   EXPECT_GT(r.out[20 * W + 26].s[2], kRed.s[2] + 0.01f) << "no reach at 2 px";
+}
+
+TEST(Link, AnisotropicKernelReachesTwoPixelsOnAHairOfAFewPixels) {
+  // the same strand with its odd pixel, but a screen box that asks for r far below a pixel
+  // (k = 0.001): the kernel keeps its floor of 2 px, so the odd pixel's neighbours along the
+  // strand take some of it (below 2 px the ellipse would hold only P) and 3 px away nothing
+  Synthetic s;
+  for (int x = 4; x <= 36; ++x)
+    s.drawn(x, 20, x == 24 ? 2 : 1, float(x - 4) / 32.0f, 1.5f, 1.0f, 0.0f, x == 24 ? kBlue : kRed);
+  FilterParams f = linkOnly();
+  f.aniso = true;
+  f.kernelK = 0.001f;
+  const LinkResult r = runLink(s, f, [](clh_u32 k) { return k == 2 ? kBlue : kRed; });
+  for (int x : {23, 25}) {
+    EXPECT_GT(r.out[20 * W + x].s[2], kRed.s[2] + 0.05f) << "no reach at 1 px, x = " << x;
+    EXPECT_NEAR(r.out[20 * W + x].s[3], 1.0f, 1e-5f);
+  }
+  for (int c = 0; c < 4; ++c) {
+    EXPECT_FLOAT_EQ(r.out[20 * W + 21].s[c], kRed.s[c]) << "reached 3 px, channel " << c;
+    EXPECT_FLOAT_EQ(r.out[20 * W + 27].s[c], kRed.s[c]) << "reached 3 px, channel " << c;
+  }
+}
+
+TEST(Link, AnisotropicKernelAveragesTheRowsBesideAStrandInDenseHair) {
+  // dense hair, every pixel drawn with a horizontal tangent: red rows with one blue row
+  // (21). With the default aspect ratio (minor axis r / 2) and sigma_theta (0.6 rad) the
+  // ellipse of a red pixel next to it takes in the blue row's pixels at 27-45 degrees from
+  // the tangent, so a little blue comes in; the pixel straight across (90 degrees) adds
+  // next to nothing, and two rows away the red stays red
+  Synthetic s;
+  for (int y = 14; y <= 26; ++y)
+    for (int x = 4; x <= 36; ++x)
+      s.drawn(x, y, y == 21 ? 2 : 1, float(x - 4) / 32.0f, 1.5f, 1.0f, 0.0f,
+              y == 21 ? kBlue : kRed);
+  FilterParams f = linkOnly();
+  f.aniso = true;
+  f.kernelK = 0.2f;  // r = 0.2 sqrt(33 * 13) ~ 4 px, clamped to 3
+  const LinkResult r = runLink(s, f, [](clh_u32 k) { return k == 2 ? kBlue : kRed; });
+  for (int x = 10; x <= 30; ++x) {
+    SCOPED_TRACE(testing::Message() << "x = " << x);
+    const cl_float4 beside = r.out[20 * W + x], apart = r.out[19 * W + x];
+    EXPECT_GT(beside.s[2], kRed.s[2] + 0.02f) << "the row beside the blue one took none of it";
+    EXPECT_LT(beside.s[2], kRed.s[2] + 0.1f) << "more than the diagonal neighbours' share";
+    EXPECT_NEAR(beside.s[3], 1.0f, 1e-5f);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(apart.s[c], kRed.s[c], 1e-5f) << "two rows away";
+  }
 }
 
 // ---- rendered frames ---------------------------------------------------------------------

@@ -1434,7 +1434,8 @@ int main(int argc, char** argv) {
       //      while the lights, grooms, transforms and cage stay, whatever the camera);
       //  (b) wind: a frame of the shot, the next one in every pair (the cage moves), the maps
       //      rebuilt in every render (RenderOptions::reuseShadows off, as each frame of a
-      //      moving groom must), once for both views of a two-view render.
+      //      moving groom must), once for both views of a two-view render. A renderer of its
+      //      own, so that (a)'s renderer keeps the held frame's maps between its pairs.
       // One view: render() of the left eye (opaque scene, LOD pre-pass, G-buffer clear,
       // strand pass, shade, filter, composite, read-back of colour and depth). Two views:
       // renderViews() of both eyes (the opaque scene, shade, filter, composite and read-back
@@ -1474,30 +1475,31 @@ int main(int argc, char** argv) {
         }
         side.dev.push_back(sum);
       };
-      auto pair = [&](Setting& set, const Scene& s, const RenderOptions& o) {
+      Renderer windRenderer(b.device);
+      auto pair = [&](Renderer& r, Setting& set, const Scene& s, const RenderOptions& o) {
         const std::vector<Camera> eyes = stereo(s);
         Scene one = s;
         one.camera = eyes[0];
-        timed([&] { return b.renderer.render(one, o).timings; }, set.one);
-        timed([&] { return b.renderer.renderViews(s, eyes, o)[0].timings; }, set.two);
+        timed([&] { return r.render(one, o).timings; }, set.one);
+        timed([&] { return r.renderViews(s, eyes, o)[0].timings; }, set.two);
         set.ratios.push_back(set.two.ms.back() / set.one.ms.back());
       };
       {
         const Scene held = sceneAtFrame(shot, static_cast<double>(midFrame));
         RenderOptions kept, rebuilt;
         rebuilt.reuseShadows = false;
-        {  // warm-up: the kernels of both paths built
+        for (Renderer* r : {&b.renderer, &windRenderer}) {  // warm-up: both paths built
           const std::vector<Camera> eyes = stereo(held);
           Scene one = held;
           one.camera = eyes[0];
-          b.renderer.render(one);
-          b.renderer.renderViews(held, eyes);
+          r->render(one);
+          r->renderViews(held, eyes);
         }
         for (int i = 0; i < viewPairs; ++i) {
-          pair(still2, held, kept);
+          pair(b.renderer, still2, held, kept);
           // frames midFrame, midFrame + 1, ... (wrapping inside the shot)
           const int f = 2 + (midFrame - 2 + i) % std::max(frames - 1, 1);
-          pair(wind2, sceneAtFrame(shot, static_cast<double>(f)), rebuilt);
+          pair(windRenderer, wind2, sceneAtFrame(shot, static_cast<double>(f)), rebuilt);
         }
       }
       const double oneView = summarize(still2.one.ms).median,

@@ -26,8 +26,10 @@
 //   sequences a shot of the default groom in wind (assets/scenes/wind.json, 720p, --seq-frames
 //             frames, 120 by default) rendered frame after frame in one process: the time per
 //             frame after the first against the same scene as a still frame (interleaved),
-//             start-up paid once; two views of one assembly against one view; the cost of the
-//             motion layer; the warped-mask IoU of the motion vectors (clhair::motionWarpIoU)
+//             start-up paid once; two views of one assembly against one view, on a still
+//             frame (maps kept) and on a frame of the shot (maps rebuilt), --view-pairs
+//             interleaved pairs each, with every pair's ratio and a per-stage split; the cost of
+//             the motion layer; the warped-mask IoU of the motion vectors (clhair::motionWarpIoU)
 //             on the wind shot and on a slow turntable.
 //   crowd     assets/scenes/crowd.json (100 groom instances): frame time with LOD off, with
 //             LOD, with LOD and the segment budget, and the single default groom at close,
@@ -228,7 +230,7 @@ int main(int argc, char** argv) {
   std::string out = "bench-results", only,
               sceneDir = std::string(CLHAIR_SOURCE_DIR) + "/bench/scenes";
   int runs = 3, warmup = 1, width = 1920, height = 1080, refSpp = 64, qualityWidth = 960,
-      qualityHeight = 540, seqFrames = 120, temporalRefSpp = 4;
+      qualityHeight = 540, seqFrames = 120, temporalRefSpp = 4, viewPairsOpt = 9;
   bool quick = false;
   std::string qualityGrooms = "1";
   std::string refName = "embree";
@@ -275,6 +277,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 4096));
   app.add_option("--seq-frames", seqFrames, "sequences section: frames of the wind shot (120)")
       ->check(CLI::Range(3, 100000));
+  app.add_option("--view-pairs", viewPairsOpt,
+                 "sequences section: interleaved one-view / two-view pairs per setting (9)")
+      ->check(CLI::Range(1, 1000));
   app.add_flag("--quick", quick, "smaller sweep for a fast look (640x360, 1 run, MSAA 1 and 4)");
   CLI11_PARSE(app, argc, argv);
   try {
@@ -1477,113 +1482,188 @@ int main(int argc, char** argv) {
                    firstMs, shotS.median, keptS.median, coldS.median, shotS.median / keptS.median,
                    shotS.median / coldS.median);
 
-      // two views of one assembly (a stereo pair 6.4 cm apart, following the camera) against
-      // one view, interleaved, on a frame of the shot. Both sides draw that one frame (one
-      // cage), so neither rebuilds the deep opacity maps: a renderer keeps them while the
-      // lights, grooms, transforms and cage stay, whatever the camera (a "shadow" stage in a
-      // timed run would say otherwise; the table counts them). One view: render() of the left
-      // eye (opaque scene, LOD pre-pass, G-buffer clear, strand pass, shade, filter,
-      // composite, read-back of colour and depth). Two views: renderViews() of both eyes (the
-      // opaque scene, shade, filter, composite and read-back per view; the LOD pre-pass and the
-      // strand assembly once; every strand rasterised into both G-buffers in one kernel).
-      // The centre camera of the same frame, interleaved too, is that frame as a still.
-      double oneView = 0.0, twoViews = 0.0;
-      std::map<std::string, std::vector<double>> oneStages, twoStages;
-      std::vector<double> oneMs, twoMs, centreMs, oneCpu, twoCpu, centreCpu, oneDev, twoDev;
-      int shadowRuns = 0;
-      const int viewRuns = std::max(runs, 3);
-      {
-        const Scene s = sceneAtFrame(shot, static_cast<double>(std::max(frames / 2, 1)));
+      // Two views of one assembly (a stereo pair 6.4 cm apart, following the camera) against
+      // one view (the left eye), in two settings measured in one interleaved loop:
+      //  (a) still: the middle frame of the shot held, both sides drawing that one frame
+      //      with its deep opacity maps kept from the previous render (a renderer keeps them
+      //      while the lights, grooms, transforms and cage stay, whatever the camera);
+      //  (b) wind: a frame of the shot, the next one in every pair (the cage moves), the maps
+      //      rebuilt in every render (RenderOptions::reuseShadows off, as each frame of a
+      //      moving groom must), once for both views of a two-view render. A renderer of its
+      //      own, so that (a)'s renderer keeps the held frame's maps between its pairs.
+      // One view: render() of the left eye (opaque scene, LOD pre-pass, G-buffer clear,
+      // strand pass, shade, filter, composite, read-back of colour and depth). Two views:
+      // renderViews() of both eyes (the opaque scene, shade, filter, composite and read-back
+      // per view; the LOD pre-pass and the strand assembly once; every strand rasterised into
+      // both G-buffers in one kernel). A pair is one view then two views of the same frame;
+      // each pair's ratio is reported with the ratio of the medians.
+      struct Side {
+        std::vector<double> ms, cpu, dev;
+        std::map<std::string, std::vector<double>> stages;
+        int shadowRuns = 0;
+      };
+      struct Setting {
+        Side one, two;
+        std::vector<double> ratios;  // two / one, pair by pair (wall)
+      };
+      Setting still2, wind2;
+      const int viewPairs = quick ? std::min(viewPairsOpt, 3) : viewPairsOpt;
+      const int midFrame = std::max(frames / 2, 1);
+      auto stereo = [](const Scene& s) {
         View left, right;
         left.relative = right.relative = true;
         left.offset = glm::vec3(-0.032f, 0.0f, 0.0f);
         right.offset = glm::vec3(0.032f, 0.0f, 0.0f);
-        const std::vector<Camera> pair = {viewCamera(s, left), viewCamera(s, right)};
-        Scene one = s;
-        one.camera = pair[0];
-        b.renderer.render(one);  // warm-up, kernels of both paths built
-        b.renderer.renderViews(s, pair);
-        auto timed = [&](auto&& call, std::vector<double>& wallMs, std::vector<double>& cpuMs) {
-          const double c0 = processCpuMs();
-          const auto t0 = std::chrono::steady_clock::now();
-          const std::vector<StageTime> t = call();
-          wallMs.push_back(ms(t0));
-          cpuMs.push_back(processCpuMs() - c0);
-          return t;
-        };
-        auto keep = [&](const std::vector<StageTime>& t,
-                        std::map<std::string, std::vector<double>>& to, std::vector<double>& dev) {
-          double sum = 0.0;
-          for (const StageTime& st : t) {
-            to[st.stage].push_back(st.ms);
-            sum += st.ms;
-            if (st.stage == "shadow") ++shadowRuns;
-          }
-          dev.push_back(sum);
-        };
-        std::map<std::string, std::vector<double>> centreStages;
-        std::vector<double> centreDev;
-        for (int i = 0; i < viewRuns; ++i) {
-          keep(timed([&] { return b.renderer.render(one).timings; }, oneMs, oneCpu), oneStages,
-               oneDev);
-          keep(timed([&] { return b.renderer.renderViews(s, pair)[0].timings; }, twoMs, twoCpu),
-               twoStages, twoDev);
-          keep(timed([&] { return b.renderer.render(s).timings; }, centreMs, centreCpu),
-               centreStages, centreDev);
+        return std::vector<Camera>{viewCamera(s, left), viewCamera(s, right)};
+      };
+      auto timed = [&](auto&& call, Side& side) {
+        const double c0 = processCpuMs();
+        const auto t0 = std::chrono::steady_clock::now();
+        const std::vector<StageTime> t = call();
+        side.ms.push_back(ms(t0));
+        side.cpu.push_back(processCpuMs() - c0);
+        double sum = 0.0;
+        for (const StageTime& st : t) {
+          side.stages[st.stage].push_back(st.ms);
+          sum += st.ms;
+          if (st.stage == "shadow") ++side.shadowRuns;
         }
-        oneView = summarize(oneMs).median;
-        twoViews = summarize(twoMs).median;
+        side.dev.push_back(sum);
+      };
+      Renderer windRenderer(b.device);
+      auto pair = [&](Renderer& r, Setting& set, const Scene& s, const RenderOptions& o) {
+        const std::vector<Camera> eyes = stereo(s);
+        Scene one = s;
+        one.camera = eyes[0];
+        timed([&] { return r.render(one, o).timings; }, set.one);
+        timed([&] { return r.renderViews(s, eyes, o)[0].timings; }, set.two);
+        set.ratios.push_back(set.two.ms.back() / set.one.ms.back());
+      };
+      {
+        const Scene held = sceneAtFrame(shot, static_cast<double>(midFrame));
+        RenderOptions kept, rebuilt;
+        rebuilt.reuseShadows = false;
+        for (Renderer* r : {&b.renderer, &windRenderer}) {  // warm-up: both paths built
+          const std::vector<Camera> eyes = stereo(held);
+          Scene one = held;
+          one.camera = eyes[0];
+          r->render(one);
+          r->renderViews(held, eyes);
+        }
+        for (int i = 0; i < viewPairs; ++i) {
+          pair(b.renderer, still2, held, kept);
+          // frames midFrame, midFrame + 1, ... (wrapping inside the shot)
+          const int f = 2 + (midFrame - 2 + i) % std::max(frames - 1, 1);
+          pair(windRenderer, wind2, sceneAtFrame(shot, static_cast<double>(f)), rebuilt);
+        }
       }
-      md << "| one view of a stereo pair | " << fmt(oneView, 0) << " | "
-         << fmt(summarize(oneMs).min, 0) << " | " << fmt(summarize(oneMs).max, 0) << " | |\n"
-         << "| both views, one assembly | " << fmt(twoViews, 0) << " | "
-         << fmt(summarize(twoMs).min, 0) << " | " << fmt(summarize(twoMs).max, 0) << " | "
-         << fmt(twoViews / oneView, 3) << "x of one view (target <= 1.6x) |\n";
+      const double oneView = summarize(still2.one.ms).median,
+                   twoViews = summarize(still2.two.ms).median;
+      const double windOne = summarize(wind2.one.ms).median,
+                   windTwo = summarize(wind2.two.ms).median;
+      auto viewRow = [&](const std::string& name, const Side& side) {
+        const Stats st = summarize(side.ms);
+        md << "| " << name << " | " << fmt(st.median, 0) << " | " << fmt(st.min, 0) << " | "
+           << fmt(st.max, 0) << " |";
+      };
+      viewRow("(a) one view of a stereo pair, still frame, maps kept", still2.one);
+      md << " |\n";
+      viewRow("(a) both views, one assembly, still frame, maps kept", still2.two);
+      md << " " << fmt(twoViews / oneView, 3) << "x of one view (target <= 1.6x) |\n";
+      viewRow("(b) one view, wind shot frame, maps rebuilt", wind2.one);
+      md << " |\n";
+      viewRow("(b) both views, one assembly, wind shot frame, maps rebuilt once", wind2.two);
+      md << " " << fmt(windTwo / windOne, 3) << "x of one view (target <= 1.6x) |\n";
+      auto spread = [&](const char* tag, const Setting& set) {
+        const Stats r = summarize(set.ratios);
+        std::string list;
+        for (double v : set.ratios) list += (list.empty() ? "" : ", ") + fmt(v, 2);
+        md << "- " << tag << ": ratio of medians "
+           << fmt(summarize(set.two.ms).median / summarize(set.one.ms).median, 3) << "x wall, "
+           << fmt(summarize(set.two.cpu).median / summarize(set.one.cpu).median, 3)
+           << "x process CPU; pair by pair (wall) median " << fmt(r.median, 3) << "x, min "
+           << fmt(r.min, 3) << "x, max " << fmt(r.max, 3) << "x (" << list << ")\n";
+        return r;
+      };
+      md << "\nTwo views against one, " << viewPairs
+         << " interleaved pairs (one view, then two views of the same frame) per setting, "
+            "the settings alternating:\n\n";
+      const Stats stillR = spread("(a) still frame, maps kept", still2);
+      const Stats windR = spread("(b) wind shot frame, maps rebuilt in every render", wind2);
       // where the second view's time goes: each stage's median device time on either side
       // (two views: both views' dispatches of the stage together), then the frame's device-time
       // sum, the wall clock less that sum (uploads, copies, read-backs, host work) and the
       // process CPU time (every core; steadier than the wall clock on a shared machine)
       {
         std::set<std::string> names;
-        for (const auto& [k, v] : oneStages) names.insert(k);
-        for (const auto& [k, v] : twoStages) names.insert(k);
-        const double oneCpuMed = summarize(oneCpu).median, twoCpuMed = summarize(twoCpu).median;
-        md << "\nThe stereo pair stage by stage (medians of " << viewRuns
-           << " interleaved runs; deep opacity maps rebuilt in " << shadowRuns
-           << " of them; the centre camera of the same frame, a still: "
-           << fmt(summarize(centreMs).median, 0) << " ms wall, "
-           << fmt(summarize(centreCpu).median, 0)
-           << " ms CPU):\n\n| | one view ms | two views ms | second view ms | two / one "
-              "|\n|---|---|---|---|---|\n";
-        auto row = [&](const std::string& name, double a, double c) {
-          md << "| " << name << " | " << fmt(a, 1) << " | " << fmt(c, 1) << " | " << fmt(c - a, 1)
-             << " | " << (a > 0.0 ? fmt(c / a, 3) + "x" : std::string("")) << " |\n";
-          report["sequences"]["views_split"][name] = {{"one", a}, {"two", c}};
+        for (const Setting* set : {&still2, &wind2})
+          for (const Side* side : {&set->one, &set->two})
+            for (const auto& [k, v] : side->stages) names.insert(k);
+        md << "\nThe stereo pair stage by stage (medians over the pairs; deep opacity maps "
+              "rebuilt in "
+           << still2.one.shadowRuns + still2.two.shadowRuns << " of the " << 2 * viewPairs
+           << " renders of (a) and " << wind2.one.shadowRuns << " + " << wind2.two.shadowRuns
+           << " of (b)):\n\n"
+           << "| | (a) one view ms | (a) two views ms | (a) two / one | (b) one view ms | (b) two "
+              "views ms | (b) two / one |\n|---|---|---|---|---|---|---|\n";
+        auto cell = [&](double a, double c) {
+          md << " " << fmt(a, 1) << " | " << fmt(c, 1) << " | "
+             << (a > 0.0 ? fmt(c / a, 3) + "x" : std::string("")) << " |";
         };
-        for (const std::string& k : names) {
-          const double a = oneStages.count(k) ? summarize(oneStages[k]).median : 0.0;
-          const double c = twoStages.count(k) ? summarize(twoStages[k]).median : 0.0;
-          row(k, a, c);
-        }
-        const double oneDevMed = summarize(oneDev).median, twoDevMed = summarize(twoDev).median;
-        row("device-time sum", oneDevMed, twoDevMed);
-        std::vector<double> oneHost, twoHost;
-        for (std::size_t i = 0; i < oneMs.size(); ++i) oneHost.push_back(oneMs[i] - oneDev[i]);
-        for (std::size_t i = 0; i < twoMs.size(); ++i) twoHost.push_back(twoMs[i] - twoDev[i]);
-        row("wall less device time", summarize(oneHost).median, summarize(twoHost).median);
-        row("wall", oneView, twoViews);
-        row("process CPU", oneCpuMed, twoCpuMed);
-        report["sequences"]["one_view_cpu_ms"] = oneCpuMed;
-        report["sequences"]["two_views_cpu_ms"] = twoCpuMed;
-        report["sequences"]["centre_still_ms"] = summarize(centreMs).median;
-        report["sequences"]["centre_still_cpu_ms"] = summarize(centreCpu).median;
-        report["sequences"]["views_shadow_rebuilds"] = shadowRuns;
+        auto row = [&](const std::string& name, double a1, double a2, double b1, double b2) {
+          md << "| " << name << " |";
+          cell(a1, a2);
+          cell(b1, b2);
+          md << "\n";
+          report["sequences"]["views_split"][name] = {{"one", a1}, {"two", a2}};
+          report["sequences"]["wind_views_split"][name] = {{"one", b1}, {"two", b2}};
+        };
+        auto stage = [](const Side& side, const std::string& k) {
+          auto it = side.stages.find(k);
+          return it == side.stages.end() ? 0.0 : summarize(it->second).median;
+        };
+        for (const std::string& k : names)
+          row(k, stage(still2.one, k), stage(still2.two, k), stage(wind2.one, k),
+              stage(wind2.two, k));
+        auto med = [](const std::vector<double>& v) { return summarize(v).median; };
+        auto hostOf = [](const Side& side) {
+          std::vector<double> h;
+          for (std::size_t i = 0; i < side.ms.size(); ++i) h.push_back(side.ms[i] - side.dev[i]);
+          return h;
+        };
+        row("device-time sum", med(still2.one.dev), med(still2.two.dev), med(wind2.one.dev),
+            med(wind2.two.dev));
+        row("wall less device time", med(hostOf(still2.one)), med(hostOf(still2.two)),
+            med(hostOf(wind2.one)), med(hostOf(wind2.two)));
+        row("wall", oneView, twoViews, windOne, windTwo);
+        row("process CPU", med(still2.one.cpu), med(still2.two.cpu), med(wind2.one.cpu),
+            med(wind2.two.cpu));
+        report["sequences"]["one_view_cpu_ms"] = med(still2.one.cpu);
+        report["sequences"]["two_views_cpu_ms"] = med(still2.two.cpu);
+        report["sequences"]["wind_one_view_cpu_ms"] = med(wind2.one.cpu);
+        report["sequences"]["wind_two_views_cpu_ms"] = med(wind2.two.cpu);
+        report["sequences"]["views_shadow_rebuilds"] =
+            still2.one.shadowRuns + still2.two.shadowRuns;
+        report["sequences"]["wind_views_shadow_rebuilds"] =
+            wind2.one.shadowRuns + wind2.two.shadowRuns;
       }
+      report["sequences"]["view_pairs"] = viewPairs;
       report["sequences"]["one_view_ms"] = oneView;
       report["sequences"]["two_views_ms"] = twoViews;
       report["sequences"]["two_views_vs_one"] = twoViews / oneView;
-      std::fprintf(stderr, "sequences views: one %.0f ms, two %.0f ms (%.3fx)\n", oneView, twoViews,
-                   twoViews / oneView);
+      report["sequences"]["two_views_vs_one_pairs"] = {
+          {"median", stillR.median}, {"min", stillR.min}, {"max", stillR.max}};
+      report["sequences"]["wind_one_view_ms"] = windOne;
+      report["sequences"]["wind_two_views_ms"] = windTwo;
+      report["sequences"]["wind_two_views_vs_one"] = windTwo / windOne;
+      report["sequences"]["wind_two_views_vs_one_pairs"] = {
+          {"median", windR.median}, {"min", windR.min}, {"max", windR.max}};
+      std::fprintf(stderr,
+                   "sequences views: (a) still, maps kept: one %.0f ms, two %.0f ms (%.3fx, "
+                   "pairs %.3f-%.3fx); (b) wind, maps rebuilt: one %.0f ms, two %.0f ms (%.3fx, "
+                   "pairs %.3f-%.3fx)\n",
+                   oneView, twoViews, twoViews / oneView, stillR.min, stillR.max, windOne, windTwo,
+                   windTwo / windOne, windR.min, windR.max);
       // motion vectors: frame t warped to t+1 by t+1's motion (docs/aovs.md), and what the
       // motion layer costs on a frame of the wind shot
       auto iouPairs = [&](const Scene& seq, const std::vector<int>& starts, double& warped,

@@ -212,11 +212,13 @@ TEST(Motion, SlowTurntableMotionMovesTheNextFrameOntoThePrevious) {
   EXPECT_GT(warped, still + 0.01);
 }
 
-TEST(Views, EachViewOfATwoViewRenderIsTheSingleViewRenderOfItsCamera) {
-  // One assembly drawn into two views (a camera and one moved 4 cm right and turned) against
-  // each camera rendered alone: bit-identical, since each view's raster, shading, filter and
-  // composite see the same strands, words and depths (LOD off, both views see the whole
-  // groom, so neither culls or thins what the other draws).
+namespace {
+
+// One assembly drawn into two views (a camera and one moved 4 cm right and turned) against
+// each camera rendered alone at `msaa` samples: bit-identical, since each view's raster,
+// shading, filter and composite see the same strands, words and depths (LOD off, both views
+// see the whole groom, so neither culls or thins what the other draws).
+void expectEachViewIsItsSingleRender(int msaa) {
   const std::string dir = scratchDir();
   const json groom = {{"file", assetPath("grooms/tiny.hairmesh.json")}, {"strands", 800}};
   const json extra = {{"cameras",
@@ -234,6 +236,7 @@ TEST(Views, EachViewOfATwoViewRenderIsTheSingleViewRenderOfItsCamera) {
   Renderer r(sharedDevice());
   RenderOptions o;
   o.lod = 0;
+  o.msaa = msaa;
   const std::vector<Frame> both = r.renderViews(scene, cams, o);
   ASSERT_EQ(both.size(), 2u);
   for (std::size_t v = 0; v < 2; ++v) {
@@ -250,6 +253,16 @@ TEST(Views, EachViewOfATwoViewRenderIsTheSingleViewRenderOfItsCamera) {
     EXPECT_GT(hair, 100u) << "view " << v << ": the two views must differ";
   }
 }
+
+}  // namespace
+
+TEST(Views, EachViewOfATwoViewRenderIsTheSingleViewRenderOfItsCamera) {
+  expectEachViewIsItsSingleRender(1);
+}
+
+// MSAA 4: five layers per view in the two-view kernel's G-buffers (the views' slices side by
+// side), copied to each view's target and resolved by shading.
+TEST(Views, EachViewIsTheSingleViewRenderAtMsaa4) { expectEachViewIsItsSingleRender(4); }
 
 TEST(Views, CliWritesOneFilePerViewAndRefusesUnknownNames) {
   const std::string dir = scratchDir();

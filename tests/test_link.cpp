@@ -411,13 +411,19 @@ TEST(Link, AnisotropicFilterSmoothsAlongAStrandAndDoesNotMixParallelStrands) {
   EXPECT_NEAR(mean, 0.4, 0.02);
 }
 
+// A horizontal strand at y = 20 from x = 4 to 36, red with one blue pixel (strand 2) at x = 24.
+Synthetic strandWithOddPixel() {
+  Synthetic s;
+  for (int x = 4; x <= 36; ++x)
+    s.drawn(x, 20, x == 24 ? 2 : 1, float(x - 4) / 32.0f, 1.5f, 1.0f, 0.0f, x == 24 ? kBlue : kRed);
+  return s;
+}
+
 TEST(Link, AnisotropicKernelReachesAtMostThreePixels) {
   // a horizontal strand of one colour with one differently coloured pixel at x = 24; the
   // screen box asks for a far longer kernel (k = 1), which is clamped to r = 3 px: the
   // pixel 2 px from the odd one takes some of it, the pixel 4 px away none
-  Synthetic s;
-  for (int x = 4; x <= 36; ++x)
-    s.drawn(x, 20, x == 24 ? 2 : 1, float(x - 4) / 32.0f, 1.5f, 1.0f, 0.0f, x == 24 ? kBlue : kRed);
+  const Synthetic s = strandWithOddPixel();
   FilterParams f = linkOnly();
   f.aniso = true;
   f.kernelK = 1.0f;
@@ -434,9 +440,7 @@ TEST(Link, AnisotropicKernelReachesTwoPixelsOnAHairOfAFewPixels) {
   // the same strand with its odd pixel, but a screen box that asks for r far below a pixel
   // (k = 0.001): the kernel keeps its floor of 2 px, so the odd pixel's neighbours along the
   // strand take some of it (below 2 px the ellipse would hold only P) and 3 px away nothing
-  Synthetic s;
-  for (int x = 4; x <= 36; ++x)
-    s.drawn(x, 20, x == 24 ? 2 : 1, float(x - 4) / 32.0f, 1.5f, 1.0f, 0.0f, x == 24 ? kBlue : kRed);
+  const Synthetic s = strandWithOddPixel();
   FilterParams f = linkOnly();
   f.aniso = true;
   f.kernelK = 0.001f;

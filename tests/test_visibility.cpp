@@ -218,6 +218,14 @@ void addWavyPoints(StrandSet& s, float x, float z, float ph, std::uint32_t n) {
   }
 }
 
+// A 2 m square of two triangles at height y: the head of the small test grooms.
+struct Floor {
+  explicit Floor(float y)
+      : tri{{-1.0f, y, -1.0f}, {1.0f, y, -1.0f}, {1.0f, y, 1.0f}, {-1.0f, y, 1.0f}} {}
+  std::vector<glm::vec3> tri;
+  std::vector<std::uint32_t> idx = {0, 1, 2, 0, 2, 3};
+};
+
 float eventsToward(const VisibilityBake& b, float u, float v, float w, float x, float y, float z) {
   const std::uint32_t cell = gpu::clh_vis_cell(
       gpu::clh_unorm_bits(u, 6u), gpu::clh_unorm_bits(v, 6u), gpu::clh_unorm_bits(w, 6u));
@@ -338,9 +346,9 @@ TEST(VisibilityBake, MatchesBruteForceCount) {
     addWavyPoints(s, x, z, ph, n);
   }
   const float radius = 4e-4f, floorY = -5e-4f;
-  const std::vector<glm::vec3> tri = {
-      {-1.0f, floorY, -1.0f}, {1.0f, floorY, -1.0f}, {1.0f, floorY, 1.0f}, {-1.0f, floorY, 1.0f}};
-  const std::vector<std::uint32_t> idx = {0, 1, 2, 0, 2, 3};
+  const Floor floor(floorY);
+  const std::vector<glm::vec3>& tri = floor.tri;
+  const std::vector<std::uint32_t>& idx = floor.idx;
   VisibilityBakeOptions o;
   o.raysPerPoint = 32;
   o.pointsPerCell = 1;
@@ -432,10 +440,9 @@ TEST(VisibilityBake, EstimatorErrorAgainstHighCountReference) {
   // quarter of the rays (4 per point). With one point per cell PerCell gives that point the
   // same directions as PerPoint, so the tables are identical.
   const StrandSet s = denseCellsGroom();
-  const float floorY = -5e-4f;
-  const std::vector<glm::vec3> tri = {
-      {-1.0f, floorY, -1.0f}, {1.0f, floorY, -1.0f}, {1.0f, floorY, 1.0f}, {-1.0f, floorY, 1.0f}};
-  const std::vector<std::uint32_t> idx = {0, 1, 2, 0, 2, 3};
+  const Floor floor(-5e-4f);
+  const std::vector<glm::vec3>& tri = floor.tri;
+  const std::vector<std::uint32_t>& idx = floor.idx;
   using D = VisibilityBakeOptions::Directions;
   auto bake = [&](std::uint32_t rays, std::uint32_t perCell, D d) {
     VisibilityBakeOptions o;
@@ -484,10 +491,9 @@ TEST(VisibilityBake, DefaultCapIsCloserToTheTransmittanceThanTwenty) {
   // absorption A = 0.5, the L1 table of the default cap (10 events) must be closer to it than
   // a cap of 20, and the default 16 rays per point no more than 5 % further from it than 32.
   const StrandSet s = denseCellsGroom();
-  const float floorY = -5e-4f;
-  const std::vector<glm::vec3> tri = {
-      {-1.0f, floorY, -1.0f}, {1.0f, floorY, -1.0f}, {1.0f, floorY, 1.0f}, {-1.0f, floorY, 1.0f}};
-  const std::vector<std::uint32_t> idx = {0, 1, 2, 0, 2, 3};
+  const Floor floor(-5e-4f);
+  const std::vector<glm::vec3>& tri = floor.tri;
+  const std::vector<std::uint32_t>& idx = floor.idx;
   VisibilityBakeOptions ro;
   ro.raysPerPoint = 64;
   ro.pointsPerCell = 8;

@@ -294,6 +294,18 @@ TEST_P(Oclgrind, RenderStrandFileHasNoReports) {
               "clhair render (strand file) --msaa 4 --dispatch persistent");
 }
 
+// oclgrind_tiny.json as a scene written to another folder: its groom by absolute path, and
+// `before` inserted ahead of its "grooms" key; empty if the file lost either line.
+std::string tinySceneWith(const std::string& before) {
+  std::ifstream in(sourceDir() + "/tests/data/oclgrind_tiny.json");
+  std::string scene((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string groom = "\"../../assets/grooms/tiny.hairmesh.json\"";
+  const std::size_t at = scene.find("\"grooms\": ["), g = scene.find(groom);
+  if (at == std::string::npos || g == std::string::npos || g < at) return {};
+  scene.replace(g, groom.size(), jsonString(assetPath("grooms/tiny.hairmesh.json")));
+  return scene.insert(at, before);
+}
+
 // Several views of one assembly (strands_raster_views: every strand drawn into both views'
 // G-buffers, side by side in one buffer): the scene of oclgrind_tiny.json as a stereo pair
 // 6 mm apart. Optimised only: the -cl-opt-disable --uninitialized run reports "control flow
@@ -303,26 +315,14 @@ TEST_P(Oclgrind, RenderStrandFileHasNoReports) {
 // loses the copied depths' initialised state or the copy is late.
 TEST(OclgrindViews, RenderTwoViewsHasNoReports) {
   if (!haveOclgrind()) GTEST_SKIP() << "oclgrind not installed";
-  const bool uninit = false;
   const std::string dir = scratchDir();
-  {
-    std::ifstream in(sourceDir() + "/tests/data/oclgrind_tiny.json");
-    std::string scene((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    const std::string from = "\"grooms\": [";
-    const std::size_t at = scene.find(from);
-    ASSERT_NE(at, std::string::npos) << "tests/data/oclgrind_tiny.json changed its grooms line";
-    scene.insert(at,
-                 "\"cameras\": [{\"name\": \"left\", \"offset\": [-0.003, 0, 0]}, "
-                 "{\"name\": \"right\", \"offset\": [0.003, 0, 0]}],\n  ");
-    // the scene is written elsewhere: the groom by its absolute path
-    const std::string groom = "../../assets/grooms/tiny.hairmesh.json";
-    const std::size_t g = scene.find(groom);
-    ASSERT_NE(g, std::string::npos) << "tests/data/oclgrind_tiny.json changed its groom line";
-    scene.replace(g, groom.size(), assetPath("grooms/tiny.hairmesh.json"));
-    std::ofstream(dir + "/scene.json") << scene;
-  }
+  const std::string scene = tinySceneWith(
+      "\"cameras\": [{\"name\": \"left\", \"offset\": [-0.003, 0, 0]}, "
+      "{\"name\": \"right\", \"offset\": [0.003, 0, 0]}],\n  ");
+  ASSERT_FALSE(scene.empty()) << "tests/data/oclgrind_tiny.json changed its grooms lines";
+  std::ofstream(dir + "/scene.json") << scene;
   OclgrindRun run =
-      runUnderOclgrind(dir, uninit ? "views-uninit" : "views", uninit,
+      runUnderOclgrind(dir, "views", false,
                        "render " + quote(dir + "/scene.json") + " -o " + quote(dir + "/two.png"));
   expectClean(run, {"strands_raster_views", "shade_deferred", "composite_over"},
               "clhair render (two views)");
@@ -338,21 +338,12 @@ TEST_P(Oclgrind, RenderMeshHasNoReports) {
   const bool uninit = GetParam();
   const std::string dir = scratchDir();
   {
-    std::ifstream in(sourceDir() + "/tests/data/oclgrind_tiny.json");
-    std::string scene((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    const std::string from = "\"grooms\": [";
-    const std::size_t at = scene.find(from);
-    ASSERT_NE(at, std::string::npos) << "tests/data/oclgrind_tiny.json changed its grooms line";
-    scene.replace(at, from.size(),
-                  "\"meshes\": [{\"file\": " + jsonString(assetPath("meshes/head.obj")) +
+    const std::string scene =
+        tinySceneWith("\"meshes\": [{\"file\": " + jsonString(assetPath("meshes/head.obj")) +
                       ", \"scale\": 0.0018, \"up\": \"z\", \"transform\": {\"translate\": [0.0, "
                       "-0.01, 0.0]}}, "
-                      "{\"file\": \"floor.obj\", \"color\": [0.3, 0.3, 0.3]}],\n  " +
-                      from);
-    const std::string groom = "\"../../assets/grooms/tiny.hairmesh.json\"";
-    const std::size_t g = scene.find(groom);
-    ASSERT_NE(g, std::string::npos) << "tests/data/oclgrind_tiny.json changed its groom line";
-    scene.replace(g, groom.size(), jsonString(assetPath("grooms/tiny.hairmesh.json")));
+                      "{\"file\": \"floor.obj\", \"color\": [0.3, 0.3, 0.3]}],\n  ");
+    ASSERT_FALSE(scene.empty()) << "tests/data/oclgrind_tiny.json changed its grooms lines";
     std::ofstream(dir + "/scene.json") << scene;
     std::ofstream(dir + "/floor.obj")
         << "v -5 -0.03 -5\nv 5 -0.03 -5\nv 5 -0.03 5\nv -5 -0.03 5\nf 1 2 3 4\n";

@@ -315,6 +315,7 @@ __kernel SG_KERNEL_ATTRS void strands_motion(CLH_RASTER_PARAMS,
                          span.count, span.C, span.next_p, span.next_t, prev_span.next_p);
 }
 #elif !CLH_RASTER_OPACITY
+#if CLH_HAS_ENTRY(CLH_ENTRY_RASTER)
 /* One strand per work-group: strand_base + group (read-back and over-launch sizing). */
 __kernel SG_KERNEL_ATTRS void strands_raster(CLH_RASTER_PARAMS) {
   CLH_RASTER_PROLOGUE;
@@ -322,7 +323,9 @@ __kernel SG_KERNEL_ATTRS void strands_raster(CLH_RASTER_PARAMS) {
   clh_draw_strand(&sg, scratch, &rc, groom_g, bundles_g, verts_g, lod_g, offsets_g, roots_quad_g,
                   roots_tri_g, scene_depth_g, gbuf_g, stats_g, sg_strand_index(strand_base));
 }
+#endif
 
+#if CLH_HAS_ENTRY(CLH_ENTRY_RASTER_VIEWS)
 /* Several views of one assembly: each strand is assembled once (with groom_g, the record
  * of the view its LOD was chosen in) and drawn into every view's G-buffer. View v has its
  * own record view_grooms_g[v] (object -> view transform, depth mapping) and view record
@@ -354,7 +357,9 @@ __kernel SG_KERNEL_ATTRS void strands_raster_views(CLH_RASTER_PARAMS,
                     span.next_t);
   }
 }
+#endif
 
+#if CLH_HAS_ENTRY(CLH_ENTRY_RASTER_PERSISTENT)
 /* Persistent grid: group g draws strands g, g + stride, g + 2 stride, ... below the total. */
 __kernel SG_KERNEL_ATTRS void strands_raster_persistent(CLH_RASTER_PARAMS) {
   CLH_RASTER_PROLOGUE;
@@ -365,6 +370,7 @@ __kernel SG_KERNEL_ATTRS void strands_raster_persistent(CLH_RASTER_PARAMS) {
                     roots_tri_g, scene_depth_g, gbuf_g, stats_g, strand);
   }
 }
+#endif
 #else
 /* Deep-opacity layers of one light (built with -DCLH_RASTER_OPACITY=1): the strands seen
  * from the light, every texel they touch in front of the opaque scene adding coverage to
@@ -393,7 +399,7 @@ __kernel SG_KERNEL_ATTRS void strands_opacity(
 }
 #endif
 
-#if !CLH_RASTER_OPACITY && !CLH_RASTER_MOTION
+#if !CLH_RASTER_OPACITY && !CLH_RASTER_MOTION && CLH_HAS_ENTRY(CLH_ENTRY_EXPORT)
 /* Writes the assembled strands: points_g/tangents_g hold CLH_MAX_CONTROL_POINTS float4 per
  * strand (object space; w = styling w / ambient occlusion), counts_g the point count. */
 __kernel SG_KERNEL_ATTRS void strands_export(

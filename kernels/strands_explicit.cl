@@ -315,6 +315,7 @@ __kernel SG_KERNEL_ATTRS void strands_explicit_motion(CLH_X_PARAMS,
 #else
 #define CLH_X_CURVE_PARAMS
 #endif
+#if CLH_HAS_ENTRY(CLH_ENTRY_RASTER)
 __kernel SG_KERNEL_ATTRS void strands_explicit_raster(CLH_X_PARAMS,
                                                       __global const float* scene_depth_g,
                                                       __global ulong* gbuf_g,
@@ -331,7 +332,9 @@ __kernel SG_KERNEL_ATTRS void strands_explicit_raster(CLH_X_PARAMS,
   clh_x_draw(&sg, &rc, groom_g, &tb, lod_g, offsets_g, scene_depth_g, gbuf_g, stats_g,
              sg_strand_index(strand_base));
 }
+#endif
 
+#if CLH_HAS_ENTRY(CLH_ENTRY_RASTER_PERSISTENT)
 /* Persistent grid: group g draws strands g, g + stride, g + 2 stride, ... below the total. */
 __kernel SG_KERNEL_ATTRS void strands_explicit_raster_persistent(
     CLH_X_PARAMS, __global const float* scene_depth_g, __global ulong* gbuf_g,
@@ -349,7 +352,9 @@ __kernel SG_KERNEL_ATTRS void strands_explicit_raster_persistent(
        index += SG_STRAND_STRIDE(max(strand_stride, 1u)))
     clh_x_draw(&sg, &rc, groom_g, &tb, lod_g, offsets_g, scene_depth_g, gbuf_g, stats_g, index);
 }
+#endif
 
+#if CLH_HAS_ENTRY(CLH_ENTRY_EXPORT)
 /* Writes the drawn strands: strand s's drawn points and tangents (w: styling w / AO) at
  * out_points_g/out_tangents_g[offsets[s] + j], its drawn point count at out_counts_g[s]. */
 __kernel SG_KERNEL_ATTRS void strands_explicit_export(CLH_X_PARAMS, __global float4* out_points_g,
@@ -375,6 +380,7 @@ __kernel SG_KERNEL_ATTRS void strands_explicit_export(CLH_X_PARAMS, __global flo
   }
   if (sg_lane() == 0u) out_counts_g[job.strand] = job.M;
 }
+#endif
 #else
 /* Deep-opacity layers of one light (built with -DCLH_RASTER_OPACITY=1), like strands_opacity. */
 __kernel SG_KERNEL_ATTRS void strands_explicit_opacity(CLH_X_PARAMS,

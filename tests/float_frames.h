@@ -57,7 +57,7 @@ inline std::vector<float> readFloatFrame(const std::string& path, int* width, in
 // frames of one device to be identical bit for bit.
 inline void expectBitIdenticalAcrossThreadCounts(const std::string& scene, const std::string& dir,
                                                  const std::vector<int>& threads = {1, 2, 3}) {
-  usePoclCacheInBuild();
+  useTestEnvironment();
   std::string compared, notCompared;
   for (const DeviceInfo& d : Device::list()) {
     if (!d.int64Atomics) continue;

@@ -3,10 +3,11 @@
 // strand export, on a tiny groom: zero reports.
 //
 // Inputs: tests/data/oclgrind_tiny.json (48x32, one sphere, one shadowed light, the tiny
-// groom, whose AO is baked on load) and
-// assets/grooms/tiny.hairmesh.json. Oclgrind intercepts the OpenCL API, so the CLI sees a
-// single device, "Oclgrind Simulator" (OpenCL 1.2 with 64-bit atomics, local sub-group
-// backend); --inst-counts proves that each expected kernel ran. Diagnostics go to a log file
+// groom, whose AO is baked on load) and assets/grooms/tiny.hairmesh.json. The runs that do not
+// check the AO bake load the tiny groom with its AO baked beforehand (bakedTinyGroom). Oclgrind
+// intercepts the OpenCL API, so the CLI sees a single device, "Oclgrind Simulator" (OpenCL 1.2 with
+// 64-bit atomics, local sub-group backend); --inst-counts proves that each expected kernel ran.
+// Diagnostics go to a log file
 // (--log) that must hold no report. Oclgrind exits 0 even when it reports, hence the log.
 //
 // Each command runs twice:
@@ -158,6 +159,42 @@ const std::vector<std::string> kFrameKernels = {
     "ao_voxelize",          "ao_bake"};
 const std::vector<std::string> kExportKernels = {"lod_bundles", "scan_bundles", "strands_export"};
 
+// oclgrind_tiny.json as a scene written to another folder: its groom by absolute path (`groom`,
+// else the tiny groom of assets/), and `before` inserted ahead of its "grooms" key; empty if
+// the file lost either line.
+std::string tinySceneWith(const std::string& before, const std::string& groom = "") {
+  std::ifstream in(sourceDir() + "/tests/data/oclgrind_tiny.json");
+  std::string scene((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string from = "\"../../assets/grooms/tiny.hairmesh.json\"";
+  const std::size_t at = scene.find("\"grooms\": ["), g = scene.find(from);
+  if (at == std::string::npos || g == std::string::npos || g < at) return {};
+  scene.replace(g, from.size(),
+                jsonString(groom.empty() ? assetPath("grooms/tiny.hairmesh.json") : groom));
+  return scene.insert(at, before);
+}
+
+// The tiny groom with its AO baked beforehand (clhair bake-ao on the default device, not
+// under Oclgrind), in `dir`: loading it runs no bake. The bake (its export, grid clear and
+// ao_bake) is about half of a frame's simulated instructions, so only the runs that check it
+// (Oclgrind.RenderTinyGroomHasNoReports, OclgrindLoadSkip) load the groom without AO.
+std::string bakedTinyGroom(const std::string& dir) {
+  const std::string out = dir + "/tiny.baked.hairmesh.json";
+  const CommandResult r =
+      runCli("bake-ao " + quote(assetPath("grooms/tiny.hairmesh.json")) + " -o " + quote(out));
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  return out;
+}
+
+// tinySceneWith(before) on the baked tiny groom, written to dir/scene.json; its path, or ""
+// (with a failure) when oclgrind_tiny.json lost its grooms lines.
+std::string bakedTinyScene(const std::string& dir, const std::string& before = "") {
+  const std::string scene = tinySceneWith(before, bakedTinyGroom(dir));
+  EXPECT_FALSE(scene.empty()) << "tests/data/oclgrind_tiny.json changed its grooms lines";
+  if (scene.empty()) return {};
+  std::ofstream(dir + "/scene.json") << scene;
+  return dir + "/scene.json";
+}
+
 class Oclgrind : public ::testing::TestWithParam<bool> {};  // param: --uninitialized
 
 TEST_P(Oclgrind, RenderTinyGroomHasNoReports) {
@@ -189,7 +226,8 @@ TEST(OclgrindHuang, RenderWithHuangsFilterHasNoReports) {
   // the identity layer, hair linking (with the curve pass), alpha fix and anisotropic filter
   if (!haveOclgrind()) GTEST_SKIP() << "oclgrind not installed";
   const std::string dir = scratchDir();
-  const std::string scene = sourceDir() + "/tests/data/oclgrind_tiny.json";
+  const std::string scene = bakedTinyScene(dir);
+  ASSERT_FALSE(scene.empty());
   const std::string out = dir + "/tiny.png";
   OclgrindRun run = runUnderOclgrind(dir, "huang", false,
                                      "render " + quote(scene) + " --filter huang -o " + quote(out));
@@ -204,7 +242,8 @@ TEST_P(Oclgrind, RenderWithLodMsaaAndPersistentGridHasNoReports) {
   if (!haveOclgrind()) GTEST_SKIP() << "oclgrind not installed";
   const bool uninit = GetParam();
   const std::string dir = scratchDir();
-  const std::string scene = sourceDir() + "/tests/data/oclgrind_tiny.json";
+  const std::string scene = bakedTinyScene(dir);
+  ASSERT_FALSE(scene.empty());
   const std::string out = dir + "/tiny-msaa.png";
   OclgrindRun run = runUnderOclgrind(
       dir, uninit ? "render-lod-uninit" : "render-lod", uninit,
@@ -220,7 +259,8 @@ TEST(OclgrindAggregate, RenderWithTheAggregatedLodBsdfHasNoReports) {
   // differs from the single-fibre one)
   if (!haveOclgrind()) GTEST_SKIP() << "oclgrind not installed";
   const std::string dir = scratchDir();
-  const std::string scene = sourceDir() + "/tests/data/oclgrind_tiny.json";
+  const std::string scene = bakedTinyScene(dir);
+  ASSERT_FALSE(scene.empty());
   const std::string out = dir + "/tiny-aggregate.png";
   OclgrindRun run =
       runUnderOclgrind(dir, "render-aggregate", false,
@@ -236,7 +276,8 @@ TEST_P(Oclgrind, RenderInCoverageModeHasNoReports) {
   if (!haveOclgrind()) GTEST_SKIP() << "oclgrind not installed";
   const bool uninit = GetParam();
   const std::string dir = scratchDir();
-  const std::string scene = sourceDir() + "/tests/data/oclgrind_tiny.json";
+  const std::string scene = bakedTinyScene(dir);
+  ASSERT_FALSE(scene.empty());
   const std::string out = dir + "/tiny-coverage.png";
   OclgrindRun run =
       runUnderOclgrind(dir, uninit ? "render-coverage-uninit" : "render-coverage", uninit,
@@ -251,9 +292,9 @@ TEST_P(Oclgrind, ExportStrandsHasNoReports) {
   const bool uninit = GetParam();
   const std::string dir = scratchDir();
   const std::string out = dir + "/tiny.hair";
-  OclgrindRun run = runUnderOclgrind(
-      dir, uninit ? "export-uninit" : "export", uninit,
-      "export-strands " + quote(assetPath("grooms/tiny.hairmesh.json")) + " -o " + quote(out));
+  OclgrindRun run =
+      runUnderOclgrind(dir, uninit ? "export-uninit" : "export", uninit,
+                       "export-strands " + quote(bakedTinyGroom(dir)) + " -o " + quote(out));
   expectClean(run, kExportKernels, "clhair export-strands");
   EXPECT_TRUE(fs::exists(out)) << out << " was not written";
 }
@@ -294,18 +335,6 @@ TEST_P(Oclgrind, RenderStrandFileHasNoReports) {
               "clhair render (strand file) --msaa 4 --dispatch persistent");
 }
 
-// oclgrind_tiny.json as a scene written to another folder: its groom by absolute path, and
-// `before` inserted ahead of its "grooms" key; empty if the file lost either line.
-std::string tinySceneWith(const std::string& before) {
-  std::ifstream in(sourceDir() + "/tests/data/oclgrind_tiny.json");
-  std::string scene((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::string groom = "\"../../assets/grooms/tiny.hairmesh.json\"";
-  const std::size_t at = scene.find("\"grooms\": ["), g = scene.find(groom);
-  if (at == std::string::npos || g == std::string::npos || g < at) return {};
-  scene.replace(g, groom.size(), jsonString(assetPath("grooms/tiny.hairmesh.json")));
-  return scene.insert(at, before);
-}
-
 // Several views of one assembly (strands_raster_views: every strand drawn into both views'
 // G-buffers, side by side in one buffer): the scene of oclgrind_tiny.json as a stereo pair
 // 6 mm apart. Optimised only: the -cl-opt-disable --uninitialized run reports "control flow
@@ -318,7 +347,8 @@ TEST(OclgrindViews, RenderTwoViewsHasNoReports) {
   const std::string dir = scratchDir();
   const std::string scene = tinySceneWith(
       "\"cameras\": [{\"name\": \"left\", \"offset\": [-0.003, 0, 0]}, "
-      "{\"name\": \"right\", \"offset\": [0.003, 0, 0]}],\n  ");
+      "{\"name\": \"right\", \"offset\": [0.003, 0, 0]}],\n  ",
+      bakedTinyGroom(dir));
   ASSERT_FALSE(scene.empty()) << "tests/data/oclgrind_tiny.json changed its grooms lines";
   std::ofstream(dir + "/scene.json") << scene;
   OclgrindRun run =
@@ -338,11 +368,12 @@ TEST_P(Oclgrind, RenderMeshHasNoReports) {
   const bool uninit = GetParam();
   const std::string dir = scratchDir();
   {
-    const std::string scene =
-        tinySceneWith("\"meshes\": [{\"file\": " + jsonString(assetPath("meshes/head.obj")) +
-                      ", \"scale\": 0.0018, \"up\": \"z\", \"transform\": {\"translate\": [0.0, "
-                      "-0.01, 0.0]}}, "
-                      "{\"file\": \"floor.obj\", \"color\": [0.3, 0.3, 0.3]}],\n  ");
+    const std::string scene = tinySceneWith(
+        "\"meshes\": [{\"file\": " + jsonString(assetPath("meshes/head.obj")) +
+            ", \"scale\": 0.0018, \"up\": \"z\", \"transform\": {\"translate\": [0.0, "
+            "-0.01, 0.0]}}, "
+            "{\"file\": \"floor.obj\", \"color\": [0.3, 0.3, 0.3]}],\n  ",
+        bakedTinyGroom(dir));
     ASSERT_FALSE(scene.empty()) << "tests/data/oclgrind_tiny.json changed its grooms lines";
     std::ofstream(dir + "/scene.json") << scene;
     std::ofstream(dir + "/floor.obj")

@@ -42,9 +42,12 @@ inline std::string scratchDir() {
   return p.string();
 }
 
-// Compiled kernels are cached inside the build folder (for this process and the CLI runs
-// it starts) unless POCL_CACHE_DIR / CLHAIR_CACHE_DIR are already set.
-inline void usePoclCacheInBuild() {
+// The environment of this process and of the CLI runs it starts: compiled kernels are
+// cached inside the build folder unless POCL_CACHE_DIR / CLHAIR_CACHE_DIR are already set,
+// and kernel warnings are errors (CLHAIR_KERNEL_WERROR=1), so the CLI builds the same
+// programs as the tests' own devices and the two share every cache entry.
+inline void useTestEnvironment() {
+  ::setenv("CLHAIR_KERNEL_WERROR", "1", 0);
   if (!std::getenv("POCL_CACHE_DIR")) ::setenv("POCL_CACHE_DIR", CLHAIR_TEST_POCL_CACHE, 0);
   if (!std::getenv("CLHAIR_CACHE_DIR"))
     ::setenv("CLHAIR_CACHE_DIR", (std::string(CLHAIR_TEST_POCL_CACHE) + "/../clhair-cache").c_str(),
@@ -55,7 +58,7 @@ inline void usePoclCacheInBuild() {
 inline Device& sharedDevice() {
   static std::unique_ptr<Device> dev;
   if (!dev) {
-    usePoclCacheInBuild();
+    useTestEnvironment();
     DeviceOptions opts;
     opts.kernelWarningsAsErrors = true;
     dev = std::make_unique<Device>(Device::open(DeviceOptions::fromEnvironment(opts)));
@@ -95,7 +98,7 @@ inline std::string onlyErrorLine(const std::string& output) {
 
 // Runs a shell command, capturing both streams.
 inline CommandResult runCommand(const std::string& cmd) {
-  usePoclCacheInBuild();
+  useTestEnvironment();
   CommandResult r;
   std::string full = cmd + " 2>&1";
   FILE* pipe = ::popen(full.c_str(), "r");

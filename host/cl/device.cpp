@@ -143,6 +143,7 @@ DeviceOptions DeviceOptions::fromEnvironment(DeviceOptions given) {
   given.selector = envOr("CLHAIR_DEVICE", given.selector);
   given.subgroup = envOr("CLHAIR_SUBGROUP", given.subgroup);
   given.kernelDir = envOr("CLHAIR_KERNEL_DIR", given.kernelDir);
+  if (envOr("CLHAIR_KERNEL_WERROR", "") == "1") given.kernelWarningsAsErrors = true;
   if (given.strandsPerGroup == 0) {
     std::string spg = envOr("CLHAIR_STRANDS_PER_GROUP", "");
     if (!spg.empty()) {
@@ -382,11 +383,13 @@ cl::Program Device::Impl::programFor(SubgroupBackend backend, const std::string&
     throw Error("building " + file + " for " + info.name + " failed with " + clErrorName(e.err()) +
                 " (options: " + options + ")\n--- build log ---\n" + log);
   }
-  try {
-    const std::vector<std::vector<unsigned char>> bins = program.getInfo<CL_PROGRAM_BINARIES>();
-    if (bins.size() == 1) binaries.store(cacheKey, bins[0]);
-  } catch (const cl::Error&) {  // a driver without binaries just compiles every time
-  }
+  // Only for the cache: reading a binary back can cost a compile of its own (PoCL compiles
+  // every kernel of the program for any local size to write one).
+  if (binaries.enabled()) try {
+      const std::vector<std::vector<unsigned char>> bins = program.getInfo<CL_PROGRAM_BINARIES>();
+      if (bins.size() == 1) binaries.store(cacheKey, bins[0]);
+    } catch (const cl::Error&) {  // a driver without binaries just compiles every time
+    }
   std::lock_guard<std::mutex> lock(mutex_);
   programs_[key] = program;
   return program;

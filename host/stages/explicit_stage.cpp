@@ -81,10 +81,9 @@ void ExplicitStage::motion(const Inputs& in, const cl::Buffer& previous, const M
 void ExplicitStage::raster(const Inputs& in, const StrandRaster& r, Profiler* profiler) {
   r.check();
   const bool persistent = r.mode == DispatchMode::Persistent && !r.curve;
-  const std::string opts = r.options();
   cl::Kernel& k =
       kernel(persistent ? "strands_explicit_raster_persistent" : "strands_explicit_raster",
-             "strands_explicit.cl", opts);
+             "strands_explicit.cl", r.entryOptions(persistent));
   KernelArgs a = bindTables(k, in, *r.view, r.stage(), sizeof(gpu::ClhViewGpu));
   a.buffer("scene depth", *r.sceneDepth, r.pixels * sizeof(float))
       .buffer("G-buffer", *r.gbuffer, r.gbufferBytes())
@@ -117,8 +116,8 @@ void ExplicitStage::opacity(const Inputs& in, const OpacityPass& o, std::uint32_
 void ExplicitStage::exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& outPoints,
                                   cl::Buffer& outTangents, cl::Buffer& outCounts,
                                   Profiler* profiler) {
-  cl::Kernel& k = kernel("strands_explicit_export", "strands_explicit.cl",
-                         "-DCLH_MSAA=1");  // the raster program
+  cl::Kernel& k =
+      kernel("strands_explicit_export", "strands_explicit.cl", entryOption(CLH_ENTRY_EXPORT));
   // the kernel reads no view: the groom record fills the slot
   KernelArgs a = bindTables(k, in, *in.groom, "strands", sizeof(gpu::ClhGroomGpu));
   a.buffer("points out", outPoints, std::uint64_t(in.pointCount) * 4 * sizeof(float))

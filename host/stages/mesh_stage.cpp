@@ -3,15 +3,16 @@
 
 namespace clhair {
 
-MeshStage::MeshStage(Device::Impl& dev)
-    : dev_(dev),
-      clear_(dev.kernel("clear.cl", "clear_words")),
-      raster_(dev.kernel("mesh.cl", "mesh_raster")),
-      resolve_(dev.kernel("mesh.cl", "mesh_resolve")) {}
+MeshStage::MeshStage(Device::Impl& dev) : dev_(dev) {}
 
 void MeshStage::enqueue(const Params& p, Profiler* profiler) {
   const Geometry& g = p.geometry;
   if (g.triangleCount == 0) return;
+  if (!raster_()) {  // built with the first scene that has triangles
+    clear_ = dev_.kernel("clear.cl", "clear_words");
+    raster_ = dev_.kernel("mesh.cl", "mesh_raster");
+    resolve_ = dev_.kernel("mesh.cl", "mesh_resolve");
+  }
   const std::uint64_t pixels = p.target.pixels();
   const std::uint64_t vertexBytes = std::uint64_t(g.vertexCount) * 4 * sizeof(float);
   const std::uint64_t triangleBytes = std::uint64_t(g.triangleCount) * 4 * sizeof(cl_uint);

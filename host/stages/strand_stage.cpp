@@ -8,11 +8,7 @@
 namespace clhair {
 
 StrandStage::StrandStage(Device::Impl& dev)
-    : dev_(dev),
-      export_(dev.kernel("strands.cl", "strands_export")),
-      opacity_(dev.kernel("strands.cl", "strands_opacity", "-DCLH_RASTER_OPACITY=1")) {
-  raster_["-DCLH_MSAA=1|0"] = dev.kernel("strands.cl", "strands_raster", "-DCLH_MSAA=1");
-}
+    : dev_(dev) {}  // every kernel is built on its first use: a frame builds what it runs
 
 // groom, [view], bundles, vertices, lod, offsets, roots: the leading arguments of every
 // strands.cl kernel (the raster and opacity kernels take the view second).
@@ -36,7 +32,7 @@ void StrandStage::raster(const Inputs& in, const StrandRaster& r, Profiler* prof
     it = raster_
              .emplace(key, dev_.kernel("strands.cl",
                                        persistent ? "strands_raster_persistent" : "strands_raster",
-                                       r.options()))
+                                       r.entryOptions(persistent)))
              .first;
   cl::Kernel& k = it->second;
   KernelArgs a(k, r.stage());
@@ -60,6 +56,8 @@ void StrandStage::raster(const Inputs& in, const StrandRaster& r, Profiler* prof
 
 void StrandStage::opacity(const Inputs& in, const OpacityPass& o, std::uint32_t strands,
                           Profiler* profiler) {
+  if (!opacity_())
+    opacity_ = dev_.kernel("strands.cl", "strands_opacity", "-DCLH_RASTER_OPACITY=1");
   KernelArgs a(opacity_, "shadow");
   a.buffer("groom", *in.groom, sizeof(gpu::ClhGroomGpu))
       .buffer("light view", *o.lightView, sizeof(gpu::ClhViewGpu));
@@ -77,7 +75,8 @@ void StrandStage::rasterViews(const Inputs& in, const StrandRaster& r, const cl:
   if (it == views_.end())
     it = views_
              .emplace(r.msaa, dev_.kernel("strands.cl", "strands_raster_views",
-                                          "-DCLH_MSAA=" + std::to_string(r.msaa)))
+                                          "-DCLH_MSAA=" + std::to_string(r.msaa) +
+                                              entryOption(CLH_ENTRY_RASTER_VIEWS)))
              .first;
   cl::Kernel& k = it->second;
   const std::uint64_t V = count;
@@ -128,6 +127,8 @@ void StrandStage::motion(const Inputs& in, const cl::Buffer& previous, const Mot
 void StrandStage::exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& points,
                                 cl::Buffer& tangents, cl::Buffer& counts, Profiler* profiler) {
   const std::uint64_t slots = std::uint64_t(strands) * CLH_MAX_CONTROL_POINTS;
+  if (!export_())
+    export_ = dev_.kernel("strands.cl", "strands_export", entryOption(CLH_ENTRY_EXPORT));
   KernelArgs a(export_, "strands");
   a.buffer("groom", *in.groom, sizeof(gpu::ClhGroomGpu));
   bindGroom(a, in);

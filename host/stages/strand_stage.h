@@ -10,8 +10,12 @@
 
 #include "cl/dispatch.h"
 #include "clhair/error.h"
+#include "clhair/raster_core.h"
 
 namespace clhair {
+
+// The build option that keeps one entry point of a strand program (CLH_ENTRY, raster_core.h).
+inline std::string entryOption(int entry) { return " -DCLH_ENTRY=" + std::to_string(entry); }
 
 // Where a strand pass draws: shared by the hair-mesh and explicit strand kernels.
 struct StrandRaster {
@@ -49,6 +53,10 @@ struct StrandRaster {
       throw Error("the coverage raster draws one sample per pixel without strand identities");
   }
   std::string stage() const { return curve ? "link" : "strands"; }  // for timings
+  // options() plus the entry point (CLH_ENTRY, raster_core.h): the plain or persistent raster
+  std::string entryOptions(bool persistent) const {
+    return options() + entryOption(persistent ? CLH_ENTRY_RASTER_PERSISTENT : CLH_ENTRY_RASTER);
+  }
   std::string options() const {
     return "-DCLH_MSAA=" + std::to_string(msaa) + (stats ? " -DCLH_RASTER_STATS=1" : "") +
            (curve ? " -DCLH_RASTER_CURVE=1" : (ids ? " -DCLH_STRAND_ID=1" : "")) +

@@ -28,7 +28,7 @@ struct DeviceOptions {
   std::uint32_t strandsPerGroup = 0;  // 0: the tuning table; else strands per work-group
   std::string cacheDir;  // compiled programs ("" default, "off": none; host/cl/binary_cache.h)
   // Values not given here are taken from CLHAIR_DEVICE, CLHAIR_SUBGROUP, CLHAIR_KERNEL_DIR,
-  // CLHAIR_STRANDS_PER_GROUP.
+  // CLHAIR_STRANDS_PER_GROUP; CLHAIR_KERNEL_WERROR=1 sets kernelWarningsAsErrors.
   static DeviceOptions fromEnvironment(DeviceOptions given);
 };
 

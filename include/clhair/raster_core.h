@@ -81,6 +81,20 @@ namespace gpu {
 #ifndef CLH_RASTER_COVER
 #define CLH_RASTER_COVER 0 /* 1: coverage mode, trapezoids into three layers + coverage */
 #endif
+/* The entry points of the strand programs (strands.cl, strands_explicit.cl). A build with
+ * -DCLH_ENTRY=<one of these> holds that kernel alone: drivers that compile every kernel of a
+ * program when it is built or its binary is read back (PoCL compiles each kernel for any
+ * local size then) compile only the one the host runs. Without CLH_ENTRY a build holds
+ * every kernel of its pass. */
+#define CLH_ENTRY_ALL 0
+#define CLH_ENTRY_RASTER 1
+#define CLH_ENTRY_RASTER_VIEWS 2
+#define CLH_ENTRY_RASTER_PERSISTENT 3
+#define CLH_ENTRY_EXPORT 4
+#ifndef CLH_ENTRY
+#define CLH_ENTRY CLH_ENTRY_ALL
+#endif
+#define CLH_HAS_ENTRY(e) (CLH_ENTRY == CLH_ENTRY_ALL || CLH_ENTRY == (e))
 #if CLH_RASTER_COVER && (!defined(CLH_DEVICE_CODE) || CLH_MSAA != 1 || CLH_RASTER_OPACITY || \
                          CLH_RASTER_MOTION || CLH_RASTER_CURVE || CLH_STRAND_ID)
 #error "the coverage mode exists on the device only, at MSAA 1, without the other passes"

@@ -285,33 +285,46 @@ __kernel __attribute__((reqd_work_group_size(SCAN_WG, 1, 1))) void budget_plan(
   __global uint* flags_g = state_g + CLH_BUDGET_HEADER + 3u;
   for (uint d = lid; d < draws; d += SCAN_WG) flags_g[4u * d] = 0u;
   barrier(CLK_GLOBAL_MEM_FENCE);
-  const ulong total = clh_budget_total(draws_g, draws, rec_g, words_g, flags_g, 1.0f, sums_l);
-  const bool over = budget > 0ul && total > budget;
-  float f = 1.0f;
-  if (over) {
-    /* far grooms (the host marks them by their size on screen) */
-    for (uint d = lid; d < draws; d += SCAN_WG)
-      flags_g[4u * d] = draws_g[d].far != 0u && draws_g[d].active == CLH_BUDGET_DRAW_BUDGETED
-                            ? CLH_BUDGET_HALVED
-                            : 0u;
-    barrier(CLK_GLOBAL_MEM_FENCE);
-    const ulong halved = clh_budget_total(draws_g, draws, rec_g, words_g, flags_g, 1.0f, sums_l);
-    if (halved > budget) {
-      /* proportional: f = budget / total; when the one-strand floors push the sum over,
-       * the largest f that fits, by bisection (0: one strand per drawn bundle) */
-      f = fmin((float)budget / (float)halved, 1.0f);
-      if (clh_budget_total(draws_g, draws, rec_g, words_g, flags_g, f, sums_l) > budget) {
-        float lo = 0.0f, hi = f;
-        for (int it = 0; it < 24; ++it) {
-          const float mid = 0.5f * (lo + hi);
-          if (clh_budget_total(draws_g, draws, rec_g, words_g, flags_g, mid, sums_l) > budget)
-            hi = mid;
-          else
-            lo = mid;
-        }
+  /* One call site of clh_budget_total (each inlined copy of its group sums is compiled
+   * anew), stepped through the plan: step 0 the frame's segments; over the budget, step 1
+   * with far grooms halved (CLH_BUDGET_HALVED); still over, step 2 at the proportional
+   * f = budget / total; when the one-strand floors push that sum over, steps 3.. bisect
+   * for the largest f that fits (0: one strand per drawn bundle). The sums are uniform over
+   * the work-group, so every work-item takes the same steps. */
+  ulong total = 0ul;
+  bool over = false;
+  float f = 1.0f, lo = 0.0f, hi = 0.0f, at = 1.0f;
+  for (uint step = 0u;; ++step) {
+    const ulong sum = clh_budget_total(draws_g, draws, rec_g, words_g, flags_g, at, sums_l);
+    if (step == 0u) {
+      total = sum;
+      over = budget > 0ul && total > budget;
+      if (!over) break;
+      /* far grooms (the host marks them by their size on screen) */
+      for (uint d = lid; d < draws; d += SCAN_WG)
+        flags_g[4u * d] = draws_g[d].far != 0u && draws_g[d].active == CLH_BUDGET_DRAW_BUDGETED
+                              ? CLH_BUDGET_HALVED
+                              : 0u;
+      barrier(CLK_GLOBAL_MEM_FENCE);
+    } else if (step == 1u) {
+      if (sum <= budget) break;
+      f = fmin((float)budget / (float)sum, 1.0f);
+      at = f;
+      continue;
+    } else if (step == 2u) {
+      if (sum <= budget) break;
+      hi = f;
+    } else {
+      if (sum > budget)
+        hi = at;
+      else
+        lo = at;
+      if (step == 2u + 24u) {
         f = lo;
+        break;
       }
     }
+    at = step == 0u ? 1.0f : 0.5f * (lo + hi);
   }
   if (lid == 0u) {
     state_g[0] = as_uint(f);

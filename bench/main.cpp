@@ -365,7 +365,7 @@ int main(int argc, char** argv) {
 
     std::vector<std::pair<std::string, Measured>> msaa1Rows;  // for the atomic-floor multiples
     if (only.empty() || only == "table1" || only == "atomics") {
-      // rows: software MSAA 1 (filter off), SWR1+F (the reconstruction filter), MSAA 2, 4, 8
+      // rows: software MSAA 1 (filter off), SWR1+F (the default filter: Huang's), MSAA 2, 4, 8
       struct Row {
         int msaa;
         bool filter;

@@ -104,6 +104,14 @@ static bool coverMode(const Scene& s, const RenderOptions& options) {
   return cover;
 }
 
+// Whether a frame of one view filters a groom with Huang's filter (rather than Lipp's): as
+// --filter says, else as the groom's method, where "auto" is Huang's (DESIGN.md, "The
+// default filter").
+static bool huangMethod(const FilterParams& fp, const RenderOptions& options) {
+  if (options.filterMethod >= 0) return options.filterMethod == 1;
+  return fp.method != FilterParams::Method::Lipp;
+}
+
 // G-buffer layers a groom with filter settings `fp` uses: the samples and the conservative
 // layer, then the identity layer (Huang's filter, strand identities) and the hair linking
 // layers (gpu_types.h); in the coverage mode its three layers and the coverage plane.
@@ -112,9 +120,7 @@ static int gbufferLayers(const FilterParams& fp, const RenderOptions& options, b
   if (cover) return static_cast<int>(CLH_LAYER_COVERAGE) + 1;
   const bool filtered =
       options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
-  const bool huang = filtered && !options.rasterOnly &&
-                     (options.filterMethod < 0 ? fp.method == FilterParams::Method::Huang
-                                               : options.filterMethod == 1);
+  const bool huang = filtered && !options.rasterOnly && huangMethod(fp, options);
   const bool ids = huang || options.strandIds;
   if (ids && options.msaa != 1)
     throw Error("strand identities (the strand.id layer) need MSAA 1, not " +
@@ -296,9 +302,7 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
     // the coverage mode has no filter: its alpha comes from the coverage layer
     const bool filtered =
         !cover && options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
-    const bool huang = filtered && !options.rasterOnly &&
-                       (options.filterMethod < 0 ? fp.method == FilterParams::Method::Huang
-                                                 : options.filterMethod == 1);
+    const bool huang = filtered && !options.rasterOnly && huangMethod(fp, options);
     const bool linking = huang && fp.link && !source;
     const bool ids = huang || options.strandIds;
     t.useLayers(gbufferLayers(fp, options, source != nullptr, cover));
@@ -583,6 +587,8 @@ std::vector<Frame> Renderer::Impl::views(const Scene& s, const std::vector<Camer
       const FilterParams& fp = d.instance->hasFilter ? d.instance->filter : s.filter;
       const bool filtered =
           options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
+      // the shared strand pass writes no identity layer, so "auto" falls back to Lipp's
+      // filter here; Huang's asked for by name is refused
       if (filtered && (options.filterMethod < 0 ? fp.method == FilterParams::Method::Huang
                                                 : options.filterMethod == 1))
         throw Error("groom \"" + d.instance->name +

@@ -196,13 +196,18 @@ TEST(Aov, CliWritesTheDocumentedChannelsAndTheSameBeauty) {
   // the beauty is the plain render's, value for value
   const ExrFile plain = readExr(dir + "/plain.exr");
   for (const char* c : {"R", "G", "B", "A"}) EXPECT_EQ(f.channels.at(c), plain.channels.at(c)) << c;
-  // the layers are filled: hair covers some pixels, carries unit tangents, lies in front
+  // the layers are filled: hair covers some pixels, carries unit tangents, lies in front.
+  // Huang's filter (the default) gives the tiny groom's sub-pixel strands their coverage,
+  // alpha = M / (M + N) per strand, so most of its pixels are less than half opaque: the
+  // pixels are counted by any hair alpha, the depth checked where it is at least half
   std::size_t hair = 0, background = 0;
   for (std::size_t p = 0; p < 64 * 48; ++p) {
     if (f.channels.at("Z")[p] == kAovBackgroundZ) ++background;
-    if (f.channels.at("hair.A")[p] < 0.5f) continue;
+    if (f.channels.at("hair.A")[p] <= 0.0f) continue;
     ++hair;
-    EXPECT_LT(f.channels.at("Z")[p], 1.0f);  // hair at least half opaque is in the depth
+    if (f.channels.at("hair.A")[p] >= 0.5f) {
+      EXPECT_LT(f.channels.at("Z")[p], 1.0f);  // hair at least half opaque is in the depth
+    }
   }
   EXPECT_GT(hair, 20u);
   EXPECT_GT(background, 20u);

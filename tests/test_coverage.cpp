@@ -332,6 +332,7 @@ TEST(Coverage, FrontoParallelStrandHasTheStripsCoverageAndAlphaProfile) {
   ro.ambientOcclusion = 0;
   const Frame f = r.render(horizontalStrands({y0}, width), ro);
   ASSERT_EQ(f.gbufferLayers, int(CLH_LAYER_COVERAGE) + 1);
+  EXPECT_EQ(f.stats.linkSelecting, 0u) << "the default filter (Huang's) ran in coverage mode";
   const std::size_t W = 64, H = 48;
   const auto* cov =
       reinterpret_cast<const std::uint32_t*>(f.gbuffer.data() + CLH_LAYER_COVERAGE * W * H);

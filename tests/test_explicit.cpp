@@ -602,7 +602,7 @@ TEST(ExplicitScene, StrandFilesLoadWithTheirPlacement) {
                          {"transform", {{"translate", {1.0, 0.0, 0.0}}}},
                          {"appearance", {{"strand_width", 1e-4}, {"min_hit_diameter_px", 1.0}}},
                          {"lod", {{"enabled", true}, {"lambda", 2.0}}},
-                         {"filter", {{"promote", false}}}});
+                         {"filter", {{"promote", false}, {"method", "lipp"}}}});
   j["filter"] = {{"radius", 3}, {"s_perp", 0.2}};
   writeBytes(dir + "/scene.json", j.dump());
   Scene s = loadScene(dir + "/scene.json");
@@ -613,6 +613,8 @@ TEST(ExplicitScene, StrandFilesLoadWithTheirPlacement) {
   ASSERT_TRUE(s.grooms[1].hasFilter);
   EXPECT_FALSE(s.grooms[1].filter.promote);
   EXPECT_EQ(s.grooms[1].filter.radius, 3);  // the groom's filter starts from the scene's
+  EXPECT_EQ(s.filter.method, FilterParams::Method::Auto);  // "auto" unless a method is named
+  EXPECT_EQ(s.grooms[1].filter.method, FilterParams::Method::Lipp);
   ASSERT_EQ(s.grooms.size(), 2u);
   ASSERT_TRUE(s.grooms[0].strands && !s.grooms[0].mesh);
   EXPECT_EQ(s.grooms[0].strands->pointCounts, std::vector<std::uint32_t>({4, 4, 4}));
@@ -957,8 +959,10 @@ TEST(ExplicitCli, FileColoursAndThicknessesAreDrawnWhenAsked) {
       }
     return res;
   };
-  const Result ignored = render("ignored", "colour.hair", false);
-  const Result used = render("used", "colour.hair", true);
+  // Lipp's filter, as these fractions were set for: Huang's (the default) gives sub-pixel
+  // strands their fractional coverage, which leaves fewer pixels above the cut-off
+  const Result ignored = render("ignored", "colour.hair", false, " --filter lipp");
+  const Result used = render("used", "colour.hair", true, " --filter lipp");
   ASSERT_GT(ignored.hair, 0.05) << "see " << dir;
   EXPECT_EQ(countOf(ignored.output, "clhair: warning:"), 1u) << ignored.output;
   EXPECT_NE(ignored.output.find("per-point colours, ignored"), std::string::npos) << ignored.output;

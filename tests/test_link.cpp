@@ -591,6 +591,31 @@ TEST(Link, RenderedSubPixelStrandIsLinkedWithItsCoverageKept) {
   EXPECT_NEAR(coverageA, coverageB, 0.01 * coverageB) << "the alpha fix did not keep coverage";
 }
 
+TEST(Link, DefaultFilterIsHuangsInAFrameOfOneViewAndLippsWhenNamed) {
+  // DESIGN.md, "The default filter": "auto" is Huang's filter in a frame of one view at
+  // MSAA 1 with the lines raster (a strand file here: its curve pass reads the strand);
+  // Lipp's when the scene or the option names it
+  Renderer r(test::sharedDevice());
+  const Scene s = twoStrands(0.001f);
+  EXPECT_EQ(s.filter.method, FilterParams::Method::Auto);
+  Scene huang = s, lipp = s;
+  huang.filter.method = FilterParams::Method::Huang;
+  lipp.filter.method = FilterParams::Method::Lipp;
+  RenderOptions o;
+  const Frame byDefault = r.render(s, o), named = r.render(huang, o), lipps = r.render(lipp, o);
+  EXPECT_GT(byDefault.stats.linkSelecting, 0u);
+  EXPECT_GT(byDefault.stats.linkedPixels, 5u);
+  EXPECT_EQ(byDefault.color.rgba, named.color.rgba) << "the default is not Huang's filter";
+  EXPECT_EQ(lipps.stats.linkSelecting, 0u);
+  EXPECT_NE(byDefault.color.rgba, lipps.color.rgba);
+  RenderOptions lippOption = o;  // --filter lipp over the scene's "auto"
+  lippOption.filterMethod = 0;
+  EXPECT_EQ(r.render(s, lippOption).color.rgba, lipps.color.rgba);
+  // MSAA 4 and the coverage raster (no filter): Views.EachViewIsTheSingleViewRenderAtMsaa4
+  // and Coverage.FrontoParallelStrandHasTheStripsCoverageAndAlphaProfile, in frames those
+  // tests render anyway
+}
+
 TEST(Link, SourceStrandsCentreLinesRunThroughTheirDrawnPixels) {
   // the curve pass regenerates (hair mesh) or reads (strand file) the source strands from
   // their identity: their centre lines must be those strands

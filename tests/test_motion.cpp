@@ -57,11 +57,15 @@ std::string writeScene(const std::string& dir, const json& groom, int width, int
   return path;
 }
 
-// Frame `frame` of `shot` with its AOVs and motion to frame - 1.
+// Frame `frame` of `shot` with its AOVs and motion to frame - 1. Lipp's filter: the tests
+// below check the motion of the pixels the strand and motion passes draw; Huang's filter
+// (the default) also fills linked pixels, which the motion pass does not draw (DESIGN.md,
+// "The default filter").
 Frame renderWithMotion(Renderer& r, const Scene& shot, long long frame) {
   const Scene now = sceneAtFrame(shot, static_cast<double>(frame));
   const Scene before = sceneAtFrame(shot, static_cast<double>(frame > 1 ? frame - 1 : frame));
   RenderOptions o;
+  o.filterMethod = 0;
   o.aovs = true;
   o.previous = &before;
   return r.render(now, o);
@@ -217,7 +221,10 @@ namespace {
 // One assembly drawn into two views (a camera and one moved 4 cm right and turned) against
 // each camera rendered alone at `msaa` samples: bit-identical, since each view's raster,
 // shading, filter and composite see the same strands, words and depths (LOD off, both views
-// see the whole groom, so neither culls or thins what the other draws).
+// see the whole groom, so neither culls or thins what the other draws). The default filter
+// ("auto") is Lipp's in several views and Huang's in one (DESIGN.md, "The default
+// filter"), so at MSAA 1 each view equals its camera alone with Lipp's filter, and differs
+// from its camera alone with the default, which links. At MSAA 4 no filter runs in either.
 void expectEachViewIsItsSingleRender(int msaa) {
   const std::string dir = scratchDir();
   const json groom = {{"file", assetPath("grooms/tiny.hairmesh.json")}, {"strands", 800}};
@@ -242,10 +249,21 @@ void expectEachViewIsItsSingleRender(int msaa) {
   for (std::size_t v = 0; v < 2; ++v) {
     Scene one = scene;
     one.camera = cams[v];
-    const Frame alone = r.render(one, o);
+    RenderOptions lipp = o;
+    lipp.filterMethod = 0;
+    const Frame alone = r.render(one, msaa == 1 ? lipp : o);  // MSAA 4: no filter at all
+    if (msaa > 1) {
+      EXPECT_EQ(alone.stats.linkSelecting, 0u) << "view " << v;
+    }
     std::size_t hair = 0, differ = 0;
     for (std::size_t i = 0; i < alone.color.rgba.size(); ++i)
       differ += alone.color.rgba[i] != both[v].color.rgba[i];
+    if (msaa == 1) {  // one view alone: Huang's filter by default, which links empty pixels
+      const Frame byDefault = r.render(one, o);
+      EXPECT_GT(byDefault.stats.linkSelecting, 0u) << "view " << v;
+      EXPECT_EQ(both[v].stats.linkSelecting, 0u) << "view " << v;
+      EXPECT_NE(byDefault.color.rgba, both[v].color.rgba) << "view " << v;
+    }
     for (std::size_t p = 0; p < alone.depth.size(); ++p)
       hair += alone.depth[p] < 1.0f && alone.depth[p] != both[1 - v].depth[p];
     EXPECT_EQ(differ, 0u) << "view " << v;

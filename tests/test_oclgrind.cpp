@@ -25,8 +25,9 @@
 //
 // The renderer clears the G-buffer with a kernel (clear.cl), not clEnqueueFillBuffer, whose
 // memory Oclgrind 21.10 would treat as uninitialised.
-// Huang's filter (identity layer, linking with its curve pass, alpha fix, anisotropic
-// filter) runs once more over the same scene, optimised only (see OclgrindHuang).
+// The frame's filter is the default one, Huang's (identity layer, linking with its curve
+// pass, alpha fix, anisotropic filter); Lipp's runs once more over the same scene,
+// optimised only (OclgrindLipp).
 // Skipped, with the reason, when oclgrind is not installed.
 #include <gtest/gtest.h>
 
@@ -153,9 +154,10 @@ void expectClean(const OclgrindRun& run, const std::vector<std::string>& kernels
 }
 
 const std::vector<std::string> kFrameKernels = {
-    "opaque_render",        "lod_bundles",    "scan_bundles",       "clear_words",
-    "strands_raster",       "shade_deferred", "filter_reconstruct", "composite_over",
-    "shadow_resolve_depth", "shadow_clear",   "strands_opacity",    "ao_clear",
+    "opaque_render",        "lod_bundles",  "scan_bundles",    "clear_words",
+    "strands_raster",       "link_select",  "link_propagate",  "link_merge",
+    "link_alpha",           "link_aniso",   "shade_deferred",  "composite_over",
+    "shadow_resolve_depth", "shadow_clear", "strands_opacity", "ao_clear",
     "ao_voxelize",          "ao_bake"};
 const std::vector<std::string> kExportKernels = {"lod_bundles", "scan_bundles", "strands_export"};
 
@@ -212,29 +214,17 @@ TEST_P(Oclgrind, RenderTinyGroomHasNoReports) {
       << run.result.output;
 }
 
-// Optimised only: the -cl-opt-disable --uninitialized run reports "control flow depends on
-// uninitialized value" in link_propagate on the source index link_select wrote for every
-// pixel (the first test of it, then everything that follows from it), for the pixels
-// around the hair. Still open, so that variant is not asserted here. Ruled out by edited
-// kernel copies, each still reporting: link_select writing every pixel's entry before
-// anything else; storing only "none" or 0 as the entry; a constant score (no tangent, no
-// depth decode); no atomics in link_select; no curve pass; link_propagate returning right
-// after the test; plain stores instead of its atom_min; the tangent helper inlined. With a
-// constant score the entry depends only on whether the neighbours' centre and identity words
-// are empty, and testing either one alone still reports; link_select itself reports nothing.
-TEST(OclgrindHuang, RenderWithHuangsFilterHasNoReports) {
-  // the identity layer, hair linking (with the curve pass), alpha fix and anisotropic filter
+// Lipp's filter (filter_reconstruct), no longer the default of a frame of one view.
+TEST(OclgrindLipp, RenderWithLippsFilterHasNoReports) {
   if (!haveOclgrind()) GTEST_SKIP() << "oclgrind not installed";
   const std::string dir = scratchDir();
   const std::string scene = bakedTinyScene(dir);
   ASSERT_FALSE(scene.empty());
   const std::string out = dir + "/tiny.png";
-  OclgrindRun run = runUnderOclgrind(dir, "huang", false,
-                                     "render " + quote(scene) + " --filter huang -o " + quote(out));
-  expectClean(run,
-              {"strands_raster", "link_select", "link_propagate", "link_merge", "link_alpha",
-               "link_aniso", "shade_deferred", "composite_over"},
-              "clhair render --filter huang");
+  OclgrindRun run = runUnderOclgrind(dir, "lipp", false,
+                                     "render " + quote(scene) + " --filter lipp -o " + quote(out));
+  expectClean(run, {"strands_raster", "shade_deferred", "filter_reconstruct", "composite_over"},
+              "clhair render --filter lipp");
   EXPECT_TRUE(fs::exists(out)) << out << " was not written";
 }
 

@@ -38,6 +38,7 @@ TEST(Raster, ConservativeContainsEveryCenterHit) {
     Renderer r(test::sharedDevice());
     RenderOptions o;
     o.captureGBuffer = true;
+    o.filterMethod = 0;  // Lipp's filter: the raster's centre and conservative layers as drawn
     Frame f = r.render(s, o);
     ASSERT_EQ(f.gbufferLayers, 2);
     const std::size_t n = static_cast<std::size_t>(s.width) * s.height;
@@ -74,6 +75,7 @@ TEST(Raster, EachMsaaLayerEqualsAShiftedSingleSampleRender) {
   for (int k = 0; k < 4; ++k) {
     RenderOptions o1;
     o1.captureGBuffer = true;
+    o1.filterMethod = 0;  // Huang's (the default) would add linked pixels to the centre layer
     // moving the image plane by (0.5 - offset) puts this pixel's center where the sample was
     o1.jitterX = 0.5f - pos4[k][0];
     o1.jitterY = 0.5f - pos4[k][1];

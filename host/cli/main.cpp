@@ -777,8 +777,9 @@ int main(int argc, char** argv) {
                      "BSDF of strands LOD widened for a cluster: single (default, the "
                      "single-fibre BSDF) or aggregated (Huang 2024)");
   render->add_option("--filter", rf.filter,
-                     "reconstruction filter with MSAA 1: on, off, auto (as the scene says), lipp "
-                     "or huang (on, with that method; docs/scene-format.md)");
+                     "reconstruction filter with MSAA 1: on, off, auto (as the scene says; by "
+                     "default Huang's filter in one view, Lipp's in several), lipp or huang (on, "
+                     "with that method; docs/scene-format.md)");
   render
       ->add_option("--reference", rf.referenceMethod,
                    "render the ground truth, the average of --spp shifted true-width passes "

@@ -144,13 +144,15 @@ FilterParams readFilter(const JsonReader& parent, const json& j, FilterParams f)
   f.strip = static_cast<float>(o.number("strip", f.strip, 0.0, 8.0));
   f.promote = o.boolean("promote", f.promote);
   if (o.has("method")) {
-    const std::string m = o.string("method", "lipp");
-    if (m == "lipp")
+    const std::string m = o.string("method", "auto");
+    if (m == "auto")
+      f.method = FilterParams::Method::Auto;
+    else if (m == "lipp")
       f.method = FilterParams::Method::Lipp;
     else if (m == "huang")
       f.method = FilterParams::Method::Huang;
     else
-      o.fail("method", "must be \"lipp\" or \"huang\", not \"" + m + "\"");
+      o.fail("method", "must be \"auto\", \"lipp\" or \"huang\", not \"" + m + "\"");
   }
   f.link = o.boolean("link", f.link);
   f.linkThreshold = static_cast<float>(o.number("link_threshold", f.linkThreshold, 0.0, 1.0));

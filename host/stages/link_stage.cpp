@@ -31,7 +31,17 @@ void LinkStage::select(const FilterParams& f, const Params& p, Profiler* profile
   const std::uint64_t wanted =
       f.linkTable > 0 ? std::uint64_t(f.linkTable) : std::uint64_t(p.strandIds) * 2u + 16u;
   tableSize_ = static_cast<std::uint32_t>(std::min<std::uint64_t>(wanted, 1u << 26));
-  ensureCapacity<cl_uint>(dev_, choice_, choiceCap_, "hair linking sources", pixels);
+  if (!choice_() || choiceCap_ < pixels) {
+    // link_select writes every pixel's entry before link_propagate reads it. The host fills
+    // it once anyway, for checkers that track initialised memory from host writes:
+    // Oclgrind 21.10's --uninitialized creates a global buffer's shadow only when the host
+    // writes it (and as large as that write), so kernel stores into a buffer the host never
+    // wrote go untracked and link_propagate's reads of them were reported (DESIGN.md, "The
+    // default filter")
+    const std::vector<cl_uint> none(pixels, CLH_LINK_NONE);
+    choice_ = makeBuffer<cl_uint>(dev_, "hair linking sources", pixels, none.data());
+    choiceCap_ = pixels;
+  }
   ensureCapacity<cl_uint>(dev_, flags_, flagsCap_, "hair linking strand bitmap", words_);
   ensureCapacity<cl_uint>(dev_, table_, tableCap_, "alpha fix hash table",
                           std::size_t(tableSize_) * 4u);

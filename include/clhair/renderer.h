@@ -24,8 +24,9 @@ struct RenderOptions {
   float lodLambdaScale = 1.0f;
   int msaa = 1;     // samples per pixel: 1, 2, 4 or 8 (software MSAA, averaged)
   int filter = -1;  // reconstruction filter with MSAA 1: -1 as the scene says, 0 off, 1 on
-  // which filter: -1 as the scene says (FilterParams::method), 0 Lipp, 1 Huang (linking,
-  // alpha fix, anisotropic filter)
+  // which filter: -1 as the scene says (FilterParams::method; "auto", the default, is Huang's
+  // in one view and Lipp's in several), 0 Lipp, 1 Huang (linking, alpha fix, anisotropic
+  // filter)
   int filterMethod = -1;
   // The strand raster (Scene::raster): -1 as the scene says, 0 lines, 1 coverage (MSAA 1,
   // one view; no filter, strand identities, or motion layer of deforming grooms)

@@ -133,11 +133,14 @@ struct FilterParams {
   bool promote =
       true;  // promote conservative-only pixels (Lipp §3.3.2); off: only center hits are drawn
 
-  // Which filter runs: "lipp" (the reconstruction filter above) or "huang" (hair linking,
+  // Which filter runs: "lipp" (the reconstruction filter above), "huang" (hair linking,
   // alpha fix and the orientation-aware anisotropic filter of Huang et al. 2025, §4;
-  // kernels/link.cl), whose parts can be switched off one by one.
-  enum class Method { Lipp, Huang };
-  Method method = Method::Lipp;
+  // kernels/link.cl, whose parts can be switched off one by one) or "auto" (the default):
+  // Huang's in a frame of one view, Lipp's in a render of several views, whose shared
+  // strand pass writes no identity layer for the linking (DESIGN.md, "The default filter").
+  // Either runs only at one sample per pixel with the lines raster.
+  enum class Method { Auto, Lipp, Huang };
+  Method method = Method::Auto;
   bool link = true;            // Huang §4.1: fill empty pixels along source strands
   float linkThreshold = 0.5f;  // epsilon_align of Eq. 5
   float linkSigma = 1.5f;      // sigma of Eq. 4's proximity term, pixels

@@ -35,9 +35,15 @@ struct clh_v3 {
 };
 inline clh_v3 clh_v3_make(float x, float y, float z) { return clh_v3{x, y, z}; }
 inline clh_v3 clh_v3_splat(float a) { return clh_v3_make(a, a, a); }
-inline clh_v3 clh_v3_add(clh_v3 a, clh_v3 b) { return clh_v3_make(a.x + b.x, a.y + b.y, a.z + b.z); }
-inline clh_v3 clh_v3_sub(clh_v3 a, clh_v3 b) { return clh_v3_make(a.x - b.x, a.y - b.y, a.z - b.z); }
-inline clh_v3 clh_v3_mul(clh_v3 a, clh_v3 b) { return clh_v3_make(a.x * b.x, a.y * b.y, a.z * b.z); }
+inline clh_v3 clh_v3_add(clh_v3 a, clh_v3 b) {
+  return clh_v3_make(a.x + b.x, a.y + b.y, a.z + b.z);
+}
+inline clh_v3 clh_v3_sub(clh_v3 a, clh_v3 b) {
+  return clh_v3_make(a.x - b.x, a.y - b.y, a.z - b.z);
+}
+inline clh_v3 clh_v3_mul(clh_v3 a, clh_v3 b) {
+  return clh_v3_make(a.x * b.x, a.y * b.y, a.z * b.z);
+}
 inline clh_v3 clh_v3_scale(clh_v3 a, float s) { return clh_v3_make(a.x * s, a.y * s, a.z * s); }
 inline float clh_v3_dot(clh_v3 a, clh_v3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 inline clh_v3 clh_v3_fmax(clh_v3 a, float m) {

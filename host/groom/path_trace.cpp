@@ -11,11 +11,11 @@
 // roulette from the third event on:
 // - at a fibre, the single-fibre BSDF of the shading pass (hair_bsdf_cpu.h: the same
 //   h-averaged model, evaluated with the same material the shading kernel decodes from
-//   the G-buffer word of that hit), sampled from a mixture of the uniform sphere and a
-//   longitudinal cone around theta_i = -theta_o (a logistic in theta_i of the R lobe's
-//   width, uniform in phi); the weight is f cos(theta_i) / pdf of the mixture. Events at
-//   a fibre happen on its axis at the hit (the far-field model has no offset across the
-//   fibre), and rays leaving it skip its own segment and the two beside it;
+//   the G-buffer word of that hit), sampled from a mixture of the uniform sphere and two
+//   longitudinal cones around theta_i = -theta_o, one uniform in phi, one about the
+//   forward direction phi = pi (FibreSampler); the weight is f cos(theta_i) / pdf of the
+//   mixture. Rays leaving a fibre start where the ray met it and skip the fibre
+//   itself (SkipContext), so light sent through it (TT) leaves from its far side;
 // - at an opaque surface, Lambert (albedo / pi), cosine-sampled.
 // A continuation that leaves the scene brings back the ambient radiance (the scene's
 // constant ambient as a uniform environment; the raster's baked AO stands for its
@@ -50,10 +50,15 @@ struct Rng {
   }
 };
 
-// Rays leaving a fibre skip segments lo..hi of its curves (its own and its neighbours).
+// Rays leaving a fibre at a point of its axis skip the fibre itself: its segment `prim` and
+// the two beside it, and hits on the other segments lo..hi of its strand that lie within
+// its radius (5 % margin) of the segment's line through the event (the way out of the
+// fibre where segments are shorter than its width; a strand that curls back into the ray
+// is hit).
 struct SkipContext {
   RTCIntersectContext ctx;
-  unsigned geom = RTC_INVALID_GEOMETRY_ID, lo = 0, hi = 0;
+  unsigned geom = RTC_INVALID_GEOMETRY_ID, lo = 0, hi = 0, prim = 0;
+  float org[3] = {0.0f, 0.0f, 0.0f}, tangent[3] = {0.0f, 0.0f, 1.0f}, radius = 0.0f;
 };
 
 void skipOwnFibre(const RTCFilterFunctionNArguments* a) {
@@ -62,7 +67,22 @@ void skipOwnFibre(const RTCFilterFunctionNArguments* a) {
     if (a->valid[i] != -1) continue;
     const unsigned g = RTCHitN_geomID(a->hit, a->N, i);
     const unsigned p = RTCHitN_primID(a->hit, a->N, i);
-    if (g == c->geom && p >= c->lo && p <= c->hi) a->valid[i] = 0;
+    if (g != c->geom || p < c->lo || p > c->hi) continue;
+    if (p + 1 >= c->prim && p <= c->prim + 1) {  // its segment and the two beside it
+      a->valid[i] = 0;
+      continue;
+    }
+    const float t = RTCRayN_tfar(a->ray, a->N, i);
+    float d[3] = {RTCRayN_org_x(a->ray, a->N, i) + t * RTCRayN_dir_x(a->ray, a->N, i) - c->org[0],
+                  RTCRayN_org_y(a->ray, a->N, i) + t * RTCRayN_dir_y(a->ray, a->N, i) - c->org[1],
+                  RTCRayN_org_z(a->ray, a->N, i) + t * RTCRayN_dir_z(a->ray, a->N, i) - c->org[2]};
+    const float along = d[0] * c->tangent[0] + d[1] * c->tangent[1] + d[2] * c->tangent[2];
+    float off2 = 0.0f;
+    for (int k = 0; k < 3; ++k) {
+      const float e = d[k] - along * c->tangent[k];
+      off2 += e * e;
+    }
+    if (off2 <= 1.1025f * c->radius * c->radius) a->valid[i] = 0;
   }
 }
 
@@ -82,10 +102,9 @@ void materialOf(const gpu::ClhGroomGpu& g, bool fileColor, std::uint64_t word,
     const float pheo = (g.melanin[2] + (g.melanin[3] - g.melanin[2]) * w) * vary;
     m->sigma_a = hb::clh_hair_sigma_a_from_melanin(eu, pheo);
   } else {
-    const hb::clh_v3 c =
-        hb::clh_v3_make(g.root_color[0] + (g.tip_color[0] - g.root_color[0]) * w,
-                        g.root_color[1] + (g.tip_color[1] - g.root_color[1]) * w,
-                        g.root_color[2] + (g.tip_color[2] - g.root_color[2]) * w);
+    const hb::clh_v3 c = hb::clh_v3_make(g.root_color[0] + (g.tip_color[0] - g.root_color[0]) * w,
+                                         g.root_color[1] + (g.tip_color[1] - g.root_color[1]) * w,
+                                         g.root_color[2] + (g.tip_color[2] - g.root_color[2]) * w);
     m->sigma_a = hb::clh_v3_scale(hb::clh_hair_sigma_a_from_color(c, g.bsdf[1]), vary);
   }
   m->beta_m = g.bsdf[0];
@@ -100,36 +119,44 @@ void materialOf(const gpu::ClhGroomGpu& g, bool fileColor, std::uint64_t word,
   }
 }
 
-// The continuation's direction distribution at a fibre: half uniform over the sphere,
-// half a cone theta_i = -theta_o + delta, delta logistic of scale s truncated to
-// theta_i in [-pi/2, pi/2], phi uniform.
+// The continuation's direction distribution at a fibre, a mixture of three in equal parts:
+// the uniform sphere; a cone theta_i = -theta_o + delta (delta logistic of the R lobe's
+// longitudinal width, truncated to theta_i in [-pi/2, pi/2]), phi uniform; and the same
+// cone with phi = pi + a logistic of the azimuthal roughness's scale (truncated to one turn),
+// where TT sends most of a light fibre's energy. pdf() is the mixture's density.
 struct FibreSampler {
   hb::clh_v3 t, n, b;
-  float theta_o = 0.0f, s = 0.1f, f0 = 0.0f, f1 = 1.0f;
+  float theta_o = 0.0f, s = 0.1f, f0 = 0.0f, f1 = 1.0f, sp = 0.1f, g0 = 0.0f, g1 = 1.0f;
 
   static float cdf(float x, float s) { return 1.0f / (1.0f + std::exp(-x / s)); }
+  static float logit(float c) {
+    c = std::clamp(c, 1e-7f, 1.0f - 1e-7f);
+    return std::log(c / (1.0f - c));
+  }
 
-  FibreSampler(const hb::clh_hair_view& hv) : t(hv.t), n(hv.n) {
+  explicit FibreSampler(const hb::clh_hair_view& hv) : t(hv.t), n(hv.n) {
     b = hb::clh_v3_make(t.y * n.z - t.z * n.y, t.z * n.x - t.x * n.z, t.x * n.y - t.y * n.x);
     theta_o = std::asin(std::clamp(hv.sin_o, -1.0f, 1.0f));
     s = std::max(std::sqrt(3.0f * hv.v[0]) / kPiF, 0.02f);
     f0 = cdf(-0.5f * kPiF + theta_o, s);
     f1 = cdf(0.5f * kPiF + theta_o, s);
+    sp = std::max(hv.s, 0.02f);
+    g0 = cdf(-kPiF, sp);
+    g1 = cdf(kPiF, sp);
   }
   hb::clh_v3 sample(Rng& rng) const {
     const float pick = rng.next(), u1 = rng.next(), u2 = rng.next();
-    float sin_i, cos_i;
-    if (pick < 0.5f) {
+    float sin_i, cos_i, phi = 2.0f * kPiF * u2;
+    if (pick < 1.0f / 3.0f) {
       sin_i = 1.0f - 2.0f * u1;
       cos_i = std::sqrt(std::max(0.0f, 1.0f - sin_i * sin_i));
     } else {
-      const float c = std::clamp(f0 + u1 * (f1 - f0), 1e-7f, 1.0f - 1e-7f);
-      const float theta_i = std::clamp(-theta_o + s * std::log(c / (1.0f - c)), -0.5f * kPiF,
-                                       0.5f * kPiF);
+      const float theta_i =
+          std::clamp(-theta_o + s * logit(f0 + u1 * (f1 - f0)), -0.5f * kPiF, 0.5f * kPiF);
       sin_i = std::sin(theta_i);
       cos_i = std::cos(theta_i);
+      if (pick >= 2.0f / 3.0f) phi = kPiF + sp * logit(g0 + u2 * (g1 - g0));
     }
-    const float phi = 2.0f * kPiF * u2;
     const hb::clh_v3 across =
         hb::clh_v3_add(hb::clh_v3_scale(n, std::cos(phi)), hb::clh_v3_scale(b, std::sin(phi)));
     return hb::clh_v3_add(hb::clh_v3_scale(t, sin_i), hb::clh_v3_scale(across, cos_i));
@@ -137,10 +164,14 @@ struct FibreSampler {
   float pdf(hb::clh_v3 wi) const {
     const float sin_i = std::clamp(hb::clh_v3_dot(t, wi), -1.0f, 1.0f);
     const float cos_i = std::max(std::sqrt(std::max(0.0f, 1.0f - sin_i * sin_i)), 1e-6f);
-    const float x = std::asin(sin_i) + theta_o;
-    const float c = cdf(x, s);
-    const float cone = c * (1.0f - c) / s / std::max(f1 - f0, 1e-12f) / (2.0f * kPiF * cos_i);
-    return 0.5f / (4.0f * kPiF) + 0.5f * cone;
+    const float c = cdf(std::asin(sin_i) + theta_o, s);
+    const float p_theta = c * (1.0f - c) / s / std::max(f1 - f0, 1e-12f);
+    // phi - pi in (-pi, pi]
+    const float d = std::atan2(-hb::clh_v3_dot(wi, b), -hb::clh_v3_dot(wi, n));
+    const float e = cdf(d, sp);
+    const float p_phi = e * (1.0f - e) / sp / std::max(g1 - g0, 1e-12f);
+    return (1.0f / (4.0f * kPiF) + p_theta / (2.0f * kPiF * cos_i) + p_theta * p_phi / cos_i) /
+           3.0f;
   }
 };
 
@@ -152,11 +183,11 @@ hb::clh_v3 cosineAbout(hb::clh_v3 n, Rng& rng) {
       std::fabs(n.x) < 0.9f ? hb::clh_v3_make(1.0f, 0.0f, 0.0f) : hb::clh_v3_make(0.0f, 1.0f, 0.0f);
   hb::clh_v3 t = hb::clh_v3_sub(a, hb::clh_v3_scale(n, hb::clh_v3_dot(a, n)));
   t = hb::clh_v3_unit(t);
-  const hb::clh_v3 b = hb::clh_v3_make(n.y * t.z - n.z * t.y, n.z * t.x - n.x * t.z,
-                                       n.x * t.y - n.y * t.x);
-  return hb::clh_v3_add(
-      hb::clh_v3_add(hb::clh_v3_scale(t, r * std::cos(phi)), hb::clh_v3_scale(b, r * std::sin(phi))),
-      hb::clh_v3_scale(n, std::sqrt(std::max(0.0f, 1.0f - u1))));
+  const hb::clh_v3 b =
+      hb::clh_v3_make(n.y * t.z - n.z * t.y, n.z * t.x - n.x * t.z, n.x * t.y - n.y * t.x);
+  return hb::clh_v3_add(hb::clh_v3_add(hb::clh_v3_scale(t, r * std::cos(phi)),
+                                       hb::clh_v3_scale(b, r * std::sin(phi))),
+                        hb::clh_v3_scale(n, std::sqrt(std::max(0.0f, 1.0f - u1))));
 }
 
 void initRay(RTCRay& ray, hb::clh_v3 org, hb::clh_v3 dir, float tnear, float tfar) {
@@ -178,7 +209,8 @@ void initRay(RTCRay& ray, hb::clh_v3 org, hb::clh_v3 dir, float tnear, float tfa
 
 void StrandTracer::addSphere(const float centre[3], float radius, const float albedo[3]) {
   Impl& r = *impl_;
-  if (!r.pathMode || r.committed) throw Error("StrandTracer::addSphere: path mode, before commit()");
+  if (!r.pathMode || r.committed)
+    throw Error("StrandTracer::addSphere: path mode, before commit()");
   RTCGeometry geom = rtcNewGeometry(r.device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
   r.check("creating a sphere");
   auto* vb = static_cast<float*>(
@@ -294,9 +326,9 @@ StrandTracer::PathImage StrandTracer::tracePaths(const PathSetup& ps) const {
           const float jx = static_cast<float>(std::fmod(0.5 + i / g, 1.0) - 0.5);
           const float jy = static_cast<float>(std::fmod(0.5 + i / (g * g), 1.0) - 0.5);
           hb::clh_v3 org = hb::clh_v3_splat(0.0f);
-          hb::clh_v3 dir = hb::clh_v3_make((static_cast<float>(x) + 0.5f + jx - view.cx) / view.fx,
-                                           -(static_cast<float>(y) + 0.5f + jy - view.cy) / view.fy,
-                                           1.0f);
+          hb::clh_v3 dir =
+              hb::clh_v3_make((static_cast<float>(x) + 0.5f - jx - view.cx) / view.fx,
+                              -(static_cast<float>(y) + 0.5f - jy - view.cy) / view.fy, 1.0f);
           float tnear = kNearZ;
           hb::clh_v3 thr = hb::clh_v3_splat(1.0f), L = hb::clh_v3_splat(0.0f);
           skip.geom = RTC_INVALID_GEOMETRY_ID;
@@ -334,23 +366,34 @@ StrandTracer::PathImage StrandTracer::tracePaths(const PathSetup& ps) const {
               materialOf(gr.params, gr.fileColor, word, &mat);
               hb::clh_hair_view hv;
               hb::clh_hair_prepare_to(&hv, &mat, T, wo);
-              // the event on the fibre's axis; rays leaving it skip it and its neighbours
+              // the event where the ray met the fibre; rays leaving it skip the fibre
               const std::uint32_t a = gr.segFirst[h.prim];
               const float u = std::clamp(h.u, 0.0f, 1.0f);
-              org = hb::clh_v3_add(
-                  v3(&gr.axis[3 * a]),
-                  hb::clh_v3_scale(hb::clh_v3_sub(v3(&gr.axis[3 * a + 3]), v3(&gr.axis[3 * a])),
-                                   u));
+              const float* pa = &gr.axis[4 * a];
+              const float* pb = pa + 4;
+              const hb::clh_v3 axisPoint =
+                  hb::clh_v3_add(v3(pa), hb::clh_v3_scale(hb::clh_v3_sub(v3(pb), v3(pa)), u));
+              org = hb::clh_v3_add(org, hb::clh_v3_scale(dir, rh.ray.tfar));
               skip.geom = gid;
-              skip.lo = h.prim > 0 && gr.segFirst[h.prim - 1] + 1 == a ? h.prim - 1 : h.prim;
-              skip.hi = h.prim + 1 < gr.segFirst.size() && gr.segFirst[h.prim + 1] == a + 1
-                            ? h.prim + 1
-                            : h.prim;
+              skip.prim = h.prim;
+              skip.lo = gr.strandSeg[h.prim];
+              skip.hi = h.prim;
+              while (skip.hi + 1 < gr.segFirst.size() && gr.strandSeg[skip.hi + 1] == skip.lo)
+                ++skip.hi;
+              skip.org[0] = axisPoint.x;
+              skip.org[1] = axisPoint.y;
+              skip.org[2] = axisPoint.z;
+              // the segment's own direction: its cone is what the ray leaves
+              const hb::clh_v3 seg = hb::clh_v3_sub(v3(pb), v3(pa));
+              const hb::clh_v3 axisDir = hb::clh_v3_dot(seg, seg) > 0.0f ? hb::clh_v3_unit(seg) : T;
+              skip.tangent[0] = axisDir.x;
+              skip.tangent[1] = axisDir.y;
+              skip.tangent[2] = axisDir.z;
+              skip.radius = std::max(pa[3] + (pb[3] - pa[3]) * u, 0.0f);
               tnear = 0.0f;
-              L = hb::clh_v3_add(
-                  L, hb::clh_v3_mul(thr, gather(org, skip, rays, [&](hb::clh_v3 wi) {
-                                      return hb::clh_hair_eval_cos(&hv, wi);
-                                    })));
+              L = hb::clh_v3_add(L, hb::clh_v3_mul(thr, gather(org, skip, rays, [&](hb::clh_v3 wi) {
+                                                     return hb::clh_hair_eval_cos(&hv, wi);
+                                                   })));
               if (event >= ps.maxEvents) break;
               const FibreSampler sampler(hv);
               next = sampler.sample(rng);

@@ -48,7 +48,7 @@ void StrandTracer::addGroom(std::uint32_t draw, const StrandSet& s, const gpu::C
   g.draw = draw;
   g.fileColor = fileColor;
   g.params = p;
-  if (r.pathMode) g.axis.resize(3 * P);
+  if (r.pathMode) g.axis.resize(4 * P);
   g.tangent.resize(3 * P);
   g.attr.resize(4 * P);
   std::vector<float> vertices(4 * P);
@@ -66,7 +66,7 @@ void StrandTracer::addGroom(std::uint32_t draw, const StrandSet& s, const gpu::C
       vertices[4 * i + 1] = v[1];
       vertices[4 * i + 2] = v[2];
       vertices[4 * i + 3] = 0.5f * std::max(diameter, 0.0f);
-      if (r.pathMode) std::copy(v, v + 3, &g.axis[3 * i]);
+      if (r.pathMode) std::copy(&vertices[4 * i], &vertices[4 * i] + 4, &g.axis[4 * i]);
       xform3(p.obj_to_world, s.tangents[3 * i], s.tangents[3 * i + 1], s.tangents[3 * i + 2], 0.0f,
              &g.tangent[3 * i]);
       float* a = &g.attr[4 * i];
@@ -75,6 +75,7 @@ void StrandTracer::addGroom(std::uint32_t draw, const StrandSet& s, const gpu::C
       a[2] = fileColor ? s.look[4 * i] : s.uv[2 * st];
       a[3] = fileColor ? s.look[4 * i + 1] : s.uv[2 * st + 1];
       if (k + 1 < n) {
+        if (r.pathMode) g.strandSeg.push_back(static_cast<std::uint32_t>(g.segFirst.size() - k));
         g.segFirst.push_back(static_cast<std::uint32_t>(i));
         flags.push_back(
             static_cast<unsigned char>((k > 0 ? RTC_CURVE_FLAG_NEIGHBOR_LEFT : 0) |

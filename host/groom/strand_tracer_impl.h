@@ -42,18 +42,18 @@ inline void xform3(const float* m, float x, float y, float z, float w, float* ou
   out[2] = m[8] * x + m[9] * y + m[10] * z + m[11] * w;
 }
 
-
 struct StrandTracer::Impl {
   // Per point of one groom draw: world tangent, styling w, AO and the word's u, v source
   // (root uv, or the file colour with blue in place of AO).
   struct Groom {
     std::uint32_t draw = 0;
     bool fileColor = false;
-    std::vector<float> tangent;           // xyz per point
-    std::vector<float> attr;              // w, ao (or blue), u (or red), v (or green) per point
-    std::vector<std::uint32_t> segFirst;  // first point of each segment
-    gpu::ClhGroomGpu params{};            // the record the strands were placed with
-    std::vector<float> axis;              // view-space points, xyz per point (path mode)
+    std::vector<float> tangent;            // xyz per point
+    std::vector<float> attr;               // w, ao (or blue), u (or red), v (or green) per point
+    std::vector<std::uint32_t> segFirst;   // first point of each segment
+    gpu::ClhGroomGpu params{};             // the record the strands were placed with
+    std::vector<float> axis;               // view-space points, xyz and radius (path mode)
+    std::vector<std::uint32_t> strandSeg;  // per segment: its strand's first segment (path mode)
   };
   // An opaque surface of the path-traced reference (path mode): Lambertian, linear albedo.
   struct Opaque {
@@ -68,7 +68,7 @@ struct StrandTracer::Impl {
 
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
-  std::vector<Groom> grooms;    // by Embree geometry id
+  std::vector<Groom> grooms;   // by Embree geometry id
   std::vector<Opaque> opaque;  // by Embree geometry id (path mode)
   bool pathMode = false;
   std::vector<Hit> hits;
@@ -107,6 +107,5 @@ struct StrandTracer::Impl {
                          clh_unorm_bits(w, 6u), ao6);
   }
 };
-
 
 }  // namespace clhair

@@ -59,8 +59,8 @@ TEST(PathReference, OneEventIsTheTracedReferenceOnSparseStrands) {
   Light l;
   l.type = Light::Type::Point;
   l.position = s.camera.position;
-  l.intensity = 3.0f * glm::dot(s.camera.position - s.camera.target,
-                                s.camera.position - s.camera.target);
+  l.intensity =
+      3.0f * glm::dot(s.camera.position - s.camera.target, s.camera.position - s.camera.target);
   s.lights.push_back(l);
   Renderer r(test::sharedDevice());
   const Frame traced = r.renderReference(s, 8, ReferenceMethod::Embree);
@@ -81,9 +81,10 @@ TEST(PathReference, OneEventIsTheTracedReferenceOnSparseStrands) {
     far += std::fabs(a - b) > 0.02f * std::max(a, b) + 1e-4f;
   }
   ASSERT_GT(hair, 150u);
-  std::printf("one event against the traced reference: %zu hair pixels, mean |difference| %.6f "
-              "of mean %.4f, %zu beyond 2 %%\n",
-              hair, diff / hair, level / hair, far);
+  std::printf(
+      "one event against the traced reference: %zu hair pixels, mean |difference| %.6f "
+      "of mean %.4f, %zu beyond 2 %%\n",
+      hair, diff / hair, level / hair, far);
   // stated tolerance: the mean difference within 0.5 % of the mean hair colour, at most 1 %
   // of the pixels beyond 2 %
   EXPECT_LT(diff, 0.005 * level);
@@ -117,9 +118,10 @@ TEST(PathReference, WhiteFurnaceKeepsTheHairAtTheAmbientRadiance) {
   std::size_t n = 0, n2 = 0;
   const double full = hairMean(pathFrame(r, s, 64, 1024), &n);
   const double two = hairMean(pathFrame(r, s, 4, 2), &n2);
-  std::printf("white furnace: %zu hair pixels, mean radiance %.4f (paths of at most 2 events: "
-              "%.4f)\n",
-              n, full, two);
+  std::printf(
+      "white furnace: %zu hair pixels, mean radiance %.4f (paths of at most 2 events: "
+      "%.4f)\n",
+      n, full, two);
   ASSERT_GT(n, 500u);
   // 1 within the BSDF's furnace error (0.6 %) and the Monte Carlo error of the mean (seeds
   // 1-4 gave 0.9914-1.0016 at 64 samples before the final sampler; 1.0002 now)

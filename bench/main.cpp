@@ -253,9 +253,10 @@ int main(int argc, char** argv) {
   app.add_option("--scenes", sceneDir, "folder with groom1.json and groom2.json");
   app.add_option("--ref-spp", refSpp, "samples per pixel of the quality reference (default 64)");
   app.add_option("--ref", refName,
-                 "quality reference: embree (strands traced as round curves, default) or raster "
-                 "(jittered true-width strand passes)")
-      ->check(CLI::IsMember({"embree", "raster"}));
+                 "quality reference: embree (strands traced as round curves, default), raster "
+                 "(jittered true-width strand passes) or path (paths traced through the full "
+                 "groom: scattering between fibres, every light shadowed by the geometry)")
+      ->check(CLI::IsMember({"embree", "raster", "path"}));
   app.add_option("--quality-width", qualityWidth, "quality and temporal sections: width");
   app.add_option("--quality-grooms", qualityGrooms,
                  "quality section: 1 (groom1, default), 2 (groom2) or both");
@@ -587,8 +588,11 @@ int main(int argc, char** argv) {
           throw Error("--quality-configs: no configuration \"" + name + "\"");
       if (!refCache.empty()) std::filesystem::create_directories(refCache);
       // the reference of one groom and distance, from the cache when it holds it
-      auto reference = [&](const Scene& s, int g, int d, ReferenceMethod method,
-                           const std::string& ltag) {
+      auto reference = [&](const Scene& s, int g, int d, ReferenceMethod method, std::string ltag) {
+        // the path reference shadows every light by the geometry whatever the lights say:
+        // one reference serves both lightings, and its mask is always from the depth
+        const bool traced = method == ReferenceMethod::Path;
+        if (traced) ltag.clear();
         const std::string path = refCache + "/groom" + std::to_string(g + 1) + "_" + ltag +
                                  distNames[d] + "_" + std::to_string(s.width) + "x" +
                                  std::to_string(s.height) + "_" + referenceMethodName(method) +
@@ -598,7 +602,7 @@ int main(int argc, char** argv) {
         Frame f;
         if (!refCache.empty() && std::filesystem::exists(path)) {
           f.color = readImage(path);
-          if (ltag.empty()) return f;  // plain: the mask is from the colour alone
+          if (ltag.empty() && !traced) return f;  // plain: the mask is from the colour alone
           f.depth.resize(static_cast<std::size_t>(f.color.width) * f.color.height);
           std::ifstream in(depthPath, std::ios::binary);
           in.read(reinterpret_cast<char*>(f.depth.data()),
@@ -659,9 +663,10 @@ int main(int argc, char** argv) {
            << ", " << referenceMethodName(refMethod) << " reference " << refSpp << " spp"
            << (maps ? ", every light with a deep opacity map" : "")
            << ")\n\nOver the hair's pixels ("
-           << (maps ? "where a sample of the reference saw hair in front of the scene: with "
-                      "the maps the hair also shadows the head"
-                    : "where the reference differs from the scene without hair")
+           << (maps || refMethod == ReferenceMethod::Path
+                   ? "where a sample of the reference saw hair in front of the scene: the hair "
+                     "also shadows the head"
+                   : "where the reference differs from the scene without hair")
            << "): mean FLIP (lower is better) / PSNR dB / frame ms. Whole-image values are in "
               "bench.json. SWR1+H: Huang's filter (DESIGN.md).\n\n| configuration |";
         for (int d = 0; d < 3; ++d)
@@ -690,8 +695,11 @@ int main(int argc, char** argv) {
           bare.grooms.clear();
           const Frame background = b.renderer.render(bare);
           std::vector<char> hairMask(ref.color.rgba.size() / 4, 0);
+          // the hair's shadows change the head too (maps, and always in the path reference):
+          // the mask is where a sample of the reference saw hair
+          const bool depthMask = maps || refMethod == ReferenceMethod::Path;
           for (std::size_t i = 0; i < hairMask.size(); ++i)
-            if (maps)  // the hair's shadows change the head too: where a sample saw hair
+            if (depthMask)
               hairMask[i] = ref.depth[i] < background.depth[i] * (1.0f - 1e-6f);
             else
               for (int c = 0; c < 3; ++c)

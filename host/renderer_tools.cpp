@@ -16,13 +16,14 @@
 namespace clhair {
 
 const char* referenceMethodName(ReferenceMethod m) {
-  return m == ReferenceMethod::Embree ? "embree" : "raster";
+  return m == ReferenceMethod::Embree ? "embree" : m == ReferenceMethod::Path ? "path" : "raster";
 }
 
 ReferenceMethod parseReferenceMethod(const std::string& name) {
   if (name == "embree") return ReferenceMethod::Embree;
   if (name == "raster") return ReferenceMethod::Raster;
-  throw Error("reference method \"" + name + "\" is not embree or raster");
+  if (name == "path") return ReferenceMethod::Path;
+  throw Error("reference method \"" + name + "\" is not embree, raster or path");
 }
 
 namespace {
@@ -51,12 +52,53 @@ class TracedLayers final : public GBufferSource {
   StrandTracer& tracer_;
 };
 
+// The opaque scene in the camera's view space, for the path reference: spheres, planes (a
+// square 200 units wide about the camera's foot on the plane, two triangles) and meshes.
+void addOpaqueScene(StrandTracer& tracer, const Scene& s) {
+  const glm::mat4 w2v = worldToView(s.camera);
+  auto toView = [&](const glm::vec3& p) { return glm::vec3(w2v * glm::vec4(p, 1.0f)); };
+  for (const Sphere& sp : s.spheres) {
+    const glm::vec3 c = toView(sp.center);
+    const float centre[3] = {c.x, c.y, c.z}, albedo[3] = {sp.color.x, sp.color.y, sp.color.z};
+    tracer.addSphere(centre, sp.radius, albedo);
+  }
+  for (const Plane& pl : s.planes) {
+    const float len = glm::length(pl.normal);
+    if (!(len > 0.0f)) continue;
+    const glm::vec3 n = pl.normal / len;
+    const glm::vec3 foot =
+        s.camera.position - (glm::dot(n, s.camera.position) - pl.offset / len) * n;
+    const glm::vec3 a = glm::normalize(std::fabs(n.x) < 0.9f ? glm::cross(n, glm::vec3(1, 0, 0))
+                                                             : glm::cross(n, glm::vec3(0, 1, 0)));
+    const glm::vec3 b = glm::cross(n, a);
+    std::vector<float> pos;
+    for (const glm::vec2 c :
+         {glm::vec2(-1, -1), glm::vec2(1, -1), glm::vec2(1, 1), glm::vec2(-1, 1)}) {
+      const glm::vec3 p = toView(foot + 100.0f * (c.x * a + c.y * b));
+      pos.insert(pos.end(), {p.x, p.y, p.z});
+    }
+    const float albedo[3] = {pl.color.x, pl.color.y, pl.color.z};
+    tracer.addTriangles(pos, {0, 1, 2, 0, 2, 3}, albedo);
+  }
+  for (const MeshInstance& mi : s.meshes) {
+    if (!mi.mesh) continue;
+    std::vector<float> pos;
+    pos.reserve(3 * mi.mesh->positions.size());
+    for (const glm::vec3& q : mi.mesh->positions) {
+      const glm::vec3 p = toView(glm::vec3(mi.transform * glm::vec4(q, 1.0f)));
+      pos.insert(pos.end(), {p.x, p.y, p.z});
+    }
+    const float albedo[3] = {mi.color.x, mi.color.y, mi.color.z};
+    tracer.addTriangles(pos, mi.mesh->indices, albedo);
+  }
+}
+
 // The strands of every groom instance the camera sees, as the strand pass draws them with
 // LOD off (exported once per groom, placed per instance), in a tracer. Wall times of the
 // exports and of building the curves and their BVH go to *exportMs and *buildMs.
 std::unique_ptr<StrandTracer> traceScene(Renderer::Impl& r, const Scene& s, const RenderOptions& o,
-                                         double* exportMs, double* buildMs) {
-  auto tracer = std::make_unique<StrandTracer>();
+                                         double* exportMs, double* buildMs, bool pathMode = false) {
+  auto tracer = std::make_unique<StrandTracer>(pathMode);
   r.grooms.beginFrame();
   const std::vector<GroomDraw> draws = r.resolveGrooms(s);
   ViewPass pass;
@@ -77,9 +119,71 @@ std::unique_ptr<StrandTracer> traceScene(Renderer::Impl& r, const Scene& s, cons
     *buildMs += msSince(t0);
   }
   const auto t0 = std::chrono::steady_clock::now();
+  if (pathMode) addOpaqueScene(*tracer, s);
   tracer->commit();
   *buildMs += msSince(t0);
   return tracer;
+}
+
+// The path reference (ReferenceMethod::Path): grooms as traceScene places them, the opaque
+// scene beside them, every pixel's paths traced on the CPU.
+Frame pathReference(Renderer::Impl& r, const Scene& s, const RenderOptions& o,
+                    const ReferenceOptions& ro) {
+  if (s.environment.enabled)
+    throw Error(
+        "reference path: environment lighting is not simulated (the path reference lights "
+        "with the scene's lights and constant ambient); render it with --reference embree");
+  if (!s.backgroundImage.empty())
+    throw Error("reference path: a background image is not simulated; remove \"" +
+                s.backgroundImage + "\" or render with --reference embree");
+  if (ro.pathEvents < 1 || ro.pathEvents > 1024)
+    throw Error("reference path: " + std::to_string(ro.pathEvents) +
+                " scattering events per path is outside 1..1024");
+  double exportMs = 0.0, buildMs = 0.0;
+  std::unique_ptr<StrandTracer> tracer = traceScene(r, s, o, &exportMs, &buildMs, true);
+  StrandTracer::PathSetup ps;
+  ps.view = makeView(s.camera, s.width, s.height);
+  const glm::mat4 w2v = worldToView(s.camera);
+  for (const Light& l : s.lights) {
+    StrandTracer::PathLight pl;
+    pl.point = l.type == Light::Type::Point;
+    const glm::vec3 p = pl.point ? glm::vec3(w2v * glm::vec4(l.position, 1.0f))
+                                 : glm::normalize(glm::vec3(w2v * glm::vec4(l.direction, 0.0f)));
+    const glm::vec3 c = l.color * l.intensity;
+    for (int k = 0; k < 3; ++k) {
+      pl.pos[k] = p[k];
+      pl.rgb[k] = c[k];
+    }
+    ps.lights.push_back(pl);
+  }
+  for (int k = 0; k < 3; ++k) {
+    ps.ambient[k] = s.ambient[k];
+    ps.background[k] = s.background[k];
+  }
+  ps.spp = ro.spp;
+  ps.maxEvents = ro.pathEvents;
+  ps.seed = ro.pathSeed;
+  const auto t0 = std::chrono::steady_clock::now();
+  StrandTracer::PathImage img = tracer->tracePaths(ps);
+  const double traceMs = msSince(t0);
+  if (ro.progress) ro.progress(ro.spp, ro.spp);
+  Frame f;
+  f.color.width = s.width;
+  f.color.height = s.height;
+  f.color.rgba.resize(4 * img.depth.size());
+  for (std::size_t i = 0; i < img.depth.size(); ++i) {
+    for (int c = 0; c < 3; ++c) f.color.rgba[4 * i + c] = img.rgb[3 * i + c];
+    f.color.rgba[4 * i + 3] = 1.0f;
+  }
+  f.depth = std::move(img.depth);
+  for (auto [stage, ms] :
+       {std::pair<const char*, double>{"export", exportMs}, {"bvh", buildMs}, {"paths", traceMs}}) {
+    StageTime t;
+    t.stage = stage;
+    t.ms = ms;
+    f.timings.push_back(t);
+  }
+  return f;
 }
 
 }  // namespace
@@ -102,6 +206,7 @@ Frame Renderer::renderReference(const Scene& s, const ReferenceOptions& ro) {
   o.trueWidth = true;   // no minimum hit diameter
   o.raster = 0;         // point samples of the strands, whatever the scene's raster
   o.segmentBudget = 0;  // every strand of every groom
+  if (ro.method == ReferenceMethod::Path) return pathReference(*impl_, s, o, ro);
   std::unique_ptr<StrandTracer> tracer;
   std::unique_ptr<TracedLayers> layers;
   double exportMs = 0.0, buildMs = 0.0;

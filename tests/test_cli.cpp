@@ -230,8 +230,9 @@ TEST(Cli, ParseErrorsAreOneErrorLineAndExitOne) {
   } cases[] = {{render + " --width abc", {"--width", "abc"}},
                {render + " --no-such-flag", {"--no-such-flag"}},
                {"render -o " + quote(out), {"scene"}},
-               {render + " --reference foo", {"--reference", "foo", "embree", "raster"}},
+               {render + " --reference foo", {"--reference", "foo", "embree", "raster", "path"}},
                {render + " --reference --spp 0", {"--spp", "0"}},
+               {render + " --reference path --path-events 0", {"--path-events", "0"}},
                {"", {"subcommand"}}};
   for (const auto& c : cases) {
     SCOPED_TRACE(c.args);
@@ -249,13 +250,13 @@ TEST(Cli, ParseErrorsAreOneErrorLineAndExitOne) {
 
 // ---- end to end ---------------------------------------------------------------------------
 
-// Both references run from the CLI, report their progress on stderr and write the image;
+// The references run from the CLI, report their progress on stderr and write the image;
 // a bare --reference is the traced one.
 TEST(Cli, ReferenceMethodsRenderWithProgress) {
   const std::string dir = scratchDir();
   writeJson(dir + "/scene.json", sceneWith(assetPath("grooms/tiny.hairmesh.json")));
   const std::string render = "render " + quote(dir + "/scene.json") + " --width 48 --height 32";
-  for (const std::string method : {"", "embree", "raster"}) {
+  for (const std::string method : {"", "embree", "raster", "path"}) {
     SCOPED_TRACE("--reference " + method);
     const std::string out = dir + "/ref_" + (method.empty() ? "bare" : method) + ".png";
     const CommandResult r =
@@ -263,9 +264,11 @@ TEST(Cli, ReferenceMethodsRenderWithProgress) {
     EXPECT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("reference 3/3 samples"), std::string::npos) << r.output;
     EXPECT_TRUE(fs::exists(out));
-    // the traced reference reports its trace stage, the raster one its strand pass
-    const bool traced = method != "raster";
+    // the traced reference reports its trace stage, the raster one its strand pass, the
+    // path-traced one its paths
+    const bool traced = method != "raster" && method != "path";
     EXPECT_EQ(r.output.find("  trace ") != std::string::npos, traced) << r.output;
+    EXPECT_EQ(r.output.find("  paths ") != std::string::npos, method == "path") << r.output;
   }
 }
 

@@ -2,7 +2,8 @@
 //
 //   clhair devices                          list OpenCL devices and what clhair would use
 //   clhair render SCENE -o OUT.png|.exr     render a scene, print per-stage times
-//                [--reference [embree|raster] --spp N]   or its ground truth (default embree)
+//                [--reference [embree|raster|path] --spp N]   or its ground truth (default
+//                [--path-events N]                  embree; path: multiple scattering)
 //     [--frames 1-240[:STEP] -o OUT.####.exr] a frame range, one file per frame
 //     [--aov rgba,z,alpha,tangent,motion,strand|all]  layers for compositing in one EXR
 //     (docs/aovs.md)
@@ -106,7 +107,8 @@ int cmdDevices(const DeviceOptions& opts) {
 struct RenderFlags {
   int width = 0, height = 0, msaa = 1, spp = 256;
   bool reference = false;
-  std::string referenceMethod;  // embree (also when --reference has no value) or raster
+  std::string referenceMethod;  // embree (also when --reference has no value), raster or path
+  int pathEvents = 64;          // --reference path: scattering events per path
   std::string filter = "auto";
   bool widthGiven = false, heightGiven = false;
   std::string camera, lod, dispatch = "auto", ao = "on", visibility = "on", lodBsdf = "single";
@@ -381,6 +383,8 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
                 "; --temporal 0 turns it off");
   if (f.reference && (f.spp < 1 || f.spp > 65536))
     throw Error("--spp must be 1..65536, not " + std::to_string(f.spp));
+  if (f.pathEvents < 1 || f.pathEvents > 1024)
+    throw Error("--path-events must be 1..1024, not " + std::to_string(f.pathEvents));
   const CameraPreset* preset = nullptr;
   CameraPreset presetValue{};
   if (!camera.empty()) {
@@ -389,6 +393,7 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
   }
   ReferenceOptions ref;
   ref.spp = f.spp;
+  ref.pathEvents = f.pathEvents;
   if (f.reference && !f.referenceMethod.empty())
     ref.method = parseReferenceMethod(f.referenceMethod);
   if (f.reference && !quiet) ref.progress = referenceProgress();
@@ -784,9 +789,13 @@ int main(int argc, char** argv) {
       ->add_option("--reference", rf.referenceMethod,
                    "render the ground truth, the average of --spp shifted true-width passes "
                    "whose hair is traced as round curves (embree, the default) or drawn by the "
-                   "strand pass (raster)")
+                   "strand pass (raster); or path: paths traced through the full groom, light "
+                   "scattered between fibres (docs/hair-shading.md)")
       ->expected(0, 1)
-      ->check(CLI::IsMember({"embree", "raster"}));
+      ->check(CLI::IsMember({"embree", "raster", "path"}));
+  render->add_option("--path-events", rf.pathEvents,
+                     "--reference path: scattering events per path, 1..1024 (default 64; 1: "
+                     "direct light at the first fibre seen, shadowed)");
   render->add_option("--spp", rf.spp, "samples per pixel of --reference (default 256)");
   render->add_option("--frames", rf.frames,
                      "frames of an animated scene: N, FIRST-LAST or FIRST-LAST:STEP (default 1); "

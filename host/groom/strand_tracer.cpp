@@ -1,8 +1,6 @@
 // strand_tracer.cpp — see strand_tracer.h.
 #include "groom/strand_tracer.h"
 
-#include <embree3/rtcore.h>
-
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -11,98 +9,12 @@
 #include <thread>
 
 #include "clhair/error.h"
+#include "groom/strand_tracer_impl.h"
 
 namespace clhair {
 
-namespace {
-
-// The G-buffer's near plane (clh_raster_init): nothing nearer is drawn.
-constexpr float kNearZ = 1e-4f;
-
-const char* embreeErrorName(RTCError e) {
-  switch (e) {
-    case RTC_ERROR_NONE:
-      return "no error";
-    case RTC_ERROR_INVALID_ARGUMENT:
-      return "invalid argument";
-    case RTC_ERROR_INVALID_OPERATION:
-      return "invalid operation";
-    case RTC_ERROR_OUT_OF_MEMORY:
-      return "out of memory";
-    case RTC_ERROR_UNSUPPORTED_CPU:
-      return "unsupported CPU";
-    case RTC_ERROR_CANCELLED:
-      return "cancelled";
-    default:
-      return "unknown error";
-  }
-}
-
-void xform3(const float* m, float x, float y, float z, float w, float* out) {
-  out[0] = m[0] * x + m[1] * y + m[2] * z + m[3] * w;
-  out[1] = m[4] * x + m[5] * y + m[6] * z + m[7] * w;
-  out[2] = m[8] * x + m[9] * y + m[10] * z + m[11] * w;
-}
-
-}  // namespace
-
-struct StrandTracer::Impl {
-  // Per point of one groom draw: world tangent, styling w, AO and the word's u, v source
-  // (root uv, or the file colour with blue in place of AO).
-  struct Groom {
-    std::uint32_t draw = 0;
-    bool fileColor = false;
-    std::vector<float> tangent;           // xyz per point
-    std::vector<float> attr;              // w, ao (or blue), u (or red), v (or green) per point
-    std::vector<std::uint32_t> segFirst;  // first point of each segment
-  };
-  struct Hit {
-    std::uint32_t geom = RTC_INVALID_GEOMETRY_ID;
-    std::uint32_t prim = 0;
-    float u = 0.0f, t = 0.0f;
-  };
-
-  RTCDevice device = nullptr;
-  RTCScene scene = nullptr;
-  std::vector<Groom> grooms;  // by Embree geometry id
-  std::vector<Hit> hits;
-  std::uint64_t strandTotal = 0, segmentTotal = 0;
-  bool committed = false;
-
-  void check(const std::string& what) {
-    const RTCError e = rtcGetDeviceError(device);
-    if (e != RTC_ERROR_NONE)
-      throw Error("Embree: " + what + " failed: " + embreeErrorName(e) +
-                  (e == RTC_ERROR_OUT_OF_MEMORY ? " (the traced reference needs the strands "
-                                                  "and their BVH in host memory)"
-                                                : ""));
-  }
-
-  std::uint64_t wordAt(const Hit& h, const Groom& g, const gpu::ClhGroomGpu& p) const {
-    using namespace gpu;
-    const std::uint32_t a = g.segFirst[h.prim], b = a + 1;
-    const float u = std::clamp(h.u, 0.0f, 1.0f);
-    auto lerp = [u](float x, float y) { return x + (y - x) * u; };
-    const float tx = lerp(g.tangent[3 * a], g.tangent[3 * b]);
-    const float ty = lerp(g.tangent[3 * a + 1], g.tangent[3 * b + 1]);
-    const float tz = lerp(g.tangent[3 * a + 2], g.tangent[3 * b + 2]);
-    const float l1 = std::fabs(tx) + std::fabs(ty) + std::fabs(tz);
-    const clh_u32 oct =
-        (l1 > 1e-30f && l1 < 1e30f) ? clh_oct_encode(tx, ty, tz) : clh_oct_encode(0.0f, 1.0f, 0.0f);
-    const float w = lerp(g.attr[4 * a], g.attr[4 * b]);
-    const float ao = lerp(g.attr[4 * a + 1], g.attr[4 * b + 1]);
-    const float cu = lerp(g.attr[4 * a + 2], g.attr[4 * b + 2]);
-    const float cv = lerp(g.attr[4 * a + 3], g.attr[4 * b + 3]);
-    // file colour (gpu_types.h): red, green, blue as sqrt codes in u, v, AO
-    const clh_u32 u6 = g.fileColor ? clh_file_color_code(cu) : clh_unorm_bits(cu, 6u);
-    const clh_u32 v6 = g.fileColor ? clh_file_color_code(cv) : clh_unorm_bits(cv, 6u);
-    const clh_u32 ao6 = g.fileColor ? clh_file_color_code(ao) : clh_unorm_bits(ao, 6u);
-    return clh_gbuf_pack(clh_depth_encode(h.t, p.depth_near, p.depth_far), oct, u6, v6,
-                         clh_unorm_bits(w, 6u), ao6);
-  }
-};
-
-StrandTracer::StrandTracer() : impl_(std::make_unique<Impl>()) {
+StrandTracer::StrandTracer(bool pathMode) : impl_(std::make_unique<Impl>()) {
+  impl_->pathMode = pathMode;
   impl_->device = rtcNewDevice(nullptr);
   if (!impl_->device)
     throw Error("Embree: creating a device failed: " +
@@ -110,7 +22,10 @@ StrandTracer::StrandTracer() : impl_(std::make_unique<Impl>()) {
   impl_->scene = rtcNewScene(impl_->device);
   impl_->check("creating a scene");
   // thin fibres seen from afar: robust traversal leaves no holes at BVH node boundaries
-  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
+  // (path mode: paths leaving a fibre skip that fibre through a context filter)
+  rtcSetSceneFlags(impl_->scene,
+                   pathMode ? RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION
+                            : RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_MEDIUM);
 }
 
@@ -132,6 +47,8 @@ void StrandTracer::addGroom(std::uint32_t draw, const StrandSet& s, const gpu::C
   Impl::Groom g;
   g.draw = draw;
   g.fileColor = fileColor;
+  g.params = p;
+  if (r.pathMode) g.axis.resize(4 * P);
   g.tangent.resize(3 * P);
   g.attr.resize(4 * P);
   std::vector<float> vertices(4 * P);
@@ -149,6 +66,7 @@ void StrandTracer::addGroom(std::uint32_t draw, const StrandSet& s, const gpu::C
       vertices[4 * i + 1] = v[1];
       vertices[4 * i + 2] = v[2];
       vertices[4 * i + 3] = 0.5f * std::max(diameter, 0.0f);
+      if (r.pathMode) std::copy(&vertices[4 * i], &vertices[4 * i] + 4, &g.axis[4 * i]);
       xform3(p.obj_to_world, s.tangents[3 * i], s.tangents[3 * i + 1], s.tangents[3 * i + 2], 0.0f,
              &g.tangent[3 * i]);
       float* a = &g.attr[4 * i];
@@ -157,6 +75,7 @@ void StrandTracer::addGroom(std::uint32_t draw, const StrandSet& s, const gpu::C
       a[2] = fileColor ? s.look[4 * i] : s.uv[2 * st];
       a[3] = fileColor ? s.look[4 * i + 1] : s.uv[2 * st + 1];
       if (k + 1 < n) {
+        if (r.pathMode) g.strandSeg.push_back(static_cast<std::uint32_t>(g.segFirst.size() - k));
         g.segFirst.push_back(static_cast<std::uint32_t>(i));
         flags.push_back(
             static_cast<unsigned char>((k > 0 ? RTC_CURVE_FLAG_NEIGHBOR_LEFT : 0) |

@@ -85,15 +85,26 @@ enum class ReferenceMethod {
   // The strand pass itself (one centre sample per pixel, true width) on a shifted image
   // plane: shares any coverage error of the rasterizer.
   Raster,
+  // A CPU path tracer through the Embree curves and the opaque scene (spheres, planes,
+  // meshes as Lambertian surfaces): light scattered between fibres any number of times, each
+  // event with the shading pass's single-fibre BSDF; every light shadowed by the real
+  // geometry (no deep opacity maps, no baked visibility or AO); the constant ambient as a
+  // uniform environment. docs/hair-shading.md, "The path-traced reference".
+  Path,
 };
 const char* referenceMethodName(ReferenceMethod m);
-ReferenceMethod parseReferenceMethod(const std::string& name);  // "embree" or "raster"
+// "embree", "raster" or "path"
+ReferenceMethod parseReferenceMethod(const std::string& name);
 
 struct ReferenceOptions {
   int spp = 256;  // samples per pixel, 1..65536
   ReferenceMethod method = ReferenceMethod::Embree;
   // Called after every sample pass with the passes done and their total.
   std::function<void(int done, int total)> progress;
+  // Path only: scattering events per path (1: the light at the first fibre or surface seen,
+  // shadowed; no interreflection, no ambient) and the seed of its random numbers.
+  int pathEvents = 64;
+  std::uint32_t pathSeed = 1;
 };
 
 // What one groom instance drew in the camera pass, from its LOD records as the strand

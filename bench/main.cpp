@@ -25,12 +25,12 @@
 //             sphere (generated here): frame time and the opaque + mesh stages' times.
 //   sequences a shot of the default groom in wind (assets/scenes/wind.json, 720p, --seq-frames
 //             frames, 120 by default) rendered frame after frame in one process: the time per
-//             frame after the first against the same scene as a still frame (interleaved),
-//             start-up paid once; two views of one assembly against one view, on a still
-//             frame (maps kept) and on a frame of the shot (maps rebuilt), --view-pairs
-//             interleaved pairs each, with every pair's ratio and a per-stage split; the cost of
-//             the motion layer; the warped-mask IoU of the motion vectors (clhair::motionWarpIoU)
-//             on the wind shot and on a slow turntable.
+//             frame after the first against the same scene as a still frame (interleaved;
+//             wall and process CPU time), start-up paid once; two views of one assembly against one
+//             view, on a still frame (maps kept) and on a frame of the shot (maps rebuilt),
+//             --view-pairs interleaved pairs each, with every pair's ratio and a per-stage split;
+//             the cost of the motion layer; the warped-mask IoU of the motion vectors
+//             (clhair::motionWarpIoU) on the wind shot and on a slow turntable.
 //   crowd     assets/scenes/crowd.json (100 groom instances): frame time with LOD off, with
 //             LOD, with LOD and the segment budget, and the single default groom at close,
 //             interleaved; strands and segments per groom; a 60-frame camera dolly with the

@@ -1599,6 +1599,7 @@ int main(int argc, char** argv) {
         md << "| " << name << " | " << fmt(st.median, 0) << " | " << fmt(st.min, 0) << " | "
            << fmt(st.max, 0) << " |";
       };
+      md << "\n| stereo pair | median ms | min | max | two views / one |\n|---|---|---|---|---|\n";
       viewRow("(a) one view of a stereo pair, still frame, maps kept", still2.one);
       md << " |\n";
       viewRow("(a) both views, one assembly, still frame, maps kept", still2.two);

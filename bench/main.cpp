@@ -25,12 +25,12 @@
 //             sphere (generated here): frame time and the opaque + mesh stages' times.
 //   sequences a shot of the default groom in wind (assets/scenes/wind.json, 720p, --seq-frames
 //             frames, 120 by default) rendered frame after frame in one process: the time per
-//             frame after the first against the same scene as a still frame (interleaved),
-//             start-up paid once; two views of one assembly against one view, on a still
-//             frame (maps kept) and on a frame of the shot (maps rebuilt), --view-pairs
-//             interleaved pairs each, with every pair's ratio and a per-stage split; the cost of
-//             the motion layer; the warped-mask IoU of the motion vectors (clhair::motionWarpIoU)
-//             on the wind shot and on a slow turntable.
+//             frame after the first against the same scene as a still frame (interleaved;
+//             wall and process CPU time), start-up paid once; two views of one assembly against one
+//             view, on a still frame (maps kept) and on a frame of the shot (maps rebuilt),
+//             --view-pairs interleaved pairs each, with every pair's ratio and a per-stage split;
+//             the cost of the motion layer; the warped-mask IoU of the motion vectors
+//             (clhair::motionWarpIoU) on the wind shot and on a slow turntable.
 //   crowd     assets/scenes/crowd.json (100 groom instances): frame time with LOD off, with
 //             LOD, with LOD and the segment budget, and the single default groom at close,
 //             interleaved; strands and segments per groom; a 60-frame camera dolly with the
@@ -1438,44 +1438,69 @@ int main(int argc, char** argv) {
       // the shot frame after frame (scene evaluation included: what `--frames` does), and
       // interleaved with it the still frame: frame 1 of the shot rendered again right after
       // itself (its deep opacity maps kept, as for any still) and after a shot frame (maps
-      // rebuilt, as every frame of a moving groom must)
+      // rebuilt, as every frame of a moving groom must), every 4th shot frame. Each render's
+      // process CPU time (every core) is kept beside its wall time: on a shared machine the
+      // wall clock swings with the load, the CPU time far less; each rebuilt still is
+      // compared with the shot frame right before it (interleaved pairs).
       const Scene still = sceneAtFrame(shot, 1.0);
-      std::vector<double> shotMs, stillKept, stillCold;
+      std::vector<double> shotMs, stillKept, stillCold, shotCpu, keptCpu, coldCpu, pairCpu;
       double firstMs = 0.0;
       for (int f = 1; f <= frames; ++f) {
+        double c0 = processCpuMs();
         auto t0 = std::chrono::steady_clock::now();
         const Scene s = sceneAtFrame(shot, static_cast<double>(f));
         b.renderer.render(s, RenderOptions{});
-        const double t = ms(t0);
-        if (f == 1)
+        const double t = ms(t0), tc = processCpuMs() - c0;
+        if (f == 1) {
           firstMs = t;
-        else
-          shotMs.push_back(t);
-        if (f % 8 == 2) {
+          continue;
+        }
+        shotMs.push_back(t);
+        shotCpu.push_back(tc);
+        if (f % 4 == 2) {
+          c0 = processCpuMs();
           t0 = std::chrono::steady_clock::now();
           b.renderer.render(still, RenderOptions{});
           stillCold.push_back(ms(t0));
+          coldCpu.push_back(processCpuMs() - c0);
+          pairCpu.push_back(tc / coldCpu.back());
+          c0 = processCpuMs();
           t0 = std::chrono::steady_clock::now();
           b.renderer.render(still, RenderOptions{});
           stillKept.push_back(ms(t0));
+          keptCpu.push_back(processCpuMs() - c0);
         }
       }
       const Stats shotS = summarize(shotMs), keptS = summarize(stillKept),
                   coldS = summarize(stillCold);
+      const Stats shotC = summarize(shotCpu), keptC = summarize(keptCpu),
+                  coldC = summarize(coldCpu), pairC = summarize(pairCpu);
       double mean = 0.0;
       for (double v : shotMs) mean += v / static_cast<double>(shotMs.size());
+      auto cpuCells = [&](const Stats& c, const Stats& ref) {
+        return " | " + fmt(c.median, 0) + " | " + fmt(c.min, 0) + " | " + fmt(c.max, 0) + " | " +
+               fmt(c.median / ref.median, 3) + "x |\n";
+      };
       md << "\n## Sequences (assets/scenes/wind.json: the default groom in wind, " << still.width
          << "x" << still.height << ", " << frames
          << " frames in one process)\n\nStart-up (device, kernel compilation) " << fmt(compileMs, 0)
          << " ms, once per process; first frame " << fmt(firstMs, 0)
-         << " ms.\n\n| | median ms | min | max | vs still (maps kept) |\n|---|---|---|---|---|\n"
-         << "| shot frames 2.." << frames << " (mean " << fmt(mean, 0) << ") | "
-         << fmt(shotS.median, 0) << " | " << fmt(shotS.min, 0) << " | " << fmt(shotS.max, 0)
-         << " | " << fmt(shotS.median / keptS.median, 3) << "x |\n"
-         << "| still frame, maps kept | " << fmt(keptS.median, 0) << " | " << fmt(keptS.min, 0)
-         << " | " << fmt(keptS.max, 0) << " | 1x |\n"
-         << "| still frame, maps rebuilt | " << fmt(coldS.median, 0) << " | " << fmt(coldS.min, 0)
-         << " | " << fmt(coldS.max, 0) << " | " << fmt(coldS.median / keptS.median, 3) << "x |\n";
+         << " ms.\n\n| | renders | median ms | min | max | vs still (maps kept) | CPU ms median "
+            "| min | max | CPU vs still (maps kept) |\n|---|---|---|---|---|---|---|---|---|---|\n"
+         << "| shot frames 2.." << frames << " (mean " << fmt(mean, 0) << ") | " << shotMs.size()
+         << " | " << fmt(shotS.median, 0) << " | " << fmt(shotS.min, 0) << " | "
+         << fmt(shotS.max, 0) << " | " << fmt(shotS.median / keptS.median, 3) << "x"
+         << cpuCells(shotC, keptC) << "| still frame, maps kept | " << stillKept.size() << " | "
+         << fmt(keptS.median, 0) << " | " << fmt(keptS.min, 0) << " | " << fmt(keptS.max, 0)
+         << " | 1x" << cpuCells(keptC, keptC) << "| still frame, maps rebuilt | "
+         << stillCold.size() << " | " << fmt(coldS.median, 0) << " | " << fmt(coldS.min, 0) << " | "
+         << fmt(coldS.max, 0) << " | " << fmt(coldS.median / keptS.median, 3) << "x"
+         << cpuCells(coldC, keptC) << "\nShot frame against the still frame that rebuilds its "
+         << "maps: " << fmt(shotS.median / coldS.median, 3) << "x wall, "
+         << fmt(shotC.median / coldC.median, 3) << "x process CPU (ratio of medians); pair by "
+         << "pair (each rebuilt still against the shot frame before it, CPU) median "
+         << fmt(pairC.median, 3) << "x, min " << fmt(pairC.min, 3) << "x, max " << fmt(pairC.max, 3)
+         << "x over " << pairCpu.size() << " pairs (target within 5 %).\n";
       report["sequences"]["frames"] = frames;
       report["sequences"]["first_frame_ms"] = firstMs;
       report["sequences"]["shot_frame_ms"] = {
@@ -1484,11 +1509,19 @@ int main(int argc, char** argv) {
       report["sequences"]["still_maps_rebuilt_ms"] = coldS.median;
       report["sequences"]["shot_vs_still"] = shotS.median / keptS.median;
       report["sequences"]["shot_vs_still_rebuilt"] = shotS.median / coldS.median;
+      report["sequences"]["shot_frame_cpu_ms"] = shotC.median;
+      report["sequences"]["still_maps_kept_cpu_ms"] = keptC.median;
+      report["sequences"]["still_maps_rebuilt_cpu_ms"] = coldC.median;
+      report["sequences"]["shot_vs_still_rebuilt_cpu"] = shotC.median / coldC.median;
+      report["sequences"]["shot_vs_still_rebuilt_cpu_pairs"] = {
+          {"median", pairC.median}, {"min", pairC.min}, {"max", pairC.max}};
       std::fprintf(stderr,
                    "sequences: first %.0f ms, shot median %.0f ms, still kept %.0f ms, still "
-                   "rebuilt %.0f ms (%.3fx / %.3fx)\n",
+                   "rebuilt %.0f ms (%.3fx / %.3fx); CPU shot %.0f ms, still rebuilt %.0f ms "
+                   "(%.3fx, pairs %.3f-%.3fx)\n",
                    firstMs, shotS.median, keptS.median, coldS.median, shotS.median / keptS.median,
-                   shotS.median / coldS.median);
+                   shotS.median / coldS.median, shotC.median, coldC.median,
+                   shotC.median / coldC.median, pairC.min, pairC.max);
 
       // Two views of one assembly (a stereo pair 6.4 cm apart, following the camera) against
       // one view (the left eye), in two settings measured in one interleaved loop:
@@ -1574,6 +1607,7 @@ int main(int argc, char** argv) {
         md << "| " << name << " | " << fmt(st.median, 0) << " | " << fmt(st.min, 0) << " | "
            << fmt(st.max, 0) << " |";
       };
+      md << "\n| stereo pair | median ms | min | max | two views / one |\n|---|---|---|---|---|\n";
       viewRow("(a) one view of a stereo pair, still frame, maps kept", still2.one);
       md << " |\n";
       viewRow("(a) both views, one assembly, still frame, maps kept", still2.two);

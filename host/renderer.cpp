@@ -183,14 +183,14 @@ void Renderer::Impl::bindVisibility(const GroomInstance& gi, bool enabled, bool 
 
 void Renderer::Impl::shadeGroom(RenderTarget& t, const GroomInstance& gi, GroomInstanceGpu& inst,
                                 const ShadowMapInputs& maps, const RenderOptions& options,
-                                bool cover) {
+                                bool cover, const cl::Buffer* gbuffer) {
   ShadeStage::Params sp;
   sp.target = t.viewTarget();
   sp.lighting = scene.lighting(maps);
   sp.groom = &inst.groom;
   sp.offsets = &inst.offsets;
   sp.records = inst.records;
-  sp.gbuffer = &t.gbuffer;
+  sp.gbuffer = gbuffer ? gbuffer : &t.gbuffer;
   sp.hair = &t.hair;
   sp.msaa = options.msaa;
   sp.cover = cover;
@@ -485,14 +485,42 @@ std::vector<Frame> Renderer::Impl::views(const Scene& s, const std::vector<Camer
   }
   const std::size_t pixels = r.target.pixels();
   const std::size_t layers = static_cast<std::size_t>(options.msaa) + 1;
-  if (r.viewDepthWords != V * pixels) {
-    r.viewDepths = makeBuffer<cl_float>(r.dev, "the scene depth of every view", V * pixels);
-    r.viewDepthWords = V * pixels;
+  // Every view's scene depth and G-buffer are slices of one buffer each, which the strand
+  // pass draws into side by side; each slice starts on the device's sub-buffer alignment
+  // and is a sub-buffer of its own, the depth and G-buffer of that view's opaque pass,
+  // shading, filter, composite and read-back: nothing is copied between the two.
+  if (!r.viewAlign) {
+    const cl_uint bits = clCall("querying the sub-buffer alignment", [&] {
+      return r.dev.device.getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>();
+    });
+    r.viewAlign = std::max<std::size_t>(bits / 8, sizeof(cl_ulong));
   }
-  if (r.viewGBufferWords != V * pixels * layers) {
-    r.viewGBuffers =
-        makeBuffer<cl_ulong>(r.dev, "the G-buffers of every view", V * pixels * layers);
-    r.viewGBufferWords = V * pixels * layers;
+  auto strideOf = [&](std::size_t count, std::size_t bytes) {  // elements per slice, padded
+    return (count * bytes + r.viewAlign - 1) / r.viewAlign * r.viewAlign / bytes;
+  };
+  const std::size_t depthStride = strideOf(pixels, sizeof(cl_float));
+  const std::size_t gbufferStride = strideOf(pixels * layers, sizeof(cl_ulong));
+  if (r.viewDepthWords != V * depthStride || r.viewGBufferWords != V * gbufferStride ||
+      r.viewDepthSlices.size() != V || r.viewSlicePixels != pixels * layers) {
+    r.viewDepths = makeBuffer<cl_float>(r.dev, "the scene depth of every view", V * depthStride);
+    r.viewGBuffers = makeBuffer<cl_ulong>(r.dev, "the G-buffers of every view", V * gbufferStride);
+    r.viewDepthWords = V * depthStride;
+    r.viewGBufferWords = V * gbufferStride;
+    r.viewSlicePixels = pixels * layers;
+    r.viewDepthSlices.clear();
+    r.viewGBufferSlices.clear();
+    auto slice = [&](cl::Buffer& whole, std::size_t origin, std::size_t size) {
+      cl_buffer_region region{origin, size};
+      return clCall("creating a view's slice", [&] {
+        return whole.createSubBuffer(CL_MEM_READ_WRITE, CL_BUFFER_CREATE_TYPE_REGION, &region);
+      });
+    };
+    for (std::size_t v = 0; v < V; ++v) {
+      r.viewDepthSlices.push_back(
+          slice(r.viewDepths, v * depthStride * sizeof(cl_float), pixels * sizeof(cl_float)));
+      r.viewGBufferSlices.push_back(slice(r.viewGBuffers, v * gbufferStride * sizeof(cl_ulong),
+                                          pixels * layers * sizeof(cl_ulong)));
+    }
   }
   if (r.viewSlots != V) {
     r.viewRecords = makeBuffer<gpu::ClhViewGpu>(r.dev, "view parameters of every view", V);
@@ -516,7 +544,7 @@ std::vector<Frame> Renderer::Impl::views(const Scene& s, const std::vector<Camer
   const ShadowMapInputs maps = r.shadows.maps();
   for (std::size_t v = 0; v < V; ++v) {
     RenderTarget& t = targetOf(v);
-    r.scene.drawOpaque(t.viewTarget(), maps, t.color, t.depth, true, &r.profiler);
+    r.scene.drawOpaque(t.viewTarget(), maps, t.color, r.viewDepthSlices[v], true, &r.profiler);
   }
   std::vector<ViewPass> passes(V);
   for (std::size_t v = 0; v < V; ++v)
@@ -546,36 +574,35 @@ std::vector<Frame> Renderer::Impl::views(const Scene& s, const std::vector<Camer
       }
     if (lodView != 0) d.groom->prepare(inst, d.instance->transform, passes[lodView]);
     d.groom->lod(inst, targetOf(lodView).view, &r.profiler);
-    // the scene depth of every view side by side, the G-buffers cleared
-    for (std::size_t v = 0; v < V; ++v)
-      r.dev.queue.enqueueCopyBuffer(targetOf(v).depth, r.viewDepths, 0, v * pixels * sizeof(float),
-                                    pixels * sizeof(float));
-    r.target.clearWords(r.viewGBuffers, V * pixels * layers, &r.profiler);
+    // every view's G-buffer cleared (its scene depth is already in place)
+    r.target.clearWords(r.viewGBuffers, V * gbufferStride, &r.profiler);
     upload(r.dev, r.viewGrooms, recs.data(), V);
     StrandRaster raster = rasterInto(targetOf(lodView), pixels, options.msaa, mode);
     raster.sceneDepth = &r.viewDepths;
     raster.gbuffer = &r.viewGBuffers;
+    raster.depthStride = depthStride;
+    raster.gbufferStride = gbufferStride;
     raster.strands =
         mode == DispatchMode::ReadBack ? d.groom->readTotal(inst) : d.groom->strandCount();
     const bool together = d.groom->rasterViews(inst, raster, r.viewGrooms, r.viewRecords,
                                                static_cast<std::uint32_t>(V), &r.profiler);
     if (together) {
       const std::uint32_t total = d.groom->readTotal(inst);
-      for (std::size_t v = 0; v < V; ++v) {
+      for (std::size_t v = 0; v < V; ++v)
         if (inFront[v]) drawnTotal[v] += total;
-        r.dev.queue.enqueueCopyBuffer(r.viewGBuffers, targetOf(v).gbuffer,
-                                      v * pixels * layers * sizeof(cl_ulong), 0,
-                                      pixels * layers * sizeof(cl_ulong));
-      }
     }
     for (std::size_t v = 0; v < V; ++v) {
       if (!inFront[v]) continue;
       RenderTarget& t = targetOf(v);
+      cl::Buffer& depth = r.viewDepthSlices[v];
+      cl::Buffer& gbuffer = r.viewGBufferSlices[v];
       if (!together) {  // this groom draws each view on its own: its own LOD per view
         d.groom->prepare(inst, d.instance->transform, passes[v]);
         d.groom->lod(inst, t.view, &r.profiler);
-        t.clearGBuffer(&r.profiler);
+        r.target.clearWords(gbuffer, pixels * layers, &r.profiler);
         StrandRaster own = rasterInto(t, pixels, options.msaa, mode);
+        own.sceneDepth = &depth;
+        own.gbuffer = &gbuffer;
         own.strands =
             mode == DispatchMode::ReadBack ? d.groom->readTotal(inst) : d.groom->strandCount();
         d.groom->raster(inst, own, &r.profiler);
@@ -583,7 +610,7 @@ std::vector<Frame> Renderer::Impl::views(const Scene& s, const std::vector<Camer
       } else {
         upload(r.dev, inst.groom, &recs[v], 1);  // shading reads this view's depth mapping
       }
-      r.shadeGroom(t, *d.instance, inst, maps, options);
+      r.shadeGroom(t, *d.instance, inst, maps, options, false, &gbuffer);
       const FilterParams& fp = d.instance->hasFilter ? d.instance->filter : s.filter;
       const bool filtered =
           options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
@@ -595,12 +622,11 @@ std::vector<Frame> Renderer::Impl::views(const Scene& s, const std::vector<Camer
                     "\": Huang's filter takes one view at a time; render the views one by one "
                     "(--views NAME) or use Lipp's filter");
       if (filtered)
-        r.filter.enqueue(fp, {t.viewTarget(), &inst.groom, &t.gbuffer, &t.hair, &t.filtered},
+        r.filter.enqueue(fp, {t.viewTarget(), &inst.groom, &gbuffer, &t.hair, &t.filtered},
                          &r.profiler);
-      r.composite.enqueue(
-          {t.viewTarget(), &inst.groom, filtered ? &t.filtered : &t.hair, &t.gbuffer, &t.color,
-           &t.depth, options.msaa, filtered ? 2 : options.msaa},
-          &r.profiler);
+      r.composite.enqueue({t.viewTarget(), &inst.groom, filtered ? &t.filtered : &t.hair, &gbuffer,
+                           &t.color, &depth, options.msaa, filtered ? 2 : options.msaa},
+                          &r.profiler);
     }
     inst.params = recs[lodView];
   }
@@ -612,7 +638,7 @@ std::vector<Frame> Renderer::Impl::views(const Scene& s, const std::vector<Camer
     frame.color.rgba.resize(pixels * 4);
     frame.depth.resize(pixels);
     readBack(r.dev, "the frame", t.color, frame.color.rgba.data(), pixels * 4);
-    readBack(r.dev, "the frame's depth", t.depth, frame.depth.data(), pixels);
+    readBack(r.dev, "the frame's depth", r.viewDepthSlices[v], frame.depth.data(), pixels);
     frame.stats.strandsDrawn = drawnTotal[v];
     frame.stats.shadowStrandsDrawn = r.shadows.strandsDrawn();
   }

@@ -98,10 +98,11 @@ struct Renderer::Impl {
   // It is rewritten per draw (the queue is in order).
   void bindVisibility(const GroomInstance& gi, bool enabled, bool lodAggregate,
                       ShadeStage::Params& sp);
-  // Shades instance `gi` (device state `inst`) from target `t`'s G-buffer into its hair
-  // buffer, with the frame's lights and maps and the groom's baked visibility.
+  // Shades instance `gi` (device state `inst`) from target `t`'s G-buffer (or `gbuffer`)
+  // into its hair buffer, with the frame's lights and maps and the groom's baked visibility.
   void shadeGroom(RenderTarget& t, const GroomInstance& gi, GroomInstanceGpu& inst,
-                  const ShadowMapInputs& maps, const RenderOptions& options, bool cover = false);
+                  const ShadowMapInputs& maps, const RenderOptions& options, bool cover = false,
+                  const cl::Buffer* gbuffer = nullptr);
 
   // One frame (Renderer::render); with `source`, its centre layers replace the strand pass
   // (MSAA 1 only).
@@ -110,10 +111,13 @@ struct Renderer::Impl {
   std::vector<Frame> views(const Scene& s, const std::vector<Camera>& cameras,
                            const RenderOptions& options);
   // Targets of views after the first (which draws into `target`), and the per-view slices
-  // the multi-view strand pass reads and writes.
+  // the multi-view strand pass reads and writes: each view's scene depth and G-buffer are
+  // sub-buffers of viewDepths and viewGBuffers (their origins on viewAlign bytes).
   std::vector<std::unique_ptr<RenderTarget>> viewTargets;
   cl::Buffer viewDepths, viewGBuffers, viewRecords, viewGrooms;
-  std::size_t viewDepthWords = 0, viewGBufferWords = 0, viewSlots = 0;
+  std::vector<cl::Buffer> viewDepthSlices, viewGBufferSlices;
+  std::size_t viewDepthWords = 0, viewGBufferWords = 0, viewSlots = 0, viewSlicePixels = 0;
+  std::size_t viewAlign = 0;
 
   // Every groom instance of the scene with its device form; the k-th instance of one
   // groom gets instance slot k. Instances of one groom share its layer vertices, so they

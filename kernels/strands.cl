@@ -330,11 +330,14 @@ __kernel SG_KERNEL_ATTRS void strands_raster(CLH_RASTER_PARAMS) {
  * of the view its LOD was chosen in) and drawn into every view's G-buffer. View v has its
  * own record view_grooms_g[v] (object -> view transform, depth mapping) and view record
  * views_g[v]; scene_depth_g and gbuf_g hold view_count slices of width * height (times the
- * layers) in view order, every view of the same size. One strand per work-group. */
+ * layers) in view order, every view of the same size, view v's slice starting depth_stride
+ * floats and gbuf_stride words after view v - 1's (the host pads them so that each slice is
+ * a sub-buffer the later stages of its view use in place). One strand per work-group. */
 __kernel SG_KERNEL_ATTRS void strands_raster_views(CLH_RASTER_PARAMS,
                                                    __global const ClhGroomGpu* view_grooms_g,
                                                    __global const ClhViewGpu* views_g,
-                                                   uint view_count) {
+                                                   uint view_count, ulong depth_stride,
+                                                   ulong gbuf_stride) {
   CLH_RASTER_PROLOGUE;
   (void)strand_stride;
   uint bundle = 0u, local_index = 0u, C = 2u;
@@ -346,14 +349,13 @@ __kernel SG_KERNEL_ATTRS void strands_raster_views(CLH_RASTER_PARAMS,
   clh_lane_span span;
   clh_assemble_strand(&sg, layers_l, strand_l, pts_l, groom_g, bundles_g + bundle, verts_g,
                       roots_quad_g, roots_tri_g, bundle, local_index, C, gamma, P, T, &span);
-  const ulong plane = (ulong)view_g->width * view_g->height;
   for (uint v = 0; v < view_count; ++v) {
     clh_raster_setup(&rc, view_grooms_g + v, views_g + v);
     rc.u6 = clh_unorm_bits(span.uv.x, 6u);
     rc.v6 = clh_unorm_bits(span.uv.y, 6u);
     rc.coverage = coverage;
-    clh_raster_lane(&rc, scene_depth_g + v * plane, gbuf_g + v * (ulong)(CLH_MSAA + 1) * plane,
-                    stats_g, view_grooms_g + v, P, T, span.first, span.count, span.C, span.next_p,
+    clh_raster_lane(&rc, scene_depth_g + v * depth_stride, gbuf_g + v * gbuf_stride, stats_g,
+                    view_grooms_g + v, P, T, span.first, span.count, span.C, span.next_p,
                     span.next_t);
   }
 }

@@ -80,19 +80,31 @@ void StrandStage::rasterViews(const Inputs& in, const StrandRaster& r, const cl:
              .first;
   cl::Kernel& k = it->second;
   const std::uint64_t V = count;
+  if (V == 0) throw Error("several views: the strand pass was given no view");
+  const std::uint64_t words = r.pixels * static_cast<std::uint64_t>(r.msaa + 1);
+  const std::uint64_t depthStride = r.depthStride ? r.depthStride : r.pixels;
+  const std::uint64_t gbufferStride = r.gbufferStride ? r.gbufferStride : words;
+  if (depthStride < r.pixels || gbufferStride < words)
+    throw Error("several views: slices of " + std::to_string(depthStride) + " depths and " +
+                std::to_string(gbufferStride) + " words are shorter than a view's " +
+                std::to_string(r.pixels) + " pixels and " + std::to_string(words) + " words");
   KernelArgs a(k, "strands");
   a.buffer("groom", *in.groom, sizeof(gpu::ClhGroomGpu))
       .buffer("view", *r.view, sizeof(gpu::ClhViewGpu));
   bindGroom(a, in);
-  a.buffer("scene depth of every view", *r.sceneDepth, V * r.pixels * sizeof(float))
+  // the last view's slice ends at its own size: the padding after it need not exist
+  a.buffer("scene depth of every view", *r.sceneDepth,
+           ((V - 1) * depthStride + r.pixels) * sizeof(float))
       .buffer("G-buffers of every view", *r.gbuffer,
-              V * r.pixels * static_cast<std::uint64_t>(r.msaa + 1) * sizeof(cl_ulong))
+              ((V - 1) * gbufferStride + words) * sizeof(cl_ulong))
       .buffer("raster counters", *r.counters, 4 * sizeof(cl_uint));
   const cl_uint baseArg = a.next();
   a.value("strand base", 0u).value("strand stride", 0u);
   a.buffer("view grooms", viewGrooms, V * sizeof(gpu::ClhGroomGpu))
       .buffer("views", views, V * sizeof(gpu::ClhViewGpu))
-      .value("view count", static_cast<cl_uint>(count));
+      .value("view count", static_cast<cl_uint>(count))
+      .value("depth slice stride", static_cast<cl_ulong>(depthStride))
+      .value("G-buffer slice stride", static_cast<cl_ulong>(gbufferStride));
   if (r.strands == 0) return;
   dispatchStrands(dev_, k, "strands", r.strands, baseArg, profiler);
 }

@@ -38,6 +38,9 @@ struct StrandRaster {
   bool cover = false;
   const cl::Buffer* linkFlags = nullptr;
   std::uint32_t linkWords = 0;
+  // several views (StrandStage::rasterViews): from one view's slice of sceneDepth (floats)
+  // and of gbuffer (words) to the next's; 0: packed (pixels, pixels * (msaa + 1))
+  std::uint64_t depthStride = 0, gbufferStride = 0;
 
   std::uint64_t gbufferBytes() const {
     return static_cast<std::uint64_t>(pixels) *
@@ -100,7 +103,8 @@ class StrandStage {
   void opacity(const Inputs& in, const OpacityPass& o, std::uint32_t strands, Profiler* profiler);
   // Several views of one assembly (strands_raster_views): r.view is the view the LOD was
   // chosen in (sizes every view), r.sceneDepth and r.gbuffer hold `count` slices in view
-  // order, viewGrooms and views one record per view. Read-back or over-launch sizing.
+  // order, r.depthStride and r.gbufferStride apart, viewGrooms and views one record per
+  // view. Read-back or over-launch sizing.
   void rasterViews(const Inputs& in, const StrandRaster& r, const cl::Buffer& viewGrooms,
                    const cl::Buffer& views, std::uint32_t count, Profiler* profiler);
   // The motion pass: `previous` holds the layer vertices of the previous frame (as many as

@@ -205,6 +205,19 @@ void initRay(RTCRay& ray, hb::clh_v3 org, hb::clh_v3 dir, float tnear, float tfa
   ray.flags = 0;
 }
 
+// Commits an opaque Lambertian geometry, attaches it to the scene and records its albedo
+// under its geometry id.
+void attachOpaque(StrandTracer::Impl& r, RTCGeometry geom, const char* what,
+                  const float albedo[3]) {
+  rtcCommitGeometry(geom);
+  const unsigned id = rtcAttachGeometry(r.scene, geom);
+  rtcReleaseGeometry(geom);
+  r.check(what);
+  if (r.opaque.size() <= id) r.opaque.resize(id + 1);
+  r.opaque[id].present = true;
+  std::copy(albedo, albedo + 3, r.opaque[id].albedo);
+}
+
 }  // namespace
 
 void StrandTracer::addSphere(const float centre[3], float radius, const float albedo[3]) {
@@ -223,13 +236,7 @@ void StrandTracer::addSphere(const float centre[3], float radius, const float al
   vb[1] = centre[1];
   vb[2] = centre[2];
   vb[3] = radius;
-  rtcCommitGeometry(geom);
-  const unsigned id = rtcAttachGeometry(r.scene, geom);
-  rtcReleaseGeometry(geom);
-  r.check("adding a sphere");
-  if (r.opaque.size() <= id) r.opaque.resize(id + 1);
-  r.opaque[id].present = true;
-  std::copy(albedo, albedo + 3, r.opaque[id].albedo);
+  attachOpaque(r, geom, "adding a sphere", albedo);
 }
 
 void StrandTracer::addTriangles(const std::vector<float>& positions,
@@ -253,13 +260,7 @@ void StrandTracer::addTriangles(const std::vector<float>& positions,
   }
   std::copy(positions.begin(), positions.begin() + 3 * V, vb);
   std::copy(indices.begin(), indices.begin() + 3 * T, ib);
-  rtcCommitGeometry(geom);
-  const unsigned id = rtcAttachGeometry(r.scene, geom);
-  rtcReleaseGeometry(geom);
-  r.check("adding triangles");
-  if (r.opaque.size() <= id) r.opaque.resize(id + 1);
-  r.opaque[id].present = true;
-  std::copy(albedo, albedo + 3, r.opaque[id].albedo);
+  attachOpaque(r, geom, "adding triangles", albedo);
 }
 
 StrandTracer::PathImage StrandTracer::tracePaths(const PathSetup& ps) const {

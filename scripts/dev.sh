@@ -136,7 +136,11 @@ else
     echo "dev.sh: build (clang, ASan + UBSan, fuzzers)"
     time cmake --build build-san --target clhair_fuzzers clhair clhair_tests -j"$jobs"
     echo "dev.sh: fuzzers and host tests (ASan + UBSan)"
-    # not timed here: ctest's own summary stays the last thing printed
-    (cd build-san && ctest --output-on-failure -j2 --timeout 600 -R "$host_tests")
+    # not timed here: ctest's own summary stays the last thing printed. A failed test runs
+    # once more: LeakSanitizer's stop-the-world tracer can itself crash at exit ("Tracer
+    # caught signal 11 ... LeakSanitizer has encountered a fatal error") after every
+    # assertion passed, seen once in ExplicitRender.*; a real finding fails both runs.
+    (cd build-san && ctest --output-on-failure -j2 --timeout 600 --repeat until-pass:2 \
+      -R "$host_tests")
   fi
 fi

@@ -552,6 +552,9 @@ int main(int argc, char** argv) {
         int huang;     // 0: Lipp's filter; else Huang's: 1 linking, 2 + alpha fix, 3 + filter
         int lodAggregate = 0;  // LOD strands: single fibre or aggregated BCSDF (Huang 2024)
         int raster = 0;        // 0 lines, 1 coverage (Kulikov 2025, clhair/coverage.h)
+        // segment budget: -1 the scene's (2 M segments by default), 0 none; with LOD a
+        // groom over the budget keeps fewer, wider strands (docs/scene-format.md)
+        std::int64_t budget = -1;
       };
       const Config configs[] = {{"SWR1", 1, 0, 0, true, 0},
                                 {"SWR1+F", 1, 1, 0, true, 0},
@@ -564,6 +567,7 @@ int main(int argc, char** argv) {
                                 {"SWR1+H linking+alpha fix", 1, 1, 0, true, 2},
                                 {"SWR1+H (linking+alpha fix+anisotropic)", 1, 1, 0, true, 3},
                                 {"SWR1+H+L", 1, 1, 1, true, 3},
+                                {"SWR1+H+L, no budget", 1, 1, 1, true, 3, 0, 0, 0},
                                 {"SWR MSAA 2", 2, 0, 0, true, 0},
                                 {"SWR MSAA 4", 4, 0, 0, true, 0},
                                 {"SWR MSAA 8", 8, 0, 0, true, 0},
@@ -718,6 +722,7 @@ int main(int argc, char** argv) {
             o.lod = c.lod;
             o.lodAggregate = c.lodAggregate;
             o.raster = c.raster;
+            o.segmentBudget = c.budget;
             Scene sc = s;
             useFilter(sc, c.huang, c.promote);
             Frame f = b.renderer.render(sc, o);

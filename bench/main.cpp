@@ -567,7 +567,7 @@ int main(int argc, char** argv) {
                                 {"SWR1+H linking+alpha fix", 1, 1, 0, true, 2},
                                 {"SWR1+H (linking+alpha fix+anisotropic)", 1, 1, 0, true, 3},
                                 {"SWR1+H+L", 1, 1, 1, true, 3},
-                                {"SWR1+H+L, no budget", 1, 1, 1, true, 3, 0, 0, 0},
+                                {"SWR1+H+L no budget", 1, 1, 1, true, 3, 0, 0, 0},
                                 {"SWR MSAA 2", 2, 0, 0, true, 0},
                                 {"SWR MSAA 4", 4, 0, 0, true, 0},
                                 {"SWR MSAA 8", 8, 0, 0, true, 0},

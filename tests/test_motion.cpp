@@ -5,10 +5,10 @@
 // A hair mesh whose cage a cage-animation file translates rigidly, and per-frame strand files
 // translated from one file to the next, give per pixel the projected translation (the
 // previous position of the surface point in the pixel, projected with the camera: within
-// 0.05 px on average, with the default filter and, for the cage, Lipp's too); a frame that
-// is its own previous frame gives 0. A groom in wind (camera
-// still) moves: its hair mask of frame t+1 moved by the motion layer matches frame t's with
-// IoU >= 0.8 and better than not moving it; a slow turntable (keyed camera, static hair)
+// 0.05 px on average, with the default filter and, for the cage, Lipp's and none too); a
+// frame that is its own previous frame gives 0. A groom in wind (camera still) moves: its
+// hair mask of frame t+1 moved by the motion layer matches frame t's with IoU >= 0.8 and
+// better than not moving it; a slow turntable (keyed camera, static hair, Lipp's filter)
 // >= 0.9. Each view of a two-view render is bit-identical to that camera rendered alone; the
 // CLI writes one file per view and frame and refuses unknown view names and --aov with several
 // views with one error line. Tiny images and few strands: a few seconds each.
@@ -58,13 +58,13 @@ std::string writeScene(const std::string& dir, const json& groom, int width, int
   return path;
 }
 
-// Frame `frame` of `shot` with its AOVs and motion to frame - 1, with the default filter
-// (Huang's in these one-view frames) or `filterMethod` (0: Lipp's).
-Frame renderWithMotion(Renderer& r, const Scene& shot, long long frame, int filterMethod = -1) {
+// Frame `frame` of `shot` with its AOVs and motion to frame - 1, rendered with `base` (by
+// default the default filter: Huang's in these one-view frames).
+Frame renderWithMotion(Renderer& r, const Scene& shot, long long frame,
+                       const RenderOptions& base = RenderOptions()) {
   const Scene now = sceneAtFrame(shot, static_cast<double>(frame));
   const Scene before = sceneAtFrame(shot, static_cast<double>(frame > 1 ? frame - 1 : frame));
-  RenderOptions o;
-  o.filterMethod = filterMethod;
+  RenderOptions o = base;
   o.aovs = true;
   o.previous = &before;
   return r.render(now, o);
@@ -99,16 +99,23 @@ double meanTranslationError(const Frame& f, const Scene& shot, const glm::vec3& 
   return hair > 0 ? error / static_cast<double>(hair) : 1e30;
 }
 
+// Lipp's filter (filterMethod 0).
+RenderOptions lippsFilter() {
+  RenderOptions o;
+  o.filterMethod = 0;
+  return o;
+}
+
 }  // namespace
 
 TEST(Motion, CageTranslatedByACageFileGivesTheProjectedTranslation) {
   // Frame 2 of the cage-animation file is frame 1's cage moved by d (every vertex): the
   // strands, generated from the cage, move by d, which the camera sees as about
   // fx * 0.004 / 0.2 = 1.5 px right and 1.1 px up. Without the motion pass (rigid motion
-  // only) the motion would be 0 everywhere. With either filter the motion is that of the
-  // fragment whose depth Z reports (with Huang's filter, the default, a pixel's centre word,
-  // a linked pixel's that of the strand linked into it; resolving on the conservative layer's
-  // nearest word instead measured 0.205 px there).
+  // only) the motion would be 0 everywhere. With either filter, or none, the motion is that
+  // of the fragment whose depth Z reports (with Huang's filter, the default, a pixel's centre
+  // word, a linked pixel's that of the strand linked into it; resolving on the conservative
+  // layer's nearest word instead measured 0.205 px with Huang's filter, 0.203 without).
   const std::string dir = scratchDir();
   const json groom = {{"file", assetPath("grooms/tiny.hairmesh.json")}, {"strands", 400}};
   const Scene rest = loadScene(writeScene(dir, groom, 64, 48));
@@ -124,10 +131,14 @@ TEST(Motion, CageTranslatedByACageFileGivesTheProjectedTranslation) {
   moving["cage_animation"] = {{"file", "move.cage"}, {"start_frame", 1}};
   const Scene shot = loadScene(writeScene(dir, moving, 64, 48));
   Renderer r(sharedDevice());
-  for (int method : {-1, 0}) {  // the default (Huang's), Lipp's
-    SCOPED_TRACE(method < 0 ? "default filter" : "Lipp's filter");
-    const Frame f1 = renderWithMotion(r, shot, 1, method),
-                f2 = renderWithMotion(r, shot, 2, method);
+  RenderOptions unfiltered;
+  unfiltered.filter = 0;
+  const RenderOptions configs[] = {RenderOptions(), lippsFilter(), unfiltered};
+  const char* names[] = {"default filter", "Lipp's filter", "no filter"};
+  for (int c = 0; c < 3; ++c) {
+    SCOPED_TRACE(names[c]);
+    const Frame f1 = renderWithMotion(r, shot, 1, configs[c]),
+                f2 = renderWithMotion(r, shot, 2, configs[c]);
     for (float m : f1.aovs.motion) ASSERT_EQ(m, 0.0f);  // frame 1 is its own previous frame
     std::size_t hair = 0;
     double meanX = 0.0;
@@ -139,7 +150,7 @@ TEST(Motion, CageTranslatedByACageFileGivesTheProjectedTranslation) {
     // filter only: with Huang's the half-opaque mask of this sparse 64x48 groom is about 150
     // pixels, a third of them at alpha 0.3-0.7 (alpha fix, anisotropic filter), and its IoU
     // is 0.21-0.23 warped or not, with the motion exact (DESIGN.md, "The default filter")
-    if (method == 0) {
+    if (c == 1) {
       EXPECT_GT(motionWarpIoU(f2.aovs, f1.aovs, 64, 48), maskIoU(f2.aovs, f1.aovs, 64, 48));
     }
   }
@@ -224,7 +235,8 @@ TEST(Motion, SlowTurntableMotionMovesTheNextFrameOntoThePrevious) {
                         {"keys", keys}}}};
   const Scene shot = loadScene(writeScene(dir, groom, 96, 72, extra));
   Renderer r(sharedDevice());
-  const Frame a = renderWithMotion(r, shot, 2, 0), b = renderWithMotion(r, shot, 3, 0);
+  const Frame a = renderWithMotion(r, shot, 2, lippsFilter()),
+              b = renderWithMotion(r, shot, 3, lippsFilter());
   const double warped = motionWarpIoU(b.aovs, a.aovs, 96, 72);
   const double still = maskIoU(b.aovs, a.aovs, 96, 72);
   EXPECT_GE(warped, 0.9) << "unwarped " << still;

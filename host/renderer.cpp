@@ -313,6 +313,11 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
     const bool huang = filtered && !options.rasterOnly && huangMethod(fp, options, s.grooms.size());
     const bool linking = huang && fp.link && !source;
     const bool ids = huang || options.strandIds;
+    // the layers the composite takes the hair's depth from: the samples, plus the
+    // conservative layer after Lipp's filter (the centre layer holds the linked pixels after
+    // Huang's)
+    const std::uint32_t depthLayers =
+        static_cast<std::uint32_t>(filtered && !huang ? 2 : options.msaa);
     t.useLayers(gbufferLayers(fp, options, source != nullptr, cover, s.grooms.size()));
     t.clearGBuffer(&r.profiler);
     if (source) {
@@ -327,26 +332,6 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
       raster.layers = t.usedLayers();
       raster.ids = ids;
       d.groom->raster(inst, raster, &r.profiler);
-    }
-    // a deforming groom's motion: its strands again at the previous frame, before the
-    // composite changes the depth they were tested against
-    bool motionDrawn = false;
-    if (before && !source && k < before->grooms.size() &&
-        deformsBetween(*d.instance, before->grooms[k])) {
-      if (cover)
-        throw Error("groom \"" + d.instance->name +
-                    "\" deforms: the coverage raster has no motion pass for its motion layer "
-                    "(use the lines raster)");
-      storeMat34(motionParams.prev_obj_to_view, prevWorldToView * before->grooms[k].transform);
-      upload(r.dev, t.motionParams, &motionParams, 1);
-      MotionPass mp;
-      mp.params = &t.motionParams;
-      mp.motion = &t.clearedMotion(&r.profiler);
-      if (d.groom->motion(inst, before->grooms[k], mp, raster, &r.profiler)) {
-        motionWords.resize(pixels);
-        readBack(r.dev, "the motion plane", *mp.motion, motionWords.data(), pixels);
-        motionDrawn = true;
-      }
     }
     LinkStage::Params lp{t.viewTarget(), &inst.groom, &t.gbuffer, d.groom->strandCount(),
                          t.usedLayers()};
@@ -364,6 +349,29 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
         r.linkStage->propagate(lp, &r.profiler);
       }
       r.linkStage->merge(lp, linking, &r.profiler);
+    }
+    // a deforming groom's motion: its strands again at the previous frame, after hair linking
+    // (a linked pixel's motion is that of the strand linked into it) and before the composite
+    // changes the depth they were tested against; resolved on the word the composite takes
+    // the pixel's depth from, so Z and motion describe one fragment
+    bool motionDrawn = false;
+    if (before && !source && k < before->grooms.size() &&
+        deformsBetween(*d.instance, before->grooms[k])) {
+      if (cover)
+        throw Error("groom \"" + d.instance->name +
+                    "\" deforms: the coverage raster has no motion pass for its motion layer "
+                    "(use the lines raster)");
+      storeMat34(motionParams.prev_obj_to_view, prevWorldToView * before->grooms[k].transform);
+      motionParams.depth_layers = depthLayers;
+      upload(r.dev, t.motionParams, &motionParams, 1);
+      MotionPass mp;
+      mp.params = &t.motionParams;
+      mp.motion = &t.clearedMotion(&r.profiler);
+      if (d.groom->motion(inst, before->grooms[k], mp, raster, &r.profiler)) {
+        motionWords.resize(pixels);
+        readBack(r.dev, "the motion plane", *mp.motion, motionWords.data(), pixels);
+        motionDrawn = true;
+      }
     }
     if (options.captureGBuffer) {  // the raster's inputs, before compositing changes the depth
       const auto* gb = reinterpret_cast<const std::uint8_t*>(&inst.params);
@@ -389,10 +397,8 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
                        &r.profiler);
       result = &t.filtered;
     }
-    // depth from the samples, plus the conservative layer after Lipp's filter (the centre
-    // layer holds the linked pixels after Huang's)
     r.composite.enqueue({t.viewTarget(), &inst.groom, result, &t.gbuffer, &t.color, &t.depth,
-                         options.msaa, filtered && !huang ? 2 : options.msaa},
+                         options.msaa, static_cast<int>(depthLayers)},
                         &r.profiler);
     if (aovs) {
       aovWords.resize(pixels * options.msaa);

@@ -281,12 +281,13 @@ static inline void clh_draw_strand(
 
 #if CLH_RASTER_MOTION
 /* The motion pass of a deforming hair mesh (built with -DCLH_RASTER_MOTION=1), run after
- * strands_raster over the same LOD records, scene depth and finished G-buffer: each strand
+ * strands_raster (and hair linking's merge) over the same LOD records, scene depth and
+ * finished G-buffer: each strand
  * is assembled from this frame's layer vertices, exactly as strands_raster drew it, and
  * from the previous frame's (prev_verts_g: the same strand, root sample and control points
- * on the previous cage); every fragment whose word won its pixel's conservative layer
- * writes the screen motion between the two (raster.h, clh_raster_lane_motion) to
- * motion_g. One strand per work-group. */
+ * on the previous cage); every fragment whose word is the one the pixel's depth comes from
+ * (ClhMotionGpu::depth_layers) writes the screen motion between the two (raster.h,
+ * clh_raster_lane_motion) to motion_g. One strand per work-group. */
 __kernel SG_KERNEL_ATTRS void strands_motion(CLH_RASTER_PARAMS,
                                              __global const ClhMeshVertex* prev_verts_g,
                                              __global const ClhMotionGpu* motion_params_g,

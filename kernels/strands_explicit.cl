@@ -266,8 +266,9 @@ static inline void clh_x_draw(sg_ctx* sg, clh_raster_ctx* rc, __global const Clh
  * strands_explicit_raster over the same LOD records, scene depth and finished G-buffer:
  * prev_points_g holds the previous frame's points in this frame's strand order and layout
  * (point_count entries), so each round is assembled twice, and every fragment whose word
- * won its pixel's conservative layer writes the screen motion between the two to
- * motion_g (raster.h, clh_raster_lane_motion). One strand per work-group. */
+ * is the one the pixel's depth comes from (ClhMotionGpu::depth_layers) writes the screen
+ * motion between the two to motion_g (raster.h, clh_raster_lane_motion). One strand per
+ * work-group. */
 __kernel SG_KERNEL_ATTRS void strands_explicit_motion(CLH_X_PARAMS,
                                                       __global const float* scene_depth_g,
                                                       __global ulong* gbuf_g,

@@ -14,7 +14,7 @@ static_assert(offsetof(ClhGroomGpu, bundle_count) == 96, "ClhGroomGpu counts off
 static_assert(offsetof(ClhGroomGpu, clump_strength) == 160, "ClhGroomGpu styling offset");
 static_assert(offsetof(ClhGroomGpu, root_color) == 208, "ClhGroomGpu colour offset");
 static_assert(sizeof(ClhViewGpu) == 144, "ClhViewGpu layout");
-static_assert(sizeof(ClhMotionGpu) == 64, "ClhMotionGpu layout");
+static_assert(sizeof(ClhMotionGpu) == 80, "ClhMotionGpu layout");
 static_assert(sizeof(ClhLightGpu) == 32, "ClhLightGpu layout");
 static_assert(sizeof(ClhSphereGpu) == 32, "ClhSphereGpu layout");
 static_assert(sizeof(ClhPlaneGpu) == 32, "ClhPlaneGpu layout");

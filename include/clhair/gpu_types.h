@@ -145,14 +145,17 @@ typedef struct {
   float eye[4];
 } ClhViewGpu;
 
-/* ---- the previous frame of a deforming groom, 64 bytes ----------------------------------
+/* ---- the previous frame of a deforming groom, 80 bytes ----------------------------------
  * The motion pass (strands.cl / strands_explicit.cl built with CLH_RASTER_MOTION) evaluates
  * each strand a second time from the previous frame's cage or points and projects it with
  * the previous frame's object -> view transform and camera (same pixel conventions as
- * ClhViewGpu).                                                                            */
+ * ClhViewGpu). depth_layers: the G-buffer layers the composite takes the pixel's depth from
+ * (the nearest word of layers 0 .. depth_layers - 1, composite.cl); the fragment whose word
+ * that is gives the pixel its motion.                                                      */
 typedef struct {
   float prev_obj_to_view[12];
   float fx, fy, cx, cy;
+  clh_u32 depth_layers, pad0, pad1, pad2;
 } ClhMotionGpu;
 
 /* ---- lights and opaque primitives ---------------------------------------------------- */

@@ -149,6 +149,7 @@ typedef struct {
 #endif
 #if CLH_RASTER_MOTION
   __global clh_u64* motion_g; /* per pixel: the winning word's motion, packed */
+  clh_u32 motion_layers;      /* the layers the pixel's depth comes from (ClhMotionGpu) */
 #endif
 } clh_raster_ctx;
 
@@ -355,6 +356,33 @@ CLH_FN clh_u64 clh_col_id(const clh_raster_ctx* rc, const clh_col_word* c) {
 CLH_FN void clh_col_write(const clh_raster_ctx* rc, const clh_seg* s,
                           CLH_GLOBAL const float* scene_depth, CLH_GLOBAL clh_u64* gbuf,
                           clh_u32* counts, clh_u64 layer_at, clh_u64 idx, clh_col_word* c) {
+#if CLH_RASTER_MOTION
+  /* The motion pass draws the same fragments again over the finished G-buffer. The pixel's
+   * depth is the nearest word of its first motion_layers layers (composite.cl: the centre
+   * sample with Huang's filter, where hair linking has put the linked strand's curve word
+   * into it, or without a filter; the centre and conservative layers with Lipp's). The
+   * fragment whose word is that word, in whichever layer it is drawn (a linked pixel's word
+   * is the one its strand draws there into the conservative layer), gives the pixel its
+   * motion, so motion and depth describe one fragment. Equal words from different
+   * fragments resolve by atom_min over the packed motion, so the result does not depend on
+   * the order either. */
+  (void)counts;
+  (void)layer_at;
+  clh_u64 target = CLH_GBUF_EMPTY;
+  for (clh_u32 k = 0u; k < rc->motion_layers; ++k) {
+    const clh_u64 w = gbuf[(clh_u64)k * rc->plane + idx];
+    target = w < target ? w : target;
+  }
+  if ((clh_u32)(target >> 40) < c->dcode || !(c->z < scene_depth[idx])) return;
+  if (!c->have) {
+    float z;
+    c->word = clh_segment_word(rc, s, c->t, &z);
+    c->have = 1;
+  }
+  if (c->word != target) return;
+  const float mx = clh_lerpf(s->mxa, s->mxb, c->t), my = clh_lerpf(s->mya, s->myb, c->t);
+  atom_min(rc->motion_g + idx, ((clh_u64)as_uint(mx) << 32) | (clh_u64)as_uint(my));
+#else
 #if CLH_ATOMIC_LOAD_SKIP
 #ifdef CLH_DEVICE_CODE
   const clh_u64 seen = gbuf[layer_at + idx];
@@ -377,17 +405,6 @@ CLH_FN void clh_col_write(const clh_raster_ctx* rc, const clh_seg* s,
     c->word = clh_segment_word(rc, s, c->t, &z);
     c->have = 1;
   }
-#if CLH_RASTER_MOTION
-  /* The motion pass draws the same fragments again over the finished G-buffer: a fragment
-   * of the conservative layer (which every candidate reaches, so its word is the nearest
-   * hair in the pixel) whose word is the one that won gives the pixel its motion. Equal
-   * words from different fragments resolve by atom_min over the packed motion, so the
-   * result does not depend on the order either. */
-  (void)counts;
-  if (layer_at != (clh_u64)CLH_MSAA * rc->plane || gbuf[layer_at + idx] != c->word) return;
-  const float mx = clh_lerpf(s->mxa, s->mxb, c->t), my = clh_lerpf(s->mya, s->myb, c->t);
-  atom_min(rc->motion_g + idx, ((clh_u64)as_uint(mx) << 32) | (clh_u64)as_uint(my));
-#else
   clh_gbuf_write(gbuf, counts, layer_at + idx, c->word);
 #if CLH_STRAND_ID && CLH_MSAA == 1
   /* the identity of a centre-sample write, by the same depth test (counters untouched) */
@@ -396,7 +413,7 @@ CLH_FN void clh_col_write(const clh_raster_ctx* rc, const clh_seg* s,
     clh_gbuf_write(gbuf, none, (clh_u64)(CLH_MSAA + 1) * rc->plane + idx, clh_col_id(rc, c));
   }
 #endif
-#endif
+#endif /* CLH_RASTER_MOTION */
 }
 
 #if CLH_RASTER_COVER

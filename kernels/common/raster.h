@@ -120,6 +120,8 @@ static inline void clh_raster_lane_motion(clh_raster_ctx* rc, __global const flo
     prev_view[k] = m_g->prev_obj_to_view[k];
   }
   const float pfx = m_g->fx, pfy = m_g->fy, pcx = m_g->cx, pcy = m_g->cy;
+  /* at least the centre sample, at most the samples and the conservative layer */
+  rc->motion_layers = clamp(m_g->depth_layers, 1u, (uint)CLH_MSAA + 1u);
   ClhRasterVertex prev;
   uint counts[4] = {0u, 0u, 0u, 0u};
   for (uint i = 0; i <= count; ++i) {

@@ -313,8 +313,15 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
     const bool huang = filtered && !options.rasterOnly && huangMethod(fp, options, s.grooms.size());
     const bool linking = huang && fp.link && !source;
     const bool ids = huang || options.strandIds;
+    // the pixels the groom can draw into: the G-buffer clear before it and the passes that
+    // concern only its pixels run there (a given G-buffer may hold words anywhere)
+    const PixelRect box =
+        options.screenBoxes && !source
+            ? screenBox(d.groom->boundsMin(), d.groom->boundsMax(),
+                        pass.worldToView * d.instance->transform, view, kScreenBoxMargin)
+            : PixelRect{};
     t.useLayers(gbufferLayers(fp, options, source != nullptr, cover, s.grooms.size()));
-    t.clearGBuffer(&r.profiler);
+    t.clearGBuffer(box, &r.profiler);
     if (source) {
       source->centreLayer(static_cast<std::uint32_t>(k), inst.params, words);
       if (words.size() != pixels)
@@ -348,8 +355,10 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
         motionDrawn = true;
       }
     }
-    LinkStage::Params lp{t.viewTarget(), &inst.groom, &t.gbuffer, d.groom->strandCount(),
-                         t.usedLayers()};
+    // Huang's filter leaves its result right inside the box only; the AOVs read all of it
+    const PixelRect hairBox = aovs ? PixelRect{} : box;
+    LinkStage::Params lp{t.viewTarget(),         &inst.groom,    &t.gbuffer,
+                         d.groom->strandCount(), t.usedLayers(), hairBox};
     if (huang) {
       if (!r.linkStage) r.linkStage = std::make_unique<LinkStage>(r.dev);
       r.linkStage->select(fp, lp, &r.profiler);
@@ -391,9 +400,10 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
     }
     // depth from the samples, plus the conservative layer after Lipp's filter (the centre
     // layer holds the linked pixels after Huang's)
-    r.composite.enqueue({t.viewTarget(), &inst.groom, result, &t.gbuffer, &t.color, &t.depth,
-                         options.msaa, filtered && !huang ? 2 : options.msaa},
-                        &r.profiler);
+    r.composite.enqueue(
+        {t.viewTarget(), &inst.groom, result, &t.gbuffer, &t.color, &t.depth, options.msaa,
+         filtered && !huang ? 2 : options.msaa, huang ? hairBox : PixelRect{}},
+        &r.profiler);
     if (aovs) {
       aovWords.resize(pixels * options.msaa);
       aovHair.resize(pixels * 4);
@@ -632,9 +642,10 @@ std::vector<Frame> Renderer::Impl::views(const Scene& s, const std::vector<Camer
       if (filtered)
         r.filter.enqueue(fp, {t.viewTarget(), &inst.groom, &gbuffer, &t.hair, &t.filtered},
                          &r.profiler);
-      r.composite.enqueue({t.viewTarget(), &inst.groom, filtered ? &t.filtered : &t.hair, &gbuffer,
-                           &t.color, &depth, options.msaa, filtered ? 2 : options.msaa},
-                          &r.profiler);
+      r.composite.enqueue(
+          {t.viewTarget(), &inst.groom, filtered ? &t.filtered : &t.hair, &gbuffer, &t.color,
+           &depth, options.msaa, filtered ? 2 : options.msaa, PixelRect{}},
+          &r.profiler);
     }
     inst.params = recs[lodView];
   }

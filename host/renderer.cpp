@@ -104,30 +104,23 @@ static bool coverMode(const Scene& s, const RenderOptions& options) {
   return cover;
 }
 
-// The most groom instances a frame may hold for "auto" to pick Huang's filter: its linking
-// passes run over the whole frame once per groom (about 10 ms per groom at 1280x720 on the
-// 2-core CPU), which in a crowd outweighs the rest of the frame (DESIGN.md, "The default
-// filter").
-constexpr std::size_t kAutoHuangMaxGrooms = 4;
-
-// Whether a frame of one view with `grooms` groom instances filters a groom with Huang's
-// filter (rather than Lipp's): as --filter says, else as the groom's method, where "auto" is
-// Huang's up to kAutoHuangMaxGrooms instances and Lipp's beyond.
-static bool huangMethod(const FilterParams& fp, const RenderOptions& options, std::size_t grooms) {
+// Whether a frame of one view filters a groom with Huang's filter (rather than Lipp's): as
+// --filter says, else as the groom's method, where "auto" is Huang's (whatever the number of
+// grooms: each one's passes run over its screen box, DESIGN.md "The default filter").
+static bool huangMethod(const FilterParams& fp, const RenderOptions& options) {
   if (options.filterMethod >= 0) return options.filterMethod == 1;
-  if (fp.method == FilterParams::Method::Auto) return grooms <= kAutoHuangMaxGrooms;
-  return fp.method == FilterParams::Method::Huang;
+  return fp.method != FilterParams::Method::Lipp;
 }
 
 // G-buffer layers a groom with filter settings `fp` uses: the samples and the conservative
 // layer, then the identity layer (Huang's filter, strand identities) and the hair linking
 // layers (gpu_types.h); in the coverage mode its three layers and the coverage plane.
 static int gbufferLayers(const FilterParams& fp, const RenderOptions& options, bool given,
-                         bool cover, std::size_t grooms) {
+                         bool cover) {
   if (cover) return static_cast<int>(CLH_LAYER_COVERAGE) + 1;
   const bool filtered =
       options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
-  const bool huang = filtered && !options.rasterOnly && huangMethod(fp, options, grooms);
+  const bool huang = filtered && !options.rasterOnly && huangMethod(fp, options);
   const bool ids = huang || options.strandIds;
   if (ids && options.msaa != 1)
     throw Error("strand identities (the strand.id layer) need MSAA 1, not " +
@@ -217,9 +210,8 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
   // the G-buffer layers the grooms will ask for, allocated once before any is drawn
   int layersNeeded = options.msaa + 1;
   for (const GroomInstance& gi : s.grooms)
-    layersNeeded =
-        std::max(layersNeeded, gbufferLayers(gi.hasFilter ? gi.filter : s.filter, options,
-                                             source != nullptr, cover, s.grooms.size()));
+    layersNeeded = std::max(layersNeeded, gbufferLayers(gi.hasFilter ? gi.filter : s.filter,
+                                                        options, source != nullptr, cover));
   t.useLayers(layersNeeded);
   r.scene.upload(s);
   gpu::ClhViewGpu view = makeView(s.camera, s.width, s.height);
@@ -310,7 +302,7 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
     // the coverage mode has no filter: its alpha comes from the coverage layer
     const bool filtered =
         !cover && options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
-    const bool huang = filtered && !options.rasterOnly && huangMethod(fp, options, s.grooms.size());
+    const bool huang = filtered && !options.rasterOnly && huangMethod(fp, options);
     const bool linking = huang && fp.link && !source;
     const bool ids = huang || options.strandIds;
     // the layers the composite takes the hair's depth from: the samples, plus the
@@ -318,8 +310,15 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
     // Huang's)
     const std::uint32_t depthLayers =
         static_cast<std::uint32_t>(filtered && !huang ? 2 : options.msaa);
-    t.useLayers(gbufferLayers(fp, options, source != nullptr, cover, s.grooms.size()));
-    t.clearGBuffer(&r.profiler);
+    // the pixels the groom can draw into: the G-buffer clear before it and the passes that
+    // concern only its pixels run there (a given G-buffer may hold words anywhere)
+    const PixelRect box =
+        options.screenBoxes && !source
+            ? screenBox(d.groom->boundsMin(), d.groom->boundsMax(),
+                        pass.worldToView * d.instance->transform, view, kScreenBoxMargin)
+            : PixelRect{};
+    t.useLayers(gbufferLayers(fp, options, source != nullptr, cover));
+    t.clearGBuffer(box, &r.profiler);
     if (source) {
       source->centreLayer(static_cast<std::uint32_t>(k), inst.params, words);
       if (words.size() != pixels)
@@ -333,8 +332,10 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
       raster.ids = ids;
       d.groom->raster(inst, raster, &r.profiler);
     }
-    LinkStage::Params lp{t.viewTarget(), &inst.groom, &t.gbuffer, d.groom->strandCount(),
-                         t.usedLayers()};
+    // Huang's filter leaves its result right inside the box only; the AOVs read all of it
+    const PixelRect hairBox = aovs ? PixelRect{} : box;
+    LinkStage::Params lp{t.viewTarget(),         &inst.groom,    &t.gbuffer,
+                         d.groom->strandCount(), t.usedLayers(), hairBox};
     if (huang) {
       if (!r.linkStage) r.linkStage = std::make_unique<LinkStage>(r.dev);
       r.linkStage->select(fp, lp, &r.profiler);
@@ -398,7 +399,7 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
       result = &t.filtered;
     }
     r.composite.enqueue({t.viewTarget(), &inst.groom, result, &t.gbuffer, &t.color, &t.depth,
-                         options.msaa, static_cast<int>(depthLayers)},
+                         options.msaa, static_cast<int>(depthLayers), huang ? hairBox : PixelRect{}},
                         &r.profiler);
     if (aovs) {
       aovWords.resize(pixels * options.msaa);
@@ -638,9 +639,10 @@ std::vector<Frame> Renderer::Impl::views(const Scene& s, const std::vector<Camer
       if (filtered)
         r.filter.enqueue(fp, {t.viewTarget(), &inst.groom, &gbuffer, &t.hair, &t.filtered},
                          &r.profiler);
-      r.composite.enqueue({t.viewTarget(), &inst.groom, filtered ? &t.filtered : &t.hair, &gbuffer,
-                           &t.color, &depth, options.msaa, filtered ? 2 : options.msaa},
-                          &r.profiler);
+      r.composite.enqueue(
+          {t.viewTarget(), &inst.groom, filtered ? &t.filtered : &t.hair, &gbuffer, &t.color,
+           &depth, options.msaa, filtered ? 2 : options.msaa, PixelRect{}},
+          &r.profiler);
     }
     inst.params = recs[lodView];
   }

@@ -4,9 +4,12 @@
  * Where the hair is at least half opaque its depth (the nearest word of the G-buffer's
  * `depth_layers` first layers: the samples, plus the conservative layer after the filter)
  * replaces the scene depth when nearer, so the next groom is depth tested against it;
- * fainter hair does not hide what lies behind it.
+ * fainter hair does not hide what lies behind it. The launch covers the int4 `box` [x0, x1) x
+ * [y0, y1) of the image: a groom's screen box when the host knows the hair is transparent
+ * (alpha 0) outside it, else the whole image.
  */
 #include "clhair/gpu_types.h"
+#include "clh_math.h"
 
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 
@@ -16,10 +19,12 @@
 
 __kernel void composite_over(__global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
                              __global const float4* hair_g, __global const ulong* gbuf_g,
-                             __global float4* color_g, __global float* depth_g, uint depth_layers) {
-  uint x = (uint)get_global_id(0), y = (uint)get_global_id(1);
-  uint width = view_g->width, height = view_g->height;
-  if (x >= width || y >= height) return;
+                             __global float4* color_g, __global float* depth_g, uint depth_layers,
+                             int4 box) {
+  const uint width = view_g->width, height = view_g->height;
+  int bx, by;
+  if (!clh_box_pixel(box, (int)width, (int)height, &bx, &by)) return;
+  const uint x = (uint)bx, y = (uint)by;
   size_t idx = (size_t)y * width + x;
   float4 h = hair_g[idx];
   if (!(h.w > 0.0f)) return;

@@ -55,6 +55,24 @@
  *                  distance in units of r (the paper's sigma_d = 0.1 is relative), theta
  *                  the angle between the tangent line and Q - P, colours as c / (1 + c).
  *
+ * Screen boxes: each kernel runs over a box of pixels (its int4 `box`: [x0, x1) x [y0, y1),
+ * clipped to the image by the host), not the whole image. The host passes the groom's
+ * screen box R, which holds every pixel any of the groom's G-buffer layers can hold (the
+ * strand and curve passes draw inside it; propagate and merge write only where the curve
+ * layer has a word), grown by what each kernel reads:
+ *  link_select     R + 1: an empty pixel chooses its source from its 3x3 neighbourhood.
+ *  link_propagate  R + 1: the pixels link_select may have given a source (only their entries
+ *                  of the choice buffer are read, all written by this groom's link_select);
+ *                  a walk may go max_steps pixels, but only along the curve layer, inside R.
+ *  link_merge      R: outside it every layer is empty and the kernel changes nothing.
+ *  link_alpha      R + CLH_LINK_MAX_RADIUS: link_aniso reads its output over the ellipse's
+ *                  box around each hair pixel (at most LINK_MAX_RADIUS away), and there an
+ *                  empty pixel's output is 0.
+ *  link_aniso      R: outside it a pixel is empty and its output is its input, 0.
+ * The whole-image launches differ only outside these boxes, where they write choices no
+ * later kernel reads and zeros the bounded compositing pass (composite.cl, over R) skips:
+ * the frame is bit-identical (tests: LinkScreenBox.*).
+ *
  * The hash table (4 uints per entry: strand + 1, M, N, 0) is probed linearly from a hash
  * of the strand, at most CLH_HASH_PROBES entries; a strand that finds no place is counted
  * (counters[3], per pixel turned away) and keeps alpha 1: a full table degrades to no
@@ -69,7 +87,7 @@
 
 /* the kernel's major axis r in pixels (Eq. 13 clamped) and its minor axis over r (rho) */
 #define LINK_MIN_RADIUS 2
-#define LINK_MAX_RADIUS 3
+#define LINK_MAX_RADIUS CLH_LINK_MAX_RADIUS
 #define LINK_ASPECT 0.5f
 
 /* Unit screen direction (x right, y down) of the word's world tangent at pixel (x, y). */
@@ -98,10 +116,10 @@ static inline bool link_flagged(__global const uint* flags_g, uint words, uint s
 __kernel void link_select(__global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
                           __global const ClhLinkGpu* link_g, __global const ulong* gbuf_g,
                           __global uint* choice_g, __global uint* flags_g,
-                          __global uint* counters_g) {
-  const int x = (int)get_global_id(0), y = (int)get_global_id(1);
+                          __global uint* counters_g, int4 box) {
   const int width = (int)view_g->width, height = (int)view_g->height;
-  if (x >= width || y >= height) return;
+  int x, y;
+  if (!clh_box_pixel(box, width, height, &x, &y)) return;
   const size_t plane = (size_t)width * (size_t)height;
   const size_t idx = (size_t)y * (size_t)width + (size_t)x;
   uint best_at = CLH_LINK_NONE;
@@ -138,10 +156,10 @@ __kernel void link_select(__global const ClhGroomGpu* groom_g, __global const Cl
 
 __kernel void link_propagate(__global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
                              __global const ClhLinkGpu* link_g, __global ulong* gbuf_g,
-                             __global const uint* choice_g) {
-  const int x = (int)get_global_id(0), y = (int)get_global_id(1);
+                             __global const uint* choice_g, int4 box) {
   const int width = (int)view_g->width, height = (int)view_g->height;
-  if (x >= width || y >= height) return;
+  int x, y;
+  if (!clh_box_pixel(box, width, height, &x, &y)) return;
   const size_t plane = (size_t)width * (size_t)height;
   const size_t idx = (size_t)y * (size_t)width + (size_t)x;
   const uint src = choice_g[idx];
@@ -241,10 +259,11 @@ static inline void link_count(__global const ClhLinkGpu* link_g, __global const 
 
 __kernel void link_merge(__global const ClhViewGpu* view_g, __global const ClhLinkGpu* link_g,
                          __global ulong* gbuf_g, __global const uint* flags_g,
-                         __global uint* table_g, __global uint* counters_g, uint linking) {
-  const int x = (int)get_global_id(0), y = (int)get_global_id(1);
+                         __global uint* table_g, __global uint* counters_g, uint linking,
+                         int4 box) {
   const int width = (int)view_g->width, height = (int)view_g->height;
-  if (x >= width || y >= height) return;
+  int x, y;
+  if (!clh_box_pixel(box, width, height, &x, &y)) return;
   const size_t plane = (size_t)width * (size_t)height;
   const size_t idx = (size_t)y * (size_t)width + (size_t)x;
   ulong word = gbuf_g[idx];
@@ -282,10 +301,10 @@ __kernel void link_merge(__global const ClhViewGpu* view_g, __global const ClhLi
 __kernel void link_alpha(__global const ClhViewGpu* view_g, __global const ClhLinkGpu* link_g,
                          __global const ulong* gbuf_g, __global const uint* flags_g,
                          __global uint* table_g, __global const float4* hair_g,
-                         __global float4* out_g) {
-  const int x = (int)get_global_id(0), y = (int)get_global_id(1);
+                         __global float4* out_g, int4 box) {
   const int width = (int)view_g->width, height = (int)view_g->height;
-  if (x >= width || y >= height) return;
+  int x, y;
+  if (!clh_box_pixel(box, width, height, &x, &y)) return;
   const size_t plane = (size_t)width * (size_t)height;
   const size_t idx = (size_t)y * (size_t)width + (size_t)x;
   if (gbuf_g[idx] == CLH_GBUF_EMPTY) {
@@ -338,10 +357,10 @@ static inline float3 link_display(float3 c) { return c / (1.0f + c); }
 __kernel void link_aniso(__global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
                          __global const ClhLinkGpu* link_g, __global const ulong* gbuf_g,
                          __global const uint* counters_g, __global const float4* in_g,
-                         __global float4* out_g) {
-  const int x = (int)get_global_id(0), y = (int)get_global_id(1);
+                         __global float4* out_g, int4 box) {
   const int width = (int)view_g->width, height = (int)view_g->height;
-  if (x >= width || y >= height) return;
+  int x, y;
+  if (!clh_box_pixel(box, width, height, &x, &y)) return;
   const size_t idx = (size_t)y * (size_t)width + (size_t)x;
   const float4 cp = in_g[idx];
   const ulong word = gbuf_g[idx];

@@ -87,7 +87,7 @@ struct LinkResult {
 // Runs select, propagate, merge, then "shades" every centre word with the colour of its
 // strand (shade(strand)) and runs the alpha fix (and the filter when f.aniso).
 template <typename Shade>
-LinkResult runLink(Synthetic s, const FilterParams& f, Shade shade) {
+LinkResult runLink(Synthetic s, const FilterParams& f, Shade shade, PixelRect box = PixelRect{}) {
   Device::Impl& d = *test::sharedDevice().impl();
   ClhGroomGpu groom{};
   groom.depth_near = kNear;
@@ -107,7 +107,7 @@ LinkResult runLink(Synthetic s, const FilterParams& f, Shade shade) {
   cl::Buffer bg = buf(&groom, sizeof(groom)), bv = buf(&view, sizeof(view));
   cl::Buffer gb = buf(s.gbuf.data(), s.gbuf.size() * 8);
   LinkStage stage(d);
-  LinkStage::Params p{{&bv, W, H}, &bg, &gb, 16};
+  LinkStage::Params p{{&bv, W, H}, &bg, &gb, 16, CLH_LAYER_LINKED + 1, box};
   stage.select(f, p, nullptr);
   stage.propagate(p, nullptr);
   stage.merge(p, true, nullptr);
@@ -206,10 +206,10 @@ TEST(Link, WithoutLinkingTheGapsStayEmptyAndAlphaStaysOne) {
   EXPECT_EQ(r.counters.filled, 0u);
 }
 
-TEST(Link, CrossingStrandsAreEachLinkedAlongTheirOwnLine) {
+// Strand 1 down-right along x = y, strand 2 up-right along x + y = 33, nearer; they cross
+// between (16, 17) and (17, 16).
+Synthetic crossing() {
   Synthetic s;
-  // strand 1 down-right along x = y, strand 2 up-right along x + y = 33, nearer; they cross
-  // between (16, 17) and (17, 16)
   for (int i = 4; i <= 29; ++i) {
     const float u = float(i - 4) / 25.0f;
     s.line(i, i, 1, u, 1.6f, 1.0f, 1.0f);
@@ -217,6 +217,11 @@ TEST(Link, CrossingStrandsAreEachLinkedAlongTheirOwnLine) {
     s.line(i, 33 - i, 2, u, 1.2f, 1.0f, -1.0f);
     if (i % 4 == 2 || i == 29) s.drawn(i, 33 - i, 2, u, 1.2f, 1.0f, -1.0f, kBlue);
   }
+  return s;
+}
+
+TEST(Link, CrossingStrandsAreEachLinkedAlongTheirOwnLine) {
+  const Synthetic s = crossing();
   const LinkResult r = runLink(s, linkOnly(), [](clh_u32 k) { return k == 1 ? kRed : kBlue; });
   int linked1 = 0, linked2 = 0;
   for (int y = 0; y < H; ++y)
@@ -245,7 +250,20 @@ TEST(Link, CrossingStrandsAreEachLinkedAlongTheirOwnLine) {
   EXPECT_EQ(r.counters.strands, 2u);
 }
 
-TEST(Link, NothingIsFilledPastTheStrandsEndOrOverAFilledPixel) {
+// The pixels holding a word in any layer: what a groom's screen box must hold, tight.
+PixelRect tightBox(const Synthetic& s) {
+  PixelRect b{W, H, 0, 0};
+  for (std::size_t l = 0; l <= CLH_LAYER_LINKED; ++l)
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x)
+        if (s.gbuf[l * kPlane + std::size_t(y) * W + x] != kEmpty)
+          b = b.united({x, y, x + 1, y + 1});
+  return b;
+}
+
+// Strand 3 drawn at its root, its line running on behind a nearer pixel of strand 4;
+// strand 6 drawn at its tip (NothingIsFilledPastTheStrandsEndOrOverAFilledPixel).
+Synthetic endsAndFilled() {
   Synthetic s;
   // strand 3: drawn at its first two pixels, its line runs on to (24, 24), where it ends; a
   // pixel of strand 4, nearer (z 1.4 against 1.5), sits on the line at (12, 12): strand 3
@@ -260,6 +278,11 @@ TEST(Link, NothingIsFilledPastTheStrandsEndOrOverAFilledPixel) {
   for (int i = 4; i <= 8; ++i) s.line(i + 20, 30 - i, 6, float(i - 4) / 4.0f, 1.5f, 1.0f, -1.0f);
   s.drawn(28, 22, 6, 1.0f, 1.5f, 1.0f, -1.0f, kRed);
   s.drawn(27, 23, 6, 0.75f, 1.5f, 1.0f, -1.0f, kRed);
+  return s;
+}
+
+TEST(Link, NothingIsFilledPastTheStrandsEndOrOverAFilledPixel) {
+  const Synthetic s = endsAndFilled();
   const LinkResult r = runLink(s, linkOnly(), [](clh_u32 k) { return k == 4 ? kBlue : kRed; });
   for (int i = 4; i <= 11; ++i)
     EXPECT_EQ(clh_id_strand(r.gbuf[CLH_LAYER_ID * kPlane + std::size_t(i) * W + i]), 3u) << i;
@@ -273,6 +296,49 @@ TEST(Link, NothingIsFilledPastTheStrandsEndOrOverAFilledPixel) {
   // strand 6's root side is filled down to its first line pixel (24, 26), no further
   EXPECT_NE(r.gbuf[26 * W + 24], kEmpty);
   EXPECT_EQ(r.gbuf[27 * W + 23], kEmpty);
+}
+
+TEST(LinkScreenBox, PassesOverTheHairsTightBoxEqualThePassesOverTheWholeImage) {
+  // The kernels over the tightest box a groom could have (every pixel holding a word in any
+  // layer), each grown by its own margin (link.cl, "Screen boxes"): the G-buffer, the
+  // counts and the result inside the box are those of the whole-image passes, which leave
+  // 0 outside it. A margin too small fails here: the empty pixels beside a strand's first
+  // and last pixels select it (select, propagate: box + 1) and lie on its tangent line,
+  // where the filter reads them (the alpha fix: box + 3).
+  auto colour = [](clh_u32 k) { return k == 2 || k == 4 ? kBlue : kRed; };
+  Synthetic dashed;
+  diagonal(dashed, 5, 3, 30, 1.3f, [](int i) { return (i - 3) % 5 < 2 || i == 30; });
+  const std::pair<const char*, Synthetic> cases[] = {
+      {"dashed diagonal", dashed}, {"crossing strands", crossing()}, {"ends", endsAndFilled()}};
+  for (const auto& [name, s] : cases) {
+    for (const bool aniso : {true, false}) {
+      SCOPED_TRACE(testing::Message() << name << (aniso ? ", filtered" : ", alpha fix"));
+      FilterParams f = linkOnly();
+      f.aniso = aniso;
+      const PixelRect box = tightBox(s);
+      ASSERT_TRUE(box.x0 > 0 && box.y0 > 0 && box.x1 < W && box.y1 < H);
+      const LinkResult whole = runLink(s, f, colour);
+      const LinkResult bounded = runLink(s, f, colour, box);
+      EXPECT_GT(whole.counters.filled, 0u);
+      EXPECT_EQ(bounded.counters.selecting, whole.counters.selecting);
+      EXPECT_EQ(bounded.counters.filled, whole.counters.filled);
+      EXPECT_EQ(bounded.counters.strands, whole.counters.strands);
+      EXPECT_EQ(bounded.counters.bounds, whole.counters.bounds);
+      EXPECT_TRUE(bounded.gbuf == whole.gbuf) << "the G-buffers differ";
+      std::size_t differ = 0, outside = 0;
+      for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+          const std::size_t p = std::size_t(y) * W + x;
+          if (x >= box.x0 && x < box.x1 && y >= box.y0 && y < box.y1) {
+            differ += std::memcmp(&bounded.out[p], &whole.out[p], sizeof(cl_float4)) != 0;
+          } else {
+            outside += whole.out[p].s[3] != 0.0f || whole.out[p].s[0] != 0.0f;
+          }
+        }
+      EXPECT_EQ(differ, 0u) << "results inside the box differ";
+      EXPECT_EQ(outside, 0u) << "the whole-image result is not 0 outside the box";
+    }
+  }
 }
 
 TEST(Link, WalkPassesItsOwnPixelsAndFartherStrandsAndCountsThemForAlpha) {
@@ -611,15 +677,13 @@ TEST(Link, DefaultFilterIsHuangsInAFrameOfOneViewAndLippsWhenNamed) {
   RenderOptions lippOption = o;  // --filter lipp over the scene's "auto"
   lippOption.filterMethod = 0;
   EXPECT_EQ(r.render(s, lippOption).color.rgba, lipps.color.rgba);
-  // a crowd: "auto" is Huang's up to four groom instances and Lipp's beyond (its linking runs
-  // over the whole frame once per groom); by name Huang's stays Huang's
-  Scene four = s, five = s, fiveHuang = huang;
-  four.grooms.assign(4, s.grooms[0]);
+  // a crowd: "auto" stays Huang's however many groom instances (each one's linking runs over
+  // its screen box); by name Lipp's stays Lipp's
+  Scene five = s, fiveLipp = lipp;
   five.grooms.assign(5, s.grooms[0]);
-  fiveHuang.grooms.assign(5, s.grooms[0]);
-  EXPECT_GT(r.render(four, o).stats.linkSelecting, 0u);
-  EXPECT_EQ(r.render(five, o).stats.linkSelecting, 0u);
-  EXPECT_GT(r.render(fiveHuang, o).stats.linkSelecting, 0u);
+  fiveLipp.grooms.assign(5, s.grooms[0]);
+  EXPECT_GT(r.render(five, o).stats.linkSelecting, 0u);
+  EXPECT_EQ(r.render(fiveLipp, o).stats.linkSelecting, 0u);
   // MSAA 4 and the coverage raster (no filter): Views.EachViewIsTheSingleViewRenderAtMsaa4
   // and Coverage.FrontoParallelStrandHasTheStripsCoverageAndAlphaProfile, in frames those
   // tests render anyway

@@ -115,12 +115,13 @@ struct RenderFlags {
   bool quiet = false;
   std::string frames;  // "N", "A-B" or "A-B:STEP"; empty: frame 1
   bool skipExisting = false;
-  std::string aov;            // --aov list; empty: the beauty alone through writeImage
-  std::string views;          // --views: "all" or names; empty: all of the scene's "cameras"
-  bool stats = false;         // --stats: strands and segments per groom instance
-  std::string segmentBudget;  // --segment-budget; empty: the scene's
-  std::string raster;         // --raster lines|coverage; empty: the scene's
-  std::string temporal;       // --temporal; empty: the scene's "temporal"
+  std::string aov;                 // --aov list; empty: the beauty alone through writeImage
+  std::string views;               // --views: "all" or names; empty: all of the scene's "cameras"
+  bool stats = false;              // --stats: strands and segments per groom instance
+  std::string segmentBudget;       // --segment-budget; empty: the scene's
+  std::string raster;              // --raster lines|coverage; empty: the scene's
+  std::string temporal;            // --temporal; empty: the scene's "temporal"
+  std::string screenBoxes = "on";  // --screen-boxes on|off (RenderOptions::screenBoxes)
 };
 
 // The --temporal value: frames of history, a whole number 0 (off) .. kMaxTemporalHistory.
@@ -370,6 +371,9 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     throw Error("--filter must be on, off, auto, lipp or huang, not \"" + f.filter + "\"");
   }
   if (!f.segmentBudget.empty()) ro.segmentBudget = parseSegmentBudget(f.segmentBudget);
+  if (f.screenBoxes != "on" && f.screenBoxes != "off")
+    throw Error("--screen-boxes must be on or off, not \"" + f.screenBoxes + "\"");
+  ro.screenBoxes = f.screenBoxes == "on";
   if (f.raster == "lines" || f.raster == "coverage")
     ro.raster = f.raster == "coverage" ? 1 : 0;
   else if (!f.raster.empty())
@@ -817,6 +821,10 @@ int main(int argc, char** argv) {
                      "off; DESIGN.md)");
   render->add_option("--segment-budget", rf.segmentBudget,
                      "most segments of all grooms per frame (0: none; default: the scene's)");
+  render->add_option("--screen-boxes", rf.screenBoxes,
+                     "run each groom's G-buffer clear, hair linking, Huang's filter and its "
+                     "compositing over the groom's screen box: on (default) or off (the whole "
+                     "frame; the same image, for timing)");
   render->add_option("--raster", rf.raster,
                      "strand raster: lines (default: centre samples, Lipp) or coverage "
                      "(trapezoids with analytic coverage, three layers and a coverage layer; "

@@ -36,6 +36,7 @@ void RenderTarget::ensure(int w, int h, int msaa) {
         dev_, "the " + res + " G-buffer with " + std::to_string(msaa + 1) + " layers",
         n * static_cast<std::size_t>(msaa + 1));
     layers_ = msaa + 1;
+    cleanLayers_ = 0;
   }
   width_ = w;
   height_ = h;
@@ -51,6 +52,7 @@ void RenderTarget::useLayers(int layers) {
         dev_, "the " + res + " G-buffer with " + std::to_string(layers) + " layers",
         pixels() * static_cast<std::size_t>(layers));
     layers_ = layers;
+    cleanLayers_ = 0;
   }
   used_ = layers;
 }
@@ -68,9 +70,17 @@ void RenderTarget::clearWords(const cl::Buffer& buffer, std::size_t count, Profi
   clear_.words(buffer, count, ~std::uint64_t(0), "clear", profiler);
 }
 
-void RenderTarget::clearGBuffer(Profiler* profiler) {
-  clear_.words(gbuffer, pixels() * static_cast<std::size_t>(used_), ~std::uint64_t(0), "clear",
+void RenderTarget::clearGBuffer(const PixelRect& box, Profiler* profiler) {
+  const PixelRect whole{0, 0, width_, height_};
+  if (used_ > cleanLayers_ || dirty_.clipped(width_, height_) == whole) {
+    clear_.words(gbuffer, pixels() * static_cast<std::size_t>(used_), ~std::uint64_t(0), "clear",
+                 profiler);
+    cleanLayers_ = used_;
+  } else {
+    clear_.box(gbuffer, width_, height_, cleanLayers_, dirty_, ~std::uint64_t(0), "clear",
                profiler);
+  }
+  dirty_ = box.clipped(width_, height_);
 }
 
 }  // namespace clhair

@@ -3,8 +3,8 @@
 // drawn, its G-buffer (MSAA sample layers plus the conservative layer), the raster
 // counters and the camera's view record; plus the clear of the G-buffer before each
 // groom's strand pass (the layers a groom uses: the samples, the conservative layer and,
-// when asked, the identity and hair linking layers). Buffers are reallocated only when the size or
-// sample count changes.
+// when asked, the identity and hair linking layers), bounded to the screen box of the groom
+// before. Buffers are reallocated only when the size or sample count changes.
 #pragma once
 
 #include "cl/dispatch.h"
@@ -21,7 +21,13 @@ class RenderTarget {
   // At least `layers` G-buffer layers (the identity and hair linking layers follow the
   // conservative one, gpu_types.h); clearGBuffer then clears the first `layers`.
   void useLayers(int layers);
-  void clearGBuffer(Profiler* profiler);
+  // Makes the used layers empty for a groom that writes only inside `box` (its screen box;
+  // the default box: anywhere). Only what may hold words is cleared: the box of the groom
+  // before, in every layer known empty outside it, or the whole of the used layers when
+  // that box was the whole image or more layers are used than are known empty (new
+  // buffers, a groom with linking layers after one without). `box` is remembered for the
+  // next groom; a caller writing elsewhere (a given G-buffer) passes the default box.
+  void clearGBuffer(const PixelRect& box, Profiler* profiler);
   // The plane of a groom's motion pass (ulong per pixel, allocated on first use), cleared to
   // all ones.
   cl::Buffer& clearedMotion(Profiler* profiler);
@@ -46,6 +52,9 @@ class RenderTarget {
   Device::Impl& dev_;
   ClearStage clear_;
   int width_ = 0, height_ = 0, layers_ = 0, used_ = 0, msaa_ = 1;
+  // outside dirty_ the first cleanLayers_ G-buffer layers hold the empty word
+  PixelRect dirty_;
+  int cleanLayers_ = 0;
   cl::Buffer motion_;
   std::size_t motionPixels_ = 0;
 };

@@ -72,4 +72,34 @@ bool depthRange(const glm::vec3& lo, const glm::vec3& hi, const glm::mat4& objTo
   return true;
 }
 
+PixelRect screenBox(const glm::vec3& lo, const glm::vec3& hi, const glm::mat4& objToView,
+                    const gpu::ClhViewGpu& view, int margin) {
+  const int width = static_cast<int>(view.width), height = static_cast<int>(view.height);
+  const PixelRect whole{0, 0, width, height};
+  double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
+  for (int c = 0; c < 8; ++c) {
+    const glm::vec3 corner((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
+    const glm::vec4 v = objToView * glm::vec4(corner, 1.0f);
+    if (!(v.z >= kScreenBoxNearZ) || !std::isfinite(v.x) || !std::isfinite(v.y) ||
+        !std::isfinite(v.z))
+      return whole;
+    const double sx = double(view.cx) + double(view.fx) * double(v.x) / double(v.z);
+    const double sy = double(view.cy) - double(view.fy) * double(v.y) / double(v.z);
+    xmin = std::min(xmin, sx);
+    xmax = std::max(xmax, sx);
+    ymin = std::min(ymin, sy);
+    ymax = std::max(ymax, sy);
+  }
+  // the pixel holding coordinate s is floor(s); far outside the image only the side matters
+  auto pixel = [](double s) {
+    return static_cast<long long>(std::floor(std::clamp(s, -1e9, 1e9)));
+  };
+  const long long x0 = pixel(xmin) - margin, x1 = pixel(xmax) + 1 + margin;
+  const long long y0 = pixel(ymin) - margin, y1 = pixel(ymax) + 1 + margin;
+  auto side = [](long long v, int hiSide) {
+    return static_cast<int>(std::max<long long>(0, std::min<long long>(hiSide, v)));
+  };
+  return {side(x0, width), side(y0, height), side(x1, width), side(y1, height)};
+}
+
 }  // namespace clhair

@@ -1,6 +1,7 @@
 // view_math.h — cameras to the device's view records (ClhViewGpu of gpu_types.h): the
 // world-to-view matrix of a look-at camera, the pinhole intrinsics of a target size, and
-// the depth range a groom's bounds span in a view (its G-buffer depth mapping).
+// the depth range a groom's bounds span in a view (its G-buffer depth mapping) and the
+// screen box they project to.
 #pragma once
 
 #include <glm/mat4x4.hpp>
@@ -8,6 +9,7 @@
 
 #include "clhair/gpu_types.h"
 #include "clhair/scene.h"
+#include "stages/stage_inputs.h"
 
 namespace clhair {
 
@@ -23,5 +25,23 @@ gpu::ClhViewGpu makeView(const Camera& cam, int width, int height);
 // behind the camera.
 bool depthRange(const glm::vec3& lo, const glm::vec3& hi, const glm::mat4& objToView, float& nearZ,
                 float& farZ);
+
+// The pixels of `view`'s image that a groom whose object bounds [lo, hi] are placed by
+// objToView can draw into: the pixels holding the hull of the box's eight projected corners
+// (pinhole projection as raster_core.h's: x = cx + fx X / Z, y = cy - fy Y / Z), `margin`
+// more on every side, clipped to the image. Every point of the box projects into the hull
+// when all corners lie in front of the camera; when one lies closer than kScreenBoxNearZ
+// (the strand pass clips at the near plane, the projection has no bound) it is the whole
+// image. Empty when the hull misses the image.
+constexpr float kScreenBoxNearZ = 1e-3f;
+// The margin of a groom's screen box in the frame: the strand pass writes a pixel a
+// strand's line touches (the conservative layer, the curve layers) or whose sample lies
+// within half the hit diameter of the line, at most CLH_MAX_HIT_DIAMETER / 2 = 1.5 px
+// across it, 2.2 px along the minor axis of the walk (coverage trapezoids: 1.5 px); a
+// point's pixel is the floor of its coordinates, so 3 pixels hold every write, and one more
+// covers the host's and the device's different rounding of the projection.
+constexpr int kScreenBoxMargin = 4;
+PixelRect screenBox(const glm::vec3& lo, const glm::vec3& hi, const glm::mat4& objToView,
+                    const gpu::ClhViewGpu& view, int margin);
 
 }  // namespace clhair

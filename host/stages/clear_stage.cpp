@@ -4,7 +4,9 @@
 namespace clhair {
 
 ClearStage::ClearStage(Device::Impl& dev)
-    : dev_(dev), kernel_(dev.kernel("clear.cl", "clear_words")) {}
+    : dev_(dev),
+      kernel_(dev.kernel("clear.cl", "clear_words")),
+      box_(dev.kernel("clear.cl", "clear_box")) {}
 
 void ClearStage::words(const cl::Buffer& buffer, std::size_t count, std::uint64_t value,
                        const std::string& stage, Profiler* profiler) {
@@ -13,6 +15,23 @@ void ClearStage::words(const cl::Buffer& buffer, std::size_t count, std::uint64_
       .value("value", static_cast<cl_ulong>(value))
       .value("count", static_cast<cl_ulong>(count));
   dispatch(dev_, kernel_, stage, cl::NDRange(count), cl::NDRange(256), profiler);
+}
+
+void ClearStage::box(const cl::Buffer& buffer, int width, int height, int layers,
+                     const PixelRect& box, std::uint64_t value, const std::string& stage,
+                     Profiler* profiler) {
+  const PixelRect b = box.clipped(width, height);
+  if (b.empty() || layers < 1) return;
+  KernelArgs(box_, stage)
+      .buffer(
+          "words", buffer,
+          std::uint64_t(width) * std::uint64_t(height) * std::uint64_t(layers) * sizeof(cl_ulong))
+      .value("value", static_cast<cl_ulong>(value))
+      .value("width", static_cast<cl_int>(width))
+      .value("height", static_cast<cl_int>(height))
+      .value("layers", static_cast<cl_uint>(layers))
+      .value("box", b.arg());
+  dispatchBox(dev_, box_, stage, b, profiler);
 }
 
 }  // namespace clhair

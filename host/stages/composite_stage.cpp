@@ -18,6 +18,7 @@ cl::Event CompositeStage::enqueue(const Params& p, Profiler* profiler) {
                 " depth layers of a G-buffer with " + std::to_string(p.msaa + 1));
   cl::Kernel& k = kernel(p.msaa);
   const std::uint64_t pixels = p.target.pixels();
+  const PixelRect box = p.box.clipped(p.target.width, p.target.height);
   KernelArgs(k, "composite")
       .buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
       .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
@@ -26,9 +27,9 @@ cl::Event CompositeStage::enqueue(const Params& p, Profiler* profiler) {
               pixels * static_cast<std::uint64_t>(p.msaa + 1) * sizeof(cl_ulong))
       .buffer("colour", *p.color, pixels * 4 * sizeof(float))
       .buffer("depth", *p.depth, pixels * sizeof(float))
-      .value("depth layers", static_cast<cl_uint>(p.depthLayers));
-  return dispatch(dev_, k, "composite", cl::NDRange(p.target.width, p.target.height),
-                  cl::NDRange(8, 8), profiler);
+      .value("depth layers", static_cast<cl_uint>(p.depthLayers))
+      .value("box", box.arg());
+  return dispatchBox(dev_, k, "composite", box, profiler);
 }
 
 }  // namespace clhair

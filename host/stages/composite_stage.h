@@ -20,6 +20,9 @@ class CompositeStage {
     cl::Buffer* depth = nullptr;          // float per pixel
     int msaa = 1;
     int depthLayers = 1;  // G-buffer layers whose nearest word is the hair depth
+    // Where the hair may be non-transparent (the default: the whole target); outside it
+    // `hair` is not read, so it may hold anything there.
+    PixelRect box;
   };
   cl::Event enqueue(const Params& p, Profiler* profiler);
 

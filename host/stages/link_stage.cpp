@@ -22,6 +22,11 @@ namespace {
 std::uint64_t gbufferBytes(const LinkStage::Params& p) {
   return std::uint64_t(p.target.pixels()) * std::uint64_t(p.layers) * sizeof(cl_ulong);
 }
+
+// The groom's screen box grown by `margin` pixels, within the target.
+PixelRect boxOf(const LinkStage::Params& p, int margin) {
+  return p.box.grown(margin).clipped(p.target.width, p.target.height);
+}
 }  // namespace
 
 void LinkStage::select(const FilterParams& f, const Params& p, Profiler* profiler) {
@@ -74,9 +79,9 @@ void LinkStage::select(const FilterParams& f, const Params& p, Profiler* profile
       .buffer("G-buffer", *p.gbuffer, gbufferBytes(p))
       .buffer("sources", choice_, pixels * sizeof(cl_uint))
       .buffer("source strands", flags_, std::uint64_t(words_) * sizeof(cl_uint))
-      .buffer("link counters", counters_, CLH_LINK_COUNTERS * sizeof(cl_uint));
-  dispatch(dev_, select_, "link", cl::NDRange(p.target.width, p.target.height), cl::NDRange(8, 8),
-           profiler);
+      .buffer("link counters", counters_, CLH_LINK_COUNTERS * sizeof(cl_uint))
+      .value("box", boxOf(p, 1).arg());
+  dispatchBox(dev_, select_, "link", boxOf(p, 1), profiler);
 }
 
 void LinkStage::propagate(const Params& p, Profiler* profiler) {
@@ -85,9 +90,9 @@ void LinkStage::propagate(const Params& p, Profiler* profiler) {
       .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
       .buffer("link parameters", params_, sizeof(gpu::ClhLinkGpu))
       .buffer("G-buffer", *p.gbuffer, gbufferBytes(p))
-      .buffer("sources", choice_, p.target.pixels() * sizeof(cl_uint));
-  dispatch(dev_, propagate_, "link", cl::NDRange(p.target.width, p.target.height),
-           cl::NDRange(8, 8), profiler);
+      .buffer("sources", choice_, p.target.pixels() * sizeof(cl_uint))
+      .value("box", boxOf(p, 1).arg());
+  dispatchBox(dev_, propagate_, "link", boxOf(p, 1), profiler);
 }
 
 void LinkStage::merge(const Params& p, bool linking, Profiler* profiler) {
@@ -98,9 +103,9 @@ void LinkStage::merge(const Params& p, bool linking, Profiler* profiler) {
       .buffer("source strands", flags_, std::uint64_t(words_) * sizeof(cl_uint))
       .buffer("hash table", table_, std::uint64_t(tableSize_) * 4 * sizeof(cl_uint))
       .buffer("link counters", counters_, CLH_LINK_COUNTERS * sizeof(cl_uint))
-      .value("linking", static_cast<cl_uint>(linking ? 1 : 0));
-  dispatch(dev_, merge_, "link", cl::NDRange(p.target.width, p.target.height), cl::NDRange(8, 8),
-           profiler);
+      .value("linking", static_cast<cl_uint>(linking ? 1 : 0))
+      .value("box", boxOf(p, 0).arg());
+  dispatchBox(dev_, merge_, "link", boxOf(p, 0), profiler);
 }
 
 cl::Buffer* LinkStage::finish(const Params& p, bool aniso, cl::Buffer& hair, cl::Buffer& out,
@@ -113,9 +118,9 @@ cl::Buffer* LinkStage::finish(const Params& p, bool aniso, cl::Buffer& hair, cl:
       .buffer("source strands", flags_, std::uint64_t(words_) * sizeof(cl_uint))
       .buffer("hash table", table_, std::uint64_t(tableSize_) * 4 * sizeof(cl_uint))
       .buffer("hair colour", hair, colourBytes)
-      .buffer("alpha-fixed colour", out, colourBytes);
-  dispatch(dev_, alpha_, "filter", cl::NDRange(p.target.width, p.target.height), cl::NDRange(8, 8),
-           profiler);
+      .buffer("alpha-fixed colour", out, colourBytes)
+      .value("box", boxOf(p, CLH_LINK_MAX_RADIUS).arg());
+  dispatchBox(dev_, alpha_, "filter", boxOf(p, CLH_LINK_MAX_RADIUS), profiler);
   if (!aniso) return &out;
   KernelArgs(aniso_, "filter")
       .buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
@@ -124,9 +129,9 @@ cl::Buffer* LinkStage::finish(const Params& p, bool aniso, cl::Buffer& hair, cl:
       .buffer("G-buffer", *p.gbuffer, gbufferBytes(p))
       .buffer("link counters", counters_, CLH_LINK_COUNTERS * sizeof(cl_uint))
       .buffer("alpha-fixed colour", out, colourBytes)
-      .buffer("filtered colour", hair, colourBytes);
-  dispatch(dev_, aniso_, "filter", cl::NDRange(p.target.width, p.target.height), cl::NDRange(8, 8),
-           profiler);
+      .buffer("filtered colour", hair, colourBytes)
+      .value("box", boxOf(p, 0).arg());
+  dispatchBox(dev_, aniso_, "filter", boxOf(p, 0), profiler);
   return &hair;
 }
 

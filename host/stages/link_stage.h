@@ -9,6 +9,12 @@
 // it is sized to twice that (load factor at most 1/2; Huang Eq. 14 sizes it from the hair's
 // screen box, which bounds the same key count) unless FilterParams::linkTable says
 // otherwise; a strand the full table cannot hold is counted and keeps alpha 1.
+//
+// The passes run over the groom's screen box (Params::box), each grown by the margin its
+// kernel needs (link.cl has them and why): select and propagate box + 1, merge and the
+// filter box, the alpha fix box + CLH_LINK_MAX_RADIUS. The result buffer finish() returns
+// is then right inside the box only (outside it the whole-frame passes would leave 0):
+// composite it over the box alone.
 #pragma once
 
 #include <array>
@@ -37,6 +43,9 @@ class LinkStage {
     cl::Buffer* gbuffer = nullptr;      // `layers` layers, MSAA 1
     std::uint32_t strandIds = 0;        // identities run below this (the groom's strands)
     int layers = CLH_LAYER_LINKED + 1;  // CLH_LAYER_ID + 1 without linking
+    // The groom's screen box: every pixel any of its G-buffer layers can hold (the default:
+    // the whole target). Each kernel runs over it grown by what it reads (link.cl).
+    PixelRect box;
   };
   // Uploads the settings, clears the bitmap, table and counters, and picks the sources.
   void select(const FilterParams& f, const Params& p, Profiler* profiler);

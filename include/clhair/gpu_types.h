@@ -476,6 +476,9 @@ CLH_FN clh_u32 clh_id_pos_code(float u) {
 /* link counters: [0] pixels selecting a source, [1] pixels filled, [2] strands counted,
  * [3] strands the full table turned away, [4..7] hair bounds min x, min y, max x, max y */
 #define CLH_LINK_COUNTERS 8u
+/* the anisotropic filter's widest major axis, pixels (Huang Eq. 13 clamped, link.cl): the
+ * host bounds the alpha fix's output to a groom's screen box grown by this much */
+#define CLH_LINK_MAX_RADIUS 3
 typedef struct {
   float align_threshold; /* epsilon_align of Huang Eq. 5 */
   float sigma_px;        /* sigma of the proximity term of Huang Eq. 4, pixels */

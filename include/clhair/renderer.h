@@ -40,6 +40,10 @@ struct RenderOptions {
   bool captureGBuffer = false;  // keep the last groom's G-buffer layers in Frame::gbuffer
   bool rasterOnly = false;      // stop each groom after its strand pass (benchmark: cores used)
   bool stageCores = false;  // wait for every dispatch and time it on the host (StageTime::cpuMs)
+  // true: each groom's G-buffer clear, hair linking, Huang's filter and compositing after it
+  // run over the groom's screen box (its bounds projected, DESIGN.md "Screen boxes"); false:
+  // over the whole frame, as before them. The frame is bit-identical either way (tests).
+  bool screenBoxes = true;
   // Keep the deep opacity maps of the previous frame when nothing they depend on changed
   // (lights, shadow settings, grooms and their transforms, opaque objects, LOD options; the
   // camera does not enter them). false: rebuild them every frame.

@@ -35,6 +35,15 @@ static inline float3 clh_normalize_or(float3 v, float3 fallback) {
   return (l2 > 1e-30f && l2 < 1e30f) ? v * rsqrt(l2) : fallback;
 }
 
+/* The pixel of a 2D launch over the box [box.x, box.z) x [box.y, box.w) of a width x height
+ * image (a groom's screen box, clipped by the host), counted from the box's origin; false
+ * for the launch's rounded-up tail and anything outside the image. */
+static inline bool clh_box_pixel(int4 box, int width, int height, int* x, int* y) {
+  *x = box.x + (int)get_global_id(0);
+  *y = box.y + (int)get_global_id(1);
+  return *x >= 0 && *y >= 0 && *x < box.z && *y < box.w && *x < width && *y < height;
+}
+
 static inline float clh_saturate(float x) { return clamp(x, 0.0f, 1.0f); }
 
 static inline float clh_smoothstep01(float x) {

@@ -398,9 +398,10 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
                        &r.profiler);
       result = &t.filtered;
     }
-    r.composite.enqueue({t.viewTarget(), &inst.groom, result, &t.gbuffer, &t.color, &t.depth,
-                         options.msaa, static_cast<int>(depthLayers), huang ? hairBox : PixelRect{}},
-                        &r.profiler);
+    r.composite.enqueue(
+        {t.viewTarget(), &inst.groom, result, &t.gbuffer, &t.color, &t.depth, options.msaa,
+         static_cast<int>(depthLayers), huang ? hairBox : PixelRect{}},
+        &r.profiler);
     if (aovs) {
       aovWords.resize(pixels * options.msaa);
       aovHair.resize(pixels * 4);

@@ -50,16 +50,10 @@
  *                  on curly hair, whose strands leave a straight ellipse within a few
  *                  pixels; below 2 the ellipse holds only P, whose noise is one sample's
  *                  whatever the hair's size; DESIGN.md) along the pixel's screen tangent,
- *                  minor axis r too (the paper's aspect ratio rho, left open there, is 1:
- *                  in unresolved hair every pixel's one sample is another strand of the
- *                  same hair, across the tangent as much as along it; DESIGN.md):
+ *                  minor axis r / 2 (the paper's aspect ratio rho, left open there):
  *                  w = exp(-(d/r)^2 / sd^2) exp(-theta^2 / st^2) exp(-|Cp - Cq|^2 / sc^2),
  *                  distance in units of r (the paper's sigma_d = 0.1 is relative), theta
- *                  the angle between the tangent line and Q - P (sigma_theta 10 rad by
- *                  default: the term is 0.975 or more), colours as c / (1 + c). The
- *                  orientation enters through what counts beside the tangent line: an
- *                  empty pixel only on the line (it fades the strand's ends), a drawn one
- *                  only when the pixel halfway to it is drawn (no mixing across a gap).
+ *                  the angle between the tangent line and Q - P, colours as c / (1 + c).
  *
  * The hash table (4 uints per entry: strand + 1, M, N, 0) is probed linearly from a hash
  * of the strand, at most CLH_HASH_PROBES entries; a strand that finds no place is counted
@@ -73,11 +67,10 @@
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
 
-/* the kernel's major axis r in pixels (Eq. 13 clamped) and its minor axis over r (rho): 1,
- * a disc (DESIGN.md, "The gap to MSAA 4 and a round kernel") */
+/* the kernel's major axis r in pixels (Eq. 13 clamped) and its minor axis over r (rho) */
 #define LINK_MIN_RADIUS 2
 #define LINK_MAX_RADIUS 3
-#define LINK_ASPECT 1.0f
+#define LINK_ASPECT 0.5f
 
 /* Unit screen direction (x right, y down) of the word's world tangent at pixel (x, y). */
 static inline float2 link_screen_tangent(__global const ClhViewGpu* view_g,
@@ -398,13 +391,6 @@ __kernel void link_aniso(__global const ClhGroomGpu* groom_g, __global const Clh
          * fades them as the matte's filter does) */
         if (fabs(across) > 0.5f &&
             gbuf_g[(size_t)qy * (size_t)width + (size_t)qx] == CLH_GBUF_EMPTY)
-          continue;
-        /* nor is a strand across a gap: a pixel beside the line counts only when the pixel
-         * halfway to it (P itself for the 8 neighbours) is drawn, so two strands with an
-         * empty row between them stay apart while unresolved hair, every pixel drawn, is
-         * averaged all round */
-        if (fabs(across) > 0.5f &&
-            gbuf_g[(size_t)(y + dy / 2) * (size_t)width + (size_t)(x + dx / 2)] == CLH_GBUF_EMPTY)
           continue;
         /* the angle between the tangent line and d, in [0, pi/2] */
         theta = atan2(fabs(across), fabs(along));

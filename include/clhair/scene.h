@@ -151,9 +151,9 @@ struct FilterParams {
   // Eq. 11-13 with the values measured best here (DESIGN.md; the paper's 0.1, 0.1, 0.9 and
   // k = 0.01 leave the filter's weights at zero one pixel away)
   float sigmaD = 0.5f;       // Eq. 11, distance in units of the major axis r
-  float sigmaTheta = 10.0f;  // Eq. 11, radians: the round kernel's angle term is >= 0.975
+  float sigmaTheta = 0.6f;   // Eq. 11, radians
   float sigmaCAniso = 0.9f;  // Eq. 11, colour
-  float kernelK = 0.02f;     // Eq. 13: r = k sqrt(Bx By), clamped to 2..3 pixels (a disc)
+  float kernelK = 0.02f;     // Eq. 13: r = k sqrt(Bx By), clamped to 2..3 pixels
 };
 
 // Exactly one of `mesh` and `strands` is set.

@@ -72,6 +72,7 @@ void LinkStage::select(const FilterParams& f, const Params& p, Profiler* profile
   if (p.layers < int(CLH_LAYER_LINKED) + 1)
     throw Error("hair linking needs " + std::to_string(CLH_LAYER_LINKED + 1) +
                 " G-buffer layers, not " + std::to_string(p.layers));
+  const PixelRect box = boxOf(p, 1);  // an empty pixel's 3x3 neighbourhood
   KernelArgs(select_, "link")
       .buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
       .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
@@ -80,22 +81,24 @@ void LinkStage::select(const FilterParams& f, const Params& p, Profiler* profile
       .buffer("sources", choice_, pixels * sizeof(cl_uint))
       .buffer("source strands", flags_, std::uint64_t(words_) * sizeof(cl_uint))
       .buffer("link counters", counters_, CLH_LINK_COUNTERS * sizeof(cl_uint))
-      .value("box", boxOf(p, 1).arg());
-  dispatchBox(dev_, select_, "link", boxOf(p, 1), profiler);
+      .value("box", box.arg());
+  dispatchBox(dev_, select_, "link", box, profiler);
 }
 
 void LinkStage::propagate(const Params& p, Profiler* profiler) {
+  const PixelRect box = boxOf(p, 1);  // the pixels select may have given a source
   KernelArgs(propagate_, "link")
       .buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
       .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
       .buffer("link parameters", params_, sizeof(gpu::ClhLinkGpu))
       .buffer("G-buffer", *p.gbuffer, gbufferBytes(p))
       .buffer("sources", choice_, p.target.pixels() * sizeof(cl_uint))
-      .value("box", boxOf(p, 1).arg());
-  dispatchBox(dev_, propagate_, "link", boxOf(p, 1), profiler);
+      .value("box", box.arg());
+  dispatchBox(dev_, propagate_, "link", box, profiler);
 }
 
 void LinkStage::merge(const Params& p, bool linking, Profiler* profiler) {
+  const PixelRect box = boxOf(p, 0);
   KernelArgs(merge_, "link")
       .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
       .buffer("link parameters", params_, sizeof(gpu::ClhLinkGpu))
@@ -104,13 +107,15 @@ void LinkStage::merge(const Params& p, bool linking, Profiler* profiler) {
       .buffer("hash table", table_, std::uint64_t(tableSize_) * 4 * sizeof(cl_uint))
       .buffer("link counters", counters_, CLH_LINK_COUNTERS * sizeof(cl_uint))
       .value("linking", static_cast<cl_uint>(linking ? 1 : 0))
-      .value("box", boxOf(p, 0).arg());
-  dispatchBox(dev_, merge_, "link", boxOf(p, 0), profiler);
+      .value("box", box.arg());
+  dispatchBox(dev_, merge_, "link", box, profiler);
 }
 
 cl::Buffer* LinkStage::finish(const Params& p, bool aniso, cl::Buffer& hair, cl::Buffer& out,
                               Profiler* profiler) {
   const std::uint64_t colourBytes = std::uint64_t(p.target.pixels()) * 4 * sizeof(float);
+  // the alpha fix's output as far as the anisotropic filter reads it; the filter the box
+  const PixelRect alphaBox = boxOf(p, CLH_LINK_MAX_RADIUS), box = boxOf(p, 0);
   KernelArgs(alpha_, "filter")
       .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
       .buffer("link parameters", params_, sizeof(gpu::ClhLinkGpu))
@@ -119,8 +124,8 @@ cl::Buffer* LinkStage::finish(const Params& p, bool aniso, cl::Buffer& hair, cl:
       .buffer("hash table", table_, std::uint64_t(tableSize_) * 4 * sizeof(cl_uint))
       .buffer("hair colour", hair, colourBytes)
       .buffer("alpha-fixed colour", out, colourBytes)
-      .value("box", boxOf(p, CLH_LINK_MAX_RADIUS).arg());
-  dispatchBox(dev_, alpha_, "filter", boxOf(p, CLH_LINK_MAX_RADIUS), profiler);
+      .value("box", alphaBox.arg());
+  dispatchBox(dev_, alpha_, "filter", alphaBox, profiler);
   if (!aniso) return &out;
   KernelArgs(aniso_, "filter")
       .buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
@@ -130,8 +135,8 @@ cl::Buffer* LinkStage::finish(const Params& p, bool aniso, cl::Buffer& hair, cl:
       .buffer("link counters", counters_, CLH_LINK_COUNTERS * sizeof(cl_uint))
       .buffer("alpha-fixed colour", out, colourBytes)
       .buffer("filtered colour", hair, colourBytes)
-      .value("box", boxOf(p, 0).arg());
-  dispatchBox(dev_, aniso_, "filter", boxOf(p, 0), profiler);
+      .value("box", box.arg());
+  dispatchBox(dev_, aniso_, "filter", box, profiler);
   return &hair;
 }
 

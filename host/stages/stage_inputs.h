@@ -48,9 +48,6 @@ struct PixelRect {
   PixelRect clipped(int width, int height) const {
     return {std::max(x0, 0), std::max(y0, 0), std::min(x1, width), std::min(y1, height)};
   }
-  bool contains(const PixelRect& o) const {
-    return o.empty() || (x0 <= o.x0 && y0 <= o.y0 && x1 >= o.x1 && y1 >= o.y1);
-  }
   // the smallest box holding both
   PixelRect united(const PixelRect& o) const {
     if (o.empty()) return *this;

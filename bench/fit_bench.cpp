@@ -29,6 +29,8 @@
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
 #include "clhair/strand_groom.h"
+#include "fit/fit_error.h"
+#include "fit/fit_strands.h"
 #include "io/cyhair.h"
 #include "io/json_util.h"
 #include "metrics/image_metrics.h"
@@ -62,6 +64,20 @@ void exportStrands(Renderer& r, const HairMesh& mesh, const std::string& path) {
   h.defaultThickness = mesh.appearance.strandWidth;
   h.info = "clhair export-strands: " + mesh.name;
   writeCyHair(h, path);
+}
+
+// Distances from the strands of `from` to the nearest strand of `to` (fit_error.h).
+std::vector<float> fitDistances(const StrandGroom& from, const StrandGroom& to, std::size_t sample,
+                                int threads) {
+  const fit::FitStrands in = fit::prepareFitStrands(from, kFitSamples, 0.0f, threads);
+  fit::GeneratedStrands g;
+  g.points = static_cast<int>(to.pointCounts[0]);
+  g.data = to.points;
+  g.bundle.assign(to.pointCounts.size(), 0);
+  std::vector<std::size_t> measured;
+  const std::size_t every = sample > 0 && sample < in.count() ? in.count() / sample : 1;
+  for (std::size_t i = 0; i < in.count(); i += every) measured.push_back(i);
+  return fit::strandDistances(in, measured, g, threads);
 }
 
 Image crop(const Image& im, int x0, int y0, int w, int h) {
@@ -238,6 +254,40 @@ int run(const Args& a) {
                            scaleTo(crop(err, x0, y0, w, h), ph)}),
                a.out + "/side_by_side.png");
   }
+  // the floor: the original again with the strand kernels' per-strand random key changed
+  // (kernels from --floor-kernels), same roots and clumps: what no fit can get below
+  json floor;
+  if (!a.floorKernels.empty() && roundTrip) {
+    DeviceOptions fo = DeviceOptions::fromEnvironment({});
+    fo.kernelDir = a.floorKernels;
+    fo.cacheDir = "off";
+    Device fdev = Device::open(fo);
+    Renderer fr(fdev);
+    const Frame ff = fr.render(s0, ro);
+    const ImageComparison fc = compareImages(f0.color, ff.color);
+    std::size_t fh = 0, fi = 0, fu = 0;
+    double fs = 0.0;
+    for (std::size_t i = 0; i < ff.aovs.hairAlpha.size(); ++i) {
+      const float h0 = f0.aovs.hairAlpha[i], h1 = ff.aovs.hairAlpha[i];
+      if (h0 >= 1.0f / 255.0f || h1 >= 1.0f / 255.0f) {
+        ++fh;
+        fs += fc.flip.error[i];
+      }
+      fi += h0 >= 0.5f && h1 >= 0.5f;
+      fu += h0 >= 0.5f || h1 >= 0.5f;
+    }
+    writeImage(ff.color, a.out + "/floor.png");
+    const std::string floorStrands = a.out + "/floor_strands.hair";
+    exportStrands(fr, *original, floorStrands);
+    const StrandGroom alt = loadStrandGroom(floorStrands, dev.info().maxAlloc);
+    const std::vector<float> d = fitDistances(*strands, alt, a.fit.errorSample, a.fit.threads);
+    double mean = 0.0;
+    for (float v : d) mean += v;
+    mean /= std::max<std::size_t>(d.size(), 1);
+    floor = {{"hair_flip", fh > 0 ? fs / static_cast<double>(fh) : 0.0},
+             {"mask_iou", fu > 0 ? static_cast<double>(fi) / static_cast<double>(fu) : 1.0},
+             {"distance_mean_fibre_widths", mean / strands->appearance.strandWidth}};
+  }
   const FitReport& r = fit.report;
   json j = {{"input", roundTrip ? a.groom : a.strands},
             {"resolution", {a.width, a.height}},
@@ -259,6 +309,7 @@ int run(const Args& a) {
             {"distance_p95_fibre_widths", r.error.p95Widths},
             {"distance_mean_m", r.error.meanM},
             {"distance_p95_m", r.error.p95M}};
+  if (!floor.is_null()) j["floor"] = floor;
   writeTextAtomically(a.out + "/summary.json", j.dump(2) + "\n");
   std::printf("%s\n", j.dump(2).c_str());
   return 0;
@@ -288,6 +339,9 @@ int main(int argc, char** argv) {
   app.add_option("--drop", a.drop,
                  "styling terms to switch off after the fit, to see what each adds: any of "
                  "curl,clump,frizz,flyaway,length");
+  app.add_option("--floor-kernels", a.floorKernels,
+                 "--groom: also render the original with the kernels of this source tree (the "
+                 "per-strand random key changed there) and report it as the floor");
   app.add_flag("--reuse", a.reuse, "reuse the strand file and the original's render in --out");
   CLI11_PARSE(app, argc, argv);
   try {

@@ -3,12 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
+#include <limits>
 
 #include <glm/geometric.hpp>
 
-#include "fit/arc_model.h"
 #include "fit/cage_solve.h"
 #include "fit/head_surface.h"
 #include "fit/linear_algebra.h"
@@ -18,10 +16,10 @@ namespace clhair::fit {
 
 namespace {
 
-constexpr float kLengthQuantile = 0.95f;
 constexpr double kPriorWeight = 0.01;   // relative to a vertex's own data
 constexpr double kPriorFloor = 1e-3;    // relative to the mean data of a vertex
 constexpr float kReachSlack = 0.02f;    // a strand still counts on a layer this far past its tip
+constexpr float kBaseSlack = 0.15f;     // ... when the last base curves carry it on
 
 void bilinearWeights(const glm::vec2& st, float w[4]) {
   w[0] = (1 - st.x) * (1 - st.y);
@@ -35,6 +33,15 @@ float quantile(std::vector<float>& v, float q) {
   const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5f));
   std::nth_element(v.begin(), v.begin() + k, v.end());
   return v[k];
+}
+
+// The full length behind a set of lengths: for lengths uniform in ((1 - v) L, L) the 10th
+// and 90th percentiles are L (1 - 0.9 v) and L (1 - 0.1 v), so L = (0.9 q90 - 0.1 q10) / 0.8
+// whatever v is (equal lengths give L itself). Percentiles, not the longest strand: flyaways
+// (a few per cent of strands made longer by their frizz) do not stretch the layers.
+float fullLength(std::vector<float>& v) {
+  const float q90 = quantile(v, 0.9f), q10 = quantile(v, 0.1f);
+  return std::max((0.9f * q90 - 0.1f * q10) / 0.8f, q90);
 }
 
 glm::vec3 unitOr(const glm::vec3& v, const glm::vec3& fallback) {
@@ -58,85 +65,105 @@ StrandPlacement placeStrands(const FitStrands& s, const Clusters& cl, const Cage
       pl.st[i] = glm::clamp(inverseBilinear(q, chartRoots[i]), glm::vec2(0.0f), glm::vec2(1.0f));
     }
   });
-  // full length at every vertex: a high quantile of the strands near it
+  fullLengths(s, topo, pl);
+  return pl;
+}
+
+void fullLengths(const FitStrands& s, const CageTopology& topo, StrandPlacement& pl) {
+  const std::size_t n = s.count();
   const std::size_t V = topo.vertexChart.size();
-  std::vector<std::vector<float>> near(V);
-  std::vector<std::vector<float>> faceLengths(topo.faces.size());
+  const std::size_t F = topo.faces.size();
+  // the mean length of each face's strands, at each vertex the mean over its faces (strands
+  // of one place share a length but for length variation; across a scalp the geometry
+  // changes it), and the top of all strands' lengths relative to that mean
+  std::vector<double> faceSum(F, 0.0), faceCount(F, 0.0);
   for (std::size_t i = 0; i < n; ++i) {
-    float w[4];
-    bilinearWeights(pl.st[i], w);
-    const auto& f = topo.faces[pl.face[i]];
-    for (int c = 0; c < 4; ++c)
-      if (w[c] >= 0.2f) near[f[c]].push_back(s.length[i]);
-    faceLengths[pl.face[i]].push_back(s.length[i]);
+    faceSum[pl.face[i]] += s.length[i];
+    faceCount[pl.face[i]] += 1.0;
   }
-  std::vector<float> faceQ(topo.faces.size());
-  for (std::size_t f = 0; f < faceQ.size(); ++f) faceQ[f] = quantile(faceLengths[f], kLengthQuantile);
-  pl.vertexLength.assign(V, 0.0f);
-  for (std::size_t v = 0; v < V; ++v) {
-    if (near[v].size() >= 3) {
-      pl.vertexLength[v] = quantile(near[v], kLengthQuantile);
-    } else {
-      float m = 0.0f;
-      for (int id : topo.vertexCorners[v]) m = std::max(m, faceQ[id / 4]);
-      pl.vertexLength[v] = m;
+  std::vector<double> vSum(V, 0.0), vCount(V, 0.0);
+  for (std::size_t f = 0; f < F; ++f)
+    for (int c = 0; c < 4; ++c) {
+      vSum[topo.faces[f][c]] += faceSum[f];
+      vCount[topo.faces[f][c]] += faceCount[f];
     }
-  }
-  pl.fullLength.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
+  std::vector<float> raw(V, 0.0f), mean(V, 0.0f);
+  for (std::size_t v = 0; v < V; ++v)
+    raw[v] = vCount[v] > 0.0 ? static_cast<float>(vSum[v] / vCount[v]) : 0.0f;
+  // once more over the vertices a vertex shares a face with: less noise, as smooth a field
+  std::vector<float> k(V, 0.0f);
+  for (const auto& f : topo.faces)
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b) {
+        mean[f[a]] += raw[f[b]];
+        k[f[a]] += 1.0f;
+      }
+  for (std::size_t v = 0; v < V; ++v) mean[v] = k[v] > 0.0f ? mean[v] / k[v] : raw[v];
+  auto atStrand = [&](std::size_t i, const std::vector<float>& field) {
     float w[4];
     bilinearWeights(pl.st[i], w);
     const auto& f = topo.faces[pl.face[i]];
     float l = 0.0f;
-    for (int c = 0; c < 4; ++c) l += w[c] * pl.vertexLength[f[c]];
-    pl.fullLength[i] = std::max(l, s.length[i]);
+    for (int c = 0; c < 4; ++c) l += w[c] * field[f[c]];
+    return l;
+  };
+  std::vector<float> ratio;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float m = atStrand(i, mean);
+    if (m > 0.0f) ratio.push_back(s.length[i] / m);
   }
-  return pl;
+  const float top = ratio.empty() ? 1.0f : fullLength(ratio);
+  pl.vertexLength.resize(V);
+  for (std::size_t v = 0; v < V; ++v) pl.vertexLength[v] = top * mean[v];
+  pl.fullLength.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+    pl.fullLength[i] = std::max(atStrand(i, pl.vertexLength), s.length[i]);
 }
 
-std::vector<float> linearLayerArcs(const FitStrands& s, const StrandPlacement& pl, int L) {
+std::vector<float> linearLayerArcs(const FitStrands& s, const StrandPlacement& pl, int L,
+                                   bool carried) {
+  const float slack = carried ? kBaseSlack : kReachSlack;
   std::vector<float> arcs(s.count() * static_cast<std::size_t>(L));
   for (std::size_t i = 0; i < s.count(); ++i)
     for (int l = 0; l < L; ++l) {
       const float arc = static_cast<float>(l) / static_cast<float>(L - 1) * pl.fullLength[i];
-      arcs[i * L + l] = arc > s.length[i] + kReachSlack * pl.fullLength[i] ? -1.0f : arc;
+      arcs[i * L + l] = arc > s.length[i] + slack * pl.fullLength[i] ? -1.0f : arc;
     }
-  return arcs;
-}
-
-std::vector<float> modelLayerArcs(const FitStrands& s, StrandPlacement& pl, const BaseCurves& base,
-                                  const FittedStyle& curl, int L, int threads) {
-  std::vector<float> arcs(s.count() * static_cast<std::size_t>(L));
-  parallelFor(s.count(), threads, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) {
-      const ArcMap m = arcMap(base, pl.face[i], pl.st[i], curl);
-      const float tip = m.wAt(s.length[i]);  // where along the base curve the strand ends
-      // a strand longer than the model's full curve is stretched onto it (it reaches w = 1)
-      const float stretch = tip > 1.0f && m.full() > 0.0f ? s.length[i] / m.full() : 1.0f;
-      for (int l = 0; l < L; ++l) {
-        const float w = static_cast<float>(l) / static_cast<float>(L - 1);
-        arcs[i * L + l] = w > tip + kReachSlack ? -1.0f : m.arcAt(w) * stretch;
-      }
-      pl.fullLength[i] = m.full() * stretch;
-    }
-  });
   return arcs;
 }
 
 std::vector<glm::vec3> fitCageLayers(const FitStrands& s, const Clusters& cl,
                                      const CageTopology& topo, const ScalpChart& chart,
                                      const StrandPlacement& pl, const std::vector<float>& layerArc,
-                                     int L, const HeadSurface* head, int threads) {
+                                     int L, const BaseCurves* previous, const HeadSurface* head,
+                                     int threads) {
   const int F = static_cast<int>(topo.faces.size());
   const std::size_t V = topo.vertexChart.size();
   const std::size_t n = s.count();
   std::vector<std::vector<int>> members(F);
   for (std::size_t i = 0; i < n; ++i) members[pl.face[i]].push_back(static_cast<int>(i));
+  // every strand's point on every layer; past its tip the last base curves carry the tip on
+  // (the strand's offset from its base curve kept), or, in a first fit, a straight line
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::vector<glm::vec3> points(n * static_cast<std::size_t>(L), glm::vec3(nan));
+  parallelFor(n, threads, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i)
+      for (int l = 0; l < L; ++l) {
+        const float arc = layerArc[i * L + l];
+        if (arc < 0.0f) continue;
+        if (arc <= s.length[i] || !previous || !(pl.fullLength[i] > 0.0f)) {
+          points[i * L + l] = s.atArc(i, arc);
+          continue;
+        }
+        const float w[2] = {s.length[i] / pl.fullLength[i], arc / pl.fullLength[i]};
+        BaseSample bs[2];
+        previous->evaluate(pl.face[i], pl.st[i], w, 2, bs);
+        points[i * L + l] = s.atArc(i, s.length[i]) + bs[1].pos - bs[0].pos;
+      }
+  });
   auto layerPoint = [&](std::size_t i, int l, glm::vec3& p) {
-    const float arc = layerArc[i * L + l];
-    if (arc < 0.0f) return false;
-    p = s.atArc(i, arc);
-    return true;
+    p = points[i * L + l];
+    return !std::isnan(p.x);
   };
 
   // 1. every cluster's principal-axis quad on every layer (corner priors)
@@ -236,36 +263,52 @@ std::vector<glm::vec3> fitCageLayers(const FitStrands& s, const Clusters& cl,
         prior[v] += cornerPrior[(static_cast<std::size_t>(id / 4) * L + l) * 4 + id % 4];
       prior[v] /= static_cast<float>(topo.vertexCorners[v].size());
     }
-    std::vector<FaceBlock> blocks(F);
-    parallelFor(static_cast<std::size_t>(F), threads, [&](std::size_t fb, std::size_t fe) {
-      for (std::size_t f = fb; f < fe; ++f) {
-        FaceBlock& blk = blocks[f];
-        for (int i : members[f]) {
-          glm::vec3 p;
-          if (!layerPoint(static_cast<std::size_t>(i), l, p)) continue;
-          float w[4];
-          bilinearWeights(pl.st[i], w);
-          for (int a = 0; a < 4; ++a) {
-            blk.r[a] += static_cast<double>(w[a]) * glm::dvec3(p);
-            for (int b = 0; b < 4; ++b) blk.b[a][b] += static_cast<double>(w[a]) * w[b];
+    // least squares, then twice again with strands far from the fitted quad down-weighted
+    // (Huber weights beyond twice a face's typical distance): flyaways and strands of
+    // another clump do not drag the corners
+    std::vector<float> weight(n, 1.0f);
+    std::vector<glm::vec3> layer;
+    for (int pass = 0; pass < 3; ++pass) {
+      std::vector<FaceBlock> blocks(F);
+      parallelFor(static_cast<std::size_t>(F), threads, [&](std::size_t fb, std::size_t fe) {
+        for (std::size_t f = fb; f < fe; ++f) {
+          FaceBlock& blk = blocks[f];
+          std::vector<float> dist;
+          if (pass > 0) {  // this face's distances to the last solution, and their median
+            for (int i : members[f]) {
+              glm::vec3 p;
+              if (!layerPoint(static_cast<std::size_t>(i), l, p)) continue;
+              float w[4];
+              bilinearWeights(pl.st[i], w);
+              glm::vec3 q(0.0f);
+              for (int a = 0; a < 4; ++a) q += w[a] * layer[topo.faces[f][a]];
+              dist.push_back(glm::length(p - q));
+            }
+            std::vector<float> sorted = dist;
+            const float typical = std::max(2.0f * quantile(sorted, 0.5f), s.fibreWidth);
+            std::size_t k = 0;
+            for (int i : members[f]) {
+              glm::vec3 p;
+              if (!layerPoint(static_cast<std::size_t>(i), l, p)) continue;
+              weight[i] = dist[k] > typical ? typical / dist[k] : 1.0f;
+              ++k;
+            }
           }
-          blk.strands += 1.0;
+          for (int i : members[f]) {
+            glm::vec3 p;
+            if (!layerPoint(static_cast<std::size_t>(i), l, p)) continue;
+            float w[4];
+            bilinearWeights(pl.st[i], w);
+            const double h = weight[i];
+            for (int a = 0; a < 4; ++a) {
+              blk.r[a] += h * w[a] * glm::dvec3(p);
+              for (int b = 0; b < 4; ++b) blk.b[a][b] += h * w[a] * w[b];
+            }
+            blk.strands += h;
+          }
         }
-      }
-    }, 16);
-    std::vector<glm::vec3> layer = solveCageLayer(topo.faces, blocks, prior, kPriorWeight, kPriorFloor);
-    if (std::getenv("CLHAIR_FIT_DEBUG") && l == L - 1) {
-      for (int f = 0; f < 3; ++f) {
-        std::vector<float> ls;
-        for (int i : members[f]) ls.push_back(s.length[i]);
-        std::sort(ls.begin(), ls.end());
-        std::fprintf(stderr, "  lengths min %g p50 %g p95 %g max %g; fullLength of first %g\n", ls.front(), ls[ls.size()/2], ls[ls.size()*95/100], ls.back(), pl.fullLength[members[f][0]]);
-        int reach = 0;
-        for (int i : members[f]) { glm::vec3 p; reach += layerPoint(i, l, p); }
-        std::fprintf(stderr, "face %d: members %zu reach %d  Lv %g %g %g %g  strands %g prior %g %g %g  solved %g %g %g\n", f, members[f].size(), reach,
-          pl.vertexLength[topo.faces[f][0]], pl.vertexLength[topo.faces[f][1]], pl.vertexLength[topo.faces[f][2]], pl.vertexLength[topo.faces[f][3]], blocks[f].strands,
-          prior[topo.faces[f][0]].x, prior[topo.faces[f][0]].y, prior[topo.faces[f][0]].z, layer[topo.faces[f][0]].x, layer[topo.faces[f][0]].y, layer[topo.faces[f][0]].z);
-      }
+      }, 16);
+      layer = solveCageLayer(topo.faces, blocks, prior, kPriorWeight, kPriorFloor);
     }
     if (l == 0 && head)
       for (glm::vec3& p : layer) p = head->closest(p);

@@ -2,9 +2,10 @@
 // bundle, and every vertex's position on every layer.
 //
 // Layer l of a strand is its point at arc length l / (L - 1) of its *full* length: the
-// length a strand at that root would have without length variation, taken as the 95th
-// percentile of the lengths of the strands around each corner and interpolated bilinearly
-// (never less than the strand's own length). Shorter strands simply end before the upper
+// length a strand at that root would have without length variation: at each vertex the
+// mean length of its faces' strands times the top of all strands' lengths relative to that
+// mean (from their 10th and 90th percentiles, exact for uniformly varied lengths),
+// interpolated bilinearly, never less than the strand's own. Shorter strands simply end before the upper
 // layers. This keeps a layer at one place along the hair for long and short strands alike,
 // which is what the generator assumes when it shortens a strand by cutting its base curve.
 //
@@ -24,7 +25,6 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
-#include "clhair/fit.h"
 #include "fit/base_curve.h"
 #include "fit/bundle_clusters.h"
 #include "fit/cage_topology.h"
@@ -46,21 +46,23 @@ StrandPlacement placeStrands(const FitStrands& strands, const Clusters& clusters
                              const CageTopology& topo, const std::vector<glm::vec2>& chartRoots,
                              int threads);
 
-// Arc length along every strand of its point on every layer (strands * layers; -1: the
-// strand ends before that layer). Linear: layer l at l / (L - 1) of the full length. Model:
-// the base curves of a first fit and the fitted curl give the arc length at each w
-// (arc_model.h); this also updates place.fullLength.
-std::vector<float> linearLayerArcs(const FitStrands& strands, const StrandPlacement& place,
-                                   int layers);
-std::vector<float> modelLayerArcs(const FitStrands& strands, StrandPlacement& place,
-                                  const BaseCurves& base, const FittedStyle& curl, int layers,
-                                  int threads);
+// The full length at every vertex and of every strand (see above), from `strands`' lengths.
+void fullLengths(const FitStrands& strands, const CageTopology& topo, StrandPlacement& place);
 
-// Positions layer-major (layers * vertices); `head` moves the root layer onto it.
+// Arc length along every strand of its point on every layer (strands * layers; -1: the
+// strand ends before that layer): layer l at l / (L - 1) of the strand's full length. A
+// strand counts on layers up to 2 % of its full length past its tip, 15 % when `carried`
+// (fitCageLayers is given base curves to carry it on).
+std::vector<float> linearLayerArcs(const FitStrands& strands, const StrandPlacement& place,
+                                   int layers, bool carried);
+
+// Positions layer-major (layers * vertices); `previous`: base curves of an earlier fit that
+// carry strands past their tips (null: straight on); `head` moves the root layer onto it.
 std::vector<glm::vec3> fitCageLayers(const FitStrands& strands, const Clusters& clusters,
                                      const CageTopology& topo, const ScalpChart& chart,
                                      const StrandPlacement& place,
                                      const std::vector<float>& layerArc, int layers,
-                                     const HeadSurface* head, int threads);
+                                     const BaseCurves* previous, const HeadSurface* head,
+                                     int threads);
 
 }  // namespace clhair::fit

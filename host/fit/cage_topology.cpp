@@ -4,8 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
 #include <numeric>
 #include <unordered_map>
 
@@ -153,12 +151,6 @@ CageTopology buildCageTopology(const Clusters& cl, const std::vector<glm::vec2>&
         }
     }
     std::sort(pairs.begin(), pairs.end(), [](const Pair& x, const Pair& y) { return x.d < y.d; });
-    if (std::getenv("CLHAIR_FIT_DEBUG")) {
-      int near = 0;
-      for (int i = 0; i < N; ++i) for (int j = i + 1; j < N; ++j) if (j / 4 != i / 4 && glm::length(cornerPos(i) - cornerPos(j)) < tau) ++near;
-      std::fprintf(stderr, "weld: %d corners, h %g tau %g, %zu compatible pairs, %d near pairs\n", N, h, tau, pairs.size(), near);
-      for (int f = 0; f < 2; ++f) std::fprintf(stderr, "  face %d corners (%g %g) (%g %g) (%g %g) (%g %g)\n", f, topo.ownCorners[f][0].x, topo.ownCorners[f][0].y, topo.ownCorners[f][1].x, topo.ownCorners[f][1].y, topo.ownCorners[f][2].x, topo.ownCorners[f][2].y, topo.ownCorners[f][3].x, topo.ownCorners[f][3].y);
-    }
     for (const Pair& p : pairs) {
       const int ra = find(p.a), rb = find(p.b);
       if (ra == rb) continue;
@@ -211,7 +203,6 @@ CageTopology buildCageTopology(const Clusters& cl, const std::vector<glm::vec2>&
       for (int k = 0; k < 4; ++k) q[k] = pos[root[4 * f + k]];
       if (!quadValid(q, quadArea(topo.ownCorners[f]))) bad.push_back(f);
     }
-    if (std::getenv("CLHAIR_FIT_DEBUG")) std::fprintf(stderr, "weld: %zu bad faces\n", bad.size());
     if (bad.empty()) break;
     for (int f : bad)
       for (int k = 0; k < 4; ++k) detach(4 * f + k);

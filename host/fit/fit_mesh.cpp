@@ -21,6 +21,7 @@
 #include "fit/bundle_clusters.h"
 #include "fit/cage_layers.h"
 #include "fit/cage_topology.h"
+#include "fit/curl_detect.h"
 #include "fit/fit_error.h"
 #include "fit/fit_strands.h"
 #include "fit/head_surface.h"
@@ -37,6 +38,7 @@ using Clock = std::chrono::steady_clock;
 constexpr int kStrandsPerBundle = 64;
 constexpr int kDefaultLayers = 16;
 constexpr float kLayersPerTurn = 6.0f;  // layer intervals a curl turn needs to be followed
+constexpr int kRefinements = 2;          // rounds of layers then styling after the first
 
 int controlPointsFor(const StrandGroom& g, int layers) {
   std::vector<std::uint32_t> c = g.pointCounts;
@@ -127,11 +129,16 @@ FitResult fitHairMesh(const StrandGroom& groom, const FitOptions& opt) {
   const std::vector<float> shape = fit::shapeFeatures(s, threads);
   fit::Clusters clusters =
       fit::clusterStrands(chartRoots, shape, target, opt.shapeWeight, shapeScale, threads);
-  if (clusters.count == 1 && n > 1)
-    rep.notes.push_back(clusters.spacing > 0.0f || target == 1
-                            ? "one bundle was asked for"
-                            : "all roots coincide: the mesh is a single bundle");
-  if (n == 1) rep.notes.push_back("one strand: the mesh is a single bundle around it");
+  bool coincide = true;
+  for (const glm::vec2& c : chartRoots) coincide = coincide && glm::length(c - chartRoots[0]) < 1e-9f;
+  if (n == 1)
+    rep.notes.push_back("one strand: the mesh is a single bundle around it");
+  else if (coincide)
+    rep.notes.push_back("all roots coincide: the mesh is a single bundle");
+  else if (clusters.count == 1)
+    rep.notes.push_back(opt.bundles == 1 ? "one bundle was asked for"
+                                         : "too few strands for more than one bundle: the mesh "
+                                           "is a single bundle");
   if (clusters.count == 1) {  // a single-bundle fit needs the cluster's own statistics
     clusters.centre = {glm::vec2(0.0f)};
     for (const glm::vec2& c : chartRoots) clusters.centre[0] += c / static_cast<float>(n);
@@ -141,8 +148,11 @@ FitResult fitHairMesh(const StrandGroom& groom, const FitOptions& opt) {
   phase("cluster");
 
   // 4. cage
-  const float minExtent =
-      std::max(clusters.spacing > 0.0f ? 0.1f * clusters.spacing : 0.0f, 2.0f * s.fibreWidth);
+  // a quad at least a tenth of a lattice cell across; a single bundle of coinciding roots
+  // one fibre width across (its strands start within a fibre of the input's root)
+  const float minExtent = clusters.spacing > 0.0f
+                              ? std::max(0.1f * clusters.spacing, 2.0f * s.fibreWidth)
+                              : 0.5f * s.fibreWidth;
   const fit::CageTopology topo = fit::buildCageTopology(
       clusters, chartRoots, minExtent, opt.shapeWeight, shapeScale, 2.0f);
   fit::StrandPlacement place = fit::placeStrands(s, clusters, topo, chartRoots, threads);
@@ -151,8 +161,17 @@ FitResult fitHairMesh(const StrandGroom& groom, const FitOptions& opt) {
   m.name = groom.name.empty() ? "fitted" : groom.name + "_fitted";
   m.layerCount = L;
   m.vertexCount = static_cast<int>(topo.vertexChart.size());
-  m.positions = fit::fitCageLayers(s, clusters, topo, chart, place,
-                                   fit::linearLayerArcs(s, place, L), L, head.get(), threads);
+  // a curl the layers are too sparse to follow is smoothed away for the first cage
+  const float turns = fit::detectCurlTurns(s, threads);
+  const bool followCurl = static_cast<float>(L - 1) >= kLayersPerTurn * turns;
+  {
+    const fit::FitStrands first = followCurl ? s : fit::smoothOverTurn(s, turns, threads);
+    fit::StrandPlacement firstPlace = place;
+    fit::fullLengths(first, topo, firstPlace);
+    m.positions = fit::fitCageLayers(first, clusters, topo, chart, firstPlace,
+                                     fit::linearLayerArcs(first, firstPlace, L, false), L,
+                                     nullptr, head.get(), threads);
+  }
   for (const auto& f : topo.faces) m.faces.push_back({f[0], f[1], f[2], f[3]});
   glm::vec2 lo(1e30f), hi(-1e30f);
   for (const glm::vec2& c : topo.vertexChart) {
@@ -183,31 +202,36 @@ FitResult fitHairMesh(const StrandGroom& groom, const FitOptions& opt) {
   validateHairMesh(m, "fitted mesh");
   // a first styling fit, then the layers again where that curl and the first base curves
   // say each layer lies along the strands, and the styling again on the new base curves
-  // When the layers are too sparse to follow the curl (fewer than kLayersPerTurn per
-  // turn), the second fit sees the strands with their fitted curl taken out, so the layers
-  // hold the base curves alone and the styling all of the curl; otherwise the layers follow
-  // the curls (with their phases where the input has them) and the styling keeps the rest.
-  fit::StyleFitResult style;
-  {
-    const fit::BaseCurves first(m);
-    style = fit::fitStyle(s, place, m, first, nullptr, threads);
-    const std::vector<float> arcs = fit::modelLayerArcs(s, place, first, style.global, L, threads);
-    const bool sparse = style.global.curlAmplitude > 0.0f &&
-                        static_cast<float>(L - 1) < kLayersPerTurn * style.global.curlFrequency;
-    if (sparse) {
-      const fit::FitStrands smooth = fit::removeCurl(s, place, first, style.global, nullptr, threads);
-      m.positions = fit::fitCageLayers(smooth, clusters, topo, chart, place, arcs, L, head.get(), threads);
-      rep.notes.push_back("the curl (" + std::to_string(style.global.curlFrequency) +
-                          " turns) is too fine for " + std::to_string(L) +
-                          " layers: the layers follow the base curves and the styling holds "
-                          "the curl, with its own phases");
-    } else {
-      m.positions = fit::fitCageLayers(s, clusters, topo, chart, place, arcs, L, head.get(), threads);
-    }
+  // The layers and the styling are fitted in turn. A first styling fit against layers
+  // placed at equal arc length along the strands; then, kRefinements times, the layers
+  // again (the last base curves carrying short strands on to the upper layers) and the
+  // styling again on the new base curves. When the layers are too sparse to follow the
+  // curl found (fewer than kLayersPerTurn per turn), the layers are fitted to the strands
+  // with their fitted curl taken out, so that they hold the base curves alone and the
+  // styling all of the curl; otherwise the layers follow the curls (with their phases where
+  // the input has them) and the styling keeps the rest.
+  auto base = std::make_unique<fit::BaseCurves>(m);
+  fit::StyleFitResult style = fit::fitStyle(s, place, m, *base, nullptr, threads);
+  const bool sparse = !followCurl || (style.global.curlAmplitude > 0.0f &&
+                                       static_cast<float>(L - 1) <
+                                           kLayersPerTurn * style.global.curlFrequency);
+  for (int it = 0; it < kRefinements; ++it) {
+    const FittedStyle before = style.global;
+    const fit::FitStrands cageInput =
+        sparse ? fit::removeCurl(s, place, *base, before, it > 0 ? &before : nullptr, threads) : s;
+    fit::StrandPlacement cagePlace = place;
+    fit::fullLengths(cageInput, topo, cagePlace);
+    m.positions = fit::fitCageLayers(cageInput, clusters, topo, chart, cagePlace,
+                                     fit::linearLayerArcs(cageInput, cagePlace, L, true), L,
+                                     base.get(), head.get(), threads);
+    base = std::make_unique<fit::BaseCurves>(m);
+    style = fit::fitStyle(s, place, m, *base, &before, threads);
   }
-  const fit::BaseCurves base(m);
-  const FittedStyle firstCurl = style.global;
-  style = fit::fitStyle(s, place, m, base, &firstCurl, threads);
+  if (sparse)
+    rep.notes.push_back("the curl (" + std::to_string(style.global.curlFrequency) +
+                        " turns) is too fine for " + std::to_string(L) +
+                        " layers: the layers follow the base curves and the styling holds the "
+                        "curl, with phases of its own");
   fit::applyStyle(style.global, m.style);
   rep.fitted = style.global;
   rep.notes.insert(rep.notes.end(), style.notes.begin(), style.notes.end());
@@ -215,7 +239,7 @@ FitResult fitHairMesh(const StrandGroom& groom, const FitOptions& opt) {
   phase("style");
 
   // 6. report: per-bundle counts and densities, then (optionally) distances
-  const GroomData& data = base.data();
+  const GroomData& data = base->data();
   rep.perBundle.resize(m.faces.size());
   for (std::size_t i = 0; i < n; ++i) ++rep.perBundle[place.face[i]].strandsIn;
   for (std::size_t f = 0; f < m.faces.size(); ++f) {

@@ -15,6 +15,11 @@ glm::vec3 FitStrands::atArc(std::size_t i, float arc) const {
   const glm::vec3* p = strand(i);
   const float len = length[i];
   if (!(len > 0.0f) || arc <= 0.0f) return p[0];
+  if (arc > len) {  // past the tip: straight on along the last segment
+    const glm::vec3 d = p[samples - 1] - p[samples - 2];
+    const float l = glm::length(d);
+    return l > 0.0f ? p[samples - 1] + d * ((arc - len) / l) : p[samples - 1];
+  }
   const float x = std::min(arc / len, 1.0f) * static_cast<float>(samples - 1);
   const int k = std::min(static_cast<int>(x), samples - 2);
   const float t = x - static_cast<float>(k);
@@ -73,6 +78,9 @@ FitStrands prepareFitStrands(const StrandGroom& groom, int samples, float fibreW
   std::vector<float> lengths = s.length;
   std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
   s.medianLength = lengths[lengths.size() / 2];
+  std::vector<std::uint32_t> counts = groom.pointCounts;
+  std::nth_element(counts.begin(), counts.begin() + counts.size() / 2, counts.end());
+  s.medianPoints = static_cast<int>(counts[counts.size() / 2]);
   const float longest = *std::max_element(s.length.begin(), s.length.end());
   if (!(longest > 0.0f))
     throw Error(where + ": every strand has zero length (all its points coincide); " +
@@ -88,6 +96,17 @@ FitStrands prepareFitStrands(const StrandGroom& groom, int samples, float fibreW
     s.fibreWidth = groom.appearance.strandWidth;
   }
   return s;
+}
+
+void resampleInPlace(FitStrands& s, int threads) {
+  parallelFor(s.count(), threads, [&](std::size_t b, std::size_t e) {
+    std::vector<glm::vec3> copy(s.samples);
+    for (std::size_t i = b; i < e; ++i) {
+      glm::vec3* p = s.points.data() + i * s.samples;
+      std::copy(p, p + s.samples, copy.begin());
+      resample(copy.data(), copy.size(), s.samples, p, s.length[i]);
+    }
+  });
 }
 
 }  // namespace clhair::fit

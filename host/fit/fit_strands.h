@@ -4,7 +4,8 @@
 //
 // Point k of strand i lies at arc length k / (M - 1) * length[i] along the original
 // polyline (M = samples). atArc() reads a strand at any arc length by linear interpolation
-// between those points, clamped to the strand's ends.
+// between those points; before the root it gives the root, past the tip it continues
+// straight along the last segment.
 #pragma once
 
 #include <cstddef>
@@ -22,6 +23,7 @@ struct FitStrands {
   std::vector<float> length;      // arc length per strand
   float fibreWidth = 0.0f;
   double medianLength = 0.0;
+  int medianPoints = 0;  // points per strand in the input (the median strand)
 
   std::size_t count() const { return length.size(); }
   const glm::vec3* strand(std::size_t i) const { return points.data() + i * samples; }
@@ -35,5 +37,9 @@ struct FitStrands {
 // longer than zero), then resamples. `fibreWidth` 0: from the groom (median thickness, else
 // appearance.strandWidth).
 FitStrands prepareFitStrands(const StrandGroom& groom, int samples, float fibreWidth, int threads);
+
+// Resamples every strand of `s` again at equal arc length along its own (changed) points,
+// updating the lengths.
+void resampleInPlace(FitStrands& s, int threads);
 
 }  // namespace clhair::fit

@@ -3,12 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <memory>
 
 #include <glm/geometric.hpp>
 
+#include "fit/clump_fit.h"
 #include "fit/parallel.h"
 #include "fit/style_residual.h"
 #include "fit/style_stats.h"
@@ -23,7 +22,7 @@ constexpr std::size_t kNeighbours = 4;  // root neighbours per strand for pair s
 constexpr float kMaxCurlTurns = 20.0f;
 constexpr float kCurlStep = 0.25f;
 constexpr double kCurlSignificance = 0.5;  // share of residual energy the curl must explain
-constexpr float kMinCurlTurns = 0.75f;
+constexpr float kMinCurlTurns = 1.5f;
 const float kShapes[] = {0.25f, 0.5f, 0.75f, 1.0f, 1.5f, 2.0f, 3.0f, 4.0f, 6.0f};
 
 float median(std::vector<float> v) {
@@ -43,7 +42,7 @@ float wrapAngle(float a) {
 struct StrandStyle {
   bool valid = false;
   float amp = 0, helix = 0, phase = 0, frizz = 0, rho = 1;
-  glm::vec2 delta{0.0f}, uv{0.0f};
+  glm::vec2 uv{0.0f};
   double lag[kFrizzLagCount] = {};
 };
 
@@ -74,12 +73,12 @@ float goldenMin(Fn&& fn, float lo, float hi, int iters) {
 // Estimates from a set of strands (all, or one bundle's) and their neighbour pairs.
 // `frizzCal`: the groom-wide frizz frequency and the share of frizz energy the per-strand
 // fit leaves (from the whole groom; a bundle reuses it).
-FittedStyle estimate(const std::vector<StrandStyle>& st, const std::vector<int>& strands,
-                     const std::vector<std::pair<int, int>>& pairs, float f, float shape,
-                     bool curl, const FrizzLeftover& frizzCal, float frizzF) {
+FittedStyle estimate(const std::vector<StrandStyle>& st, const std::vector<ClumpSamples>& clumps,
+                     const std::vector<int>& strands,
+                     const std::vector<std::pair<int, int>>& pairs, float f, bool curl,
+                     const FrizzLeftover& frizzCal, float frizzF) {
   FittedStyle out;
   out.curlFrequency = curl ? f : 0.0f;
-  out.clumpShape = shape;
   out.frizzFrequency = frizzF;
   std::vector<float> fr, rhos;
   for (int i : strands)
@@ -88,13 +87,11 @@ FittedStyle estimate(const std::vector<StrandStyle>& st, const std::vector<int>&
       rhos.push_back(st[i].rho);
     }
   if (fr.empty()) return out;
-  // length variation: w of the tips uniform in (1 - v, 1) of a full curve taken at the 95th
-  // percentile of lengths: mean m = (1 - v/2) / (1 - v/20)
+  // length variation: w of the tips uniform in (1 - v, 1), mean 1 - v / 2
   double m = 0.0;
   for (float r : rhos) m += r;
   m /= static_cast<double>(rhos.size());
-  out.lengthVariation =
-      static_cast<float>(std::clamp((1.0 - m) / std::max(0.5 - 0.05 * m, 1e-6), 0.0, 0.95));
+  out.lengthVariation = static_cast<float>(std::clamp(2.0 * (1.0 - m), 0.0, 0.95));
   // frizz: the median strand; strands far above it are flyaways
   const float scale = static_cast<float>(1.0 / std::sqrt(std::max(frizzCal.energy, 1e-6)));
   const float base = median(fr);
@@ -134,56 +131,17 @@ FittedStyle estimate(const std::vector<StrandStyle>& st, const std::vector<int>&
                           : med > 1.45f ? 1.0f
                                         : std::clamp(med / (2.0f * kPi * 0.29289f), 0.0f, 1.0f);
   }
-  // clumping: d_i - d_j = -strength (uv_i - uv_j) for neighbours in one clump; pairs across
-  // a clump boundary are pulled apart instead, so start from the median pair ratio and
-  // refine by least squares over the pairs that agree with the current value
-  std::vector<std::pair<int, int>> good;
+  // clumping, from neighbouring strands (clump_fit.h), away from flyaways
+  std::vector<int> calmStrands;
+  for (int i : strands)
+    if (calm(i)) calmStrands.push_back(i);
+  std::vector<std::pair<int, int>> calmPairs;
   for (const auto& p : pairs)
-    if (calm(p.first) && calm(p.second) && glm::dot(st[p.first].uv - st[p.second].uv,
-                                                    st[p.first].uv - st[p.second].uv) > 0.0f)
-      good.push_back(p);
-  double strength = 0.0;
-  {
-    std::vector<float> ratio;
-    for (const auto& p : good) {
-      const glm::vec2 duv = st[p.first].uv - st[p.second].uv;
-      ratio.push_back(-glm::dot(st[p.first].delta - st[p.second].delta, duv) / glm::dot(duv, duv));
-    }
-    strength = median(ratio);
-  }
-  for (int pass = 0; pass < 6 && !good.empty(); ++pass) {
-    std::vector<float> err;
-    for (const auto& p : good) {
-      const glm::vec2 duv = st[p.first].uv - st[p.second].uv;
-      err.push_back(glm::length(st[p.first].delta - st[p.second].delta + static_cast<float>(strength) * duv));
-    }
-    const float cut = 2.0f * median(err) + 1e-30f;
-    double num = 0.0, den = 0.0;
-    for (std::size_t k = 0; k < good.size(); ++k) {
-      if (err[k] > cut) continue;
-      const glm::vec2 duv = st[good[k].first].uv - st[good[k].second].uv;
-      num -= glm::dot(st[good[k].first].delta - st[good[k].second].delta, duv);
-      den += glm::dot(duv, duv);
-    }
-    if (den > 0.0) strength = num / den;
-  }
-  strength = std::clamp(strength, 0.0, 1.0);
-  out.clumpStrength = static_cast<float>(strength);
-  if (strength > 0.02) {
-    double dist = 0.0;
-    int n = 0;
-    for (int i : strands)
-      if (calm(i)) {
-        dist += glm::length(st[i].delta) / strength;
-        ++n;
-      }
-    dist /= std::max(n, 1);
-    out.clumpFrequency =
-        dist > 0.0 ? static_cast<float>(clumpDistanceTimesFrequency() / dist) : 0.0f;
-  } else {
-    out.clumpStrength = 0.0f;
-    out.clumpFrequency = 0.0f;
-  }
+    if (calm(p.first) && calm(p.second)) calmPairs.push_back(p);
+  const ClumpEstimate c = estimateClumping(clumps, calmStrands, calmPairs);
+  out.clumpStrength = c.strength;
+  out.clumpShape = c.shape;
+  out.clumpFrequency = c.frequency;
   return out;
 }
 
@@ -206,6 +164,19 @@ float frizzFrequency(const double* measured, int points, double rho, float f, fl
     }
   }
   return bestF;
+}
+
+// Mean distance from a circle's centre of the chords of a polygon with `perTurn` sides
+// inscribed in it, over the circle's radius.
+float chordShrink(int points, float turns, float lengthVariation) {
+  if (!(turns > 0.0f) || points < 2) return 1.0f;
+  const double perTurn = (points - 1) / (turns * (1.0 - 0.5 * lengthVariation));
+  if (perTurn < 3.0) return 1.0f;
+  const double half = 3.14159265358979 / perTurn;  // half the angle a chord spans
+  const double h = std::cos(half), c = std::sin(half);
+  // mean of sqrt(h^2 + x^2) for x uniform in [-c, c]
+  const double mean = 0.5 * (std::sqrt(h * h + c * c) + h * h / c * std::asinh(c / h));
+  return static_cast<float>(mean);
 }
 
 }  // namespace
@@ -247,52 +218,56 @@ StyleFitResult fitStyle(const FitStrands& s, const StrandPlacement& pl, const Ha
     for (double v : part) sum += v;
     return sum;
   };
-  float shape = 1.0f;
-  std::vector<double> curve;
-  double best = 1e300;
-  float f = 0.0f;
-  for (float g = kCurlStep; g <= kMaxCurlTurns + 1e-3f; g += kCurlStep) {
-    const double e = energy(g, shape);
-    curve.push_back(e);
-    if (e < best) {
-      best = e;
-      f = g;
+  float shape = 1.0f, f = 0.0f;
+  bool curl = false;
+  if (arcCurl) {
+    // a refinement: the curl is known to be there (or not); search near the last values
+    curl = arcCurl->curlFrequency > 0.0f;
+    shape = arcCurl->clumpShape > 0.0f ? arcCurl->clumpShape : 1.0f;
+    if (curl)
+      f = goldenMin([&](float g) { return energy(g, shape); },
+                    std::max(0.01f, arcCurl->curlFrequency - 0.1f), arcCurl->curlFrequency + 0.1f, 8);
+    shape = goldenMin([&](float x) { return energy(f, x); }, shape / 1.5f, shape * 1.5f, 8);
+  } else {
+    std::vector<double> curve;
+    double best = 1e300;
+    for (float g = kCurlStep; g <= kMaxCurlTurns + 1e-3f; g += kCurlStep) {
+      const double e = energy(g, shape);
+      curve.push_back(e);
+      if (e < best) {
+        best = e;
+        f = g;
+      }
     }
-  }
-  std::vector<double> sorted = curve;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  const double typical = sorted[sorted.size() / 2];
-  // a curl explains most of the residual at one frequency and turns at least most of a
-  // turn; below that a sinusoid only fits frizz or bending
-  const bool curl = typical > 0.0 && (typical - best) > kCurlSignificance * typical &&
-                    f >= kMinCurlTurns;
-  if (curl)
-    f = goldenMin([&](float g) { return energy(g, shape); }, std::max(0.01f, f - kCurlStep),
-                  f + kCurlStep, 14);
-  else
-    f = 0.0f;
-  // clump shape with that frequency
-  double bestShape = 1e300;
-  int bi = 3;
-  for (int k = 0; k < static_cast<int>(std::size(kShapes)); ++k) {
-    const double e = energy(f, kShapes[k]);
-    if (e < bestShape) {
-      bestShape = e;
-      bi = k;
+    std::vector<double> sorted = curve;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    const double typical = sorted[sorted.size() / 2];
+    // a curl explains most of the residual at one frequency and turns at least most of a
+    // turn; below that a sinusoid only fits frizz or bending
+    curl = typical > 0.0 && (typical - best) > kCurlSignificance * typical && f >= kMinCurlTurns;
+    if (curl)
+      f = goldenMin([&](float g) { return energy(g, shape); }, std::max(0.01f, f - kCurlStep),
+                    f + kCurlStep, 14);
+    else
+      f = 0.0f;
+    // clump shape with that frequency
+    double bestShape = 1e300;
+    int bi = 3;
+    for (int k = 0; k < static_cast<int>(std::size(kShapes)); ++k) {
+      const double e = energy(f, kShapes[k]);
+      if (e < bestShape) {
+        bestShape = e;
+        bi = k;
+      }
     }
-  }
-  const float lo = kShapes[std::max(bi - 1, 0)];
-  const float hi = kShapes[std::min(bi + 1, static_cast<int>(std::size(kShapes)) - 1)];
-  shape = goldenMin([&](float x) { return energy(f, x); }, lo, hi, 10);
-  if (std::getenv("CLHAIR_FIT_DEBUG")) {
-    std::fprintf(stderr, "fit debug: f %.3f typical %.4g best %.4g, E(f,0) %.4g\n", f, typical, best, energy(0.0f, 1.0f));
-    for (float x : kShapes) std::fprintf(stderr, "  shape %.2f: %.6g\n", x, energy(f, x));
-    double tot = 0; for (auto& r : resid) for (int k = 0; k < r.points; ++k) tot += glm::dot(r.r[k], r.r[k]);
-    std::fprintf(stderr, "  residual total %.6g over %zu strands\n", tot, resid.size());
+    const float lo = kShapes[std::max(bi - 1, 0)];
+    const float hi = kShapes[std::min(bi + 1, static_cast<int>(std::size(kShapes)) - 1)];
+    shape = goldenMin([&](float x) { return energy(f, x); }, lo, hi, 10);
   }
 
   // 2. every strand with those fixed
   std::vector<StrandStyle> st(n);
+  std::vector<ClumpSamples> clumps(n);
   const double noise2 = 2.0 * valueNoiseVariance();
   parallelFor(n, threads, [&](std::size_t b, std::size_t e) {
     auto r = std::make_unique<StrandResidual>();
@@ -307,7 +282,6 @@ StyleFitResult fitStyle(const FitStrands& s, const StrandPlacement& pl, const Ha
       o.amp = std::sqrt(a * a + bb * bb);
       o.helix = o.amp > 0.0f ? (fit.d * a - fit.c * bb) / (o.amp * o.amp) : 0.0f;
       o.phase = std::atan2(-bb, a);
-      o.delta = fit.delta;
       o.frizz = fit.frizzW4 > 0.0
                     ? static_cast<float>(std::sqrt(fit.frizzEnergy / (fit.frizzW4 * noise2)))
                     : 0.0f;
@@ -317,6 +291,7 @@ StyleFitResult fitStyle(const FitStrands& s, const StrandPlacement& pl, const Ha
       const glm::vec2 t = pl.st[i];
       o.uv = (1 - t.x) * (1 - t.y) * mesh.uv[face[0]] + t.x * (1 - t.y) * mesh.uv[face[1]] +
              t.x * t.y * mesh.uv[face[2]] + (1 - t.x) * t.y * mesh.uv[face[3]];
+      clumpSamples(*r, fit, curl ? f : 0.0f, o.uv, clumps[i]);
     }
   }, 64);
 
@@ -370,16 +345,21 @@ StyleFitResult fitStyle(const FitStrands& s, const StrandPlacement& pl, const Ha
         double corr[4];
         for (int j = 0; j < 4; ++j) corr[j] = lag[j + 1] / lag[0];
         frizzF = frizzFrequency(corr, s.samples - 1, rho, f, shape, curl, cal);
-        if (std::getenv("CLHAIR_FIT_DEBUG"))
-          std::fprintf(stderr, "frizz: corr %g %g %g %g -> F %g share %g (sim %g %g %g %g)\n", corr[0], corr[1], corr[2], corr[3], frizzF, cal.energy, cal.corr[0], cal.corr[1], cal.corr[2], cal.corr[3]);
       }
     }
   }
-  res.global = estimate(st, all, allPairs, f, shape, curl, cal, frizzF);
+  res.global = estimate(st, clumps, all, allPairs, f, curl, cal, frizzF);
+  // The input is a polyline: between its points a curl is cut short by the chords, so the
+  // amplitude seen along it is the mean distance of a chord from the curl's axis. The
+  // generator draws the same number of points, so the amplitude behind the input's is what
+  // the mesh needs: divided by that mean for the input's segments per turn.
+  const float shrink = chordShrink(s.medianPoints, f, res.global.lengthVariation);
+  res.global.curlAmplitude /= shrink;
   res.perBundle.resize(F);
   res.bundlePhase.assign(F, 0.0f);
   for (int fi = 0; fi < F; ++fi) {
-    res.perBundle[fi] = estimate(st, members[fi], pairs[fi], f, shape, curl, cal, frizzF);
+    res.perBundle[fi] = estimate(st, clumps, members[fi], pairs[fi], f, curl, cal, frizzF);
+    res.perBundle[fi].curlAmplitude /= shrink;
     double cx = 0, cy = 0;
     for (int i : members[fi])
       if (st[i].valid) {
@@ -416,6 +396,7 @@ FitStrands removeCurl(const FitStrands& s, const StrandPlacement& pl, const Base
       }
     }
   }, 64);
+  resampleInPlace(out, threads);
   return out;
 }
 

@@ -41,16 +41,16 @@ struct StyleFitResult {
   std::vector<std::string> notes;
 };
 
-// `arcCurl`: the curl of an earlier fit, for the arc-length model (style_residual.h); null
-// on the first fit.
+// `arcCurl`: the styling of an earlier fit, for the arc-length model (style_residual.h) and
+// as the start of a narrower search (curl frequency within 0.1 turn, clump shape within a
+// factor 1.5); null on the first fit.
 StyleFitResult fitStyle(const FitStrands& strands, const StrandPlacement& place,
                         const HairMesh& mesh, const BaseCurves& base, const FittedStyle* arcCurl,
                         int threads);
 
 // The strands with their fitted curl taken out (each strand's own amplitude, phase and
-// helix at the groom's frequency; clumping and frizz stay), for fitting the layers to the
-// base curves when the layers are too sparse to follow the curl. Lengths are kept, so arc
-// lengths still refer to the input strands.
+// helix at the groom's frequency; clumping and frizz stay) and resampled again, for fitting
+// the layers to the base curves when the layers are too sparse to follow the curl.
 FitStrands removeCurl(const FitStrands& strands, const StrandPlacement& place,
                       const BaseCurves& base, const FittedStyle& fitted,
                       const FittedStyle* arcCurl, int threads);

@@ -36,15 +36,9 @@ void strandResidual(const FitStrands& s, const StrandPlacement& pl, const BaseCu
   BaseSample bs[kFitSamples];
   int n = 0;
   if (curl) {
-    const ArcMap m = arcMap(base, pl.face[i], pl.st[i], *curl);
-    const float tip = m.wAt(s.length[i]);
-    // a strand longer than the model's full curve is stretched onto it
-    const float stretch = tip > 1.0f && m.full() > 0.0f ? s.length[i] / m.full() : 1.0f;
-    out.rho = std::min(tip, 1.0f);
-    for (int k = 1; k < M && n < kFitSamples; ++k) {
-      const float arc = s.length[i] * static_cast<float>(k) / static_cast<float>(M - 1);
-      w[n++] = std::min(m.wAt(arc / stretch), 1.0f);
-    }
+    float all[kFitSamples];
+    out.rho = std::min(strandW(s, i, pl.face[i], pl.st[i], base, *curl, all), 1.0f);
+    for (int k = 1; k < M && n < kFitSamples; ++k) w[n++] = std::min(all[k], 1.0f);
   } else {
     out.rho = full > 0.0f ? std::min(s.length[i] / full, 1.0f) : 1.0f;
     for (int k = 1; k < M && n < kFitSamples; ++k) {

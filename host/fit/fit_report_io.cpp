@@ -3,6 +3,7 @@
 // Numbers are rounded to 6 significant digits so reports stay readable and diffable.
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 #include <nlohmann/json.hpp>
 

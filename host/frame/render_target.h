@@ -7,6 +7,8 @@
 // before. Buffers are reallocated only when the size or sample count changes.
 #pragma once
 
+#include <vector>
+
 #include "cl/dispatch.h"
 #include "stages/clear_stage.h"
 #include "stages/stage_inputs.h"
@@ -41,12 +43,13 @@ class RenderTarget {
   }
   int layers() const { return layers_; }
 
-  cl::Buffer view;            // ClhViewGpu of the camera
-  cl::Buffer color, depth;    // float4, float per pixel
-  cl::Buffer hair, filtered;  // float4 per pixel
-  cl::Buffer gbuffer;         // ulong per pixel and layer
-  cl::Buffer stats;           // uint[4] raster counters
-  cl::Buffer motionParams;    // one ClhMotionGpu
+  cl::Buffer view;                      // ClhViewGpu of the camera
+  std::vector<unsigned char> viewSent;  // what `view` holds
+  cl::Buffer color, depth;              // float4, float per pixel
+  cl::Buffer hair, filtered;            // float4 per pixel
+  cl::Buffer gbuffer;                   // ulong per pixel and layer
+  cl::Buffer stats;                     // uint[4] raster counters
+  cl::Buffer motionParams;              // one ClhMotionGpu
 
  private:
   Device::Impl& dev_;

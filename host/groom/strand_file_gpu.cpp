@@ -112,7 +112,7 @@ bool StrandFileGpu::prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld,
     p.look[3] = scale;
     p.strand_width = std::max(data_.meanThickness * scale, 1e-9f);  // LOD and shadow estimates
   }
-  upload(dev_, inst.groom, &p, 1);
+  uploadChanged(dev_, inst.groom, inst.sent, &p, 1);
   return true;
 }
 
@@ -162,7 +162,7 @@ bool StrandFileGpu::motion(GroomInstanceGpu& inst, const GroomInstance& previous
 StrandSet StrandFileGpu::exportStrands(float lod) {
   std::unique_ptr<GroomInstanceGpu> inst = makeInstance();
   inst->params.lod_enabled = 0;
-  upload(dev_, inst->groom, &inst->params, 1);
+  uploadChanged(dev_, inst->groom, inst->sent, &inst->params, 1);
   const std::size_t K = data_.chunks.size();
   const auto n = static_cast<gpu::clh_u32>(K);
   std::vector<gpu::ClhLodRecord> records(K);

@@ -30,6 +30,14 @@ class StrandFileGpu final : public GroomGpu {
   // strand has as many points in both files (point k of strand s is the same point).
   bool motion(GroomInstanceGpu& inst, const GroomInstance& previous, const MotionPass& m,
               const StrandRaster& r, Profiler* profiler) override;
+  bool lodEnabled() const override { return groom_->lod.enabled; }
+  GroomKernels kernels() const override {
+    return {"lod_chunks", "strands_explicit_raster", "strands_explicit_raster_persistent",
+            "strands_explicit_opacity", "strands_explicit_motion"};
+  }
+  std::vector<const cl::Buffer*> tables() const override {
+    return {&points_, &strandOffsets_, &uv_, &chunks_, &chunkBounds_, &prevPoints_};
+  }
   glm::vec3 boundsMin() const override { return data_.boundsMin; }
   glm::vec3 boundsMax() const override { return data_.boundsMax; }
 

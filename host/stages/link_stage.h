@@ -19,6 +19,7 @@
 
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "clhair/scene.h"
 #include "stages/stage_inputs.h"
@@ -60,6 +61,12 @@ class LinkStage {
   cl::Buffer* finish(const Params& p, bool aniso, cl::Buffer& hair, cl::Buffer& out,
                      Profiler* profiler);
   LinkCounters counters();
+  // The stage's own buffers (what a pass using it declares) and its counters
+  // (CLH_LINK_COUNTERS uints: selecting, filled, strands, turned away, bounds).
+  std::vector<const cl::Buffer*> buffers() const {
+    return {&params_, &choice_, &flags_, &table_, &counters_};
+  }
+  const cl::Buffer& counterBuffer() const { return counters_; }
 
  private:
   Device::Impl& dev_;
@@ -67,6 +74,7 @@ class LinkStage {
   cl::Buffer params_, choice_, flags_, table_, counters_;
   std::size_t choiceCap_ = 0, flagsCap_ = 0, tableCap_ = 0;
   std::uint32_t words_ = 1, tableSize_ = 1;
+  std::vector<unsigned char> paramsSent_;  // what params_ holds
 };
 
 }  // namespace clhair

@@ -263,7 +263,7 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
     }
     g.addPass(
         "record " + std::to_string(k),
-        [&](FrameGraph::Setup& st) { st.read(gp.params); },
+        [&](FrameGraph::Setup& st) { st.read(gp.params).sideEffect(); },
         [gv, d] { d.state->params = gv->records[gv->lodView]; });
   }
   g.addPass(

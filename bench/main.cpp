@@ -35,6 +35,9 @@
 //             LOD, with LOD and the segment budget, and the single default groom at close,
 //             interleaved; strands and segments per groom; a 60-frame camera dolly with the
 //             segments drawn checked against the budget in every frame.
+//   throughput a shot written frame after frame as PNG and as EXR (bench/throughput.h):
+//             frames per second, per frame wall, device time, host CPU and host waits; frames in
+//             flight against one at a time; single stills per process and in-process.
 //   floor     the strand pass against an in-run floor: the same raster as plain
 //             multithreaded C++ (host/groom/cpu_raster.h, checked word for word against
 //             the device's G-buffer), the pass's cores used (CPU time / wall time), and the
@@ -71,6 +74,7 @@
 #include "groom/explicit_data.h"
 #include "io/cyhair.h"
 #include "metrics/image_metrics.h"
+#include "throughput.h"
 
 namespace {
 
@@ -243,7 +247,7 @@ int main(int argc, char** argv) {
   app.add_option(
       "--only", only,
       "one section: table1, dispatch, scaling, atomics, quality, temporal, explicit, mesh, crowd, "
-      "floor, sequences");
+      "floor, sequences, throughput");
   app.add_option("--runs", runs,
                  "timed runs per configuration (median reported); the quality section takes 0 "
                  "for the times of the one frame it compares");
@@ -281,6 +285,17 @@ int main(int argc, char** argv) {
   app.add_option("--view-pairs", viewPairsOpt,
                  "sequences section: interleaved one-view / two-view pairs per setting (9)")
       ->check(CLI::Range(1, 1000));
+  bench::ThroughputOptions tp;
+  tp.scene = std::string(CLHAIR_SOURCE_DIR) + "/assets/scenes/wind.json";
+  tp.cli = CLHAIR_BENCH_CLI;
+  int tpWidth = 0, tpHeight = 0;
+  app.add_option("--tp-frames", tp.frames, "throughput section: frames of the shot per row (240)")
+      ->check(CLI::Range(3, 100000));
+  app.add_option("--tp-width", tpWidth, "throughput section: width (default --width)");
+  app.add_option("--tp-height", tpHeight, "throughput section: height (default --height)");
+  app.add_option("--tp-stills", tp.stills, "throughput section: single stills per way (5)")
+      ->check(CLI::Range(1, 1000));
+  app.add_option("--tp-formats", tp.formats, "throughput section: formats, comma-separated (png,exr)");
   app.add_flag("--quick", quick, "smaller sweep for a fast look (640x360, 1 run, MSAA 1 and 4)");
   CLI11_PARSE(app, argc, argv);
   try {
@@ -1785,6 +1800,14 @@ int main(int argc, char** argv) {
       report["sequences"]["plain_frame_ms"] = plainMs;
       std::fprintf(stderr, "sequences IoU: turntable %.3f (%.3f), wind %.3f (%.3f)\n", turnIoU,
                    turnStill, windIoU, windStill);
+    }
+
+    if (only.empty() || only == "throughput") {
+      tp.width = tpWidth > 0 ? tpWidth : width;
+      tp.height = tpHeight > 0 ? tpHeight : height;
+      if (quick) tp.frames = std::min(tp.frames, 12);
+      tp.outDir = out + "/throughput-frames";
+      bench::throughputSection(dev, tp, md, report);
     }
 
     std::filesystem::create_directories(out);

@@ -78,9 +78,9 @@ case "$mode" in
       # shellcheck disable=SC2086
       "$bin" render $args -q -o "$tmp/$name.####.png"
       cpu=$(ls "$tmp/$name".*.png | head -n1)
-      line=$("$bin" compare "$cpu" "$gpu" 2>&1 | tr '\n' ' ')
-      flip=$(sed -n 's/.*FLIP[^0-9]*\([0-9.]*\).*/\1/p' <<<"$line")
-      psnr=$(sed -n 's/.*PSNR[^0-9]*\([0-9.inf]*\).*/\1/p' <<<"$line")
+      report=$("$bin" compare "$cpu" "$gpu" 2>&1)
+      flip=$(awk '$1 == "FLIP" {print $2}' <<<"$report")
+      psnr=$(awk '$1 == "PSNR" {print $2}' <<<"$report")
       echo "| $name | ${flip:-?} | ${psnr:-?} |" >>"$out/compare.md"
     done
     rm -rf "$tmp"

@@ -289,6 +289,7 @@ int main(int argc, char** argv) {
   tp.scene = std::string(CLHAIR_SOURCE_DIR) + "/assets/scenes/wind.json";
   tp.cli = CLHAIR_BENCH_CLI;
   int tpWidth = 0, tpHeight = 0;
+  app.add_option("--tp-scene", tp.scene, "throughput section: the shot (assets/scenes/wind.json)");
   app.add_option("--tp-frames", tp.frames, "throughput section: frames of the shot per row (240)")
       ->check(CLI::Range(3, 100000));
   app.add_option("--tp-width", tpWidth, "throughput section: width (default --width)");

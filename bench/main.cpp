@@ -296,7 +296,8 @@ int main(int argc, char** argv) {
   app.add_option("--tp-height", tpHeight, "throughput section: height (default --height)");
   app.add_option("--tp-stills", tp.stills, "throughput section: single stills per way (5)")
       ->check(CLI::Range(1, 1000));
-  app.add_option("--tp-formats", tp.formats, "throughput section: formats, comma-separated (png,exr)");
+  app.add_option("--tp-formats", tp.formats,
+                 "throughput section: formats, comma-separated (png,exr)");
   app.add_flag("--quick", quick, "smaller sweep for a fast look (640x360, 1 run, MSAA 1 and 4)");
   CLI11_PARSE(app, argc, argv);
   try {

@@ -65,8 +65,8 @@ struct Run {
 
 // The shot frame after frame. inFlight: Renderer::submit with 2 frames in flight and a
 // WriteQueue; else render() and the write on the render thread, one frame at a time.
-Run shot(const Device& dev, const Scene& scene, const ThroughputOptions& o,
-         const std::string& ext, bool inFlight) {
+Run shot(const Device& dev, const Scene& scene, const ThroughputOptions& o, const std::string& ext,
+         bool inFlight) {
   Renderer r(dev);
   r.setFramesInFlight(inFlight ? 2 : 1);
   RenderOptions ro;
@@ -215,8 +215,9 @@ void throughputSection(const Device& dev, const ThroughputOptions& o, std::ostri
                                             {"host_waits", r.waits}});
   }
   for (std::size_t i = 0; i + 1 < runs.size(); i += 2)
-    md << "\n" << runs[i].format << ": frames in flight " << fmt(runs[i].fps(), 2)
-       << " frames/s against " << fmt(runs[i + 1].fps(), 2) << " one at a time ("
+    md << "\n"
+       << runs[i].format << ": frames in flight " << fmt(runs[i].fps(), 2) << " frames/s against "
+       << fmt(runs[i + 1].fps(), 2) << " one at a time ("
        << fmt(runs[i].fps() / std::max(runs[i + 1].fps(), 1e-9), 2)
        << "x); frame rate against 1 / device time: "
        << fmt(runs[i].fps() * runs[i].deviceMs * 1e-3, 3) << ".";

@@ -178,6 +178,7 @@ void printStats(const FrameStats& st) {
                 static_cast<unsigned long long>(st.segmentsBeforeBudget), st.budgetScale);
   else
     std::printf(" (budget %llu, not reached)\n", static_cast<unsigned long long>(st.segmentBudget));
+  std::printf("host waits: %llu\n", static_cast<unsigned long long>(st.hostWaits));
 }
 
 // The views a render writes: the scene's "cameras" (all, or those --views names; "camera" is
@@ -455,9 +456,8 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
       writer.submit([image, path] { writeImage(*image, path); });
     } else {
       auto channels = std::make_shared<std::vector<ImageChannel>>(aovChannels(shots[0], aovs));
-      writer.submit([channels, path, w = q.width, h = q.height] {
-        writeChannels(*channels, w, h, path);
-      });
+      writer.submit(
+          [channels, path, w = q.width, h = q.height] { writeChannels(*channels, w, h, path); });
     }
     ++rendered;
     const Frame& frame = shots[0];
@@ -473,7 +473,8 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
       const double perFrame = std::chrono::duration<double>(t1 - start).count() / rendered;
       const std::size_t left = frames.size() - q.index - 1;
       if (several)
-        std::fprintf(stderr, "clhair: frame %lld (%zu/%zu), %zu views -> %s ...: %s, about %s left\n",
+        std::fprintf(stderr,
+                     "clhair: frame %lld (%zu/%zu), %zu views -> %s ...: %s, about %s left\n",
                      q.number, q.index + 1, frames.size(), views.size(), path.c_str(),
                      seconds(took).c_str(), seconds(perFrame * static_cast<double>(left)).c_str());
       else
@@ -501,8 +502,8 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
   auto deliverOldest = [&] {
     const InFlight q = inFlight.front();
     inFlight.pop_front();
-    deliver(q, several ? renderer.waitViews(q.ticket)
-                       : std::vector<Frame>{renderer.wait(q.ticket)});
+    deliver(q,
+            several ? renderer.waitViews(q.ticket) : std::vector<Frame>{renderer.wait(q.ticket)});
   };
   Scene previous;
   for (std::size_t i = 0; i < frames.size() && !writer.failed(); ++i) {
@@ -553,8 +554,8 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
         ro.previous = &previous;
       }
       if (f.reference || temporal) {  // frames of their own: rendered one by one
-        Frame frame = f.reference ? renderer.renderReference(still, ref)
-                                  : sequenceFrames.render(number);
+        Frame frame =
+            f.reference ? renderer.renderReference(still, ref) : sequenceFrames.render(number);
         std::vector<Frame> shots;
         shots.push_back(std::move(frame));
         deliver(q, std::move(shots));
@@ -870,7 +871,8 @@ int main(int argc, char** argv) {
   render->add_flag("-q,--quiet", rf.quiet, "print nothing on success");
   render->add_option("--frames-in-flight", rf.framesInFlight,
                      "frames the device draws while earlier ones are read back and written "
-                     "(1.." + std::to_string(kMaxFramesInFlight) + ", default 2)");
+                     "(1.." +
+                         std::to_string(kMaxFramesInFlight) + ", default 2)");
   render->add_option("--encode-threads", rf.encodeThreads,
                      "threads converting and writing images (0: one per core but one, at most 8)");
   render->add_flag("--passes", rf.passes,

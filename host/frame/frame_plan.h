@@ -80,8 +80,7 @@ struct FramePlan {
   std::size_t rasterStatsAt = 0, budgetAt = 0, linkAt = 0, shadowAt = 0;
   // handles of the frame's shared resources
   FrameGraph::Handle viewRecord, scene_, shadowMaps, color, depth, gbuffer, rasterCounters,
-      frameStats, lodArena, visibility, linkState, filterParams, motionParams,
-      aovPlanes;
+      frameStats, lodArena, visibility, linkState, filterParams, motionParams, aovPlanes;
 };
 
 // Whether a frame draws in the coverage mode (clhair/coverage.h), and the option checks

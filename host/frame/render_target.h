@@ -4,7 +4,8 @@
 // shaded and filtered hair are the frame graph's own buffers); plus the clear of the
 // G-buffer before each groom's strand pass (the layers a groom uses: the samples, the
 // conservative layer and, when asked, the identity and hair linking layers), bounded to the
-// screen box of the groom before. Buffers are reallocated only when the size or sample count changes.
+// screen box of the groom before. Buffers are reallocated only when the size or sample count
+// changes.
 #pragma once
 
 #include <vector>

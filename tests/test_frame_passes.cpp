@@ -82,17 +82,28 @@ Rendered twoFrames(const Scene& s, RenderOptions o, const std::vector<Camera>& c
   return out;
 }
 
-TEST(FramePasses, TheDefaultSceneHuangMsaaAndNoFilter) {
-  const Scene s = smallScene("default.json");
-  const std::vector<std::string> head = {"shadow maps", "opaque", "lod 0", "segment budget"};
+// The tiny groom under one shadowed light (the option sets' pass lists do not depend on the
+// groom's size), blown by wind or still.
+std::string windScene(const std::string& dir, bool wind = true);
+Scene tinyScene() { return loadScene(windScene(scratchDir(), false)); }
+
+TEST(FramePasses, TheDefaultSceneRunsItsPassesAndWaitsOnceInASteadyFrame) {
   RenderOptions o;
   o.lod = 1;
-  Rendered d = twoFrames(s, o);
-  EXPECT_EQ(d.first, concat({head, groomPasses(0, true), {"read-back"}}));
+  const Rendered d = twoFrames(smallScene("default.json"), o);
+  EXPECT_EQ(d.first, concat({{"shadow maps", "opaque", "lod 0", "segment budget"},
+                             groomPasses(0, true),
+                             {"read-back"}}));
   // the maps are kept: the second frame has no shadow pass, and one host wait
   EXPECT_EQ(d.second,
             concat({{"opaque", "lod 0", "segment budget"}, groomPasses(0, true), {"read-back"}}));
   EXPECT_EQ(d.secondWaits, 1u);
+}
+
+TEST(FramePasses, MsaaNoFilterAndLippsFilterRunTheirPasses) {
+  const Scene s = tinyScene();
+  const std::vector<std::string> head = {"shadow maps", "opaque", "lod 0", "segment budget"};
+  RenderOptions o;
   o.msaa = 4;
   EXPECT_EQ(twoFrames(s, o, {}, 1).first, concat({head, groomPasses(0, false), {"read-back"}}));
   o.msaa = 1;
@@ -105,9 +116,8 @@ TEST(FramePasses, TheDefaultSceneHuangMsaaAndNoFilter) {
 }
 
 TEST(FramePasses, AllAovsAddTheirPassesAndStillWaitOnce) {
-  const Scene s = smallScene("default.json");
+  const Scene s = tinyScene();
   RenderOptions o;
-  o.lod = 1;
   o.aovs = true;
   o.strandIds = true;
   o.previous = &s;
@@ -119,12 +129,10 @@ TEST(FramePasses, AllAovsAddTheirPassesAndStillWaitOnce) {
 }
 
 TEST(FramePasses, TwoViewsShareOneStrandPassAndWaitOnce) {
-  const Scene s = smallScene("default.json");
+  const Scene s = tinyScene();
   Camera side = s.camera;
-  side.position.x += 0.05f;
-  RenderOptions o;
-  o.lod = 1;
-  const Rendered d = twoFrames(s, o, {s.camera, side});
+  side.position.x += 0.01f;
+  const Rendered d = twoFrames(s, RenderOptions{}, {s.camera, side});
   std::vector<std::string> want = {"shadow maps", "opaque, view 0", "opaque, view 1",
                                    "strands 0, all views"};
   for (const char* v : {"0", "1"})
@@ -162,8 +170,6 @@ TEST(FramePasses, TheCrowdRunsEveryDrawnGroomsPassesAndWaitsOnce) {
   EXPECT_EQ(f.stats.hostWaits, 1u);
 }
 
-std::string windScene(const std::string& dir);
-
 TEST(FramesInFlight, SubmittedFramesEqualFramesRenderedOneByOne) {
   const Scene s = loadScene(windScene(scratchDir()));
   Renderer one(sharedDevice());
@@ -187,9 +193,8 @@ TEST(FramesInFlight, SubmittedFramesEqualFramesRenderedOneByOne) {
 }
 
 TEST(FramesInFlight, PinnedReadBackGivesTheSameFrame) {
-  const Scene s = smallScene("default.json");
+  const Scene s = tinyScene();
   RenderOptions o;
-  o.lod = 1;
   Renderer r(sharedDevice());
   const Frame direct = r.render(s, o);
   sharedDevice().impl()->pinnedReadBack = true;
@@ -208,7 +213,7 @@ std::string readAll(const std::string& path) {
 }
 
 // A scene of the tiny groom blown by wind (each frame differs), written to `dir`.
-std::string windScene(const std::string& dir) {
+std::string windScene(const std::string& dir, bool wind) {
   const std::string path = dir + "/wind.json";
   std::ofstream(path) << R"({"resolution": [64, 48],
     "camera": {"position": [0.0, 0.03, 0.2], "target": [0.0, 0.025, 0.0], "fov": 35},
@@ -216,7 +221,7 @@ std::string windScene(const std::string& dir) {
     "shadows": {"resolution": 32},
     "grooms": [{"file": ")"
                       << assetPath("grooms/tiny.hairmesh.json")
-                      << R"(", "wind": {"strength": 0.01, "frequency": 2}}]})";
+                      << (wind ? R"(", "wind": {"strength": 0.01, "frequency": 2}}]})" : R"("}]})");
   return path;
 }
 

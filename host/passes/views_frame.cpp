@@ -216,20 +216,8 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
             } else {
               uploadChanged(r.dev, inst.groom, inst.sent, &gv->records[v], 1);
             }
-            ShadeStage::Params sp;
-            sp.target = t.viewTarget();
-            sp.lighting = r.scene.lighting(r.shadows.maps());
-            sp.groom = &inst.groom;
-            sp.offsets = &inst.offsets;
-            sp.records = inst.records;
-            sp.gbuffer = &gbuffer;
-            sp.hair = &g.buffer(hair);
-            sp.msaa = plan.options.msaa;
-            const VisibilityGpu::Inputs vis = r.visibility.inputs(k);
-            sp.visibility = vis.record;
-            sp.visibilityTable = vis.table;
-            sp.visibilityCells = vis.cells;
-            r.shade.enqueue(sp, &r.profiler);
+            r.shade.enqueue(shadeParams(r, t, gp, gbuffer, g.buffer(hair), plan.options.msaa),
+                            &r.profiler);
           });
       if (filtered)
         g.addPass(

@@ -265,9 +265,12 @@ struct Scene {
   // Problems found while loading that do not stop the scene from rendering, one line each
   // naming the file (the CLI prints them as "clhair: warning: ...").
   std::vector<std::string> warnings;
+  // What loading chose for the scene (one line each, e.g. a "scale": "auto" factor).
+  std::vector<std::string> notes;
 };
 
-// Frames the world bounds of all grooms at 60 / 20 / 5 % of the image height, seen from
+// Frames the world bounds of all grooms and meshes together (the grooms at 60 / 20 / 5 %
+// of the image height when there is no mesh; a head mesh is never cut off), seen from
 // the direction given by azimuth (degrees about +y, 0 looks along -z) and elevation.
 Camera framePreset(const Scene& scene, CameraPreset preset, float azimuthDeg = 0.0f,
                    float elevationDeg = 10.0f, float fovYDeg = 35.0f);

@@ -204,7 +204,8 @@ std::vector<glm::vec3> childPoints(const ExplicitData& d, const gpu::ClhChildren
   const ChildBlend blend = childBlend(root, roots);
   auto base = [&](std::uint32_t k) {
     glm::vec3 p(0.0f);
-    for (int i = 0; i < blend.count; ++i) p += guideAt(d, cand[blend.index[i]], k, n) * blend.weight[i];
+    for (int i = 0; i < blend.count; ++i)
+      p += guideAt(d, cand[blend.index[i]], k, n) * blend.weight[i];
     return p;
   };
   const glm::vec3 lift = root - base(0);

@@ -61,12 +61,11 @@ bool parseType(const std::string& s, Type& t) {
   static const struct {
     const char* name;
     Type type;
-  } names[] = {{"char", Type::I8},     {"int8", Type::I8},    {"uchar", Type::U8},
-               {"uint8", Type::U8},    {"short", Type::I16},  {"int16", Type::I16},
-               {"ushort", Type::U16},  {"uint16", Type::U16}, {"int", Type::I32},
-               {"int32", Type::I32},   {"uint", Type::U32},   {"uint32", Type::U32},
-               {"float", Type::F32},   {"float32", Type::F32}, {"double", Type::F64},
-               {"float64", Type::F64}};
+  } names[] = {
+      {"char", Type::I8},   {"int8", Type::I8},     {"uchar", Type::U8},   {"uint8", Type::U8},
+      {"short", Type::I16}, {"int16", Type::I16},   {"ushort", Type::U16}, {"uint16", Type::U16},
+      {"int", Type::I32},   {"int32", Type::I32},   {"uint", Type::U32},   {"uint32", Type::U32},
+      {"float", Type::F32}, {"float32", Type::F32}, {"double", Type::F64}, {"float64", Type::F64}};
   for (const auto& n : names)
     if (s == n.name) {
       t = n.type;
@@ -264,7 +263,8 @@ PlyStrands readPlyStrands(const std::string& path, std::uint64_t maxBytes) {
       Prop p;
       if (w.size() == 5 && w[1] == "list") {
         if (!parseType(w[2], p.countType) || !parseType(w[3], p.type)) bad("unknown type");
-        if (p.countType == Type::F32 || p.countType == Type::F64) bad("a list count must be an integer type");
+        if (p.countType == Type::F32 || p.countType == Type::F64)
+          bad("a list count must be an integer type");
         p.list = true;
         p.name = w[4];
       } else if (w.size() == 3) {
@@ -312,8 +312,8 @@ PlyStrands readPlyStrands(const std::string& path, std::uint64_t maxBytes) {
   int countProp = -1;
   bool countsSegments = false;
   if (strand) {
-    if (strand->props.size() != 1 || strand->props[0].list ||
-        strand->props[0].type == Type::F32 || strand->props[0].type == Type::F64)
+    if (strand->props.size() != 1 || strand->props[0].list || strand->props[0].type == Type::F32 ||
+        strand->props[0].type == Type::F64)
       throw Error(path + ": the " + strand->name + " element must have one integer property, " +
                   "segment_count or vertex_count");
     const std::string& n = strand->props[0].name;
@@ -324,7 +324,8 @@ PlyStrands readPlyStrands(const std::string& path, std::uint64_t maxBytes) {
                   "\", expected segment_count or vertex_count");
     countProp = 0;
   }
-  const int pv1 = edge ? findProp(edge, "vertex1") : -1, pv2 = edge ? findProp(edge, "vertex2") : -1;
+  const int pv1 = edge ? findProp(edge, "vertex1") : -1,
+            pv2 = edge ? findProp(edge, "vertex2") : -1;
   if (edge && (pv1 < 0 || pv2 < 0 || edge->props[pv1].list || edge->props[pv2].list))
     throw Error(path + ": the edge element needs scalar vertex1 and vertex2 properties");
 
@@ -334,7 +335,9 @@ PlyStrands readPlyStrands(const std::string& path, std::uint64_t maxBytes) {
   for (const Element& e : elements) {
     std::uint64_t per = 0;
     for (const Prop& p : e.props)
-      per += fmt == Format::Ascii ? 2 : static_cast<std::uint64_t>(typeBytes(p.list ? p.countType : p.type));
+      per += fmt == Format::Ascii
+                 ? 2
+                 : static_cast<std::uint64_t>(typeBytes(p.list ? p.countType : p.type));
     if (per > 0 && e.count > (left - std::min(left, least)) / per + (fmt == Format::Ascii ? 1 : 0))
       throw Error(path + ": truncated: the header says " + std::to_string(e.count) + " " + e.name +
                   " elements, which need at least " + std::to_string(e.count * per) +
@@ -343,7 +346,8 @@ PlyStrands readPlyStrands(const std::string& path, std::uint64_t maxBytes) {
   }
   const std::uint64_t V = vertex->count;
   const std::uint64_t memory = V * (colours ? 24 : 12) + 4 * (strand ? strand->count : V);
-  const std::uint64_t limit = std::min<std::uint64_t>(maxBytes, std::numeric_limits<std::size_t>::max());
+  const std::uint64_t limit =
+      std::min<std::uint64_t>(maxBytes, std::numeric_limits<std::size_t>::max());
   if (memory > limit)
     throw Error(path + ": " + std::to_string(V) + " vertices need " + std::to_string(memory) +
                 " bytes of arrays, more than the " + std::to_string(limit) +
@@ -410,15 +414,16 @@ PlyStrands readPlyStrands(const std::string& path, std::uint64_t maxBytes) {
           counts.push_back(static_cast<std::uint32_t>(points));
         } else if (isEdge && (ki == pv1 || ki == pv2)) {
           if (!(v >= 0.0 && v < static_cast<double>(V) && v == std::floor(v)))
-            throw Error(path + ": " + what() + " names vertex " + std::to_string(v) + ", but there are " +
-                        std::to_string(V) + " vertices");
+            throw Error(path + ": " + what() + " names vertex " + std::to_string(v) +
+                        ", but there are " + std::to_string(V) + " vertices");
           if (ki == std::min(pv1, pv2)) {
             edgeFirst = v;
           } else {
             const double a = std::min(edgeFirst, v), b = std::max(edgeFirst, v);
             if (b != a + 1.0)
-              throw Error(path + ": " + what() + " joins vertices " + std::to_string(static_cast<std::uint64_t>(edgeFirst)) +
-                          " and " + std::to_string(static_cast<std::uint64_t>(v)) +
+              throw Error(path + ": " + what() + " joins vertices " +
+                          std::to_string(static_cast<std::uint64_t>(edgeFirst)) + " and " +
+                          std::to_string(static_cast<std::uint64_t>(v)) +
                           ": strands must be runs of consecutive vertices");
             next[static_cast<std::size_t>(a)] = 1;
           }
@@ -461,8 +466,7 @@ PlyStrands readPlyStrands(const std::string& path, std::uint64_t maxBytes) {
     }
     at += n;
   }
-  if (h.segments.empty())
-    throw Error(path + ": no strand has 2 or more points, nothing to draw");
+  if (h.segments.empty()) throw Error(path + ": no strand has 2 or more points, nothing to draw");
   h.trailingBytes = fmt == Format::Ascii ? 0 : f.size() - end - in.consumed();
   return out;
 }
@@ -482,7 +486,8 @@ PlyStrands readCt2HairBin(const std::string& path, std::uint64_t maxBytes) {
     throw Error(path + ": truncated: " + std::to_string(strands) + " strands need at least " +
                 std::to_string(4 + 4 * std::uint64_t(strands)) + " bytes, the file has " +
                 std::to_string(f.size()));
-  const std::uint64_t limit = std::min<std::uint64_t>(maxBytes, std::numeric_limits<std::size_t>::max());
+  const std::uint64_t limit =
+      std::min<std::uint64_t>(maxBytes, std::numeric_limits<std::size_t>::max());
   PlyStrands out;
   CyHair& h = out.hair;
   h.info = "CT2Hair";
@@ -494,8 +499,9 @@ PlyStrands readCt2HairBin(const std::string& path, std::uint64_t maxBytes) {
     if (n < 0 || static_cast<std::uint64_t>(n) > left / 28)
       throw Error(path + ": " + (n < 0 ? std::string("") : std::string("truncated: ")) + "strand " +
                   std::to_string(s) + " has " + std::to_string(n) + " points" +
-                  (n < 0 ? ", expected 0 or more" : ", which need " + std::to_string(28 * std::uint64_t(n)) +
-                                                        " bytes, but " + std::to_string(left) + " are left"));
+                  (n < 0 ? ", expected 0 or more"
+                         : ", which need " + std::to_string(28 * std::uint64_t(n)) +
+                               " bytes, but " + std::to_string(left) + " are left"));
     memory += 4 + 12 * std::uint64_t(n);
     if (memory > limit)
       throw Error(path + ": the strands need more than the " + std::to_string(limit) +

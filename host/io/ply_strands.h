@@ -32,7 +32,7 @@
 namespace clhair {
 
 struct PlyStrands {
-  CyHair hair;                       // segments, points, colours (linear rgb) when the file has them
+  CyHair hair;  // segments, points, colours (linear rgb) when the file has them
   std::uint64_t skippedStrands = 0;  // strands left out (single points; .bin: non-finite)
 };
 

@@ -38,7 +38,8 @@ void writePlyStrands(const CyHair& h, const std::string& path) {
   for (std::uint64_t i = 0; i < points; ++i) {
     for (int c = 0; c < 3; ++c) appendF32(out, h.points[3 * i + c]);
     if (colours)
-      for (int c = 0; c < 3; ++c) out.push_back(static_cast<char>(linearToSrgb8(h.colors[3 * i + c])));
+      for (int c = 0; c < 3; ++c)
+        out.push_back(static_cast<char>(linearToSrgb8(h.colors[3 * i + c])));
   }
   for (std::uint32_t s : h.segments) appendU32(out, s);
   writeTextAtomically(path, out);

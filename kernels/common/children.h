@@ -51,8 +51,9 @@ static inline float clh_child_growth(const clh_child* ch, uint k) {
 /* Child `child` (0: the guide itself) of guide g, whose points are [first, first + n). */
 static inline void clh_child_setup(__global const float4* points_g, uint point_count,
                                    __global const uint* strand_offsets_g, uint strand_count,
-                                   __global const ClhChildrenGpu* kids_g, __global const uint* nbr_g,
-                                   uint g, uint child, uint first, uint n, clh_child* ch) {
+                                   __global const ClhChildrenGpu* kids_g,
+                                   __global const uint* nbr_g, uint g, uint child, uint first,
+                                   uint n, clh_child* ch) {
   ch->kind = 0u;
   ch->first = first;
   ch->n = n;

@@ -68,8 +68,9 @@ TEST(FileLook, FileOnlyDrawsTheFilesColourThicknessAndTransparency) {
 TEST(FileLook, SceneOnlyDrawsTheScenesLook) {
   const std::string dir = test::scratchDir();
   writeCyHair(centimetreGroom(20, false), dir + "/b.hair");  // no arrays, cyHair's defaults
-  const Scene s = sceneWith(
-      dir, "b.hair", R"({"root_color": [0.1, 0.2, 0.3], "strand_width": 1e-4, "transparency": 0.5})");
+  const Scene s =
+      sceneWith(dir, "b.hair",
+                R"({"root_color": [0.1, 0.2, 0.3], "strand_width": 1e-4, "transparency": 0.5})");
   const StrandGroom& g = *s.grooms[0].strands;
   EXPECT_TRUE(g.colors.empty() && g.thickness.empty() && g.transparency.empty());
   const ExplicitData d = prepareExplicit(g);
@@ -83,8 +84,9 @@ TEST(FileLook, BothGivenTheSceneWinsPerKey) {
   const std::string dir = test::scratchDir();
   writeCyHair(centimetreGroom(20, true), dir + "/c.hair");
   // every key: nothing of the file's
-  const Scene all = sceneWith(
-      dir, "c.hair", R"({"root_color": [0.1, 0.2, 0.3], "strand_width": 1e-4, "transparency": 0.5})");
+  const Scene all =
+      sceneWith(dir, "c.hair",
+                R"({"root_color": [0.1, 0.2, 0.3], "strand_width": 1e-4, "transparency": 0.5})");
   EXPECT_TRUE(prepareExplicit(*all.grooms[0].strands).fileLook.empty());
   // only the width: the file's colour and transparency stay, its thickness goes
   const Scene width = sceneWith(dir, "c.hair", R"({"strand_width": 1e-4})");
@@ -188,8 +190,8 @@ TEST(ScaleAuto, ScalesTheRootsToAHeadAndSaysTheFactor) {
   // the roots span 0.18 m after scaling
   glm::vec3 rlo(1e30f), rhi(-1e30f);
   for (std::size_t st = 0; st < h.segments.size(); ++st) {
-    const glm::vec3 p(s.grooms[0].transform *
-                      glm::vec4(h.points[st * 36], h.points[st * 36 + 1], h.points[st * 36 + 2], 1));
+    const glm::vec3 p(s.grooms[0].transform * glm::vec4(h.points[st * 36], h.points[st * 36 + 1],
+                                                        h.points[st * 36 + 2], 1));
     rlo = glm::min(rlo, p);
     rhi = glm::max(rhi, p);
   }

@@ -40,10 +40,11 @@ std::string u32(std::uint32_t v, bool big = false) {
 
 // Two strands of 3 and 2 points, big or little endian, counted by vertex_count.
 std::string binaryPly(bool big) {
-  std::string s = std::string("ply\nformat ") + (big ? "binary_big_endian" : "binary_little_endian") +
-                  " 1.0\ncomment two strands\nelement vertex 5\nproperty float x\nproperty float y\n"
-                  "property float z\nproperty float nx\nelement strand 2\n"
-                  "property uint vertex_count\nend_header\n";
+  std::string s =
+      std::string("ply\nformat ") + (big ? "binary_big_endian" : "binary_little_endian") +
+      " 1.0\ncomment two strands\nelement vertex 5\nproperty float x\nproperty float y\n"
+      "property float z\nproperty float nx\nelement strand 2\n"
+      "property uint vertex_count\nend_header\n";
   for (int i = 0; i < 5; ++i)
     for (float v : {static_cast<float>(i), 1.0f, -static_cast<float>(i), 9.0f}) s += f32(v, big);
   s += u32(3, big) + u32(2, big);
@@ -113,29 +114,35 @@ TEST(PlyStrands, MalformedFilesAreOneErrorLine) {
        "unknown type"},
       {"no xyz", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n",
        "x, y and z"},
-      {"mesh", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-               "property float z\nend_header\n0 0 0\n",
+      {"mesh",
+       "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+       "property float z\nend_header\n0 0 0\n",
        "neither"},
       {"truncated", truncated, "truncated"},
       {"ascii short", head + "0 0 0\n0 1 0\n", "truncated"},
       {"disagree", head + "0 0 0\n0 1 0\n0 2 0\n4\n", "add up"},
       {"nan", head + "0 0 0\nnan 1 0\n0 2 0\n3\n", "finite"},
       {"not a number", head + "0 0 0\nx 1 0\n0 2 0\n3\n", "not a number"},
-      {"huge", "ply\nformat binary_little_endian 1.0\nelement vertex 1000000000000\n"
-               "property float x\nproperty float y\nproperty float z\nelement strand 1\n"
-               "property uint vertex_count\nend_header\n" + std::string(64, '\0'),
+      {"huge",
+       "ply\nformat binary_little_endian 1.0\nelement vertex 1000000000000\n"
+       "property float x\nproperty float y\nproperty float z\nelement strand 1\n"
+       "property uint vertex_count\nend_header\n" +
+           std::string(64, '\0'),
        "truncated"},
-      {"far edge", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                   "property float z\nelement edge 1\nproperty int vertex1\nproperty int vertex2\n"
-                   "end_header\n0 0 0\n0 1 0\n0 2 0\n0 2\n",
+      {"far edge",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+       "property float z\nelement edge 1\nproperty int vertex1\nproperty int vertex2\n"
+       "end_header\n0 0 0\n0 1 0\n0 2 0\n0 2\n",
        "consecutive"},
-      {"edge range", "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
-                     "property float z\nelement edge 1\nproperty int vertex1\nproperty int vertex2\n"
-                     "end_header\n0 0 0\n0 1 0\n1 7\n",
+      {"edge range",
+       "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+       "property float z\nelement edge 1\nproperty int vertex1\nproperty int vertex2\n"
+       "end_header\n0 0 0\n0 1 0\n1 7\n",
        "vertices"},
-      {"single points", head.substr(0, head.find("element strand")) +
-                            "element strand 3\nproperty uint vertex_count\nend_header\n"
-                            "0 0 0\n0 1 0\n0 2 0\n1\n1\n1\n",
+      {"single points",
+       head.substr(0, head.find("element strand")) +
+           "element strand 3\nproperty uint vertex_count\nend_header\n"
+           "0 0 0\n0 1 0\n0 2 0\n1\n1\n1\n",
        "nothing to draw"},
   };
   for (const auto& c : cases) {
@@ -163,7 +170,8 @@ TEST(PlyStrands, Ct2HairBinSkipsNonFiniteStrands) {
   auto strand = [&](int n, float bad) {
     s += u32(static_cast<std::uint32_t>(n));
     for (int k = 0; k < n; ++k)
-      for (float v : {k == 1 ? bad : 0.0f, static_cast<float>(k), 1.0f, 0.f, 0.f, 0.f, 5.f}) s += f32(v);
+      for (float v : {k == 1 ? bad : 0.0f, static_cast<float>(k), 1.0f, 0.f, 0.f, 0.f, 5.f})
+        s += f32(v);
   };
   strand(4, 0.5f);
   strand(3, std::numeric_limits<float>::quiet_NaN());
@@ -185,11 +193,11 @@ TEST(PlyStrands, Ct2HairBinSkipsNonFiniteStrands) {
 TEST(PlyStrands, RoundTripThroughExportStrands) {
   const std::string dir = test::scratchDir();
   const std::string mesh = test::assetPath("grooms/tiny.hairmesh.json");
-  test::CommandResult a = test::runCli("export-strands " + test::quote(mesh) + " -o " +
-                                       test::quote(dir + "/t.hair"));
+  test::CommandResult a =
+      test::runCli("export-strands " + test::quote(mesh) + " -o " + test::quote(dir + "/t.hair"));
   ASSERT_EQ(a.exitCode, 0) << a.output;
-  test::CommandResult b = test::runCli("export-strands " + test::quote(mesh) + " -o " +
-                                       test::quote(dir + "/t.ply"));
+  test::CommandResult b =
+      test::runCli("export-strands " + test::quote(mesh) + " -o " + test::quote(dir + "/t.ply"));
   ASSERT_EQ(b.exitCode, 0) << b.output;
   const CyHair h = readCyHair(dir + "/t.hair", kLimit);
   const PlyStrands p = readPlyStrands(dir + "/t.ply", kLimit);
@@ -207,8 +215,8 @@ TEST(PlyStrands, RoundTripThroughExportStrands) {
   // a broken PLY file in a scene: one error line, exit status 1
   writeBytes(dir + "/bad.ply", "ply\nformat ascii 1.0\nelement vertex 2\nend_header\n");
   writeBytes(dir + "/s.json", "{\"grooms\": [{\"strands_file\": \"bad.ply\"}]}");
-  test::CommandResult r = test::runCli("render " + test::quote(dir + "/s.json") + " -o " +
-                                       test::quote(dir + "/x.png"));
+  test::CommandResult r =
+      test::runCli("render " + test::quote(dir + "/s.json") + " -o " + test::quote(dir + "/x.png"));
   EXPECT_EQ(r.exitCode, 1);
   EXPECT_EQ(r.output.find("clhair: error:"), r.output.rfind("clhair: error:")) << r.output;
   EXPECT_NE(r.output.find("bad.ply"), std::string::npos) << r.output;

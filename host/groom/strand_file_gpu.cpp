@@ -37,8 +37,8 @@ StrandFileGpu::StrandFileGpu(std::shared_ptr<const StrandGroom> groom, GroomStag
   p.layer_count = 0;
   p.vertex_count = 0;
   p.has_tangents = 0;
-  p.control_points = CLH_MAX_CONTROL_POINTS;  // C_full of the chunk LOD: step 1
-  p.total_strands = static_cast<gpu::clh_u32>(d.totalStrands);
+  p.control_points = CLH_MAX_CONTROL_POINTS;                    // C_full of the chunk LOD: step 1
+  p.total_strands = static_cast<gpu::clh_u32>(d.drawnStrands);  // children included
   const std::size_t K = d.chunks.size();
   // per-point file colour and thickness follow the points in the same buffer
   // (kernels/strands_explicit.cl reads them at point_count + k)

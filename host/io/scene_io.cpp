@@ -15,6 +15,7 @@
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/matrix.hpp>
 #include <glm/trigonometric.hpp>
 #include <glm/vector_relational.hpp>
 
@@ -615,6 +616,15 @@ void framingBounds(const Scene& s, glm::vec3& lo, glm::vec3& hi, std::vector<std
   if (blo.x <= bhi.x) {
     lo = blo;
     hi = bhi;
+    // follow hairs reach up to their offset's growth beyond their guides
+    for (const GroomInstance& g : s.grooms) {
+      if (!g.strands || g.strands->children.count == 0) continue;
+      const ChildrenParams& c = g.strands->children;
+      const float scale = std::cbrt(std::fabs(glm::determinant(glm::mat3(g.transform))));
+      const float reach = 1.4143f * std::max(c.radius, 0.0f) * (1.0f + c.tipSpread) * scale;
+      lo -= glm::vec3(reach);
+      hi += glm::vec3(reach);
+    }
   }
 }
 

@@ -179,7 +179,7 @@ struct GroomInstance {
   KeyTrack transformKeys;
   glm::mat4 fileTransform{1.0f};  // strand files: the file's scale and up axis
   // Strand files given per frame: sceneAtFrame reads the frame's file (frames before the
-  // first and after the last found hold those), keeping `strands`' appearance and LOD.
+  // first and after the last found hold those), keeping `strands`' appearance, LOD and children.
   std::shared_ptr<const StrandFrames> strandFrames;
   // Hair meshes: the cage per frame (cage-animation file) starting at scene frame
   // cageStartFrame, and the wind on the cage.

@@ -13,8 +13,7 @@ namespace {
 
 void copyWords(Renderer::Impl& r, const cl::Buffer& from, std::size_t words, std::size_t at) {
   if (words == 0 || !from()) return;
-  clCall("gathering the frame's statistics",
-         [&] { return r.dev.queue.enqueueCopyBuffer(from, r.frameStats, 0, at * 4, words * 4); });
+  r.target.copyUints(from, 0, r.frameStats, at, words, &r.profiler);
 }
 
 }  // namespace
@@ -26,7 +25,7 @@ void addReadBackPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingF
       "read-back",
       [&](FrameGraph::Setup& s) {
         s.read(plan.color).read(plan.depth).readWrite(plan.frameStats).read(plan.lodArena);
-        s.read(plan.shadowMaps).read(plan.rasterCounters).sideEffect();
+        s.read(plan.shadowMaps).read(plan.rasterCounters).sideEffect().kernel("copy_uints");
         if (plan.aovs)
           for (std::uint32_t i = 0; i < 8; ++i) s.read(FrameGraph::Handle{plan.aovPlanes.id + i});
         if (plan.options.captureGBuffer) s.read(plan.gbuffer);
@@ -37,14 +36,15 @@ void addReadBackPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingF
         f.color.width = plan.scene.width;
         f.color.height = plan.scene.height;
         f.color.rgba.resize(plan.pixels * 4);
-        f.depth.resize(plan.pixels);
+        if (plan.options.readBackDepth || plan.aovs) f.depth.resize(plan.pixels);
         copyWords(r, r.frameLod.state(), FrameLod::stateWords(D), plan.budgetAt);
         copyWords(r, r.shadows.totals(), shadowWords, plan.shadowAt);
         if (plan.options.rasterStats) copyWords(r, t.stats, 4, plan.rasterStatsAt);
         out.stats.assign(plan.stats.words, 0u);
         out.read(r.dev, r.pinned, r.frameStats, 0, out.stats.data(), out.stats.size() * 4);
         out.read(r.dev, r.pinned, t.color, 0, f.color.rgba.data(), f.color.rgba.size() * 4);
-        out.read(r.dev, r.pinned, t.depth, 0, f.depth.data(), f.depth.size() * 4);
+        if (!f.depth.empty())
+          out.read(r.dev, r.pinned, t.depth, 0, f.depth.data(), f.depth.size() * 4);
         if (plan.options.captureGBuffer) {
           f.gbufferLayers = t.usedLayers();
           f.gbuffer.assign(plan.pixels * static_cast<std::size_t>(t.usedLayers()),

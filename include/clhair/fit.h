@@ -25,7 +25,8 @@ struct FitOptions {
   // Bundles (scalp faces) to aim for; 0: chosen from the strand count and the size budget
   // (about one bundle per 64 strands, at most kFitMaxBundles).
   int bundles = 0;
-  // Layers per bundle, 2..64; 0: chosen from the strands' bending and curl (docs/fitting.md).
+  // Layers per bundle, 2..64; 0: 16. A curl finer than the layers can follow (fewer than six
+  // layer intervals a turn) is left to the styling (docs/fitting.md).
   int layers = 0;
   // Optional scalp surface (same units and axes as the strands): the root layer is placed
   // on it and the scalp chart follows it. Null: the scalp comes from the roots alone.

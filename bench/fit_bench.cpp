@@ -41,7 +41,8 @@ using namespace clhair;
 using nlohmann::json;
 
 struct Args {
-  std::string groom, strands, scene = std::string(CLHAIR_SOURCE_DIR) + "/assets/scenes/default.json";
+  std::string groom, strands,
+      scene = std::string(CLHAIR_SOURCE_DIR) + "/assets/scenes/default.json";
   std::string out = "fit-bench", camera = "close", appearance, floorKernels;
   bool reuse = false;
   std::string ao = "on";
@@ -86,8 +87,7 @@ Image crop(const Image& im, int x0, int y0, int w, int h) {
   o.height = h;
   o.rgba.resize(static_cast<std::size_t>(w) * h * 4);
   for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      std::copy_n(im.pixel(x0 + x, y0 + y), 4, o.pixel(x, y));
+    for (int x = 0; x < w; ++x) std::copy_n(im.pixel(x0 + x, y0 + y), 4, o.pixel(x, y));
   return o;
 }
 
@@ -100,8 +100,10 @@ Image scaleTo(const Image& im, int h) {
   o.rgba.assign(static_cast<std::size_t>(o.width) * o.height * 4, 0.0f);
   for (int y = 0; y < o.height; ++y)
     for (int x = 0; x < o.width; ++x) {
-      const int sx0 = static_cast<int>(x * f), sx1 = std::max(sx0 + 1, static_cast<int>((x + 1) * f));
-      const int sy0 = static_cast<int>(y * f), sy1 = std::max(sy0 + 1, static_cast<int>((y + 1) * f));
+      const int sx0 = static_cast<int>(x * f),
+                sx1 = std::max(sx0 + 1, static_cast<int>((x + 1) * f));
+      const int sy0 = static_cast<int>(y * f),
+                sy1 = std::max(sy0 + 1, static_cast<int>((y + 1) * f));
       float acc[4] = {0, 0, 0, 0};
       int n = 0;
       for (int sy = sy0; sy < std::min(sy1, im.height); ++sy)
@@ -130,7 +132,8 @@ Image sideBySide(const std::vector<Image>& panels) {
 
 int run(const Args& a) {
   const bool roundTrip = !a.groom.empty();
-  if (roundTrip == !a.strands.empty()) throw clhair::Error("give exactly one of --groom and --strands");
+  if (roundTrip == !a.strands.empty())
+    throw clhair::Error("give exactly one of --groom and --strands");
   std::filesystem::create_directories(a.out);
   Device dev = Device::open(DeviceOptions::fromEnvironment({}));
   Renderer renderer(dev);
@@ -143,7 +146,8 @@ int run(const Args& a) {
   if (roundTrip) {
     original = std::make_shared<HairMesh>(loadHairMesh(a.groom));
     strandPath = a.out + "/strands.hair";
-    if (!(a.reuse && std::filesystem::exists(strandPath))) exportStrands(renderer, *original, strandPath);
+    if (!(a.reuse && std::filesystem::exists(strandPath)))
+      exportStrands(renderer, *original, strandPath);
   }
   auto strands = std::make_shared<StrandGroom>(loadStrandGroom(strandPath, dev.info().maxAlloc));
   HairMesh look;
@@ -179,8 +183,8 @@ int run(const Args& a) {
   s0.height = a.height;
   s0.grooms.clear();
   if (roundTrip)
-    s0.grooms.push_back(GroomInstance("original", std::shared_ptr<const HairMesh>(original),
-                                      sceneGroom.transform));
+    s0.grooms.push_back(
+        GroomInstance("original", std::shared_ptr<const HairMesh>(original), sceneGroom.transform));
   else
     s0.grooms.push_back(GroomInstance("original", std::shared_ptr<const StrandGroom>(strands)));
   s0.camera = reframeCamera(s0, parseCameraPreset(a.camera));
@@ -197,9 +201,8 @@ int run(const Args& a) {
     f0.color = readImage(cache);
     f0.aovs.hairAlpha.resize(static_cast<std::size_t>(a.width) * a.height);
     std::FILE* in = std::fopen(alphaCache.c_str(), "rb");
-    const std::size_t got = in ? std::fread(f0.aovs.hairAlpha.data(), sizeof(float),
-                                            f0.aovs.hairAlpha.size(), in)
-                               : 0;
+    const std::size_t got =
+        in ? std::fread(f0.aovs.hairAlpha.data(), sizeof(float), f0.aovs.hairAlpha.size(), in) : 0;
     if (in) std::fclose(in);
     if (got != f0.aovs.hairAlpha.size()) throw clhair::Error("cannot read " + alphaCache);
   } else {

@@ -47,9 +47,10 @@ inline HairMesh patchMesh(const PatchShape& p) {
       const float x0 = p.size * (uv.x - 0.5f), z0 = p.size * (uv.y - 0.5f);
       const float x = c * x0 + sn * z0, z = -sn * x0 + c * z0;
       // a shifted patch is one side of a parting; a centred one parts at its middle
-      const float side = p.xShift != 0.0f ? (p.xShift > 0.0f ? 1.0f : -1.0f) : (x0 >= 0.0f ? 1.0f : -1.0f);
-      m.positions[static_cast<std::size_t>(l) * m.vertexCount + v] =
-          glm::vec3(x + p.xShift + side * p.spread * s * s, R * std::sin(a), z + R * (1.0f - std::cos(a)));
+      const float side =
+          p.xShift != 0.0f ? (p.xShift > 0.0f ? 1.0f : -1.0f) : (x0 >= 0.0f ? 1.0f : -1.0f);
+      m.positions[static_cast<std::size_t>(l) * m.vertexCount + v] = glm::vec3(
+          x + p.xShift + side * p.spread * s * s, R * std::sin(a), z + R * (1.0f - std::cos(a)));
     }
   }
   m.strandCount = 20000;
@@ -64,7 +65,8 @@ inline HairMesh patchMesh(const PatchShape& p) {
 inline glm::vec3 patchCagePoint(const HairMesh& m, const PatchShape& p, float x, float z, int l) {
   const float u = std::clamp((x - p.xShift) / p.size + 0.5f, 0.0f, 1.0f) * p.cells;
   const float v = std::clamp(z / p.size + 0.5f, 0.0f, 1.0f) * p.cells;
-  const int i = std::min(static_cast<int>(u), p.cells - 1), j = std::min(static_cast<int>(v), p.cells - 1);
+  const int i = std::min(static_cast<int>(u), p.cells - 1),
+            j = std::min(static_cast<int>(v), p.cells - 1);
   const float s = u - i, t = v - j;
   const int n = p.cells + 1, a = j * n + i;
   return (1 - s) * (1 - t) * m.position(l, a) + s * (1 - t) * m.position(l, a + 1) +

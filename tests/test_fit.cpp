@@ -10,8 +10,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 
 #include <glm/geometric.hpp>
@@ -158,7 +158,8 @@ TEST(FitCage, FollowsATwistWithoutFlips) {
       EXPECT_GT(glm::dot(n, n0), 0.0f) << "face " << f << " flips on layer " << l;
       // ... and its corners turn the way the twist turns (20 degrees a layer), by less than
       // twice that: never back, never on to the next corner (90 degrees)
-      const float a = cornerAngle(m, static_cast<int>(f), l, glm::vec3(0, 1, 0), glm::vec3(1, 0, 0));
+      const float a =
+          cornerAngle(m, static_cast<int>(f), l, glm::vec3(0, 1, 0), glm::vec3(1, 0, 0));
       float step = a - prev;
       step = std::atan2(std::sin(step), std::cos(step));
       EXPECT_GT(step, 0.0f) << "face " << f << " layer " << l;
@@ -208,7 +209,8 @@ TEST(FitCage, SharesCornersWhereRootsTouchButNotAcrossAParting) {
     }
   int shared = 0;
   for (int v = 0; v < m.vertexCount; ++v) {
-    EXPECT_TRUE(positive[v] == 0 || positive[v] == uses[v]) << "vertex " << v << " spans the parting";
+    EXPECT_TRUE(positive[v] == 0 || positive[v] == uses[v])
+        << "vertex " << v << " spans the parting";
     shared += uses[v] > 1;
   }
   // two 4 x 4 grids have 2 x 9 interior corners shared by 4 faces and 2 x 12 edge corners
@@ -217,7 +219,8 @@ TEST(FitCage, SharesCornersWhereRootsTouchButNotAcrossAParting) {
   // generated strands stay on their side
   const fit::GeneratedStrands gen = fit::generateStrandsCpu(m, 0);
   for (std::size_t i = 0; i < gen.count(); ++i) {
-    const glm::vec3 root = gen.data[i * gen.points], tip = gen.data[i * gen.points + gen.points - 1];
+    const glm::vec3 root = gen.data[i * gen.points],
+                    tip = gen.data[i * gen.points + gen.points - 1];
     EXPECT_GT((tip.x - root.x) * side[gen.bundle[i]], 0.0f);
     if (::testing::Test::HasFailure()) break;
   }
@@ -297,7 +300,8 @@ TEST(FitCli, FitsAFileAndWritesTheReport) {
   writeCyHair(h, dir + "/patch.hair");
   const auto res = test::runCli("fit-mesh " + dir + "/patch.hair -o " + dir +
                                 "/fit.hairmesh.json --bundles 64 --layers 5 --error-sample 500 "
-                                "--report " + dir + "/report.json");
+                                "--report " +
+                                dir + "/report.json");
   ASSERT_EQ(res.exitCode, 0) << res.output;
   const HairMesh m = loadHairMesh(dir + "/fit.hairmesh.json");  // validates
   EXPECT_EQ(m.strandCount, 20000);

@@ -106,7 +106,8 @@ TEST(FitRenders, FittedMeshPassesValidationAndRendersThroughEveryPath) {
   float worst = 0.0f;
   for (std::size_t i = 0; i < cpu.data.size(); ++i)
     worst = std::max(worst, glm::length(glm::vec3(set.points[3 * i], set.points[3 * i + 1],
-                                                  set.points[3 * i + 2]) - cpu.data[i]));
+                                                  set.points[3 * i + 2]) -
+                                        cpu.data[i]));
   EXPECT_LT(worst, 1e-4f);  // the kernel's fast sine and power against the C library's
 }
 
@@ -147,7 +148,8 @@ TEST(FitRoundTrip, FittedGroomIsAsCloseAsTheOriginalWithAnotherSeed) {
   strands.name = "tiny";
   strands.pointCounts = exported.pointCounts;
   for (std::size_t i = 0; i < exported.points.size(); i += 3)
-    strands.points.push_back(glm::vec3(exported.points[i], exported.points[i + 1], exported.points[i + 2]));
+    strands.points.push_back(
+        glm::vec3(exported.points[i], exported.points[i + 1], exported.points[i + 2]));
   FitOptions o;
   o.bundles = 48;
   o.errorSample = 2000;
@@ -162,7 +164,8 @@ TEST(FitRoundTrip, FittedGroomIsAsCloseAsTheOriginalWithAnotherSeed) {
   std::vector<std::size_t> measured;
   for (std::size_t i = 0; i < in.count(); i += 3) measured.push_back(i);
   auto meanDistance = [&](const HairMesh& m) {
-    const std::vector<float> d = fit::strandDistances(in, measured, fit::generateStrandsCpu(m, 0), 0);
+    const std::vector<float> d =
+        fit::strandDistances(in, measured, fit::generateStrandsCpu(m, 0), 0);
     double sum = 0.0;
     for (float v : d) sum += v;
     return sum / static_cast<double>(d.size());
@@ -186,9 +189,10 @@ TEST(FitRoundTrip, FittedGroomIsAsCloseAsTheOriginalWithAnotherSeed) {
   EXPECT_GE(maskIoU(f0, f1), maskIoU(f0, f2) - 0.03);
   const double flipFit = hairFlip(f0, f1), flipSeed = hairFlip(f0, f2);
   EXPECT_LT(flipFit, 1.25 * flipSeed) << "fitted " << flipFit << ", reseeded " << flipSeed;
-  std::printf("round trip: mean distance %.3g m (reseeded %.3g m), hair FLIP %.4f (reseeded %.4f), "
-              "mask IoU %.4f (reseeded %.4f)\n", fitted, other, flipFit, flipSeed, maskIoU(f0, f1),
-              maskIoU(f0, f2));
+  std::printf(
+      "round trip: mean distance %.3g m (reseeded %.3g m), hair FLIP %.4f (reseeded %.4f), "
+      "mask IoU %.4f (reseeded %.4f)\n",
+      fitted, other, flipFit, flipSeed, maskIoU(f0, f1), maskIoU(f0, f2));
 }
 
 }  // namespace

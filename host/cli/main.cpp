@@ -932,14 +932,15 @@ int cmdFitMesh(FitMeshFlags f) {
   std::printf("%s: %d bundles, %d layers, %d vertices, %zu strands (%zu in)\n", f.output.c_str(),
               rep.bundles, rep.layers, rep.vertices, rep.strandsOut, rep.strandsIn);
   if (rep.error.strands > 0)
-    std::printf("  distance to the nearest generated strand: mean %.3g m (%.2f fibre widths), "
-                "95th percentile %.3g m (%.2f)\n",
-                rep.error.meanM, rep.error.meanWidths, rep.error.p95M, rep.error.p95Widths);
+    std::printf(
+        "  distance to the nearest generated strand: mean %.3g m (%.2f fibre widths), "
+        "95th percentile %.3g m (%.2f)\n",
+        rep.error.meanM, rep.error.meanWidths, rep.error.p95M, rep.error.p95Widths);
   if (rep.strandFileBytes > 0)
-    std::printf("  size: %llu bytes, %.3f %% of the strand file\n",
-                static_cast<unsigned long long>(rep.meshFileBytes),
-                100.0 * static_cast<double>(rep.meshFileBytes) /
-                    static_cast<double>(rep.strandFileBytes));
+    std::printf(
+        "  size: %llu bytes, %.3f %% of the strand file\n",
+        static_cast<unsigned long long>(rep.meshFileBytes),
+        100.0 * static_cast<double>(rep.meshFileBytes) / static_cast<double>(rep.strandFileBytes));
   std::printf("  time: %.2f s\n", rep.seconds);
   for (const std::string& n : rep.notes) std::printf("  note: %s\n", n.c_str());
   return 0;

@@ -45,8 +45,10 @@ std::vector<float> shapeFeatures(const FitStrands& s, int threads) {
       for (int k = 0; k < 4; ++k) {
         // scaled to the median length: strands of one shape but different lengths (length
         // variation) stay together
-        const float scale = s.length[i] > 0.0f ? static_cast<float>(s.medianLength) / s.length[i] : 0.0f;
-        const glm::vec3 d = (s.atFraction(i, 0.25f * static_cast<float>(k + 1)) - s.root(i)) * scale;
+        const float scale =
+            s.length[i] > 0.0f ? static_cast<float>(s.medianLength) / s.length[i] : 0.0f;
+        const glm::vec3 d =
+            (s.atFraction(i, 0.25f * static_cast<float>(k + 1)) - s.root(i)) * scale;
         f[i * kShapeDims + 3 * k] = d.x;
         f[i * kShapeDims + 3 * k + 1] = d.y;
         f[i * kShapeDims + 3 * k + 2] = d.z;

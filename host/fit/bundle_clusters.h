@@ -24,11 +24,11 @@ namespace clhair::fit {
 
 struct Clusters {
   int count = 0;
-  float spacing = 0.0f;      // lattice spacing h, chart metres (0: all roots coincide)
-  std::vector<int> label;    // per strand, 0..count-1
-  std::vector<int> members;  // per cluster: strands
+  float spacing = 0.0f;           // lattice spacing h, chart metres (0: all roots coincide)
+  std::vector<int> label;         // per strand, 0..count-1
+  std::vector<int> members;       // per cluster: strands
   std::vector<glm::vec2> centre;  // per cluster: mean chart root
-  std::vector<float> shape;  // per cluster: mean shape feature (kShapeDims floats each)
+  std::vector<float> shape;       // per cluster: mean shape feature (kShapeDims floats each)
 };
 
 constexpr int kShapeDims = 12;

@@ -16,10 +16,10 @@ namespace clhair::fit {
 
 namespace {
 
-constexpr double kPriorWeight = 0.01;   // relative to a vertex's own data
-constexpr double kPriorFloor = 1e-3;    // relative to the mean data of a vertex
-constexpr float kReachSlack = 0.02f;    // a strand still counts on a layer this far past its tip
-constexpr float kBaseSlack = 0.15f;     // ... when the last base curves carry it on
+constexpr double kPriorWeight = 0.01;  // relative to a vertex's own data
+constexpr double kPriorFloor = 1e-3;   // relative to the mean data of a vertex
+constexpr float kReachSlack = 0.02f;   // a strand still counts on a layer this far past its tip
+constexpr float kBaseSlack = 0.15f;    // ... when the last base curves carry it on
 
 void bilinearWeights(const glm::vec2& st, float w[4]) {
   w[0] = (1 - st.x) * (1 - st.y);
@@ -232,8 +232,10 @@ std::vector<glm::vec3> fitCageLayers(const FitStrands& s, const Clusters& cl,
               ax0 = cand[best];
               ax1 = glm::vec2(-ax0.y, ax0.x);  // keeps (u, v) handedness
             }
-            const double va = (cuu * ax0.x * ax0.x + 2 * cuv * ax0.x * ax0.y + cvv * ax0.y * ax0.y) / m;
-            const double vb = (cuu * ax1.x * ax1.x + 2 * cuv * ax1.x * ax1.y + cvv * ax1.y * ax1.y) / m;
+            const double va =
+                (cuu * ax0.x * ax0.x + 2 * cuv * ax0.x * ax0.y + cvv * ax0.y * ax0.y) / m;
+            const double vb =
+                (cuu * ax1.x * ax1.x + 2 * cuv * ax1.x * ax1.y + cvv * ax1.y * ax1.y) / m;
             a = std::max(static_cast<float>(std::sqrt(3.0 * std::max(va, 0.0))), s.fibreWidth);
             b = std::max(static_cast<float>(std::sqrt(3.0 * std::max(vb, 0.0))), s.fibreWidth);
             e1 = unitOr(ax0.x * u + ax0.y * v, u);
@@ -270,44 +272,47 @@ std::vector<glm::vec3> fitCageLayers(const FitStrands& s, const Clusters& cl,
     std::vector<glm::vec3> layer;
     for (int pass = 0; pass < 3; ++pass) {
       std::vector<FaceBlock> blocks(F);
-      parallelFor(static_cast<std::size_t>(F), threads, [&](std::size_t fb, std::size_t fe) {
-        for (std::size_t f = fb; f < fe; ++f) {
-          FaceBlock& blk = blocks[f];
-          std::vector<float> dist;
-          if (pass > 0) {  // this face's distances to the last solution, and their median
-            for (int i : members[f]) {
-              glm::vec3 p;
-              if (!layerPoint(static_cast<std::size_t>(i), l, p)) continue;
-              float w[4];
-              bilinearWeights(pl.st[i], w);
-              glm::vec3 q(0.0f);
-              for (int a = 0; a < 4; ++a) q += w[a] * layer[topo.faces[f][a]];
-              dist.push_back(glm::length(p - q));
+      parallelFor(
+          static_cast<std::size_t>(F), threads,
+          [&](std::size_t fb, std::size_t fe) {
+            for (std::size_t f = fb; f < fe; ++f) {
+              FaceBlock& blk = blocks[f];
+              std::vector<float> dist;
+              if (pass > 0) {  // this face's distances to the last solution, and their median
+                for (int i : members[f]) {
+                  glm::vec3 p;
+                  if (!layerPoint(static_cast<std::size_t>(i), l, p)) continue;
+                  float w[4];
+                  bilinearWeights(pl.st[i], w);
+                  glm::vec3 q(0.0f);
+                  for (int a = 0; a < 4; ++a) q += w[a] * layer[topo.faces[f][a]];
+                  dist.push_back(glm::length(p - q));
+                }
+                std::vector<float> sorted = dist;
+                const float typical = std::max(2.0f * quantile(sorted, 0.5f), s.fibreWidth);
+                std::size_t k = 0;
+                for (int i : members[f]) {
+                  glm::vec3 p;
+                  if (!layerPoint(static_cast<std::size_t>(i), l, p)) continue;
+                  weight[i] = dist[k] > typical ? typical / dist[k] : 1.0f;
+                  ++k;
+                }
+              }
+              for (int i : members[f]) {
+                glm::vec3 p;
+                if (!layerPoint(static_cast<std::size_t>(i), l, p)) continue;
+                float w[4];
+                bilinearWeights(pl.st[i], w);
+                const double h = weight[i];
+                for (int a = 0; a < 4; ++a) {
+                  blk.r[a] += h * w[a] * glm::dvec3(p);
+                  for (int b = 0; b < 4; ++b) blk.b[a][b] += h * w[a] * w[b];
+                }
+                blk.strands += h;
+              }
             }
-            std::vector<float> sorted = dist;
-            const float typical = std::max(2.0f * quantile(sorted, 0.5f), s.fibreWidth);
-            std::size_t k = 0;
-            for (int i : members[f]) {
-              glm::vec3 p;
-              if (!layerPoint(static_cast<std::size_t>(i), l, p)) continue;
-              weight[i] = dist[k] > typical ? typical / dist[k] : 1.0f;
-              ++k;
-            }
-          }
-          for (int i : members[f]) {
-            glm::vec3 p;
-            if (!layerPoint(static_cast<std::size_t>(i), l, p)) continue;
-            float w[4];
-            bilinearWeights(pl.st[i], w);
-            const double h = weight[i];
-            for (int a = 0; a < 4; ++a) {
-              blk.r[a] += h * w[a] * glm::dvec3(p);
-              for (int b = 0; b < 4; ++b) blk.b[a][b] += h * w[a] * w[b];
-            }
-            blk.strands += h;
-          }
-        }
-      }, 16);
+          },
+          16);
       layer = solveCageLayer(topo.faces, blocks, prior, kPriorWeight, kPriorFloor);
     }
     if (l == 0 && head)

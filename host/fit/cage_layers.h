@@ -5,8 +5,8 @@
 // length a strand at that root would have without length variation: at each vertex the
 // mean length of its faces' strands times the top of all strands' lengths relative to that
 // mean (from their 10th and 90th percentiles, exact for uniformly varied lengths),
-// interpolated bilinearly, never less than the strand's own. Shorter strands simply end before the upper
-// layers. This keeps a layer at one place along the hair for long and short strands alike,
+// interpolated bilinearly, never less than the strand's own. Shorter strands simply end before the
+// upper layers. This keeps a layer at one place along the hair for long and short strands alike,
 // which is what the generator assumes when it shortens a strand by cutting its base curve.
 //
 // First every cluster's cross-section on every layer gives a quad: its centre, and its
@@ -36,9 +36,9 @@ namespace clhair::fit {
 class HeadSurface;
 
 struct StrandPlacement {
-  std::vector<int> face;          // per strand
-  std::vector<glm::vec2> st;      // per strand, bilinear coordinates clamped to [0, 1]
-  std::vector<float> fullLength;  // per strand
+  std::vector<int> face;            // per strand
+  std::vector<glm::vec2> st;        // per strand, bilinear coordinates clamped to [0, 1]
+  std::vector<float> fullLength;    // per strand
   std::vector<float> vertexLength;  // per vertex: the full length there
 };
 

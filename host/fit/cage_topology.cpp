@@ -34,8 +34,8 @@ glm::vec2 inverseBilinear(const std::array<glm::vec2, 4>& q, const glm::vec2& p)
   glm::vec2 st(0.5f);
   for (int it = 0; it < 12; ++it) {
     const float s = st.x, t = st.y;
-    const glm::vec2 f = (1 - s) * (1 - t) * q[0] + s * (1 - t) * q[1] + s * t * q[2] +
-                        (1 - s) * t * q[3] - p;
+    const glm::vec2 f =
+        (1 - s) * (1 - t) * q[0] + s * (1 - t) * q[1] + s * t * q[2] + (1 - s) * t * q[3] - p;
     const glm::vec2 ds = (1 - t) * (q[1] - q[0]) + t * (q[2] - q[3]);
     const glm::vec2 dt = (1 - s) * (q[3] - q[0]) + s * (q[2] - q[1]);
     const float det = cross2(ds, dt);
@@ -122,7 +122,8 @@ CageTopology buildCageTopology(const Clusters& cl, const std::vector<glm::vec2>&
     const float tau = h / 3.0f;
     std::unordered_map<std::int64_t, std::vector<int>> grid;
     auto key = [&](const glm::vec2& p) {
-      const glm::ivec2 g(static_cast<int>(std::floor(p.x / tau)), static_cast<int>(std::floor(p.y / tau)));
+      const glm::ivec2 g(static_cast<int>(std::floor(p.x / tau)),
+                         static_cast<int>(std::floor(p.y / tau)));
       return std::pair<int, int>(g.x, g.y);
     };
     auto pack = [](int x, int y) {

@@ -21,12 +21,12 @@
 namespace clhair::fit {
 
 struct CageTopology {
-  std::vector<glm::vec2> vertexChart;                 // per vertex, chart position
-  std::vector<std::array<int, 4>> faces;              // per cluster
-  std::vector<std::array<glm::vec2, 4>> ownCorners;   // per face, before welding
-  std::vector<std::array<glm::vec2, 2>> axes;         // per face, chart unit axes (s, t)
-  std::vector<std::vector<int>> vertexCorners;        // per vertex: 4 * face + corner
-  int weldedVertices = 0;                             // vertices shared by 2+ faces
+  std::vector<glm::vec2> vertexChart;                // per vertex, chart position
+  std::vector<std::array<int, 4>> faces;             // per cluster
+  std::vector<std::array<glm::vec2, 4>> ownCorners;  // per face, before welding
+  std::vector<std::array<glm::vec2, 2>> axes;        // per face, chart unit axes (s, t)
+  std::vector<std::vector<int>> vertexCorners;       // per vertex: 4 * face + corner
+  int weldedVertices = 0;                            // vertices shared by 2+ faces
 };
 
 // minExtent: smallest half side of a quad (chart metres). weldShapeLimit: largest shape

@@ -54,31 +54,34 @@ float detectCurlTurns(const FitStrands& s, int threads) {
   // energy after the cubic alone (index 0), then after cubic + sinusoid at each grid f
   std::vector<double> energy(grid.size() + 1, 0.0);
   std::vector<std::vector<double>> part(sample.size(), std::vector<double>(grid.size() + 1));
-  parallelFor(sample.size(), threads, [&](std::size_t b, std::size_t e) {
-    std::vector<double> basis(static_cast<std::size_t>(M) * 6), y(M);
-    for (std::size_t j = b; j < e; ++j) {
-      const glm::vec3* p = s.strand(sample[j]);
-      for (std::size_t g = 0; g <= grid.size(); ++g) {
-        const double f = g == 0 ? 0.0 : grid[g - 1];
-        for (int k = 0; k < M; ++k) {
-          const double u = static_cast<double>(k) / (M - 1);
-          double* x = &basis[static_cast<std::size_t>(k) * 6];
-          x[0] = 1.0;
-          x[1] = u;
-          x[2] = u * u;
-          x[3] = u * u * u;
-          x[4] = std::cos(6.283185307179586 * f * u);
-          x[5] = std::sin(6.283185307179586 * f * u);
+  parallelFor(
+      sample.size(), threads,
+      [&](std::size_t b, std::size_t e) {
+        std::vector<double> basis(static_cast<std::size_t>(M) * 6), y(M);
+        for (std::size_t j = b; j < e; ++j) {
+          const glm::vec3* p = s.strand(sample[j]);
+          for (std::size_t g = 0; g <= grid.size(); ++g) {
+            const double f = g == 0 ? 0.0 : grid[g - 1];
+            for (int k = 0; k < M; ++k) {
+              const double u = static_cast<double>(k) / (M - 1);
+              double* x = &basis[static_cast<std::size_t>(k) * 6];
+              x[0] = 1.0;
+              x[1] = u;
+              x[2] = u * u;
+              x[3] = u * u * u;
+              x[4] = std::cos(6.283185307179586 * f * u);
+              x[5] = std::sin(6.283185307179586 * f * u);
+            }
+            double sum = 0.0;
+            for (int c = 0; c < 3; ++c) {
+              for (int k = 0; k < M; ++k) y[k] = p[k][c];
+              sum += leftover(basis, g == 0 ? 4 : 6, y.data(), M);
+            }
+            part[j][g] = sum;
+          }
         }
-        double sum = 0.0;
-        for (int c = 0; c < 3; ++c) {
-          for (int k = 0; k < M; ++k) y[k] = p[k][c];
-          sum += leftover(basis, g == 0 ? 4 : 6, y.data(), M);
-        }
-        part[j][g] = sum;
-      }
-    }
-  }, 8);
+      },
+      8);
   for (const auto& v : part)
     for (std::size_t g = 0; g < v.size(); ++g) energy[g] += v[g];
   if (!(energy[0] > 0.0)) return 0.0f;

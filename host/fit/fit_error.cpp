@@ -19,9 +19,9 @@ namespace clhair::fit {
 
 namespace {
 
-constexpr int kProbe = 17;         // points of an input strand
-constexpr int kPerProbe = 8;       // candidates from each of root, middle, tip
-constexpr float kWindow = 0.15f;   // part of G searched around a point's length fraction
+constexpr int kProbe = 17;        // points of an input strand
+constexpr int kPerProbe = 8;      // candidates from each of root, middle, tip
+constexpr float kWindow = 0.15f;  // part of G searched around a point's length fraction
 
 float pointSegment2(const glm::vec3& p, const glm::vec3& a, const glm::vec3& b) {
   const glm::vec3 ab = b - a;
@@ -52,12 +52,16 @@ GeneratedStrands generateStrandsCpu(const HairMesh& mesh, int threads) {
       local[data.bundles[b].first_strand + j] = j;
     }
   g.data.resize(static_cast<std::size_t>(data.totalStrands) * C);
-  parallelFor(g.count(), threads, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) {
-      const ReferenceStrand r = referenceStrand(data, params, roots, g.bundle[i], local[i], C);
-      std::copy(r.points.begin(), r.points.end(), g.data.begin() + static_cast<std::ptrdiff_t>(i * C));
-    }
-  }, 64);
+  parallelFor(
+      g.count(), threads,
+      [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) {
+          const ReferenceStrand r = referenceStrand(data, params, roots, g.bundle[i], local[i], C);
+          std::copy(r.points.begin(), r.points.end(),
+                    g.data.begin() + static_cast<std::ptrdiff_t>(i * C));
+        }
+      },
+      64);
   return g;
 }
 
@@ -68,7 +72,9 @@ LengthStats lengthStats(std::vector<float> v) {
   std::sort(v.begin(), v.end());
   double sum = 0.0;
   for (float x : v) sum += x;
-  auto q = [&](double f) { return static_cast<double>(v[static_cast<std::size_t>(f * (v.size() - 1) + 0.5)]); };
+  auto q = [&](double f) {
+    return static_cast<double>(v[static_cast<std::size_t>(f * (v.size() - 1) + 0.5)]);
+  };
   s.mean = sum / static_cast<double>(v.size());
   s.min = v.front();
   s.max = v.back();
@@ -102,41 +108,46 @@ std::vector<float> strandDistances(const FitStrands& in, const std::vector<std::
     tips[i] = g.data[i * C + C - 1];
   }
   const PointGrid gr(std::move(roots)), gm(std::move(mids)), gt(std::move(tips));
-  parallelFor(measured.size(), threads, [&](std::size_t b, std::size_t e) {
-    std::vector<std::pair<float, std::uint32_t>> near;
-    std::vector<std::uint32_t> cand;
-    glm::vec3 probe[kProbe];
-    for (std::size_t m = b; m < e; ++m) {
-      const std::size_t i = measured[m];
-      for (int k = 0; k < kProbe; ++k)
-        probe[k] = in.atFraction(i, static_cast<float>(k) / static_cast<float>(kProbe - 1));
-      cand.clear();
-      gr.nearest(probe[0], kPerProbe, near);
-      for (const auto& x : near) cand.push_back(x.second);
-      gm.nearest(probe[kProbe / 2], kPerProbe, near);
-      for (const auto& x : near) cand.push_back(x.second);
-      gt.nearest(probe[kProbe - 1], kPerProbe, near);
-      for (const auto& x : near) cand.push_back(x.second);
-      std::sort(cand.begin(), cand.end());
-      cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
-      float best = std::numeric_limits<float>::max();
-      for (std::uint32_t c : cand) {
-        const glm::vec3* q = g.data.data() + static_cast<std::size_t>(c) * C;
-        float sum = 0.0f;
-        for (int k = 0; k < kProbe && sum < best * kProbe; ++k) {
-          const float frac = static_cast<float>(k) / static_cast<float>(kProbe - 1);
-          const int s0 = std::max(0, static_cast<int>((frac - kWindow) * (C - 1)));
-          const int s1 = std::min(C - 1, static_cast<int>(std::ceil((frac + kWindow) * (C - 1))));
-          float d2 = std::numeric_limits<float>::max();
-          for (int s = s0; s < s1; ++s) d2 = std::min(d2, pointSegment2(probe[k], q[s], q[s + 1]));
-          if (s1 == s0) d2 = glm::dot(probe[k] - q[s0], probe[k] - q[s0]);
-          sum += std::sqrt(d2);
+  parallelFor(
+      measured.size(), threads,
+      [&](std::size_t b, std::size_t e) {
+        std::vector<std::pair<float, std::uint32_t>> near;
+        std::vector<std::uint32_t> cand;
+        glm::vec3 probe[kProbe];
+        for (std::size_t m = b; m < e; ++m) {
+          const std::size_t i = measured[m];
+          for (int k = 0; k < kProbe; ++k)
+            probe[k] = in.atFraction(i, static_cast<float>(k) / static_cast<float>(kProbe - 1));
+          cand.clear();
+          gr.nearest(probe[0], kPerProbe, near);
+          for (const auto& x : near) cand.push_back(x.second);
+          gm.nearest(probe[kProbe / 2], kPerProbe, near);
+          for (const auto& x : near) cand.push_back(x.second);
+          gt.nearest(probe[kProbe - 1], kPerProbe, near);
+          for (const auto& x : near) cand.push_back(x.second);
+          std::sort(cand.begin(), cand.end());
+          cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+          float best = std::numeric_limits<float>::max();
+          for (std::uint32_t c : cand) {
+            const glm::vec3* q = g.data.data() + static_cast<std::size_t>(c) * C;
+            float sum = 0.0f;
+            for (int k = 0; k < kProbe && sum < best * kProbe; ++k) {
+              const float frac = static_cast<float>(k) / static_cast<float>(kProbe - 1);
+              const int s0 = std::max(0, static_cast<int>((frac - kWindow) * (C - 1)));
+              const int s1 =
+                  std::min(C - 1, static_cast<int>(std::ceil((frac + kWindow) * (C - 1))));
+              float d2 = std::numeric_limits<float>::max();
+              for (int s = s0; s < s1; ++s)
+                d2 = std::min(d2, pointSegment2(probe[k], q[s], q[s + 1]));
+              if (s1 == s0) d2 = glm::dot(probe[k] - q[s0], probe[k] - q[s0]);
+              sum += std::sqrt(d2);
+            }
+            best = std::min(best, sum / kProbe);
+          }
+          out[m] = best;
         }
-        best = std::min(best, sum / kProbe);
-      }
-      out[m] = best;
-    }
-  }, 32);
+      },
+      32);
   return out;
 }
 
@@ -147,7 +158,8 @@ FitDistance summarize(std::vector<float> d, float fibreWidth) {
   double sum = 0.0;
   for (float x : d) sum += x;
   s.meanM = sum / static_cast<double>(d.size());
-  const std::size_t k = std::min(d.size() - 1, static_cast<std::size_t>(0.95 * (d.size() - 1) + 0.5));
+  const std::size_t k =
+      std::min(d.size() - 1, static_cast<std::size_t>(0.95 * (d.size() - 1) + 0.5));
   std::nth_element(d.begin(), d.begin() + k, d.end());
   s.p95M = d[k];
   s.meanWidths = fibreWidth > 0.0f ? s.meanM / fibreWidth : 0.0;

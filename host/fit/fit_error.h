@@ -21,8 +21,8 @@
 namespace clhair::fit {
 
 struct GeneratedStrands {
-  int points = 0;                  // per strand (the mesh's full-detail control points)
-  std::vector<glm::vec3> data;     // strands * points
+  int points = 0;                     // per strand (the mesh's full-detail control points)
+  std::vector<glm::vec3> data;        // strands * points
   std::vector<std::uint32_t> bundle;  // per strand
   std::size_t count() const { return bundle.size(); }
 };
@@ -34,7 +34,8 @@ std::vector<float> generatedLengths(const GeneratedStrands& g);
 
 // Distance of every input strand in `measured` (indices) to its nearest generated strand,
 // metres; the order follows `measured`.
-std::vector<float> strandDistances(const FitStrands& input, const std::vector<std::size_t>& measured,
+std::vector<float> strandDistances(const FitStrands& input,
+                                   const std::vector<std::size_t>& measured,
                                    const GeneratedStrands& generated, int threads);
 
 // Mean and 95th percentile of `d` (metres), also in fibre widths.

@@ -38,7 +38,7 @@ using Clock = std::chrono::steady_clock;
 constexpr int kStrandsPerBundle = 64;
 constexpr int kDefaultLayers = 16;
 constexpr float kLayersPerTurn = 6.0f;  // layer intervals a curl turn needs to be followed
-constexpr int kRefinements = 2;          // rounds of layers then styling after the first
+constexpr int kRefinements = 2;         // rounds of layers then styling after the first
 
 int controlPointsFor(const StrandGroom& g, int layers) {
   std::vector<std::uint32_t> c = g.pointCounts;
@@ -121,16 +121,17 @@ FitResult fitHairMesh(const StrandGroom& groom, const FitOptions& opt) {
   phase("chart");
 
   // 3. bundles
-  const int target = opt.bundles > 0 ? opt.bundles
-                                     : std::clamp(static_cast<int>(n / kStrandsPerBundle), 1,
-                                                  kFitMaxBundles);
+  const int target = opt.bundles > 0
+                         ? opt.bundles
+                         : std::clamp(static_cast<int>(n / kStrandsPerBundle), 1, kFitMaxBundles);
   const float shapeScale =
       opt.shapeScale > 0.0f ? opt.shapeScale : 0.1f * static_cast<float>(s.medianLength);
   const std::vector<float> shape = fit::shapeFeatures(s, threads);
   fit::Clusters clusters =
       fit::clusterStrands(chartRoots, shape, target, opt.shapeWeight, shapeScale, threads);
   bool coincide = true;
-  for (const glm::vec2& c : chartRoots) coincide = coincide && glm::length(c - chartRoots[0]) < 1e-9f;
+  for (const glm::vec2& c : chartRoots)
+    coincide = coincide && glm::length(c - chartRoots[0]) < 1e-9f;
   if (n == 1)
     rep.notes.push_back("one strand: the mesh is a single bundle around it");
   else if (coincide)
@@ -153,8 +154,8 @@ FitResult fitHairMesh(const StrandGroom& groom, const FitOptions& opt) {
   const float minExtent = clusters.spacing > 0.0f
                               ? std::max(0.1f * clusters.spacing, 2.0f * s.fibreWidth)
                               : 0.5f * s.fibreWidth;
-  const fit::CageTopology topo = fit::buildCageTopology(
-      clusters, chartRoots, minExtent, opt.shapeWeight, shapeScale, 2.0f);
+  const fit::CageTopology topo =
+      fit::buildCageTopology(clusters, chartRoots, minExtent, opt.shapeWeight, shapeScale, 2.0f);
   fit::StrandPlacement place = fit::placeStrands(s, clusters, topo, chartRoots, threads);
   const int L = opt.layers > 0 ? opt.layers : kDefaultLayers;
   HairMesh& m = result.mesh;
@@ -169,8 +170,8 @@ FitResult fitHairMesh(const StrandGroom& groom, const FitOptions& opt) {
     fit::StrandPlacement firstPlace = place;
     fit::fullLengths(first, topo, firstPlace);
     m.positions = fit::fitCageLayers(first, clusters, topo, chart, firstPlace,
-                                     fit::linearLayerArcs(first, firstPlace, L, false), L,
-                                     nullptr, head.get(), threads);
+                                     fit::linearLayerArcs(first, firstPlace, L, false), L, nullptr,
+                                     head.get(), threads);
   }
   for (const auto& f : topo.faces) m.faces.push_back({f[0], f[1], f[2], f[3]});
   glm::vec2 lo(1e30f), hi(-1e30f);
@@ -212,9 +213,9 @@ FitResult fitHairMesh(const StrandGroom& groom, const FitOptions& opt) {
   // the input has them) and the styling keeps the rest.
   auto base = std::make_unique<fit::BaseCurves>(m);
   fit::StyleFitResult style = fit::fitStyle(s, place, m, *base, nullptr, threads);
-  const bool sparse = !followCurl || (style.global.curlAmplitude > 0.0f &&
-                                       static_cast<float>(L - 1) <
-                                           kLayersPerTurn * style.global.curlFrequency);
+  const bool sparse =
+      !followCurl || (style.global.curlAmplitude > 0.0f &&
+                      static_cast<float>(L - 1) < kLayersPerTurn * style.global.curlFrequency);
   for (int it = 0; it < kRefinements; ++it) {
     const FittedStyle before = style.global;
     const fit::FitStrands cageInput =
@@ -247,8 +248,8 @@ FitResult fitHairMesh(const StrandGroom& groom, const FitOptions& opt) {
     b.strandsOut = data.bundles[f].strand_count;
     b.style = style.perBundle[f];
     const auto& q = m.faces[f];
-    const glm::vec3 &p0 = m.position(0, q[0]), &p1 = m.position(0, q[1]),
-                    &p2 = m.position(0, q[2]), &p3 = m.position(0, q[3]);
+    const glm::vec3 &p0 = m.position(0, q[0]), &p1 = m.position(0, q[1]), &p2 = m.position(0, q[2]),
+                    &p3 = m.position(0, q[3]);
     const double area = 0.5 * glm::length(glm::cross(p1 - p0, p2 - p0)) +
                         0.5 * glm::length(glm::cross(p2 - p0, p3 - p0));
     b.width = 0.25 * (glm::length(p1 - p0) + glm::length(p2 - p1) + glm::length(p3 - p2) +
@@ -262,8 +263,7 @@ FitResult fitHairMesh(const StrandGroom& groom, const FitOptions& opt) {
   phase("generate");
   if (opt.evaluate) {
     std::vector<std::size_t> measured;
-    const std::size_t every =
-        opt.errorSample > 0 && opt.errorSample < n ? n / opt.errorSample : 1;
+    const std::size_t every = opt.errorSample > 0 && opt.errorSample < n ? n / opt.errorSample : 1;
     for (std::size_t i = 0; i < n; i += every)
       if (s.length[i] > 0.0f) measured.push_back(i);
     const std::vector<float> d = fit::strandDistances(s, measured, gen, threads);

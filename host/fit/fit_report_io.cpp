@@ -32,8 +32,8 @@ json distanceJson(const FitDistance& d) {
 }
 
 json lengthJson(const LengthStats& l) {
-  return {{"strands", l.strands},  {"mean_m", tidy(l.mean)},     {"min_m", tidy(l.min)},
-          {"p05_m", tidy(l.p05)},  {"median_m", tidy(l.median)}, {"p95_m", tidy(l.p95)},
+  return {{"strands", l.strands}, {"mean_m", tidy(l.mean)},     {"min_m", tidy(l.min)},
+          {"p05_m", tidy(l.p05)}, {"median_m", tidy(l.median)}, {"p95_m", tidy(l.p95)},
           {"max_m", tidy(l.max)}};
 }
 
@@ -69,8 +69,8 @@ std::string fitReportJson(const FitReport& r) {
   if (r.meshFileBytes > 0) {
     size["mesh_file_bytes"] = r.meshFileBytes;
     if (r.strandFileBytes > 0)
-      size["mesh_over_strand_file_percent"] =
-          tidy(100.0 * static_cast<double>(r.meshFileBytes) / static_cast<double>(r.strandFileBytes));
+      size["mesh_over_strand_file_percent"] = tidy(100.0 * static_cast<double>(r.meshFileBytes) /
+                                                   static_cast<double>(r.strandFileBytes));
   }
   j["size"] = size;
   json t = json::object();

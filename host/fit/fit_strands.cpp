@@ -59,8 +59,7 @@ void resample(const glm::vec3* in, std::size_t n, int m, glm::vec3* out, float& 
 
 }  // namespace
 
-FitStrands prepareFitStrands(const StrandGroom& groom, int samples, float fibreWidth,
-                             int threads) {
+FitStrands prepareFitStrands(const StrandGroom& groom, int samples, float fibreWidth, int threads) {
   const std::string where = groom.name.empty() ? std::string("strands") : groom.name;
   validateStrandGroom(groom, where);
   FitStrands s;

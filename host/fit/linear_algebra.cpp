@@ -49,7 +49,8 @@ void symmetricEigen3(const double* cov, double evals[3], glm::dvec3 evecs[3]) {
       for (int q = p + 1; q < 3; ++q) {
         if (std::fabs(a[p][q]) < 1e-300) continue;
         const double theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
-        const double t = (theta >= 0 ? 1.0 : -1.0) / (std::fabs(theta) + std::sqrt(theta * theta + 1));
+        const double t =
+            (theta >= 0 ? 1.0 : -1.0) / (std::fabs(theta) + std::sqrt(theta * theta + 1));
         const double c = 1.0 / std::sqrt(t * t + 1), s = t * c;
         for (int k = 0; k < 3; ++k) {  // a = J^T a J
           const double akp = a[k][p], akq = a[k][q];

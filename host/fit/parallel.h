@@ -25,7 +25,8 @@ inline int resolveThreads(int threads) {
 template <class Fn>
 void parallelFor(std::size_t n, int threads, Fn&& fn, std::size_t grain = 256) {
   if (n == 0) return;
-  const int t = std::max(1, std::min(resolveThreads(threads), static_cast<int>((n + grain - 1) / grain)));
+  const int t =
+      std::max(1, std::min(resolveThreads(threads), static_cast<int>((n + grain - 1) / grain)));
   if (t == 1) {
     fn(std::size_t{0}, n);
     return;

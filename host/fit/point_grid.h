@@ -34,7 +34,8 @@ class PointGrid {
       cells_.clear();
       for (std::size_t i = 0; i < pts_.size(); ++i)
         cells_[key(cellOf(pts_[i]))].push_back(static_cast<std::uint32_t>(i));
-      const double perCell = static_cast<double>(n) / static_cast<double>(std::max<std::size_t>(cells_.size(), 1));
+      const double perCell =
+          static_cast<double>(n) / static_cast<double>(std::max<std::size_t>(cells_.size(), 1));
       if (perCell > 4.0 && perCell < 16.0) break;
       cell_ = std::max(cell_ * static_cast<float>(std::sqrt(8.0 / perCell)), ext * 1e-6f);
       if (it == 5) {  // the last adjustment: rebuild with it
@@ -88,6 +89,5 @@ class PointGrid {
   float cell_ = 1.0f;
   std::unordered_map<std::int64_t, std::vector<std::uint32_t>> cells_;
 };
-
 
 }  // namespace clhair::fit

@@ -62,8 +62,7 @@ glm::vec3 ScalpChart::fromChart(const glm::vec2& c) const {
   const float r = glm::length(c);
   const float theta = std::min(r / radius, 3.14159f);
   const glm::vec2 dir = r > 0.0f ? c / r : glm::vec2(1.0f, 0.0f);
-  return centre + radius * (std::cos(theta) * axis +
-                            std::sin(theta) * (dir.x * b1 + dir.y * b2));
+  return centre + radius * (std::cos(theta) * axis + std::sin(theta) * (dir.x * b1 + dir.y * b2));
 }
 
 void ScalpChart::frameAt(const glm::vec2& c, glm::vec3& ex, glm::vec3& ey,
@@ -111,8 +110,8 @@ ScalpChart fitScalpChart(const std::vector<glm::vec3>& roots, const std::vector<
   glm::dvec3 evecs[3];
   symmetricEigen3(cov, evals, evecs);  // descending
   const double extent = std::sqrt(std::max(evals[0], 0.0));
-  const glm::vec3 g = glm::length(meanGrowth) > 0.0 ? glm::vec3(glm::normalize(meanGrowth))
-                                                    : glm::vec3(0, 1, 0);
+  const glm::vec3 g =
+      glm::length(meanGrowth) > 0.0 ? glm::vec3(glm::normalize(meanGrowth)) : glm::vec3(0, 1, 0);
 
   // plane: the smallest principal direction, turned toward the hair
   glm::vec3 normal = glm::vec3(evecs[2]);

@@ -21,8 +21,8 @@ class HeadSurface;
 
 struct ScalpChart {
   bool sphere = false;
-  glm::vec3 centre{0.0f};  // sphere centre, or a point of the plane
-  float radius = 0.0f;     // sphere only
+  glm::vec3 centre{0.0f};            // sphere centre, or a point of the plane
+  float radius = 0.0f;               // sphere only
   glm::vec3 axis{0.0f, 1.0f, 0.0f};  // sphere: the pole; plane: the normal (toward the hair)
   glm::vec3 b1{1.0f, 0.0f, 0.0f}, b2{0.0f, 0.0f, -1.0f};  // b1 x b2 = axis
 

@@ -74,9 +74,8 @@ float goldenMin(Fn&& fn, float lo, float hi, int iters) {
 // `frizzCal`: the groom-wide frizz frequency and the share of frizz energy the per-strand
 // fit leaves (from the whole groom; a bundle reuses it).
 FittedStyle estimate(const std::vector<StrandStyle>& st, const std::vector<ClumpSamples>& clumps,
-                     const std::vector<int>& strands,
-                     const std::vector<std::pair<int, int>>& pairs, float f, bool curl,
-                     const FrizzLeftover& frizzCal, float frizzF) {
+                     const std::vector<int>& strands, const std::vector<std::pair<int, int>>& pairs,
+                     float f, bool curl, const FrizzLeftover& frizzCal, float frizzF) {
   FittedStyle out;
   out.curlFrequency = curl ? f : 0.0f;
   out.frizzFrequency = frizzF;
@@ -127,7 +126,7 @@ FittedStyle estimate(const std::vector<StrandStyle>& st, const std::vector<Clump
     }
     const float med = median(dphi);
     // triangular differences of a uniform jitter J: median |d| = 2 pi J (1 - 1/sqrt 2)
-    out.curlPhaseJitter = dphi.empty() ? 0.15f
+    out.curlPhaseJitter = dphi.empty()  ? 0.15f
                           : med > 1.45f ? 1.0f
                                         : std::clamp(med / (2.0f * kPi * 0.29289f), 0.0f, 1.0f);
   }
@@ -193,9 +192,13 @@ StyleFitResult fitStyle(const FitStrands& s, const StrandPlacement& pl, const Ha
   for (std::size_t i = 0; i < n; i += step)
     if (s.length[i] > 0.0f) sample.push_back(i);
   std::vector<StrandResidual> resid(sample.size());
-  parallelFor(sample.size(), threads, [&](std::size_t b, std::size_t e) {
-    for (std::size_t k = b; k < e; ++k) strandResidual(s, pl, base, sample[k], arcCurl, resid[k]);
-  }, 16);
+  parallelFor(
+      sample.size(), threads,
+      [&](std::size_t b, std::size_t e) {
+        for (std::size_t k = b; k < e; ++k)
+          strandResidual(s, pl, base, sample[k], arcCurl, resid[k]);
+      },
+      16);
   {  // the searches ignore the tenth of strands furthest from their base (flyaways)
     std::vector<std::pair<double, std::size_t>> energy0(resid.size());
     for (std::size_t k = 0; k < resid.size(); ++k) {
@@ -205,15 +208,20 @@ StyleFitResult fitStyle(const FitStrands& s, const StrandPlacement& pl, const Ha
     }
     std::sort(energy0.begin(), energy0.end());
     std::vector<StrandResidual> kept;
-    for (std::size_t k = 0; k < energy0.size() * 9 / 10 || (kept.empty() && k < energy0.size()); ++k)
+    for (std::size_t k = 0; k < energy0.size() * 9 / 10 || (kept.empty() && k < energy0.size());
+         ++k)
       kept.push_back(resid[energy0[k].second]);
     resid.swap(kept);
   }
   auto energy = [&](float f, float shape) {
     std::vector<double> part(resid.size());
-    parallelFor(resid.size(), threads, [&](std::size_t b, std::size_t e) {
-      for (std::size_t k = b; k < e; ++k) part[k] = fitStrandStyle(resid[k], f, shape, false).energy;
-    }, 64);
+    parallelFor(
+        resid.size(), threads,
+        [&](std::size_t b, std::size_t e) {
+          for (std::size_t k = b; k < e; ++k)
+            part[k] = fitStrandStyle(resid[k], f, shape, false).energy;
+        },
+        64);
     double sum = 0.0;
     for (double v : part) sum += v;
     return sum;
@@ -226,7 +234,8 @@ StyleFitResult fitStyle(const FitStrands& s, const StrandPlacement& pl, const Ha
     shape = arcCurl->clumpShape > 0.0f ? arcCurl->clumpShape : 1.0f;
     if (curl)
       f = goldenMin([&](float g) { return energy(g, shape); },
-                    std::max(0.01f, arcCurl->curlFrequency - 0.1f), arcCurl->curlFrequency + 0.1f, 8);
+                    std::max(0.01f, arcCurl->curlFrequency - 0.1f), arcCurl->curlFrequency + 0.1f,
+                    8);
     shape = goldenMin([&](float x) { return energy(f, x); }, shape / 1.5f, shape * 1.5f, 8);
   } else {
     std::vector<double> curve;
@@ -269,54 +278,60 @@ StyleFitResult fitStyle(const FitStrands& s, const StrandPlacement& pl, const Ha
   std::vector<StrandStyle> st(n);
   std::vector<ClumpSamples> clumps(n);
   const double noise2 = 2.0 * valueNoiseVariance();
-  parallelFor(n, threads, [&](std::size_t b, std::size_t e) {
-    auto r = std::make_unique<StrandResidual>();
-    for (std::size_t i = b; i < e; ++i) {
-      if (!(s.length[i] > 0.0f)) continue;
-      strandResidual(s, pl, base, i, arcCurl, *r);
-      if (r->points < 4) continue;
-      const StrandFit fit = fitStrandStyle(*r, f, shape, true);
-      StrandStyle& o = st[i];
-      o.valid = true;
-      const float a = fit.a, bb = fit.b;
-      o.amp = std::sqrt(a * a + bb * bb);
-      o.helix = o.amp > 0.0f ? (fit.d * a - fit.c * bb) / (o.amp * o.amp) : 0.0f;
-      o.phase = std::atan2(-bb, a);
-      o.frizz = fit.frizzW4 > 0.0
-                    ? static_cast<float>(std::sqrt(fit.frizzEnergy / (fit.frizzW4 * noise2)))
-                    : 0.0f;
-      for (int j = 0; j < kFrizzLagCount; ++j) o.lag[j] = fit.lag[j];
-      o.rho = r->rho;
-      const auto& face = mesh.faces[pl.face[i]];
-      const glm::vec2 t = pl.st[i];
-      o.uv = (1 - t.x) * (1 - t.y) * mesh.uv[face[0]] + t.x * (1 - t.y) * mesh.uv[face[1]] +
-             t.x * t.y * mesh.uv[face[2]] + (1 - t.x) * t.y * mesh.uv[face[3]];
-      clumpSamples(*r, fit, curl ? f : 0.0f, o.uv, clumps[i]);
-    }
-  }, 64);
+  parallelFor(
+      n, threads,
+      [&](std::size_t b, std::size_t e) {
+        auto r = std::make_unique<StrandResidual>();
+        for (std::size_t i = b; i < e; ++i) {
+          if (!(s.length[i] > 0.0f)) continue;
+          strandResidual(s, pl, base, i, arcCurl, *r);
+          if (r->points < 4) continue;
+          const StrandFit fit = fitStrandStyle(*r, f, shape, true);
+          StrandStyle& o = st[i];
+          o.valid = true;
+          const float a = fit.a, bb = fit.b;
+          o.amp = std::sqrt(a * a + bb * bb);
+          o.helix = o.amp > 0.0f ? (fit.d * a - fit.c * bb) / (o.amp * o.amp) : 0.0f;
+          o.phase = std::atan2(-bb, a);
+          o.frizz = fit.frizzW4 > 0.0
+                        ? static_cast<float>(std::sqrt(fit.frizzEnergy / (fit.frizzW4 * noise2)))
+                        : 0.0f;
+          for (int j = 0; j < kFrizzLagCount; ++j) o.lag[j] = fit.lag[j];
+          o.rho = r->rho;
+          const auto& face = mesh.faces[pl.face[i]];
+          const glm::vec2 t = pl.st[i];
+          o.uv = (1 - t.x) * (1 - t.y) * mesh.uv[face[0]] + t.x * (1 - t.y) * mesh.uv[face[1]] +
+                 t.x * t.y * mesh.uv[face[2]] + (1 - t.x) * t.y * mesh.uv[face[3]];
+          clumpSamples(*r, fit, curl ? f : 0.0f, o.uv, clumps[i]);
+        }
+      },
+      64);
 
   // 3. root neighbours within each bundle
   std::vector<std::vector<int>> members(F);
   for (std::size_t i = 0; i < n; ++i) members[pl.face[i]].push_back(static_cast<int>(i));
   std::vector<std::vector<std::pair<int, int>>> pairs(F);
-  parallelFor(static_cast<std::size_t>(F), threads, [&](std::size_t b, std::size_t e) {
-    for (std::size_t fi = b; fi < e; ++fi) {
-      const auto& m = members[fi];
-      std::vector<std::pair<float, int>> near;
-      for (std::size_t x = 0; x < m.size(); ++x) {
-        near.clear();
-        for (std::size_t y = 0; y < m.size(); ++y) {
-          const glm::vec3 d = s.root(m[x]) - s.root(m[y]);
-          const float d2 = glm::dot(d, d);
-          if (x != y && d2 > 0.0f) near.push_back({d2, m[y]});
+  parallelFor(
+      static_cast<std::size_t>(F), threads,
+      [&](std::size_t b, std::size_t e) {
+        for (std::size_t fi = b; fi < e; ++fi) {
+          const auto& m = members[fi];
+          std::vector<std::pair<float, int>> near;
+          for (std::size_t x = 0; x < m.size(); ++x) {
+            near.clear();
+            for (std::size_t y = 0; y < m.size(); ++y) {
+              const glm::vec3 d = s.root(m[x]) - s.root(m[y]);
+              const float d2 = glm::dot(d, d);
+              if (x != y && d2 > 0.0f) near.push_back({d2, m[y]});
+            }
+            const std::size_t k = std::min<std::size_t>(kNeighbours, near.size());
+            std::partial_sort(near.begin(), near.begin() + k, near.end());
+            for (std::size_t j = 0; j < k; ++j)
+              if (m[x] < near[j].second) pairs[fi].push_back({m[x], near[j].second});
+          }
         }
-        const std::size_t k = std::min<std::size_t>(kNeighbours, near.size());
-        std::partial_sort(near.begin(), near.begin() + k, near.end());
-        for (std::size_t j = 0; j < k; ++j)
-          if (m[x] < near[j].second) pairs[fi].push_back({m[x], near[j].second});
-      }
-    }
-  }, 4);
+      },
+      4);
   std::vector<int> all;
   std::vector<std::pair<int, int>> allPairs;
   for (int fi = 0; fi < F; ++fi) {
@@ -381,21 +396,24 @@ FitStrands removeCurl(const FitStrands& s, const StrandPlacement& pl, const Base
   FitStrands out = s;
   if (!(fitted.curlAmplitude > 0.0f && fitted.curlFrequency > 0.0f)) return out;
   const float f = fitted.curlFrequency;
-  parallelFor(s.count(), threads, [&](std::size_t b, std::size_t e) {
-    auto r = std::make_unique<StrandResidual>();
-    for (std::size_t i = b; i < e; ++i) {
-      if (!(s.length[i] > 0.0f)) continue;
-      strandResidual(s, pl, base, i, arcCurl, *r);
-      if (r->points < 4) continue;
-      const StrandFit fit = fitStrandStyle(*r, f, fitted.clumpShape, false);
-      glm::vec3* p = out.points.data() + i * s.samples;
-      for (int k = 0; k < r->points; ++k) {
-        const float th = 6.28318530718f * f * r->w[k];
-        const float cs = std::cos(th) * r->ramp[k], sn = std::sin(th) * r->ramp[k];
-        p[k + 1] -= (fit.a * cs + fit.b * sn) * r->e1[k] + (fit.c * cs + fit.d * sn) * r->e2[k];
-      }
-    }
-  }, 64);
+  parallelFor(
+      s.count(), threads,
+      [&](std::size_t b, std::size_t e) {
+        auto r = std::make_unique<StrandResidual>();
+        for (std::size_t i = b; i < e; ++i) {
+          if (!(s.length[i] > 0.0f)) continue;
+          strandResidual(s, pl, base, i, arcCurl, *r);
+          if (r->points < 4) continue;
+          const StrandFit fit = fitStrandStyle(*r, f, fitted.clumpShape, false);
+          glm::vec3* p = out.points.data() + i * s.samples;
+          for (int k = 0; k < r->points; ++k) {
+            const float th = 6.28318530718f * f * r->w[k];
+            const float cs = std::cos(th) * r->ramp[k], sn = std::sin(th) * r->ramp[k];
+            p[k + 1] -= (fit.a * cs + fit.b * sn) * r->e1[k] + (fit.c * cs + fit.d * sn) * r->e2[k];
+          }
+        }
+      },
+      64);
   resampleInPlace(out, threads);
   return out;
 }

@@ -52,8 +52,8 @@ StyleFitResult fitStyle(const FitStrands& strands, const StrandPlacement& place,
 // helix at the groom's frequency; clumping and frizz stay) and resampled again, for fitting
 // the layers to the base curves when the layers are too sparse to follow the curl.
 FitStrands removeCurl(const FitStrands& strands, const StrandPlacement& place,
-                      const BaseCurves& base, const FittedStyle& fitted,
-                      const FittedStyle* arcCurl, int threads);
+                      const BaseCurves& base, const FittedStyle& fitted, const FittedStyle* arcCurl,
+                      int threads);
 
 // Writes the groom-wide estimate into a mesh's StyleParams (ranges of the format).
 void applyStyle(const FittedStyle& fitted, StyleParams& style);

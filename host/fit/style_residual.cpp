@@ -51,9 +51,9 @@ void strandResidual(const FitStrands& s, const StrandPlacement& pl, const BaseCu
   out.dw = out.rho / static_cast<float>(M - 1);
   for (int k = 0; k < n; ++k) {
     const glm::vec3 et = normalizeOr(bs[k].deriv, glm::vec3(0, 1, 0));
-    const glm::vec3 e1 = normalizeOr(bs[k].du - glm::dot(bs[k].du, et) * et,
-                                     normalizeOr(bs[k].dv - glm::dot(bs[k].dv, et) * et,
-                                                 glm::vec3(1, 0, 0)));
+    const glm::vec3 e1 =
+        normalizeOr(bs[k].du - glm::dot(bs[k].du, et) * et,
+                    normalizeOr(bs[k].dv - glm::dot(bs[k].dv, et) * et, glm::vec3(1, 0, 0)));
     const glm::vec3 e2 = glm::cross(et, e1);
     const glm::vec3 r = p[k + 1] - bs[k].pos;
     out.w[k] = w[k];

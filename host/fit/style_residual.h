@@ -35,24 +35,23 @@ struct StrandResidual {
   glm::vec2 dv[kFitSamples];
   float ramp[kFitSamples];
   glm::vec3 e1[kFitSamples], e2[kFitSamples];  // the styling frame
-  float dw = 0.0f;   // mean spacing of w between consecutive points
+  float dw = 0.0f;                             // mean spacing of w between consecutive points
   float rho = 1.0f;  // where the strand ends along its base curve (w of its tip, <= 1)
 };
 
 // With `curl` the points' w come from the arc-length model (arc_model.h) for that curl;
 // without, w is arc length over the strand's full length (place.fullLength).
-void strandResidual(const FitStrands& strands, const StrandPlacement& place,
-                    const BaseCurves& base, std::size_t strand, const FittedStyle* curl,
-                    StrandResidual& out);
+void strandResidual(const FitStrands& strands, const StrandPlacement& place, const BaseCurves& base,
+                    std::size_t strand, const FittedStyle* curl, StrandResidual& out);
 
 constexpr int kFrizzLagCount = 5;
 constexpr int kFrizzLags[kFrizzLagCount] = {0, 1, 2, 4, 8};
 
 struct StrandFit {
-  glm::vec2 delta{0.0f};           // clump: strength x uv offset
+  glm::vec2 delta{0.0f};             // clump: strength x uv offset
   float a = 0, b = 0, c = 0, d = 0;  // curl coefficients
-  double energy = 0.0;             // residual energy after the fit
-  double total = 0.0;              // residual energy before it
+  double energy = 0.0;               // residual energy after the fit
+  double total = 0.0;                // residual energy before it
   // frizz, over w >= 0.3: the leftover's energy, sum w^4, and the sums of products of
   // points kFrizzLags[j] apart (lag[0]: the energy again)
   double frizzEnergy = 0.0, frizzW4 = 0.0;

@@ -15,7 +15,7 @@ namespace clhair::fit {
 
 namespace {
 
-constexpr int kTable = 64;        // correlation table over d in [0, 1.5]
+constexpr int kTable = 64;  // correlation table over d in [0, 1.5]
 constexpr double kTableMax = 1.5;
 
 double smooth01(double x) { return x * x * (3.0 - 2.0 * x); }
@@ -57,12 +57,12 @@ Stats compute() {
       const double n0 = noiseAt(key, x);
       sum2 += n0 * n0;
       ++count;
-      for (int t = 0; t <= kTable; ++t)
-        cross[t] += n0 * noiseAt(key, x + kTableMax * t / kTable);
+      for (int t = 0; t <= kTable; ++t) cross[t] += n0 * noiseAt(key, x + kTableMax * t / kTable);
     }
   }
   st.variance = sum2 / static_cast<double>(count);
-  for (int t = 0; t <= kTable; ++t) st.corr[t] = cross[t] / static_cast<double>(count) / st.variance;
+  for (int t = 0; t <= kTable; ++t)
+    st.corr[t] = cross[t] / static_cast<double>(count) / st.variance;
   // clump: uv uniform over many cells, nearest jittered centre (the generator's formula)
   double dist = 0.0;
   const int samples = 200000;

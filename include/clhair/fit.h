@@ -93,7 +93,7 @@ struct FitReport {
   int bundles = 0, layers = 0, vertices = 0;
   std::size_t strandsIn = 0, strandsOut = 0;
   LengthStats lengthIn, lengthOut;
-  FitDistance error;  // every measured input strand
+  FitDistance error;   // every measured input strand
   FittedStyle fitted;  // the groom-wide estimate written into the mesh's style
   std::vector<FitBundleReport> perBundle;
   // Sizes: the strand data as stored in memory (12 bytes per point) and, when the caller

@@ -200,6 +200,10 @@ cat >tiny30.json <<EOF
  "grooms": [{"strands_file": "tiny30.hair"}]}
 EOF
 run_case "strand file of coordinates around 1e-30" "$CLHAIR" render tiny30.json -o o12.png
+sed 's/"camera": {[^}]*}/"camera": {"preset": "mid"}/' tiny30.json >tiny30_preset.json
+run_case "the same, framed by a camera preset" "$CLHAIR" render tiny30_preset.json -o o12b.png
+sed 's/"camera": {[^}]*}/"camera": {"preset": "mid"}/' zero_matrix.json >zero_matrix_preset.json
+run_case "groom matrix of zeros, framed by a camera preset" "$CLHAIR" render zero_matrix_preset.json -o o11b.png
 scene noversion.json "" && sed -i 's/tiny.json/noversion_groom.json/' noversion.json
 python3 -c "import json; g=json.load(open('tiny.json')); del g['version']; json.dump(g, open('noversion_groom.json','w'))"
 run_case "hair mesh without \"version\"" "$CLHAIR" render noversion.json -o o13.png -q

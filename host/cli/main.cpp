@@ -47,6 +47,7 @@
 #include "groom/visibility_bake.h"
 #include "io/binary_file.h"
 #include "io/cyhair.h"
+#include "io/draw_warnings.h"
 #include "io/json_util.h"
 #include "io/safe_write.h"
 #include "io/tressfx.h"
@@ -556,6 +557,9 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
                   : temporal  ? sequenceFrames.render(number)
                               : renderer.render(still, ro);
     ro.previous = nullptr;
+    if (rendered == 0)  // a groom that vanished says why (a reference fills no stats)
+      for (const std::string& w : drawWarnings(still, frame.stats, scenePath))
+        std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
     if (aovs.empty())
       writeImage(frame.color, path, f.write);
     else

@@ -162,8 +162,7 @@ std::optional<std::vector<unsigned char>> decodeCacheEntry(const std::string& by
       bytes.size() < kHeaderBytes + keyBytes)
     return refuse("its size does not match its header (truncated?)");
   std::string head = bytes.substr(0, 32) + bytes.substr(kHeaderBytes, keyBytes);
-  if (fnv64(reinterpret_cast<const unsigned char*>(head.data()), head.size()) !=
-      loadLe(p + 32, 8))
+  if (fnv64(reinterpret_cast<const unsigned char*>(head.data()), head.size()) != loadLe(p + 32, 8))
     return refuse("the header checksum does not match");
   if (bytes.compare(kHeaderBytes, keyBytes, key) != 0 || keyBytes != key.size())
     return refuse("another key's entry");

@@ -378,7 +378,7 @@ cl::Program Device::Impl::programFor(SubgroupBackend backend, const std::string&
       BinaryCache::key(info.platformName, info.name, info.driverVersion, options, text);
   if (auto binary = binaries.load(cacheKey)) {
     StderrCapture quiet;  // a driver refusing a binary may say so on stderr
-    try {  // a binary the driver does not take back is rebuilt from source below
+    try {                 // a binary the driver does not take back is rebuilt from source below
       cl::Program cached(context, {device}, cl::Program::Binaries{*binary});
       cached.build({device}, options.c_str());
       std::lock_guard<std::mutex> lock(mutex_);

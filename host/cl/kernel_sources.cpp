@@ -24,8 +24,8 @@ std::string KernelSources::read(const std::string& name) const {
     try {
       return RegularFile(path, "kernel source").readAll(kMaxSourceBytes);
     } catch (const Error& e) {
-      throw Error(std::string("kernel override (CLHAIR_KERNEL_DIR=") + overrideDir_ + "): " +
-                  e.what());
+      throw Error(std::string("kernel override (CLHAIR_KERNEL_DIR=") + overrideDir_ +
+                  "): " + e.what());
     }
   }
   throw Error("kernel source \"" + name + "\" is not part of the build");

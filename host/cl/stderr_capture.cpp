@@ -3,6 +3,8 @@
 
 #include <unistd.h>
 
+#include <atomic>
+
 namespace clhair {
 
 namespace {
@@ -12,11 +14,17 @@ std::mutex& captureMutex() {
   return m;
 }
 
+std::atomic<bool> capturing{false};
+
 constexpr long kMaxCaptured = 1 << 20;
 
 }  // namespace
 
-StderrCapture::StderrCapture() : lock_(captureMutex()) {
+void captureDriverOutput(bool on) { capturing = on; }
+
+StderrCapture::StderrCapture() {
+  if (!capturing) return;
+  lock_ = std::unique_lock<std::mutex>(captureMutex());
   std::fflush(stderr);
   file_ = std::tmpfile();
   if (!file_) return;

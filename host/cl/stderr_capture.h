@@ -7,6 +7,8 @@
 // process-wide, so captures are serialised by a lock, and a thread printing meanwhile lands in
 // the capture too (clhair prints nothing from other threads while it builds). When no
 // temporary file can be made (a full /tmp), nothing is captured and stderr stays as it was.
+// Capturing is off until a program turns it on (the clhair command does): a library user, or a
+// sanitizer report from inside a driver, keeps stderr as it is.
 #pragma once
 
 #include <cstdio>
@@ -14,6 +16,9 @@
 #include <string>
 
 namespace clhair {
+
+// Turns capturing on or off for the whole process (off by default).
+void captureDriverOutput(bool on);
 
 class StderrCapture {
  public:

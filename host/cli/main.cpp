@@ -35,6 +35,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cl/cl_error.h"
+#include "cl/stderr_capture.h"
 #include "clhair/aov.h"
 #include "clhair/device.h"
 #include "clhair/error.h"
@@ -72,7 +73,8 @@ std::string oneLine(std::string text) {
 void reportError(const std::string& message, std::string details, bool verbose) {
   const std::size_t nl = message.find('\n');
   std::string line = message.substr(0, nl);
-  if (nl != std::string::npos) details = message.substr(nl + 1) + (details.empty() ? "" : "\n") + details;
+  if (nl != std::string::npos)
+    details = message.substr(nl + 1) + (details.empty() ? "" : "\n") + details;
   while (!details.empty() && (details.back() == '\n' || details.back() == ' ')) details.pop_back();
   if (details.empty()) {
     std::fprintf(stderr, "clhair: error: %s\n", oneLine(line).c_str());
@@ -164,7 +166,7 @@ struct RenderFlags {
   bool widthGiven = false, heightGiven = false;
   std::string camera, lod, dispatch = "auto", ao = "on", visibility = "on", lodBsdf = "single";
   bool quiet = false;
-  std::string frames;  // "N", "A-B" or "A-B:STEP"
+  std::string frames;        // "N", "A-B" or "A-B:STEP"
   bool framesGiven = false;  // --frames given (even empty, which is refused); else frame 1
   bool skipExisting = false;
   std::string aov;                 // --aov list; empty: the beauty alone through writeImage
@@ -1006,6 +1008,7 @@ int main(int argc, char** argv) {
   rf.widthGiven = render->count("--width") > 0;
   rf.reference = render->count("--reference") > 0;
   rf.heightGiven = render->count("--height") > 0;
+  captureDriverOutput(true);  // a compiler's own lines go into an error's details
   try {
     DeviceOptions resolved = DeviceOptions::fromEnvironment(opts);
     if (*devices) return cmdDevices(resolved);

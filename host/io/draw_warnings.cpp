@@ -89,8 +89,8 @@ std::string reason(const Scene& scene, const GroomInstance& g, const FrameStats&
       return "it is outside the view";
     const float pixels = std::max(xmax - xmin, ymax - ymin);
     if (pixels < 1.0f)
-      return "it covers " + fmt(pixels) + " pixels (" + across + ", " +
-             fmt(0.5f * (zmin + zmax)) + " away): are its units right? check its \"scale\"";
+      return "it covers " + fmt(pixels) + " pixels (" + across + ", " + fmt(0.5f * (zmin + zmax)) +
+             " away): are its units right? check its \"scale\"";
   }
   if (stats.overBudget) return "the segment budget left it no strand";
   return "its LOD left it no strand (" + across + ")";
@@ -105,7 +105,7 @@ std::vector<std::string> drawWarnings(const Scene& scene, const FrameStats& stat
     if (d.instance >= scene.grooms.size()) continue;
     const GroomInstance& g = scene.grooms[d.instance];
     const std::uint64_t strands =
-        g.mesh ? static_cast<std::uint64_t>(std::max<std::int64_t>(0, g.mesh->strandCount))
+        g.mesh      ? static_cast<std::uint64_t>(std::max<std::int64_t>(0, g.mesh->strandCount))
         : g.strands ? g.strands->pointCounts.size()
                     : 0;
     if (strands == 0 || (d.drawn && d.strands > 0)) continue;

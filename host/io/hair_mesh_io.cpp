@@ -183,8 +183,7 @@ std::vector<std::uint32_t> bundleStrandCounts(const HairMesh& m) {
       inside = inside && face[c] >= 0 && static_cast<std::size_t>(face[c]) < m.positions.size();
     if (!inside) continue;
     // in float, as the areas have always been computed (the same strands per bundle)
-    const glm::vec3 &a = m.positions[face[0]], &b = m.positions[face[1]],
-                    &c = m.positions[face[2]];
+    const glm::vec3 &a = m.positions[face[0]], &b = m.positions[face[1]], &c = m.positions[face[2]];
     float s = 0.5f * glm::length(glm::cross(b - a, c - a));
     if (face[3] >= 0) s += 0.5f * glm::length(glm::cross(c - a, m.positions[face[3]] - a));
     area[f] = std::isfinite(s) ? s : 0.0;
@@ -242,8 +241,8 @@ void validateHairMesh(const HairMesh& m, const std::string& where) {
     if (std::fabs(p.x) > kMaxCoordinate || std::fabs(p.y) > kMaxCoordinate ||
         std::fabs(p.z) > kMaxCoordinate)
       fail("layer " + std::to_string(i / m.vertexCount) + " vertex " +
-           std::to_string(i % m.vertexCount) + " is at (" + showFloat(p.x) + ", " +
-           showFloat(p.y) + ", " + showFloat(p.z) + "), beyond the +-1e6 coordinates allowed");
+           std::to_string(i % m.vertexCount) + " is at (" + showFloat(p.x) + ", " + showFloat(p.y) +
+           ", " + showFloat(p.z) + "), beyond the +-1e6 coordinates allowed");
     if (!m.tangents.empty() && !(std::isfinite(m.tangents[i].x) && std::isfinite(m.tangents[i].y) &&
                                  std::isfinite(m.tangents[i].z)))
       fail("tangent of layer vertex " + std::to_string(i) + " is not finite");
@@ -297,8 +296,8 @@ HairMesh loadHairMesh(const std::string& path) {
   JsonReader r(path, root);
   HairMesh m;
   // the keys the format requires (docs/hair-mesh-format.md) must be there, not defaulted
-  for (const char* key : {"format", "version", "layer_count", "vertex_count", "faces", "uv",
-                          "layers"})
+  for (const char* key :
+       {"format", "version", "layer_count", "vertex_count", "faces", "uv", "layers"})
     r.require(key);
   std::string format = r.string("format", "");
   if (format != "clhair-hairmesh")

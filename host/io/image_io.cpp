@@ -17,7 +17,7 @@ namespace clhair {
 
 namespace {
 
-constexpr const char* kExrCompressions[] = {"none", "rle",  "zips", "zip",  "piz",
+constexpr const char* kExrCompressions[] = {"none",  "rle", "zips", "zip",  "piz",
                                             "pxr24", "b44", "b44a", "dwaa", "dwab"};
 
 bool isFloatFormat(const std::string& ext) { return ext == ".exr" || ext == ".hdr"; }

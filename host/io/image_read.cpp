@@ -85,7 +85,8 @@ Image readImage(const std::string& path) {
   if (pixels > kMaxImagePixels)
     throw Error(path + ": image size " + size + " is over the limit of " +
                 std::to_string(kMaxImagePixels) + " pixels");
-  const std::uint64_t declared = pixels * spec.nchannels * std::max<std::size_t>(1, spec.format.size());
+  const std::uint64_t declared =
+      pixels * spec.nchannels * std::max<std::size_t>(1, spec.format.size());
   if (declared > kMaxImageExpansion * bytes.size() + (1u << 20))
     throw Error(path + ": the header declares a " + size + " image of " +
                 std::to_string(declared >> 20) + " MiB in a file of " +
@@ -110,8 +111,8 @@ Image readImage(const std::string& path) {
     std::vector<float> data(static_cast<std::size_t>(band) * spec.width * nch);
     for (int y = 0; y < img.height && ok; y += band) {
       const int rows = std::min(band, img.height - y);
-      ok = in->read_scanlines(0, 0, spec.y + y, spec.y + y + rows, 0, 0, nch,
-                              OIIO::TypeDesc::FLOAT, data.data());
+      ok = in->read_scanlines(0, 0, spec.y + y, spec.y + y + rows, 0, 0, nch, OIIO::TypeDesc::FLOAT,
+                              data.data());
       if (ok) toRgba(data.data(), nch, srgb, y, rows, img);
     }
   }

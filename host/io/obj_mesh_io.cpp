@@ -18,9 +18,9 @@
 #include <string>
 
 #include "clhair/error.h"
-#include "io/regular_file.h"
 #include "clhair/triangle_mesh.h"
 #include "io/json_util.h"
+#include "io/regular_file.h"
 
 namespace clhair {
 
@@ -160,8 +160,7 @@ TriangleMesh loadTriangleMesh(const std::string& path, const MeshLimits& limits,
                 ": PLY meshes are not supported; convert it to OBJ (e.g. with Blender or MeshLab)");
   if (ext != ".obj") throw Error(label + ": expected a Wavefront .obj mesh, not \"" + ext + "\"");
   std::error_code ec;
-  if (!std::filesystem::exists(path, ec))
-    throw Error(label + ": \"" + path + "\" does not exist");
+  if (!std::filesystem::exists(path, ec)) throw Error(label + ": \"" + path + "\" does not exist");
   RegularFile file(path, "OBJ mesh");
   if (file.size() > limits.maxFileBytes)
     throw Error(label + ": the file is " + mib(file.size()) + ", more than the " +

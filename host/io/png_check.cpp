@@ -104,16 +104,16 @@ void checkPng(const std::string& bytes, const std::string& path, std::uint64_t m
       const int depth = body[8];
       colourType = body[9];
       if (width == 0 || height == 0 || width > kMaxChunk || height > kMaxChunk)
-        throw Error(where + "image size " + std::to_string(width) + "x" +
-                    std::to_string(height) + " is invalid");
+        throw Error(where + "image size " + std::to_string(width) + "x" + std::to_string(height) +
+                    " is invalid");
       static const std::array<std::pair<int, int>, 5> kChannels = {
           {{0, 1}, {2, 3}, {3, 1}, {4, 2}, {6, 4}}};
       int channels = 0;
       for (const auto& [t, n] : kChannels)
         if (t == colourType) channels = n;
       const bool depthOk =
-          (colourType == 0 && (depth == 1 || depth == 2 || depth == 4 || depth == 8 ||
-                               depth == 16)) ||
+          (colourType == 0 &&
+           (depth == 1 || depth == 2 || depth == 4 || depth == 8 || depth == 16)) ||
           (colourType == 3 && (depth == 1 || depth == 2 || depth == 4 || depth == 8)) ||
           ((colourType == 2 || colourType == 4 || colourType == 6) && (depth == 8 || depth == 16));
       if (channels == 0 || !depthOk)
@@ -124,9 +124,8 @@ void checkPng(const std::string& bytes, const std::string& path, std::uint64_t m
       bpp = static_cast<std::uint32_t>(channels * depth);
       interlaced = body[12] == 1;
       if (std::uint64_t(width) * height > maxPixels)
-        throw Error(path + ": image size " + std::to_string(width) + "x" +
-                    std::to_string(height) + " is over the limit of " +
-                    std::to_string(maxPixels) + " pixels");
+        throw Error(path + ": image size " + std::to_string(width) + "x" + std::to_string(height) +
+                    " is over the limit of " + std::to_string(maxPixels) + " pixels");
     } else if (name == "PLTE") {
       if (seenIdat) throw Error(where + "PLTE after the image data");
       if (length == 0 || length % 3 != 0 || length > 768)
@@ -165,8 +164,8 @@ void checkPng(const std::string& bytes, const std::string& path, std::uint64_t m
       z.avail_out = static_cast<uInt>(out.size());
       status = ::inflate(&z, Z_NO_FLUSH);
       if (status != Z_OK && status != Z_STREAM_END && status != Z_BUF_ERROR) {
-        fault = std::string("the image data does not inflate (") + (z.msg ? z.msg : "zlib error") +
-                ")";
+        fault =
+            std::string("the image data does not inflate (") + (z.msg ? z.msg : "zlib error") + ")";
         break;
       }
       const std::size_t got = out.size() - z.avail_out;
@@ -182,7 +181,8 @@ void checkPng(const std::string& bytes, const std::string& path, std::uint64_t m
                   std::to_string(produced + i);
           break;
         }
-        const std::uint64_t step = std::min<std::uint64_t>(got - i, plan.runs[run].second - posInRow);
+        const std::uint64_t step =
+            std::min<std::uint64_t>(got - i, plan.runs[run].second - posInRow);
         i += static_cast<std::size_t>(step);
         posInRow += step;
         if (posInRow == plan.runs[run].second) {

@@ -58,9 +58,9 @@ bool removeIfStale(const std::string& tmp) {
   struct stat opened {};
   struct stat named {};
   // a writer holds its lock from creation to rename; one we can take is a killed run's
-  if (::flock(fd, LOCK_EX | LOCK_NB) == 0 && ::fstat(fd, &opened) == 0 &&
-      S_ISREG(opened.st_mode) && ::lstat(tmp.c_str(), &named) == 0 &&
-      named.st_ino == opened.st_ino && named.st_dev == opened.st_dev)
+  if (::flock(fd, LOCK_EX | LOCK_NB) == 0 && ::fstat(fd, &opened) == 0 && S_ISREG(opened.st_mode) &&
+      ::lstat(tmp.c_str(), &named) == 0 && named.st_ino == opened.st_ino &&
+      named.st_dev == opened.st_dev)
     removed = ::unlink(tmp.c_str()) == 0;
   ::close(fd);
   return removed;
@@ -204,8 +204,7 @@ void checkOutputPath(const std::string& path) {
     throw Error(path + ": cannot write into " + folder + " (" + errnoText(errno) + ")");
   if (!S_ISDIR(st.st_mode)) throw Error(path + ": " + folder + " is not a folder");
   if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
-    throw Error(path + ": is " + fileTypeName(st.st_mode) +
-                ", not a file clhair can replace");
+    throw Error(path + ": is " + fileTypeName(st.st_mode) + ", not a file clhair can replace");
 }
 
 void writeFileAtomically(const std::string& path, const void* data, std::size_t size) {

@@ -14,8 +14,8 @@
 #include <map>
 
 #include <glm/geometric.hpp>
-#include <glm/matrix.hpp>
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/matrix.hpp>
 #include <glm/trigonometric.hpp>
 #include <glm/vector_relational.hpp>
 

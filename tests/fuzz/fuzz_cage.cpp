@@ -1,9 +1,9 @@
 // fuzz_cage.cpp — libFuzzer target for loadCageAnimation (host/io/cage_io.cpp).
 //
 // Any input must either be refused with a clhair::Error or read into a cage animation whose
-// positions are exactly frames x vertices finite points within +-kMaxCoordinate, taking exactly the bytes the file
-// has (24-byte header, 12 per point), and that writes back (saveCageAnimation) to the same
-// bytes. Anything else is a finding.
+// positions are exactly frames x vertices finite points within +-kMaxCoordinate, taking exactly the
+// bytes the file has (24-byte header, 12 per point), and that writes back (saveCageAnimation) to
+// the same bytes. Anything else is a finding.
 #include <cmath>
 #include <cstdint>
 #include <cstring>

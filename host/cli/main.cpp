@@ -121,10 +121,8 @@ std::string mib(std::uint64_t bytes) { return std::to_string(bytes >> 20) + " Mi
 
 int cmdDevices(const DeviceOptions& opts) {
   std::vector<DeviceInfo> all = Device::list();
-  if (all.empty()) {
-    std::cout << "no OpenCL devices found (install an OpenCL driver, e.g. pocl-opencl-icd)\n";
-    return 1;
-  }
+  if (all.empty())
+    throw Error("no OpenCL devices found (install an OpenCL driver, e.g. pocl-opencl-icd)");
   for (const DeviceInfo& d : all) {
     std::cout << d.platformIndex << ":" << d.deviceIndex << "  " << d.name << "\n"
               << "    platform        " << d.platformName << "\n"

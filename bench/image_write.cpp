@@ -74,12 +74,13 @@ int main(int argc, char** argv) {
     const double table =
         medianMs(runs, [&] { encodeSrgb8(frame.rgba.data(), pixels, 4, bytes.data()); });
     std::printf("| sRGB conversion | median ms |\n|---|---|\n");
-    std::printf("| formula (powf per value) | %.2f |\n| threshold table | %.2f (%.1fx faster, "
-                "%s) |\n\n",
-                formula, table, formula / table,
-                bytes == byFormula ? "byte-identical" : "DIFFERENT BYTES");
+    std::printf(
+        "| formula (powf per value) | %.2f |\n| threshold table | %.2f (%.1fx faster, "
+        "%s) |\n\n",
+        formula, table, formula / table, bytes == byFormula ? "byte-identical" : "DIFFERENT BYTES");
 
-    std::printf("| PNG zlib level | median ms | size (bytes) | size vs level 6 |\n|---|---|---|---|\n");
+    std::printf(
+        "| PNG zlib level | median ms | size (bytes) | size vs level 6 |\n|---|---|---|---|\n");
     std::vector<std::pair<double, std::uintmax_t>> png(10);
     for (int level = 0; level <= 9; ++level) {
       ImageWriteOptions o;

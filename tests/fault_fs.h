@@ -26,9 +26,7 @@
 namespace clhair::test {
 
 inline std::string faultShimPath() { return envOr("CLHAIR_FAULT_SHIM", CLHAIR_TEST_FAULT_SHIM); }
-inline std::string writeProbePath() {
-  return envOr("CLHAIR_WRITE_PROBE", CLHAIR_TEST_WRITE_PROBE);
-}
+inline std::string writeProbePath() { return envOr("CLHAIR_WRITE_PROBE", CLHAIR_TEST_WRITE_PROBE); }
 
 // The environment assignments that load the fault shim into a command (plus `settings`).
 inline std::string shimEnv(const std::string& settings) {
@@ -59,8 +57,7 @@ inline std::vector<std::string> listFolder(const std::string& dir) {
 inline std::vector<std::string> temporariesIn(const std::string& dir) {
   std::vector<std::string> out;
   for (const std::string& n : listFolder(dir))
-    if (isWriteTemporaryName(n) || n.rfind(".tmp-", 0) == 0 ||
-        n.find(".tmp-") != std::string::npos)
+    if (isWriteTemporaryName(n) || n.rfind(".tmp-", 0) == 0 || n.find(".tmp-") != std::string::npos)
       out.push_back(n);
   return out;
 }
@@ -139,9 +136,7 @@ class ReadOnlyFolder {
   ReadOnlyFolder& operator=(const ReadOnlyFolder&) = delete;
 
   bool tmpfs() const { return tmpfs_; }
-  std::string cause() const {
-    return tmpfs_ ? "read-only file system" : "permission denied";
-  }
+  std::string cause() const { return tmpfs_ ? "read-only file system" : "permission denied"; }
 
  private:
   std::string dir_;

@@ -35,10 +35,12 @@ using nlohmann::json;
 
 // The writers of clhair_write_probe and the file name each writes.
 const std::vector<std::pair<std::string, std::string>> kProbeWriters = {
-    {"png", "out.png"},         {"exr", "out.exr"},   {"jpg", "out.jpg"},
-    {"hdr", "out.hdr"},         {"tif", "out.tif"},   {"aov", "layers.exr"},
-    {"hair", "strands.hair"},   {"data", "strands.data"}, {"tfx", "strands.tfx"},
-    {"visibility", "bake.clhvis"}, {"hairmesh", "groom.json"}, {"cage", "anim.cage"},
+    {"png", "out.png"},         {"exr", "out.exr"},
+    {"jpg", "out.jpg"},         {"hdr", "out.hdr"},
+    {"tif", "out.tif"},         {"aov", "layers.exr"},
+    {"hair", "strands.hair"},   {"data", "strands.data"},
+    {"tfx", "strands.tfx"},     {"visibility", "bake.clhvis"},
+    {"hairmesh", "groom.json"}, {"cage", "anim.cage"},
     {"bytes", "raw.bin"}};
 
 std::size_t countOf(const std::string& text, const std::string& what) {
@@ -55,8 +57,8 @@ std::size_t lineCount(const std::string& text) {
 
 // A failed write: non-zero exit, one error line (and nothing else) holding the file and the
 // cause, no temporary left in `dir`.
-void expectFailedWrite(const CommandResult& r, const std::string& path,
-                       const std::string& cause, const std::string& dir) {
+void expectFailedWrite(const CommandResult& r, const std::string& path, const std::string& cause,
+                       const std::string& dir) {
   SCOPED_TRACE("output was:\n" + r.output);
   EXPECT_NE(r.exitCode, 0);
   EXPECT_EQ(countOf(r.output, "clhair: error:"), 1u);
@@ -162,8 +164,8 @@ TEST(Faults, ShortWriteAndFailingFlush) {
 TEST(Faults, WritersKilledBeforeTheirRename) {
   const std::string dir = scratchDir();
   const std::vector<std::pair<std::string, std::string>> kinds = {
-      {"png", "out.png"},      {"exr", "out.exr"},   {"jpg", "out.jpg"},
-      {"aov", "layers.exr"},   {"hair", "strands.hair"}, {"tfx", "strands.tfx"},
+      {"png", "out.png"},           {"exr", "out.exr"},       {"jpg", "out.jpg"},
+      {"aov", "layers.exr"},        {"hair", "strands.hair"}, {"tfx", "strands.tfx"},
       {"visibility", "bake.clhvis"}};
   std::string again;
   for (const auto& [kind, name] : kinds) {
@@ -207,8 +209,8 @@ TEST(Faults, CommandWritesOnAFullFileSystem) {
   // two small images for compare
   ASSERT_EQ(probe("", "png", work + "/a.png").exitCode, 0);
   ASSERT_EQ(probe("", "png", work + "/b.png").exitCode, 0);
-  FullFolder full(dir, {{"existing.png", previous("existing.png")},
-                        {"f.0001.png", previous("f.0001.png")}});
+  FullFolder full(
+      dir, {{"existing.png", previous("existing.png")}, {"f.0001.png", previous("f.0001.png")}});
   const std::string cli = full.env() + quote(cliPath()) + " ";
   const std::string groom = quote(assetPath("grooms/tiny.hairmesh.json"));
   const struct {
@@ -223,8 +225,7 @@ TEST(Faults, CommandWritesOnAFullFileSystem) {
        "map.png"},
       {"export-strands " + groom + " -o ", "x.hair"},
       {"export-strands " + groom + " -o ", "x.tfx"},
-      {"bake-visibility " + quote(scene) +
-           " --rays 1 --points-per-cell 1 --cell-stride 64 -o ",
+      {"bake-visibility " + quote(scene) + " --rays 1 --points-per-cell 1 --cell-stride 64 -o ",
        "bake.clhvis"},
   };
   for (const auto& c : cases) {
@@ -260,10 +261,11 @@ TEST(Faults, CommandWritesOnAFullFileSystem) {
 TEST(Faults, KilledFrameRangeResumesAndCleansUp) {
   const std::string dir = scratchDir();
   const std::string scene = writeScene(dir);
-  const std::string range = "render " + quote(scene) + " -q --frames 1-2 -o " +
-                            quote(dir + "/f.####.png");
+  const std::string range =
+      "render " + quote(scene) + " -q --frames 1-2 -o " + quote(dir + "/f.####.png");
   ASSERT_EQ(runCli(range).exitCode, 0);
-  const std::string frame1 = readBytes(dir + "/f.0001.png"), frame2 = readBytes(dir + "/f.0002.png");
+  const std::string frame1 = readBytes(dir + "/f.0001.png"),
+                    frame2 = readBytes(dir + "/f.0002.png");
   fs::remove(dir + "/f.0002.png");
   writeBytes(dir + "/f.0001.png", previous("f.0001.png"));
   // killed while finishing frame 1 (which already existed)
@@ -296,10 +298,10 @@ TEST(Faults, FifosAndDevicesRefusedForEveryInput) {
   // each input kind: the special file's name and how a scene (or the command line) uses it
   const struct {
     std::string kind, ext;
-  } inputs[] = {{"scene", ".json"},      {"hair-mesh", ".json"}, {"cyhair", ".hair"},
-                {"usc", ".data"},        {"tressfx", ".tfx"},    {"cage", ".cage"},
-                {"visibility", ".clhvis"}, {"obj", ".obj"},      {"background", ".png"},
-                {"environment", ".exr"}, {"compare", ".png"}};
+  } inputs[] = {{"scene", ".json"},        {"hair-mesh", ".json"}, {"cyhair", ".hair"},
+                {"usc", ".data"},          {"tressfx", ".tfx"},    {"cage", ".cage"},
+                {"visibility", ".clhvis"}, {"obj", ".obj"},        {"background", ".png"},
+                {"environment", ".exr"},   {"compare", ".png"}};
   for (const std::string special : {"fifo", "device"}) {
     for (const auto& in : inputs) {
       const std::string name = special + "_" + in.kind;

@@ -51,9 +51,8 @@ TEST(ImageIo, SrgbTableGivesTheFormulasByteForEveryFloatTested) {
   auto check = [&](float x) {
     ++checked;
     if (srgbByte(x) != srgbByteFormula(x) && ++mismatches <= 10)
-      ADD_FAILURE() << "x = " << x << " (bits " << std::hex << bitsOf(x) << std::dec
-                    << "): table " << int(srgbByte(x)) << ", formula "
-                    << int(srgbByteFormula(x));
+      ADD_FAILURE() << "x = " << x << " (bits " << std::hex << bitsOf(x) << std::dec << "): table "
+                    << int(srgbByte(x)) << ", formula " << int(srgbByteFormula(x));
   };
   for (std::uint32_t b = 0; b <= 0x3F800000u; b += 61) check(fromBits(b));
   for (int code = 1; code <= 255; ++code) {
@@ -96,8 +95,14 @@ TEST(ImageIo, SrgbTableGivesTheFormulasByteForEveryFloatTested) {
 
 TEST(ImageIo, EightBitFilesHoldTheFormulasBytes) {
   const std::string dir = scratchDir();
-  std::vector<float> values = {0.0f, 1.0f, -1.0f, 2.0f, std::numeric_limits<float>::quiet_NaN(),
-                               std::numeric_limits<float>::infinity(), 0.0031308f, 0.5f};
+  std::vector<float> values = {0.0f,
+                               1.0f,
+                               -1.0f,
+                               2.0f,
+                               std::numeric_limits<float>::quiet_NaN(),
+                               std::numeric_limits<float>::infinity(),
+                               0.0031308f,
+                               0.5f};
   for (int code = 1; code <= 255; ++code) {
     values.push_back(srgbThreshold(code));
     values.push_back(std::nextafter(srgbThreshold(code), 0.0f));
@@ -183,10 +188,10 @@ TEST(ImageIo, CompressionFlagsRefusedBeforeAnyWork) {
   const std::string dir = scratchDir();
   const std::string render =
       "render " + quote(dir + "/no_scene.json") + " -o " + quote(dir + "/x.png");
-  for (const auto& [flag, fragment] :
-       std::vector<std::pair<std::string, std::string>>{{" --png-compression 12", "--png-compression 12"},
-                                                        {" --png-compression -1", "--png-compression -1"},
-                                                        {" --exr-compression zstd", "--exr-compression"}}) {
+  for (const auto& [flag, fragment] : std::vector<std::pair<std::string, std::string>>{
+           {" --png-compression 12", "--png-compression 12"},
+           {" --png-compression -1", "--png-compression -1"},
+           {" --exr-compression zstd", "--exr-compression"}}) {
     const CommandResult r = runCli(render + flag);
     EXPECT_EQ(r.exitCode, 1) << r.output;
     EXPECT_NE(onlyErrorLine(r.output).find(fragment), std::string::npos) << r.output;

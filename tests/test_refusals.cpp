@@ -77,7 +77,8 @@ void expectRefused(const CommandResult& r, const std::vector<std::string>& fragm
 
 TEST(Refusals, EmptyFramesValue) {
   const std::string dir = scratchDir();
-  writeBytes(dir + "/scene.json", sceneWith({{"file", assetPath("grooms/tiny.hairmesh.json")}}).dump());
+  writeBytes(dir + "/scene.json",
+             sceneWith({{"file", assetPath("grooms/tiny.hairmesh.json")}}).dump());
   // `--frames "$SLURM_ARRAY_TASK_ID"` with the variable unset: every task rendered frame 1
   const CommandResult r = runCli("render " + quote(dir + "/scene.json") + " --frames '' -q -o " +
                                  quote(dir + "/f.####.png"));
@@ -88,21 +89,21 @@ TEST(Refusals, EmptyFramesValue) {
 TEST(Refusals, DegenerateGroomMatrix) {
   const std::string dir = scratchDir();
   const std::vector<std::vector<double>> degenerate = {
-      std::vector<double>(16, 0.0),                                 // zeros
-      {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1},             // flattens z
-      {1, 2, 3, 0, 2, 4, 6, 0, 0, 0, 1, 0, 0, 0, 0, 1}};            // two equal rows
+      std::vector<double>(16, 0.0),                       // zeros
+      {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1},   // flattens z
+      {1, 2, 3, 0, 2, 4, 6, 0, 0, 0, 1, 0, 0, 0, 0, 1}};  // two equal rows
   for (const auto& m : degenerate) {
-    json s = sceneWith({{"file", assetPath("grooms/tiny.hairmesh.json")},
-                        {"transform", {{"matrix", m}}}});
+    json s = sceneWith(
+        {{"file", assetPath("grooms/tiny.hairmesh.json")}, {"transform", {{"matrix", m}}}});
     writeBytes(dir + "/scene.json", s.dump());
     const std::string e = errorOf([&] { loadScene(dir + "/scene.json"); });
     EXPECT_NE(e.find("grooms[0].transform.matrix"), std::string::npos) << e;
     EXPECT_NE(e.find("degenerate"), std::string::npos) << e;
   }
   // a small but regular matrix (scale 1e-3) stays valid
-  json s = sceneWith({{"file", assetPath("grooms/tiny.hairmesh.json")},
-                      {"transform",
-                       {{"matrix", {1e-3, 0, 0, 0, 0, 1e-3, 0, 0, 0, 0, 1e-3, 0, 0, 0, 0, 1}}}}});
+  json s = sceneWith(
+      {{"file", assetPath("grooms/tiny.hairmesh.json")},
+       {"transform", {{"matrix", {1e-3, 0, 0, 0, 0, 1e-3, 0, 0, 0, 0, 1e-3, 0, 0, 0, 0, 1}}}}});
   writeBytes(dir + "/scene.json", s.dump());
   EXPECT_EQ(errorOf([&] { loadScene(dir + "/scene.json"); }), "");
 }
@@ -159,14 +160,15 @@ TEST(Refusals, UnknownOutputExtensionsBeforeAnyWork) {
   expectRefused(runCli("compare " + quote(dir + "/a.png") + " " + quote(dir + "/b.png") +
                        " --error-map " + quote(dir + "/map.xyz")),
                 {"map.xyz", "\".xyz\""});
-  expectRefused(runCli("export-strands " + quote(assetPath("grooms/tiny.hairmesh.json")) +
-                       " -o " + quote(dir + "/x.xyz")),
+  expectRefused(runCli("export-strands " + quote(assetPath("grooms/tiny.hairmesh.json")) + " -o " +
+                       quote(dir + "/x.xyz")),
                 {"x.xyz", "\".xyz\"", ".hair", ".tfx"}, dir + "/x.xyz");
   // a missing folder: refused once the scene is read (its views name the outputs), unrendered
-  writeBytes(dir + "/scene.json", sceneWith({{"file", assetPath("grooms/tiny.hairmesh.json")}}).dump());
-  expectRefused(runCli("render " + quote(dir + "/scene.json") + " -o " +
-                       quote(dir + "/no_folder/x.png")),
-                {"no_folder", "no such file or directory"});
+  writeBytes(dir + "/scene.json",
+             sceneWith({{"file", assetPath("grooms/tiny.hairmesh.json")}}).dump());
+  expectRefused(
+      runCli("render " + quote(dir + "/scene.json") + " -o " + quote(dir + "/no_folder/x.png")),
+      {"no_folder", "no such file or directory"});
 }
 
 TEST(Refusals, UnknownSubcommandIsNamed) {
@@ -218,9 +220,9 @@ TEST(Limits, BundleStrandsCheckedWhenTheFileIsRead) {
   EXPECT_LE(most, kMaxBundleStrands);
   EXPECT_GT(most, kMaxBundleStrands - 8u) << "the offered count is not the largest that fits";
   // the scene's per-instance override is checked the same way, naming the entry
-  writeBytes(dir + "/scene.json",
-             sceneWith({{"file", assetPath("grooms/tiny.hairmesh.json")}, {"strands", 5000000}})
-                 .dump());
+  writeBytes(
+      dir + "/scene.json",
+      sceneWith({{"file", assetPath("grooms/tiny.hairmesh.json")}, {"strands", 5000000}}).dump());
   const std::string o = errorOf([&] { loadScene(dir + "/scene.json"); });
   EXPECT_NE(o.find("grooms[0]"), std::string::npos) << o;
   EXPECT_NE(o.find("at most 65536"), std::string::npos) << o;
@@ -260,7 +262,8 @@ TEST(Limits, HdrIsWrittenAsRgb) {
     EXPECT_NEAR(back.rgba[i], img.rgba[i], largest / 64.0f) << i;
   }
   // the command too, before the render's output is thrown away
-  writeBytes(dir + "/scene.json", sceneWith({{"file", assetPath("grooms/tiny.hairmesh.json")}}).dump());
+  writeBytes(dir + "/scene.json",
+             sceneWith({{"file", assetPath("grooms/tiny.hairmesh.json")}}).dump());
   const CommandResult r =
       runCli("render " + quote(dir + "/scene.json") + " -q -o " + quote(dir + "/frame.hdr"));
   EXPECT_EQ(r.exitCode, 0) << r.output;
@@ -373,13 +376,13 @@ std::string detailsOf(const std::string& line) {
 TEST(OneLine, DeviceSelection) {
   const std::string dir = scratchDir();
   const std::string devices = runCli("devices").output;
-  const std::string firstName = devices.substr(devices.find("  ") + 2,
-                                               devices.find('\n') - devices.find("  ") - 2);
+  const std::string firstName =
+      devices.substr(devices.find("  ") + 2, devices.find('\n') - devices.find("  ") - 2);
   for (const std::string sel : {"9:9", "0:9", "no-such-device-name", "-1:0"}) {
     SCOPED_TRACE(sel);
-    const CommandResult r = runCli("--device " + quote(sel) + " render " +
-                                   quote(assetPath("scenes/default.json")) + " -o " +
-                                   quote(dir + "/x.png"));
+    const CommandResult r =
+        runCli("--device " + quote(sel) + " render " + quote(assetPath("scenes/default.json")) +
+               " -o " + quote(dir + "/x.png"));
     expectRefused(r, {"\"" + sel + "\"", "clhair devices"}, dir + "/x.png");
     const std::string details = detailsOf(onlyErrorLine(r.output));
     EXPECT_NE(details.find(firstName), std::string::npos)
@@ -387,9 +390,9 @@ TEST(OneLine, DeviceSelection) {
         << details;
   }
   // --verbose: the list follows the line instead
-  const CommandResult w = runCli("--verbose --device 9:9 render " +
-                                 quote(assetPath("scenes/default.json")) + " -o " +
-                                 quote(dir + "/x.png"));
+  const CommandResult w =
+      runCli("--verbose --device 9:9 render " + quote(assetPath("scenes/default.json")) + " -o " +
+             quote(dir + "/x.png"));
   EXPECT_EQ(w.exitCode, 1);
   EXPECT_EQ(w.output.rfind("clhair: error:", 0), 0u) << w.output;
   EXPECT_NE(w.output.find(firstName), std::string::npos) << w.output;
@@ -405,11 +408,12 @@ TEST(OneLine, KernelBuildFailure) {
     std::ofstream shade(dir + "/tree/kernels/shade.cl", std::ios::app);
     shade << "\nthis is not OpenCL C;\n";
   }
-  writeBytes(dir + "/scene.json", sceneWith({{"file", assetPath("grooms/tiny.hairmesh.json")}}).dump());
+  writeBytes(dir + "/scene.json",
+             sceneWith({{"file", assetPath("grooms/tiny.hairmesh.json")}}).dump());
   const CommandResult r =
       runCommand("env CLHAIR_CACHE_DIR=" + quote(dir + "/cache") + " " + quote(cliPath()) +
-                 " --kernel-dir " + quote(dir + "/tree") + " render " +
-                 quote(dir + "/scene.json") + " -q -o " + quote(dir + "/x.png"));
+                 " --kernel-dir " + quote(dir + "/tree") + " render " + quote(dir + "/scene.json") +
+                 " -q -o " + quote(dir + "/x.png"));
   expectRefused(r, {"shade.cl", "CL_BUILD_PROGRAM_FAILURE", "details in"}, dir + "/x.png");
   const std::string details = detailsOf(onlyErrorLine(r.output));
   EXPECT_NE(details.find("--- build log ---"), std::string::npos) << details;

@@ -67,7 +67,8 @@ void write(const std::string& kind, const std::string& path) {
     std::vector<ImageChannel> channels;
     for (int c = 0; c < 4; ++c) {
       ImageChannel ch{std::string(1, "RGBA"[c]), {}, true};
-      for (std::size_t p = 0; p < img.rgba.size() / 4; ++p) ch.values.push_back(img.rgba[p * 4 + c]);
+      for (std::size_t p = 0; p < img.rgba.size() / 4; ++p)
+        ch.values.push_back(img.rgba[p * 4 + c]);
       channels.push_back(ch);
     }
     channels.push_back({"Z", std::vector<float>(img.rgba.size() / 4, 2.0f), false});

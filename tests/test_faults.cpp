@@ -41,7 +41,7 @@ const std::vector<std::pair<std::string, std::string>> kProbeWriters = {
     {"hair", "strands.hair"},   {"data", "strands.data"},
     {"tfx", "strands.tfx"},     {"visibility", "bake.clhvis"},
     {"hairmesh", "groom.json"}, {"cage", "anim.cage"},
-    {"bytes", "raw.bin"}};
+    {"ply", "strands.ply"},     {"bytes", "raw.bin"}};
 
 std::size_t countOf(const std::string& text, const std::string& what) {
   std::size_t n = 0;
@@ -301,7 +301,8 @@ TEST(Faults, FifosAndDevicesRefusedForEveryInput) {
   } inputs[] = {{"scene", ".json"},        {"hair-mesh", ".json"}, {"cyhair", ".hair"},
                 {"usc", ".data"},          {"tressfx", ".tfx"},    {"cage", ".cage"},
                 {"visibility", ".clhvis"}, {"obj", ".obj"},        {"background", ".png"},
-                {"environment", ".exr"},   {"compare", ".png"}};
+                {"environment", ".exr"},   {"compare", ".png"},    {"ply", ".ply"},
+                {"ct2hair", ".bin"}};
   for (const std::string special : {"fifo", "device"}) {
     for (const auto& in : inputs) {
       const std::string name = special + "_" + in.kind;
@@ -318,7 +319,8 @@ TEST(Faults, FifosAndDevicesRefusedForEveryInput) {
         args = "compare " + quote(file) + " " + quote(dir + "/good.png");
       } else {
         if (in.kind == "hair-mesh") s["grooms"][0]["file"] = file;
-        if (in.kind == "cyhair" || in.kind == "usc" || in.kind == "tressfx")
+        if (in.kind == "cyhair" || in.kind == "usc" || in.kind == "tressfx" || in.kind == "ply" ||
+            in.kind == "ct2hair")
           s["grooms"][0] = {{"strands_file", file}};
         if (in.kind == "cage") s["grooms"][0]["cage_animation"] = {{"file", file}};
         if (in.kind == "visibility") s["grooms"][0]["visibility"] = {{"file", file}};

@@ -26,6 +26,7 @@
 #include "clhair/aov.h"
 #include "clhair/image.h"
 #include "fault_fs.h"
+#include "io/image_file.h"
 #include "io/srgb_encode.h"
 #include "test_util.h"
 
@@ -245,6 +246,56 @@ TEST(ImageIo, ConcurrentWritersOnDifferentPaths) {
     }
   }
   EXPECT_TRUE(temporariesIn(dir).empty());
+}
+
+// Several threads writing the same file at once: each write is whole, the last rename wins,
+// and no temporary is left (each writer holds its own temporary slot).
+TEST(ImageIo, ConcurrentWritersOnOnePath) {
+  const std::string dir = scratchDir();
+  const std::string path = dir + "/same.png";
+  constexpr int kThreads = 6;
+  std::vector<std::string> errors(kThreads);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t)
+    threads.emplace_back([&, t] {
+      try {
+        for (int k = 0; k < 4; ++k) writeImage(noise(64, 48, 200 + t), path);
+      } catch (const Error& e) {
+        errors[t] = e.what();
+      }
+    });
+  for (std::thread& t : threads) t.join();
+  for (int t = 0; t < kThreads; ++t) EXPECT_EQ(errors[t], "") << t;
+  const Image got = readImage(path);
+  int matches = 0;
+  for (int t = 0; t < kThreads; ++t) {
+    const Image want = noise(64, 48, 200 + t);
+    bool same = got.rgba.size() == want.rgba.size();
+    for (std::size_t i = 0; same && i < want.rgba.size(); ++i)
+      same = std::fabs(got.rgba[i] - want.rgba[i]) < 0.01f;
+    matches += same ? 1 : 0;
+  }
+  EXPECT_EQ(matches, 1);  // one whole image of one writer, not a mix
+  EXPECT_TRUE(temporariesIn(dir).empty());
+}
+
+// The table of formats checked before any work (io/image_file.h) names only formats this
+// build's OpenImageIO encodes into memory, with the alpha channel the table says.
+TEST(ImageIo, FormatTableMatchesTheCodecs) {
+  const std::vector<std::string> exts = imageFormatExtensions();
+  ASSERT_GE(exts.size(), 5u);
+  for (const std::string& ext : exts) {
+    SCOPED_TRACE(ext);
+    auto out = OIIO::ImageOutput::create(ext.substr(1));
+    OIIO::geterror();
+    ASSERT_TRUE(out != nullptr);
+    EXPECT_TRUE(out->supports("ioproxy"));
+    EXPECT_EQ(imageFormatHasAlpha("x" + ext), out->supports("alpha") != 0);
+    EXPECT_TRUE(imageFormatWritable("dir/x" + ext));
+  }
+  EXPECT_FALSE(imageFormatWritable("x.xyz"));
+  EXPECT_FALSE(imageFormatWritable("x.gif"));
+  EXPECT_FALSE(imageFormatWritable("noextension"));
 }
 
 TEST(ImageIo, ReadingRefusesSpecialFilesAndDamage) {

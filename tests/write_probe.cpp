@@ -6,7 +6,8 @@
 //   clhair_write_probe KIND PATH [KIND PATH ...]
 //
 // KIND: png, exr, jpg, hdr, tif (writeImage of a 40x30 gradient), aov (writeChannels), hair
-// (writeCyHair), data (writeUscHair), tfx (writeTressFx), visibility (writeVisibility),
+// (writeCyHair), data (writeUscHair), tfx (writeTressFx), ply (writePlyStrands), visibility
+// (writeVisibility),
 // hairmesh (saveHairMesh of the tiny preset), cage (saveCageAnimation), bytes
 // (writeFileAtomically of 64 KiB). The files are written in order, each independently; every
 // failed one prints one line "clhair: error: ..." (as the command does). Exit code 0 when all
@@ -25,6 +26,7 @@
 #include "clhair/visibility_sh.h"
 #include "groom/presets.h"
 #include "io/cyhair.h"
+#include "io/ply_strands.h"
 #include "io/safe_write.h"
 #include "io/tressfx.h"
 #include "io/usc_hair.h"
@@ -81,6 +83,8 @@ void write(const std::string& kind, const std::string& path) {
     TressFxHair t;
     t.hair = strands(8);
     writeTressFx(t, path);
+  } else if (kind == "ply") {
+    writePlyStrands(strands(8), path);
   } else if (kind == "visibility") {
     VisibilityBake b;
     b.strands = 50;

@@ -78,8 +78,10 @@ void FrameLod::enqueue(const std::vector<GroomDraw>& draws, const std::vector<ch
     layout_[k].active = static_cast<gpu::clh_u32>(active[k]);
     layout_[k].far = far[k] ? 1u : 0u;
   }
+  const cl_mem before = table_();
   ensureCapacity<gpu::ClhBudgetDraw>(dev_, table_, tableCap_, "groom draw table", D);
-  upload(dev_, table_, layout_.data(), D);
+  if (table_() != before) tableSent_.clear();
+  uploadChanged(dev_, table_, tableSent_, layout_.data(), D);
   const std::size_t words = CLH_BUDGET_HEADER + 4 * D;
   ensureCapacity<cl_uint>(dev_, state_, stateCap_, "segment budget state", words);
   const auto d32 = static_cast<cl_uint>(D);
@@ -101,15 +103,23 @@ void FrameLod::enqueue(const std::vector<GroomDraw>& draws, const std::vector<ch
   dispatch(dev_, apply_, "lod", cl::NDRange(D * LodStage::kScanWorkGroup), wg, profiler);
 }
 
+std::size_t FrameLod::stateWords(std::size_t draws) {
+  return draws == 0 ? 0 : CLH_BUDGET_HEADER + 4 * draws;
+}
+
 FrameLod::Result FrameLod::read(std::size_t draws) {
-  Result r;
-  if (draws == 0) return r;
-  std::vector<cl_uint> s(CLH_BUDGET_HEADER + 4 * draws);
+  std::vector<std::uint32_t> s(stateWords(draws));
   readBack(dev_, "the segment budget's outcome", state_, s.data(), s.size());
+  return decode(s, draws);
+}
+
+FrameLod::Result FrameLod::decode(const std::vector<std::uint32_t>& s, std::size_t draws) {
+  Result r;
+  if (draws == 0 || s.size() < stateWords(draws)) return r;
   std::memcpy(&r.scale, &s[0], 4);
   r.over = s[1] != 0;
   r.lodSegments = std::uint64_t(s[3]) | (std::uint64_t(s[4]) << 32);
-  r.draw.assign(s.begin() + CLH_BUDGET_HEADER, s.end());
+  r.draw.assign(s.begin() + CLH_BUDGET_HEADER, s.begin() + stateWords(draws));
   return r;
 }
 

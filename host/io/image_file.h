@@ -5,6 +5,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <OpenImageIO/imageio.h>
 
@@ -17,9 +18,13 @@ namespace clhair {
 void writeImageFile(const std::string& path, OIIO::ImageSpec spec, OIIO::TypeDesc format,
                     const void* pixels, const ImageWriteOptions& options);
 
-// Whether the path's extension has a writer that can encode into memory, and whether that
-// format stores an alpha channel.
+// Whether the path's extension is one of the formats written (a fixed table, ".png", ".exr",
+// ...), and whether that format stores an alpha channel; the table's extensions.
 bool imageFormatWritable(const std::string& path);
 bool imageFormatHasAlpha(const std::string& path);
+std::vector<std::string> imageFormatExtensions();
+
+// readImage's work (io/image_read.cpp); readImage (io/image_io.cpp) calls it.
+Image readImageFile(const std::string& path);
 
 }  // namespace clhair

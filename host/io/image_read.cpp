@@ -1,4 +1,4 @@
-// image_read.cpp — reading an image as linear RGBA (see clhair/image.h).
+// image_read.cpp — reading an image as linear RGBA (clhair/image.h, readImage; io/image_file.h).
 //
 // The file is opened as a regular file (io/regular_file.h: FIFOs, devices and folders refused
 // unopened), read into memory and decoded from there through OpenImageIO's IOProxy, so what
@@ -16,6 +16,7 @@
 
 #include "clhair/error.h"
 #include "clhair/image.h"
+#include "io/image_file.h"
 #include "io/png_check.h"
 #include "io/regular_file.h"
 
@@ -57,7 +58,7 @@ void toRgba(const float* src, int nch, bool srgb, int y0, int rows, Image& img) 
 
 }  // namespace
 
-Image readImage(const std::string& path) {
+Image readImageFile(const std::string& path) {
   RegularFile file(path, "image");
   const std::string bytes = file.readAll(kMaxImageFileBytes);
   if (looksLikePng(bytes)) checkPng(bytes, path, kMaxImagePixels);

@@ -41,7 +41,10 @@ void checkImageWriteOptions(const ImageWriteOptions& options);
 void checkImageFormat(const std::string& path);
 void checkImageOutput(const std::string& path);
 
-void writeImage(const Image& image, const std::string& path, const ImageWriteOptions& options = {});
+// Writes `image` to `path` (the format from its extension). The two-argument form uses the
+// default options; it is the one a build without OpenImageIO replaces (host/io/image_io.cpp).
+void writeImage(const Image& image, const std::string& path);
+void writeImage(const Image& image, const std::string& path, const ImageWriteOptions& options);
 
 // The largest image readImage accepts, in pixels (16384 x 16384), and the most pixel bytes it
 // believes per byte of file: a header that declares more than kMaxImageExpansion times the

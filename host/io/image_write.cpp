@@ -26,10 +26,10 @@ struct ImageFormat {
   const char* extension;
   bool alpha;  // whether the format stores an alpha channel (else RGB is written)
 };
-constexpr ImageFormat kImageFormats[] = {
-    {".png", true},  {".exr", true},  {".tif", true},  {".tiff", true}, {".tga", true},
-    {".bmp", true},  {".webp", true}, {".jpg", false}, {".jpeg", false}, {".hdr", false},
-    {".ppm", false}, {".pnm", false}};
+constexpr ImageFormat kImageFormats[] = {{".png", true},  {".exr", true},  {".tif", true},
+                                         {".tiff", true}, {".tga", true},  {".bmp", true},
+                                         {".webp", true}, {".jpg", false}, {".jpeg", false},
+                                         {".hdr", false}, {".ppm", false}, {".pnm", false}};
 
 const ImageFormat* imageFormat(const std::string& path) {
   const std::string ext = lowerExtension(path);

@@ -39,6 +39,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cl/cl_error.h"
+#include "cl/stderr_capture.h"
 #include "clhair/aov.h"
 #include "clhair/device.h"
 #include "clhair/error.h"
@@ -54,8 +55,10 @@
 #include "groom/visibility_bake.h"
 #include "io/binary_file.h"
 #include "io/cyhair.h"
+#include "io/draw_warnings.h"
 #include "io/json_util.h"
 #include "io/ply_strands.h"
+#include "io/safe_write.h"
 #include "io/tressfx.h"
 #include "io/usc_hair.h"
 #include "metrics/image_metrics.h"
@@ -72,14 +75,62 @@ std::string oneLine(std::string text) {
   return text;
 }
 
+// Prints the one error line. A message's lines after the first, and `details` (a device list,
+// a build log), follow it with --verbose; otherwise they go to a log file in $TMPDIR (or /tmp)
+// that the line names, or, when that cannot be written, the line says to use --verbose.
+void reportError(const std::string& message, std::string details, bool verbose) {
+  const std::size_t nl = message.find('\n');
+  std::string line = message.substr(0, nl);
+  if (nl != std::string::npos)
+    details = message.substr(nl + 1) + (details.empty() ? "" : "\n") + details;
+  while (!details.empty() && (details.back() == '\n' || details.back() == ' ')) details.pop_back();
+  if (details.empty()) {
+    std::fprintf(stderr, "clhair: error: %s\n", oneLine(line).c_str());
+    return;
+  }
+  if (verbose) {
+    std::fprintf(stderr, "clhair: error: %s\n%s\n", oneLine(line).c_str(), details.c_str());
+    return;
+  }
+  const char* tmp = std::getenv("TMPDIR");
+  const std::string log = std::string(tmp && *tmp ? tmp : "/tmp") + "/clhair-error-" +
+                          std::to_string(::getpid()) + ".log";
+  std::string where;
+  try {
+    writeFileAtomically(log, "clhair: error: " + line + "\n" + details + "\n");
+    where = "details in " + log;
+  } catch (const Error&) {
+    where = "details with --verbose";
+  }
+  std::fprintf(stderr, "clhair: error: %s (%s)\n", oneLine(line).c_str(), where.c_str());
+}
+
+// The first word of the command line where a subcommand belongs, when it names none ("rendr"):
+// "unknown subcommand ..." for the error line; "" otherwise.
+std::string unknownSubcommand(const CLI::App& app, int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--device" || a == "--subgroup" || a == "--kernel-dir") {
+      ++i;  // the option's value
+      continue;
+    }
+    if (!a.empty() && a[0] == '-') continue;
+    std::string known;
+    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+      if (sub->get_name() == a) return {};
+      known += (known.empty() ? "" : ", ") + sub->get_name();
+    }
+    return "unknown subcommand \"" + a + "\"; expected one of: " + known;
+  }
+  return {};
+}
+
 std::string mib(std::uint64_t bytes) { return std::to_string(bytes >> 20) + " MiB"; }
 
 int cmdDevices(const DeviceOptions& opts) {
   std::vector<DeviceInfo> all = Device::list();
-  if (all.empty()) {
-    std::cout << "no OpenCL devices found (install an OpenCL driver, e.g. pocl-opencl-icd)\n";
-    return 1;
-  }
+  if (all.empty())
+    throw Error("no OpenCL devices found (install an OpenCL driver, e.g. pocl-opencl-icd)");
   for (const DeviceInfo& d : all) {
     std::cout << d.platformIndex << ":" << d.deviceIndex << "  " << d.name << "\n"
               << "    platform        " << d.platformName << "\n"
@@ -121,7 +172,8 @@ struct RenderFlags {
   bool widthGiven = false, heightGiven = false;
   std::string camera, lod, dispatch = "auto", ao = "on", visibility = "on", lodBsdf = "single";
   bool quiet = false;
-  std::string frames;  // "N", "A-B" or "A-B:STEP"; empty: frame 1
+  std::string frames;        // "N", "A-B" or "A-B:STEP"
+  bool framesGiven = false;  // --frames given (even empty, which is refused); else frame 1
   bool skipExisting = false;
   std::string aov;                 // --aov list; empty: the beauty alone through writeImage
   std::string views;               // --views: "all" or names; empty: all of the scene's "cameras"
@@ -133,6 +185,7 @@ struct RenderFlags {
   int framesInFlight = 2;          // --frames-in-flight (Renderer::setFramesInFlight)
   int encodeThreads = 0;           // --encode-threads (WriteQueue; 0: automatic)
   bool passes = false;             // --passes: print the first frame's graph
+  ImageWriteOptions write;         // --png-compression, --exr-compression
 };
 
 // The --temporal value: frames of history, a whole number 0 (off) .. kMaxTemporalHistory.
@@ -239,6 +292,8 @@ std::string viewPath(const std::string& pattern, const std::string& name, bool s
 std::vector<long long> parseFrames(const std::string& spec) {
   const std::string hint =
       "--frames \"" + spec + "\": expected N, FIRST-LAST or FIRST-LAST:STEP (e.g. 1-240:2)";
+  if (spec.empty())  // `--frames "$SLURM_ARRAY_TASK_ID"` with the variable unset
+    throw Error(hint + "; the value is empty (an unset variable?)");
   constexpr long long kMaxFrame = 99999999;
   auto number = [&](const std::string& t) {
     if (t.empty() || t.size() > 8 ||
@@ -262,6 +317,29 @@ std::vector<long long> parseFrames(const std::string& spec) {
   for (long long k = 0; k < count; ++k)
     out.push_back(first <= last ? first + k * step : first - k * step);
   return out;
+}
+
+// --png-compression and --exr-compression, refused before any work with the flag named.
+void checkWriteFlags(const ImageWriteOptions& w) {
+  if (w.pngCompression < 0 || w.pngCompression > 9)
+    throw Error("--png-compression " + std::to_string(w.pngCompression) +
+                " is outside 0..9 (zlib levels: 0 none, 1 fast, the default; 9 smallest)");
+  try {
+    checkImageWriteOptions(w);
+  } catch (const Error& e) {
+    throw Error(std::string("--exr-compression: ") + e.what());
+  }
+}
+
+// A frame's image with the --png-compression / --exr-compression options. Without them, the
+// two-argument writeImage: the form ../shared/gpu/bundle.sh replaces by its PPM writer on
+// machines without OpenImageIO (scripts/gpu-check.sh).
+void writeFrameImage(const Image& image, const std::string& path, const ImageWriteOptions& w) {
+  const ImageWriteOptions defaults;
+  if (w.pngCompression == defaults.pngCompression && w.exrCompression == defaults.exrCompression)
+    writeImage(image, path);
+  else
+    writeImage(image, path, w);
 }
 
 std::string seconds(double s) {
@@ -307,7 +385,7 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
   const std::string& lod = f.lod;
   const bool quiet = f.quiet;
   const std::vector<long long> frames =
-      f.frames.empty() ? std::vector<long long>{1} : parseFrames(f.frames);
+      f.framesGiven ? parseFrames(f.frames) : std::vector<long long>{1};
   if (frames.size() > 1 && framePath(out, 0) == out)
     throw Error("-o \"" + out + "\" has no '#' for the frame number, but --frames \"" + f.frames +
                 "\" names " + std::to_string(frames.size()) +
@@ -337,6 +415,8 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
                 std::to_string(f.encodeThreads));
   if (!f.views.empty() && f.views != "all" && f.views.find_first_of("/\\") != std::string::npos)
     throw Error("--views \"" + f.views + "\": expected all or view names");
+  checkWriteFlags(f.write);
+  checkImageFormat(out);  // -o x.xyz: refused before any work (folders: once the views are known)
   // the device first: strand files are checked against its largest allocation as they load
   Device dev = Device::open(opts);
   Scene scene = loadScene(scenePath, dev.info().maxAlloc);
@@ -350,6 +430,7 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
                 " (choose one with --views NAME)");
   if (several && f.reference)
     throw Error("--reference renders one view; choose one with --views NAME");
+  for (const View& v : views) checkOutputPath(framePath(viewPath(out, v.name, several), frames[0]));
   if (f.widthGiven || f.heightGiven) {
     int w = f.widthGiven ? width : scene.width, h = f.heightGiven ? height : scene.height;
     if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
@@ -457,18 +538,22 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
       for (std::size_t v = 0; v < views.size(); ++v) {
         auto image = std::make_shared<Image>(std::move(shots[v].color));
         const std::string vp = framePath(viewPath(out, views[v].name, true), q.number);
-        writer.submit([image, vp] { writeImage(*image, vp); });
+        writer.submit([image, vp, w = f.write] { writeFrameImage(*image, vp, w); });
       }
     } else if (aovs.empty()) {
       auto image = std::make_shared<Image>(std::move(shots[0].color));
-      writer.submit([image, path] { writeImage(*image, path); });
+      writer.submit([image, path, w = f.write] { writeFrameImage(*image, path, w); });
     } else {
       auto channels = std::make_shared<std::vector<ImageChannel>>(aovChannels(shots[0], aovs));
-      writer.submit(
-          [channels, path, w = q.width, h = q.height] { writeChannels(*channels, w, h, path); });
+      writer.submit([channels, path, w = q.width, h = q.height, o = f.write] {
+        writeChannels(*channels, w, h, path, o);
+      });
     }
-    ++rendered;
     const Frame& frame = shots[0];
+    if (rendered == 0 && !several && !f.reference)  // a groom that vanished says why
+      for (const std::string& w : drawWarnings(stillAt(q.number), frame.stats, scenePath))
+        std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
+    ++rendered;
     if (!frame.passes.empty()) std::printf("%s", frame.passes.c_str());
     if (f.stats && !several) {
       if (sequence) std::printf("frame %lld:\n", q.number);
@@ -523,6 +608,9 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
       allExist = allExist &&
                  std::filesystem::exists(framePath(viewPath(out, v.name, several), number), ec);
     if (allExist) {
+      // a killed run may have left its unfinished temporaries of these frames
+      for (const View& v : views)
+        removeStaleTemporaries(framePath(viewPath(out, v.name, several), number));
       ++skipped;
       if (!quiet && sequence)
         std::fprintf(stderr, "clhair: frame %lld (%zu/%zu): %s exists, skipped\n", number, i + 1,
@@ -630,6 +718,8 @@ int cmdBakeVisibility(const DeviceOptions& opts, const std::string& scenePath,
     throw Error("--cell-stride must be 1 or more, not " + std::to_string(f.cellStride));
   if (!f.transmittanceOut.empty() && f.directions != "per-point")
     throw Error("--transmittance-out traces per-point directions, not --directions per-cell");
+  checkOutputPath(out);
+  if (!f.transmittanceOut.empty()) checkOutputPath(f.transmittanceOut);
   VisibilityBakeStats st;
   BakePhaseTimer timer(&st);
   const Scene scene = loadScene(scenePath);
@@ -694,6 +784,7 @@ int cmdBakeVisibility(const DeviceOptions& opts, const std::string& scenePath,
 }
 
 int cmdGroom(const std::string& preset, const std::string& out, long long strands) {
+  checkOutputPath(out);
   HairMesh m = makeGroomPreset(preset);
   if (strands >= 0) m.strandCount = strands;
   saveHairMesh(m, out);
@@ -704,6 +795,7 @@ int cmdGroom(const std::string& preset, const std::string& out, long long strand
 }
 
 int cmdBakeAo(const DeviceOptions& opts, const std::string& groomPath, const std::string& out) {
+  checkOutputPath(out);
   HairMesh mesh = loadHairMesh(groomPath);
   Device dev = Device::open(opts);
   Renderer renderer(dev);
@@ -780,10 +872,16 @@ CyHair exportSource(Renderer& renderer, std::uint64_t maxAlloc, const std::strin
 
 int cmdExport(const DeviceOptions& opts, const std::string& groomPath, const std::string& out,
               int groom) {
+  const std::string ext = lowerExtension(out);
+  if (ext != ".hair" && ext != ".data" && ext != ".tfx" && ext != ".ply")
+    throw Error(out + ": " +
+                (ext.empty() ? std::string("has no extension to choose a strand format by")
+                             : "no strand-file writer for extension \"" + ext + "\"") +
+                " (use .hair: cyHair, .data: USC-HairSalon, .tfx: TressFX 4.0, .ply: PLY)");
+  checkOutputPath(out);
   Device dev = Device::open(opts);
   Renderer renderer(dev);
   CyHair h = exportSource(renderer, dev.info().maxAlloc, groomPath, groom);
-  const std::string ext = lowerExtension(out);
   if (ext == ".tfx") {
     // TressFX needs one point count for all strands, and AMD's runtime a power of two in
     // 4..64: resample along the arc length (points only, like USC-HairSalon).
@@ -823,6 +921,7 @@ int cmdCompare(const std::string& pathA, const std::string& pathB, const Compare
   if (!(f.ppd >= kFlipMinPpd && f.ppd <= kFlipMaxPpd))
     throw Error("--ppd " + shortNumber(f.ppd) + " is outside " + shortNumber(kFlipMinPpd) + ".." +
                 shortNumber(kFlipMaxPpd) + " (FLIP's default viewing setup is 67)");
+  if (!f.errorMap.empty()) checkImageOutput(f.errorMap);  // before the work
   Image a = readImage(pathA);
   Image b = readImage(pathB);
   requireSameSize(a, b, pathA, pathB);
@@ -959,6 +1058,10 @@ int main(int argc, char** argv) {
       "force a sub-group backend: single, local, khr, intel, nvptx, amd (env CLHAIR_SUBGROUP)");
   app.add_option("--kernel-dir", opts.kernelDir,
                  "read kernels from this source tree (env CLHAIR_KERNEL_DIR)");
+  bool verbose = false;
+  app.add_flag("--verbose", verbose,
+               "on an error, print its details (the device list, a build log) after its line "
+               "instead of writing them to a log file the line names");
 
   auto* devices = app.add_subcommand("devices", "list OpenCL devices and their capabilities");
 
@@ -1028,6 +1131,12 @@ int main(int argc, char** argv) {
                      "run each groom's G-buffer clear, hair linking, Huang's filter and its "
                      "compositing over the groom's screen box: on (default) or off (the whole "
                      "frame; the same image, for timing)");
+  render->add_option("--png-compression", rf.write.pngCompression,
+                     "zlib level of PNG files: 0 (none) .. 9 (smallest); default 1, fast "
+                     "(bench/README.md, \"Image writing\")");
+  render->add_option("--exr-compression", rf.write.exrCompression,
+                     "OpenEXR compression: none, rle, zips, zip (default), piz, pxr24, b44, b44a, "
+                     "dwaa, dwab (the last four lossy)");
   render->add_option("--raster", rf.raster,
                      "strand raster: lines (default: centre samples, Lipp) or coverage "
                      "(trapezoids with analytic coverage, three layers and a coverage layer; "
@@ -1113,31 +1222,41 @@ int main(int argc, char** argv) {
     // --help is the one "error" that succeeds; every other parse failure is reported like
     // any other error: one line, exit 1 (not CLI11's own codes and two-line message).
     if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);
-    std::fprintf(stderr, "clhair: error: %s (see clhair --help)\n", oneLine(e.what()).c_str());
+    const std::string unknown = unknownSubcommand(app, argc, argv);
+    std::fprintf(stderr, "clhair: error: %s (see clhair --help)\n",
+                 unknown.empty() ? oneLine(e.what()).c_str() : unknown.c_str());
     return 1;
   }
+  rf.framesGiven = render->count("--frames") > 0;
   rf.widthGiven = render->count("--width") > 0;
   rf.reference = render->count("--reference") > 0;
   rf.heightGiven = render->count("--height") > 0;
+  captureDriverOutput(true);  // a compiler's own lines go into an error's details
   try {
     DeviceOptions resolved = DeviceOptions::fromEnvironment(opts);
     if (*devices) return cmdDevices(resolved);
     if (*render) return cmdRender(resolved, scenePath, out, rf);
-    if (*groom) return cmdGroom(preset, groomOut, strands);
+    if (*groom) {
+      if (groom->count("--strands") > 0 && strands < 0)
+        throw Error("--strands " + std::to_string(strands) +
+                    " is negative; expected a strand count 0..50000000");
+      return cmdGroom(preset, groomOut, strands);
+    }
     if (*exportCmd) return cmdExport(resolved, groomPath, hairOut, exportGroom);
     if (*bakeCmd) return cmdBakeAo(resolved, bakeIn, bakeOut);
     if (*visCmd) return cmdBakeVisibility(resolved, visScene, visOut, vf);
     if (*compare) return cmdCompare(compareA, compareB, cf);
     if (*fitCmd) return cmdFitMesh(fitFlags);
   } catch (const Error& e) {
-    std::fprintf(stderr, "clhair: error: %s\n", e.what());
+    reportError(e.what(), e.details(), verbose);
     return 1;
   } catch (const cl::Error& e) {
-    std::fprintf(stderr, "clhair: error: OpenCL call %s failed with %s (%d)\n", e.what(),
-                 clErrorName(e.err()), e.err());
+    reportError(std::string("OpenCL call ") + e.what() + " failed with " + clErrorName(e.err()) +
+                    " (" + std::to_string(e.err()) + ")",
+                "", verbose);
     return 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "clhair: error: %s\n", e.what());
+    reportError(e.what(), "", verbose);
     return 1;
   }
   return 1;

@@ -111,6 +111,13 @@ glm::mat4 readTransform(const JsonReader& parent, const json& j, KeyTrack* keys 
           t.fail("matrix", "holds a non-finite number or one beyond float range");
         m[c][r] = static_cast<float>(d);
       }
+    // a singular matrix flattens what it places to a plane, a line or a point, which then
+    // draws nothing (the smallest "scale" allowed, 1e-6 on every axis, has a determinant of 1e-18)
+    const double det = glm::determinant(glm::dmat3(glm::mat3(m)));
+    if (!(std::fabs(det) >= 1e-18))
+      t.fail("matrix", "is degenerate: its 3x3 part has determinant " + showNumber(det) +
+                           ", so it flattens everything it places (expected at least 1e-18 in "
+                           "magnitude)");
     t.rejectUnknown({"matrix"});
     return m;
   }

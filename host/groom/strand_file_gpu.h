@@ -22,6 +22,7 @@ class StrandFileGpu final : public GroomGpu {
   std::uint32_t strandCount() const override {
     return static_cast<std::uint32_t>(data_.totalStrands);
   }
+  std::uint64_t pointSpace() const override { return data_.totalPoints; }
   void raster(GroomInstanceGpu& inst, const StrandRaster& r, Profiler* profiler) override;
   void opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands,
                Profiler* profiler) override;

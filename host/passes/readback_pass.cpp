@@ -13,9 +13,8 @@ namespace {
 
 void copyWords(Renderer::Impl& r, const cl::Buffer& from, std::size_t words, std::size_t at) {
   if (words == 0 || !from()) return;
-  clCall("gathering the frame's statistics", [&] {
-    return r.dev.queue.enqueueCopyBuffer(from, r.frameStats, 0, at * 4, words * 4);
-  });
+  clCall("gathering the frame's statistics",
+         [&] { return r.dev.queue.enqueueCopyBuffer(from, r.frameStats, 0, at * 4, words * 4); });
 }
 
 }  // namespace
@@ -84,24 +83,25 @@ void addReadBackPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingF
   // the statistics, decoded once the words are on the host
   struct Drawn {
     std::string name;
-    bool drawn = false, huang = false;
+    bool drawn = false, huang = false, points = false;
   };
   struct Offsets {
-    std::size_t budgetAt, linkAt, shadowAt, rasterStatsAt;
+    std::size_t budgetAt, linkAt, pointsAt, shadowAt, rasterStatsAt;
   };
   std::vector<Drawn> drawn;
   for (const GroomPlan& gp : plan.grooms)
-    drawn.push_back({gp.draw.instance->name, gp.active != 0, gp.huang && !plan.options.rasterOnly});
+    drawn.push_back({gp.draw.instance->name, gp.active != 0, gp.huang && !plan.options.rasterOnly,
+                     gp.active != 0 && gp.points});
   out.finishers.insert(
       out.finishers.begin(),
-      [drawn, budget = plan.budget, at = Offsets{plan.budgetAt, plan.linkAt, plan.shadowAt,
-                                                  plan.rasterStatsAt},
+      [drawn, budget = plan.budget,
+       at = Offsets{plan.budgetAt, plan.linkAt, plan.pointsAt, plan.shadowAt, plan.rasterStatsAt},
        D, shadowWords](PendingFrame& p) {
         FrameStats& st = p.frames[0].stats;
         const std::vector<std::uint32_t>& w = p.stats;
-        std::vector<std::uint32_t> lodWords(w.begin() + static_cast<std::ptrdiff_t>(at.budgetAt),
-                                            w.begin() + static_cast<std::ptrdiff_t>(
-                                                            at.budgetAt + FrameLod::stateWords(D)));
+        std::vector<std::uint32_t> lodWords(
+            w.begin() + static_cast<std::ptrdiff_t>(at.budgetAt),
+            w.begin() + static_cast<std::ptrdiff_t>(at.budgetAt + FrameLod::stateWords(D)));
         const FrameLod::Result lod = FrameLod::decode(lodWords, D);
         st.segmentBudget = budget;
         st.overBudget = lod.over;
@@ -121,6 +121,7 @@ void addReadBackPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingF
           st.strandsDrawn += g.strands;
           st.segmentsPlanned += g.segments;
           st.grooms.push_back(std::move(g));
+          if (drawn[k].points) st.pointsShaded += w[at.pointsAt + k];
           if (!drawn[k].huang) continue;
           const std::uint32_t* c = &w[at.linkAt + 4 * k];
           st.linkSelecting += c[0];

@@ -45,6 +45,13 @@ std::string fmt(double v, int digits) {
   return b;
 }
 
+// Frames per second with three significant digits (0.0412, 41.2, 412).
+std::string fps(double v) {
+  char b[64];
+  std::snprintf(b, sizeof(b), "%.3g", v);
+  return b;
+}
+
 std::string framePathOf(const std::string& dir, const std::string& ext, int n) {
   char b[32];
   std::snprintf(b, sizeof(b), "%04d", n);
@@ -65,8 +72,8 @@ struct Run {
 
 // The shot frame after frame. inFlight: Renderer::submit with 2 frames in flight and a
 // WriteQueue; else render() and the write on the render thread, one frame at a time.
-Run shot(const Device& dev, const Scene& scene, const ThroughputOptions& o,
-         const std::string& ext, bool inFlight) {
+Run shot(const Device& dev, const Scene& scene, const ThroughputOptions& o, const std::string& ext,
+         bool inFlight) {
   Renderer r(dev);
   r.setFramesInFlight(inFlight ? 2 : 1);
   RenderOptions ro;
@@ -162,7 +169,7 @@ void throughputSection(const Device& dev, const ThroughputOptions& o, std::ostri
       runs.push_back(shot(dev, scene, o, ext, inFlight));
       const Run& r = runs.back();
       std::fprintf(stderr,
-                   "throughput %s %s: %.2f frames/s, wall %.1f ms, device %.1f ms, host CPU %.1f "
+                   "throughput %s %s: %.3g frames/s, wall %.1f ms, device %.1f ms, host CPU %.1f "
                    "ms, encode CPU %.1f ms, waits %.0f per frame\n",
                    ext.c_str(), r.mode.c_str(), r.fps(), r.wallMs, r.deviceMs, r.hostCpuMs,
                    r.encodeCpuMs, r.waits);
@@ -199,7 +206,7 @@ void throughputSection(const Device& dev, const ThroughputOptions& o, std::ostri
      << "| format | loop | frames/s | wall ms | device ms | wall - device | host CPU ms | "
         "encode CPU ms | host waits |\n|---|---|---|---|---|---|---|---|---|\n";
   for (const Run& r : runs) {
-    md << "| " << r.format << " | " << r.mode << " | " << fmt(r.fps(), 2) << " | "
+    md << "| " << r.format << " | " << r.mode << " | " << fps(r.fps()) << " | "
        << fmt(r.wallMs, 1) << " | " << fmt(r.deviceMs, 1) << " | "
        << fmt(100.0 * (r.wallMs - r.deviceMs) / std::max(r.wallMs, 1e-9), 1) << " % | "
        << fmt(r.hostCpuMs, 1) << " | " << fmt(r.encodeCpuMs, 1) << " | " << fmt(r.waits, 0)
@@ -215,8 +222,9 @@ void throughputSection(const Device& dev, const ThroughputOptions& o, std::ostri
                                             {"host_waits", r.waits}});
   }
   for (std::size_t i = 0; i + 1 < runs.size(); i += 2)
-    md << "\n" << runs[i].format << ": frames in flight " << fmt(runs[i].fps(), 2)
-       << " frames/s against " << fmt(runs[i + 1].fps(), 2) << " one at a time ("
+    md << "\n"
+       << runs[i].format << ": frames in flight " << fmt(runs[i].fps(), 2) << " frames/s against "
+       << fmt(runs[i + 1].fps(), 2) << " one at a time ("
        << fmt(runs[i].fps() / std::max(runs[i + 1].fps(), 1e-9), 2)
        << "x); frame rate against 1 / device time: "
        << fmt(runs[i].fps() * runs[i].deviceMs * 1e-3, 3) << ".";

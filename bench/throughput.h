@@ -16,12 +16,12 @@
 namespace clhair::bench {
 
 struct ThroughputOptions {
-  std::string scene;    // the shot (assets/scenes/wind.json)
+  std::string scene;  // the shot (assets/scenes/wind.json)
   int width = 1920, height = 1080;
-  int frames = 240;     // frames of the shot per format and mode
-  int stills = 5;       // single still images per way of rendering them
-  std::string outDir;   // scratch folder for the images (removed afterwards)
-  std::string cli;      // the clhair binary (for the one-image-per-process stills)
+  int frames = 240;    // frames of the shot per format and mode
+  int stills = 5;      // single still images per way of rendering them
+  std::string outDir;  // scratch folder for the images (removed afterwards)
+  std::string cli;     // the clhair binary (for the one-image-per-process stills)
   std::string formats = "png,exr";
 };
 

@@ -35,9 +35,9 @@ __kernel void aov_begin(__global const float* opaque_depth_g, uint pixels,
  * composite. */
 __kernel void aov_groom(__global const ClhGroomGpu* groom_g, uint pixels, uint groom_index,
                         __global const ulong* gbuf_g, uint layers, ulong ids_at, uint has_ids,
-                        __global const float4* result_g,
-                        __global const float* depth_g, __global const ulong* motion_g,
-                        uint has_motion, __global float* last_depth_g, __global int* owner_g,
+                        __global const float4* result_g, __global const float* depth_g,
+                        __global const ulong* motion_g, uint has_motion,
+                        __global float* last_depth_g, __global int* owner_g,
                         __global ulong* owner_motion_g, __global float* alpha_g,
                         __global float4* hair_g, __global float* centre_z_g,
                         __global float4* tangent_g, __global float4* strand_g) {

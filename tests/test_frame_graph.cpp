@@ -32,19 +32,23 @@ TEST(FrameGraph, AReadOfWhatNoEarlierPassWroteIsRefused) {
   FrameGraph g(devImpl(), pool);
   const auto a = g.create("a", 64);
   const auto b = g.create("b", 64);
-  g.addPass("writes a", [&](FrameGraph::Setup& s) { s.write(a); }, [] {});
-  g.addPass("reads b", [&](FrameGraph::Setup& s) { s.read(b).sideEffect(); }, [] {});
+  g.addPass(
+      "writes a", [&](FrameGraph::Setup& s) { s.write(a); }, [] {});
+  g.addPass(
+      "reads b", [&](FrameGraph::Setup& s) { s.read(b).sideEffect(); }, [] {});
   const std::string err = errorOf([&] { g.compile(); });
   EXPECT_NE(err.find("pass \"reads b\" reads \"b\""), std::string::npos) << err;
   // an import holding data may be read first; one without may not
   FrameGraph h(devImpl(), pool);
   cl::Buffer buf = makeBuffer<cl_uint>(devImpl(), "test buffer", 4);
   const auto held = h.import("held", {&buf}, true), empty = h.import("empty", {&buf}, false);
-  h.addPass("reads held", [&](FrameGraph::Setup& s) { s.read(held).sideEffect(); }, [] {});
+  h.addPass(
+      "reads held", [&](FrameGraph::Setup& s) { s.read(held).sideEffect(); }, [] {});
   EXPECT_EQ(errorOf([&] { h.compile(); }), "");
   FrameGraph k(devImpl(), pool);
   const auto e2 = k.import("empty", {&buf}, false);
-  k.addPass("reads empty", [&](FrameGraph::Setup& s) { s.read(e2).sideEffect(); }, [] {});
+  k.addPass(
+      "reads empty", [&](FrameGraph::Setup& s) { s.read(e2).sideEffect(); }, [] {});
   EXPECT_NE(errorOf([&] { k.compile(); }).find("reads \"empty\""), std::string::npos);
   (void)empty;
 }
@@ -75,10 +79,14 @@ TEST(FrameGraph, CreatedBuffersShareMemoryOnlyWhenTheirLifetimesDoNotOverlap) {
   FrameGraph g(devImpl(), pool);
   const auto a = g.create("a", 256), b = g.create("b", 256), c = g.create("c", 128);
   // a: passes 1-2, b: passes 2-3 (overlaps a), c: pass 4 (after a and b)
-  g.addPass("1", [&](FrameGraph::Setup& s) { s.write(a); }, [] {});
-  g.addPass("2", [&](FrameGraph::Setup& s) { s.read(a).write(b); }, [] {});
-  g.addPass("3", [&](FrameGraph::Setup& s) { s.read(b).sideEffect(); }, [] {});
-  g.addPass("4", [&](FrameGraph::Setup& s) { s.write(c).sideEffect(); }, [] {});
+  g.addPass(
+      "1", [&](FrameGraph::Setup& s) { s.write(a); }, [] {});
+  g.addPass(
+      "2", [&](FrameGraph::Setup& s) { s.read(a).write(b); }, [] {});
+  g.addPass(
+      "3", [&](FrameGraph::Setup& s) { s.read(b).sideEffect(); }, [] {});
+  g.addPass(
+      "4", [&](FrameGraph::Setup& s) { s.write(c).sideEffect(); }, [] {});
   g.compile();
   EXPECT_NE(g.buffer(a)(), g.buffer(b)());
   EXPECT_TRUE(g.buffer(c)() == g.buffer(a)() || g.buffer(c)() == g.buffer(b)());
@@ -87,7 +95,8 @@ TEST(FrameGraph, CreatedBuffersShareMemoryOnlyWhenTheirLifetimesDoNotOverlap) {
   pool.endFrame();
   FrameGraph next(devImpl(), pool);
   const auto d = next.create("d", 200);
-  next.addPass("5", [&](FrameGraph::Setup& s) { s.write(d).sideEffect(); }, [] {});
+  next.addPass(
+      "5", [&](FrameGraph::Setup& s) { s.write(d).sideEffect(); }, [] {});
   next.compile();
   EXPECT_EQ(pool.size(), 2u);
 }

@@ -50,8 +50,7 @@ std::vector<std::string> passNames(const std::string& graph) {
 
 std::vector<std::string> groomPasses(std::size_t k, bool huang) {
   const std::string n = std::to_string(k);
-  if (huang)
-    return {"strands " + n, "link " + n, "shade " + n, "alpha fix " + n, "composite " + n};
+  if (huang) return {"strands " + n, "link " + n, "shade " + n, "alpha fix " + n, "composite " + n};
   return {"strands " + n, "shade " + n, "composite " + n};
 }
 
@@ -83,17 +82,28 @@ Rendered twoFrames(const Scene& s, RenderOptions o, const std::vector<Camera>& c
   return out;
 }
 
-TEST(FramePasses, TheDefaultSceneHuangMsaaAndNoFilter) {
-  const Scene s = smallScene("default.json");
-  const std::vector<std::string> head = {"shadow maps", "opaque", "lod 0", "segment budget"};
+// The tiny groom under one shadowed light (the option sets' pass lists do not depend on the
+// groom's size), blown by wind or still.
+std::string windScene(const std::string& dir, bool wind = true);
+Scene tinyScene() { return loadScene(windScene(scratchDir(), false)); }
+
+TEST(FramePasses, TheDefaultSceneRunsItsPassesAndWaitsOnceInASteadyFrame) {
   RenderOptions o;
   o.lod = 1;
-  Rendered d = twoFrames(s, o);
-  EXPECT_EQ(d.first, concat({head, groomPasses(0, true), {"read-back"}}));
+  const Rendered d = twoFrames(smallScene("default.json"), o);
+  EXPECT_EQ(d.first, concat({{"shadow maps", "opaque", "lod 0", "segment budget"},
+                             groomPasses(0, true),
+                             {"read-back"}}));
   // the maps are kept: the second frame has no shadow pass, and one host wait
-  EXPECT_EQ(d.second, concat({{"opaque", "lod 0", "segment budget"}, groomPasses(0, true),
-                              {"read-back"}}));
+  EXPECT_EQ(d.second,
+            concat({{"opaque", "lod 0", "segment budget"}, groomPasses(0, true), {"read-back"}}));
   EXPECT_EQ(d.secondWaits, 1u);
+}
+
+TEST(FramePasses, MsaaNoFilterAndLippsFilterRunTheirPasses) {
+  const Scene s = tinyScene();
+  const std::vector<std::string> head = {"shadow maps", "opaque", "lod 0", "segment budget"};
+  RenderOptions o;
   o.msaa = 4;
   EXPECT_EQ(twoFrames(s, o, {}, 1).first, concat({head, groomPasses(0, false), {"read-back"}}));
   o.msaa = 1;
@@ -122,25 +132,23 @@ TEST(FramePasses, GoodShadesPerPointAndWaitsOnce) {
 }
 
 TEST(FramePasses, AllAovsAddTheirPassesAndStillWaitOnce) {
-  const Scene s = smallScene("default.json");
+  const Scene s = tinyScene();
   RenderOptions o;
-  o.lod = 1;
   o.aovs = true;
   o.strandIds = true;
   o.previous = &s;
   const Rendered d = twoFrames(s, o);
   EXPECT_EQ(d.first, concat({{"shadow maps", "opaque", "aov begin", "lod 0", "segment budget"},
-                             groomPasses(0, true), {"aov 0", "read-back"}}));
+                             groomPasses(0, true),
+                             {"aov 0", "read-back"}}));
   EXPECT_EQ(d.secondWaits, 1u);
 }
 
 TEST(FramePasses, TwoViewsShareOneStrandPassAndWaitOnce) {
-  const Scene s = smallScene("default.json");
+  const Scene s = tinyScene();
   Camera side = s.camera;
-  side.position.x += 0.05f;
-  RenderOptions o;
-  o.lod = 1;
-  const Rendered d = twoFrames(s, o, {s.camera, side});
+  side.position.x += 0.01f;
+  const Rendered d = twoFrames(s, RenderOptions{}, {s.camera, side});
   std::vector<std::string> want = {"shadow maps", "opaque, view 0", "opaque, view 1",
                                    "strands 0, all views"};
   for (const char* v : {"0", "1"})
@@ -178,8 +186,6 @@ TEST(FramePasses, TheCrowdRunsEveryDrawnGroomsPassesAndWaitsOnce) {
   EXPECT_EQ(f.stats.hostWaits, 1u);
 }
 
-std::string windScene(const std::string& dir);
-
 TEST(FramesInFlight, SubmittedFramesEqualFramesRenderedOneByOne) {
   const Scene s = loadScene(windScene(scratchDir()));
   Renderer one(sharedDevice());
@@ -203,9 +209,8 @@ TEST(FramesInFlight, SubmittedFramesEqualFramesRenderedOneByOne) {
 }
 
 TEST(FramesInFlight, PinnedReadBackGivesTheSameFrame) {
-  const Scene s = smallScene("default.json");
+  const Scene s = tinyScene();
   RenderOptions o;
-  o.lod = 1;
   Renderer r(sharedDevice());
   const Frame direct = r.render(s, o);
   sharedDevice().impl()->pinnedReadBack = true;
@@ -224,14 +229,15 @@ std::string readAll(const std::string& path) {
 }
 
 // A scene of the tiny groom blown by wind (each frame differs), written to `dir`.
-std::string windScene(const std::string& dir) {
+std::string windScene(const std::string& dir, bool wind) {
   const std::string path = dir + "/wind.json";
   std::ofstream(path) << R"({"resolution": [64, 48],
     "camera": {"position": [0.0, 0.03, 0.2], "target": [0.0, 0.025, 0.0], "fov": 35},
     "lights": [{"type": "directional", "direction": [0.3, 0.8, 0.5], "shadows": true}],
     "shadows": {"resolution": 32},
-    "grooms": [{"file": ")" << assetPath("grooms/tiny.hairmesh.json")
-                      << R"(", "wind": {"strength": 0.01, "frequency": 2}}]})";
+    "grooms": [{"file": ")"
+                      << assetPath("grooms/tiny.hairmesh.json")
+                      << (wind ? R"(", "wind": {"strength": 0.01, "frequency": 2}}]})" : R"("}]})");
   return path;
 }
 
@@ -239,9 +245,9 @@ TEST(FramesInFlight, CliFilesAreByteIdenticalForOneTwoAndThreeFramesInFlight) {
   const std::string dir = scratchDir();
   const std::string scene = windScene(dir);
   for (int k : {1, 2, 3}) {
-    const CommandResult r = runCli("render " + quote(scene) + " --frames 1-4 -q --frames-in-flight " +
-                                   std::to_string(k) + " -o " +
-                                   quote(dir + "/k" + std::to_string(k) + ".####.png"));
+    const CommandResult r =
+        runCli("render " + quote(scene) + " --frames 1-4 -q --frames-in-flight " +
+               std::to_string(k) + " -o " + quote(dir + "/k" + std::to_string(k) + ".####.png"));
     ASSERT_EQ(r.exitCode, 0) << r.output;
   }
   for (const char* n : {"0001", "0002", "0003", "0004"}) {
@@ -252,8 +258,8 @@ TEST(FramesInFlight, CliFilesAreByteIdenticalForOneTwoAndThreeFramesInFlight) {
   }
   EXPECT_NE(readAll(dir + "/k1.0001.png"), readAll(dir + "/k1.0002.png"));
   // a frame alone is the same file
-  const CommandResult alone = runCli("render " + quote(scene) + " --frames 3 -q -o " +
-                                     quote(dir + "/alone.####.png"));
+  const CommandResult alone =
+      runCli("render " + quote(scene) + " --frames 3 -q -o " + quote(dir + "/alone.####.png"));
   ASSERT_EQ(alone.exitCode, 0) << alone.output;
   EXPECT_EQ(readAll(dir + "/alone.0003.png"), readAll(dir + "/k2.0003.png"));
   const CommandResult bad =
@@ -262,13 +268,27 @@ TEST(FramesInFlight, CliFilesAreByteIdenticalForOneTwoAndThreeFramesInFlight) {
   EXPECT_NE(onlyErrorLine(bad.output).find("--frames-in-flight"), std::string::npos);
 }
 
+TEST(FramesInFlight, EveryFrameOfACliRangeAfterTheFirstWaitsOnce) {
+  const std::string dir = scratchDir();
+  const std::string scene = windScene(dir);
+  const CommandResult r = runCli("render " + quote(scene) + " --frames 1-4 --stats -q -o " +
+                                 quote(dir + "/w.####.exr"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  std::vector<int> waits;
+  std::istringstream in(r.output);
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("host waits: ", 0) == 0) waits.push_back(std::stoi(line.substr(12)));
+  ASSERT_EQ(waits.size(), 4u) << r.output;
+  for (std::size_t i = 1; i < waits.size(); ++i) EXPECT_EQ(waits[i], 1) << "frame " << i + 1;
+}
+
 TEST(FramesInFlight, AFailedWriteStopsTheRangeWithOneLineAndKeepsEarlierFrames) {
   const std::string dir = scratchDir();
   const std::string scene = windScene(dir);
   // frame 3's name is taken by a folder: its image cannot be moved into place
   fs::create_directories(dir + "/out.0003.png");
-  const CommandResult r = runCli("render " + quote(scene) + " --frames 1-8 -q -o " +
-                                 quote(dir + "/out.####.png"));
+  const CommandResult r =
+      runCli("render " + quote(scene) + " --frames 1-8 -q -o " + quote(dir + "/out.####.png"));
   EXPECT_EQ(r.exitCode, 1) << r.output;
   EXPECT_NE(onlyErrorLine(r.output).find("out.0003.png"), std::string::npos) << r.output;
   EXPECT_TRUE(fs::is_regular_file(dir + "/out.0001.png"));

@@ -21,11 +21,10 @@ void Transfers::reclaim(bool waitOldest) {
       ++waits_;
       waitOldest = false;
     } else {
-      const cl_int status =
-          clCall("reading an upload's status",
-                 [&] { return e.getInfo<CL_EVENT_COMMAND_EXECUTION_STATUS>(); });
-      if (status < 0) throw Error("an upload to the device failed (status " +
-                                  std::to_string(status) + ")");
+      const cl_int status = clCall("reading an upload's status",
+                                   [&] { return e.getInfo<CL_EVENT_COMMAND_EXECUTION_STATUS>(); });
+      if (status < 0)
+        throw Error("an upload to the device failed (status " + std::to_string(status) + ")");
       if (status != CL_COMPLETE) return;
     }
     staged_ -= blocks_.front().second.size();

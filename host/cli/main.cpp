@@ -29,6 +29,7 @@
 #include <ctime>
 #include <deque>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <iostream>
 
@@ -51,6 +52,7 @@
 #include "io/binary_file.h"
 #include "io/cyhair.h"
 #include "io/json_util.h"
+#include "io/ply_strands.h"
 #include "io/tressfx.h"
 #include "io/usc_hair.h"
 #include "metrics/image_metrics.h"
@@ -191,6 +193,7 @@ void printStats(const FrameStats& st) {
                 static_cast<unsigned long long>(st.segmentsBeforeBudget), st.budgetScale);
   else
     std::printf(" (budget %llu, not reached)\n", static_cast<unsigned long long>(st.segmentBudget));
+  std::printf("host waits: %llu\n", static_cast<unsigned long long>(st.hostWaits));
 }
 
 // The views a render writes: the scene's "cameras" (all, or those --views names; "camera" is
@@ -348,6 +351,7 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
   Scene scene = loadScene(scenePath, dev.info().maxAlloc);
   for (const std::string& w : scene.warnings)
     std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
+  for (const std::string& n : scene.notes) std::fprintf(stderr, "clhair: note: %s\n", n.c_str());
   const std::vector<View> views = selectViews(scene, f.views);
   const bool several = views.size() > 1;
   if (several && !aovs.empty())
@@ -667,7 +671,7 @@ int cmdBakeVisibility(const DeviceOptions& opts, const std::string& scenePath,
                 " does not exist, the scene has " + std::to_string(scene.grooms.size()) +
                 " groom(s)");
   const GroomInstance& gi = scene.grooms[static_cast<std::size_t>(groom)];
-  if (gi.strands && gi.strands->appearance.useFileColor)
+  if (gi.strands && gi.strands->appearance.useFileColor && !gi.strands->colors.empty())
     throw Error(scenePath + ": groom \"" + gi.name +
                 "\" is drawn with its file colours, whose G-buffer words carry no styling uv to "
                 "look a bake up by");
@@ -746,23 +750,71 @@ int cmdBakeAo(const DeviceOptions& opts, const std::string& groomPath, const std
   return 0;
 }
 
-int cmdExport(const DeviceOptions& opts, const std::string& groomPath, const std::string& out) {
-  HairMesh mesh = loadHairMesh(groomPath);
-  Device dev = Device::open(opts);
-  Renderer renderer(dev);
-  StrandSet s = renderer.generateStrands(mesh);
+// The strands export-strands writes: a hair mesh's generated strands (root/tip colours), a
+// strand file's (its colours), or a scene groom's as drawn at full detail, children included
+// (in the groom's object space).
+CyHair exportSource(Renderer& renderer, std::uint64_t maxAlloc, const std::string& path,
+                    int groom) {
+  const std::string ext = lowerExtension(path);
+  const bool strandFile =
+      ext == ".hair" || ext == ".data" || ext == ".tfx" || ext == ".ply" || ext == ".bin";
+  bool scene = false;
+  if (!strandFile && ext == ".json") {
+    std::ifstream in(path);
+    const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+    scene = j.is_object() && j.contains("grooms");
+  }
+  if (!scene && groom != 0)
+    throw Error("--groom " + std::to_string(groom) + ": " + path + " is not a scene file");
+  std::shared_ptr<const StrandGroom> strands;
+  std::shared_ptr<const HairMesh> mesh;
+  std::string name;
+  if (strandFile) {
+    strands = std::make_shared<const StrandGroom>(loadStrandGroom(path, maxAlloc));
+  } else if (scene) {
+    const Scene sc = loadScene(path, maxAlloc);
+    if (groom < 0 || static_cast<std::size_t>(groom) >= sc.grooms.size())
+      throw Error(path + ": --groom " + std::to_string(groom) + " does not exist, the scene has " +
+                  std::to_string(sc.grooms.size()) + " groom(s)");
+    strands = sc.grooms[static_cast<std::size_t>(groom)].strands;
+    mesh = sc.grooms[static_cast<std::size_t>(groom)].mesh;
+  } else {
+    mesh = std::make_shared<const HairMesh>(loadHairMesh(path));
+  }
   CyHair h;
+  StrandSet s;
+  if (strands) {
+    s = renderer.generateStrands(*strands);
+    name = strands->name;
+    h.defaultThickness = strands->appearance.strandWidth;
+  } else {
+    s = renderer.generateStrands(*mesh);
+    name = mesh->name;
+    h.defaultThickness = mesh->appearance.strandWidth;
+  }
   h.segments.reserve(s.pointCounts.size());
   for (std::uint32_t c : s.pointCounts) h.segments.push_back(c - 1);
   h.points = s.points;
   h.colors.reserve(s.points.size());
-  for (float w : s.w) {
-    glm::vec3 c =
-        mesh.appearance.rootColor + (mesh.appearance.tipColor - mesh.appearance.rootColor) * w;
-    h.colors.insert(h.colors.end(), {c.x, c.y, c.z});
+  if (mesh) {
+    for (float w : s.w) {
+      glm::vec3 c =
+          mesh->appearance.rootColor + (mesh->appearance.tipColor - mesh->appearance.rootColor) * w;
+      h.colors.insert(h.colors.end(), {c.x, c.y, c.z});
+    }
+  } else if (!s.look.empty() && strands->appearance.useFileColor && !strands->colors.empty()) {
+    for (std::size_t i = 0; i < s.look.size(); i += 4)
+      h.colors.insert(h.colors.end(), {s.look[i], s.look[i + 1], s.look[i + 2]});
   }
-  h.defaultThickness = mesh.appearance.strandWidth;
-  h.info = "clhair export-strands: " + mesh.name;
+  h.info = "clhair export-strands: " + name;
+  return h;
+}
+
+int cmdExport(const DeviceOptions& opts, const std::string& groomPath, const std::string& out,
+              int groom) {
+  Device dev = Device::open(opts);
+  Renderer renderer(dev);
+  CyHair h = exportSource(renderer, dev.info().maxAlloc, groomPath, groom);
   const std::string ext = lowerExtension(out);
   if (ext == ".tfx") {
     // TressFX needs one point count for all strands, and AMD's runtime a power of two in
@@ -772,15 +824,16 @@ int cmdExport(const DeviceOptions& opts, const std::string& groomPath, const std
     t.hair = resampleStrands(h, n);
     writeTressFx(t, out);
     std::printf("%s: %zu strands, resampled to %u points each (TressFX 4.0)\n", out.c_str(),
-                s.pointCounts.size(), n);
+                h.segments.size(), n);
     return 0;
   }
   if (ext == ".data")
     writeUscHair(h, out);  // points only: the format has no colour or thickness
+  else if (ext == ".ply")
+    writePlyStrands(h, out);  // points and colours
   else
     writeCyHair(h, out);
-  std::printf("%s: %zu strands, %zu points\n", out.c_str(), s.pointCounts.size(),
-              s.points.size() / 3);
+  std::printf("%s: %zu strands, %zu points\n", out.c_str(), h.segments.size(), h.points.size() / 3);
   return 0;
 }
 
@@ -991,10 +1044,17 @@ int main(int argc, char** argv) {
   auto* exportCmd = app.add_subcommand("export-strands",
                                        "write the generated strands as a cyHair .hair file "
                                        "(USC-HairSalon when the name ends in .data, "
-                                       "TressFX 4.0 for .tfx)");
+                                       "TressFX 4.0 for .tfx, PLY for .ply)");
   std::string groomPath, hairOut;
-  exportCmd->add_option("groom", groomPath, "hair-mesh file")->required();
-  exportCmd->add_option("-o,--output", hairOut, "output .hair, .data or .tfx file")->required();
+  int exportGroom = 0;
+  exportCmd
+      ->add_option("groom", groomPath,
+                   "hair-mesh file, strand file, or scene (its groom as drawn, children "
+                   "included)")
+      ->required();
+  exportCmd->add_option("-o,--output", hairOut, "output .hair, .data, .tfx or .ply file")
+      ->required();
+  exportCmd->add_option("--groom", exportGroom, "the scene's groom to export (default 0)");
 
   auto* compare =
       app.add_subcommand("compare", "compare image B against reference A: PSNR, RMSE, mean FLIP");
@@ -1025,7 +1085,7 @@ int main(int argc, char** argv) {
     if (*devices) return cmdDevices(resolved);
     if (*render) return cmdRender(resolved, scenePath, out, rf);
     if (*groom) return cmdGroom(preset, groomOut, strands);
-    if (*exportCmd) return cmdExport(resolved, groomPath, hairOut);
+    if (*exportCmd) return cmdExport(resolved, groomPath, hairOut, exportGroom);
     if (*bakeCmd) return cmdBakeAo(resolved, bakeIn, bakeOut);
     if (*visCmd) return cmdBakeVisibility(resolved, visScene, visOut, vf);
     if (*compare) return cmdCompare(compareA, compareB, cf);

@@ -49,9 +49,8 @@ void PendingFrame::read(Device::Impl& dev, PinnedPool& pinned, const cl::Buffer&
                         std::size_t offset, void* dst, std::size_t bytes) {
   if (bytes == 0) return;
   if (dev.info.hostUnified && !dev.pinnedReadBack) {
-    clCall("reading the frame back", [&] {
-      return dev.queue.enqueueReadBuffer(buffer, CL_FALSE, offset, bytes, dst);
-    });
+    clCall("reading the frame back",
+           [&] { return dev.queue.enqueueReadBuffer(buffer, CL_FALSE, offset, bytes, dst); });
     return;
   }
   Copy c;
@@ -65,7 +64,8 @@ void PendingFrame::read(Device::Impl& dev, PinnedPool& pinned, const cl::Buffer&
 }
 
 void PendingFrame::seal(Device::Impl& dev) {
-  clCall("marking the frame's end", [&] { return dev.queue.enqueueMarkerWithWaitList(nullptr, &done); });
+  clCall("marking the frame's end",
+         [&] { return dev.queue.enqueueMarkerWithWaitList(nullptr, &done); });
   clCall("submitting the frame", [&] { return dev.queue.flush(); });
 }
 

@@ -1,10 +1,11 @@
-// render_target.h — the buffers sized to the output: colour and depth of the opaque scene
-// (the hair is composited into them), the shaded and filtered hair of the groom being
-// drawn, its G-buffer (MSAA sample layers plus the conservative layer), the raster
-// counters and the camera's view record; plus the clear of the G-buffer before each
-// groom's strand pass (the layers a groom uses: the samples, the conservative layer and,
-// when asked, the identity and hair linking layers), bounded to the screen box of the groom
-// before. Buffers are reallocated only when the size or sample count changes.
+// render_target.h — the buffers sized to the output that outlive a frame: colour and depth of
+// the opaque scene (the hair is composited into them), the G-buffer (MSAA sample layers plus
+// the conservative layer), the raster counters and the camera's view record (each groom's
+// shaded and filtered hair are the frame graph's own buffers); plus the clear of the
+// G-buffer before each groom's strand pass (the layers a groom uses: the samples, the
+// conservative layer and, when asked, the identity and hair linking layers), bounded to the
+// screen box of the groom before. Buffers are reallocated only when the size or sample count
+// changes.
 #pragma once
 
 #include <vector>
@@ -30,9 +31,6 @@ class RenderTarget {
   // buffers, a groom with linking layers after one without). `box` is remembered for the
   // next groom; a caller writing elsewhere (a given G-buffer) passes the default box.
   void clearGBuffer(const PixelRect& box, Profiler* profiler);
-  // The plane of a groom's motion pass (ulong per pixel, allocated on first use), cleared to
-  // all ones.
-  cl::Buffer& clearedMotion(Profiler* profiler);
   // Fills `count` words of `buffer` with the empty G-buffer word.
   void clearWords(const cl::Buffer& buffer, std::size_t count, Profiler* profiler);
   int usedLayers() const { return used_; }
@@ -58,8 +56,6 @@ class RenderTarget {
   // outside dirty_ the first cleanLayers_ G-buffer layers hold the empty word
   PixelRect dirty_;
   int cleanLayers_ = 0;
-  cl::Buffer motion_;
-  std::size_t motionPixels_ = 0;
 };
 
 }  // namespace clhair

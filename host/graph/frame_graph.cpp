@@ -210,7 +210,7 @@ class FrameGraph::Audit : public LaunchAudit {
     if (mems_.count(b())) return true;
     const cl_mem parent = parentOf(b);
     if (parent && mems_.count(parent)) return true;  // a part of a declared buffer
-    return parents_.count(b()) > 0;                   // the whole of declared parts
+    return parents_.count(b()) > 0;                  // the whole of declared parts
   }
   void add(const cl::Buffer& b) {
     mems_.insert(b());

@@ -49,7 +49,8 @@ void addAovGroomPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPla
       [&](FrameGraph::Setup& s) {
         s.read(gp.params).read(plan.gbuffer).read(gp.result).read(plan.depth).kernel("aov_groom");
         if (gp.motion) s.read(gp.motionPlane);
-        for (std::uint32_t i = 0; i < 8; ++i) s.readWrite(FrameGraph::Handle{plan.aovPlanes.id + i});
+        for (std::uint32_t i = 0; i < 8; ++i)
+          s.readWrite(FrameGraph::Handle{plan.aovPlanes.id + i});
       },
       [&] {
         RenderTarget& t = *plan.target;

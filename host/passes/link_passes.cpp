@@ -9,8 +9,9 @@ namespace clhair {
 
 LinkStage::Params linkParams(const FramePlan& plan, const GroomPlan& gp) {
   RenderTarget& t = *plan.target;
-  return {t.viewTarget(),           &gp.draw.state->groom, &t.gbuffer,
-          gp.draw.groom->strandCount(), gp.layers,           gp.hairBox};
+  return {t.viewTarget(), &gp.draw.state->groom,
+          &t.gbuffer,     gp.draw.groom->strandCount(),
+          gp.layers,      gp.hairBox};
 }
 
 void addLinkPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp) {

@@ -24,8 +24,8 @@ void addMotionPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan&
         RenderTarget& t = *plan.target;
         const Scene& before = *plan.options.previous;
         const gpu::ClhViewGpu pv = makeView(before.camera, plan.scene.width, plan.scene.height);
-        const gpu::ClhViewGpu still = makeView(plan.scene.camera, plan.scene.width,
-                                               plan.scene.height);
+        const gpu::ClhViewGpu still =
+            makeView(plan.scene.camera, plan.scene.width, plan.scene.height);
         gpu::ClhMotionGpu m{};
         m.fx = pv.fx;
         m.fy = pv.fy;

@@ -45,6 +45,9 @@ void addMotionPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan&
 // shade_passes.cpp: deferred shading of the groom's centre layer, its filter (Lipp's, or
 // Huang's alpha fix and anisotropic filter), and its composite over the target.
 void addShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
+// The shading pass's inputs for groom `gp` drawn into target `t` (its G-buffer `gbuffer`).
+ShadeStage::Params shadeParams(Renderer::Impl& r, const RenderTarget& t, const GroomPlan& gp,
+                               const cl::Buffer& gbuffer, cl::Buffer& hair, int msaa);
 void addFilterPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
 void addCompositePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
 

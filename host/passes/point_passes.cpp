@@ -100,17 +100,9 @@ void addPointShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomP
       },
       [&, h] {
         const PointStage::Lists l = h.lists(g);
-        GroomInstanceGpu& inst = *gp.draw.state;
-        ShadeStage::Params sp;
-        sp.target = t.viewTarget();
-        sp.lighting = r.scene.lighting(r.shadows.maps());
-        sp.groom = &inst.groom;
-        sp.offsets = &inst.offsets;
-        sp.records = inst.records;
-        const VisibilityGpu::Inputs v = r.visibility.inputs(gp.index);
-        sp.visibility = v.record;
-        sp.visibilityTable = v.table;
-        sp.visibilityCells = v.cells;
+        // the inputs of per-sample shading (its G-buffer and hair are not read)
+        const ShadeStage::Params sp =
+            shadeParams(r, t, gp, t.gbuffer, g.buffer(gp.hair), plan.options.msaa);
         r.shade.enqueuePoints(sp, l, &r.profiler);
         r.points.resolve(t.viewTarget(), t.gbuffer, gp.layers, plan.options.msaa, gp.hairBox, l,
                          g.buffer(gp.hair), &r.profiler);

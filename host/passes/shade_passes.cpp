@@ -5,6 +5,25 @@ namespace clhair {
 
 LinkStage::Params linkParams(const FramePlan& plan, const GroomPlan& gp);
 
+ShadeStage::Params shadeParams(Renderer::Impl& r, const RenderTarget& t, const GroomPlan& gp,
+                               const cl::Buffer& gbuffer, cl::Buffer& hair, int msaa) {
+  GroomInstanceGpu& inst = *gp.draw.state;
+  ShadeStage::Params sp;
+  sp.target = t.viewTarget();
+  sp.lighting = r.scene.lighting(r.shadows.maps());
+  sp.groom = &inst.groom;
+  sp.offsets = &inst.offsets;
+  sp.records = inst.records;
+  sp.gbuffer = &gbuffer;
+  sp.hair = &hair;
+  sp.msaa = msaa;
+  const VisibilityGpu::Inputs v = r.visibility.inputs(gp.index);
+  sp.visibility = v.record;
+  sp.visibilityTable = v.table;
+  sp.visibilityCells = v.cells;
+  return sp;
+}
+
 void addShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp) {
   gp.result = gp.hair;
   g.addPass(
@@ -16,21 +35,9 @@ void addShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& 
       },
       [&] {
         RenderTarget& t = *plan.target;
-        GroomInstanceGpu& inst = *gp.draw.state;
-        ShadeStage::Params sp;
-        sp.target = t.viewTarget();
-        sp.lighting = r.scene.lighting(r.shadows.maps());
-        sp.groom = &inst.groom;
-        sp.offsets = &inst.offsets;
-        sp.records = inst.records;
-        sp.gbuffer = &t.gbuffer;
-        sp.hair = &g.buffer(gp.hair);
-        sp.msaa = plan.options.msaa;
+        ShadeStage::Params sp =
+            shadeParams(r, t, gp, t.gbuffer, g.buffer(gp.hair), plan.options.msaa);
         sp.cover = plan.cover;
-        const VisibilityGpu::Inputs v = r.visibility.inputs(gp.index);
-        sp.visibility = v.record;
-        sp.visibilityTable = v.table;
-        sp.visibilityCells = v.cells;
         r.shade.enqueue(sp, &r.profiler);
       });
 }
@@ -83,11 +90,10 @@ void addCompositePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPl
       },
       [&] {
         RenderTarget& t = *plan.target;
-        r.composite.enqueue(
-            {t.viewTarget(), &gp.draw.state->groom, &g.buffer(gp.result), &t.gbuffer, &t.color,
-             &t.depth, plan.options.msaa, static_cast<int>(gp.depthLayers),
-             gp.huang || gp.points ? gp.hairBox : PixelRect{}},
-            &r.profiler);
+        r.composite.enqueue({t.viewTarget(), &gp.draw.state->groom, &g.buffer(gp.result),
+                             &t.gbuffer, &t.color, &t.depth, plan.options.msaa,
+                             static_cast<int>(gp.depthLayers), gp.huang || gp.points ? gp.hairBox : PixelRect{}},
+                            &r.profiler);
       });
 }
 

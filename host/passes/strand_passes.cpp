@@ -18,8 +18,8 @@ StrandRaster cameraRaster(Renderer::Impl&, const FramePlan& plan, const GroomPla
   raster.mode = plan.mode;
   raster.stats = plan.options.rasterStats;
   raster.cover = plan.cover;
-  raster.strands = plan.mode == DispatchMode::ReadBack ? d.groom->readTotal(*d.state)
-                                                       : d.groom->strandCount();
+  raster.strands =
+      plan.mode == DispatchMode::ReadBack ? d.groom->readTotal(*d.state) : d.groom->strandCount();
   raster.layers = t.usedLayers();
   raster.ids = gp.ids;
   raster.pointIds = gp.points;
@@ -28,35 +28,35 @@ StrandRaster cameraRaster(Renderer::Impl&, const FramePlan& plan, const GroomPla
 
 void addStrandPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp) {
   const bool given = plan.source != nullptr;
-  g.addPass(
-      (given ? "given G-buffer " : "strands ") + std::to_string(gp.index),
-      [&, given](FrameGraph::Setup& s) {
-        s.readWrite(plan.gbuffer).kernel("clear_words").kernel("clear_box");
-        if (plan.options.rasterOnly) s.sideEffect();  // what the benchmark times
-        if (given) return;
-        s.read(plan.viewRecord).read(plan.depth).read(gp.tables).read(gp.params).read(gp.lod);
-        s.readWrite(plan.rasterCounters);
-        const GroomKernels k = gp.draw.groom->kernels();
-        s.kernel(plan.mode == DispatchMode::Persistent ? k.rasterPersistent : k.raster);
-        if (plan.mode == DispatchMode::ReadBack)
-          s.hostWait("the groom's strand total (--dispatch readback)");
-      },
-      [&, given] {
-        RenderTarget& t = *plan.target;
-        const GroomDraw& d = gp.draw;
-        t.useLayers(gp.layers);
-        t.clearGBuffer(gp.box, &r.profiler);
-        if (given) {
-          std::vector<std::uint64_t> words;
-          plan.source->centreLayer(static_cast<std::uint32_t>(gp.index), d.state->params, words);
-          if (words.size() != plan.pixels)
-            throw Error("a given G-buffer layer has " + std::to_string(words.size()) +
-                        " words for " + std::to_string(plan.pixels) + " pixels");
-          upload(r.dev, t.gbuffer, words.data(), plan.pixels);
-          return;
-        }
-        d.groom->raster(*d.state, cameraRaster(r, plan, gp), &r.profiler);
-      });
+  g.addPass((given ? "given G-buffer " : "strands ") + std::to_string(gp.index),
+            [&, given](FrameGraph::Setup& s) {
+              s.readWrite(plan.gbuffer).kernel("clear_words").kernel("clear_box");
+              if (plan.options.rasterOnly) s.sideEffect();  // what the benchmark times
+              if (given) return;
+              s.read(plan.viewRecord).read(plan.depth).read(gp.tables).read(gp.params).read(gp.lod);
+              s.readWrite(plan.rasterCounters);
+              const GroomKernels k = gp.draw.groom->kernels();
+              s.kernel(plan.mode == DispatchMode::Persistent ? k.rasterPersistent : k.raster);
+              if (plan.mode == DispatchMode::ReadBack)
+                s.hostWait("the groom's strand total (--dispatch readback)");
+            },
+            [&, given] {
+              RenderTarget& t = *plan.target;
+              const GroomDraw& d = gp.draw;
+              t.useLayers(gp.layers);
+              t.clearGBuffer(gp.box, &r.profiler);
+              if (given) {
+                std::vector<std::uint64_t> words;
+                plan.source->centreLayer(static_cast<std::uint32_t>(gp.index), d.state->params,
+                                         words);
+                if (words.size() != plan.pixels)
+                  throw Error("a given G-buffer layer has " + std::to_string(words.size()) +
+                              " words for " + std::to_string(plan.pixels) + " pixels");
+                upload(r.dev, t.gbuffer, words.data(), plan.pixels);
+                return;
+              }
+              d.groom->raster(*d.state, cameraRaster(r, plan, gp), &r.profiler);
+            });
 }
 
 void addCapturePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp,

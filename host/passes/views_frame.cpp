@@ -66,8 +66,7 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
   }
   const FrameGraph::Handle depths = g.import("depth of every view", depthBufs, false, true);
   const FrameGraph::Handle gbuffers = g.import("G-buffers of every view", gbufferBufs, false);
-  const FrameGraph::Handle viewRecords =
-      g.import("view records", {&vt.records, &vt.grooms}, true);
+  const FrameGraph::Handle viewRecords = g.import("view records", {&vt.records, &vt.grooms}, true);
   std::vector<FrameGraph::Handle> viewRecord(V), colour(V);
   for (std::size_t v = 0; v < V; ++v) {
     const std::string view = "view " + std::to_string(v);
@@ -78,9 +77,9 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
     const std::string label = "groom " + std::to_string(gp.index);
     gp.tables = g.import(label + " tables", gp.draw.groom->tables(), true);
     gp.params = g.import(label + " record", {&gp.draw.state->groom}, true);
-    gp.lod = g.import(label + " LOD", {&gp.draw.state->lod, &gp.draw.state->counts,
-                                       &gp.draw.state->offsets},
-                      false);
+    gp.lod =
+        g.import(label + " LOD",
+                 {&gp.draw.state->lod, &gp.draw.state->counts, &gp.draw.state->offsets}, false);
   }
   addShadowPass(g, r, plan);
   for (std::size_t v = 0; v < V; ++v)
@@ -112,8 +111,8 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
     const bool filtered = o.msaa == 1 && (o.filter < 0 ? fp.enabled : o.filter == 1);
     // the shared strand pass writes no identity layer, so "auto" falls back to Lipp's
     // filter here; Huang's asked for by name is refused
-    if (filtered && (o.filterMethod < 0 ? fp.method == FilterParams::Method::Huang
-                                        : o.filterMethod == 1))
+    if (filtered &&
+        (o.filterMethod < 0 ? fp.method == FilterParams::Method::Huang : o.filterMethod == 1))
       throw Error("groom \"" + d.instance->name +
                   "\": Huang's filter takes one view at a time; render the views one by one "
                   "(--views NAME) or use Lipp's filter");
@@ -169,9 +168,9 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
           for (std::size_t v = 0; v < V; ++v)
             if (gv->inFront[v])
               clCall("copying a view's strand total", [&] {
-                return r.dev.queue.enqueueCopyBuffer(
-                    inst.offsets, r.frameStats, gpu::clh_lod_drawn_total_at(inst.records) * 4,
-                    (totalsAt + v * D + k) * 4, 4);
+                return r.dev.queue.enqueueCopyBuffer(inst.offsets, r.frameStats,
+                                                     gpu::clh_lod_drawn_total_at(inst.records) * 4,
+                                                     (totalsAt + v * D + k) * 4, 4);
               });
         });
     for (std::size_t v = 0; v < V; ++v) {
@@ -217,20 +216,8 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
             } else {
               uploadChanged(r.dev, inst.groom, inst.sent, &gv->records[v], 1);
             }
-            ShadeStage::Params sp;
-            sp.target = t.viewTarget();
-            sp.lighting = r.scene.lighting(r.shadows.maps());
-            sp.groom = &inst.groom;
-            sp.offsets = &inst.offsets;
-            sp.records = inst.records;
-            sp.gbuffer = &gbuffer;
-            sp.hair = &g.buffer(hair);
-            sp.msaa = plan.options.msaa;
-            const VisibilityGpu::Inputs vis = r.visibility.inputs(k);
-            sp.visibility = vis.record;
-            sp.visibilityTable = vis.table;
-            sp.visibilityCells = vis.cells;
-            r.shade.enqueue(sp, &r.profiler);
+            r.shade.enqueue(shadeParams(r, t, gp, gbuffer, g.buffer(hair), plan.options.msaa),
+                            &r.profiler);
           });
       if (filtered)
         g.addPass(
@@ -256,8 +243,7 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
             RenderTarget& t = vt.target(v);
             r.composite.enqueue({t.viewTarget(), &d.state->groom, &g.buffer(filteredHair),
                                  &vt.gbufferSlices[v], &t.color, &vt.depthSlices[v],
-                                 plan.options.msaa, filtered ? 2 : plan.options.msaa,
-                                 PixelRect{}},
+                                 plan.options.msaa, filtered ? 2 : plan.options.msaa, PixelRect{}},
                                 &r.profiler);
           });
     }
@@ -272,8 +258,8 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
         st.read(depths).readWrite(plan.frameStats).read(plan.shadowMaps).sideEffect();
         for (std::size_t v = 0; v < V; ++v) st.read(colour[v]);
       },
-      [&r, &vt, &out, V, pixels, at = plan.shadowAt, words = plan.stats.words,
-       w = s.width, h = s.height] {
+      [&r, &vt, &out, V, pixels, at = plan.shadowAt, words = plan.stats.words, w = s.width,
+       h = s.height] {
         clCall("gathering the frame's statistics", [&] {
           if (words == at || !r.shadows.totals()()) return CL_SUCCESS;
           return r.dev.queue.enqueueCopyBuffer(r.shadows.totals(), r.frameStats, 0, at * 4,

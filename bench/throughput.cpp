@@ -206,8 +206,8 @@ void throughputSection(const Device& dev, const ThroughputOptions& o, std::ostri
      << "| format | loop | frames/s | wall ms | device ms | wall - device | host CPU ms | "
         "encode CPU ms | host waits |\n|---|---|---|---|---|---|---|---|---|\n";
   for (const Run& r : runs) {
-    md << "| " << r.format << " | " << r.mode << " | " << fps(r.fps()) << " | "
-       << fmt(r.wallMs, 1) << " | " << fmt(r.deviceMs, 1) << " | "
+    md << "| " << r.format << " | " << r.mode << " | " << fps(r.fps()) << " | " << fmt(r.wallMs, 1)
+       << " | " << fmt(r.deviceMs, 1) << " | "
        << fmt(100.0 * (r.wallMs - r.deviceMs) / std::max(r.wallMs, 1e-9), 1) << " % | "
        << fmt(r.hostCpuMs, 1) << " | " << fmt(r.encodeCpuMs, 1) << " | " << fmt(r.waits, 0)
        << " |\n";

@@ -29,6 +29,10 @@ cl::Buffer makeBuffer(Device::Impl& dev, const std::string& what, std::size_t co
     if (data && count > 0)
       return cl::Buffer(dev.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, bytes,
                         const_cast<T*>(data));
+    if (dev.zeroNewBuffers) {
+      std::vector<unsigned char> zeros(bytes, 0);
+      return cl::Buffer(dev.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, bytes, zeros.data());
+    }
     return cl::Buffer(dev.context, CL_MEM_READ_WRITE, bytes);
   });
 }

@@ -216,6 +216,7 @@ Device Device::open(const DeviceOptions& options) {
   impl->graphChecks = checks && std::string(checks) == "1";
   const char* pinned = std::getenv("CLHAIR_PINNED_READBACK");
   impl->pinnedReadBack = pinned && std::string(pinned) == "1";
+  impl->zeroNewBuffers = impl->info.platformName.find("Oclgrind") != std::string::npos;
   clCall("creating the OpenCL context on " + impl->info.name, [&] {
     impl->context = cl::Context(impl->device);
     impl->queue = cl::CommandQueue(impl->context, impl->device, CL_QUEUE_PROFILING_ENABLE);

@@ -38,6 +38,12 @@ struct Device::Impl {
   // Read frames back through pinned staging even on a host-unified device
   // (CLHAIR_PINNED_READBACK=1: the tests run the discrete-GPU path on the CPU).
   bool pinnedReadBack = false;
+  // Every new buffer starts with host-written zeros (on Oclgrind only). Oclgrind 21.10's
+  // --uninitialized check keys its record of a buffer by the buffer's slot and starts it
+  // only on a host write: a buffer that no host write ever covers inherits the record of
+  // the last buffer freed from its slot, sized as that one was, and every word past that
+  // size reads as uninitialised although a kernel wrote it.
+  bool zeroNewBuffers = false;
 
   // The strand kernels' launch shape for `backend` (host/cl/tuning.h).
   StrandTuning tuningFor(SubgroupBackend backend) const;

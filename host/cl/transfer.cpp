@@ -15,7 +15,7 @@ constexpr std::size_t kMaxStagedBytes = std::size_t(256) << 20;
 
 void Transfers::reclaim(bool waitOldest) {
   while (!blocks_.empty()) {
-    cl::Event& e = blocks_.front().first;
+    cl::Event& e = blocks_.front().done;
     if (waitOldest) {
       clCall("waiting for a staged upload", [&] { return e.wait(); });
       ++waits_;
@@ -27,7 +27,7 @@ void Transfers::reclaim(bool waitOldest) {
         throw Error("an upload to the device failed (status " + std::to_string(status) + ")");
       if (status != CL_COMPLETE) return;
     }
-    staged_ -= blocks_.front().second.size();
+    staged_ -= blocks_.front().bytes.size();
     blocks_.pop_front();
   }
 }
@@ -45,7 +45,7 @@ void Transfers::upload(cl::CommandQueue& queue, const cl::Buffer& buffer, std::s
     return queue.enqueueWriteBuffer(buffer, CL_FALSE, offset, bytes, block.data(), nullptr, &done);
   });
   staged_ += bytes;
-  blocks_.emplace_back(std::move(done), std::move(block));
+  blocks_.push_back({std::move(done), std::move(block), buffer});
 }
 
 }  // namespace clhair

@@ -9,6 +9,10 @@
 // count the waits of each pass and of each frame (host/graph/frame_graph.h).
 // Invariant: the queue is in order, so a staged upload is seen by every command enqueued
 // after it, and a non-blocking read sees every command enqueued before it.
+// A staged upload also holds its destination buffer until the write completes: OpenCL
+// keeps a released buffer alive for its pending commands, but a runtime that does not
+// (Oclgrind 21.10 frees it at once, and the write then lands in whatever buffer takes its
+// place) would otherwise see writes into the wrong buffer.
 #pragma once
 
 #include <cstdint>
@@ -35,7 +39,12 @@ class Transfers {
  private:
   void reclaim(bool waitOldest);
   std::mutex mutex_;
-  std::deque<std::pair<cl::Event, std::vector<unsigned char>>> blocks_;
+  struct Block {
+    cl::Event done;
+    std::vector<unsigned char> bytes;
+    cl::Buffer destination;  // held until the write has completed
+  };
+  std::deque<Block> blocks_;
   std::size_t staged_ = 0;
   std::uint64_t waits_ = 0;
 };

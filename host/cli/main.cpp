@@ -465,7 +465,8 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
   // cleared target, so it is the same whichever frames this process rendered before.
   const bool sequence = !f.frames.empty();
   renderer.setFramesInFlight(f.framesInFlight);
-  ro.timings = !sequence;  // a sequence prints no stage times: no profiling events
+  ro.timings = !sequence;    // a sequence prints no stage times: no profiling events
+  ro.readBackDepth = false;  // images hold colour; AOVs read the depth they need
   // frames are converted and written on worker threads while the device draws the next ones
   WriteQueue writer(static_cast<unsigned>(f.encodeThreads));
   struct InFlight {

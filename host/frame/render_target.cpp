@@ -59,6 +59,15 @@ void RenderTarget::clearWords(const cl::Buffer& buffer, std::size_t count, Profi
   clear_.words(buffer, count, ~std::uint64_t(0), "clear", profiler);
 }
 
+void RenderTarget::clearUints(const cl::Buffer& buffer, std::size_t count, Profiler* profiler) {
+  clear_.uints(buffer, count, 0u, "clear", profiler);
+}
+
+void RenderTarget::copyUints(const cl::Buffer& src, std::size_t srcFirst, const cl::Buffer& dst,
+                             std::size_t dstFirst, std::size_t count, Profiler* profiler) {
+  clear_.copyUints(src, srcFirst, dst, dstFirst, count, "statistics", profiler);
+}
+
 void RenderTarget::clearGBuffer(const PixelRect& box, Profiler* profiler) {
   const PixelRect whole{0, 0, width_, height_};
   if (used_ > cleanLayers_ || dirty_.clipped(width_, height_) == whole) {

@@ -33,6 +33,11 @@ class RenderTarget {
   void clearGBuffer(const PixelRect& box, Profiler* profiler);
   // Fills `count` words of `buffer` with the empty G-buffer word.
   void clearWords(const cl::Buffer& buffer, std::size_t count, Profiler* profiler);
+  // `count` 32-bit words of `buffer` set to 0 (counters).
+  void clearUints(const cl::Buffer& buffer, std::size_t count, Profiler* profiler);
+  // `count` 32-bit words of `src` from word `srcFirst` into `dst` from word `dstFirst`.
+  void copyUints(const cl::Buffer& src, std::size_t srcFirst, const cl::Buffer& dst,
+                 std::size_t dstFirst, std::size_t count, Profiler* profiler);
   int usedLayers() const { return used_; }
 
   ViewTarget viewTarget() const { return {&view, width_, height_}; }

@@ -162,10 +162,8 @@ void ShadowPass::rebuild(const Scene& s, const RenderOptions& cameraOptions, boo
   totalSlots_ = grooms.size();
   ensureCapacity<cl_uint>(dev_, totals_, totalCap_, "shadow strand totals",
                           CLH_MAX_SHADOWS * std::max<std::size_t>(totalSlots_, 1));
-  clCall("clearing the shadow strand totals", [&] {
-    return dev_.queue.enqueueFillBuffer(
-        totals_, cl_uint(0), 0, CLH_MAX_SHADOWS * std::max<std::size_t>(totalSlots_, 1) * 4);
-  });
+  clear_.uints(totals_, CLH_MAX_SHADOWS * std::max<std::size_t>(totalSlots_, 1), 0u, "shadow",
+               profiler);
   // the light's passes use LOD unless the caller turned it off explicitly
   ViewPass pass;
   pass.view = &lightView_;
@@ -200,11 +198,10 @@ void ShadowPass::rebuild(const Scene& s, const RenderOptions& cameraOptions, boo
       continue;
     }
     d.groom->lod(*d.state, *camera->view, profiler);
-    clCall("keeping the camera's LOD records", [&] {
-      return dev_.queue.enqueueCopyBuffer(d.state->lod, cameraLod_, 0,
-                                          cameraAt[k] * sizeof(gpu::ClhLodRecord),
-                                          d.state->records * sizeof(gpu::ClhLodRecord));
-    });
+    // the camera's LOD records kept (16 bytes, four 32-bit words each)
+    constexpr std::size_t recordWords = sizeof(gpu::ClhLodRecord) / 4;
+    clear_.copyUints(d.state->lod, 0, cameraLod_, cameraAt[k] * recordWords,
+                     d.state->records * recordWords, "shadow", profiler);
   }
   std::vector<gpu::ClhShadowGpu> params(CLH_MAX_SHADOWS);
   int slot = 0;
@@ -267,11 +264,7 @@ void ShadowPass::rebuild(const Scene& s, const RenderOptions& cameraOptions, boo
     // the opaque scene and meshes from the light: their depth only
     const ViewTarget lightTarget{&lightView_, res, res};
     scene.drawOpaque(lightTarget, maps(), lightColor_, lightDepth_, false, profiler);
-    clCall("copying the light's opaque depth", [&] {
-      dev_.queue.enqueueCopyBuffer(lightDepth_, opaque_, 0, plane * slot * sizeof(float),
-                                   plane * sizeof(float));
-      return 0;
-    });
+    clear_.copyUints(lightDepth_, 0, opaque_, plane * slot, plane, "shadow", profiler);
     // hair depth: the strand pass of every groom from the light into the light's G-buffer
     clear_.words(lightGBuffer_, plane * 2, ~std::uint64_t(0), "clear", profiler);
     StrandRaster rs;
@@ -295,11 +288,8 @@ void ShadowPass::rebuild(const Scene& s, const RenderOptions& cameraOptions, boo
           mode == DispatchMode::ReadBack ? d.groom->readTotal(*d.state) : d.groom->strandCount();
       drawn.push_back({&d, rs.strands});
       if (d.state->records > 0)
-        clCall("copying a shadow pass's strand total", [&] {
-          return dev_.queue.enqueueCopyBuffer(
-              d.state->offsets, totals_, gpu::clh_lod_drawn_total_at(d.state->records) * 4,
-              (static_cast<std::size_t>(slot) * totalSlots_ + k) * 4, 4);
-        });
+        clear_.copyUints(d.state->offsets, gpu::clh_lod_drawn_total_at(d.state->records), totals_,
+                         static_cast<std::size_t>(slot) * totalSlots_ + k, 1, "shadow", profiler);
       d.groom->raster(*d.state, rs, profiler);
     }
     stage_.resolveDepth(one_[slot], lightGBuffer_, hair_, res, plane * CLH_MAX_SHADOWS, profiler);

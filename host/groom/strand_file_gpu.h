@@ -42,8 +42,8 @@ class StrandFileGpu final : public GroomGpu {
             "strands_explicit_opacity", "strands_explicit_motion"};
   }
   std::vector<const cl::Buffer*> tables() const override {
-    return {&points_, &strandOffsets_, &uv_,        &chunks_,
-            &chunkBounds_, &kids_,        &neighbours_, &prevPoints_};
+    return {&points_,      &strandOffsets_, &uv_,         &chunks_,
+            &chunkBounds_, &kids_,          &neighbours_, &prevPoints_};
   }
   glm::vec3 boundsMin() const override { return data_.boundsMin; }
   glm::vec3 boundsMax() const override { return data_.boundsMax; }

@@ -19,7 +19,7 @@ void addLinkPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& g
       "link " + std::to_string(gp.index),
       [&](FrameGraph::Setup& s) {
         s.read(plan.viewRecord).read(gp.params).readWrite(plan.gbuffer).write(plan.linkState);
-        s.kernel("link_select").kernel("link_merge");
+        s.kernel("clear_uints").kernel("link_select").kernel("link_merge");
         if (!gp.linking) return;
         s.read(plan.depth).read(gp.tables).read(gp.lod).readWrite(plan.rasterCounters);
         s.kernel(gp.draw.groom->kernels().raster).kernel("link_propagate");

@@ -55,18 +55,15 @@ void addPointShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomP
       [&, h](FrameGraph::Setup& s) {
         s.read(plan.gbuffer).write(h.bits).write(h.blocks).write(h.ranks).write(plan.frameStats);
         s.kernel("points_mark").kernel("points_count").kernel("points_scan");
-        s.kernel("points_offsets");
+        s.kernel("points_offsets").kernel("clear_uints").kernel("copy_uints");
       },
       [&, h, box] {
         const PointStage::Lists l = h.lists(g);
         r.points.mark(t.viewTarget(), t.gbuffer, gp.layers, plan.options.msaa, box, l, &r.profiler);
         r.points.rank(l, &r.profiler);
         // the groom's marked points, for the frame's statistics
-        clCall("copying the marked point count", [&] {
-          return r.dev.queue.enqueueCopyBuffer(*l.offsets, r.frameStats,
-                                               std::size_t(l.sizes.words) * 4,
-                                               (plan.pointsAt + gp.index) * 4, 4);
-        });
+        r.target.copyUints(*l.offsets, l.sizes.words, r.frameStats, plan.pointsAt + gp.index, 1,
+                           &r.profiler);
       });
 
   g.addPass(

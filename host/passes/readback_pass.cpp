@@ -13,8 +13,7 @@ namespace {
 
 void copyWords(Renderer::Impl& r, const cl::Buffer& from, std::size_t words, std::size_t at) {
   if (words == 0 || !from()) return;
-  clCall("gathering the frame's statistics",
-         [&] { return r.dev.queue.enqueueCopyBuffer(from, r.frameStats, 0, at * 4, words * 4); });
+  r.target.copyUints(from, 0, r.frameStats, at, words, &r.profiler);
 }
 
 }  // namespace
@@ -26,7 +25,7 @@ void addReadBackPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingF
       "read-back",
       [&](FrameGraph::Setup& s) {
         s.read(plan.color).read(plan.depth).readWrite(plan.frameStats).read(plan.lodArena);
-        s.read(plan.shadowMaps).read(plan.rasterCounters).sideEffect();
+        s.read(plan.shadowMaps).read(plan.rasterCounters).sideEffect().kernel("copy_uints");
         if (plan.aovs)
           for (std::uint32_t i = 0; i < 8; ++i) s.read(FrameGraph::Handle{plan.aovPlanes.id + i});
         if (plan.options.captureGBuffer) s.read(plan.gbuffer);
@@ -37,14 +36,15 @@ void addReadBackPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingF
         f.color.width = plan.scene.width;
         f.color.height = plan.scene.height;
         f.color.rgba.resize(plan.pixels * 4);
-        f.depth.resize(plan.pixels);
+        if (plan.options.readBackDepth || plan.aovs) f.depth.resize(plan.pixels);
         copyWords(r, r.frameLod.state(), FrameLod::stateWords(D), plan.budgetAt);
         copyWords(r, r.shadows.totals(), shadowWords, plan.shadowAt);
         if (plan.options.rasterStats) copyWords(r, t.stats, 4, plan.rasterStatsAt);
         out.stats.assign(plan.stats.words, 0u);
         out.read(r.dev, r.pinned, r.frameStats, 0, out.stats.data(), out.stats.size() * 4);
         out.read(r.dev, r.pinned, t.color, 0, f.color.rgba.data(), f.color.rgba.size() * 4);
-        out.read(r.dev, r.pinned, t.depth, 0, f.depth.data(), f.depth.size() * 4);
+        if (!f.depth.empty())
+          out.read(r.dev, r.pinned, t.depth, 0, f.depth.data(), f.depth.size() * 4);
         if (plan.options.captureGBuffer) {
           f.gbufferLayers = t.usedLayers();
           f.gbuffer.assign(plan.pixels * static_cast<std::size_t>(t.usedLayers()),
@@ -92,50 +92,50 @@ void addReadBackPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingF
   for (const GroomPlan& gp : plan.grooms)
     drawn.push_back({gp.draw.instance->name, gp.active != 0, gp.huang && !plan.options.rasterOnly,
                      gp.active != 0 && gp.points});
-  out.finishers.insert(out.finishers.begin(), [drawn, budget = plan.budget,
-                                               at = Offsets{plan.budgetAt, plan.linkAt,
-                                                            plan.pointsAt, plan.shadowAt,
-                                                            plan.rasterStatsAt},
-                                               D, shadowWords](PendingFrame& p) {
-    FrameStats& st = p.frames[0].stats;
-    const std::vector<std::uint32_t>& w = p.stats;
-    std::vector<std::uint32_t> lodWords(
-        w.begin() + static_cast<std::ptrdiff_t>(at.budgetAt),
-        w.begin() + static_cast<std::ptrdiff_t>(at.budgetAt + FrameLod::stateWords(D)));
-    const FrameLod::Result lod = FrameLod::decode(lodWords, D);
-    st.segmentBudget = budget;
-    st.overBudget = lod.over;
-    st.budgetScale = lod.scale;
-    st.segmentsBeforeBudget = lod.lodSegments;
-    for (std::size_t k = 0; k < D; ++k) {
-      GroomDrawStats g;
-      g.instance = k;
-      g.name = drawn[k].name;
-      g.drawn = drawn[k].drawn;
-      if (g.drawn && lod.draw.size() >= 4 * D) {
-        g.strands = lod.draw[4 * k];
-        g.segments = lod.draw[4 * k + 1];
-        g.visibleStrands = lod.draw[4 * k + 2];
-        g.halved = (lod.draw[4 * k + 3] & CLH_BUDGET_HALVED) != 0;
-      }
-      st.strandsDrawn += g.strands;
-      st.segmentsPlanned += g.segments;
-      st.grooms.push_back(std::move(g));
-      if (drawn[k].points) st.pointsShaded += w[at.pointsAt + k];
-      if (!drawn[k].huang) continue;
-      const std::uint32_t* c = &w[at.linkAt + 4 * k];
-      st.linkSelecting += c[0];
-      st.linkedPixels += c[1];
-      st.linkStrands += c[2];
-      st.linkTurnedAway += c[3];
-    }
-    for (std::size_t i = 0; i < shadowWords; ++i) st.shadowStrandsDrawn += w[at.shadowAt + i];
-    const std::uint32_t* rs = &w[at.rasterStatsAt];
-    st.pixelWrites = rs[0];
-    st.atomicsIssued = rs[1];
-    st.atomicsSkipped = rs[2];
-    st.segmentsDrawn = rs[3];
-  });
+  out.finishers.insert(
+      out.finishers.begin(),
+      [drawn, budget = plan.budget,
+       at = Offsets{plan.budgetAt, plan.linkAt, plan.pointsAt, plan.shadowAt, plan.rasterStatsAt},
+       D, shadowWords](PendingFrame& p) {
+        FrameStats& st = p.frames[0].stats;
+        const std::vector<std::uint32_t>& w = p.stats;
+        std::vector<std::uint32_t> lodWords(
+            w.begin() + static_cast<std::ptrdiff_t>(at.budgetAt),
+            w.begin() + static_cast<std::ptrdiff_t>(at.budgetAt + FrameLod::stateWords(D)));
+        const FrameLod::Result lod = FrameLod::decode(lodWords, D);
+        st.segmentBudget = budget;
+        st.overBudget = lod.over;
+        st.budgetScale = lod.scale;
+        st.segmentsBeforeBudget = lod.lodSegments;
+        for (std::size_t k = 0; k < D; ++k) {
+          GroomDrawStats g;
+          g.instance = k;
+          g.name = drawn[k].name;
+          g.drawn = drawn[k].drawn;
+          if (g.drawn && lod.draw.size() >= 4 * D) {
+            g.strands = lod.draw[4 * k];
+            g.segments = lod.draw[4 * k + 1];
+            g.visibleStrands = lod.draw[4 * k + 2];
+            g.halved = (lod.draw[4 * k + 3] & CLH_BUDGET_HALVED) != 0;
+          }
+          st.strandsDrawn += g.strands;
+          st.segmentsPlanned += g.segments;
+          st.grooms.push_back(std::move(g));
+          if (drawn[k].points) st.pointsShaded += w[at.pointsAt + k];
+          if (!drawn[k].huang) continue;
+          const std::uint32_t* c = &w[at.linkAt + 4 * k];
+          st.linkSelecting += c[0];
+          st.linkedPixels += c[1];
+          st.linkStrands += c[2];
+          st.linkTurnedAway += c[3];
+        }
+        for (std::size_t i = 0; i < shadowWords; ++i) st.shadowStrandsDrawn += w[at.shadowAt + i];
+        const std::uint32_t* rs = &w[at.rasterStatsAt];
+        st.pixelWrites = rs[0];
+        st.atomicsIssued = rs[1];
+        st.atomicsSkipped = rs[2];
+        st.segmentsDrawn = rs[3];
+      });
 }
 
 }  // namespace clhair

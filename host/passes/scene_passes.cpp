@@ -20,10 +20,7 @@ void opaqueKernels(FrameGraph::Setup& s) {
 
 void importStats(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
   // zeroed ahead of the frame: the counters of passes that do not run read as 0
-  clCall("clearing the frame statistics", [&] {
-    return r.dev.queue.enqueueFillBuffer(r.frameStats, cl_uint(0), 0,
-                                         std::max<std::size_t>(plan.stats.words, 1) * 4);
-  });
+  r.target.clearUints(r.frameStats, std::max<std::size_t>(plan.stats.words, 1), &r.profiler);
   plan.frameStats = g.import("frame statistics", {&r.frameStats}, true, true);
 }
 
@@ -85,6 +82,7 @@ void addShadowPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
         opaqueKernels(s);
         s.kernel("scan_bundles").kernel("shadow_resolve_depth").kernel("shadow_clear");
         s.kernel("lod_cap");
+        s.kernel("clear_uints").kernel("copy_uints");
         if (plan.mode == DispatchMode::ReadBack)
           s.hostWait("each groom's strand total from each light (--dispatch readback)");
       },

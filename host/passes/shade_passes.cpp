@@ -67,17 +67,15 @@ void addFilterPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan&
       [&](FrameGraph::Setup& s) {
         s.read(plan.viewRecord).read(gp.params).read(plan.gbuffer).read(plan.linkState);
         s.readWrite(gp.hair).write(gp.filteredHair).write(plan.frameStats);
-        s.kernel("link_alpha");
+        s.kernel("link_alpha").kernel("copy_uints");
         if (gp.filter->aniso) s.kernel("link_aniso");
       },
       [&] {
         r.link.finish(linkParams(plan, gp), gp.filter->aniso, g.buffer(gp.hair),
                       g.buffer(gp.filteredHair), &r.profiler);
         // the groom's linking counters, for the frame's statistics
-        clCall("copying the hair linking counters", [&] {
-          return r.dev.queue.enqueueCopyBuffer(r.link.counterBuffer(), r.frameStats, 0,
-                                               (plan.linkAt + 4 * gp.index) * 4, 16);
-        });
+        r.target.copyUints(r.link.counterBuffer(), 0, r.frameStats, plan.linkAt + 4 * gp.index, 4,
+                           &r.profiler);
       });
 }
 
@@ -90,10 +88,11 @@ void addCompositePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPl
       },
       [&] {
         RenderTarget& t = *plan.target;
-        r.composite.enqueue({t.viewTarget(), &gp.draw.state->groom, &g.buffer(gp.result),
-                             &t.gbuffer, &t.color, &t.depth, plan.options.msaa,
-                             static_cast<int>(gp.depthLayers), gp.huang || gp.points ? gp.hairBox : PixelRect{}},
-                            &r.profiler);
+        r.composite.enqueue(
+            {t.viewTarget(), &gp.draw.state->groom, &g.buffer(gp.result), &t.gbuffer, &t.color,
+             &t.depth, plan.options.msaa, static_cast<int>(gp.depthLayers),
+             gp.huang || gp.points ? gp.hairBox : PixelRect{}},
+            &r.profiler);
       });
 }
 

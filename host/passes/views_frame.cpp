@@ -127,7 +127,7 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
           st.write(gp.params).write(gp.lod).read(depths).write(gbuffers);
           st.readWrite(plan.rasterCounters).readWrite(plan.frameStats);
           st.kernel(kernels.lod).kernel("scan_bundles").kernel("clear_words");
-          st.kernel("strands_raster_views");
+          st.kernel("strands_raster_views").kernel("copy_uints");
           if (plan.mode == DispatchMode::ReadBack) st.hostWait("the groom's strand total");
         },
         [&, gv, passes, d, k, totalsAt, D, V, pixels, layers] {
@@ -167,11 +167,8 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
           if (!gv->together || inst.records == 0) return;
           for (std::size_t v = 0; v < V; ++v)
             if (gv->inFront[v])
-              clCall("copying a view's strand total", [&] {
-                return r.dev.queue.enqueueCopyBuffer(inst.offsets, r.frameStats,
-                                                     gpu::clh_lod_drawn_total_at(inst.records) * 4,
-                                                     (totalsAt + v * D + k) * 4, 4);
-              });
+              r.target.copyUints(inst.offsets, gpu::clh_lod_drawn_total_at(inst.records),
+                                 r.frameStats, totalsAt + v * D + k, 1, &r.profiler);
         });
     for (std::size_t v = 0; v < V; ++v) {
       if (!gv->inFront[v]) continue;
@@ -187,7 +184,10 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
             st.read(plan.visibility).write(hair).readWrite(plan.frameStats);
             st.readWrite(plan.rasterCounters).kernel("shade_deferred");
             // a groom that draws each view on its own: its own LOD and strands per view
-            st.kernel(kernels.lod).kernel("scan_bundles").kernel("clear_words");
+            st.kernel(kernels.lod)
+                .kernel("scan_bundles")
+                .kernel("clear_words")
+                .kernel("copy_uints");
             st.kernel(plan.mode == DispatchMode::Persistent ? kernels.rasterPersistent
                                                             : kernels.raster);
             if (plan.mode == DispatchMode::ReadBack) st.hostWait("the groom's strand total");
@@ -208,11 +208,8 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
               own.ids = false;
               d.groom->raster(inst, own, &r.profiler);
               if (inst.records > 0)
-                clCall("copying a view's strand total", [&] {
-                  return r.dev.queue.enqueueCopyBuffer(
-                      inst.offsets, r.frameStats, gpu::clh_lod_drawn_total_at(inst.records) * 4,
-                      (totalsAt + v * D + k) * 4, 4);
-                });
+                r.target.copyUints(inst.offsets, gpu::clh_lod_drawn_total_at(inst.records),
+                                   r.frameStats, totalsAt + v * D + k, 1, &r.profiler);
             } else {
               uploadChanged(r.dev, inst.groom, inst.sent, &gv->records[v], 1);
             }
@@ -256,15 +253,13 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
       "read-back",
       [&, V](FrameGraph::Setup& st) {
         st.read(depths).readWrite(plan.frameStats).read(plan.shadowMaps).sideEffect();
+        st.kernel("copy_uints");
         for (std::size_t v = 0; v < V; ++v) st.read(colour[v]);
       },
       [&r, &vt, &out, V, pixels, at = plan.shadowAt, words = plan.stats.words, w = s.width,
-       h = s.height] {
-        clCall("gathering the frame's statistics", [&] {
-          if (words == at || !r.shadows.totals()()) return CL_SUCCESS;
-          return r.dev.queue.enqueueCopyBuffer(r.shadows.totals(), r.frameStats, 0, at * 4,
-                                               (words - at) * 4);
-        });
+       h = s.height, depth = o.readBackDepth] {
+        if (words != at && r.shadows.totals()())
+          r.target.copyUints(r.shadows.totals(), 0, r.frameStats, at, words - at, &r.profiler);
         out.stats.assign(words, 0u);
         out.read(r.dev, r.pinned, r.frameStats, 0, out.stats.data(), words * 4);
         for (std::size_t v = 0; v < V; ++v) {
@@ -272,8 +267,9 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
           f.color.width = w;
           f.color.height = h;
           f.color.rgba.resize(pixels * 4);
-          f.depth.resize(pixels);
           out.read(r.dev, r.pinned, vt.target(v).color, 0, f.color.rgba.data(), pixels * 16);
+          if (!depth) continue;
+          f.depth.resize(pixels);
           out.read(r.dev, r.pinned, vt.depthSlices[v], 0, f.depth.data(), pixels * 4);
         }
       });

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "clhair/scene.h"
+#include "stages/clear_stage.h"
 #include "stages/stage_inputs.h"
 
 namespace clhair {
@@ -71,6 +72,7 @@ class LinkStage {
  private:
   Device::Impl& dev_;
   cl::Kernel select_, propagate_, merge_, alpha_, aniso_;
+  ClearStage clear_;
   cl::Buffer params_, choice_, flags_, table_, counters_;
   std::size_t choiceCap_ = 0, flagsCap_ = 0, tableCap_ = 0;
   std::uint32_t words_ = 1, tableSize_ = 1;

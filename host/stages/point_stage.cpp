@@ -13,7 +13,7 @@ namespace {
 constexpr std::size_t kScanGroup = 256;
 }  // namespace
 
-PointStage::PointStage(Device::Impl& dev) : dev_(dev) {}
+PointStage::PointStage(Device::Impl& dev) : dev_(dev), clear_(dev) {}
 
 std::uint64_t PointStage::Sizes::recordsBytes() const {
   return (std::uint64_t(capacity) + 1) * sizeof(gpu::ClhPointGpu);
@@ -44,13 +44,7 @@ void PointStage::mark(const ViewTarget& target, const cl::Buffer& gbuffer, int l
   if (layers < 2 * msaa + 1)
     throw Error("per-point shading: the G-buffer has " + std::to_string(layers) +
                 " layers, the sample identities need " + std::to_string(2 * msaa + 1));
-  cl::Event cleared;
-  const bool timed = profiler && profiler->enabled;
-  clCall("clearing the marked points", [&] {
-    return dev_.queue.enqueueFillBuffer(*lists.bits, cl_uint(0), 0, lists.sizes.bitsBytes(),
-                                        nullptr, timed ? &cleared : nullptr);
-  });
-  if (timed) profiler->add("points", cleared);
+  clear_.uints(*lists.bits, lists.sizes.words, 0u, "points", profiler);
   cl::Kernel& k = kernel("points_mark", msaa);
   const PixelRect b = box.clipped(target.width, target.height);
   KernelArgs(k, "points")

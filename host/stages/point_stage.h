@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <map>
 
+#include "stages/clear_stage.h"
 #include "stages/stage_inputs.h"
 #include "stages/strand_stage.h"
 
@@ -58,6 +59,7 @@ class PointStage {
  private:
   cl::Kernel& kernel(const char* name, int msaa);
   Device::Impl& dev_;
+  ClearStage clear_;
   std::map<std::pair<std::string, int>, cl::Kernel> kernels_;
 };
 

@@ -96,6 +96,9 @@ struct RenderOptions {
   // Per-stage device times in Frame::timings (profiling events). false: no event is asked
   // for, and the frame costs nothing to time (sequences that print no stage times).
   bool timings = true;
+  // Frame::depth is read back (false: it stays empty unless aovs need it; a frame written as
+  // an image needs only its colour, and a discrete GPU then sends a fifth fewer bytes).
+  bool readBackDepth = true;
   // Frame::passes gets the frame's graph as text (clhair render --passes).
   bool describePasses = false;
   // Temporal reprojection (TemporalParams in clhair/scene.h): frames of history, -1 as the

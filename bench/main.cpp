@@ -35,6 +35,10 @@
 //             LOD, with LOD and the segment budget, and the single default groom at close,
 //             interleaved; strands and segments per groom; a 60-frame camera dolly with the
 //             segments drawn checked against the budget in every frame.
+//   lodfar    the default scene far at the quality size, maps rebuilt every frame: strand and
+//             shadow stages with LOD off, with LOD (lights' passes capped by the camera's),
+//             the light's view alone and full-detail maps; dispatch sizing; the shadowed
+//             pixels' FLIP between them (bench/lod_far.h).
 //   throughput a shot written frame after frame as PNG and as EXR (bench/throughput.h):
 //             frames per second, per frame wall, device time, host CPU and host waits; frames in
 //             flight against one at a time; single stills per process and in-process.
@@ -66,6 +70,7 @@
 #include "cl/device_impl.h"
 #include "cl/dispatch.h"
 #include "clhair/aov.h"
+#include "clhair/progressive.h"
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
 #include "clhair/strand_groom.h"
@@ -74,6 +79,7 @@
 #include "groom/explicit_data.h"
 #include "io/cyhair.h"
 #include "io/tressfx.h"
+#include "lod_far.h"
 #include "metrics/image_metrics.h"
 #include "throughput.h"
 
@@ -248,7 +254,7 @@ int main(int argc, char** argv) {
   app.add_option(
       "--only", only,
       "one section: table1, dispatch, scaling, atomics, quality, temporal, explicit, children, "
-      "mesh, crowd, floor, sequences, throughput");
+      "mesh, crowd, floor, sequences, lodfar, throughput");
   app.add_option("--runs", runs,
                  "timed runs per configuration (median reported); the quality section takes 0 "
                  "for the times of the one frame it compares");
@@ -573,6 +579,10 @@ int main(int argc, char** argv) {
         // segment budget: -1 the scene's (2 M segments by default), 0 none; with LOD a
         // groom over the budget keeps fewer, wider strands (docs/scene-format.md)
         std::int64_t budget = -1;
+        int points = 0;   // 1: shaded once per visible strand point (RenderOptions::pointShading)
+        int quality = 0;  // RenderOptions::quality: 0 draft (the fields above), 1 good, 2 final
+        int finalPasses = 0;  // final: passes (the first N of one progressive run per cell)
+        int finalPath = -1;   // final: RenderOptions::finalPath
       };
       const Config configs[] = {{"SWR1", 1, 0, 0, true, 0},
                                 {"SWR1+F", 1, 1, 0, true, 0},
@@ -589,6 +599,16 @@ int main(int argc, char** argv) {
                                 {"SWR MSAA 2", 2, 0, 0, true, 0},
                                 {"SWR MSAA 4", 4, 0, 0, true, 0},
                                 {"SWR MSAA 8", 8, 0, 0, true, 0},
+                                {"SWR MSAA 4 per point", 4, 0, 0, true, 0, 0, 0, -1, 1},
+                                {"SWR MSAA 8 per point", 8, 0, 0, true, 0, 0, 0, -1, 1},
+                                {"SWR1 per point", 1, 0, 0, true, 0, 0, 0, -1, 1},
+                                {"good", 1, 0, 0, true, 0, 0, 0, -1, 0, 1},
+                                {"final 4", 1, 0, 0, true, 0, 0, 0, -1, 0, 2, 4},
+                                {"final 16", 1, 0, 0, true, 0, 0, 0, -1, 0, 2, 16},
+                                {"final 64", 1, 0, 0, true, 0, 0, 0, -1, 0, 2, 64},
+                                {"final SWR1 4", 1, 0, 0, true, 0, 0, 0, -1, 0, 2, 4, 0},
+                                {"final SWR1 16", 1, 0, 0, true, 0, 0, 0, -1, 0, 2, 16, 0},
+                                {"final SWR1 64", 1, 0, 0, true, 0, 0, 0, -1, 0, 2, 64, 0},
                                 {"SWR coverage", 1, 0, 0, true, 0, 0, 1}};
       auto splitList = [](const std::string& list) {
         std::set<std::string> items;
@@ -732,6 +752,9 @@ int main(int argc, char** argv) {
           writeImage(ref.color, refPath);
           // the scene without hair: the hair's pixels are where the reference differs from it
           writeImage(background.color, out + "/quality/" + gtag + distNames[d] + "_background.png");
+          // quality final: one progressive run per pass path and cell, whose first N passes
+          // give the row of N passes (the rows of fewer passes are its prefixes)
+          std::map<int, std::unique_ptr<ProgressiveStill>> finals;
           for (const Config& c : configs) {
             if (!chosen.empty() && !chosen.count(c.name)) continue;
             RenderOptions o;
@@ -741,12 +764,24 @@ int main(int argc, char** argv) {
             o.lodAggregate = c.lodAggregate;
             o.raster = c.raster;
             o.segmentBudget = c.budget;
+            o.pointShading = c.points;
+            o.quality = c.quality;
+            o.finalPath = c.finalPath;
             Scene sc = s;
             useFilter(sc, c.huang, c.promote);
-            Frame f = b.renderer.render(sc, o);
-            // --runs 0 (quick tuning runs): the times of this one frame
+            Frame f;
+            if (c.finalPasses > 0) {
+              std::unique_ptr<ProgressiveStill>& acc = finals[c.finalPath];
+              if (!acc) acc = std::make_unique<ProgressiveStill>(b.renderer, s, o);
+              acc->add(acc->passes(), std::max(c.finalPasses - acc->passes(), 0));
+              f = acc->frame();
+            } else {
+              f = b.renderer.render(sc, o);
+            }
+            // --runs 0 (quick tuning runs): the times of this one frame; final: the sum of
+            // its passes' times
             Measured m;
-            if (runs > 0) {
+            if (runs > 0 && c.finalPasses == 0) {
               m = b.measure(sc, o, false);
             } else {
               for (const StageTime& t : f.timings) m.stages[t.stage] = summarize({t.ms});
@@ -788,7 +823,7 @@ int main(int argc, char** argv) {
                          ltag.c_str(), groomNames[g], c.name, distNames[d], flipHair, psnrHair,
                          cmp.flip.mean, m.total.median, filterMs);
             if (!maps && g == 0 && d == 1 && c.msaa == 1 && c.filter == 0 && c.lod == 0 &&
-                c.raster == 0) {
+                c.raster == 0 && c.quality == 0 && c.points == 0) {
               // SWR1 at mid against the other reference too, over the same hair pixels
               Frame other;
               const double otherMs = wallMs([&] { other = reference(s, g, d, otherMethod, ltag); });
@@ -823,6 +858,7 @@ int main(int argc, char** argv) {
         md << refMd.str();
       }
       report["quality"] = q;
+      report["quality_size"] = std::to_string(qw) + "x" + std::to_string(qh);
       md << "\nImages: `" << out << "/quality/`.\n";
     }
 
@@ -842,11 +878,13 @@ int main(int argc, char** argv) {
       struct Config {
         const char* name;
         int msaa, filter;
-        int history;    // temporal reprojection: frames of history, 0 off
-        bool protect;   // the depth rule and the neighbourhood clamp
-        int huang = 0;  // 0: Lipp's filter; else Huang's: 1 linking, 2 + alpha fix, 3 + filter
+        int history;      // temporal reprojection: frames of history, 0 off
+        bool protect;     // the depth rule and the neighbourhood clamp
+        int huang = 0;    // 0: Lipp's filter; else Huang's: 1 linking, 2 + alpha fix, 3 + filter
+        int quality = 0;  // RenderOptions::quality (1: good)
       };
       const Config configs[] = {{"SWR1", 1, 0, 0, true},
+                                {"good", 1, 0, 0, true, 0, 1},
                                 {"SWR1+F", 1, 1, 0, true},
                                 {"SWR1+H linking", 1, 1, 0, true, 1},
                                 {"SWR1+H linking+alpha fix", 1, 1, 0, true, 2},
@@ -899,6 +937,7 @@ int main(int argc, char** argv) {
         o.filter = c.filter;
         o.lod = 0;
         o.temporal = c.history;
+        o.quality = c.quality;
         return o;
       };
       auto protectedScene = [](Scene s, const Config& c) {
@@ -1864,6 +1903,16 @@ int main(int argc, char** argv) {
       report["sequences"]["plain_frame_ms"] = plainMs;
       std::fprintf(stderr, "sequences IoU: turntable %.3f (%.3f), wind %.3f (%.3f)\n", turnIoU,
                    turnStill, windIoU, windStill);
+    }
+
+    if (only.empty() || only == "lodfar") {
+      bench::LodFarOptions lf;
+      lf.scene = std::string(CLHAIR_SOURCE_DIR) + "/assets/scenes/default.json";
+      lf.width = quick ? 320 : qualityWidth;
+      lf.height = quick ? 180 : qualityHeight;
+      lf.runs = std::max(runs, 1);
+      lf.warmup = warmup;
+      bench::lodFarSection(b.renderer, lf, md, report);
     }
 
     if (only.empty() || only == "throughput") {

@@ -18,6 +18,9 @@
  * the visible total, the full-detail strand count of the bundles not culled, so shading
  * knows the fraction beta of visible strands LOD kept, and the segment total.
  *
+ * lod_cap (one work-group): the light passes' records of a groom capped by the camera's
+ * (what the camera can resolve, per bundle), counted and scanned again.
+ *
  * budget_plan and budget_apply (the segment budget, Kulikov 2025 "LODs"): once every
  * groom's pre-pass has run, all grooms' LOD records lie in one buffer (the arena, see
  * ClhBudgetDraw in gpu_types.h). budget_plan (one work-group) sums the segments of the
@@ -217,6 +220,53 @@ static void clh_scan_counts(__global const uint* counts_g, __global uint* offset
 __kernel __attribute__((reqd_work_group_size(SCAN_WG, 1, 1))) void scan_bundles(
     __global const uint* counts_g, __global uint* offsets_g, uint n) {
   __local uint sums_l[SCAN_WG];
+  clh_scan_counts(counts_g, offsets_g, n, sums_l);
+}
+
+/* ---- the light passes' LOD from what the camera needs --------------------------------- */
+
+/* One work-group (one groom instance; DESIGN.md, "Light-pass LOD from the camera"): the
+ * light's records of the groom, just written by lod_bundles / lod_chunks in the light's
+ * view, keep no more strands and control points per bundle than the camera's records
+ * camera_g (the same bundles in the camera's view) do: a strand the camera cannot resolve
+ * adds nothing to the shadow it sees. A bundle the camera culls (no strands) keeps the
+ * light's record: its shadow may still fall in view. The strands kept are widened by the
+ * strand kernels as for any LOD (N / N_LOD), so a texel's opacity stays. Counts
+ * rewritten (segments: exact for hair meshes, stored == 0; the chunk's mean per strand
+ * for strand files) and scanned again. */
+__kernel __attribute__((reqd_work_group_size(SCAN_WG, 1, 1))) void lod_cap(
+    __global ClhLodRecord* rec_g, __global uint* counts_g, __global uint* offsets_g,
+    __global const ClhLodRecord* camera_g, uint camera_at, uint n, uint stored) {
+  __local uint sums_l[SCAN_WG];
+  const uint lid = (uint)get_local_id(0);
+  for (uint b = lid; b < n; b += SCAN_WG) {
+    ClhLodRecord r = rec_g[b];
+    const ClhLodRecord c = camera_g[camera_at + b];
+    if (c.strands == 0u || r.strands == 0u) continue;
+    const uint kept = min(r.strands, c.strands);
+    const uint C = min(r.control_points, c.control_points);
+    const uint segs = counts_g[clh_lod_segment_count_at(n, b)];
+    ulong s2;
+    if (stored == 0u) {
+      s2 = (ulong)kept * (ulong)(max(C, 2u) - 1u);
+    } else {
+      /* the chunk's mean segments per strand, scaled by the points kept */
+      const ulong per = ((ulong)segs + r.strands - 1u) / r.strands;
+      s2 = (ulong)kept *
+           max((per * (ulong)(max(C, 2u) - 1u)) / (ulong)(max(r.control_points, 2u) - 1u),
+               (ulong)1u);
+    }
+    if (C < r.control_points) {
+      r.control_points = C;
+      r.gamma = c.control_points == C ? c.gamma : 0.0f;
+    }
+    r.strands = kept;
+    r.lod = fmin(r.lod, c.lod);
+    rec_g[b] = r;
+    counts_g[b] = kept;
+    counts_g[clh_lod_segment_count_at(n, b)] = (uint)min(s2, (ulong)0xFFFFFFFFu);
+  }
+  barrier(CLK_GLOBAL_MEM_FENCE | CLK_LOCAL_MEM_FENCE);
   clh_scan_counts(counts_g, offsets_g, n, sums_l);
 }
 

@@ -45,6 +45,7 @@
 #include "clhair/error.h"
 #include "clhair/fit.h"
 #include "clhair/hair_mesh.h"
+#include "clhair/progressive.h"
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
 #include "clhair/temporal.h"
@@ -186,7 +187,19 @@ struct RenderFlags {
   int encodeThreads = 0;           // --encode-threads (WriteQueue; 0: automatic)
   bool passes = false;             // --passes: print the first frame's graph
   ImageWriteOptions write;         // --png-compression, --exr-compression
+  std::string quality;             // --quality draft|good|final; empty: the scene's
+  std::string shadowLod;           // --shadow-lod camera|light|off; empty: camera
+  bool sppGiven = false;           // --spp given (final's passes; else the level's default)
 };
+
+// --quality's value as RenderOptions::quality (0 draft, 1 good, 2 final); -1 when not given.
+int parseQualityFlag(const std::string& v) {
+  if (v.empty()) return -1;
+  if (v == "draft") return 0;
+  if (v == "good") return 1;
+  if (v == "final") return 2;
+  throw Error("--quality must be draft, good or final, not \"" + v + "\"");
+}
 
 // The --temporal value: frames of history, a whole number 0 (off) .. kMaxTemporalHistory.
 int parseTemporal(const std::string& v) {
@@ -487,6 +500,26 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
                 "; --temporal 0 turns it off");
   if (f.reference && (f.spp < 1 || f.spp > 65536))
     throw Error("--spp must be 1..65536, not " + std::to_string(f.spp));
+  ro.quality = parseQualityFlag(f.quality);
+  if (f.shadowLod == "light") {
+    ro.shadowLodCamera = 0;
+  } else if (f.shadowLod == "off") {
+    ro.shadowLod = 0;
+  } else if (!f.shadowLod.empty() && f.shadowLod != "camera") {
+    throw Error("--shadow-lod must be camera, light or off, not \"" + f.shadowLod + "\"");
+  }
+  const bool final = !f.reference && qualityLevel(scene, ro) == Quality::Final;
+  if (f.sppGiven && !f.reference && !final)
+    throw Error("--spp counts the samples of --reference or the passes of --quality final");
+  if (final && f.sppGiven) {
+    if (f.spp < 1 || f.spp > kMaxFinalPasses)
+      throw Error("--spp must be 1.." + std::to_string(kMaxFinalPasses) +
+                  " passes with --quality final, not " + std::to_string(f.spp));
+    ro.spp = f.spp;
+  }
+  if (final && (several || temporal))
+    throw Error(std::string("--quality final renders one view without temporal reprojection (") +
+                (several ? "choose one with --views NAME" : "--temporal 0 turns it off") + ")");
   if (f.pathEvents < 1 || f.pathEvents > 1024)
     throw Error("--path-events must be 1..1024, not " + std::to_string(f.pathEvents));
   const CameraPreset* preset = nullptr;
@@ -586,6 +619,9 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
       if (frame.stats.shadowStrandsDrawn > 0)
         std::printf(" (%llu into shadow maps)",
                     static_cast<unsigned long long>(frame.stats.shadowStrandsDrawn));
+      if (frame.stats.pointsShaded > 0)
+        std::printf(", %llu points shaded",
+                    static_cast<unsigned long long>(frame.stats.pointsShaded));
       std::printf("\n");
     }
     for (const StageTime& t : frame.timings)
@@ -649,9 +685,10 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
         }
         ro.previous = &previous;
       }
-      if (f.reference || temporal) {  // frames of their own: rendered one by one
-        Frame frame =
-            f.reference ? renderer.renderReference(still, ref) : sequenceFrames.render(number);
+      if (f.reference || temporal || final) {  // frames of their own: rendered one by one
+        Frame frame = f.reference ? renderer.renderReference(still, ref)
+                      : final     ? renderer.render(still, ro)
+                                  : sequenceFrames.render(number);
         std::vector<Frame> shots;
         shots.push_back(std::move(frame));
         deliver(q, std::move(shots));
@@ -1098,7 +1135,20 @@ int main(int argc, char** argv) {
   render->add_option("--path-events", rf.pathEvents,
                      "--reference path: scattering events per path, 1..1024 (default 64; 1: "
                      "direct light at the first fibre seen, shadowed)");
-  render->add_option("--spp", rf.spp, "samples per pixel of --reference (default 256)");
+  render->add_option("--spp", rf.spp,
+                     "samples per pixel of --reference (default 256), or jittered passes of "
+                     "--quality final (default " +
+                         std::to_string(kDefaultFinalPasses) + ")");
+  render->add_option("--shadow-lod", rf.shadowLod,
+                     "LOD of the lights' passes: camera (default: the light's view, no more "
+                     "strands than the camera's LOD draws), light (the light's view alone) or "
+                     "off (every strand)");
+  render->add_option("--quality", rf.quality,
+                     "draft (one sample per pixel, the scene's filter), good (" +
+                         std::to_string(kGoodMsaa) +
+                         " samples per pixel shaded once per visible strand point) or final "
+                         "(--spp jittered passes accumulated); default: the scene's \"quality\", "
+                         "draft");
   render->add_option("--frames", rf.frames,
                      "frames of an animated scene: N, FIRST-LAST or FIRST-LAST:STEP (default 1); "
                      "#### in -o becomes the zero-padded frame number");
@@ -1230,6 +1280,7 @@ int main(int argc, char** argv) {
   rf.framesGiven = render->count("--frames") > 0;
   rf.widthGiven = render->count("--width") > 0;
   rf.reference = render->count("--reference") > 0;
+  rf.sppGiven = render->count("--spp") > 0;
   rf.heightGiven = render->count("--height") > 0;
   captureDriverOutput(true);  // a compiler's own lines go into an error's details
   try {

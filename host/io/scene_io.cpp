@@ -34,6 +34,27 @@ using nlohmann::json;
 
 constexpr double kBig = 1e6;
 
+// The scene's "quality": a level name, or {"level": name, "spp": passes of final}.
+QualityParams readQuality(const JsonReader& r) {
+  QualityParams q;
+  const json& v = r.require("quality");
+  auto level = [&](const std::string& name, const JsonReader& at, const char* key) {
+    if (name == "draft") return Quality::Draft;
+    if (name == "good") return Quality::Good;
+    if (name == "final") return Quality::Final;
+    at.fail(key, "must be \"draft\", \"good\" or \"final\", not \"" + name + "\"");
+  };
+  if (v.is_string()) {
+    q.level = level(v.get<std::string>(), r, "quality");
+    return q;
+  }
+  JsonReader o = r.object(v, "quality");
+  q.level = level(o.string("level", "draft"), o, "level");
+  q.spp = o.integer("spp", 0, 1, kMaxFinalPasses);
+  o.rejectUnknown({"level", "spp"});
+  return q;
+}
+
 std::string showNumber(double v) {
   char buf[32];
   std::snprintf(buf, sizeof(buf), "%g", v);
@@ -1110,6 +1131,7 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
     else
       r.fail("raster", "must be \"lines\" or \"coverage\", not \"" + m + "\"");
   }
+  if (r.has("quality")) s.quality = readQuality(r);
   if (r.has("temporal")) {  // temporal reprojection (clhair/temporal.h), off by default
     JsonReader o = r.object(r.require("temporal"), "temporal");
     TemporalParams& tp = s.temporal;
@@ -1119,10 +1141,10 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
         static_cast<float>(o.number("depth_tolerance", tp.depthTolerance, 1e-4, 10.0));
     o.rejectUnknown({"history", "blend", "depth_tolerance"});
   }
-  r.rejectUnknown({"resolution", "camera", "cameras", "background", "ambient", "lights", "spheres",
-                   "planes", "meshes", "grooms", "shadows", "filter", "environment",
-                   "background_image", "frame_rate", "segment_budget", "max_strands", "raster",
-                   "temporal"});
+  r.rejectUnknown({"resolution",     "camera",      "cameras",     "background",       "ambient",
+                   "lights",         "spheres",     "planes",      "meshes",           "grooms",
+                   "shadows",        "filter",      "environment", "background_image", "frame_rate",
+                   "segment_budget", "max_strands", "raster",      "temporal",         "quality"});
   return s;
 }
 

@@ -514,6 +514,46 @@ typedef struct {
   clh_u32 seed;
 } ClhChildrenGpu;
 
+/* ---- per-point shading: the sample identity word, one more layer per sample ------------
+ * With per-point shading (DESIGN.md, "Shading once per visible strand point") the strand
+ * pass writes, next to each sample word of sample layer s (0 <= s < MSAA), the identity of
+ * the segment that drew it into layer CLH_LAYER_POINT_ID(msaa) + s, by the same depth test
+ * and its own atom_min:
+ *  bits 63..40  depth code, the same 24 bits as the sample word's
+ *  bits 39..8   point: the index of the segment's first point in the groom's point space
+ *               (hair meshes: strand x CLH_MAX_CONTROL_POINTS + k; strand files: the
+ *               strand's first stored point + k; k the point's index among the drawn ones),
+ *               so the segment's second point is point + 1
+ *  bits  7..0   t: where the sample lies between the two, 0 (the first) .. 255 (the
+ *               second), perspective-correct
+ * All ones is empty. The marked points are one bit each in a bitmap over the point space;
+ * a point's slot in the lists below is its rank among the marked bits.                   */
+#define CLH_LAYER_POINT_ID(msaa) ((clh_u32)(msaa) + 1u)
+#define CLH_PT_T_MAX 255u
+CLH_FN clh_u64 clh_pt_pack(clh_u32 depth24, clh_u32 point, clh_u32 t8) {
+  return ((clh_u64)(depth24 & 0xFFFFFFu) << 40) | ((clh_u64)point << 8) | (clh_u64)(t8 & 0xFFu);
+}
+CLH_FN clh_u32 clh_pt_point(clh_u64 id) { return (clh_u32)(id >> 8); }
+CLH_FN clh_u32 clh_pt_t(clh_u64 id) { return (clh_u32)id & 0xFFu; }
+CLH_FN float clh_pt_fraction(clh_u64 id) { return (float)clh_pt_t(id) * (1.0f / 255.0f); }
+
+/* A marked point's shading inputs, written by the point pass of the strand kernels
+ * (CLH_RASTER_POINTS) at the point's slot and read by shade_points (shade.cl), 32 bytes.
+ *   pos    world position; pos[3] its view depth
+ *   word   the G-buffer word at the point, as the raster forms it there (tangent, u, v, w,
+ *          AO; depth bits 0), low and high 32 bits                                       */
+typedef struct {
+  float pos[4];
+  clh_u32 word_lo, word_hi;
+  clh_u32 pad0, pad1;
+} ClhPointGpu;
+
+/* The point lists of one groom: the marked-point bitmap over `space` points (space / 32
+ * + 1 words), then per bitmap word the marked points before it (its words + 1 entries, the
+ * last the total). CLH_POINT_BLOCK words per block of the scan.                          */
+#define CLH_POINT_BLOCK 32u
+CLH_FN clh_u32 clh_point_words(clh_u32 space) { return space / 32u + 1u; }
+
 /* ---- random numbers: identical streams on host and device ----------------------------
  * lowbias32 integer hash (Chris Wellons' hash-prospector), combined per key.            */
 CLH_FN clh_u32 clh_hash(clh_u32 x) {

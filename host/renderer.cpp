@@ -293,7 +293,7 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
   const std::uint64_t budget = options.segmentBudget < 0
                                    ? s.segmentBudget
                                    : static_cast<std::uint64_t>(options.segmentBudget);
-  r.frameLod.enqueue(draws, active, far, budget, &r.profiler);
+  r.frameLod.enqueue(draws, active, far, budget, &r.profiler, budgetRule(options, view));
   for (std::size_t k = 0; k < draws.size(); ++k) {
     if (!active[k]) continue;
     const GroomDraw& d = draws[k];
@@ -430,6 +430,7 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
     frame.stats.segmentBudget = budget;
     frame.stats.overBudget = lod.over;
     frame.stats.budgetScale = lod.scale;
+    frame.stats.budgetScreenRule = options.budgetRule != 0;
     frame.stats.segmentsBeforeBudget = lod.lodSegments;
     for (std::size_t k = 0; k < draws.size(); ++k) {
       GroomDrawStats g;
@@ -441,6 +442,11 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
         g.segments = lod.draw[4 * k + 1];
         g.visibleStrands = lod.draw[4 * k + 2];
         g.halved = (lod.draw[4 * k + 3] & CLH_BUDGET_HALVED) != 0;
+        g.requested = lod.plan[k].request;
+        g.floor = lod.plan[k].floor;
+        g.share = lod.plan[k].share;
+        g.screenArea = lod.plan[k].area;
+        g.keepClaim = lod.plan[k].claim;
       }
       frame.stats.strandsDrawn += g.strands;
       frame.stats.segmentsPlanned += g.segments;

@@ -13,10 +13,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <string>
 #include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "cl/device_impl.h"
 #include "clhair/gpu_types.h"
@@ -225,6 +228,167 @@ TEST(BudgetScreen, AGroomOverTheKeepFractionKeepsItsRequest) {
   EXPECT_GE(b.share(0) + b.share(1) + b.share(2), 9000u - 3u);
   EXPECT_LE(b.share(0) + b.share(1) + b.share(2), 9000u);
   expectFloorsAndShares(b, g);
+}
+
+// ---- whole frames ----------------------------------------------------------------------
+
+// The tiny patch with `strands` strands at full detail under LOD (lambda 1000: L = 1, so
+// the budget alone reduces it).
+std::shared_ptr<const HairMesh> densePatch(int strands) {
+  HairMesh m = makeGroomPreset("tiny");
+  m.strandCount = strands;
+  m.lod.enabled = true;
+  m.lod.lambda = 1000.0f;
+  return std::make_shared<const HairMesh>(std::move(m));
+}
+
+std::shared_ptr<const HairMesh> tinyPatch() {
+  HairMesh m = makeGroomPreset("tiny");
+  m.lod.enabled = true;
+  m.lod.lambda = 1000.0f;
+  return std::make_shared<const HairMesh>(std::move(m));
+}
+
+// One dense patch in front of the camera (it fills the 64 x 48 frame) and 99 tiny patches
+// in a grid 1.5 m behind it, a few pixels each.
+Scene bigBesideTiny() {
+  Scene s;
+  s.width = 64;
+  s.height = 48;
+  s.camera.position = {0.0f, 0.025f, 0.075f};
+  s.camera.target = {0.0f, 0.025f, 0.0f};
+  s.lights.push_back(Light{});
+  s.grooms.emplace_back("big", densePatch(2000));
+  auto tiny = tinyPatch();
+  for (int i = 0; i < 99; ++i) {
+    const float x = -0.45f + 0.1f * static_cast<float>(i % 10);
+    const float y = -0.3f + 0.08f * static_cast<float>(i / 10);
+    s.grooms.emplace_back("tiny " + std::to_string(i), tiny,
+                          glm::translate(glm::mat4(1.0f), glm::vec3(x, y, -1.5f)));
+  }
+  return s;
+}
+
+TEST(BudgetScreen, AGroomFillingTheFrameKeepsItsCountBesideNinetyNineTiny) {
+  Renderer r(sharedDevice());
+  const Scene s = bigBesideTiny();
+  RenderOptions o;
+  o.rasterOnly = true;  // the LOD records and the budget are all this looks at
+  o.segmentBudget = 0;
+  const Frame free = r.render(s, o);
+  ASSERT_EQ(free.stats.grooms.size(), 100u);
+  const GroomDrawStats big = free.stats.grooms[0];
+  std::uint64_t tinyRequest = 0, tinyFloor = 0;
+  for (std::size_t k = 1; k < 100; ++k) {
+    ASSERT_TRUE(free.stats.grooms[k].drawn) << k;
+    tinyRequest += free.stats.grooms[k].segments;
+  }
+  // a budget the tiny ones' cuts pay for: the big groom's request and a quarter of the
+  // tiny ones' (under the budget they draw every other control point, half their request)
+  const std::uint64_t budget = big.segments + tinyRequest / 4;
+  o.segmentBudget = static_cast<std::int64_t>(budget);
+  const Frame screen = r.render(s, o);
+  ASSERT_TRUE(screen.stats.overBudget);
+  const GroomDrawStats& b = screen.stats.grooms[0];
+  ASSERT_GT(b.screenArea / (64.0f * 48.0f), 0.25f) << "the big groom fills the frame";
+  EXPECT_EQ(b.keepClaim, 1.0f);
+  EXPECT_EQ(b.strands, big.strands);  // its LOD count
+  EXPECT_EQ(b.segments, big.segments);
+  std::uint64_t tinyDrawn = 0;
+  for (std::size_t k = 1; k < 100; ++k) {
+    const GroomDrawStats& g = screen.stats.grooms[k];
+    tinyFloor += g.floor;
+    tinyDrawn += g.segments;
+    EXPECT_GE(g.segments, g.floor) << k;  // one strand per drawn bundle at least
+    EXPECT_LE(g.segments, free.stats.grooms[k].segments) << k;
+  }
+  EXPECT_LT(tinyFloor, tinyRequest / 4) << "the tiny ones can give way";
+  EXPECT_LT(tinyDrawn, tinyRequest);
+  EXPECT_LE(screen.stats.segmentsPlanned, budget);
+  // the uniform rule under the same budget cuts the big groom with the others
+  o.budgetRule = 0;
+  const Frame uniform = r.render(s, o);
+  EXPECT_LT(uniform.stats.grooms[0].strands, big.strands);
+  std::printf("big groom: %u strands of %u under the screen rule, %u under the uniform rule\n",
+              b.strands, big.strands, uniform.stats.grooms[0].strands);
+}
+
+TEST(BudgetScreen, ShareChangesSmoothlyWhereAGroomCrossesTheKeepFraction) {
+  // A dense patch the camera approaches slowly, with a small wobble (the distance goes
+  // 0.1 % closer per frame and 0.3 % back and forth), beside a second dense patch: the first
+  // crosses a screen share of 0.2, where its claim to keep its LOD count sets in. With the
+  // claim's ramp (0.15 .. 0.25) its share moves by small steps; with a hard threshold at
+  // 0.2 (the ramp switched off) it jumps back and forth with the wobble.
+  Renderer r(sharedDevice());
+  Scene s;
+  s.width = 64;
+  s.height = 48;
+  s.lights.push_back(Light{});
+  s.grooms.emplace_back("subject", densePatch(1500));
+  s.grooms.emplace_back("other", densePatch(3000),
+                        glm::translate(glm::mat4(1.0f), glm::vec3(-0.07f, 0.0f, -0.02f)));
+  auto at = [&](float distance) {
+    Scene f = s;
+    f.camera.position = {0.02f, 0.025f, distance};
+    f.camera.target = {0.02f, 0.025f, 0.0f};
+    return f;
+  };
+  RenderOptions o;
+  o.rasterOnly = true;
+  o.segmentBudget = 0;
+  // the distance where the subject's box covers 0.2 of the frame (box area ~ 1 / d^2,
+  // refined twice)
+  float dMid = 0.2f;
+  for (int i = 0; i < 3; ++i) {
+    const float share = r.render(at(dMid), o).stats.grooms[0].screenArea / (64.0f * 48.0f);
+    ASSERT_GT(share, 0.0f);
+    dMid *= std::sqrt(share / 0.2f);
+  }
+  // the budget: the subject's request, the other's floor and a tenth of the rest (the
+  // subject's claim fits; by area alone it would get about two thirds of its request)
+  const Frame free = r.render(at(dMid), o);
+  const GroomDrawStats& other = free.stats.grooms[1];
+  o.segmentBudget = static_cast<std::int64_t>(free.stats.grooms[0].segments + other.floor +
+                                              (other.segments - other.floor) / 10);
+  auto shares = [&](float keepLow, float keepHigh, std::vector<double>* share,
+                    std::vector<double>* span) {
+    o.budgetKeepLow = keepLow;
+    o.budgetKeepHigh = keepHigh;
+    for (int k = 0; k < 16; ++k) {
+      const float d = dMid * (1.008f - 0.001f * static_cast<float>(k)) * (k % 2 ? 1.003f : 0.997f);
+      const GroomDrawStats g = r.render(at(d), o).stats.grooms[0];
+      share->push_back(static_cast<double>(g.share));
+      span->push_back(static_cast<double>(g.requested) - static_cast<double>(g.floor));
+    }
+  };
+  // the largest step, and the direction reversals of steps over 10 % of R - F
+  auto jumps = [](const std::vector<double>& share, const std::vector<double>& span,
+                  double* largest) {
+    int reversals = 0;
+    double last = 0.0;
+    *largest = 0.0;
+    for (std::size_t k = 1; k < share.size(); ++k) {
+      const double step = (share[k] - share[k - 1]) / std::max(span[k], 1.0);
+      *largest = std::max(*largest, std::abs(step));
+      if (std::abs(step) > 0.1) {
+        if (last != 0.0 && (step > 0.0) != (last > 0.0)) ++reversals;
+        last = step;
+      }
+    }
+    return reversals;
+  };
+  std::vector<double> ramp, rampSpan, hard, hardSpan;
+  shares(0.15f, 0.25f, &ramp, &rampSpan);
+  shares(0.2f, 0.2f, &hard, &hardSpan);
+  double rampStep = 0.0, hardStep = 0.0;
+  const int rampFlips = jumps(ramp, rampSpan, &rampStep);
+  const int hardFlips = jumps(hard, hardSpan, &hardStep);
+  std::printf("largest share step / (R - F): ramp %.3f (%d reversals), hard threshold %.3f (%d)\n",
+              rampStep, rampFlips, hardStep, hardFlips);
+  EXPECT_EQ(rampFlips, 0);
+  EXPECT_LT(rampStep, 0.1);
+  // the measurement sees a flipping share: a hard threshold flips it back and forth
+  EXPECT_GE(hardFlips, 2);
 }
 
 }  // namespace

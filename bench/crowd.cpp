@@ -98,8 +98,8 @@ std::string millions(std::uint64_t b) { return fmt(static_cast<double>(b) * 1e-6
 
 void crowdSection(Renderer& renderer, const CrowdOptions& opt, std::ostringstream& md,
                   json& report) {
-  Scene crowd = loadScene(std::string(CLHAIR_SOURCE_DIR) + "/assets/scenes/crowd.json",
-                          opt.maxAlloc);
+  Scene crowd =
+      loadScene(std::string(CLHAIR_SOURCE_DIR) + "/assets/scenes/crowd.json", opt.maxAlloc);
   const std::uint64_t defaultBudget = crowd.segmentBudget;
   const std::vector<std::pair<int, int>> sizes =
       opt.quick ? std::vector<std::pair<int, int>>{{480, 270}}
@@ -178,8 +178,8 @@ void crowdSection(Renderer& renderer, const CrowdOptions& opt, std::ostringstrea
     for (Variant& v : vs) {
       const double ms = median(v.wall), f = flip(ref, v.image);
       cell[{v.rule, v.budget}] = {ms, f};
-      csv << w << "," << h << ",budget," << ruleName(v.rule) << "," << v.budget << "," << ms
-          << "," << f << "\n";
+      csv << w << "," << h << ",budget," << ruleName(v.rule) << "," << v.budget << "," << ms << ","
+          << f << "\n";
       rs["budgets"][std::to_string(v.budget)][ruleName(v.rule)] = {
           {"wall_ms", ms}, {"flip", f}, {"segments", v.stats.segmentsPlanned}};
       if (!opt.out.empty() && v.budget == defaultBudget && w == sizes.front().first)
@@ -198,10 +198,11 @@ void crowdSection(Renderer& renderer, const CrowdOptions& opt, std::ostringstrea
     const double timeRatio = u.first > 0.0 ? sc.first / u.first : 0.0;
     const double speedup = sc.first > 0.0 ? fullMs / sc.first : 0.0;
     md << "\nAt the default budget (" << millions(defaultBudget) << "): FLIP of the screen rule "
-       << fmt(sc.second, 4) << " = " << fmt(flipRatio) << "x LOD alone's (target <= 2x: "
-       << (flipRatio <= 2.0 ? "met" : "not met") << "; the uniform rule " << fmt(u.second, 4)
-       << "); its frame " << fmt(timeRatio) << "x the uniform rule's (target <= 1.2x: "
-       << (timeRatio <= 1.2 ? "met" : "not met") << "); LOD off " << fmt(speedup)
+       << fmt(sc.second, 4) << " = " << fmt(flipRatio)
+       << "x LOD alone's (target <= 2x: " << (flipRatio <= 2.0 ? "met" : "not met")
+       << "; the uniform rule " << fmt(u.second, 4) << "); its frame " << fmt(timeRatio)
+       << "x the uniform rule's (target <= 1.2x: " << (timeRatio <= 1.2 ? "met" : "not met")
+       << "); LOD off " << fmt(speedup)
        << "x slower (target >= 10x: " << (speedup >= 10.0 ? "met" : "not met") << ").\n";
     rs["targets"] = {{"flip_vs_lod", flipRatio},
                      {"time_vs_uniform", timeRatio},
@@ -240,7 +241,8 @@ void crowdSection(Renderer& renderer, const CrowdOptions& opt, std::ostringstrea
       if (v.rule != 1 || v.budget != defaultBudget) continue;
       md << "\nPer groom, screen rule at " << millions(defaultBudget) << ", " << tag
          << " (strands / segments / share of segments / screen box in pixels; h: every other "
-            "control point):\n\n| groom | strands | segments | share | box |\n|---|---|---|---|---|\n";
+            "control point):\n\n| groom | strands | segments | share | box "
+            "|\n|---|---|---|---|---|\n";
       for (const GroomDrawStats& g : v.stats.grooms) {
         md << "| " << g.name << (g.halved ? " (h)" : "") << " | " << g.strands << " | "
            << g.segments << " | " << g.share << " | " << fmt(g.screenArea, 0) << " |\n";
@@ -297,8 +299,8 @@ void crowdSection(Renderer& renderer, const CrowdOptions& opt, std::ostringstrea
     }
     std::fprintf(stderr, "crowd dolly %d/%d\n", k + 1, frames);
   }
-  md << "\n" << frames << "-frame dolly (6 m toward the target, " << dtag << ", "
-     << millions(defaultBudget)
+  md << "\n"
+     << frames << "-frame dolly (6 m toward the target, " << dtag << ", " << millions(defaultBudget)
      << "): FLIP between consecutive frames, each rule against LOD alone (popping = the "
         "rule's minus LOD alone's, per pair of frames):\n\n"
      << "| render | mean FLIP | max FLIP | popping mean | popping max |\n|---|---|---|---|---|\n";

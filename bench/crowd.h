@@ -14,9 +14,9 @@ namespace clhair::bench {
 
 struct CrowdOptions {
   int runs = 3, warmup = 1;
-  bool quick = false;     // 480x270 only, one budget sweep, a 12-frame dolly
-  std::string refCache;   // folder for the full renders and the LOD-only dolly (kept)
-  std::string out;        // folder for the images (crowd_*.png)
+  bool quick = false;    // 480x270 only, one budget sweep, a 12-frame dolly
+  std::string refCache;  // folder for the full renders and the LOD-only dolly (kept)
+  std::string out;       // folder for the images (crowd_*.png)
   std::size_t maxAlloc = 0;
 };
 

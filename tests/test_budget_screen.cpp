@@ -350,12 +350,16 @@ TEST(BudgetScreen, ShareChangesSmoothlyWhereAGroomCrossesTheKeepFraction) {
   const GroomDrawStats& other = free.stats.grooms[1];
   o.segmentBudget = static_cast<std::int64_t>(free.stats.grooms[0].segments + other.floor +
                                               (other.segments - other.floor) / 10);
+  // frame k of the dolly: 0.1 % closer per frame, 0.3 % back and forth
+  auto distanceAt = [&](int k) {
+    return dMid * (1.008f - 0.001f * static_cast<float>(k)) * (k % 2 ? 1.003f : 0.997f);
+  };
   auto shares = [&](float keepLow, float keepHigh, std::vector<double>* share,
                     std::vector<double>* span) {
     o.budgetKeepLow = keepLow;
     o.budgetKeepHigh = keepHigh;
     for (int k = 0; k < 16; ++k) {
-      const float d = dMid * (1.008f - 0.001f * static_cast<float>(k)) * (k % 2 ? 1.003f : 0.997f);
+      const float d = distanceAt(k);
       const GroomDrawStats g = r.render(at(d), o).stats.grooms[0];
       share->push_back(static_cast<double>(g.share));
       span->push_back(static_cast<double>(g.requested) - static_cast<double>(g.floor));
@@ -387,6 +391,15 @@ TEST(BudgetScreen, ShareChangesSmoothlyWhereAGroomCrossesTheKeepFraction) {
               rampStep, rampFlips, hardStep, hardFlips);
   EXPECT_EQ(rampFlips, 0);
   EXPECT_LT(rampStep, 0.1);
+  // the share is a function of the frame alone: frame 5 of the ramp's sequence, drawn by a
+  // renderer that drew nothing before, gets the same share (no state from earlier frames)
+  Renderer fresh(sharedDevice());
+  o.budgetKeepLow = 0.15f;
+  o.budgetKeepHigh = 0.25f;
+  const float d5 = distanceAt(5);
+  const FrameStats alone = fresh.render(at(d5), o).stats;
+  EXPECT_EQ(static_cast<double>(alone.grooms[0].share), ramp[5]);
+  EXPECT_EQ(alone.segmentsPlanned, r.render(at(d5), o).stats.segmentsPlanned);
   // the measurement sees a flipping share: a hard threshold flips it back and forth
   EXPECT_GE(hardFlips, 2);
 }

@@ -14,6 +14,7 @@ namespace clhair::bench {
 
 struct CrowdOptions {
   int runs = 3, warmup = 1;
+  int pairs = 9;         // interleaved uniform / screen pairs at the default budget (timing)
   bool quick = false;    // 480x270 only, one budget sweep, a 12-frame dolly
   std::string refCache;  // folder for the full renders and the LOD-only dolly (kept)
   std::string out;       // folder for the images (crowd_*.png)

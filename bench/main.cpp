@@ -1115,6 +1115,7 @@ int main(int argc, char** argv) {
       co.runs = runs;
       co.warmup = warmup;
       co.quick = quick;
+      co.pairs = quick ? 3 : 9;
       co.refCache = refCache;
       co.out = out;
       co.maxAlloc = dev.info().maxAlloc;

@@ -212,7 +212,7 @@ static float clh_budget_screen(__global const ClhBudgetDraw* draws_g, uint draws
                                __constant ClhBudgetRule* rule, ulong budget, __global uint* state_g,
                                __local uint* sums_l) {
   const uint lid = (uint)get_local_id(0);
-  ulong floors = 0ul, claims = 0ul;
+  ulong floors = 0ul, claims = 0ul, requests = 0ul;
   uint mu_hi = 0u; /* the largest R_d / A_d (f32 bits, >= 0) */
   for (uint d = lid; d < draws; d += SCAN_WG) {
     __global uint* out = clh_budget_out(state_g, d);
@@ -225,10 +225,12 @@ static float clh_budget_screen(__global const ClhBudgetDraw* draws_g, uint draws
                                                   : (share >= rule->keep_lo ? 1.0f : 0.0f);
     out[12] = as_uint(p);
     floors += F;
+    requests += R;
     claims += (ulong)ceil(p * (float)(R - F)); /* up: sum G stays within the budget */
     if (area > 0.0f) mu_hi = max(mu_hi, as_uint((float)R / area));
   }
   floors = clh_group_sum64(floors, sums_l);
+  requests = clh_group_sum64(requests, sums_l);
   claims = clh_group_sum64(claims, sums_l);
   mu_hi = clh_group_extreme(mu_hi, true, sums_l);
   /* the claims' strength: whole while the room above the floors covers them */
@@ -251,8 +253,11 @@ static float clh_budget_screen(__global const ClhBudgetDraw* draws_g, uint draws
   /* mu: the largest level whose shares fit (sum G <= budget whenever the floors fit, as
    * phi <= room), by bisection over [0, max R / A] */
   float mu = 0.0f;
-  if (floors < budget) {
-    float lo = 0.0f, hi = as_float(mu_hi);
+  if (requests <= budget) {
+    mu = INFINITY; /* the far grooms' halving alone fits: every share is its request */
+  } else if (floors < budget) {
+    /* [0, max R / A] with a margin: floor(mu A) reaches R at the top despite rounding */
+    float lo = 0.0f, hi = as_float(mu_hi) * 1.001f;
     for (uint step = 0u; step < 40u; ++step) {
       const float at = 0.5f * (lo + hi);
       ulong sum = 0ul;
@@ -272,7 +277,7 @@ static float clh_budget_screen(__global const ClhBudgetDraw* draws_g, uint draws
     if (draws_g[d].active != CLH_BUDGET_DRAW_BUDGETED) continue;
     uint R, F;
     clh_budget_bounds(out, &R, &F);
-    const uint S = floors < budget ? clh_budget_share_at(out, mu) : F;
+    const uint S = requests <= budget ? R : (floors < budget ? clh_budget_share_at(out, mu) : F);
     /* a strand file's chunks round their mean up: one segment of slack per drawn chunk */
     const uint slack = draws_g[d].kind == 1u ? out[9] : 0u;
     float f = 1.0f;

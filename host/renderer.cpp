@@ -431,6 +431,7 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
     frame.stats.overBudget = lod.over;
     frame.stats.budgetScale = lod.scale;
     frame.stats.budgetScreenRule = options.budgetRule != 0;
+    frame.stats.budgetLevel = lod.level;
     frame.stats.segmentsBeforeBudget = lod.lodSegments;
     for (std::size_t k = 0; k < draws.size(); ++k) {
       GroomDrawStats g;
@@ -446,7 +447,7 @@ Frame Renderer::Impl::frame(const Scene& s, const RenderOptions& options, GBuffe
         g.floor = lod.plan[k].floor;
         g.share = lod.plan[k].share;
         g.screenArea = lod.plan[k].area;
-        g.keepClaim = lod.plan[k].claim;
+        g.keepClaim = lod.plan[k].claim * lod.claims;
       }
       frame.stats.strandsDrawn += g.strands;
       frame.stats.segmentsPlanned += g.segments;

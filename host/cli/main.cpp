@@ -172,10 +172,18 @@ void printStats(const FrameStats& st) {
               static_cast<unsigned long long>(st.segmentsPlanned));
   if (st.segmentBudget == 0)
     std::printf(" (no segment budget)\n");
+  else if (st.overBudget && st.budgetScreenRule && !std::isfinite(st.budgetLevel))
+    std::printf(
+        " (budget %llu: the LOD passes asked for %llu; every other control point of the "
+        "far grooms made it fit)\n",
+        static_cast<unsigned long long>(st.segmentBudget),
+        static_cast<unsigned long long>(st.segmentsBeforeBudget));
   else if (st.overBudget && st.budgetScreenRule)
-    std::printf(" (budget %llu: the LOD passes asked for %llu, shared by screen need)\n",
-                static_cast<unsigned long long>(st.segmentBudget),
-                static_cast<unsigned long long>(st.segmentsBeforeBudget));
+    std::printf(
+        " (budget %llu: the LOD passes asked for %llu, shared by screen area: %.3f segments "
+        "per pixel of screen box)\n",
+        static_cast<unsigned long long>(st.segmentBudget),
+        static_cast<unsigned long long>(st.segmentsBeforeBudget), st.budgetLevel);
   else if (st.overBudget)
     std::printf(" (budget %llu: the LOD passes asked for %llu, strands scaled by %.4f)\n",
                 static_cast<unsigned long long>(st.segmentBudget),

@@ -138,7 +138,8 @@ struct GroomDrawStats {
   std::uint32_t floor = 0;      // segments at one strand per drawn bundle (or chunk)
   std::uint32_t share = 0;      // the screen rule's share over the budget, else requested
   float screenArea = 0.0f;      // its screen box clipped to the image, pixels
-  float keepClaim = 0.0f;       // its claim to keep its LOD count, 0..1 (screen rule)
+  float keepClaim = 0.0f;       // its claim to keep its LOD count as it held, 0..1 (screen
+                                // rule: p_d faded by the room the others leave, DESIGN.md)
 };
 
 struct FrameStats {
@@ -150,7 +151,8 @@ struct FrameStats {
   std::uint64_t segmentBudget = 0;       // the budget this frame used (0: none)
   bool overBudget = false;               // the pre-passes exceeded it and strands were reduced
   float budgetScale = 1.0f;              // the uniform rule's factor on every bundle's strands
-  bool budgetScreenRule = false;         // the budget shared by screen need (else uniform)
+  bool budgetScreenRule = false;         // the budget shared by screen area (else uniform)
+  float budgetLevel = 0.0f;              // screen rule: segments per pixel of screen box, mu
   std::vector<GroomDrawStats> grooms;    // one per groom instance of the scene, in order
   std::uint64_t shadowStrandsDrawn = 0;  // strands drawn into the deep opacity maps, all lights
   // with RenderOptions::rasterStats only:

@@ -36,6 +36,9 @@
 //             alone and of budgets 1-8 M under the uniform and the screen rule; thinning
 //             variants; segments per groom; a 60-frame dolly's popping against LOD alone
 //             and its segments against the budget; the single default groom at close.
+//   throughput a shot written frame after frame as PNG and as EXR (bench/throughput.h):
+//             frames per second, per frame wall, device time, host CPU and host waits; frames in
+//             flight against one at a time; single stills per process and in-process.
 //   floor     the strand pass against an in-run floor: the same raster as plain
 //             multithreaded C++ (host/groom/cpu_raster.h, checked word for word against
 //             the device's G-buffer), the pass's cores used (CPU time / wall time), and the
@@ -72,7 +75,9 @@
 #include "groom/cpu_raster.h"
 #include "groom/explicit_data.h"
 #include "io/cyhair.h"
+#include "io/tressfx.h"
 #include "metrics/image_metrics.h"
+#include "throughput.h"
 
 namespace {
 
@@ -242,8 +247,8 @@ int main(int argc, char** argv) {
   app.add_option("--out", out, "folder for bench.json, bench.csv, bench.md");
   app.add_option(
       "--only", only,
-      "one section: table1, dispatch, scaling, atomics, quality, temporal, explicit, mesh, crowd, "
-      "floor, sequences");
+      "one section: table1, dispatch, scaling, atomics, quality, temporal, explicit, children, "
+      "mesh, crowd, floor, sequences, throughput");
   app.add_option("--runs", runs,
                  "timed runs per configuration (median reported); the quality section takes 0 "
                  "for the times of the one frame it compares");
@@ -282,6 +287,19 @@ int main(int argc, char** argv) {
   app.add_option("--view-pairs", viewPairsOpt,
                  "sequences section: interleaved one-view / two-view pairs per setting (9)")
       ->check(CLI::Range(1, 1000));
+  bench::ThroughputOptions tp;
+  tp.scene = std::string(CLHAIR_SOURCE_DIR) + "/assets/scenes/wind.json";
+  tp.cli = CLHAIR_BENCH_CLI;
+  int tpWidth = 0, tpHeight = 0;
+  app.add_option("--tp-scene", tp.scene, "throughput section: the shot (assets/scenes/wind.json)");
+  app.add_option("--tp-frames", tp.frames, "throughput section: frames of the shot per row (240)")
+      ->check(CLI::Range(3, 100000));
+  app.add_option("--tp-width", tpWidth, "throughput section: width (default --width)");
+  app.add_option("--tp-height", tpHeight, "throughput section: height (default --height)");
+  app.add_option("--tp-stills", tp.stills, "throughput section: single stills per way (5)")
+      ->check(CLI::Range(1, 1000));
+  app.add_option("--tp-formats", tp.formats,
+                 "throughput section: formats, comma-separated (png,exr)");
   app.add_flag("--quick", quick, "smaller sweep for a fast look (640x360, 1 run, MSAA 1 and 4)");
   CLI11_PARSE(app, argc, argv);
   try {
@@ -1108,6 +1126,67 @@ int main(int argc, char** argv) {
       }
     }
 
+    if (only.empty() || only == "children") {
+      // Children from guides (docs/scene-format.md, "Children"): 3000 guides of groom1, as a
+      // guides-only TressFX export would hold them (32 points each), with 16 follow hairs
+      // each, against the same 51 000 strands exported and read as a strand file. The strand
+      // pass (device time, median) at each distance, LOD off and on.
+      HairMesh guidesMesh = *scenes[0].grooms[0].mesh;
+      guidesMesh.strandCount = 3000;
+      StrandSet gs = b.renderer.generateStrands(guidesMesh);
+      CyHair gh;
+      for (std::uint32_t c : gs.pointCounts) gh.segments.push_back(c - 1);
+      gh.points = gs.points;
+      const CyHair resampled = resampleStrands(gh, 32);
+      StrandGroom guides;
+      guides.name = "groom1 guides";
+      std::size_t at = 0;
+      for (std::uint32_t seg : resampled.segments) {
+        guides.pointCounts.push_back(seg + 1);
+        for (std::uint32_t k = 0; k <= seg; ++k, ++at)
+          guides.points.emplace_back(resampled.points[3 * at], resampled.points[3 * at + 1],
+                                     resampled.points[3 * at + 2]);
+      }
+      guides.appearance = guidesMesh.appearance;
+      guides.lod = guidesMesh.lod;
+      guides.children.count = 16;
+      guides.children.radius = kTressFxFollowRadiusMetres;
+      guides.children.tipSpread = kTressFxTipSeparation;
+      StrandSet all = b.renderer.generateStrands(guides);
+      StrandGroom file;
+      file.name = "groom1 children as a file";
+      file.pointCounts = all.pointCounts;
+      for (std::size_t i = 0; i < all.points.size(); i += 3)
+        file.points.emplace_back(all.points[i], all.points[i + 1], all.points[i + 2]);
+      file.appearance = guides.appearance;
+      file.lod = guides.lod;
+      auto kids = std::make_shared<const StrandGroom>(std::move(guides));
+      auto stored = std::make_shared<const StrandGroom>(std::move(file));
+      md << "\n## Children from guides (3000 guides x 17 = " << stored->pointCounts.size()
+         << " strands, " << width << "x" << height
+         << ")\n\n| distance | LOD | children ms | file ms | ratio |\n|---|---|---|---|---|\n";
+      const CameraPreset dists[3] = {CameraPreset::Close, CameraPreset::Mid, CameraPreset::Far};
+      const char* distNames[3] = {"close", "mid", "far"};
+      for (int lod = 0; lod < 2; ++lod)
+        for (int d = 0; d < 3; ++d) {
+          RenderOptions o;
+          o.lod = lod;
+          Scene s = scenes[0];
+          s.grooms[0] = GroomInstance("children", stored, s.grooms[0].transform);
+          s = framed(s, dists[d], width, height);  // one camera for both
+          Scene k = s;
+          k.grooms[0].strands = kids;
+          const double tk = stageMedian(b.measure(k, o, false), "strands");
+          const double tf = stageMedian(b.measure(s, o, false), "strands");
+          md << "| " << distNames[d] << " | " << (lod ? "on" : "off") << " | " << fmt(tk) << " | "
+             << fmt(tf) << " | " << fmt(tk / tf) << " |\n";
+          report["children"][std::string(distNames[d]) + (lod ? "_lod" : "")] = {
+              {"children_ms", tk}, {"file_ms", tf}, {"ratio", tk / tf}};
+          std::fprintf(stderr, "children %s LOD %s: strands %.1f ms, file %.1f ms, %.3fx\n",
+                       distNames[d], lod ? "on" : "off", tk, tf, tk / tf);
+        }
+    }
+
     if (only.empty() || only == "crowd") {
       // Kulikov 2025: many grooms at a fixed cost (bench/crowd.cpp), then the crowd's cost
       // against the single default groom at close at the crowd's first size
@@ -1700,6 +1779,14 @@ int main(int argc, char** argv) {
       report["sequences"]["plain_frame_ms"] = plainMs;
       std::fprintf(stderr, "sequences IoU: turntable %.3f (%.3f), wind %.3f (%.3f)\n", turnIoU,
                    turnStill, windIoU, windStill);
+    }
+
+    if (only.empty() || only == "throughput") {
+      tp.width = tpWidth > 0 ? tpWidth : width;
+      tp.height = tpHeight > 0 ? tpHeight : height;
+      if (quick) tp.frames = std::min(tp.frames, 12);
+      tp.outDir = out + "/throughput-frames";
+      bench::throughputSection(dev, tp, md, report);
     }
 
     std::filesystem::create_directories(out);

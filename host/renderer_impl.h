@@ -1,9 +1,12 @@
-// renderer_impl.h — what a Renderer owns: the stages, the grooms on the device (cache,
-// shared root sets), the render target, the scene on the device, the shadow pass and the
-// profiler. renderer.cpp runs the frame loop over them; renderer_tools.cpp holds the
-// calls that are not a frame (reference, strand export, AO bake, groom queries).
+// renderer_impl.h — what a Renderer owns: the stages (the kernels passes launch), the grooms
+// on the device (cache, shared root sets), the render targets, the scene on the device, the
+// shadow maps, the frame's LOD arena, the buffer pool of the frame graph and the frames in
+// flight. renderer.cpp builds each frame's graph from the pass files (host/passes/) and
+// runs it; renderer_tools.cpp holds the calls that are not a frame (reference, strand
+// export, AO bake, groom queries).
 #pragma once
 
+#include <deque>
 #include <map>
 #include <memory>
 #include <vector>
@@ -11,12 +14,17 @@
 #include "cl/device_impl.h"
 #include "clhair/renderer.h"
 #include "frame/frame_lod.h"
+#include "frame/pending_frame.h"
 #include "frame/render_target.h"
 #include "frame/scene_gpu.h"
 #include "frame/shadow_pass.h"
+#include "frame/view_targets.h"
+#include "frame/visibility_gpu.h"
+#include "graph/frame_graph.h"
 #include "groom/groom_cache.h"
 #include "groom/hair_mesh_gpu.h"
 #include "stages/ao_stage.h"
+#include "stages/aov_stage.h"
 #include "stages/composite_stage.h"
 #include "stages/filter_stage.h"
 #include "stages/link_stage.h"
@@ -25,9 +33,9 @@
 namespace clhair {
 
 // A centre layer that comes from elsewhere than the strand pass (the traced reference of
-// renderer_tools.cpp): the frame loop hands it the opaque scene's depth once that is drawn,
-// then asks it, groom by groom, for the words it would otherwise rasterize. The LOD pass
-// still runs (shading reads its totals); the strand pass does not.
+// renderer_tools.cpp): the frame hands it the opaque scene's depth once that is drawn (a
+// declared host wait), then asks it, groom by groom, for the words it would otherwise
+// rasterize. The LOD pass still runs (shading reads its totals); the strand pass does not.
 class GBufferSource {
  public:
   virtual ~GBufferSource() = default;
@@ -51,18 +59,24 @@ struct Renderer::Impl {
   GroomCache grooms;
   ShadeStage shade;
   FilterStage filter;
-  std::unique_ptr<LinkStage> linkStage;  // built on first use (kernels/link.cl)
+  LinkStage link;
   CompositeStage composite;
+  AovStage aov;
   RenderTarget target;
+  ViewTargets views;  // the targets and slices of frames with several views
   SceneGpu scene;
   ShadowPass shadows;
   FrameLod frameLod;
-  Profiler profiler;
-  // Baked visibility tables on the device, by bake (kept alive with it), the per-draw
-  // ClhVisibilityGpu and a one-cell table for grooms without a bake.
-  std::map<const VisibilityBake*, std::pair<std::shared_ptr<const VisibilityBake>, cl::Buffer>>
-      visibilityTables;
-  cl::Buffer visibilityParams, visibilityNone;
+  VisibilityGpu visibility;
+  BufferPool pool;
+  Profiler profiler;      // events of the frame being built, handed to its PendingFrame
+  cl::Buffer frameStats;  // counters the passes copy for the frame's read-back
+  std::size_t frameStatsCap = 0;
+  // Frames submitted and not yet waited for, oldest first, and the next ticket.
+  std::deque<std::unique_ptr<PendingFrame>> inFlight;
+  std::uint64_t nextTicket = 1;
+  int maxInFlight = 2;
+  PinnedPool pinned;  // read-back staging of devices without host-unified memory
 
   explicit Impl(Device d)
       : device(std::move(d)),
@@ -75,68 +89,45 @@ struct Renderer::Impl {
         grooms(stages),
         shade(dev),
         filter(dev),
+        link(dev),
         composite(dev),
+        aov(dev),
         target(dev),
+        views(dev),
         scene(dev),
         shadows(dev),
-        frameLod(dev) {}
+        frameLod(dev),
+        visibility(dev),
+        pool(dev),
+        pinned(dev) {}
 
-  // CPU devices: the benchmark's dispatch section (bench/README.md) measured read-back and
-  // over-launch level within noise on PoCL, persistent no better, and read-back launches
-  // exactly the drawn strands, so it is the CPU default. GPUs: over-launch avoids the host
-  // round trip between the pre-pass and the strand pass (a pipeline bubble per groom on a
-  // discrete GPU), and surplus work-groups leave after one load. Re-run
-  // `clhair_bench --only dispatch` on a GPU and change this if it disagrees.
+  // Dispatch sizing per device type. No mode reads the strand total back unless asked:
+  // over-launch sizes the strand pass by the groom's strand count and surplus work-groups
+  // leave after one load, so the host never waits inside a frame. On PoCL the benchmark's
+  // dispatch section measured read-back and over-launch within 1 % (bench/README.md); on a
+  // discrete GPU over-launch also avoids a round trip per groom.
   DispatchMode resolveMode(DispatchMode m) const {
-    if (m != DispatchMode::Auto) return m;
-    return dev.info.isGpu ? DispatchMode::OverLaunch : DispatchMode::ReadBack;
+    return m == DispatchMode::Auto ? DispatchMode::OverLaunch : m;
   }
-
-  // The shading pass's baked-visibility inputs for groom instance `gi`: its table (uploaded
-  // on first use) and its ClhVisibilityGpu, or a disabled record when it has no bake or
-  // `enabled` is false; the record also says whether LOD strands take the aggregated BCSDF.
-  // It is rewritten per draw (the queue is in order).
-  void bindVisibility(const GroomInstance& gi, bool enabled, bool lodAggregate,
-                      ShadeStage::Params& sp);
-  // Shades instance `gi` (device state `inst`) from target `t`'s G-buffer (or `gbuffer`)
-  // into its hair buffer, with the frame's lights and maps and the groom's baked visibility.
-  void shadeGroom(RenderTarget& t, const GroomInstance& gi, GroomInstanceGpu& inst,
-                  const ShadowMapInputs& maps, const RenderOptions& options, bool cover = false,
-                  const cl::Buffer* gbuffer = nullptr);
-
-  // One frame (Renderer::render); with `source`, its centre layers replace the strand pass
-  // (MSAA 1 only).
-  Frame frame(const Scene& s, const RenderOptions& options, GBufferSource* source);
-  // Several views of one assembly (Renderer::renderViews, two cameras or more).
-  std::vector<Frame> views(const Scene& s, const std::vector<Camera>& cameras,
-                           const RenderOptions& options);
-  // Targets of views after the first (which draws into `target`), and the per-view slices
-  // the multi-view strand pass reads and writes: each view's scene depth and G-buffer are
-  // sub-buffers of viewDepths and viewGBuffers (their origins on viewAlign bytes).
-  std::vector<std::unique_ptr<RenderTarget>> viewTargets;
-  cl::Buffer viewDepths, viewGBuffers, viewRecords, viewGrooms;
-  std::vector<cl::Buffer> viewDepthSlices, viewGBufferSlices;
-  std::size_t viewDepthWords = 0, viewGBufferWords = 0, viewSlots = 0, viewSlicePixels = 0;
-  std::size_t viewAlign = 0;
 
   // Every groom instance of the scene with its device form; the k-th instance of one
   // groom gets instance slot k. Instances of one groom share its layer vertices, so they
   // must share its cage too.
-  std::vector<GroomDraw> resolveGrooms(const Scene& s) {
-    std::vector<GroomDraw> draws;
-    std::map<const GroomGpu*, std::size_t> seen;
-    std::map<const GroomGpu*, const void*> cages;
-    for (const GroomInstance& gi : s.grooms) {
-      GroomGpu& g = grooms.get(gi);
-      auto [c, first] = cages.emplace(&g, gi.deformed.get());
-      if (!first && c->second != gi.deformed.get())
-        throw Error("groom \"" + gi.name +
-                    "\": two instances of one hair mesh are deformed differently in one frame; "
-                    "give each animated instance its own hair mesh");
-      draws.push_back({&gi, &g, &g.instance(seen[&g]++)});
-    }
-    return draws;
-  }
+  std::vector<GroomDraw> resolveGrooms(const Scene& s);
+
+  // Builds, compiles and runs the graph of one frame of one view (with `source`, its centre
+  // layers replace the strand pass) and returns it in flight.
+  std::unique_ptr<PendingFrame> submitFrame(const Scene& s, const RenderOptions& options,
+                                            GBufferSource* source);
+  // The same for several views of one assembly.
+  std::unique_ptr<PendingFrame> submitViews(const Scene& s, const std::vector<Camera>& cameras,
+                                            const RenderOptions& options);
+  // Waits for the oldest frames until fewer than `limit` are in flight.
+  void drainTo(std::size_t limit);
+  std::vector<Frame> waitFor(std::uint64_t ticket);
+  std::uint64_t enqueue(std::unique_ptr<PendingFrame> p);
+  // The statistics buffer, at least `words` long.
+  cl::Buffer& statsBuffer(std::size_t words);
 };
 
 }  // namespace clhair

@@ -106,9 +106,10 @@ __kernel void lod_bundles(__global const ClhGroomGpu* groom_g, __global const Cl
   clh_lod_write_box(counts_g, n, b, rec.strands > 0u, lo, hi, width, height);
 }
 
-/* bounds_g: 2 float4 per chunk (AABB min, max); chunks_g: uint4 (first strand, strand
- * count, LOD delta bits, 0); strand_offsets_g: the first stored point of each of the
- * strand_count strands and the point count after the last (strands_explicit.cl). */
+/* bounds_g: 2 float4 per chunk (AABB min, max); chunks_g: uint4 (first strand, strands
+ * drawn at full detail, LOD delta bits, stored strands: host/groom/explicit_data.h);
+ * strand_offsets_g: the first stored point of each of the strand_count strands and the point count
+ * after the last (strands_explicit.cl). */
 __kernel void lod_chunks(__global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
                          __global const float4* bounds_g, __global const uint4* chunks_g,
                          __global const uint* strand_offsets_g, uint strand_count, uint point_count,
@@ -146,17 +147,23 @@ __kernel void lod_chunks(__global const ClhGroomGpu* groom_g, __global const Clh
   lod_g[c] = rec;
   counts_g[c] = rec.strands;
   counts_g[clh_lod_full_count_at(g->bundle_count, c)] = rec.strands > 0u ? n_full : 0u;
-  /* the segments of the strands drawn: the first N_LOD of the chunk, each at its own step */
+  /* the segments of the strands drawn: the first N_LOD of the chunk, each at its own step;
+   * slot k is a child of guide k % guides (chunks_g.w guides; a child draws as its guide) */
   const uint c_full = clamp(g->control_points, 3u, (uint)CLH_MAX_CONTROL_POINTS);
   const uint C = clamp(rec.control_points, 3u, c_full);
-  uint segments = 0u;
-  for (uint k = 0u; k < min(rec.strands, n_full); ++k) {
+  const uint guides = max(min(chunk.w, n_full), 1u);
+  const uint drawn = min(rec.strands, n_full);
+  uint all = 0u, head = 0u; /* every guide's segments; the first drawn % guides guides' */
+  for (uint k = 0u; k < guides; ++k) {
     const uint st = chunk.x + k;
     if (st >= strand_count) break;
     const uint first = min(strand_offsets_g[st], point_count);
     const uint last = clamp(strand_offsets_g[st + 1u], first, point_count);
-    segments += clh_explicit_segments(last - first, C, c_full);
+    const uint seg = clh_explicit_segments(last - first, C, c_full);
+    all += seg;
+    if (k < drawn % guides) head += seg;
   }
+  const uint segments = (drawn / guides) * all + head;
   counts_g[clh_lod_segment_count_at(g->bundle_count, c)] = segments;
   clh_lod_write_box(counts_g, g->bundle_count, c, rec.strands > 0u, lo, hi, width, height);
 }

@@ -51,6 +51,7 @@ __kernel void selftest_layout(__global uint* out_g) {
   out_g[7] = (uint)sizeof(ClhSceneGpu);
   out_g[8] = (uint)sizeof(ClhLodRecord);
   out_g[9] = (uint)sizeof(ClhVisibilityGpu);
+  out_g[10] = (uint)sizeof(ClhChildrenGpu);
 }
 
 /* in_g: 8 floats per word (depth z, near, far, tx, ty, tz, u, v) and 2 more (w, ao) —

@@ -111,10 +111,10 @@ static inline clh_v3 shade_word(__global const ClhGroomGpu* groom_g,
 
   clh_hair_material mat;
   shade_material(groom_g, u, v, w, &mat);
+  clh_v3 fc = clh_v3_splat(1.0f);
   if (file_color) {
-    const clh_v3 fc =
-        clh_v3_make(clh_file_color_value(clh_gbuf_u(word)), clh_file_color_value(clh_gbuf_v(word)),
-                    clh_file_color_value(clh_gbuf_ao(word)));
+    fc = clh_v3_make(clh_file_color_value(clh_gbuf_u(word)), clh_file_color_value(clh_gbuf_v(word)),
+                     clh_file_color_value(clh_gbuf_ao(word)));
     mat.sigma_a = clh_hair_sigma_a_from_color(fc, groom_g->bsdf[1]);
   }
   clh_hair_view hv;
@@ -183,7 +183,17 @@ static inline clh_v3 shade_word(__global const ClhGroomGpu* groom_g,
     probe = clh_v3_mul(clh_v3_make(scene_g->ambient[0], scene_g->ambient[1], scene_g->ambient[2]),
                        clh_v3_add(clh_v3_add(env.spec_weight, env.diffuse_albedo), env.tt_weight));
   }
-  return clh_v3_add(radiance, clh_v3_scale(probe, ao));
+  clh_v3 out = clh_v3_add(radiance, clh_v3_scale(probe, ao));
+  if (file_color) {
+    /* A file's colour is the colour its fibres show under uniform white light, as in the
+     * renders its author made: the lobes keep the shapes of the absorption the colour maps
+     * to and are scaled so that their energies (the fibre's albedo at this view) sum to it. */
+    const clh_v3 albedo =
+        clh_v3_add(clh_v3_add(hv.mass[0], hv.mass[1]), clh_v3_add(hv.mass[2], hv.mass[3]));
+    out = clh_v3_mul(out, clh_v3_make(fc.x / fmax(albedo.x, 1e-4f), fc.y / fmax(albedo.y, 1e-4f),
+                                      fc.z / fmax(albedo.z, 1e-4f)));
+  }
+  return out;
 }
 
 __kernel void shade_deferred(

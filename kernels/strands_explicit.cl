@@ -14,6 +14,12 @@
  * Drawn strand g is the (g - scan[c])-th strand of the chunk c that holds it, drawn only
  * when it is among the chunk's first N_LOD (the chunk's strands are in random order, so
  * that is a uniform sample); its hit diameter is widened by N / N_LOD like strands.cl.
+ * With children (ClhChildrenGpu count > 0) a chunk of n stored strands (guides) draws
+ * n (1 + count) strands: slot j is child j / n of guide j % n, child 0 the guide itself,
+ * so LOD keeps the guides first and then the children layer by layer, evenly over the
+ * chunk. A child's points are made from its guide's (and, interpolated, two neighbours')
+ * stored points as they are loaded (common/children.h), never stored; its identity is
+ * guide + child * strand_count.
  * Vertex LOD skips points: every step-th stored point is drawn plus the tip, step = 2^k
  * with (C - 1) step = C_full - 1 (C from Lipp Eq. 4-5), halved while the strand would keep
  * fewer than 3 points. Inside the transition window (gamma > 0, Bhokare Eq. 10-12) the odd
@@ -43,6 +49,7 @@
 #include "clh_math.h"
 #include "raster.h"
 #include "strand_common.h"
+#include "children.h"
 
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
@@ -57,6 +64,8 @@ typedef struct {
   __global const uint* strand_offsets;
   __global const uint* uv;
   __global const uint4* chunks;
+  __global const ClhChildrenGpu* kids;
+  __global const uint* nbr;
   uint strand_count;
   uint point_count;
   uint has_uv;
@@ -64,13 +73,16 @@ typedef struct {
 
 /* What a work-group draws. */
 typedef struct {
-  uint strand;    /* index into the strand tables */
+  uint strand;    /* index into the strand tables (a child's: its guide's) */
+  uint id;        /* strand identity: strand + child * strand_count */
+  uint child;     /* 0: the stored strand; k >= 1: its k-th child (children.h) */
   uint first;     /* its first stored point */
   uint n;         /* stored points */
   uint step;      /* drawn point j is stored point min(j * step, n - 1) */
   uint M;         /* drawn points */
   float coverage; /* N / N_LOD of its chunk */
   float gamma;    /* vertex-LOD morph toward step * 2 */
+  clh_child ch;   /* how the points are made from the stored ones */
 } clh_x_job;
 
 /* The strand drawn by draw index `index`; false when there is none (uniform per group). */
@@ -82,7 +94,10 @@ static inline bool clh_x_find_job(__global const ClhGroomGpu* g, const clh_x_tab
   const ClhLodRecord lod = lod_g[c];
   const uint4 chunk = tb->chunks[c];
   if (slot >= lod.strands || slot >= chunk.y) return false;
-  const uint s = chunk.x + slot;
+  /* slot j: child j / guides of the chunk's guide j % guides (chunk table, explicit_data.h) */
+  const uint guides = max(min(chunk.w, chunk.y), 1u);
+  const uint child = slot / guides;
+  const uint s = chunk.x + slot % guides;
   if (s >= tb->strand_count) return false;
   const uint first = min(tb->strand_offsets[s], tb->point_count);
   const uint last = clamp(tb->strand_offsets[s + 1u], first, tb->point_count);
@@ -97,19 +112,23 @@ static inline bool clh_x_find_job(__global const ClhGroomGpu* g, const clh_x_tab
   if (step < coarse) gamma = 0.0f;      /* the strand is already at its coarsest level */
   if (n - 1u < 4u * step) gamma = 0.0f; /* the next level would keep fewer than 3 points */
   job->strand = s;
+  job->child = child;
+  job->id = s + child * tb->strand_count;
   job->first = first;
   job->n = n;
   job->step = step;
   job->M = (n - 1u + step - 1u) / step + 1u;
   job->coverage = clh_lod_record_coverage(lod);
   job->gamma = gamma;
+  clh_child_setup(tb->points, tb->point_count, tb->strand_offsets, tb->strand_count, tb->kids,
+                  tb->nbr, s, child, first, n, &job->ch);
   return true;
 }
 
 /* Drawn point j of the job (bounds-safe). */
 static inline float4 clh_x_point(const clh_x_tables* tb, const clh_x_job* job, uint j) {
   const uint k = min(j * job->step, job->n - 1u);
-  return tb->points[min(job->first + k, tb->point_count - 1u)];
+  return clh_child_point(tb->points, tb->point_count, &job->ch, k);
 }
 
 /* The lane's share of one round. */
@@ -185,10 +204,10 @@ static inline void clh_x_round(sg_ctx* sg, const clh_x_tables* tb, const clh_x_j
 }
 
 /* Per-point colour and thickness of a strand file (groom look[2] = 1: colour, look[3] > 0:
- * thickness times that object -> world scale), stored after the points as float4 linear
- * rgb and thickness. A lane's run is drawn with their means over its points: the colour in
- * the word's u, v and AO fields (gpu_types.h; AO through the tangents' w), the width in the
- * raster's pixels per unit depth. */
+ * thickness times that object -> world scale; look[3] < 0: the groom's width times the
+ * opacity -w), stored after the points as float4 linear rgb and thickness (or -opacity). A lane's
+ * run is drawn with their means over its points: the colour in the word's u, v and AO fields
+ * (gpu_types.h; AO through the tangents' w), the width in the raster's pixels per unit depth. */
 static inline void clh_x_file_look(clh_raster_ctx* rc, __global const ClhGroomGpu* g,
                                    const clh_x_tables* tb, const clh_x_job* job, clh_x_span* span,
                                    float4* T) {
@@ -208,6 +227,7 @@ static inline void clh_x_file_look(clh_raster_ctx* rc, __global const ClhGroomGp
     span->next_t.w = b;
   }
   if (g->look[3] > 0.0f) rc->width_px1 = rc->fy * a.w * g->look[3];
+  if (g->look[3] < 0.0f) rc->width_px1 = rc->fy * g->strand_width * fmax(-a.w, 0.0f);
 }
 
 /* Draws strand `index` (when it exists). Uniform per group. */
@@ -218,7 +238,7 @@ static inline void clh_x_draw(sg_ctx* sg, clh_raster_ctx* rc, __global const Clh
   clh_x_job job;
   if (!clh_x_find_job(g, tb, lod_g, offsets_g, index, &job)) return;
 #if CLH_RASTER_CURVE
-  if (!clh_raster_curve_wanted(rc, job.strand)) return; /* uniform per group */
+  if (!clh_raster_curve_wanted(rc, job.id)) return; /* uniform per group */
 #endif
   float u, v;
   if (tb->has_uv != 0u) {
@@ -226,7 +246,7 @@ static inline void clh_x_draw(sg_ctx* sg, clh_raster_ctx* rc, __global const Clh
     u = (float)(packed & 0xFFFFu) / 65535.0f;
     v = (float)(packed >> 16) / 65535.0f;
   } else {
-    const uint h = clh_hash2(g->seed, job.strand);
+    const uint h = clh_hash2(g->seed, job.id);
     u = clh_u01(h);
     v = clh_u01(clh_hash(h));
   }
@@ -237,8 +257,8 @@ static inline void clh_x_draw(sg_ctx* sg, clh_raster_ctx* rc, __global const Clh
     float4 P[CLH_X_CAP], T[CLH_X_CAP];
     clh_x_span span;
     clh_x_round(sg, tb, &job, base, P, T, &span);
-    if (g->look[2] > 0.5f || g->look[3] > 0.0f) clh_x_file_look(rc, g, tb, &job, &span, T);
-    clh_raster_identity(rc, job.strand, (float)span.base, 1.0f / (float)(job.M - 1u));
+    if (g->look[2] > 0.5f || g->look[3] != 0.0f) clh_x_file_look(rc, g, tb, &job, &span, T);
+    clh_raster_identity(rc, job.id, (float)span.base, 1.0f / (float)(job.M - 1u));
     clh_raster_lane(rc, scene_depth_g, gbuf_g, stats_g, g, P, T, span.first, span.count,
                     span.points, span.next_p, span.next_t);
   }
@@ -249,7 +269,8 @@ static inline void clh_x_draw(sg_ctx* sg, clh_raster_ctx* rc, __global const Clh
       __global const float4 *points_g, __global const uint *strand_offsets_g,                \
       __global const uint *uv_g, __global const uint4 *chunks_g,                             \
       __global const ClhLodRecord *lod_g, __global const uint *offsets_g, uint strand_count, \
-      uint point_count, uint has_uv
+      uint point_count, uint has_uv, __global const ClhChildrenGpu *kids_g,                  \
+      __global const uint *nbr_g
 
 #define CLH_X_TABLES(tb)                \
   clh_x_tables tb;                      \
@@ -257,6 +278,8 @@ static inline void clh_x_draw(sg_ctx* sg, clh_raster_ctx* rc, __global const Clh
   tb.strand_offsets = strand_offsets_g; \
   tb.uv = uv_g;                         \
   tb.chunks = chunks_g;                 \
+  tb.kids = kids_g;                     \
+  tb.nbr = nbr_g;                       \
   tb.strand_count = strand_count;       \
   tb.point_count = point_count;         \
   tb.has_uv = has_uv
@@ -282,15 +305,17 @@ __kernel SG_KERNEL_ATTRS void strands_explicit_motion(CLH_X_PARAMS,
   clh_raster_ctx rc;
   clh_raster_setup(&rc, groom_g, view_g);
   rc.motion_g = motion_g;
-  clh_x_job job;
+  clh_x_job job, pjob;
   if (!clh_x_find_job(groom_g, &tb, lod_g, offsets_g, sg_strand_index(strand_base), &job)) return;
+  /* the same strand in the previous frame: children grown from the previous guides */
+  if (!clh_x_find_job(groom_g, &tbp, lod_g, offsets_g, sg_strand_index(strand_base), &pjob)) return;
   float u, v;
   if (tb.has_uv != 0u) {
     const uint packed = tb.uv[job.strand];
     u = (float)(packed & 0xFFFFu) / 65535.0f;
     v = (float)(packed >> 16) / 65535.0f;
   } else {
-    const uint h = clh_hash2(groom_g->seed, job.strand);
+    const uint h = clh_hash2(groom_g->seed, job.id);
     u = clh_u01(h);
     v = clh_u01(clh_hash(h));
   }
@@ -301,8 +326,8 @@ __kernel SG_KERNEL_ATTRS void strands_explicit_motion(CLH_X_PARAMS,
     float4 P[CLH_X_CAP], T[CLH_X_CAP], PP[CLH_X_CAP], TP[CLH_X_CAP];
     clh_x_span span, prev_span;
     clh_x_round(&sg, &tb, &job, base, P, T, &span);
-    clh_x_round(&sg, &tbp, &job, base, PP, TP, &prev_span);
-    if (groom_g->look[2] > 0.5f || groom_g->look[3] > 0.0f)
+    clh_x_round(&sg, &tbp, &pjob, base, PP, TP, &prev_span);
+    if (groom_g->look[2] > 0.5f || groom_g->look[3] != 0.0f)
       clh_x_file_look(&rc, groom_g, &tb, &job, &span, T);
     clh_raster_lane_motion(&rc, scene_depth_g, gbuf_g, groom_g, motion_params_g, P, T, PP,
                            span.first, span.count, span.points, span.next_p, span.next_t,
@@ -357,7 +382,8 @@ __kernel SG_KERNEL_ATTRS void strands_explicit_raster_persistent(
 
 #if CLH_HAS_ENTRY(CLH_ENTRY_EXPORT)
 /* Writes the drawn strands: strand s's drawn points and tangents (w: styling w / AO) at
- * out_points_g/out_tangents_g[offsets[s] + j], its drawn point count at out_counts_g[s]. */
+ * out_points_g/out_tangents_g[offsets[s] + j], its drawn point count at out_counts_g[s];
+ * child c of guide s at [c point_count + offsets[s] + j] and count [s + c strand_count]. */
 __kernel SG_KERNEL_ATTRS void strands_explicit_export(CLH_X_PARAMS, __global float4* out_points_g,
                                                       __global float4* out_tangents_g,
                                                       __global uint* out_counts_g,
@@ -371,15 +397,17 @@ __kernel SG_KERNEL_ATTRS void strands_explicit_export(CLH_X_PARAMS, __global flo
     float4 P[CLH_X_CAP], T[CLH_X_CAP];
     clh_x_span span;
     clh_x_round(&sg, &tb, &job, base, P, T, &span);
+    /* child c of a guide writes after c copies of the stored points */
+    const ulong at = (ulong)job.child * (ulong)tb.point_count + (ulong)job.first;
     for (uint i = 0; i < CLH_X_CAP; ++i) {
       uint j = span.base + span.first + i;
       if (i < span.count && j < job.n) {
-        out_points_g[job.first + j] = P[i];
-        out_tangents_g[job.first + j] = T[i];
+        out_points_g[at + j] = P[i];
+        out_tangents_g[at + j] = T[i];
       }
     }
   }
-  if (sg_lane() == 0u) out_counts_g[job.strand] = job.M;
+  if (sg_lane() == 0u) out_counts_g[job.id] = job.M;
 }
 #endif
 #else

@@ -903,12 +903,13 @@ TEST(ExplicitCli, WarnsAboutGroomsInTheWrongUnits) {
   EXPECT_NE(tiny.find("pixels of the 96x64 image"), std::string::npos) << tiny;
 }
 
-// cyHair per-point colours and thicknesses: drawn with "use_file_color", otherwise ignored
-// with one warning. Colours: the root half of every strand blue, the tip half green (the
+// cyHair per-point colours and thicknesses: drawn by default; a scene appearance key of the
+// same kind (a colour key, strand_width) or "use_file_color": false draws the scene's, without
+// a warning. Colours: the root half of every strand blue, the tip half green (the
 // groom's own brown melanin makes red the strongest channel), so blue- and green-dominated
 // hair pixels both appear only when colour reaches the shading per point. Thickness: ten
 // times the default width covers clearly more pixel centers than the default width.
-TEST(ExplicitCli, FileColoursAndThicknessesAreDrawnWhenAsked) {
+TEST(ExplicitCli, FileColoursAndThicknessesAreDrawnUnlessTheSceneGivesItsOwn) {
   const std::string dir = test::scratchDir();
   Renderer r(test::sharedDevice());
   HairMesh mesh = makeGroomPreset("tiny");
@@ -929,10 +930,10 @@ TEST(ExplicitCli, FileColoursAndThicknessesAreDrawnWhenAsked) {
     std::string output;
     double hair = 0.0, blue = 0.0, green = 0.0, red = 0.0;  // fractions of the image
   };
-  auto render = [&](const std::string& name, const std::string& file, bool use,
+  auto render = [&](const std::string& name, const std::string& file, const json& appearance,
                     const std::string& options = "") {
     json groom = {{"strands_file", file}};
-    if (use) groom["appearance"] = {{"use_file_color", true}};
+    if (!appearance.is_null()) groom["appearance"] = appearance;
     json s = {
         {"resolution", {96, 64}},
         {"background", {0.0, 0.0, 0.0}},
@@ -961,15 +962,16 @@ TEST(ExplicitCli, FileColoursAndThicknessesAreDrawnWhenAsked) {
   };
   // Lipp's filter, as these fractions were set for: Huang's (the default) gives sub-pixel
   // strands their fractional coverage, which leaves fewer pixels above the cut-off
-  const Result ignored = render("ignored", "colour.hair", false, " --filter lipp");
-  const Result used = render("used", "colour.hair", true, " --filter lipp");
+  const json melanin = {{"eumelanin", {1.3, 1.0}}, {"pheomelanin", {0.1, 0.1}}};
+  const Result ignored = render("ignored", "colour.hair", melanin, " --filter lipp");
+  const Result off = render("off", "colour.hair", {{"use_file_color", false}}, " --filter lipp");
+  const Result used = render("used", "colour.hair", json(), " --filter lipp");
   ASSERT_GT(ignored.hair, 0.05) << "see " << dir;
-  EXPECT_EQ(countOf(ignored.output, "clhair: warning:"), 1u) << ignored.output;
-  EXPECT_NE(ignored.output.find("per-point colours, ignored"), std::string::npos) << ignored.output;
-  EXPECT_NE(ignored.output.find("use_file_color"), std::string::npos) << ignored.output;
-  EXPECT_EQ(ignored.blue + ignored.green, 0.0)
-      << "the groom's brown drew blue or green; see " << dir;
-  EXPECT_GT(ignored.red, 0.2 * ignored.hair);
+  for (const Result* r : {&ignored, &off}) {
+    EXPECT_EQ(countOf(r->output, "clhair: warning:"), 0u) << r->output;
+    EXPECT_EQ(r->blue + r->green, 0.0) << "the groom's brown drew blue or green; see " << dir;
+    EXPECT_GT(r->red, 0.2 * r->hair);
+  }
 
   EXPECT_EQ(countOf(used.output, "clhair: warning:"), 0u) << used.output;
   EXPECT_EQ(used.red, 0.0) << "see " << dir;
@@ -978,13 +980,13 @@ TEST(ExplicitCli, FileColoursAndThicknessesAreDrawnWhenAsked) {
 
   // without the filter a pixel shows hair only where a fibre covers its center, so the
   // covered fraction grows with the fibres' width
-  const Result thin = render("thin", "thin.hair", true, " --filter off");
-  const Result thick = render("thick", "thick.hair", true, " --filter off");
+  const Result thin = render("thin", "thin.hair", json(), " --filter off");
+  const Result thick = render("thick", "thick.hair", json(), " --filter off");
   EXPECT_GT(thick.hair, 1.5 * thin.hair) << "file thickness not drawn; see " << dir;
-  const Result thickIgnored = render("thick_ignored", "thick.hair", false, " --filter off");
-  EXPECT_NE(thickIgnored.output.find("per-point colours and thicknesses, ignored"),
-            std::string::npos)
-      << thickIgnored.output;
+  const Result thickIgnored =
+      render("thick_ignored", "thick.hair", {{"strand_width", mesh.appearance.strandWidth}},
+             " --filter off");
+  EXPECT_EQ(countOf(thickIgnored.output, "clhair: warning:"), 0u) << thickIgnored.output;
   EXPECT_LT(thickIgnored.hair, 1.2 * thin.hair)
       << "thickness drawn although not asked for; see " << dir;
 }

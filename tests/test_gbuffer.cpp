@@ -129,7 +129,7 @@ TEST(GBuffer, DevicePackingMatchesHost) {
 TEST(GBuffer, StructLayoutsMatchDevice) {
   auto& d = *test::sharedDevice().impl();
   cl::Kernel k(d.program("selftest.cl"), "selftest_layout");
-  std::vector<cl_uint> out(10, 0);
+  std::vector<cl_uint> out(11, 0);
   cl::Buffer b(d.context, CL_MEM_READ_WRITE, out.size() * sizeof(cl_uint));
   k.setArg(0, b);
   d.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(1), cl::NDRange(1));
@@ -144,6 +144,7 @@ TEST(GBuffer, StructLayoutsMatchDevice) {
   EXPECT_EQ(out[7], sizeof(ClhSceneGpu));
   EXPECT_EQ(out[8], sizeof(ClhLodRecord));
   EXPECT_EQ(out[9], sizeof(ClhVisibilityGpu));
+  EXPECT_EQ(out[10], sizeof(ClhChildrenGpu));
 }
 
 }  // namespace

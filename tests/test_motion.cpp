@@ -185,6 +185,47 @@ TEST(Motion, PerFrameStrandFilesGiveTheProjectedTranslation) {
   EXPECT_GT(meanX, 1.0);  // moved left: the previous position is to the right
 }
 
+// The same with follow hairs grown from the moving strands (children of the previous frame's
+// guides, host/groom/children.h): every child moved by d too.
+TEST(Motion, ChildrenOfPerFrameStrandFilesGiveTheProjectedTranslation) {
+  const std::string dir = scratchDir();
+  const glm::vec3 d(-0.003f, 0.002f, 0.0f);
+  for (int frame = 1; frame <= 2; ++frame) {
+    CyHair h;
+    for (int s = 0; s < 9; ++s) {
+      h.segments.push_back(8);
+      for (int k = 0; k < 9; ++k) {
+        glm::vec3 q(-0.02f + 0.005f * s, 0.005f + 0.005f * k, 0.0f);
+        if (frame == 2) q += d;
+        h.points.insert(h.points.end(), {q.x, q.y, q.z});
+      }
+    }
+    writeCyHair(h, dir + "/v.000" + std::to_string(frame) + ".hair");
+  }
+  const json groom = {{"strands_file", "v.####.hair"},
+                      {"appearance", {{"strand_width", 0.002}}},
+                      {"children", {{"count", 6}, {"radius", 0.004}, {"tip_spread", 1}}}};
+  const Scene shot = loadScene(writeScene(dir, groom, 64, 48));
+  ASSERT_EQ(shot.grooms[0].strands->children.count, 6u);
+  Renderer r(sharedDevice());
+  const Frame f2 = renderWithMotion(r, shot, 2);
+  std::size_t hair = 0;
+  double meanX = 0.0;
+  const double error = meanTranslationError(f2, shot, d, hair, meanX);
+  // most hair pixels are children's (six per guide)
+  std::size_t guideHair = 0;
+  {
+    json bare = groom;
+    bare["children"] = {{"count", 0}};
+    const Scene guidesOnly = loadScene(writeScene(dir, bare, 64, 48));
+    double unused = 0.0;
+    meanTranslationError(renderWithMotion(r, guidesOnly, 2), guidesOnly, d, guideHair, unused);
+  }
+  ASSERT_GT(hair, guideHair + guideHair / 2);
+  EXPECT_LT(error, 0.05);
+  EXPECT_GT(meanX, 1.0);
+}
+
 TEST(Motion, WindMotionMovesTheNextFrameOntoThePrevious) {
   // The tiny groom in a strong wind (tips sway about 3.7 px a frame here), camera still:
   // frame t's hair warped to frame t+1 by t+1's motion matches t+1's hair with IoU >= 0.8

@@ -178,6 +178,7 @@ Scene sceneAtFrame(const Scene& scene, double frame) {
         }
         frameGroom.appearance = g.strands->appearance;
         frameGroom.lod = g.strands->lod;
+        frameGroom.children = g.strands->children;
         g.strands = std::make_shared<const StrandGroom>(std::move(frameGroom));
       }
     }

@@ -54,6 +54,7 @@ DeviceInfo describe(const cl::Platform& platform, const cl::Device& device, int 
   info.clcVersion = device.getInfo<CL_DEVICE_OPENCL_C_VERSION>();
   info.driverVersion = device.getInfo<CL_DRIVER_VERSION>();
   info.isGpu = (device.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_GPU) != 0;
+  info.hostUnified = device.getInfo<CL_DEVICE_HOST_UNIFIED_MEMORY>() != CL_FALSE;
   info.maxAlloc = device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
   info.globalMem = device.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
   info.computeUnits = device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
@@ -211,6 +212,11 @@ Device Device::open(const DeviceOptions& options) {
       BinaryCache::cacheablePlatform(impl->info.platformName) ? options.cacheDir : "off");
   const char* dbg = std::getenv("CLHAIR_DEBUG_SYNC");
   impl->debugFinish = dbg && std::string(dbg) == "1";
+  const char* checks = std::getenv("CLHAIR_GRAPH_CHECK");
+  impl->graphChecks = checks && std::string(checks) == "1";
+  const char* pinned = std::getenv("CLHAIR_PINNED_READBACK");
+  impl->pinnedReadBack = pinned && std::string(pinned) == "1";
+  impl->zeroNewBuffers = impl->info.platformName.find("Oclgrind") != std::string::npos;
   clCall("creating the OpenCL context on " + impl->info.name, [&] {
     impl->context = cl::Context(impl->device);
     impl->queue = cl::CommandQueue(impl->context, impl->device, CL_QUEUE_PROFILING_ENABLE);
@@ -255,6 +261,8 @@ Device Device::withBackend(SubgroupBackend b) const {
   impl->binaries = impl_->binaries;
   impl->useBackend(b, "selected");
   impl->debugFinish = impl_->debugFinish;
+  impl->graphChecks = impl_->graphChecks;
+  impl->pinnedReadBack = impl_->pinnedReadBack;
   return Device(impl);
 }
 

@@ -13,6 +13,7 @@
 #include "cl/binary_cache.h"
 #include "cl/kernel_sources.h"
 #include "cl/opencl.h"
+#include "cl/transfer.h"
 #include "cl/tuning.h"
 #include "clhair/device.h"
 
@@ -29,6 +30,20 @@ struct Device::Impl {
   bool debugFinish = false;                   // finish() after every dispatch (CLHAIR_DEBUG_SYNC=1)
   std::uint32_t strandsPerGroupOverride = 0;  // DeviceOptions::strandsPerGroup
   BinaryCache binaries;                       // compiled programs between runs
+  Transfers transfers;                        // staged uploads, counted host waits
+  // Checks of the frame graph (host/graph/frame_graph.h) that cost a driver query per kernel
+  // argument: every buffer a pass binds and every kernel it launches was declared
+  // (CLHAIR_GRAPH_CHECK=1; the tests turn it on).
+  bool graphChecks = false;
+  // Read frames back through pinned staging even on a host-unified device
+  // (CLHAIR_PINNED_READBACK=1: the tests run the discrete-GPU path on the CPU).
+  bool pinnedReadBack = false;
+  // Every new buffer starts with host-written zeros (on Oclgrind only). Oclgrind 21.10's
+  // --uninitialized check keys its record of a buffer by the buffer's slot and starts it
+  // only on a host write: a buffer that no host write ever covers inherits the record of
+  // the last buffer freed from its slot, sized as that one was, and every word past that
+  // size reads as uninitialised although a kernel wrote it.
+  bool zeroNewBuffers = false;
 
   // The strand kernels' launch shape for `backend` (host/cl/tuning.h).
   StrandTuning tuningFor(SubgroupBackend backend) const;

@@ -84,8 +84,14 @@ KernelArgs& KernelArgs::buffer(const char* name, const cl::Buffer& b, std::uint6
   if (bytes < minBytes)
     fail(name, "the buffer holds " + std::to_string(bytes) + " bytes, the launch needs " +
                    std::to_string(minBytes));
+  if (LaunchAudit* audit = LaunchAudit::current()) audit->bound(b, name);
   set(name, [&] { kernel_.setArg(index_, b); });
   return *this;
+}
+
+LaunchAudit*& LaunchAudit::current() {
+  thread_local LaunchAudit* audit = nullptr;
+  return audit;
 }
 
 std::size_t roundUp(std::size_t n, std::size_t multiple) {
@@ -112,23 +118,31 @@ cl::Event dispatch(Device::Impl& dev, cl::Kernel& kernel, const std::string& sta
   cl::NDRange rounded = global.dimensions() == 1   ? cl::NDRange(g[0])
                         : global.dimensions() == 2 ? cl::NDRange(g[0], g[1])
                                                    : cl::NDRange(g[0], g[1], g[2]);
+  if (LaunchAudit* audit = LaunchAudit::current()) audit->launched(name);
   const bool timed = profiler && profiler->hostTiming;
-  if (timed) clCall(stage + ": finish before " + name, [&] { return dev.queue.finish(); });
+  const bool profiled = profiler && (profiler->enabled || timed);
+  if (timed) {
+    dev.transfers.countWait();
+    clCall(stage + ": finish before " + name, [&] { return dev.queue.finish(); });
+  }
   const double c0 = timed ? processCpuMs() : 0.0;
   const auto t0 = std::chrono::steady_clock::now();
   cl::Event event;
   clCall(stage + ": enqueue " + name, [&] {
-    dev.queue.enqueueNDRangeKernel(kernel, cl::NullRange, rounded, local, nullptr, &event);
+    dev.queue.enqueueNDRangeKernel(kernel, cl::NullRange, rounded, local, nullptr,
+                                   profiled ? &event : nullptr);
     return 0;
   });
-  if (dev.debugFinish || timed)
+  if (dev.debugFinish || timed) {
+    dev.transfers.countWait();
     clCall(stage + ": finish after " + name, [&] { return dev.queue.finish(); });
+  }
   if (timed)
     profiler->addHost(
         stage,
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(),
         processCpuMs() - c0);
-  if (profiler) profiler->add(stage, event);
+  if (profiled) profiler->add(stage, event);
   return event;
 }
 

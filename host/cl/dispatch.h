@@ -14,8 +14,11 @@
 
 namespace clhair {
 
+// Per-stage device times of a frame from profiling events. Events are asked for only while
+// `enabled` (RenderOptions::timings): without them a dispatch creates no event at all.
 class Profiler {
  public:
+  bool enabled = true;
   void add(const std::string& stage, const cl::Event& e) { events_.emplace_back(stage, e); }
   // Host timing (RenderOptions::stageCores): dispatch() then waits for each dispatch and
   // adds its wall and process CPU time to the stage.
@@ -23,7 +26,18 @@ class Profiler {
   void addHost(const std::string& stage, double wallMs, double cpuMs);
   // Waits for every event and sums the device time per stage, in first-seen order.
   std::vector<StageTime> collect();
-  void clear() { events_.clear(); }
+  void clear() {
+    events_.clear();
+    host_.clear();
+  }
+  // Hands the events and host times gathered so far to `other` (a frame in flight keeps
+  // its own until it is waited for) and starts empty.
+  void moveTo(Profiler& other) {
+    other.events_ = std::move(events_);
+    other.host_ = std::move(host_);
+    events_.clear();
+    host_.clear();
+  }
 
  private:
   std::vector<std::pair<std::string, cl::Event>> events_;
@@ -34,6 +48,17 @@ std::size_t roundUp(std::size_t n, std::size_t multiple);
 
 // Bytes of a buffer (0 for a null handle).
 std::uint64_t bufferBytes(const cl::Buffer& b);
+
+// Told of every buffer bound and kernel launched on this thread while it is installed: the
+// frame executor checks them against what the running pass declared (frame_graph.h).
+class LaunchAudit {
+ public:
+  virtual ~LaunchAudit() = default;
+  virtual void bound(const cl::Buffer& b, const char* argument) = 0;
+  virtual void launched(const std::string& kernel) = 0;
+  // The audit of this thread (null: none).
+  static LaunchAudit*& current();
+};
 
 // Sets a kernel's arguments in order, each under a name for messages. A buffer argument is
 // checked before it is set: it must exist and hold at least `minBytes` (what the launch

@@ -27,7 +27,9 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <deque>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <iostream>
 
@@ -43,11 +45,13 @@
 #include "clhair/scene.h"
 #include "clhair/temporal.h"
 #include "clhair/visibility_sh.h"
+#include "clhair/write_queue.h"
 #include "groom/presets.h"
 #include "groom/visibility_bake.h"
 #include "io/binary_file.h"
 #include "io/cyhair.h"
 #include "io/json_util.h"
+#include "io/ply_strands.h"
 #include "io/tressfx.h"
 #include "io/usc_hair.h"
 #include "metrics/image_metrics.h"
@@ -123,6 +127,9 @@ struct RenderFlags {
   std::string raster;                 // --raster lines|coverage; empty: the scene's
   std::string temporal;               // --temporal; empty: the scene's "temporal"
   std::string screenBoxes = "on";     // --screen-boxes on|off (RenderOptions::screenBoxes)
+  int framesInFlight = 2;             // --frames-in-flight (Renderer::setFramesInFlight)
+  int encodeThreads = 0;              // --encode-threads (WriteQueue; 0: automatic)
+  bool passes = false;                // --passes: print the first frame's graph
 };
 
 // The --temporal value: frames of history, a whole number 0 (off) .. kMaxTemporalHistory.
@@ -190,6 +197,7 @@ void printStats(const FrameStats& st) {
                 static_cast<unsigned long long>(st.segmentsBeforeBudget), st.budgetScale);
   else
     std::printf(" (budget %llu, not reached)\n", static_cast<unsigned long long>(st.segmentBudget));
+  std::printf("host waits: %llu\n", static_cast<unsigned long long>(st.hostWaits));
 }
 
 // The views a render writes: the scene's "cameras" (all, or those --views names; "camera" is
@@ -334,6 +342,12 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
       aovs.erase(strand);
     }
   }
+  if (f.framesInFlight < 1 || f.framesInFlight > kMaxFramesInFlight)
+    throw Error("--frames-in-flight must be 1.." + std::to_string(kMaxFramesInFlight) + ", not " +
+                std::to_string(f.framesInFlight));
+  if (f.encodeThreads < 0 || f.encodeThreads > 64)
+    throw Error("--encode-threads must be 0 (automatic) .. 64, not " +
+                std::to_string(f.encodeThreads));
   if (!f.views.empty() && f.views != "all" && f.views.find_first_of("/\\") != std::string::npos)
     throw Error("--views \"" + f.views + "\": expected all or view names");
   // the device first: strand files are checked against its largest allocation as they load
@@ -341,6 +355,7 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
   Scene scene = loadScene(scenePath, dev.info().maxAlloc);
   for (const std::string& w : scene.warnings)
     std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
+  for (const std::string& n : scene.notes) std::fprintf(stderr, "clhair: note: %s\n", n.c_str());
   const std::vector<View> views = selectViews(scene, f.views);
   const bool several = views.size() > 1;
   if (several && !aovs.empty())
@@ -436,9 +451,86 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
   // Every frame is evaluated from the scene and its number alone and rendered from a
   // cleared target, so it is the same whichever frames this process rendered before.
   const bool sequence = !f.frames.empty();
+  renderer.setFramesInFlight(f.framesInFlight);
+  ro.timings = !sequence;    // a sequence prints no stage times: no profiling events
+  ro.readBackDepth = false;  // images hold colour; AOVs read the depth they need
+  // frames are converted and written on worker threads while the device draws the next ones
+  WriteQueue writer(static_cast<unsigned>(f.encodeThreads));
+  struct InFlight {
+    FrameTicket ticket = 0;
+    long long number = 0;
+    std::size_t index = 0;
+    std::chrono::steady_clock::time_point t0;
+    int width = 0, height = 0;
+  };
+  std::deque<InFlight> inFlight;
   const auto start = std::chrono::steady_clock::now();
   std::size_t rendered = 0, skipped = 0;
-  for (std::size_t i = 0; i < frames.size(); ++i) {
+  // hands a finished frame to the writers and reports it
+  auto deliver = [&](const InFlight& q, std::vector<Frame> shots) {
+    const std::string path = framePath(viewPath(out, views[0].name, several), q.number);
+    if (several) {
+      for (std::size_t v = 0; v < views.size(); ++v) {
+        auto image = std::make_shared<Image>(std::move(shots[v].color));
+        const std::string vp = framePath(viewPath(out, views[v].name, true), q.number);
+        writer.submit([image, vp] { writeImage(*image, vp); });
+      }
+    } else if (aovs.empty()) {
+      auto image = std::make_shared<Image>(std::move(shots[0].color));
+      writer.submit([image, path] { writeImage(*image, path); });
+    } else {
+      auto channels = std::make_shared<std::vector<ImageChannel>>(aovChannels(shots[0], aovs));
+      writer.submit(
+          [channels, path, w = q.width, h = q.height] { writeChannels(*channels, w, h, path); });
+    }
+    ++rendered;
+    const Frame& frame = shots[0];
+    if (!frame.passes.empty()) std::printf("%s", frame.passes.c_str());
+    if (f.stats && !several) {
+      if (sequence) std::printf("frame %lld:\n", q.number);
+      printStats(frame.stats);
+    }
+    if (quiet) return;
+    const auto t1 = std::chrono::steady_clock::now();
+    if (sequence) {
+      const double took = std::chrono::duration<double>(t1 - q.t0).count();
+      const double perFrame = std::chrono::duration<double>(t1 - start).count() / rendered;
+      const std::size_t left = frames.size() - q.index - 1;
+      if (several)
+        std::fprintf(stderr,
+                     "clhair: frame %lld (%zu/%zu), %zu views -> %s ...: %s, about %s left\n",
+                     q.number, q.index + 1, frames.size(), views.size(), path.c_str(),
+                     seconds(took).c_str(), seconds(perFrame * static_cast<double>(left)).c_str());
+      else
+        std::fprintf(stderr, "clhair: frame %lld (%zu/%zu) -> %s: %s, about %s left\n", q.number,
+                     q.index + 1, frames.size(), path.c_str(), seconds(took).c_str(),
+                     seconds(perFrame * static_cast<double>(left)).c_str());
+      return;
+    }
+    if (several) {  // the stage times of all views together
+      std::printf("%s ...: %zu views of %dx%d on %s\n", path.c_str(), views.size(), q.width,
+                  q.height, dev.info().name.c_str());
+    } else {
+      std::printf("%s: %dx%d on %s (sub-group %s), %llu strands", path.c_str(), q.width, q.height,
+                  dev.info().name.c_str(), subgroupBackendName(dev.info().backend),
+                  static_cast<unsigned long long>(frame.stats.strandsDrawn));
+      if (frame.stats.shadowStrandsDrawn > 0)
+        std::printf(" (%llu into shadow maps)",
+                    static_cast<unsigned long long>(frame.stats.shadowStrandsDrawn));
+      std::printf("\n");
+    }
+    for (const StageTime& t : frame.timings)
+      std::printf("  %-10s %9.2f ms\n", t.stage.c_str(), t.ms);
+    std::printf("  %-10s %9.2f ms\n", "total", frame.totalMs());
+  };
+  auto deliverOldest = [&] {
+    const InFlight q = inFlight.front();
+    inFlight.pop_front();
+    deliver(q,
+            several ? renderer.waitViews(q.ticket) : std::vector<Frame>{renderer.wait(q.ticket)});
+  };
+  Scene previous;
+  for (std::size_t i = 0; i < frames.size() && !writer.failed(); ++i) {
     const long long number = frames[i];
     const std::string path = framePath(viewPath(out, views[0].name, several), number);
     std::error_code ec;
@@ -453,90 +545,58 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
                      frames.size(), path.c_str());
       continue;
     }
-    const auto t0 = std::chrono::steady_clock::now();
+    InFlight q;
+    q.number = number;
+    q.index = i;
+    q.t0 = std::chrono::steady_clock::now();
     Scene still = sceneAtFrame(scene, static_cast<double>(number));
     // the scene's viewing angle is kept: the preset changes only the distance and framing
     if (preset) still.camera = reframeCamera(still, *preset);
+    q.width = still.width;
+    q.height = still.height;
+    ro.describePasses = f.passes && i == 0;
     if (several) {
       std::vector<Camera> cameras;
       for (const View& v : views) cameras.push_back(viewCamera(still, v));
-      const std::vector<Frame> shots = renderer.renderViews(still, cameras, ro);
-      for (std::size_t v = 0; v < views.size(); ++v)
-        writeImage(shots[v].color, framePath(viewPath(out, views[v].name, true), number));
-      renderer.releaseGrooms();
-      ++rendered;
-      if (quiet) continue;
-      const auto t1 = std::chrono::steady_clock::now();
-      const double took = std::chrono::duration<double>(t1 - t0).count();
-      if (!sequence) {  // the stage times of all views together
-        std::printf("%s ...: %zu views of %dx%d on %s\n", path.c_str(), views.size(), still.width,
-                    still.height, dev.info().name.c_str());
-        for (const StageTime& t : shots[0].timings)
-          std::printf("  %-10s %9.2f ms\n", t.stage.c_str(), t.ms);
-        std::printf("  %-10s %9.2f ms\n", "total", shots[0].totalMs());
+      q.ticket = renderer.submitViews(still, cameras, ro);
+    } else {
+      if (!views[0].relative || views[0].offset != glm::vec3(0.0f))
+        still.camera = viewCamera(still, views[0]);
+      if (rendered == 0 && inFlight.empty())
+        for (const std::string& w : viewWarnings(still, scenePath))
+          std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
+      // motion goes to the previous frame; frames 1 and before (a shot's first) have none, so
+      // they are their own previous frame and their motion is zero
+      if (ro.aovs) {
+        previous = still;
+        if (number > 1) {
+          previous = sceneAtFrame(scene, static_cast<double>(number - 1));
+          if (preset) previous.camera = reframeCamera(previous, *preset);
+          if (!views[0].relative || views[0].offset != glm::vec3(0.0f))
+            previous.camera = viewCamera(previous, views[0]);
+        }
+        ro.previous = &previous;
+      }
+      if (f.reference || temporal) {  // frames of their own: rendered one by one
+        Frame frame =
+            f.reference ? renderer.renderReference(still, ref) : sequenceFrames.render(number);
+        std::vector<Frame> shots;
+        shots.push_back(std::move(frame));
+        deliver(q, std::move(shots));
+        renderer.releaseGrooms();
+        ro.previous = nullptr;
         continue;
       }
-      const double perFrame = std::chrono::duration<double>(t1 - start).count() / rendered;
-      std::fprintf(stderr, "clhair: frame %lld (%zu/%zu), %zu views -> %s ...: %s, about %s left\n",
-                   number, i + 1, frames.size(), views.size(), path.c_str(), seconds(took).c_str(),
-                   seconds(perFrame * static_cast<double>(frames.size() - i - 1)).c_str());
-      continue;
+      q.ticket = renderer.submit(still, ro);  // the scenes are not used after it returns
+      ro.previous = nullptr;
     }
-    if (!views[0].relative || views[0].offset != glm::vec3(0.0f))
-      still.camera = viewCamera(still, views[0]);
-    if (rendered == 0)
-      for (const std::string& w : viewWarnings(still, scenePath))
-        std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
-    // motion goes to the previous frame; frames 1 and before (a shot's first) have none, so
-    // they are their own previous frame and their motion is zero
-    Scene previous;
-    if (ro.aovs) {
-      previous = still;
-      if (number > 1) {
-        previous = sceneAtFrame(scene, static_cast<double>(number - 1));
-        if (preset) previous.camera = reframeCamera(previous, *preset);
-        if (!views[0].relative || views[0].offset != glm::vec3(0.0f))
-          previous.camera = viewCamera(previous, views[0]);
-      }
-      ro.previous = &previous;
-    }
-    Frame frame = f.reference ? renderer.renderReference(still, ref)
-                  : temporal  ? sequenceFrames.render(number)
-                              : renderer.render(still, ro);
-    ro.previous = nullptr;
-    if (aovs.empty())
-      writeImage(frame.color, path);
-    else
-      writeChannels(aovChannels(frame, aovs), still.width, still.height, path);
     // per-frame strand files are new grooms every frame: their device forms go with it
     renderer.releaseGrooms();
-    ++rendered;
-    const auto t1 = std::chrono::steady_clock::now();
-    if (f.stats) {
-      if (sequence) std::printf("frame %lld:\n", number);
-      printStats(frame.stats);
-    }
-    if (quiet) continue;
-    if (sequence) {
-      const double took = std::chrono::duration<double>(t1 - t0).count();
-      const double perFrame = std::chrono::duration<double>(t1 - start).count() / rendered;
-      const std::size_t left = frames.size() - i - 1;
-      std::fprintf(stderr, "clhair: frame %lld (%zu/%zu) -> %s: %s, about %s left\n", number, i + 1,
-                   frames.size(), path.c_str(), seconds(took).c_str(),
-                   seconds(perFrame * static_cast<double>(left)).c_str());
-      continue;
-    }
-    std::printf("%s: %dx%d on %s (sub-group %s), %llu strands", path.c_str(), still.width,
-                still.height, dev.info().name.c_str(), subgroupBackendName(dev.info().backend),
-                static_cast<unsigned long long>(frame.stats.strandsDrawn));
-    if (frame.stats.shadowStrandsDrawn > 0)
-      std::printf(" (%llu into shadow maps)",
-                  static_cast<unsigned long long>(frame.stats.shadowStrandsDrawn));
-    std::printf("\n");
-    for (const StageTime& t : frame.timings)
-      std::printf("  %-10s %9.2f ms\n", t.stage.c_str(), t.ms);
-    std::printf("  %-10s %9.2f ms\n", "total", frame.totalMs());
+    inFlight.push_back(q);
+    while (inFlight.size() > static_cast<std::size_t>(renderer.framesInFlight())) deliverOldest();
   }
+  while (!inFlight.empty() && !writer.failed()) deliverOldest();
+  writer.finish();  // the first failed write: one error line, the frames before it kept
   if (!quiet && sequence)
     std::fprintf(
         stderr, "clhair: %zu frames rendered, %zu skipped, %s\n", rendered, skipped,
@@ -595,7 +655,7 @@ int cmdBakeVisibility(const DeviceOptions& opts, const std::string& scenePath,
                 " does not exist, the scene has " + std::to_string(scene.grooms.size()) +
                 " groom(s)");
   const GroomInstance& gi = scene.grooms[static_cast<std::size_t>(groom)];
-  if (gi.strands && gi.strands->appearance.useFileColor)
+  if (gi.strands && gi.strands->appearance.useFileColor && !gi.strands->colors.empty())
     throw Error(scenePath + ": groom \"" + gi.name +
                 "\" is drawn with its file colours, whose G-buffer words carry no styling uv to "
                 "look a bake up by");
@@ -674,23 +734,71 @@ int cmdBakeAo(const DeviceOptions& opts, const std::string& groomPath, const std
   return 0;
 }
 
-int cmdExport(const DeviceOptions& opts, const std::string& groomPath, const std::string& out) {
-  HairMesh mesh = loadHairMesh(groomPath);
-  Device dev = Device::open(opts);
-  Renderer renderer(dev);
-  StrandSet s = renderer.generateStrands(mesh);
+// The strands export-strands writes: a hair mesh's generated strands (root/tip colours), a
+// strand file's (its colours), or a scene groom's as drawn at full detail, children included
+// (in the groom's object space).
+CyHair exportSource(Renderer& renderer, std::uint64_t maxAlloc, const std::string& path,
+                    int groom) {
+  const std::string ext = lowerExtension(path);
+  const bool strandFile =
+      ext == ".hair" || ext == ".data" || ext == ".tfx" || ext == ".ply" || ext == ".bin";
+  bool scene = false;
+  if (!strandFile && ext == ".json") {
+    std::ifstream in(path);
+    const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+    scene = j.is_object() && j.contains("grooms");
+  }
+  if (!scene && groom != 0)
+    throw Error("--groom " + std::to_string(groom) + ": " + path + " is not a scene file");
+  std::shared_ptr<const StrandGroom> strands;
+  std::shared_ptr<const HairMesh> mesh;
+  std::string name;
+  if (strandFile) {
+    strands = std::make_shared<const StrandGroom>(loadStrandGroom(path, maxAlloc));
+  } else if (scene) {
+    const Scene sc = loadScene(path, maxAlloc);
+    if (groom < 0 || static_cast<std::size_t>(groom) >= sc.grooms.size())
+      throw Error(path + ": --groom " + std::to_string(groom) + " does not exist, the scene has " +
+                  std::to_string(sc.grooms.size()) + " groom(s)");
+    strands = sc.grooms[static_cast<std::size_t>(groom)].strands;
+    mesh = sc.grooms[static_cast<std::size_t>(groom)].mesh;
+  } else {
+    mesh = std::make_shared<const HairMesh>(loadHairMesh(path));
+  }
   CyHair h;
+  StrandSet s;
+  if (strands) {
+    s = renderer.generateStrands(*strands);
+    name = strands->name;
+    h.defaultThickness = strands->appearance.strandWidth;
+  } else {
+    s = renderer.generateStrands(*mesh);
+    name = mesh->name;
+    h.defaultThickness = mesh->appearance.strandWidth;
+  }
   h.segments.reserve(s.pointCounts.size());
   for (std::uint32_t c : s.pointCounts) h.segments.push_back(c - 1);
   h.points = s.points;
   h.colors.reserve(s.points.size());
-  for (float w : s.w) {
-    glm::vec3 c =
-        mesh.appearance.rootColor + (mesh.appearance.tipColor - mesh.appearance.rootColor) * w;
-    h.colors.insert(h.colors.end(), {c.x, c.y, c.z});
+  if (mesh) {
+    for (float w : s.w) {
+      glm::vec3 c =
+          mesh->appearance.rootColor + (mesh->appearance.tipColor - mesh->appearance.rootColor) * w;
+      h.colors.insert(h.colors.end(), {c.x, c.y, c.z});
+    }
+  } else if (!s.look.empty() && strands->appearance.useFileColor && !strands->colors.empty()) {
+    for (std::size_t i = 0; i < s.look.size(); i += 4)
+      h.colors.insert(h.colors.end(), {s.look[i], s.look[i + 1], s.look[i + 2]});
   }
-  h.defaultThickness = mesh.appearance.strandWidth;
-  h.info = "clhair export-strands: " + mesh.name;
+  h.info = "clhair export-strands: " + name;
+  return h;
+}
+
+int cmdExport(const DeviceOptions& opts, const std::string& groomPath, const std::string& out,
+              int groom) {
+  Device dev = Device::open(opts);
+  Renderer renderer(dev);
+  CyHair h = exportSource(renderer, dev.info().maxAlloc, groomPath, groom);
   const std::string ext = lowerExtension(out);
   if (ext == ".tfx") {
     // TressFX needs one point count for all strands, and AMD's runtime a power of two in
@@ -700,15 +808,16 @@ int cmdExport(const DeviceOptions& opts, const std::string& groomPath, const std
     t.hair = resampleStrands(h, n);
     writeTressFx(t, out);
     std::printf("%s: %zu strands, resampled to %u points each (TressFX 4.0)\n", out.c_str(),
-                s.pointCounts.size(), n);
+                h.segments.size(), n);
     return 0;
   }
   if (ext == ".data")
     writeUscHair(h, out);  // points only: the format has no colour or thickness
+  else if (ext == ".ply")
+    writePlyStrands(h, out);  // points and colours
   else
     writeCyHair(h, out);
-  std::printf("%s: %zu strands, %zu points\n", out.c_str(), s.pointCounts.size(),
-              s.points.size() / 3);
+  std::printf("%s: %zu strands, %zu points\n", out.c_str(), h.segments.size(), h.points.size() / 3);
   return 0;
 }
 
@@ -833,6 +942,14 @@ int main(int argc, char** argv) {
   render->add_flag("--skip-existing", rf.skipExisting,
                    "leave frames whose output file exists (resume a range)");
   render->add_flag("-q,--quiet", rf.quiet, "print nothing on success");
+  render->add_option("--frames-in-flight", rf.framesInFlight,
+                     "frames the device draws while earlier ones are read back and written "
+                     "(1.." +
+                         std::to_string(kMaxFramesInFlight) + ", default 2)");
+  render->add_option("--encode-threads", rf.encodeThreads,
+                     "threads converting and writing images (0: one per core but one, at most 8)");
+  render->add_flag("--passes", rf.passes,
+                   "print the first frame's graph: its passes, buffers and host waits");
   render->add_flag("--stats", rf.stats,
                    "print the strands and segments each groom instance draws, and the totals");
   render->add_option("--temporal", rf.temporal,
@@ -901,10 +1018,17 @@ int main(int argc, char** argv) {
   auto* exportCmd = app.add_subcommand("export-strands",
                                        "write the generated strands as a cyHair .hair file "
                                        "(USC-HairSalon when the name ends in .data, "
-                                       "TressFX 4.0 for .tfx)");
+                                       "TressFX 4.0 for .tfx, PLY for .ply)");
   std::string groomPath, hairOut;
-  exportCmd->add_option("groom", groomPath, "hair-mesh file")->required();
-  exportCmd->add_option("-o,--output", hairOut, "output .hair, .data or .tfx file")->required();
+  int exportGroom = 0;
+  exportCmd
+      ->add_option("groom", groomPath,
+                   "hair-mesh file, strand file, or scene (its groom as drawn, children "
+                   "included)")
+      ->required();
+  exportCmd->add_option("-o,--output", hairOut, "output .hair, .data, .tfx or .ply file")
+      ->required();
+  exportCmd->add_option("--groom", exportGroom, "the scene's groom to export (default 0)");
 
   auto* compare =
       app.add_subcommand("compare", "compare image B against reference A: PSNR, RMSE, mean FLIP");
@@ -934,7 +1058,7 @@ int main(int argc, char** argv) {
     if (*devices) return cmdDevices(resolved);
     if (*render) return cmdRender(resolved, scenePath, out, rf);
     if (*groom) return cmdGroom(preset, groomOut, strands);
-    if (*exportCmd) return cmdExport(resolved, groomPath, hairOut);
+    if (*exportCmd) return cmdExport(resolved, groomPath, hairOut, exportGroom);
     if (*bakeCmd) return cmdBakeAo(resolved, bakeIn, bakeOut);
     if (*visCmd) return cmdBakeVisibility(resolved, visScene, visOut, vf);
     if (*compare) return cmdCompare(compareA, compareB, cf);

@@ -1,7 +1,6 @@
 // aov_builder.cpp — see aov_builder.h.
 #include "frame/aov_builder.h"
 
-#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -15,7 +14,6 @@ namespace clhair {
 
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr std::uint64_t kEmptyWord = ~std::uint64_t(0);  // CLH_GBUF_EMPTY
 
 // Pixel (x_px, y_px) of view-space point p (gpu_types.h, ClhViewGpu); false behind the eye.
@@ -28,101 +26,74 @@ bool project(const gpu::ClhViewGpu& v, const glm::vec3& p, float& x, float& y) {
 
 }  // namespace
 
-AovBuilder::AovBuilder(const gpu::ClhViewGpu& view, const std::vector<float>& opaqueDepth)
-    : view_(view),
-      pixels_(static_cast<std::size_t>(view.width) * view.height),
-      lastDepth_(opaqueDepth),
-      owner_(pixels_, -1),
-      ownerMotion_(pixels_, kEmptyWord),
-      hairAlpha_(pixels_, 0.0f),
-      centreZ_(pixels_, kInf),
-      tangent_(pixels_ * 3, 0.0f),
-      strand_(pixels_ * 3, -1.0f),
-      hair_(pixels_ * 4, 0.0f) {}
-
-void AovBuilder::addGroom(std::size_t index, const gpu::ClhGroomGpu& params,
-                          const std::vector<std::uint64_t>& centre, int layers,
-                          const std::vector<float>& hair, const std::vector<float>& depth,
-                          const std::vector<std::uint64_t>* motion,
-                          const std::vector<std::uint64_t>* ids) {
-  if (ids) ids_ = true;
-  for (std::size_t p = 0; p < pixels_; ++p) {
-    // the hair is composited over what lies below it: coverages combine like alphas "over"
-    const float a = std::min(std::max(hair[p * 4 + 3], 0.0f), 1.0f);
-    hairAlpha_[p] = a + (1.0f - a) * hairAlpha_[p];
-    const float* h = &hair[p * 4];
-    if (h[3] > 0.0f) {  // composite.cl's rule, alpha carried along the same way
-      float* acc = &hair_[p * 4];
-      for (int c = 0; c < 3; ++c) acc[c] = h[c] + (1.0f - h[3]) * acc[c];
-      acc[3] = h[3] + (1.0f - h[3]) * acc[3];
-    }
-    if (depth[p] < lastDepth_[p]) {
-      owner_[p] = static_cast<std::int32_t>(index);
-      ownerMotion_[p] = motion ? (*motion)[p] : kEmptyWord;
-    }
-    lastDepth_[p] = depth[p];
-    std::uint64_t word = kEmptyWord;
-    for (int s = 0; s < layers; ++s) word = std::min(word, centre[s * pixels_ + p]);
-    if (word == kEmptyWord) continue;
-    const float z =
-        gpu::clh_depth_decode(gpu::clh_gbuf_depth(word), params.depth_near, params.depth_far);
-    if (!(z < centreZ_[p])) continue;
-    centreZ_[p] = z;
-    gpu::clh_oct_decode(gpu::clh_gbuf_oct(word), &tangent_[p * 3]);
-    if (!ids) continue;
-    const std::uint64_t id = (*ids)[p];
-    const bool known = id != kEmptyWord;
-    strand_[p * 3] = known ? static_cast<float>(index) : -1.0f;
-    strand_[p * 3 + 1] = known ? static_cast<float>(gpu::clh_id_strand(id)) : -1.0f;
-    strand_[p * 3 + 2] =
-        known ? static_cast<float>(gpu::clh_id_pos(id)) / static_cast<float>(CLH_ID_POS_MAX)
-              : -1.0f;
+AovMotionInputs AovMotionInputs::of(const gpu::ClhViewGpu& view, const Scene& scene,
+                                    const Scene* previous) {
+  AovMotionInputs in;
+  in.view = view;
+  in.width = scene.width;
+  in.height = scene.height;
+  in.camera = scene.camera;
+  for (const GroomInstance& g : scene.grooms) in.transforms.push_back(g.transform);
+  if (previous) {
+    in.hasPrevious = true;
+    in.previousCamera = previous->camera;
+    for (const GroomInstance& g : previous->grooms) in.previousTransforms.push_back(g.transform);
   }
+  return in;
 }
 
-FrameAovs AovBuilder::finish(const std::vector<float>& depth, const Scene& scene,
-                             const Scene* previous) const {
+FrameAovs finishAovs(const AovPlanesHost& planes, const std::vector<float>& depth,
+                     const AovMotionInputs& in) {
+  const std::size_t pixels = depth.size();
   FrameAovs out;
-  out.hairAlpha = hairAlpha_;
-  out.tangent = tangent_;
-  out.hair = hair_;
-  if (ids_) out.strand = strand_;
-  out.z.resize(pixels_);
-  out.motion.assign(pixels_ * 2, 0.0f);
-  for (std::size_t p = 0; p < pixels_; ++p)
+  out.hairAlpha = planes.alpha;
+  out.hair = planes.hair;
+  out.tangent.resize(pixels * 3);
+  for (std::size_t p = 0; p < pixels; ++p)
+    for (int c = 0; c < 3; ++c) out.tangent[p * 3 + c] = planes.tangent[p * 4 + c];
+  if (planes.ids) {
+    out.strand.resize(pixels * 3);
+    for (std::size_t p = 0; p < pixels; ++p)
+      for (int c = 0; c < 3; ++c) out.strand[p * 3 + c] = planes.strand[p * 4 + c];
+  }
+  out.z.resize(pixels);
+  out.motion.assign(pixels * 2, 0.0f);
+  for (std::size_t p = 0; p < pixels; ++p)
     out.z[p] = std::isfinite(depth[p]) ? depth[p] : kAovBackgroundZ;
-  if (!previous) return out;
-  const glm::mat4 viewToWorld = glm::inverse(worldToView(scene.camera));
-  const glm::mat4 prevToView = worldToView(previous->camera);
+  if (!in.hasPrevious) return out;
+  const glm::mat4 viewToWorld = glm::inverse(worldToView(in.camera));
+  const glm::mat4 prevToView = worldToView(in.previousCamera);
   // the previous view keeps this frame's sub-pixel shift (jittered reference passes, tests)
-  gpu::ClhViewGpu prev = makeView(previous->camera, scene.width, scene.height);
-  const gpu::ClhViewGpu still = makeView(scene.camera, scene.width, scene.height);
-  prev.cx += view_.cx - still.cx;
-  prev.cy += view_.cy - still.cy;
+  gpu::ClhViewGpu prev = makeView(in.previousCamera, in.width, in.height);
+  const gpu::ClhViewGpu still = makeView(in.camera, in.width, in.height);
+  prev.cx += in.view.cx - still.cx;
+  prev.cy += in.view.cy - still.cy;
   // per groom: world now -> world in the previous frame (rigid transform keys)
-  std::vector<glm::mat4> back(scene.grooms.size(), glm::mat4(1.0f));
-  std::vector<bool> moved(scene.grooms.size(), false);
-  for (std::size_t g = 0; g < scene.grooms.size() && g < previous->grooms.size(); ++g) {
-    moved[g] = previous->grooms[g].transform != scene.grooms[g].transform;
-    back[g] = previous->grooms[g].transform * glm::inverse(scene.grooms[g].transform);
+  const std::size_t G = in.transforms.size();
+  std::vector<glm::mat4> back(G, glm::mat4(1.0f));
+  std::vector<bool> moved(G, false);
+  for (std::size_t g = 0; g < G && g < in.previousTransforms.size(); ++g) {
+    moved[g] = in.previousTransforms[g] != in.transforms[g];
+    back[g] = in.previousTransforms[g] * glm::inverse(in.transforms[g]);
   }
   // what did not move has exactly zero motion, not the rounding of a round trip
-  const Camera &a = scene.camera, &b = previous->camera;
+  const Camera &a = in.camera, &b = in.previousCamera;
   const bool cameraMoved = a.position != b.position || a.target != b.target || a.up != b.up ||
                            a.fovYDegrees != b.fovYDegrees;
-  const std::size_t width = view_.width;
-  for (std::size_t p = 0; p < pixels_; ++p) {
+  const std::size_t width = in.view.width;
+  for (std::size_t p = 0; p < pixels; ++p) {
     const float z = depth[p];
     if (!std::isfinite(z)) continue;  // the background does not move
     const float px = static_cast<float>(p % width) + 0.5f;
     const float py = static_cast<float>(p / width) + 0.5f;
     // the shading kernel's reconstruction (shade.cl): the pixel centre at view depth z
-    const glm::vec4 pv((px - view_.cx) / view_.fx * z, -(py - view_.cy) / view_.fy * z, z, 1.0f);
+    const glm::vec4 pv((px - in.view.cx) / in.view.fx * z, -(py - in.view.cy) / in.view.fy * z, z,
+                       1.0f);
     glm::vec4 world = viewToWorld * pv;
-    const std::int32_t g = owner_[p];
-    if (g >= 0 && ownerMotion_[p] != kEmptyWord) {  // resolved by the groom's motion pass
-      const auto mx = static_cast<std::uint32_t>(ownerMotion_[p] >> 32);
-      const auto my = static_cast<std::uint32_t>(ownerMotion_[p]);
+    const std::int32_t g = planes.owner[p];
+    if (g >= 0 && planes.ownerMotion[p] != kEmptyWord) {  // resolved by the groom's motion pass
+      const auto mx = static_cast<std::uint32_t>(planes.ownerMotion[p] >> 32);
+      const auto my = static_cast<std::uint32_t>(planes.ownerMotion[p]);
       float x, y;
       std::memcpy(&x, &mx, 4);
       std::memcpy(&y, &my, 4);
@@ -130,8 +101,10 @@ FrameAovs AovBuilder::finish(const std::vector<float>& depth, const Scene& scene
       out.motion[p * 2 + 1] = -y;  // y up
       continue;
     }
-    if (!cameraMoved && (g < 0 || !moved[static_cast<std::size_t>(g)])) continue;
-    if (g >= 0) world = back[static_cast<std::size_t>(g)] * world;
+    const bool ownerMoved = g >= 0 && static_cast<std::size_t>(g) < G && moved[g];
+    if (!cameraMoved && !ownerMoved) continue;
+    if (g >= 0 && static_cast<std::size_t>(g) < G)
+      world = back[static_cast<std::size_t>(g)] * world;
     float x0, y0;
     if (!project(prev, glm::vec3(prevToView * world), x0, y0)) continue;
     out.motion[p * 2] = x0 - px;

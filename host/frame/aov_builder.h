@@ -1,19 +1,20 @@
-// aov_builder.h — gathers the layers for compositing (Frame::aovs, clhair/aov.h) while a
-// frame is drawn, on the host, from what each groom leaves on the device.
+// aov_builder.h — the layers for compositing (Frame::aovs, clhair/aov.h) from the planes
+// the AOV passes gathered on the device (kernels/aov.cl), once the frame is read back.
 //
-// Inputs, per frame: the view record, the depth of the opaque scene; per groom drawn (after
-// its composite): its record (G-buffer depth mapping), its centre sample layers, its shaded
-// (or filtered) premultiplied hair and the depth buffer after compositing. Outputs: Z, hair
-// alpha, tangent, motion and the hair layer (premultiplied, composited like composite.cl).
-// Invariants: the surface whose depth is in Z is the one whose motion is given: a pixel belongs to
-// the last groom whose composite lowered its depth (composite.cl writes the depth of hair at least
-// half opaque), otherwise to the opaque scene. A deforming groom hands in the motion its motion
-// pass resolved per pixel (the strands evaluated at the previous frame, GroomGpu::motion); a rigid
-// one's pixels are carried through its change of transform and the previous camera here.
+// Inputs: per pixel the hair alpha, the grooms' premultiplied hair, the nearest centre word's
+// tangent and strand, the groom owning the pixel's depth (-1: the opaque scene) and its
+// motion-pass word; the frame's final depth; the cameras and groom transforms of this frame
+// and of the previous one. Outputs: Z, hair alpha, tangent, motion, strand, hair.
+// Invariants: the surface whose depth is in Z is the one whose motion is given. A deforming
+// groom hands in the motion its motion pass resolved per pixel (the strands evaluated at the
+// previous frame); a rigid one's pixels are carried through its change of transform and the
+// previous camera here.
 #pragma once
 
 #include <cstdint>
 #include <vector>
+
+#include <glm/mat4x4.hpp>
 
 #include "clhair/gpu_types.h"
 #include "clhair/renderer.h"
@@ -21,39 +22,26 @@
 
 namespace clhair {
 
-class AovBuilder {
- public:
-  AovBuilder(const gpu::ClhViewGpu& view, const std::vector<float>& opaqueDepth);
-
-  // Groom `index` (its position in Scene::grooms) after its composite: `centre` holds
-  // `layers` sample layers of width * height words, `hair` premultiplied RGBA per pixel,
-  // `depth` the depth buffer after the composite; `motion` (or null) the groom's motion pass:
-  // per pixel the packed screen motion (x, y down, float bits x << 32 | y), all ones where
-  // it has none. `ids`, when given, holds the identity word of every pixel's centre word
-  // (gpu_types.h).
-  void addGroom(std::size_t index, const gpu::ClhGroomGpu& params,
-                const std::vector<std::uint64_t>& centre, int layers,
-                const std::vector<float>& hair, const std::vector<float>& depth,
-                const std::vector<std::uint64_t>* motion = nullptr,
-                const std::vector<std::uint64_t>* ids = nullptr);
-
-  // The planes for the final depth buffer of `scene`'s frame; motion from `previous` (the
-  // previous frame's still scene, grooms matched by index), zero without it.
-  FrameAovs finish(const std::vector<float>& depth, const Scene& scene,
-                   const Scene* previous) const;
-
- private:
-  gpu::ClhViewGpu view_;
-  std::size_t pixels_;
-  std::vector<float> lastDepth_;            // depth buffer after the last groom seen
-  std::vector<std::int32_t> owner_;         // groom owning the depth of each pixel, -1: opaque
-  std::vector<std::uint64_t> ownerMotion_;  // the owner's motion-pass word, all ones: none
-  std::vector<float> hairAlpha_;            // 1 - prod(1 - a_k)
-  std::vector<float> centreZ_;              // depth of the nearest centre word so far (+inf: none)
-  std::vector<float> tangent_;              // its decoded tangent, 3 per pixel
-  std::vector<float> strand_;               // its groom, strand and u, 3 per pixel (with ids)
-  std::vector<float> hair_;                 // the grooms' premultiplied RGBA, composited
-  bool ids_ = false;
+// What the host keeps of a frame's scene for its motion plane (values: the caller's scenes
+// may be gone when a frame in flight completes).
+struct AovMotionInputs {
+  gpu::ClhViewGpu view{};  // the frame's view record (its sub-pixel shift included)
+  int width = 0, height = 0;
+  Camera camera, previousCamera;
+  std::vector<glm::mat4> transforms, previousTransforms;  // groom instances, by index
+  bool hasPrevious = false;
+  static AovMotionInputs of(const gpu::ClhViewGpu& view, const Scene& scene, const Scene* previous);
 };
+
+// The planes as read back: one entry per pixel (tangent and strand: 4 floats, the 4th unused).
+struct AovPlanesHost {
+  std::vector<std::int32_t> owner;
+  std::vector<std::uint64_t> ownerMotion;
+  std::vector<float> alpha, hair, tangent, strand;
+  bool ids = false;
+};
+
+FrameAovs finishAovs(const AovPlanesHost& planes, const std::vector<float>& depth,
+                     const AovMotionInputs& in);
 
 }  // namespace clhair

@@ -90,8 +90,10 @@ void FrameLod::enqueue(const std::vector<GroomDraw>& draws, const std::vector<ch
     layout_[k].active = static_cast<gpu::clh_u32>(active[k]);
     layout_[k].far = far[k] ? 1u : 0u;
   }
+  const cl_mem before = table_();
   ensureCapacity<gpu::ClhBudgetDraw>(dev_, table_, tableCap_, "groom draw table", D);
-  upload(dev_, table_, layout_.data(), D);
+  if (table_() != before) tableSent_.clear();
+  uploadChanged(dev_, table_, tableSent_, layout_.data(), D);
   gpu::ClhBudgetRule r{};
   r.rule = rule.screen ? CLH_BUDGET_RULE_SCREEN : CLH_BUDGET_RULE_UNIFORM;
   r.image_area = rule.imageArea;
@@ -99,9 +101,12 @@ void FrameLod::enqueue(const std::vector<GroomDraw>& draws, const std::vector<ch
   r.keep_hi = rule.keepHigh;
   r.room_lo = rule.roomLow;
   r.widen_cap = rule.widenCap;
-  if (!rule_()) rule_ = makeBuffer<gpu::ClhBudgetRule>(dev_, "segment budget rule", 1);
-  upload(dev_, rule_, &r, 1);
-  const std::size_t words = CLH_BUDGET_HEADER + CLH_BUDGET_DRAW_WORDS * D;
+  if (!rule_()) {
+    rule_ = makeBuffer<gpu::ClhBudgetRule>(dev_, "segment budget rule", 1);
+    ruleSent_.clear();
+  }
+  uploadChanged(dev_, rule_, ruleSent_, &r, 1);
+  const std::size_t words = stateWords(D);
   ensureCapacity<cl_uint>(dev_, state_, stateCap_, "segment budget state", words);
   const auto d32 = static_cast<cl_uint>(D);
   const cl::NDRange wg(LodStage::kScanWorkGroup);
@@ -132,12 +137,20 @@ void FrameLod::enqueue(const std::vector<GroomDraw>& draws, const std::vector<ch
   dispatch(dev_, apply_, "lod", perDraw, wg, profiler);
 }
 
+std::size_t FrameLod::stateWords(std::size_t draws) {
+  return draws == 0 ? 0 : CLH_BUDGET_HEADER + CLH_BUDGET_DRAW_WORDS * draws;
+}
+
 FrameLod::Result FrameLod::read(std::size_t draws) {
-  Result r;
-  if (draws == 0) return r;
-  std::vector<cl_uint> s(CLH_BUDGET_HEADER + CLH_BUDGET_DRAW_WORDS * draws);
+  std::vector<std::uint32_t> s(stateWords(draws));
   readBack(dev_, "the segment budget's outcome", state_, s.data(), s.size());
-  auto f32 = [](cl_uint u) {
+  return decode(s, draws);
+}
+
+FrameLod::Result FrameLod::decode(const std::vector<std::uint32_t>& s, std::size_t draws) {
+  Result r;
+  if (draws == 0 || s.size() < stateWords(draws)) return r;
+  auto f32 = [](std::uint32_t u) {
     float f;
     std::memcpy(&f, &u, 4);
     return f;
@@ -150,8 +163,8 @@ FrameLod::Result FrameLod::read(std::size_t draws) {
   r.draw.resize(4 * draws);
   r.plan.resize(draws);
   for (std::size_t k = 0; k < draws; ++k) {
-    const cl_uint* w = &s[CLH_BUDGET_HEADER + CLH_BUDGET_DRAW_WORDS * k];
-    std::copy(w, w + 4, r.draw.begin() + 4 * k);
+    const std::uint32_t* w = &s[CLH_BUDGET_HEADER + CLH_BUDGET_DRAW_WORDS * k];
+    std::copy(w, w + 4, r.draw.begin() + 4 * static_cast<std::ptrdiff_t>(k));
     const bool halved = (w[3] & CLH_BUDGET_HALVED) != 0;
     DrawPlan& p = r.plan[k];
     p.request = halved ? w[5] : w[4];

@@ -75,6 +75,12 @@ class FrameLod {
   };
   // Blocking read of the last enqueue's outcome for `draws` draws.
   Result read(std::size_t draws);
+  // The outcome's words for `draws` draws (read back with the frame), and their meaning.
+  const cl::Buffer& state() const { return state_; }
+  static std::size_t stateWords(std::size_t draws);
+  static Result decode(const std::vector<std::uint32_t>& words, std::size_t draws);
+  // The arena, draw table, rule and state (what the budget pass declares).
+  std::vector<const cl::Buffer*> buffers() const { return {&arena_, &table_, &rule_, &state_}; }
 
  private:
   Device::Impl& dev_;
@@ -86,6 +92,7 @@ class FrameLod {
   cl::Buffer table_, state_, rule_;
   std::size_t tableCap_ = 0, stateCap_ = 0;
   std::vector<gpu::ClhBudgetDraw> layout_;
+  std::vector<unsigned char> tableSent_, ruleSent_;  // what table_ and rule_ hold
 };
 
 }  // namespace clhair

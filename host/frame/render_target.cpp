@@ -25,8 +25,6 @@ void RenderTarget::ensure(int w, int h, int msaa) {
   if (w != width_ || h != height_) {
     color = makeBuffer<cl_float4>(dev_, "the " + res + " colour target", n);
     depth = makeBuffer<cl_float>(dev_, "the " + res + " depth target", n);
-    hair = makeBuffer<cl_float4>(dev_, "the " + res + " hair colour buffer", n);
-    filtered = makeBuffer<cl_float4>(dev_, "the " + res + " filtered hair buffer", n);
     layers_ = 0;
   }
   // the identity and linking layers a groom asked for (useLayers) stay while the size and
@@ -57,17 +55,17 @@ void RenderTarget::useLayers(int layers) {
   used_ = layers;
 }
 
-cl::Buffer& RenderTarget::clearedMotion(Profiler* profiler) {
-  if (motionPixels_ != pixels()) {
-    motion_ = makeBuffer<cl_ulong>(dev_, "the motion plane", pixels());
-    motionPixels_ = pixels();
-  }
-  clear_.words(motion_, pixels(), ~std::uint64_t(0), "clear", profiler);
-  return motion_;
-}
-
 void RenderTarget::clearWords(const cl::Buffer& buffer, std::size_t count, Profiler* profiler) {
   clear_.words(buffer, count, ~std::uint64_t(0), "clear", profiler);
+}
+
+void RenderTarget::clearUints(const cl::Buffer& buffer, std::size_t count, Profiler* profiler) {
+  clear_.uints(buffer, count, 0u, "clear", profiler);
+}
+
+void RenderTarget::copyUints(const cl::Buffer& src, std::size_t srcFirst, const cl::Buffer& dst,
+                             std::size_t dstFirst, std::size_t count, Profiler* profiler) {
+  clear_.copyUints(src, srcFirst, dst, dstFirst, count, "statistics", profiler);
 }
 
 void RenderTarget::clearGBuffer(const PixelRect& box, Profiler* profiler) {

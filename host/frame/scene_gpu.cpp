@@ -27,12 +27,15 @@ std::string envDescKey(const EnvironmentDesc& e) {
   return k.str();
 }
 
-// Writes `v` into a grow-only buffer.
+// Writes `v` into a grow-only buffer unless it holds it already (`last`: what it holds).
 template <typename T>
 void uploadTable(Device::Impl& dev, cl::Buffer& buffer, std::size_t& capacity,
-                 const std::string& what, const std::vector<T>& v) {
+                 std::vector<unsigned char>& last, const std::string& what,
+                 const std::vector<T>& v) {
+  const cl_mem before = buffer();
   ensureCapacity<T>(dev, buffer, capacity, what, v.size());
-  upload(dev, buffer, v.data(), v.size());
+  if (buffer() != before) last.clear();
+  uploadChanged(dev, buffer, last, v.data(), v.size());
 }
 
 }  // namespace
@@ -87,10 +90,10 @@ void SceneGpu::upload(const Scene& s) {
   sg.sphere_count = static_cast<gpu::clh_u32>(sp.size());
   sg.plane_count = static_cast<gpu::clh_u32>(pl.size());
   sg.light_count = static_cast<gpu::clh_u32>(li.size());
-  clhair::upload(dev_, scene_, &sg, 1);
-  uploadTable(dev_, spheres_, sphereCapacity_, "spheres", sp);
-  uploadTable(dev_, planes_, planeCapacity_, "planes", pl);
-  uploadTable(dev_, lights_, lightCapacity_, "lights", li);
+  uploadChanged(dev_, scene_, sent_[0], &sg, 1);
+  uploadTable(dev_, spheres_, sphereCapacity_, sent_[1], "spheres", sp);
+  uploadTable(dev_, planes_, planeCapacity_, sent_[2], "planes", pl);
+  uploadTable(dev_, lights_, lightCapacity_, sent_[3], "lights", li);
   sphereCount_ = sg.sphere_count;
   planeCount_ = sg.plane_count;
   lightCount_ = sg.light_count;
@@ -105,6 +108,19 @@ void SceneGpu::upload(const Scene& s) {
                              "the mesh depth words (" + std::to_string(pixels) + " pixels)",
                              pixels);
   }
+}
+
+std::vector<const cl::Buffer*> SceneGpu::buffers() const {
+  std::vector<const cl::Buffer*> b = {
+      &scene_,          &spheres_,       &planes_,     &lights_,    &meshVertices_,
+      &meshNormals_,    &meshTriangles_, &meshColors_, &meshWords_, &envDummyTexels_,
+      &envDummyLevels_, &envDummySh_,    &background_};
+  if (env_) b.insert(b.end(), {&env_->texels(), &env_->levels(), &env_->sh()});
+  return b;
+}
+
+bool SceneGpu::environmentChanges(const Scene& s) const {
+  return s.environment.enabled && (!env_ || envDescKey(s.environment) != envKey_);
 }
 
 LightingInputs SceneGpu::lighting(const ShadowMapInputs& maps) const {

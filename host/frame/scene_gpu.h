@@ -24,6 +24,10 @@ class SceneGpu {
   explicit SceneGpu(Device::Impl& dev);
   ~SceneGpu();
   void upload(const Scene& s);
+  // Whether upload(s) builds a new environment (prefiltering it waits for the device).
+  bool environmentChanges(const Scene& s) const;
+  // Every buffer the opaque and shading kernels may read from the scene (frame graph).
+  std::vector<const cl::Buffer*> buffers() const;
   // The lighting the shading passes read, with the given shadow maps.
   LightingInputs lighting(const ShadowMapInputs& maps) const;
   // Analytic primitives, then meshes, into `color` / `depth` of `target`.
@@ -42,6 +46,7 @@ class SceneGpu {
   cl::Buffer spheres_, planes_, lights_;
   std::size_t sphereCapacity_ = 0, planeCapacity_ = 0, lightCapacity_ = 0;
   std::uint32_t sphereCount_ = 0, planeCount_ = 0, lightCount_ = 0;
+  std::vector<unsigned char> sent_[4];  // what scene_, spheres_, planes_, lights_ hold
   // the scene's triangle meshes in world space and the instances they were built from
   // (holding their meshes, so an address is never reused)
   cl::Buffer meshVertices_, meshNormals_, meshTriangles_, meshColors_, meshWords_;

@@ -42,6 +42,18 @@ void ShadowPass::reserve(const Scene& s) {
     }
 }
 
+std::vector<const cl::Buffer*> ShadowPass::mapBuffers() const {
+  return {&all_, &opaque_, &hair_, &opacity_};
+}
+
+std::vector<const cl::Buffer*> ShadowPass::buffers() const {
+  std::vector<const cl::Buffer*> b = mapBuffers();
+  b.insert(b.end(),
+           {&lightView_, &lightColor_, &lightDepth_, &lightGBuffer_, &counters_, &totals_});
+  for (const cl::Buffer& one : one_) b.push_back(&one);
+  return b;
+}
+
 ShadowMapInputs ShadowPass::maps() const {
   ShadowMapInputs m;
   m.params = &all_;
@@ -104,19 +116,24 @@ ShadowPass::Key ShadowPass::keyOf(const Scene& s, const RenderOptions& o, bool l
   return k;
 }
 
-void ShadowPass::update(const Scene& s, const RenderOptions& options, bool lodCorrection,
-                        const std::vector<GroomDraw>& grooms, SceneGpu& scene, Profiler* profiler) {
+bool ShadowPass::needsRebuild(const Scene& s, const RenderOptions& options, bool lodCorrection) {
   Key key = keyOf(s, options, lodCorrection);
-  if (options.reuseShadows && valid_ && key == lastKey_) return;
-  valid_ = false;  // until the passes are enqueued
-  render(s, options, lodCorrection, grooms, scene, profiler);
+  if (options.reuseShadows && valid_ && key == lastKey_) return false;
+  // the maps are valid for this key once the rebuild is enqueued (the frame's next pass);
+  // a frame that fails before it leaves them invalid
+  valid_ = false;
   lastKey_ = std::move(key);
-  valid_ = true;
+  return true;
 }
 
-void ShadowPass::render(const Scene& s, const RenderOptions& cameraOptions, bool lodCorrection,
-                        const std::vector<GroomDraw>& grooms, SceneGpu& scene, Profiler* profiler) {
-  strandsDrawn_ = 0;
+void ShadowPass::rebuild(const Scene& s, const RenderOptions& cameraOptions, bool lodCorrection,
+                         const std::vector<GroomDraw>& grooms, SceneGpu& scene, DispatchMode mode,
+                         Profiler* profiler) {
+  totalSlots_ = grooms.size();
+  ensureCapacity<cl_uint>(dev_, totals_, totalCap_, "shadow strand totals",
+                          CLH_MAX_SHADOWS * std::max<std::size_t>(totalSlots_, 1));
+  clear_.uints(totals_, CLH_MAX_SHADOWS * std::max<std::size_t>(totalSlots_, 1), 0u, "shadow",
+               profiler);
   // the light's passes use LOD unless the caller turned it off explicitly
   ViewPass pass;
   pass.view = &lightView_;
@@ -186,11 +203,7 @@ void ShadowPass::render(const Scene& s, const RenderOptions& cameraOptions, bool
     // the opaque scene and meshes from the light: their depth only
     const ViewTarget lightTarget{&lightView_, res, res};
     scene.drawOpaque(lightTarget, maps(), lightColor_, lightDepth_, false, profiler);
-    clCall("copying the light's opaque depth", [&] {
-      dev_.queue.enqueueCopyBuffer(lightDepth_, opaque_, 0, plane * slot * sizeof(float),
-                                   plane * sizeof(float));
-      return 0;
-    });
+    clear_.copyUints(lightDepth_, 0, opaque_, plane * slot, plane, "shadow", profiler);
     // hair depth: the strand pass of every groom from the light into the light's G-buffer
     clear_.words(lightGBuffer_, plane * 2, ~std::uint64_t(0), "clear", profiler);
     StrandRaster rs;
@@ -199,13 +212,20 @@ void ShadowPass::render(const Scene& s, const RenderOptions& cameraOptions, bool
     rs.gbuffer = &lightGBuffer_;
     rs.counters = &counters_;
     rs.pixels = plane;
+    // sized without a read-back unless the frame's mode asks for one; the kernels stop at
+    // the scan's total either way
+    rs.mode = mode == DispatchMode::Auto ? DispatchMode::OverLaunch : mode;
     std::vector<std::pair<const GroomDraw*, std::uint32_t>> drawn;
-    for (const GroomDraw& d : grooms) {
+    for (std::size_t k = 0; k < grooms.size(); ++k) {
+      const GroomDraw& d = grooms[k];
       if (!d.groom->prepare(*d.state, d.instance->transform, pass)) continue;
       d.groom->lod(*d.state, lightView_, profiler);
-      rs.strands = d.groom->readTotal(*d.state);
+      rs.strands =
+          mode == DispatchMode::ReadBack ? d.groom->readTotal(*d.state) : d.groom->strandCount();
       drawn.push_back({&d, rs.strands});
-      strandsDrawn_ += rs.strands;
+      if (d.state->records > 0)
+        clear_.copyUints(d.state->offsets, gpu::clh_lod_drawn_total_at(d.state->records), totals_,
+                         static_cast<std::size_t>(slot) * totalSlots_ + k, 1, "shadow", profiler);
       d.groom->raster(*d.state, rs, profiler);
     }
     stage_.resolveDepth(one_[slot], lightGBuffer_, hair_, res, plane * CLH_MAX_SHADOWS, profiler);
@@ -223,6 +243,7 @@ void ShadowPass::render(const Scene& s, const RenderOptions& cameraOptions, bool
   }
   if (slot > 0) upload(dev_, all_, params.data(), CLH_MAX_SHADOWS);
   if (res_ == 0) ensureBuffers(1);
+  valid_ = true;
 }
 
 }  // namespace clhair

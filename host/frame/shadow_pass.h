@@ -24,18 +24,28 @@ namespace clhair {
 class ShadowPass {
  public:
   explicit ShadowPass(Device::Impl& dev);
-  // Rebuilds the maps unless the previous ones still hold (and reuse is allowed). Must run
-  // before the camera's opaque pass, which receives hair shadows too.
-  void update(const Scene& s, const RenderOptions& options, bool lodCorrection,
-              const std::vector<GroomDraw>& grooms, SceneGpu& scene, Profiler* profiler);
+  // Whether the maps must be built again for this frame: not when the previous ones still
+  // hold (and reuse is allowed). Call once per frame, then rebuild() when it says so.
+  bool needsRebuild(const Scene& s, const RenderOptions& options, bool lodCorrection);
+  // Builds the maps (a pass of the frame graph). Must run before the camera's opaque pass,
+  // which receives hair shadows too. Strand passes are sized by `mode` (read-back waits).
+  void rebuild(const Scene& s, const RenderOptions& options, bool lodCorrection,
+               const std::vector<GroomDraw>& grooms, SceneGpu& scene, DispatchMode mode,
+               Profiler* profiler);
   // Allocates the maps the scene's shadowed lights need, before anything of the frame is
   // released: Oclgrind 21.10 keeps a released buffer's uninitialised-memory shadow, its size
   // included, for the next buffer that gets its slot, so maps allocated after the AO bake's
   // temporaries are gone inherit shorter shadows and read as uninitialised past them.
   void reserve(const Scene& s);
   ShadowMapInputs maps() const;
-  // Strands drawn into the maps by the last rebuild (all lights).
-  std::uint64_t strandsDrawn() const { return strandsDrawn_; }
+  // The maps (what the shading and opaque passes read).
+  std::vector<const cl::Buffer*> mapBuffers() const;
+  // The maps and the pass's own scratch (what a rebuild writes).
+  std::vector<const cl::Buffer*> buffers() const;
+  // Strands drawn into the maps by the last rebuild: one uint per light slot and groom draw
+  // (CLH_MAX_SHADOWS x totalSlots()), summed by the frame's read-back.
+  const cl::Buffer& totals() const { return totals_; }
+  std::size_t totalSlots() const { return totalSlots_; }
 
  private:
   // Everything the maps depend on, to reuse them while it stays the same: the bytes of the
@@ -47,8 +57,6 @@ class ShadowPass {
     bool operator==(const Key& o) const { return bytes == o.bytes && held == o.held; }
   };
   static Key keyOf(const Scene& s, const RenderOptions& o, bool lodCorrection);
-  void render(const Scene& s, const RenderOptions& options, bool lodCorrection,
-              const std::vector<GroomDraw>& grooms, SceneGpu& scene, Profiler* profiler);
   void ensureBuffers(int res);
 
   Device::Impl& dev_;
@@ -59,7 +67,8 @@ class ShadowPass {
   cl::Buffer all_;                               // ClhShadowGpu[CLH_MAX_SHADOWS]
   cl::Buffer opaque_, hair_, opacity_;           // texel planes of all slots
   cl::Buffer lightView_, lightColor_, lightDepth_, lightGBuffer_, counters_;
-  std::uint64_t strandsDrawn_ = 0;
+  cl::Buffer totals_;
+  std::size_t totalSlots_ = 0, totalCap_ = 0;
   Key lastKey_;
   bool valid_ = false;
 };

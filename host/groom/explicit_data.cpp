@@ -9,6 +9,7 @@
 #include <glm/common.hpp>
 
 #include "clhair/gpu_types.h"
+#include "groom/children.h"
 
 namespace clhair {
 
@@ -42,6 +43,11 @@ std::uint32_t unorm16(float v) {
 
 ExplicitData prepareExplicit(const StrandGroom& g, std::uint32_t chunkStrands) {
   ExplicitData out;
+  // with children a chunk holds fewer guides, so that it draws about chunkStrands strands
+  // over about the area a chunk of stored strands covers (the same L, Lipp Eq. 2)
+  chunkStrands = std::max<std::uint32_t>(
+      1, static_cast<std::uint32_t>(chunkStrands / (std::uint64_t(g.children.count) + 1)));
+  out.chunkGuides = chunkStrands;
   const std::size_t S = g.pointCounts.size();
   std::vector<std::uint64_t> first(S + 1, 0);
   for (std::size_t s = 0; s < S; ++s) first[s + 1] = first[s] + g.pointCounts[s];
@@ -80,8 +86,9 @@ ExplicitData prepareExplicit(const StrandGroom& g, std::uint32_t chunkStrands) {
 
   out.points.resize(out.totalPoints);
   out.fileColor = g.appearance.useFileColor && !g.colors.empty();
-  out.fileThickness = g.appearance.useFileColor && !g.thickness.empty();
-  if (out.fileColor || out.fileThickness) out.fileLook.resize(out.totalPoints);
+  out.fileThickness = g.appearance.useFileThickness && !g.thickness.empty();
+  out.fileOpacity = g.appearance.useFileTransparency && !g.transparency.empty();
+  if (out.fileColor || out.fileThickness || out.fileOpacity) out.fileLook.resize(out.totalPoints);
   double thicknessSum = 0.0;
   out.strandOffsets.resize(S + 1);
   if (!g.rootUv.empty()) out.uv.resize(S);
@@ -96,9 +103,13 @@ ExplicitData prepareExplicit(const StrandGroom& g, std::uint32_t chunkStrands) {
       if (!out.fileLook.empty()) {
         const std::size_t i = first[src] + k;
         const glm::vec3 c = out.fileColor ? g.colors[i] : g.appearance.rootColor;
-        const float t = out.fileThickness ? std::fabs(g.thickness[i]) : 0.0f;
+        // a fibre's opacity scales its width: its share of a pixel's coverage
+        const float opacity = out.fileOpacity
+                                  ? 1.0f - std::min(std::max(g.transparency[i], 0.0f), 1.0f)
+                                  : 1.0f - g.appearance.transparency;
+        const float t = out.fileThickness ? std::fabs(g.thickness[i]) * opacity : -opacity;
         out.fileLook[at + k] = glm::vec4(c, t);
-        thicknessSum += t;
+        if (out.fileThickness) thicknessSum += t;
       }
     }
     if (!g.rootUv.empty()) out.uv[s] = unorm16(g.rootUv[src].x) | unorm16(g.rootUv[src].y) << 16;
@@ -107,6 +118,24 @@ ExplicitData prepareExplicit(const StrandGroom& g, std::uint32_t chunkStrands) {
   out.strandOffsets[S] = at;
   if (out.fileThickness)
     out.meanThickness = static_cast<float>(thicknessSum / static_cast<double>(at));
+
+  // children: their record, the neighbour table and the radius of interpolated children
+  const ChildrenParams& cp = g.children;
+  gpu::ClhChildrenGpu& kids = out.kids;
+  kids.count = cp.count;
+  kids.mode =
+      cp.mode == ChildrenParams::Mode::Interpolated ? CLH_CHILD_INTERPOLATED : CLH_CHILD_FOLLOW;
+  kids.guides = static_cast<std::uint32_t>(S);
+  kids.radius = cp.radius;
+  kids.tip_spread = cp.tipSpread;
+  kids.clump = cp.clump;
+  kids.seed = cp.seed;
+  if (cp.count > 0 && kids.mode == CLH_CHILD_INTERPOLATED) {
+    out.neighbours = guideNeighbours(out);
+    kids.neighbours = CLH_CHILD_NEIGHBOURS;
+    if (!(cp.radius > 0.0f)) kids.radius = autoChildRadius(out, out.neighbours);
+  }
+  out.drawnStrands = S * (std::uint64_t(cp.count) + 1);
 
   out.chunks.resize(K);
   out.chunkBounds.resize(2 * K);
@@ -118,12 +147,27 @@ ExplicitData prepareExplicit(const StrandGroom& g, std::uint32_t chunkStrands) {
       clo = glm::min(clo, glm::vec3(out.points[i]));
       chi = glm::max(chi, glm::vec3(out.points[i]));
     }
+    // the children's points by the CPU rules, widened a little for the device's rounding
+    if (kids.count > 0) {
+      glm::vec3 klo = clo, khi = chi;
+      for (std::size_t s = b; s < b + n; ++s)
+        for (std::uint32_t c = 1; c <= kids.count; ++c)
+          for (const glm::vec3& p :
+               childPoints(out, kids, out.neighbours, static_cast<std::uint32_t>(s), c)) {
+            klo = glm::min(klo, p);
+            khi = glm::max(khi, p);
+          }
+      const glm::vec3 pad = (khi - klo) * 1e-4f + 1e-6f * glm::max(glm::abs(klo), glm::abs(khi));
+      clo = klo - pad;
+      chi = khi + pad;
+    }
     const float delta =
         gpu::clh_u01(gpu::clh_hash3(g.seed, static_cast<std::uint32_t>(c), CLH_RNG_LOD_DELTA));
     std::uint32_t deltaBits;
     std::memcpy(&deltaBits, &delta, 4);
-    out.chunks[c] =
-        glm::uvec4(static_cast<std::uint32_t>(b), static_cast<std::uint32_t>(n), deltaBits, 0u);
+    out.chunks[c] = glm::uvec4(static_cast<std::uint32_t>(b),
+                               static_cast<std::uint32_t>(n * (std::uint64_t(kids.count) + 1)),
+                               deltaBits, static_cast<std::uint32_t>(n));
     out.chunkBounds[2 * c] = glm::vec4(clo, 0.0f);
     out.chunkBounds[2 * c + 1] = glm::vec4(chi, 0.0f);
     lo = glm::min(lo, clo);

@@ -2,10 +2,16 @@
 #include "groom/groom_gpu.h"
 
 #include "cl/buffers.h"
+#include "frame/view_math.h"
 #include "groom/hair_mesh_gpu.h"
 #include "groom/strand_file_gpu.h"
 
 namespace clhair {
+
+bool GroomGpu::inFront(const glm::mat4& objToWorld, const glm::mat4& worldToView) const {
+  float nearZ = 0.0f, farZ = 0.0f;
+  return depthRange(boundsMin(), boundsMax(), worldToView * objToWorld, nearZ, farZ);
+}
 
 GroomInstanceGpu& GroomGpu::instance(std::size_t k) {
   while (instances_.size() <= k) instances_.push_back(makeInstance());
@@ -20,6 +26,8 @@ std::unique_ptr<GroomInstanceGpu> GroomGpu::newInstance(const std::string& groom
   inst->params = params;
   inst->records = records;
   inst->groom = makeBuffer<gpu::ClhGroomGpu>(dev_, what + " parameters", 1, &inst->params);
+  const auto* bytes = reinterpret_cast<const unsigned char*>(&inst->params);
+  inst->sent.assign(bytes, bytes + sizeof(inst->params));
   inst->lod = makeBuffer<gpu::ClhLodRecord>(dev_, what + " LOD records", records);
   inst->counts =
       makeBuffer<cl_uint>(dev_, what + " strand counts", gpu::clh_lod_counts_length(records));

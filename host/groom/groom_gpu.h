@@ -39,6 +39,15 @@ struct GroomStages {
   RootSetsGpu& roots;  // blue-noise root positions all hair meshes share
 };
 
+// The kernels a groom's passes launch (what the frame graph's passes declare).
+struct GroomKernels {
+  const char* lod;
+  const char* raster;
+  const char* rasterPersistent;
+  const char* opacity;
+  const char* motion;
+};
+
 // One pass over the grooms: the camera's view or a light's.
 struct ViewPass {
   const cl::Buffer* view = nullptr;  // ClhViewGpu
@@ -53,13 +62,14 @@ struct ViewPass {
 
 // The per-instance part of a groom on the device.
 struct GroomInstanceGpu {
-  gpu::ClhGroomGpu params{};  // as last uploaded to `groom`
-  cl::Buffer groom;           // ClhGroomGpu
-  cl::Buffer lod;             // ClhLodRecord per bundle / chunk
-  cl::Buffer counts;          // strands per bundle / chunk (gpu_types.h, scan layout)
-  cl::Buffer offsets;         // their scan and totals (clh_lod_drawn_total_at(records))
-  std::uint32_t records = 0;  // bundles or chunks
-  float reach = 0.0f;         // hair meshes: styling reach in view units
+  gpu::ClhGroomGpu params{};        // as last prepared
+  cl::Buffer groom;                 // ClhGroomGpu
+  std::vector<unsigned char> sent;  // the bytes `groom` holds (uploads skip what it holds)
+  cl::Buffer lod;                   // ClhLodRecord per bundle / chunk
+  cl::Buffer counts;                // strands per bundle / chunk (gpu_types.h, scan layout)
+  cl::Buffer offsets;               // their scan and totals (clh_lod_drawn_total_at(records))
+  std::uint32_t records = 0;        // bundles or chunks
+  float reach = 0.0f;               // hair meshes: styling reach in view units
   // Where lod, counts and offsets live when they are views of the frame's LOD arena
   // (host/frame/frame_lod.h): the arena's generation and this instance's byte offset.
   std::uint64_t arenaGeneration = 0;
@@ -77,6 +87,15 @@ class GroomGpu {
   // `objToWorld`; false when the groom lies entirely behind the view.
   virtual bool prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld,
                        const ViewPass& pass) = 0;
+  // Whether prepare() would find some of the groom in front of the view (its bounds' depth
+  // range), without preparing anything.
+  bool inFront(const glm::mat4& objToWorld, const glm::mat4& worldToView) const;
+  virtual GroomKernels kernels() const = 0;
+  // The groom's own LOD setting (a pass with lod -1 follows it).
+  virtual bool lodEnabled() const = 0;
+  // The device buffers of the shared tables the strand kernels read (geometry, previous
+  // frame's geometry for motion, root sets): what a pass drawing this groom declares.
+  virtual std::vector<const cl::Buffer*> tables() const = 0;
   // LOD records and their scan for the view the instance was prepared for.
   virtual void lod(GroomInstanceGpu& inst, const cl::Buffer& view, Profiler* profiler) = 0;
   // Blocking 4-byte read of the strands the last LOD pass kept.

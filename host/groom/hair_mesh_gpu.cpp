@@ -99,7 +99,7 @@ bool HairMeshGpu::prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld,
   p.shadow_lod_correction = pass.shadowLodCorrection ? 1u : 0u;
   p.hit_diameter_px = pass.trueWidth ? 0.0f : mesh.appearance.minHitDiameterPx;
   p.has_tangents = hasTangents_ ? 1u : 0u;
-  upload(dev_, inst.groom, &p, 1);
+  uploadChanged(dev_, inst.groom, inst.sent, &p, 1);
   // the styling reach in view units: the object-space margin times the largest axis scale
   const float scale =
       std::max({glm::length(glm::vec3(objToWorld[0])), glm::length(glm::vec3(objToWorld[1])),
@@ -214,7 +214,7 @@ bool HairMeshGpu::motion(GroomInstanceGpu& inst, const GroomInstance& previous, 
 // bundle); lod < 1: every bundle at that LOD value, records computed here.
 HairMeshGpu::Exported HairMeshGpu::exportOnDevice(GroomInstanceGpu& inst, float lod) {
   inst.params.lod_enabled = 0;
-  upload(dev_, inst.groom, &inst.params, 1);
+  uploadChanged(dev_, inst.groom, inst.sent, &inst.params, 1);
   Exported e;
   const std::size_t B = data_.bundles.size();
   if (lod >= 1.0f) {

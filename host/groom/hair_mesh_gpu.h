@@ -46,6 +46,14 @@ class HairMeshGpu final : public GroomGpu {
   void opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands,
                Profiler* profiler) override;
   StrandSet exportStrands(float lod) override;
+  bool lodEnabled() const override { return mesh_->lod.enabled; }
+  GroomKernels kernels() const override {
+    return {"lod_bundles", "strands_raster", "strands_raster_persistent", "strands_opacity",
+            "strands_motion"};
+  }
+  std::vector<const cl::Buffer*> tables() const override {
+    return {&vertices_, &bundles_, &roots_->quad, &roots_->triangle, &prevVertices_};
+  }
   glm::vec3 boundsMin() const override { return data_.boundsMin; }
   glm::vec3 boundsMax() const override { return data_.boundsMax; }
   void useAo(bool on) override;

@@ -37,12 +37,16 @@ StrandFileGpu::StrandFileGpu(std::shared_ptr<const StrandGroom> groom, GroomStag
   p.layer_count = 0;
   p.vertex_count = 0;
   p.has_tangents = 0;
-  p.control_points = CLH_MAX_CONTROL_POINTS;  // C_full of the chunk LOD: step 1
-  p.total_strands = static_cast<gpu::clh_u32>(d.totalStrands);
+  p.control_points = CLH_MAX_CONTROL_POINTS;                    // C_full of the chunk LOD: step 1
+  p.total_strands = static_cast<gpu::clh_u32>(d.drawnStrands);  // children included
   const std::size_t K = d.chunks.size();
   // per-point file colour and thickness follow the points in the same buffer
   // (kernels/strands_explicit.cl reads them at point_count + k)
   p.look[2] = d.fileColor ? 1.0f : 0.0f;
+  // per-point opacity without file thickness scales the groom's width (look[3] < 0); a
+  // uniform transparency with neither narrows the width itself
+  if (d.fileOpacity && !d.fileThickness) p.look[3] = -1.0f;
+  if (!d.fileOpacity && !d.fileThickness) p.strand_width *= 1.0f - sg.appearance.transparency;
   if (!d.fileLook.empty()) d.points.insert(d.points.end(), d.fileLook.begin(), d.fileLook.end());
   std::vector<glm::vec4>().swap(d.fileLook);
   pointWords_ = d.points.size();
@@ -57,6 +61,10 @@ StrandFileGpu::StrandFileGpu(std::shared_ptr<const StrandGroom> groom, GroomStag
                                  reinterpret_cast<const cl_uint4*>(d.chunks.data()));
   chunkBounds_ = makeBuffer<cl_float4>(dev_, what + " chunk bounds", 2 * K,
                                        reinterpret_cast<const cl_float4*>(d.chunkBounds.data()));
+  kids_ = makeBuffer<gpu::ClhChildrenGpu>(dev_, what + " children", 1, &d.kids);
+  neighbours_ = d.neighbours.empty() ? makeBuffer<cl_uint>(dev_, what + " guide neighbours", 1)
+                                     : makeBuffer(dev_, what + " guide neighbours",
+                                                  d.neighbours.size(), d.neighbours.data());
   std::vector<glm::vec4>().swap(d.points);  // on the device now
 }
 
@@ -66,7 +74,8 @@ std::unique_ptr<GroomInstanceGpu> StrandFileGpu::makeInstance() {
 
 std::uint64_t StrandFileGpu::sharedBytes() const {
   std::uint64_t sum = 0;
-  for (const cl::Buffer* b : {&points_, &strandOffsets_, &uv_, &chunks_, &chunkBounds_})
+  for (const cl::Buffer* b :
+       {&points_, &strandOffsets_, &uv_, &chunks_, &chunkBounds_, &kids_, &neighbours_})
     sum += bufferBytes(*b);
   return sum;
 }
@@ -79,6 +88,10 @@ ExplicitStage::Inputs StrandFileGpu::inputs(GroomInstanceGpu& inst) const {
   in.uv = &uv_;
   in.chunks = &chunks_;
   in.chunkBounds = &chunkBounds_;
+  in.kids = &kids_;
+  in.neighbours = &neighbours_;
+  in.neighbourWords = std::max<std::uint64_t>(data_.neighbours.size(), 1);
+  in.children = data_.kids.count;
   in.lod = &inst.lod;
   in.counts = &inst.counts;
   in.offsets = &inst.offsets;
@@ -112,7 +125,7 @@ bool StrandFileGpu::prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld,
     p.look[3] = scale;
     p.strand_width = std::max(data_.meanThickness * scale, 1e-9f);  // LOD and shadow estimates
   }
-  upload(dev_, inst.groom, &p, 1);
+  uploadChanged(dev_, inst.groom, inst.sent, &p, 1);
   return true;
 }
 
@@ -162,7 +175,7 @@ bool StrandFileGpu::motion(GroomInstanceGpu& inst, const GroomInstance& previous
 StrandSet StrandFileGpu::exportStrands(float lod) {
   std::unique_ptr<GroomInstanceGpu> inst = makeInstance();
   inst->params.lod_enabled = 0;
-  upload(dev_, inst->groom, &inst->params, 1);
+  uploadChanged(dev_, inst->groom, inst->sent, &inst->params, 1);
   const std::size_t K = data_.chunks.size();
   const auto n = static_cast<gpu::clh_u32>(K);
   std::vector<gpu::ClhLodRecord> records(K);
@@ -178,20 +191,23 @@ StrandSet StrandFileGpu::exportStrands(float lod) {
     drawn += records[c].strands;
   }
   offsets[gpu::clh_lod_drawn_total_at(n)] = drawn;
-  offsets[gpu::clh_lod_visible_total_at(n)] = static_cast<cl_uint>(data_.totalStrands);
+  offsets[gpu::clh_lod_visible_total_at(n)] = static_cast<cl_uint>(data_.drawnStrands);
   upload(dev_, inst->lod, records.data(), records.size());
   upload(dev_, inst->offsets, offsets.data(), offsets.size());
   const std::uint32_t total = drawn;
+  // child c of stored strand s is drawn strand s + c S, its points after c copies of P
   const std::size_t P = data_.totalPoints, S = data_.totalStrands;
-  cl::Buffer points = makeBuffer<cl_float4>(dev_, "exported strand points", P);
-  cl::Buffer tangents = makeBuffer<cl_float4>(dev_, "exported strand tangents", P);
-  std::vector<cl_uint> counts(S, 0);
-  cl::Buffer countBuf = makeBuffer<cl_uint>(dev_, "exported strand point counts", S, counts.data());
+  const std::size_t copies = std::size_t(data_.kids.count) + 1;
+  cl::Buffer points = makeBuffer<cl_float4>(dev_, "exported strand points", P * copies);
+  cl::Buffer tangents = makeBuffer<cl_float4>(dev_, "exported strand tangents", P * copies);
+  std::vector<cl_uint> counts(S * copies, 0);
+  cl::Buffer countBuf =
+      makeBuffer<cl_uint>(dev_, "exported strand point counts", S * copies, counts.data());
   stages_.explicitStrands.exportStrands(inputs(*inst), total, points, tangents, countBuf, nullptr);
-  std::vector<cl_float4> p(P), t(P);
-  readBack(dev_, "exported strands", points, p.data(), P);
-  readBack(dev_, "exported strands", tangents, t.data(), P);
-  readBack(dev_, "exported strands", countBuf, counts.data(), S);
+  std::vector<cl_float4> p(P * copies), t(P * copies);
+  readBack(dev_, "exported strands", points, p.data(), P * copies);
+  readBack(dev_, "exported strands", tangents, t.data(), P * copies);
+  readBack(dev_, "exported strands", countBuf, counts.data(), S * copies);
   // per-point file colour and thickness follow the points in the same buffer
   std::vector<cl_float4> look;
   if (pointWords_ >= 2 * P) {
@@ -199,12 +215,13 @@ StrandSet StrandFileGpu::exportStrands(float lod) {
     readBack(dev_, "strand file colours", points_, look.data(), P, P);
   }
   StrandSet out;
-  for (std::size_t st = 0; st < S; ++st) {
-    const std::uint32_t M = counts[st];
+  for (std::size_t id = 0; id < S * copies; ++id) {
+    const std::uint32_t M = counts[id];
     if (M == 0) continue;
-    const std::uint32_t first = data_.strandOffsets[st];
+    const std::size_t st = id % S, child = id / S;
+    const std::size_t first = data_.strandOffsets[st] + child * P;
     out.pointCounts.push_back(M);
-    out.bundleOf.push_back(static_cast<std::uint32_t>(st / kChunkStrands));
+    out.bundleOf.push_back(static_cast<std::uint32_t>(st / data_.chunkGuides));
     out.sourceStrand.push_back(data_.sourceStrand[st]);
     // the words' u, v as strands_explicit.cl sets them: stored root uv or a per-strand hash
     float u, v;
@@ -212,7 +229,7 @@ StrandSet StrandFileGpu::exportStrands(float lod) {
       u = static_cast<float>(data_.uv[st] & 0xFFFFu) / 65535.0f;
       v = static_cast<float>(data_.uv[st] >> 16) / 65535.0f;
     } else {
-      const gpu::clh_u32 h = gpu::clh_hash2(base_.seed, static_cast<gpu::clh_u32>(st));
+      const gpu::clh_u32 h = gpu::clh_hash2(base_.seed, static_cast<gpu::clh_u32>(id));
       u = gpu::clh_u01(h);
       v = gpu::clh_u01(gpu::clh_hash(h));
     }
@@ -224,8 +241,8 @@ StrandSet StrandFileGpu::exportStrands(float lod) {
       out.tangents.insert(out.tangents.end(), {tq.s[0], tq.s[1], tq.s[2]});
       out.w.push_back(q.s[3]);
       out.ao.push_back(tq.s[3]);
-      if (!look.empty()) {
-        const cl_float4& l = look[first + j];
+      if (!look.empty()) {  // a child carries its guide's look
+        const cl_float4& l = look[data_.strandOffsets[st] + j];
         out.look.insert(out.look.end(), {l.s[0], l.s[1], l.s[2], l.s[3]});
       }
     }

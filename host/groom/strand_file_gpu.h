@@ -1,7 +1,8 @@
 // strand_file_gpu.h — stored strands on the device (GroomGpu): the strand tables of
 // host/groom/explicit_data.h in LOD order (points, per-strand offsets, root uv, chunk
-// table and bounds) and per instance the chunk LOD records of kernels/lod.cl
-// (lod_chunks). kernels/strands_explicit.cl draws them.
+// table and bounds, children record and guide neighbours) and per instance the chunk LOD
+// records of kernels/lod.cl (lod_chunks). kernels/strands_explicit.cl draws them, children
+// of the stored strands included (host/groom/children.h).
 #pragma once
 
 #include <memory>
@@ -19,8 +20,9 @@ class StrandFileGpu final : public GroomGpu {
   bool prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld, const ViewPass& pass) override;
   void lod(GroomInstanceGpu& inst, const cl::Buffer& view, Profiler* profiler) override;
   bool storedStrands() const override { return true; }
+  // Strands drawn at full detail: the stored ones and their children.
   std::uint32_t strandCount() const override {
-    return static_cast<std::uint32_t>(data_.totalStrands);
+    return static_cast<std::uint32_t>(data_.drawnStrands);
   }
   void raster(GroomInstanceGpu& inst, const StrandRaster& r, Profiler* profiler) override;
   void opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands,
@@ -30,6 +32,15 @@ class StrandFileGpu final : public GroomGpu {
   // strand has as many points in both files (point k of strand s is the same point).
   bool motion(GroomInstanceGpu& inst, const GroomInstance& previous, const MotionPass& m,
               const StrandRaster& r, Profiler* profiler) override;
+  bool lodEnabled() const override { return groom_->lod.enabled; }
+  GroomKernels kernels() const override {
+    return {"lod_chunks", "strands_explicit_raster", "strands_explicit_raster_persistent",
+            "strands_explicit_opacity", "strands_explicit_motion"};
+  }
+  std::vector<const cl::Buffer*> tables() const override {
+    return {&points_,      &strandOffsets_, &uv_,         &chunks_,
+            &chunkBounds_, &kids_,          &neighbours_, &prevPoints_};
+  }
   glm::vec3 boundsMin() const override { return data_.boundsMin; }
   glm::vec3 boundsMax() const override { return data_.boundsMax; }
 
@@ -43,7 +54,7 @@ class StrandFileGpu final : public GroomGpu {
   ExplicitData data_;           // host copy without the points (they live on the device)
   std::size_t pointWords_ = 0;  // float4 in points_: the points, then file colours
   gpu::ClhGroomGpu base_{};
-  cl::Buffer points_, strandOffsets_, uv_, chunks_, chunkBounds_;
+  cl::Buffer points_, strandOffsets_, uv_, chunks_, chunkBounds_, kids_, neighbours_;
   cl::Buffer prevPoints_;  // the motion pass: previous frame's points in this order
   std::shared_ptr<const StrandGroom> prevGroom_;
 };

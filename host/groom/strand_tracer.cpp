@@ -44,6 +44,7 @@ void StrandTracer::addGroom(std::uint32_t draw, const StrandSet& s, const gpu::C
                 " have inconsistent array sizes");
   const bool fileColor = p.look[2] > 0.5f && !s.look.empty();
   const bool fileThickness = p.look[3] > 0.0f && !s.look.empty();
+  const bool fileOpacity = p.look[3] < 0.0f && !s.look.empty();  // width times -look.w
   Impl::Groom g;
   g.draw = draw;
   g.fileColor = fileColor;
@@ -61,7 +62,9 @@ void StrandTracer::addGroom(std::uint32_t draw, const StrandSet& s, const gpu::C
       const std::size_t i = at + k;
       float v[3];
       xform3(p.obj_to_view, s.points[3 * i], s.points[3 * i + 1], s.points[3 * i + 2], 1.0f, v);
-      const float diameter = fileThickness ? s.look[4 * i + 3] * p.look[3] : p.strand_width;
+      const float diameter = fileThickness ? s.look[4 * i + 3] * p.look[3]
+                             : fileOpacity ? -s.look[4 * i + 3] * p.strand_width
+                                           : p.strand_width;
       vertices[4 * i] = v[0];
       vertices[4 * i + 1] = v[1];
       vertices[4 * i + 2] = v[2];

@@ -11,7 +11,9 @@
 namespace clhair {
 
 // Reads `j` (the value of key "appearance" of `parent`) over the values already in `a`.
-// `strandFile`: the entry names a strand file, which may also say "use_file_color".
+// `strandFile`: the entry names a strand file, which may also say "transparency" and
+// "use_file_color", and whose colour keys, "strand_width" and "transparency" each turn off
+// the file's own colours, thicknesses and transparencies.
 void readAppearance(const JsonReader& parent, const nlohmann::json& j, AppearanceParams& a,
                     bool strandFile = false);
 

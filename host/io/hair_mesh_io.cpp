@@ -157,10 +157,20 @@ void readAppearance(const JsonReader& r, const json& j, AppearanceParams& a, boo
   a.strandWidth = o.number("strand_width", a.strandWidth, 1e-9, 1e3);
   a.minHitDiameterPx = o.number("min_hit_diameter_px", a.minHitDiameterPx, 0.0, 3.0);
   if (strandFile) {
-    a.useFileColor = o.boolean("use_file_color", a.useFileColor);
+    // the file's look per key: a key the scene gives wins over the file's
+    a.transparency = static_cast<float>(o.number("transparency", a.transparency, 0.0, 0.99));
+    if (o.has("root_color") || o.has("tip_color") || o.has("use_melanin") || o.has("eumelanin") ||
+        o.has("pheomelanin"))
+      a.useFileColor = false;
+    if (o.has("strand_width")) a.useFileThickness = false;
+    if (o.has("transparency")) a.useFileTransparency = false;
+    // all three at once (true: the file's even over the keys above)
+    if (o.has("use_file_color"))
+      a.useFileColor = a.useFileThickness = a.useFileTransparency =
+          o.boolean("use_file_color", true);
     o.rejectUnknown({"root_color", "tip_color", "use_melanin", "eumelanin", "pheomelanin", "beta_m",
                      "beta_n", "cuticle_tilt", "ior", "variation", "strand_width",
-                     "min_hit_diameter_px", "use_file_color"});
+                     "min_hit_diameter_px", "use_file_color", "transparency"});
     return;
   }
   o.rejectUnknown({"root_color", "tip_color", "use_melanin", "eumelanin", "pheomelanin", "beta_m",

@@ -15,6 +15,7 @@
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/matrix.hpp>
 #include <glm/trigonometric.hpp>
 #include <glm/vector_relational.hpp>
 
@@ -246,6 +247,55 @@ void readVisibilityEntry(const JsonReader& o, const std::filesystem::path& base,
   v.rejectUnknown({"file", "absorption"});
 }
 
+// "scale": "auto": the factor that makes the roots' largest extent (file units) a human
+// head's hair line, kAutoRootExtent metres; 1 when the roots have no extent.
+constexpr float kAutoRootExtent = 0.18f;
+
+float autoScaleFactor(const StrandGroom& g, float* extent) {
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  std::size_t at = 0;
+  for (std::uint32_t n : g.pointCounts) {
+    lo = glm::min(lo, g.points[at]);
+    hi = glm::max(hi, g.points[at]);
+    at += n;
+  }
+  const glm::vec3 e = hi - lo;
+  *extent = std::max(e.x, std::max(e.y, e.z));
+  return *extent > 0.0f ? kAutoRootExtent / *extent : 1.0f;
+}
+
+// A groom entry's "children" (docs/scene-format.md, "Children"): lengths in scene units, at
+// the file's `scale`. TressFX files grow the runtime's follow hairs unless told otherwise;
+// other files draw their strands alone.
+ChildrenParams readChildren(const JsonReader& o, float scale, bool tressfx) {
+  ChildrenParams c;
+  if (tressfx) {
+    c.count = kTressFxFollowHairs;
+    c.tipSpread = kTressFxTipSeparation;
+    c.radius = kTressFxFollowRadiusMetres / scale;
+  }
+  if (!o.has("children")) return c;
+  JsonReader k = o.object(o.require("children"), "children");
+  const std::string mode = k.string("mode", "follow");
+  if (mode != "follow" && mode != "interpolated")
+    k.fail("mode", "is \"" + mode + "\", expected \"follow\" or \"interpolated\"");
+  const bool follow = mode == "follow";
+  c.mode = follow ? ChildrenParams::Mode::Follow : ChildrenParams::Mode::Interpolated;
+  // follow: TressFX's defaults; interpolated: Blender's display amount of 10 per guide,
+  // roots spread over half the guide spacing, no tip spread
+  c.count = static_cast<std::uint32_t>(
+      k.integer("count", follow ? static_cast<int>(kTressFxFollowHairs) : 10, 0,
+                static_cast<int>(kMaxChildren)));
+  c.tipSpread =
+      static_cast<float>(k.number("tip_spread", follow ? kTressFxTipSeparation : 0.0, 0.0, 1000.0));
+  c.radius = follow ? kTressFxFollowRadiusMetres / scale : 0.0f;  // 0: the guide spacing's
+  if (k.has("radius")) c.radius = static_cast<float>(k.number("radius", 0.0, 0.0, 1e6)) / scale;
+  c.clump = static_cast<float>(k.number("clump", 0.0, -1.0, 1.0));
+  c.seed = static_cast<std::uint32_t>(k.integer64("seed", 1, 0, 0xFFFFFFFFll));
+  k.rejectUnknown({"count", "mode", "radius", "tip_spread", "clump", "seed"});
+  return c;
+}
+
 // A groom entry with "strands_file": the file (read once per scene), its placement (scale,
 // up axis, then the entry's transform), appearance, LOD and filter.
 GroomInstance readStrandGroom(
@@ -253,7 +303,8 @@ GroomInstance readStrandGroom(
     std::uint64_t maxBytes, std::map<std::string, std::shared_ptr<const StrandGroom>>& loaded,
     std::map<std::string, std::shared_ptr<const StrandGroom>>& variants,
     std::map<std::string, std::shared_ptr<const VisibilityBake>>& loadedVisibility,
-    std::uint64_t sceneCap, std::vector<std::string>& warnings) {
+    std::uint64_t sceneCap, std::vector<std::string>& warnings, std::vector<std::string>& notes,
+    float& autoScale) {
   const std::string file = o.string("strands_file", "");
   if (file.empty()) o.fail("strands_file", "is empty: name a .hair, .data or .tfx strand file");
   std::filesystem::path p =
@@ -284,18 +335,26 @@ GroomInstance readStrandGroom(
   const auto cap =
       static_cast<std::uint64_t>(o.integer64("max_strands", static_cast<long long>(sceneCap), 0,
                                              static_cast<long long>(kMaxStrandPoints)));
-  const float scale = static_cast<float>(o.number("scale", 1.0, 1e-6, 1e6));
+  // "scale": a number, or "auto" (chosen from the file's roots below)
+  const bool scaleAuto = o.has("scale") && o.require("scale").is_string();
+  if (scaleAuto && o.string("scale", "") != "auto")
+    o.fail("scale", "is \"" + o.string("scale", "") + "\", expected a number or \"auto\"");
+  float scale = scaleAuto ? 1.0f : static_cast<float>(o.number("scale", 1.0, 1e-6, 1e6));
+  float rootExtent = 0.0f;
   const std::string up = o.string("up", "y");
   if (up != "x" && up != "y" && up != "z")
     o.fail("up", "is \"" + up + "\", expected \"x\", \"y\" or \"z\"");
-  // entries that name one file with the same look, LOD and cap share one groom (and so one
-  // device form); the first entry of a file takes it as read, other variants copy it
+  // entries that name one file with the same look, LOD, cap, children and scale share one
+  // groom (and so one device form); the first entry of a file takes it as read, other
+  // variants copy it
   const auto dumpOf = [&](const char* k) { return o.has(k) ? o.require(k).dump() : ""; };
-  const std::string variant =
-      key + "\n" + dumpOf("appearance") + "\n" + dumpOf("lod") + "\n" + std::to_string(cap);
+  const std::string variant = key + "\n" + dumpOf("appearance") + "\n" + dumpOf("lod") + "\n" +
+                              std::to_string(cap) + "\n" + dumpOf("children") + "\n" +
+                              dumpOf("scale");
   std::shared_ptr<const StrandGroom> shared;
   if (const auto same = variants.find(variant); same != variants.end()) {
     shared = same->second;
+    if (scaleAuto) scale = autoScaleFactor(*shared, &rootExtent);
   } else {
     StrandGroom groom;
     const auto it = loaded.find(key);
@@ -312,30 +371,37 @@ GroomInstance readStrandGroom(
         o.fail("strands_file", e.what());
       }
     }
-    // per-point colours and thicknesses are drawn only when asked for; say so either way
-    const bool fileLook = !groom.colors.empty() || !groom.thickness.empty();
-    const std::string arrays = !groom.colors.empty() && !groom.thickness.empty()
-                                   ? "colours and thicknesses"
-                               : !groom.colors.empty() ? "colours"
-                                                       : "thicknesses";
-    if (fileLook && !look.useFileColor && firstRead)
-      warnings.push_back(o.file() + ": " + o.path("strands_file") + ": " + key + " has per-point " +
-                         arrays +
-                         ", ignored: the groom's appearance is used (set \"appearance\": "
-                         "{\"use_file_color\": true} " +
-                         "to draw them)");
-    if (!fileLook && look.useFileColor)
+    // the file's own colours, thicknesses and transparencies are drawn unless the entry's
+    // appearance gives its own (per key); asking for them by name on a file without any
+    // says so
+    const bool fileLook =
+        !groom.colors.empty() || !groom.thickness.empty() || !groom.transparency.empty();
+    if (!fileLook && o.has("appearance") && o.require("appearance").is_object() &&
+        o.require("appearance").value("use_file_color", false))
       warnings.push_back(
           o.file() + ": " + o.path("appearance.use_file_color") + ": " + key +
-          " has no per-point colours or thicknesses, the groom's appearance is used");
+          " has no per-point colours, thicknesses or transparencies, the groom's appearance " +
+          "is used");
     groom.appearance = look;
     groom.lod = lod;
+    if (scaleAuto) scale = autoScaleFactor(groom, &rootExtent);
+    groom.children = readChildren(o, scale, lowerExtension(key) == ".tfx");
     const bool capped = cap > 0 && groom.pointCounts.size() > cap;
     if (firstRead && capped) loaded[key] = std::make_shared<const StrandGroom>(groom);
     capStrands(groom, cap);
     shared = std::make_shared<const StrandGroom>(std::move(groom));
     if (firstRead && !capped) loaded[key] = shared;
     variants[variant] = shared;
+  }
+  if (scaleAuto) {
+    char buf[200];
+    std::snprintf(buf, sizeof(buf),
+                  "\"scale\": \"auto\" scales %s by %g: its roots span %g file units, "
+                  "%g m after scaling",
+                  key.c_str(), static_cast<double>(scale), static_cast<double>(rootExtent),
+                  static_cast<double>(rootExtent * scale));
+    notes.push_back(o.file() + ": " + o.path("scale") + ": " + buf);
+    if (!(autoScale > 0.0f)) autoScale = scale;
   }
   GroomInstance g;
   g.name = o.string("name", shared->name);
@@ -352,9 +418,10 @@ GroomInstance readStrandGroom(
     g.hasFilter = true;
     g.filter = readFilter(o, o.require("filter"), sceneFilter);
   }
-  readVisibilityEntry(o, base, shared->pointCounts.size(), look.useFileColor, loadedVisibility, g);
+  readVisibilityEntry(o, base, shared->pointCounts.size(),
+                      look.useFileColor && !shared->colors.empty(), loadedVisibility, g);
   o.rejectUnknown({"strands_file", "name", "transform", "scale", "up", "appearance", "lod",
-                   "filter", "max_strands", "visibility"});
+                   "filter", "max_strands", "visibility", "children"});
   return g;
 }
 
@@ -405,7 +472,8 @@ void readCageMotion(const JsonReader& o, const std::filesystem::path& base, std:
 // transform, as for strand files) and its colour.
 MeshInstance readMesh(const JsonReader& o, const std::filesystem::path& base,
                       std::uint64_t maxBytes,
-                      std::map<std::string, std::shared_ptr<const TriangleMesh>>& loaded) {
+                      std::map<std::string, std::shared_ptr<const TriangleMesh>>& loaded,
+                      float autoScale) {
   const std::string file = o.string("file", "");
   if (file.empty()) o.fail("file", "is missing: name the mesh's .obj file");
   const std::string label = o.file() + ": mesh \"" + file + "\"";
@@ -427,7 +495,19 @@ MeshInstance readMesh(const JsonReader& o, const std::filesystem::path& base,
     loaded[key] = m.mesh;
   }
   m.name = o.string("name", m.mesh->name);
-  const float scale = static_cast<float>(o.number("scale", 1.0, 1e-6, 1e6));
+  // "auto": the factor the grooms' "scale": "auto" chose (a head and its groom share units)
+  float scale = 1.0f;
+  if (o.has("scale") && o.require("scale").is_string()) {
+    if (o.string("scale", "") != "auto")
+      o.fail("scale", "is \"" + o.string("scale", "") + "\", expected a number or \"auto\"");
+    if (!(autoScale > 0.0f))
+      o.fail("scale",
+             "is \"auto\", which takes the factor of a strand-file groom's \"scale\": "
+             "\"auto\", and no groom has one");
+    scale = autoScale;
+  } else {
+    scale = static_cast<float>(o.number("scale", 1.0, 1e-6, 1e6));
+  }
   const std::string up = o.string("up", "y");
   if (up != "x" && up != "y" && up != "z")
     o.fail("up", "is \"" + up + "\", expected \"x\", \"y\" or \"z\"");
@@ -536,6 +616,15 @@ void framingBounds(const Scene& s, glm::vec3& lo, glm::vec3& hi, std::vector<std
   if (blo.x <= bhi.x) {
     lo = blo;
     hi = bhi;
+    // follow hairs reach up to their offset's growth beyond their guides
+    for (const GroomInstance& g : s.grooms) {
+      if (!g.strands || g.strands->children.count == 0) continue;
+      const ChildrenParams& c = g.strands->children;
+      const float scale = std::cbrt(std::fabs(glm::determinant(glm::mat3(g.transform))));
+      const float reach = 1.4143f * std::max(c.radius, 0.0f) * (1.0f + c.tipSpread) * scale;
+      lo -= glm::vec3(reach);
+      hi += glm::vec3(reach);
+    }
   }
 }
 
@@ -562,8 +651,10 @@ std::vector<std::string> viewWarnings(const Scene& scene, const std::string& whe
     const float width =
         g.strands ? g.strands->appearance.strandWidth : g.mesh->appearance.strandWidth;
     const float depth = glm::dot(0.5f * (lo + hi) - c.position, forward);
-    const std::string hint = g.strands ? "\"scale\" (0.01 for a file in centimetres)"
-                                       : "\"transform\": {\"scale\": ...} (0.01 for centimetres)";
+    const std::string hint =
+        g.strands ? "\"scale\" (0.01 for a file in centimetres, or \"auto\" to scale its roots "
+                    "to a head's 0.18 m)"
+                  : "\"transform\": {\"scale\": ...} (0.01 for centimetres)";
     std::string msg;
     char buf[256];
     if (size > 0.0f && (width < kMinWidthRatio * size || size > kMaxSize)) {
@@ -605,6 +696,21 @@ Camera frameAlong(const Scene& scene, CameraPreset preset, glm::vec3 dir, float 
                   glm::vec3 up) {
   glm::vec3 lo, hi;
   framingBounds(scene, lo, hi, nullptr, "");
+  // the meshes too (a head under its groom), so that none is cut off
+  if (scene.grooms.empty() && !scene.meshes.empty()) {
+    lo = glm::vec3(std::numeric_limits<float>::max());
+    hi = -lo;
+  }
+  for (const MeshInstance& m : scene.meshes)
+    for (const glm::vec3& p : m.mesh->positions) {
+      const glm::vec3 w = glm::vec3(m.transform * glm::vec4(p, 1.0f));
+      lo = glm::min(lo, w);
+      hi = glm::max(hi, w);
+    }
+  if (!(lo.x <= hi.x)) {
+    lo = glm::vec3(-0.5f);
+    hi = glm::vec3(0.5f);
+  }
   const float fraction = preset == CameraPreset::Close ? 0.6f
                          : preset == CameraPreset::Mid ? 0.2f
                                                        : 0.05f;
@@ -736,15 +842,6 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
     }
   }
 
-  if (r.has("meshes")) {
-    const json& a = r.require("meshes");
-    if (!a.is_array()) r.fail("meshes", "must be an array");
-    std::map<std::string, std::shared_ptr<const TriangleMesh>> loadedMeshes;
-    for (std::size_t i = 0; i < a.size(); ++i)
-      s.meshes.push_back(readMesh(r.object(a[i], "meshes[" + std::to_string(i) + "]"), base,
-                                  maxStrandBytes, loadedMeshes));
-  }
-
   if (r.has("shadows")) {
     JsonReader o = r.object(r.require("shadows"), "shadows");
     s.shadows.resolution = o.integer("resolution", s.shadows.resolution, 16, 4096);
@@ -813,6 +910,7 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
                   static_cast<long long>(kMaxSegmentBudget)));
   const auto sceneCap = static_cast<std::uint64_t>(r.integer64("max_strands", 0, 0, 50'000'000));
   std::map<std::string, std::shared_ptr<const VisibilityBake>> loadedVisibility;
+  float autoScale = 0.0f;  // the first "scale": "auto" groom's factor (meshes may take it)
   if (r.has("grooms")) {
     const json& a = r.require("grooms");
     if (!a.is_array()) r.fail("grooms", "must be an array");
@@ -824,7 +922,8 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
                ".tfx strand file)");
       if (o.has("strands_file")) {
         s.grooms.push_back(readStrandGroom(o, base, s.filter, maxStrandBytes, loadedStrands,
-                                           strandVariants, loadedVisibility, sceneCap, s.warnings));
+                                           strandVariants, loadedVisibility, sceneCap, s.warnings,
+                                           s.notes, autoScale));
         continue;
       }
       std::string file = o.string("file", "");
@@ -887,6 +986,16 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
                        "cage_animation", "wind", "max_strands", "visibility"});
       s.grooms.push_back(g);
     }
+  }
+
+  // meshes after the grooms: a mesh's "scale": "auto" takes the grooms' factor
+  if (r.has("meshes")) {
+    const json& a = r.require("meshes");
+    if (!a.is_array()) r.fail("meshes", "must be an array");
+    std::map<std::string, std::shared_ptr<const TriangleMesh>> loadedMeshes;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      s.meshes.push_back(readMesh(r.object(a[i], "meshes[" + std::to_string(i) + "]"), base,
+                                  maxStrandBytes, loadedMeshes, autoScale));
   }
 
   if (!s.grooms.empty()) {

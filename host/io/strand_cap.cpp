@@ -38,6 +38,7 @@ float capStrands(StrandGroom& groom, std::uint64_t cap) {
   out.seed = groom.seed;
   out.appearance = groom.appearance;
   out.lod = groom.lod;
+  out.children = groom.children;
   for (std::uint64_t j = 0; j < cap; ++j) {
     // strand floor((j + 1/2) n / cap): evenly spread over the file's order
     const std::uint64_t s = std::min<std::uint64_t>((2 * j + 1) * n / (2 * cap), n - 1);
@@ -50,6 +51,9 @@ float capStrands(StrandGroom& groom, std::uint64_t cap) {
     if (!groom.colors.empty())
       out.colors.insert(out.colors.end(), groom.colors.begin() + first[s],
                         groom.colors.begin() + first[s + 1]);
+    if (!groom.transparency.empty())
+      out.transparency.insert(out.transparency.end(), groom.transparency.begin() + first[s],
+                              groom.transparency.begin() + first[s + 1]);
     if (!groom.rootUv.empty()) out.rootUv.push_back(groom.rootUv[s]);
   }
   widen(out.appearance, k);

@@ -15,6 +15,7 @@
 #include "io/binary_file.h"
 #include "io/cyhair.h"
 #include "io/json_util.h"
+#include "io/ply_strands.h"
 #include "io/tressfx.h"
 #include "io/usc_hair.h"
 
@@ -41,8 +42,18 @@ StrandGroom fromCyHair(const CyHair& h, std::uint64_t* skipped) {
     }
   g.pointCounts.reserve(kept);
   g.points.reserve(keptPoints);
-  if (!h.thickness.empty()) g.thickness.reserve(keptPoints);
-  if (!h.colors.empty()) g.colors.reserve(keptPoints);
+  // a cyHair header's defaults stand for missing arrays, unless they are the format's own
+  // initial values (thickness 1, transparency 0, white), which writers leave when nothing
+  // was set (Yuksel's cyHairFile)
+  const bool defThickness = h.thickness.empty() && h.defaultThickness != 1.0f &&
+                            std::isfinite(h.defaultThickness) && h.defaultThickness > 0.0f;
+  const bool defTransparency = h.transparency.empty() && h.defaultTransparency != 0.0f;
+  const bool defColor =
+      h.colors.empty() &&
+      !(h.defaultColor[0] == 1.0f && h.defaultColor[1] == 1.0f && h.defaultColor[2] == 1.0f);
+  if (!h.thickness.empty() || defThickness) g.thickness.reserve(keptPoints);
+  if (!h.colors.empty() || defColor) g.colors.reserve(keptPoints);
+  if (!h.transparency.empty() || defTransparency) g.transparency.reserve(keptPoints);
   std::size_t at = 0;  // first point of the current strand
   for (std::size_t s = 0; s < strands; ++s) {
     const std::size_t n = static_cast<std::size_t>(h.segments[s]) + 1;
@@ -51,8 +62,13 @@ StrandGroom fromCyHair(const CyHair& h, std::uint64_t* skipped) {
       for (std::size_t k = at; k < at + n; ++k) {
         g.points.emplace_back(h.points[3 * k], h.points[3 * k + 1], h.points[3 * k + 2]);
         if (!h.thickness.empty()) g.thickness.push_back(h.thickness[k]);
+        if (defThickness) g.thickness.push_back(h.defaultThickness);
         if (!h.colors.empty())
           g.colors.emplace_back(h.colors[3 * k], h.colors[3 * k + 1], h.colors[3 * k + 2]);
+        if (defColor)
+          g.colors.emplace_back(h.defaultColor[0], h.defaultColor[1], h.defaultColor[2]);
+        if (!h.transparency.empty()) g.transparency.push_back(h.transparency[k]);
+        if (defTransparency) g.transparency.push_back(h.defaultTransparency);
       }
     }
     at += n;
@@ -105,6 +121,12 @@ void validateStrandGroom(const StrandGroom& g, const std::string& where) {
   if (!g.colors.empty() && g.colors.size() != g.points.size())
     fail(std::to_string(g.colors.size()) + " colours for " + std::to_string(g.points.size()) +
          " points");
+  if (!g.transparency.empty() && g.transparency.size() != g.points.size())
+    fail(std::to_string(g.transparency.size()) + " transparencies for " +
+         std::to_string(g.points.size()) + " points");
+  for (std::size_t i = 0; i < g.transparency.size(); ++i)
+    if (!std::isfinite(g.transparency[i]))
+      fail("transparency " + std::to_string(i) + " is not finite");
   if (!g.rootUv.empty() && g.rootUv.size() != g.pointCounts.size())
     fail(std::to_string(g.rootUv.size()) + " root uv pairs for " +
          std::to_string(g.pointCounts.size()) + " strands");
@@ -126,9 +148,24 @@ void validateStrandGroom(const StrandGroom& g, const std::string& where) {
     fail("appearance strand_width must be in 1e-9..1e3");
   if (!(a.minHitDiameterPx >= 0.0f && a.minHitDiameterPx <= 3.0f))
     fail("appearance min_hit_diameter_px must be in 0..3");
+  if (!(a.transparency >= 0.0f && a.transparency < 1.0f))
+    fail("appearance transparency must be in 0..0.99");
   if (!(g.lod.lambda >= 1e-3f && g.lod.lambda <= 1e3f)) fail("lod lambda must be in 0.001..1000");
   if (!(g.lod.morphWindow >= 0.0f && g.lod.morphWindow <= 1.0f))
     fail("lod morph_window must be in 0..1");
+  const ChildrenParams& c = g.children;
+  if (c.count > kMaxChildren)
+    fail("children count " + std::to_string(c.count) + " is above " + std::to_string(kMaxChildren) +
+         " per guide");
+  const std::uint64_t copies = std::uint64_t(c.count) + 1;
+  if (copies * g.pointCounts.size() > 0x7FFFFFFFull || copies * total > kMaxStrandPoints)
+    fail(std::to_string(g.pointCounts.size()) + " guides with " + std::to_string(c.count) +
+         " children each draw more strands or points than the strand tables can address");
+  if (!std::isfinite(c.radius) || std::fabs(c.radius) > 1e30f)
+    fail("children radius must be a finite number");
+  if (!(c.tipSpread >= 0.0f && c.tipSpread <= 1000.0f))
+    fail("children tip_spread must be in 0..1000");
+  if (!(c.clump >= -1.0f && c.clump <= 1.0f)) fail("children clump must be in -1..1");
 }
 
 StrandGroom loadStrandGroom(const std::string& path, std::uint64_t maxBytes,
@@ -150,9 +187,15 @@ StrandGroom loadStrandGroom(const std::string& path, std::uint64_t maxBytes,
     g = fromCyHair(t.hair, &skipped);  // every strand has 2 or more points: none skipped
     trailing = t.hair.trailingBytes;
     rootUvFromFile(t.strandUv, path, g, warnings);
+  } else if (ext == ".ply" || ext == ".bin") {
+    PlyStrands p = ext == ".ply" ? readPlyStrands(path, maxBytes) : readCt2HairBin(path, maxBytes);
+    g = fromCyHair(p.hair, &skipped);
+    skipped += p.skippedStrands;
+    trailing = p.hair.trailingBytes;
   } else {
     throw Error(path + ": unknown strand file type \"" + ext +
-                "\"; expected .hair (cyHair), .data (USC-HairSalon) or .tfx (TressFX)");
+                "\"; expected .hair (cyHair), .data (USC-HairSalon), .tfx (TressFX), .ply or " +
+                ".bin (CT2Hair)");
   }
   if (g.pointCounts.empty())
     throw Error(path + ": no strand has 2 or more points (" + std::to_string(skipped) +

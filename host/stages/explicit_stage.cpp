@@ -37,7 +37,9 @@ KernelArgs ExplicitStage::bindTables(cl::Kernel& k, const Inputs& in, const cl::
               std::uint64_t(gpu::clh_lod_offsets_length(in.chunkCount)) * sizeof(cl_uint))
       .value("strand count", static_cast<cl_uint>(in.strandCount))
       .value("point count", static_cast<cl_uint>(in.pointCount))
-      .value("has uv", static_cast<cl_uint>(in.hasUv ? 1 : 0));
+      .value("has uv", static_cast<cl_uint>(in.hasUv ? 1 : 0))
+      .buffer("children", *in.kids, sizeof(gpu::ClhChildrenGpu))
+      .buffer("guide neighbours", *in.neighbours, in.neighbourWords * sizeof(cl_uint));
   return a;
 }
 
@@ -120,9 +122,10 @@ void ExplicitStage::exportStrands(const Inputs& in, std::uint32_t strands, cl::B
       kernel("strands_explicit_export", "strands_explicit.cl", entryOption(CLH_ENTRY_EXPORT));
   // the kernel reads no view: the groom record fills the slot
   KernelArgs a = bindTables(k, in, *in.groom, "strands", sizeof(gpu::ClhGroomGpu));
-  a.buffer("points out", outPoints, std::uint64_t(in.pointCount) * 4 * sizeof(float))
-      .buffer("tangents out", outTangents, std::uint64_t(in.pointCount) * 4 * sizeof(float))
-      .buffer("point counts out", outCounts, std::uint64_t(in.strandCount) * sizeof(cl_uint));
+  const std::uint64_t copies = std::uint64_t(in.children) + 1;
+  a.buffer("points out", outPoints, copies * in.pointCount * 4 * sizeof(float))
+      .buffer("tangents out", outTangents, copies * in.pointCount * 4 * sizeof(float))
+      .buffer("point counts out", outCounts, copies * in.strandCount * sizeof(cl_uint));
   dispatchStrands(dev_, k, "strands", strands, a.next(), profiler);
 }
 

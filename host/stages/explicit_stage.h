@@ -27,10 +27,14 @@ class ExplicitStage {
     const cl::Buffer* uv = nullptr;      // uint[strandCount] when hasUv, else any 1-word buffer
     const cl::Buffer* chunks = nullptr;  // uint4[chunkCount]
     const cl::Buffer* chunkBounds = nullptr;  // float4[2 * chunkCount]
-    cl::Buffer* lod = nullptr;                // ClhLodRecord[chunkCount]
-    cl::Buffer* counts = nullptr;             // uint[clh_lod_counts_length(chunkCount)]
-    cl::Buffer* offsets = nullptr;            // uint[clh_lod_offsets_length(chunkCount)]
-    std::uint32_t chunkCount = 0, strandCount = 0, pointCount = 0;
+    const cl::Buffer* kids = nullptr;         // ClhChildrenGpu (count 0: no children)
+    const cl::Buffer* neighbours = nullptr;   // uint[strandCount * kids.neighbours], or 1 word
+    std::uint64_t neighbourWords = 1;
+    cl::Buffer* lod = nullptr;      // ClhLodRecord[chunkCount]
+    cl::Buffer* counts = nullptr;   // uint[clh_lod_counts_length(chunkCount)]
+    cl::Buffer* offsets = nullptr;  // uint[clh_lod_offsets_length(chunkCount)]
+    std::uint32_t chunkCount = 0, strandCount = 0, pointCount = 0;  // stored strands
+    std::uint32_t children = 0;  // per stored strand (ClhChildrenGpu::count)
     std::size_t pointWords = 0;  // float4 in `points` (file colours follow the points)
     bool hasUv = false;
   };
@@ -43,13 +47,16 @@ class ExplicitStage {
   // groom's order); r is the raster pass just run.
   void motion(const Inputs& in, const cl::Buffer& previous, const MotionPass& m,
               const StrandRaster& r, Profiler* profiler);
-  // outPoints/outTangents: float4[pointCount]; outCounts: uint[strandCount] (0 = not drawn).
+  // outPoints/outTangents: float4[pointCount * (1 + children)]; outCounts:
+  // uint[strandCount * (1 + children)] (0 = not drawn); child c of stored strand s at
+  // s + c * strandCount, its points after c copies of the stored points.
   void exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& outPoints,
                      cl::Buffer& outTangents, cl::Buffer& outCounts, Profiler* profiler);
 
  private:
   cl::Kernel& kernel(const std::string& name, const std::string& file, const std::string& options);
-  // groom, view, the tables, records and counts: the first 11 arguments of every kernel
+  // groom, view, the tables, records, counts and children: the first 13 arguments of every
+  // kernel
   KernelArgs bindTables(cl::Kernel& k, const Inputs& in, const cl::Buffer& view,
                         const std::string& stage, std::uint64_t viewBytes);
   Device::Impl& dev_;

@@ -22,7 +22,7 @@ cl::Event FilterStage::enqueue(const FilterParams& f, const Params& p, Profiler*
   g.depth_mismatch = f.depthMismatch;
   g.strip = f.strip;
   g.promote = f.promote ? 1u : 0u;
-  upload(dev_, params_, &g, 1);
+  uploadChanged(dev_, params_, sent_, &g, 1);
   const std::uint64_t pixels = p.target.pixels();
   KernelArgs(kernel_, "filter")
       .buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))

@@ -4,6 +4,8 @@
 // filter's parameter record and uploads it when the settings change.
 #pragma once
 
+#include <vector>
+
 #include "clhair/scene.h"
 #include "stages/stage_inputs.h"
 
@@ -21,11 +23,13 @@ class FilterStage {
   };
   // Checks and uploads `settings` (radius 0..8), then filters.
   cl::Event enqueue(const FilterParams& settings, const Params& p, Profiler* profiler);
+  const cl::Buffer& params() const { return params_; }  // the settings record
 
  private:
   Device::Impl& dev_;
   cl::Kernel kernel_;
   cl::Buffer params_;
+  std::vector<unsigned char> sent_;  // what params_ holds
 };
 
 }  // namespace clhair

@@ -15,6 +15,7 @@ LinkStage::LinkStage(Device::Impl& dev)
       merge_(dev.kernel("link.cl", "link_merge")),
       alpha_(dev.kernel("link.cl", "link_alpha")),
       aniso_(dev.kernel("link.cl", "link_aniso")),
+      clear_(dev),
       params_(makeBuffer<gpu::ClhLinkGpu>(dev, "hair linking parameters", 1)),
       counters_(makeBuffer<cl_uint>(dev, "hair linking counters", CLH_LINK_COUNTERS)) {}
 
@@ -62,12 +63,13 @@ void LinkStage::select(const FilterParams& f, const Params& p, Profiler* profile
   g.sigma_c = f.sigmaCAniso;
   g.kernel_k = f.kernelK;
   g.strand_words = words_;
-  upload(dev_, params_, &g, 1);
+  uploadChanged(dev_, params_, paramsSent_, &g, 1);
   const cl_uint init[CLH_LINK_COUNTERS] = {0, 0, 0, 0, 0xFFFFFFFFu, 0xFFFFFFFFu, 0, 0};
   upload(dev_, counters_, init, CLH_LINK_COUNTERS);
-  std::vector<cl_uint> zeros(std::max<std::size_t>(words_, std::size_t(tableSize_) * 4u), 0u);
-  upload(dev_, flags_, zeros.data(), words_);
-  upload(dev_, table_, zeros.data(), std::size_t(tableSize_) * 4u);
+  // cleared on the device (the table is 16 bytes per strand, too much to send every frame),
+  // by kernels: checkers (Oclgrind) do not count clEnqueueFillBuffer as a write
+  clear_.uints(flags_, words_, 0u, "link", profiler);
+  clear_.uints(table_, std::size_t(tableSize_) * 4u, 0u, "link", profiler);
   if (!f.link) return;
   if (p.layers < int(CLH_LAYER_LINKED) + 1)
     throw Error("hair linking needs " + std::to_string(CLH_LAYER_LINKED + 1) +

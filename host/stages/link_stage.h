@@ -19,8 +19,10 @@
 
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "clhair/scene.h"
+#include "stages/clear_stage.h"
 #include "stages/stage_inputs.h"
 
 namespace clhair {
@@ -60,13 +62,21 @@ class LinkStage {
   cl::Buffer* finish(const Params& p, bool aniso, cl::Buffer& hair, cl::Buffer& out,
                      Profiler* profiler);
   LinkCounters counters();
+  // The stage's own buffers (what a pass using it declares) and its counters
+  // (CLH_LINK_COUNTERS uints: selecting, filled, strands, turned away, bounds).
+  std::vector<const cl::Buffer*> buffers() const {
+    return {&params_, &choice_, &flags_, &table_, &counters_};
+  }
+  const cl::Buffer& counterBuffer() const { return counters_; }
 
  private:
   Device::Impl& dev_;
   cl::Kernel select_, propagate_, merge_, alpha_, aniso_;
+  ClearStage clear_;
   cl::Buffer params_, choice_, flags_, table_, counters_;
   std::size_t choiceCap_ = 0, flagsCap_ = 0, tableCap_ = 0;
   std::uint32_t words_ = 1, tableSize_ = 1;
+  std::vector<unsigned char> paramsSent_;  // what params_ holds
 };
 
 }  // namespace clhair

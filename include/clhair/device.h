@@ -42,6 +42,9 @@ struct DeviceInfo {
   std::string clcVersion;  // CL_DEVICE_OPENCL_C_VERSION
   std::string driverVersion;
   bool isGpu = false;
+  // CL_DEVICE_HOST_UNIFIED_MEMORY: the device works in host memory (CPUs, integrated GPUs),
+  // so a frame is read back straight into the Frame; else through pinned staging memory.
+  bool hostUnified = false;
   bool int64Atomics = false;  // cl_khr_int64_base_atomics + cl_khr_int64_extended_atomics
   std::uint64_t maxAlloc = 0;
   std::uint64_t globalMem = 0;

@@ -129,8 +129,8 @@ typedef struct {
   float bsdf[4];    /* beta_m, beta_n, cuticle tilt (radians), index of refraction */
   float look[4];    /* variation, use_melanin (0/1), file colour (0/1: explicit grooms
                      * whose G-buffer words carry per-point colour, see below), file
-                     * thickness scale (0: none; else object -> world scale of the
-                     * per-point thickness) */
+                     * thickness scale (0: none; > 0: object -> world scale of the
+                     * per-point thickness; -1: per-point opacity times strand_width) */
 } ClhGroomGpu;
 
 /* ---- camera for one view, 128 bytes ------------------------------------------------
@@ -543,6 +543,28 @@ typedef struct {
   clh_u32 pad0;
 } ClhLinkGpu;
 
+/* ---- children of an explicit groom's guides, 32 bytes ---------------------------------
+ * Drawn strand slot j of a chunk of n guides is child j / n (0: the guide itself) of the
+ * chunk's guide j % n (host/groom/children.h has the rules; kernels/common/children.h
+ * draws them). count: children per guide (0: none); mode: CLH_CHILD_FOLLOW or
+ * CLH_CHILD_INTERPOLATED; neighbours: guides listed per guide in the neighbour table;
+ * guides: guide (stored strand) count; radius: the half side of the square of root offsets
+ * (object units); tip_spread: TressFX's tip separation factor; clump: Blender's clump
+ * factor in [-1, 1]; seed: the offsets' hash seed. */
+#define CLH_CHILD_FOLLOW 0u
+#define CLH_CHILD_INTERPOLATED 1u
+#define CLH_CHILD_NEIGHBOURS 8u
+typedef struct {
+  clh_u32 count;
+  clh_u32 mode;
+  clh_u32 neighbours;
+  clh_u32 guides;
+  float radius;
+  float tip_spread;
+  float clump;
+  clh_u32 seed;
+} ClhChildrenGpu;
+
 /* ---- random numbers: identical streams on host and device ----------------------------
  * lowbias32 integer hash (Chris Wellons' hash-prospector), combined per key.            */
 CLH_FN clh_u32 clh_hash(clh_u32 x) {
@@ -568,6 +590,7 @@ CLH_FN float clh_u01(clh_u32 h) { return (float)(h >> 8) * (1.0f / 16777216.0f);
 #define CLH_RNG_FRIZZ 4u
 #define CLH_RNG_CLUMP 5u
 #define CLH_RNG_LOD_DELTA 6u
+#define CLH_RNG_CHILD 7u
 
 #ifndef CLH_DEVICE_CODE
 } /* namespace gpu */

@@ -54,10 +54,17 @@ struct AppearanceParams {
   // 0 keeps the true projected width (sub-pixel strands then hit few centers; the
   // reconstruction filter rebuilds coverage from them); 1 draws gap-free 1-pixel lines.
   float minHitDiameterPx = 0.0f;
-  // Strand files only: draw the file's per-point colours (linear rgb, instead of the
-  // melanin or root/tip colours) and thicknesses (file units, scaled like the points,
-  // instead of strandWidth) when it has them.
-  bool useFileColor = false;
+  // Strand files only: draw the file's own look where it has one (per-point arrays or, in
+  // cyHair, header defaults): its colours (linear rgb, instead of the melanin or root/tip
+  // colours), thicknesses (file units, scaled like the points, instead of strandWidth) and
+  // transparencies. A scene entry's appearance turns each off by giving its own (colour keys,
+  // strand_width, transparency: the scene wins per key, docs/scene-format.md).
+  bool useFileColor = true;
+  bool useFileThickness = true;
+  bool useFileTransparency = true;
+  // Strand files only: fibre transparency in [0, 1) where the file gives none; a fibre is
+  // drawn (1 - transparency) times as wide, its share of a pixel's coverage.
+  float transparency = 0.0f;
 };
 
 struct LodParams {

@@ -86,6 +86,14 @@ struct RenderOptions {
   // camera, groom transforms and cages or per-frame strands (grooms matched by index) give the
   // motion layer; null: the motion is zero.
   const Scene* previous = nullptr;
+  // Per-stage device times in Frame::timings (profiling events). false: no event is asked
+  // for, and the frame costs nothing to time (sequences that print no stage times).
+  bool timings = true;
+  // Frame::depth is read back (false: it stays empty unless aovs need it; a frame written as
+  // an image needs only its colour, and a discrete GPU then sends a fifth fewer bytes).
+  bool readBackDepth = true;
+  // Frame::passes gets the frame's graph as text (clhair render --passes).
+  bool describePasses = false;
   // Temporal reprojection (TemporalParams in clhair/scene.h): frames of history, -1 as the
   // scene's "temporal" says, 0 off, 1..kMaxTemporalHistory. Read by FrameSequence
   // (clhair/temporal.h), which renders the frames before; render() draws the still alone.
@@ -165,6 +173,9 @@ struct FrameStats {
   std::uint64_t linkedPixels = 0;    // pixels filled by linking
   std::uint64_t linkStrands = 0;     // strands in the alpha fix's hash table
   std::uint64_t linkTurnedAway = 0;  // pixels whose strand found the hash table full
+  // Times the host waited for the device for this frame, its final read-back included
+  // (Renderer::wait); a steady-state frame has exactly one.
+  std::uint64_t hostWaits = 0;
 };
 
 // Layers for compositing (RenderOptions::aovs); each empty without them. Per pixel, row-major.
@@ -197,10 +208,17 @@ struct Frame {
   std::vector<std::uint8_t> rasterGroom, rasterView;
   std::vector<float> rasterDepth;
   FrameAovs aovs;
+  // With RenderOptions::describePasses: the frame's passes, buffers and host waits.
+  std::string passes;
 
   double stageMs(const std::string& stage) const;
   double totalMs() const;
 };
+
+// A frame submitted to a Renderer and not yet waited for.
+using FrameTicket = std::uint64_t;
+// The most frames a Renderer keeps in flight (Renderer::setFramesInFlight).
+constexpr int kMaxFramesInFlight = 8;
 
 class Renderer {
  public:
@@ -209,7 +227,19 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
+  // One frame: submit() then wait().
   Frame render(const Scene& scene, const RenderOptions& options = {});
+  // Enqueues the frame's work and its read-back and returns without waiting for the device
+  // (the host may build the next frame meanwhile). When more than framesInFlight() frames
+  // would run, the oldest is waited for first. The scene and options are not used after it
+  // returns.
+  FrameTicket submit(const Scene& scene, const RenderOptions& options = {});
+  // The frame of `ticket` (blocks until the device has finished it). Each ticket is waited
+  // for once, in any order.
+  Frame wait(FrameTicket ticket);
+  // Frames the device may work on while the host goes on (1: one frame at a time; default 2).
+  void setFramesInFlight(int frames);
+  int framesInFlight() const;
   // Several views of one assembly (docs/scene-format.md, "Several views"): one frame per
   // camera, in order. Every hair-mesh strand is generated once and drawn into every view's
   // G-buffer; its level of detail and culling are those of the first camera that sees the
@@ -217,6 +247,10 @@ class Renderer {
   // rasterOnly (throws clhair::Error).
   std::vector<Frame> renderViews(const Scene& scene, const std::vector<Camera>& cameras,
                                  const RenderOptions& options = {});
+  // renderViews in two halves, like submit() and wait().
+  FrameTicket submitViews(const Scene& scene, const std::vector<Camera>& cameras,
+                          const RenderOptions& options = {});
+  std::vector<Frame> waitViews(FrameTicket ticket);
 
   // The reference the real-time pipeline approximates: the average of `spp` frames, each
   // shifted by the same sub-pixel offset in every pixel (an R2 low-discrepancy sequence,

@@ -179,7 +179,7 @@ struct GroomInstance {
   KeyTrack transformKeys;
   glm::mat4 fileTransform{1.0f};  // strand files: the file's scale and up axis
   // Strand files given per frame: sceneAtFrame reads the frame's file (frames before the
-  // first and after the last found hold those), keeping `strands`' appearance and LOD.
+  // first and after the last found hold those), keeping `strands`' appearance, LOD and children.
   std::shared_ptr<const StrandFrames> strandFrames;
   // Hair meshes: the cage per frame (cage-animation file) starting at scene frame
   // cageStartFrame, and the wind on the cage.
@@ -265,9 +265,12 @@ struct Scene {
   // Problems found while loading that do not stop the scene from rendering, one line each
   // naming the file (the CLI prints them as "clhair: warning: ...").
   std::vector<std::string> warnings;
+  // What loading chose for the scene (one line each, e.g. a "scale": "auto" factor).
+  std::vector<std::string> notes;
 };
 
-// Frames the world bounds of all grooms at 60 / 20 / 5 % of the image height, seen from
+// Frames the world bounds of all grooms and meshes together (the grooms at 60 / 20 / 5 %
+// of the image height when there is no mesh; a head mesh is never cut off), seen from
 // the direction given by azimuth (degrees about +y, 0 looks along -z) and elevation.
 Camera framePreset(const Scene& scene, CameraPreset preset, float azimuthDeg = 0.0f,
                    float elevationDeg = 10.0f, float fovYDeg = 35.0f);

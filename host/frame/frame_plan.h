@@ -1,0 +1,105 @@
+// frame_plan.h — what a frame decides before any of its passes runs, and the blackboard
+// its passes hand resources through.
+//
+// planFrame() reads the scene and the options once: the raster mode, the dispatch sizing,
+// the view record, and per groom instance whether it is drawn (in front of the camera),
+// which filter, G-buffer layers, screen box, motion pass and budget role it gets. The pass
+// files (host/passes/) add their passes from the plan and store the graph handles of what
+// they produce in it, for the passes after them; nothing about a frame lives in members of
+// the renderer. A plan holds references to the scene and options: it lives while its
+// graph is built and executed.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "clhair/renderer.h"
+#include "graph/frame_graph.h"
+#include "groom/groom_gpu.h"
+#include "stages/stage_inputs.h"
+
+namespace clhair {
+
+class GBufferSource;
+class RenderTarget;
+
+// One groom instance of the frame.
+struct GroomPlan {
+  std::size_t index = 0;  // in Scene::grooms
+  GroomDraw draw;
+  // 0: entirely behind the camera (no pass of its own runs); CLH_BUDGET_DRAW_FIXED: drawn
+  // without LOD; CLH_BUDGET_DRAW_BUDGETED: drawn with LOD, under the segment budget
+  char active = 0;
+  char far = 0;  // small on screen: drops every other control point when over budget
+  const FilterParams* filter = nullptr;
+  bool filtered = false;  // Lipp's or Huang's filter (MSAA 1, lines raster)
+  bool huang = false;     // Huang's: hair linking (when `linking`), alpha fix, anisotropic
+  bool linking = false;
+  bool ids = false;     // the strand pass writes the identity layer
+  bool motion = false;  // a deforming groom's motion pass (AOVs with a previous frame)
+  // G-buffer layers the composite takes the hair's depth from
+  std::uint32_t depthLayers = 1;
+  int layers = 2;  // G-buffer layers the groom uses
+  // its screen box (the default: the whole target) and where its filtered hair is right
+  PixelRect box, hairBox;
+  // handles: its parameter record, LOD records + scan, geometry tables, shaded hair, the
+  // filter's output, the motion plane and the buffer its composite reads
+  FrameGraph::Handle params, lod, tables, hair, filteredHair, motionPlane, result;
+};
+
+// Words of the frame's statistics buffer (counters gathered on the device, read back once
+// with the frame).
+struct StatsLayout {
+  std::size_t words = 0;
+  std::size_t take(std::size_t n) {
+    const std::size_t at = words;
+    words += n;
+    return at;
+  }
+};
+
+struct FramePlan {
+  FramePlan(const Scene& s, const RenderOptions& o) : scene(s), options(o) {}
+  const Scene& scene;
+  const RenderOptions& options;
+  GBufferSource* source = nullptr;  // the traced reference's centre layers
+  RenderTarget* target = nullptr;
+  bool cover = false;  // the coverage raster
+  bool aovs = false;
+  bool lodCorrection = true;
+  bool shadowsRebuilt = false;
+  DispatchMode mode = DispatchMode::OverLaunch;
+  std::uint64_t budget = 0;
+  gpu::ClhViewGpu view{};
+  std::size_t pixels = 0;
+  ViewPass cameraPass;
+  std::vector<GroomPlan> grooms;
+  // the index of the last groom drawn (captureGBuffer keeps its layers), grooms.size(): none
+  std::size_t lastDrawn = 0;
+  StatsLayout stats;
+  std::size_t rasterStatsAt = 0, budgetAt = 0, linkAt = 0, shadowAt = 0;
+  // handles of the frame's shared resources
+  FrameGraph::Handle viewRecord, scene_, shadowMaps, color, depth, gbuffer, rasterCounters,
+      frameStats, lodArena, visibility, linkState, filterParams, motionParams, aovPlanes;
+};
+
+// Whether a frame draws in the coverage mode (clhair/coverage.h), and the option checks
+// that mode asks for.
+bool coverMode(const Scene& s, const RenderOptions& options);
+// Whether a groom with filter settings `fp` is filtered with Huang's filter (rather than
+// Lipp's), as --filter says, else as the groom's method ("auto" is Huang's).
+bool huangMethod(const FilterParams& fp, const RenderOptions& options);
+// G-buffer layers a groom with filter settings `fp` uses (gpu_types.h).
+int gbufferLayers(const FilterParams& fp, const RenderOptions& options, bool given, bool cover);
+
+// The decisions of a one-view frame; `draws` are the scene's groom instances in order.
+void planFrame(FramePlan& plan, const std::vector<GroomDraw>& draws, DispatchMode mode);
+// What a frame of several views decides before its graph is built (each groom's views are
+// chosen by buildViewsFrame).
+void planViews(FramePlan& plan, const std::vector<GroomDraw>& draws, DispatchMode mode);
+// The statistics words of a frame of `views` views: raster counters, the budget's outcome,
+// 4 linking counters per groom (one view) or a strand total per view and groom (several),
+// and the shadow passes' strand totals for `shadowSlots` groom slots.
+void layoutStats(FramePlan& plan, std::size_t views, std::size_t shadowSlots);
+
+}  // namespace clhair

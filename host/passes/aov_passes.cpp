@@ -1,0 +1,71 @@
+// aov_passes.cpp — the layers for compositing gathered on the device (passes.h): the planes
+// start from the opaque scene after its pass, and each groom is folded in after its
+// composite (kernels/aov.cl); the read-back pass reads them once with the frame.
+#include "passes/passes.h"
+
+namespace clhair {
+
+namespace {
+
+// The planes' buffers (created resources of the graph, in AovStage::Planes order).
+AovStage::Planes planesOf(FrameGraph& g, const FramePlan& plan) {
+  std::vector<FrameGraph::Handle> h(8);
+  for (std::uint32_t i = 0; i < 8; ++i) h[i] = FrameGraph::Handle{plan.aovPlanes.id + i};
+  return {&g.buffer(h[0]), &g.buffer(h[1]), &g.buffer(h[2]), &g.buffer(h[3]),
+          &g.buffer(h[4]), &g.buffer(h[5]), &g.buffer(h[6]), &g.buffer(h[7])};
+}
+
+}  // namespace
+
+void addAovBeginPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingFrame& out) {
+  const std::size_t n = plan.pixels;
+  // eight planes, created one after the other: aovPlanes is the first handle
+  plan.aovPlanes = g.create("AOV last depth", n * 4);
+  g.create("AOV owner", n * 4);
+  g.create("AOV owner motion", n * 8);
+  g.create("AOV hair alpha", n * 4);
+  g.create("AOV hair", n * 16);
+  g.create("AOV centre depth", n * 4);
+  g.create("AOV tangent", n * 16);
+  g.create("AOV strand", n * 16);
+  g.addPass(
+      "aov begin",
+      [&](FrameGraph::Setup& s) {
+        s.read(plan.depth).read(plan.color).sideEffect().kernel("aov_begin");
+        for (std::uint32_t i = 0; i < 8; ++i) s.write(FrameGraph::Handle{plan.aovPlanes.id + i});
+      },
+      [&] {
+        // the colour under the hair: temporal reprojection recomposes the frame on it
+        std::vector<float>& opaque = out.frames[0].aovs.opaque;
+        opaque.resize(plan.pixels * 4);
+        out.read(r.dev, r.pinned, plan.target->color, 0, opaque.data(), opaque.size() * 4);
+        r.aov.begin(plan.target->depth, plan.pixels, planesOf(g, plan), &r.profiler);
+      });
+}
+
+void addAovGroomPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp) {
+  g.addPass(
+      "aov " + std::to_string(gp.index),
+      [&](FrameGraph::Setup& s) {
+        s.read(gp.params).read(plan.gbuffer).read(gp.result).read(plan.depth).kernel("aov_groom");
+        if (gp.motion) s.read(gp.motionPlane);
+        for (std::uint32_t i = 0; i < 8; ++i)
+          s.readWrite(FrameGraph::Handle{plan.aovPlanes.id + i});
+      },
+      [&] {
+        RenderTarget& t = *plan.target;
+        AovStage::Groom a;
+        a.groom = &gp.draw.state->groom;
+        a.index = static_cast<std::uint32_t>(gp.index);
+        a.gbuffer = &t.gbuffer;
+        a.samples = plan.options.msaa;
+        a.ids = plan.options.strandIds;
+        a.layers = static_cast<std::size_t>(t.usedLayers());
+        a.result = &g.buffer(gp.result);
+        a.depth = &t.depth;
+        a.motion = gp.motion ? &g.buffer(gp.motionPlane) : nullptr;
+        r.aov.groom(a, plan.pixels, planesOf(g, plan), &r.profiler);
+      });
+}
+
+}  // namespace clhair

@@ -1,0 +1,48 @@
+// lod_passes.cpp — each drawn groom's LOD pre-pass from the camera, then the segment budget
+// over all of them on the device, shared out by the options' rule (passes.h, frame_lod.h).
+// The pre-pass also writes the groom's record for the camera (GroomGpu::prepare): the shadow
+// pass before it wrote the light's.
+#include "passes/passes.h"
+
+namespace clhair {
+
+void addLodPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
+  for (GroomPlan& gp : plan.grooms) {
+    if (!gp.active) continue;
+    g.addPass(
+        "lod " + std::to_string(gp.index),
+        [&](FrameGraph::Setup& s) {
+          s.read(plan.viewRecord).read(gp.tables).write(gp.params).write(gp.lod);
+          s.kernel(gp.draw.groom->kernels().lod).kernel("scan_bundles");
+        },
+        [&] {
+          const GroomDraw& d = gp.draw;
+          d.groom->useAo(plan.options.ambientOcclusion != 0);
+          if (!d.groom->prepare(*d.state, d.instance->transform, plan.cameraPass))
+            throw Error("groom \"" + d.instance->name +
+                        "\": in front of the camera when the frame was planned, behind it now");
+          d.groom->lod(*d.state, plan.target->view, &r.profiler);
+        });
+  }
+  g.addPass(
+      "segment budget",
+      [&](FrameGraph::Setup& s) {
+        for (GroomPlan& gp : plan.grooms)
+          if (gp.active) s.readWrite(gp.lod);
+        s.readWrite(plan.lodArena);
+        s.kernel("budget_measure").kernel("budget_plan").kernel("budget_apply");
+      },
+      [&] {
+        std::vector<GroomDraw> draws;
+        std::vector<char> active, far;
+        for (const GroomPlan& gp : plan.grooms) {
+          draws.push_back(gp.draw);
+          active.push_back(gp.active);
+          far.push_back(gp.far);
+        }
+        r.frameLod.enqueue(draws, active, far, plan.budget, &r.profiler,
+                           budgetRule(plan.options, plan.view));
+      });
+}
+
+}  // namespace clhair

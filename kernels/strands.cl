@@ -2,7 +2,7 @@
  * SG_SIZE lanes) per strand.
  *
  * Inputs: the groom (ClhGroomGpu), its bundles and hair-mesh vertices, the per-bundle LOD
- * records (ClhLodRecord: N_LOD, C, L, morph gamma) and the offsets of their scan
+ * records (ClhLodRecord: N_LOD, C, widening, morph gamma) and the offsets of their scan
  * (bundle_count + 2 entries: the exclusive scan, then the drawn total at [bundle_count]
  * and the visible total; gpu_types.h has the layout), and the progressive blue-noise
  * root sets.
@@ -207,7 +207,7 @@ static inline bool clh_strand_job(__global const ClhGroomGpu* g, __global const 
   *bundle = b;
   *C = clamp(lod.control_points, 2u, (uint)CLH_MAX_CONTROL_POINTS);
   *gamma = clamp(lod.gamma, 0.0f, 1.0f);
-  *coverage = clh_lod_record_coverage(lod, bundles_g[b].strand_count);
+  *coverage = clh_lod_record_coverage(lod);
   return *local_index < lod.strands;
 }
 

@@ -7,7 +7,7 @@
  * the points (float4: object-space xyz, styling w), the strand offsets (strand s owns
  * points [offsets[s], offsets[s+1])), optional packed root uv (unorm16 u | v << 16), the
  * chunk table (uint4: first strand, strand count, LOD delta bits, 0), and per chunk the LOD
- * record of lod_chunks (ClhLodRecord: N_LOD, C, L, gamma) with the offsets of its scan
+ * record of lod_chunks (ClhLodRecord: N_LOD, C, widening, gamma) with the offsets of its scan
  * (scan_bundles: chunk_count + 2 entries, the drawn total at [chunk_count]; gpu_types.h
  * has the layout).
  *
@@ -118,7 +118,7 @@ static inline bool clh_x_find_job(__global const ClhGroomGpu* g, const clh_x_tab
   job->n = n;
   job->step = step;
   job->M = (n - 1u + step - 1u) / step + 1u;
-  job->coverage = clh_lod_record_coverage(lod, chunk.y);
+  job->coverage = clh_lod_record_coverage(lod);
   job->gamma = gamma;
   clh_child_setup(tb->points, tb->point_count, tb->strand_offsets, tb->strand_count, tb->kids,
                   tb->nbr, s, child, first, n, &job->ch);

@@ -180,6 +180,7 @@ struct RenderFlags {
   std::string views;               // --views: "all" or names; empty: all of the scene's "cameras"
   bool stats = false;              // --stats: strands and segments per groom instance
   std::string segmentBudget;       // --segment-budget; empty: the scene's
+  std::string budgetRule = "screen";  // --budget-rule screen|uniform
   std::string raster;              // --raster lines|coverage; empty: the scene's
   std::string temporal;            // --temporal; empty: the scene's "temporal"
   std::string screenBoxes = "on";  // --screen-boxes on|off (RenderOptions::screenBoxes)
@@ -235,15 +236,31 @@ void printStats(const FrameStats& st) {
       continue;
     }
     ++drawn;
-    std::printf("groom %zu \"%s\": %u strands, %llu segments, %u visible strands%s\n", g.instance,
+    std::printf("groom %zu \"%s\": %u strands, %llu segments, %u visible strands%s", g.instance,
                 g.name.c_str(), g.strands, static_cast<unsigned long long>(g.segments),
                 g.visibleStrands, g.halved ? ", every other control point" : "");
+    if (st.overBudget && st.budgetScreenRule)
+      std::printf(" (asked %u, floor %u, share %u; screen box %.0f px, keep claim %.2f)",
+                  g.requested, g.floor, g.share, g.screenArea, g.keepClaim);
+    std::printf("\n");
   }
   std::printf("total: %zu of %zu grooms drawn, %llu strands, %llu segments", drawn,
               st.grooms.size(), static_cast<unsigned long long>(st.strandsDrawn),
               static_cast<unsigned long long>(st.segmentsPlanned));
   if (st.segmentBudget == 0)
     std::printf(" (no segment budget)\n");
+  else if (st.overBudget && st.budgetScreenRule && !std::isfinite(st.budgetLevel))
+    std::printf(
+        " (budget %llu: the LOD passes asked for %llu; every other control point of the "
+        "far grooms made it fit)\n",
+        static_cast<unsigned long long>(st.segmentBudget),
+        static_cast<unsigned long long>(st.segmentsBeforeBudget));
+  else if (st.overBudget && st.budgetScreenRule)
+    std::printf(
+        " (budget %llu: the LOD passes asked for %llu, shared by screen area: %.3f segments "
+        "per pixel of screen box)\n",
+        static_cast<unsigned long long>(st.segmentBudget),
+        static_cast<unsigned long long>(st.segmentsBeforeBudget), st.budgetLevel);
   else if (st.overBudget)
     std::printf(" (budget %llu: the LOD passes asked for %llu, strands scaled by %.4f)\n",
                 static_cast<unsigned long long>(st.segmentBudget),
@@ -484,6 +501,9 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     throw Error("--filter must be on, off, auto, lipp or huang, not \"" + f.filter + "\"");
   }
   if (!f.segmentBudget.empty()) ro.segmentBudget = parseSegmentBudget(f.segmentBudget);
+  if (f.budgetRule != "screen" && f.budgetRule != "uniform")
+    throw Error("--budget-rule must be screen or uniform, not \"" + f.budgetRule + "\"");
+  ro.budgetRule = f.budgetRule == "screen" ? 1 : 0;
   if (f.screenBoxes != "on" && f.screenBoxes != "off")
     throw Error("--screen-boxes must be on or off, not \"" + f.screenBoxes + "\"");
   ro.screenBoxes = f.screenBoxes == "on";
@@ -1177,6 +1197,9 @@ int main(int argc, char** argv) {
                      "off; DESIGN.md)");
   render->add_option("--segment-budget", rf.segmentBudget,
                      "most segments of all grooms per frame (0: none; default: the scene's)");
+  render->add_option("--budget-rule", rf.budgetRule,
+                     "how the segment budget is shared: screen (default: each groom by its "
+                     "screen area) or uniform (one factor for every groom)");
   render->add_option("--screen-boxes", rf.screenBoxes,
                      "run each groom's G-buffer clear, hair linking, Huang's filter and its "
                      "compositing over the groom's screen box: on (default) or off (the whole "

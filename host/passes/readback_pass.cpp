@@ -92,9 +92,10 @@ void addReadBackPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingF
   for (const GroomPlan& gp : plan.grooms)
     drawn.push_back({gp.draw.instance->name, gp.active != 0, gp.huang && !plan.options.rasterOnly,
                      gp.active != 0 && gp.points});
+  const bool screenRule = plan.options.budgetRule != 0;
   out.finishers.insert(
       out.finishers.begin(),
-      [drawn, budget = plan.budget,
+      [drawn, budget = plan.budget, screenRule,
        at = Offsets{plan.budgetAt, plan.linkAt, plan.pointsAt, plan.shadowAt, plan.rasterStatsAt},
        D, shadowWords](PendingFrame& p) {
         FrameStats& st = p.frames[0].stats;
@@ -106,6 +107,8 @@ void addReadBackPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingF
         st.segmentBudget = budget;
         st.overBudget = lod.over;
         st.budgetScale = lod.scale;
+        st.budgetScreenRule = screenRule;
+        st.budgetLevel = lod.level;
         st.segmentsBeforeBudget = lod.lodSegments;
         for (std::size_t k = 0; k < D; ++k) {
           GroomDrawStats g;
@@ -117,6 +120,11 @@ void addReadBackPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingF
             g.segments = lod.draw[4 * k + 1];
             g.visibleStrands = lod.draw[4 * k + 2];
             g.halved = (lod.draw[4 * k + 3] & CLH_BUDGET_HALVED) != 0;
+            g.requested = lod.plan[k].request;
+            g.floor = lod.plan[k].floor;
+            g.share = lod.plan[k].share;
+            g.screenArea = lod.plan[k].area;
+            g.keepClaim = lod.plan[k].claim * lod.claims;
           }
           st.strandsDrawn += g.strands;
           st.segmentsPlanned += g.segments;

@@ -222,11 +222,12 @@ std::set<std::string> anchorsOf(const fs::path& markdown) {
 std::vector<std::string> linkTargets(const std::string& text) {
   static const std::regex inline_link(R"(\]\(\s*<?([^)\s>]+)>?(?:\s+"[^"]*")?\s*\))");
   static const std::regex definition(R"((?:^|\n)\s{0,3}\[[^\]]+\]:\s*<?([^\s>]+))");
-  static const std::regex html(R"((?:src|href)\s*=\s*"([^"]+)")");
+  static const std::regex html(R"re((?:src|href)\s*=\s*"([^"]+)")re");
   const std::string t = withoutCode(text);
   std::vector<std::string> out;
   for (const std::regex* re : {&inline_link, &definition, &html})
-    for (auto it = std::sregex_iterator(t.begin(), t.end(), *re); it != std::sregex_iterator(); ++it)
+    for (auto it = std::sregex_iterator(t.begin(), t.end(), *re); it != std::sregex_iterator();
+         ++it)
       out.push_back((*it)[1]);
   return out;
 }

@@ -31,10 +31,15 @@
 //             --view-pairs interleaved pairs each, with every pair's ratio and a per-stage split;
 //             the cost of the motion layer; the warped-mask IoU of the motion vectors
 //             (clhair::motionWarpIoU) on the wind shot and on a slow turntable.
-//   crowd     assets/scenes/crowd.json (100 groom instances): frame time with LOD off, with
-//             LOD, with LOD and the segment budget, and the single default groom at close,
-//             interleaved; strands and segments per groom; a 60-frame camera dolly with the
-//             segments drawn checked against the budget in every frame.
+//   crowd     assets/scenes/crowd.json (100 groom instances, bench/crowd.cpp): at 960x540
+//             and 1920x1080, frame time and FLIP against the full render (LOD off) of LOD
+//             alone and of budgets 1-8 M under the uniform and the screen rule; thinning
+//             variants; segments per groom; a 60-frame dolly's popping against LOD alone
+//             and its segments against the budget; the single default groom at close.
+//   lodfar    the default scene far at the quality size, maps rebuilt every frame: strand and
+//             shadow stages with LOD off, with LOD (lights' passes capped by the camera's),
+//             the light's view alone and full-detail maps; dispatch sizing; the shadowed
+//             pixels' FLIP between them (bench/lod_far.h).
 //   throughput a shot written frame after frame as PNG and as EXR (bench/throughput.h):
 //             frames per second, per frame wall, device time, host CPU and host waits; frames in
 //             flight against one at a time; single stills per process and in-process.
@@ -66,14 +71,17 @@
 #include "cl/device_impl.h"
 #include "cl/dispatch.h"
 #include "clhair/aov.h"
+#include "clhair/progressive.h"
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
 #include "clhair/strand_groom.h"
 #include "clhair/temporal.h"
+#include "crowd.h"
 #include "groom/cpu_raster.h"
 #include "groom/explicit_data.h"
 #include "io/cyhair.h"
 #include "io/tressfx.h"
+#include "lod_far.h"
 #include "metrics/image_metrics.h"
 #include "throughput.h"
 
@@ -154,8 +162,6 @@ std::string fmt(double v, int digits = 2) {
   std::snprintf(b, sizeof(b), "%.*f", digits, v);
   return b;
 }
-
-json statsJson(const Stats& s) { return {{"median", s.median}, {"min", s.min}, {"max", s.max}}; }
 
 json measuredJson(const Measured& m) {
   json j;
@@ -248,7 +254,7 @@ int main(int argc, char** argv) {
   app.add_option(
       "--only", only,
       "one section: table1, dispatch, scaling, atomics, quality, temporal, explicit, children, "
-      "mesh, crowd, floor, sequences, throughput");
+      "mesh, crowd, floor, sequences, lodfar, throughput");
   app.add_option("--runs", runs,
                  "timed runs per configuration (median reported); the quality section takes 0 "
                  "for the times of the one frame it compares");
@@ -267,9 +273,10 @@ int main(int argc, char** argv) {
                  "quality section: 1 (groom1, default), 2 (groom2) or both");
   app.add_option("--quality-height", qualityHeight, "quality and temporal sections: height");
   app.add_option("--ref-cache", refCache,
-                 "quality section: keep each reference as EXR in this folder and read it back "
-                 "when it is there (for runs of one revision: the file names carry groom, "
-                 "distance, size, method and spp, not the code)");
+                 "quality and crowd sections: keep each reference as EXR in this folder and read "
+                 "it back when it is there (for runs of one revision: the file names carry "
+                 "groom, distance, size, method and spp, not the code; the crowd's full "
+                 "renders and LOD-only dolly frames keep their wall time beside them)");
   app.add_option("--quality-distances", qualityDistances,
                  "quality section: the distances to run (comma-separated: close, mid, far)");
   app.add_option("--quality-lights", qualityLights,
@@ -573,6 +580,10 @@ int main(int argc, char** argv) {
         // segment budget: -1 the scene's (2 M segments by default), 0 none; with LOD a
         // groom over the budget keeps fewer, wider strands (docs/scene-format.md)
         std::int64_t budget = -1;
+        int points = 0;   // 1: shaded once per visible strand point (RenderOptions::pointShading)
+        int quality = 0;  // RenderOptions::quality: 0 draft (the fields above), 1 good, 2 final
+        int finalPasses = 0;  // final: passes (the first N of one progressive run per cell)
+        int finalPath = -1;   // final: RenderOptions::finalPath
       };
       const Config configs[] = {{"SWR1", 1, 0, 0, true, 0},
                                 {"SWR1+F", 1, 1, 0, true, 0},
@@ -589,6 +600,16 @@ int main(int argc, char** argv) {
                                 {"SWR MSAA 2", 2, 0, 0, true, 0},
                                 {"SWR MSAA 4", 4, 0, 0, true, 0},
                                 {"SWR MSAA 8", 8, 0, 0, true, 0},
+                                {"SWR MSAA 4 per point", 4, 0, 0, true, 0, 0, 0, -1, 1},
+                                {"SWR MSAA 8 per point", 8, 0, 0, true, 0, 0, 0, -1, 1},
+                                {"SWR1 per point", 1, 0, 0, true, 0, 0, 0, -1, 1},
+                                {"good", 1, 0, 0, true, 0, 0, 0, -1, 0, 1},
+                                {"final 4", 1, 0, 0, true, 0, 0, 0, -1, 0, 2, 4},
+                                {"final 16", 1, 0, 0, true, 0, 0, 0, -1, 0, 2, 16},
+                                {"final 64", 1, 0, 0, true, 0, 0, 0, -1, 0, 2, 64},
+                                {"final SWR1 4", 1, 0, 0, true, 0, 0, 0, -1, 0, 2, 4, 0},
+                                {"final SWR1 16", 1, 0, 0, true, 0, 0, 0, -1, 0, 2, 16, 0},
+                                {"final SWR1 64", 1, 0, 0, true, 0, 0, 0, -1, 0, 2, 64, 0},
                                 {"SWR coverage", 1, 0, 0, true, 0, 0, 1}};
       auto splitList = [](const std::string& list) {
         std::set<std::string> items;
@@ -732,6 +753,9 @@ int main(int argc, char** argv) {
           writeImage(ref.color, refPath);
           // the scene without hair: the hair's pixels are where the reference differs from it
           writeImage(background.color, out + "/quality/" + gtag + distNames[d] + "_background.png");
+          // quality final: one progressive run per pass path and cell, whose first N passes
+          // give the row of N passes (the rows of fewer passes are its prefixes)
+          std::map<int, std::unique_ptr<ProgressiveStill>> finals;
           for (const Config& c : configs) {
             if (!chosen.empty() && !chosen.count(c.name)) continue;
             RenderOptions o;
@@ -741,12 +765,24 @@ int main(int argc, char** argv) {
             o.lodAggregate = c.lodAggregate;
             o.raster = c.raster;
             o.segmentBudget = c.budget;
+            o.pointShading = c.points;
+            o.quality = c.quality;
+            o.finalPath = c.finalPath;
             Scene sc = s;
             useFilter(sc, c.huang, c.promote);
-            Frame f = b.renderer.render(sc, o);
-            // --runs 0 (quick tuning runs): the times of this one frame
+            Frame f;
+            if (c.finalPasses > 0) {
+              std::unique_ptr<ProgressiveStill>& acc = finals[c.finalPath];
+              if (!acc) acc = std::make_unique<ProgressiveStill>(b.renderer, s, o);
+              acc->add(acc->passes(), std::max(c.finalPasses - acc->passes(), 0));
+              f = acc->frame();
+            } else {
+              f = b.renderer.render(sc, o);
+            }
+            // --runs 0 (quick tuning runs): the times of this one frame; final: the sum of
+            // its passes' times
             Measured m;
-            if (runs > 0) {
+            if (runs > 0 && c.finalPasses == 0) {
               m = b.measure(sc, o, false);
             } else {
               for (const StageTime& t : f.timings) m.stages[t.stage] = summarize({t.ms});
@@ -788,7 +824,7 @@ int main(int argc, char** argv) {
                          ltag.c_str(), groomNames[g], c.name, distNames[d], flipHair, psnrHair,
                          cmp.flip.mean, m.total.median, filterMs);
             if (!maps && g == 0 && d == 1 && c.msaa == 1 && c.filter == 0 && c.lod == 0 &&
-                c.raster == 0) {
+                c.raster == 0 && c.quality == 0 && c.points == 0) {
               // SWR1 at mid against the other reference too, over the same hair pixels
               Frame other;
               const double otherMs = wallMs([&] { other = reference(s, g, d, otherMethod, ltag); });
@@ -823,6 +859,7 @@ int main(int argc, char** argv) {
         md << refMd.str();
       }
       report["quality"] = q;
+      report["quality_size"] = std::to_string(qw) + "x" + std::to_string(qh);
       md << "\nImages: `" << out << "/quality/`.\n";
     }
 
@@ -842,11 +879,13 @@ int main(int argc, char** argv) {
       struct Config {
         const char* name;
         int msaa, filter;
-        int history;    // temporal reprojection: frames of history, 0 off
-        bool protect;   // the depth rule and the neighbourhood clamp
-        int huang = 0;  // 0: Lipp's filter; else Huang's: 1 linking, 2 + alpha fix, 3 + filter
+        int history;      // temporal reprojection: frames of history, 0 off
+        bool protect;     // the depth rule and the neighbourhood clamp
+        int huang = 0;    // 0: Lipp's filter; else Huang's: 1 linking, 2 + alpha fix, 3 + filter
+        int quality = 0;  // RenderOptions::quality (1: good)
       };
       const Config configs[] = {{"SWR1", 1, 0, 0, true},
+                                {"good", 1, 0, 0, true, 0, 1},
                                 {"SWR1+F", 1, 1, 0, true},
                                 {"SWR1+H linking", 1, 1, 0, true, 1},
                                 {"SWR1+H linking+alpha fix", 1, 1, 0, true, 2},
@@ -899,6 +938,7 @@ int main(int argc, char** argv) {
         o.filter = c.filter;
         o.lod = 0;
         o.temporal = c.history;
+        o.quality = c.quality;
         return o;
       };
       auto protectedScene = [](Scene s, const Config& c) {
@@ -1187,126 +1227,40 @@ int main(int argc, char** argv) {
     }
 
     if (only.empty() || only == "crowd") {
-      // Kulikov 2025: many grooms at a fixed cost. The crowd at its own resolution (640x360
-      // with --quick); LOD off is rendered once (it is by far the slowest), the others
-      // `runs` times, all interleaved so a load change on the machine hits every variant.
-      Scene crowd = loadScene(std::string(CLHAIR_SOURCE_DIR) + "/assets/scenes/crowd.json",
-                              dev.info().maxAlloc);
-      if (quick) {
-        crowd.width = 640;
-        crowd.height = 360;
+      // Kulikov 2025: many grooms at a fixed cost (bench/crowd.cpp), then the crowd's cost
+      // against the single default groom at close at the crowd's first size
+      bench::CrowdOptions co;
+      co.runs = runs;
+      co.warmup = warmup;
+      co.quick = quick;
+      co.pairs = quick ? 3 : 9;
+      co.refCache = refCache;
+      co.out = out;
+      co.maxAlloc = dev.info().maxAlloc;
+      bench::crowdSection(b.renderer, co, md, report);
+      const int cw = quick ? 480 : 960, ch = quick ? 270 : 540;
+      Scene single = framed(scenes[0], CameraPreset::Close, cw, ch);
+      RenderOptions so;
+      so.lod = -1;
+      so.segmentBudget = 0;
+      std::vector<double> wall;
+      for (int i = 0; i < warmup; ++i) b.renderer.render(single, so);
+      for (int r = 0; r < runs; ++r) {
+        const auto t0 = std::chrono::steady_clock::now();
+        b.renderer.render(single, so);
+        wall.push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                .count());
       }
-      const std::uint64_t budget = crowd.segmentBudget;
-      Scene single = framed(scenes[0], CameraPreset::Close, crowd.width, crowd.height);
-      struct Variant {
-        const char* name;
-        const Scene* scene;
-        int lod;
-        std::int64_t budget;
-        int runs;
-        std::vector<double> wall, device;
-        FrameStats stats;
-      };
-      std::vector<Variant> vs = {
-          {"crowd, LOD off", &crowd, 0, 0, 1, {}, {}, {}},
-          {"crowd, LOD", &crowd, 1, 0, runs, {}, {}, {}},
-          {"crowd, LOD + budget", &crowd, 1, static_cast<std::int64_t>(budget), runs, {}, {}, {}},
-          {"single default groom, close (no budget)", &single, -1, 0, runs, {}, {}, {}}};
-      for (Variant& v : vs) {  // warm-up: uploads and compiles (LOD off shares the grooms)
-        if (v.lod == 0) continue;
-        RenderOptions o;
-        o.lod = v.lod;
-        o.segmentBudget = v.budget;
-        for (int i = 0; i < warmup; ++i) b.renderer.render(*v.scene, o);
-      }
-      for (int r = 0; r < runs; ++r)
-        for (Variant& v : vs) {
-          if (r >= v.runs) continue;
-          RenderOptions o;
-          o.lod = v.lod;
-          o.segmentBudget = v.budget;
-          const auto t0 = std::chrono::steady_clock::now();
-          Frame f = b.renderer.render(*v.scene, o);
-          v.wall.push_back(
-              std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                  .count());
-          v.device.push_back(f.totalMs());
-          v.stats = f.stats;
-          std::fprintf(stderr, "crowd: %s: %.1f ms wall, %llu segments\n", v.name, v.wall.back(),
-                       static_cast<unsigned long long>(f.stats.segmentsPlanned));
-        }
-      md << "\n## Crowd (assets/scenes/crowd.json, " << crowd.grooms.size() << " groom instances, "
-         << crowd.width << "x" << crowd.height << ", segment budget " << budget
-         << ")\n\n| variant | wall ms | device ms | strands | segments |\n"
-         << "|---|---|---|---|---|\n";
-      for (Variant& v : vs) {
-        const Stats w = summarize(v.wall), d = summarize(v.device);
-        md << "| " << v.name << " | " << fmt(w.median) << " | " << fmt(d.median) << " | "
-           << v.stats.strandsDrawn << " | " << v.stats.segmentsPlanned << " |\n";
-        report["crowd"]["variants"][v.name] = {{"wall", statsJson(w)},
-                                               {"device", statsJson(d)},
-                                               {"strands", v.stats.strandsDrawn},
-                                               {"segments", v.stats.segmentsPlanned}};
-      }
-      const double off = summarize(vs[0].wall).median, lod = summarize(vs[1].wall).median,
-                   budgeted = summarize(vs[2].wall).median, one = summarize(vs[3].wall).median;
-      const double speedup = off / budgeted, vsSingle = budgeted / one;
-      md << "\nLOD + budget vs LOD off: " << fmt(speedup)
-         << "x faster (target >= 10x: " << (speedup >= 10.0 ? "met" : "not met") << "); LOD alone "
-         << fmt(off / lod) << "x. LOD + budget costs " << fmt(vsSingle)
-         << "x the single default groom at close (target <= 2x: "
-         << (vsSingle <= 2.0 ? "met" : "not met") << "). Wall-clock medians.\n";
-      report["crowd"]["speedup_vs_lod_off"] = speedup;
-      report["crowd"]["cost_vs_single_close"] = vsSingle;
-      md << "\nPer groom, LOD + budget (strands / segments; h: every other control point):\n\n"
-         << "| groom | strands | segments | groom | strands | segments |\n"
-         << "|---|---|---|---|---|---|\n";
-      const std::vector<GroomDrawStats>& gs = vs[2].stats.grooms;
-      const std::size_t half = (gs.size() + 1) / 2;
-      for (std::size_t i = 0; i < half; ++i) {
-        for (std::size_t j : {i, i + half}) {
-          if (j >= gs.size()) {
-            md << "| | | ";
-            continue;
-          }
-          const GroomDrawStats& g = gs[j];
-          md << "| " << g.name << (g.halved ? " (h)" : "") << " | " << g.strands << " | "
-             << g.segments << " ";
-          report["crowd"]["grooms"].push_back({{"name", g.name},
-                                               {"strands", g.strands},
-                                               {"segments", g.segments},
-                                               {"halved", g.halved}});
-        }
-        md << "|\n";
-      }
-      // a 60-frame dolly from the scene's camera toward its target: the segments the LOD
-      // records schedule and the segments the raster counted, against the budget
-      const Camera start = crowd.camera;
-      const glm::vec3 dir = glm::normalize(start.target - start.position);
-      std::uint64_t worstPlanned = 0, worstRaster = 0;
-      int over = 0;
-      for (int frame = 0; frame < 60; ++frame) {
-        Scene s = crowd;
-        s.camera.position = start.position + dir * (6.0f * static_cast<float>(frame) / 59.0f);
-        RenderOptions o;
-        o.lod = 1;
-        o.rasterStats = true;
-        o.rasterOnly = true;
-        const FrameStats st = b.renderer.render(s, o).stats;
-        worstPlanned = std::max(worstPlanned, st.segmentsPlanned);
-        worstRaster = std::max(worstRaster, st.segmentsDrawn);
-        if (st.segmentsPlanned > budget || st.segmentsDrawn > budget) ++over;
-      }
-      md << "\n60-frame dolly (6 m toward the target, LOD + budget): at most " << worstPlanned
-         << " segments scheduled and " << worstRaster
-         << " counted by the raster in a frame; frames over the budget: " << over
-         << " (target 0: " << (over == 0 ? "met" : "not met") << ").\n";
-      report["crowd"]["dolly"] = {{"frames", 60},
-                                  {"max_segments_scheduled", worstPlanned},
-                                  {"max_segments_rastered", worstRaster},
-                                  {"frames_over_budget", over}};
-      std::fprintf(stderr, "crowd: %.1fx vs LOD off, %.2fx the single groom, dolly over: %d\n",
-                   speedup, vsSingle, over);
+      const double one = summarize(wall).median;
+      const std::string tag = std::to_string(cw) + "x" + std::to_string(ch);
+      const double crowdMs =
+          report["crowd"]["sizes"][tag]["budgets"]["2000000"]["screen"]["wall_ms"].get<double>();
+      md << "\nThe single default groom at close (" << tag << ", no budget): " << fmt(one, 0)
+         << " ms; the crowd under the screen rule at 2 M costs " << fmt(crowdMs / one)
+         << "x it (target <= 2x: " << (crowdMs / one <= 2.0 ? "met" : "not met") << ").\n";
+      report["crowd"]["single_close_ms"] = one;
+      report["crowd"]["cost_vs_single_close"] = crowdMs / one;
     }
 
     if (only.empty() || only == "mesh") {
@@ -1864,6 +1818,16 @@ int main(int argc, char** argv) {
       report["sequences"]["plain_frame_ms"] = plainMs;
       std::fprintf(stderr, "sequences IoU: turntable %.3f (%.3f), wind %.3f (%.3f)\n", turnIoU,
                    turnStill, windIoU, windStill);
+    }
+
+    if (only.empty() || only == "lodfar") {
+      bench::LodFarOptions lf;
+      lf.scene = std::string(CLHAIR_SOURCE_DIR) + "/assets/scenes/default.json";
+      lf.width = quick ? 320 : qualityWidth;
+      lf.height = quick ? 180 : qualityHeight;
+      lf.runs = std::max(runs, 1);
+      lf.warmup = warmup;
+      bench::lodFarSection(b.renderer, lf, md, report);
     }
 
     if (only.empty() || only == "throughput") {

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 
+#include "clhair/progressive.h"
 #include "passes/passes.h"
 
 namespace clhair {
@@ -27,11 +28,17 @@ Renderer::~Renderer() {
 const Device& Renderer::device() const { return impl_->device; }
 
 Frame Renderer::render(const Scene& s, const RenderOptions& options) {
-  return wait(submit(s, options));
+  if (qualityLevel(s, options) != Quality::Final) return wait(submit(s, options));
+  ProgressiveStill still(*this, s, options);  // quality final: jittered passes
+  still.add(0, finalPasses(s, options));
+  return still.frame();
 }
 
 FrameTicket Renderer::submit(const Scene& s, const RenderOptions& options) {
-  return impl_->enqueue(impl_->submitFrame(s, options, nullptr));
+  if (qualityLevel(s, options) == Quality::Final)
+    throw Error("quality final accumulates passes: render() renders it, submit() does not");
+  const RenderOptions o = qualityOptions(s, options);
+  return impl_->enqueue(impl_->submitFrame(s, o, nullptr));
 }
 
 Frame Renderer::wait(FrameTicket ticket) { return std::move(impl_->waitFor(ticket).at(0)); }
@@ -50,7 +57,9 @@ FrameTicket Renderer::submitViews(const Scene& s, const std::vector<Camera>& cam
     if (!cameras.empty()) one.camera = cameras[0];
     return submit(one, options);
   }
-  return impl_->enqueue(impl_->submitViews(s, cameras, options));
+  if (qualityLevel(s, options) == Quality::Final)
+    throw Error("quality final renders one view at a time");
+  return impl_->enqueue(impl_->submitViews(s, cameras, qualityOptions(s, options)));
 }
 
 std::vector<Frame> Renderer::waitViews(FrameTicket ticket) { return impl_->waitFor(ticket); }
@@ -134,7 +143,7 @@ std::unique_ptr<PendingFrame> Renderer::Impl::submitFrame(const Scene& s,
   int layers = options.msaa + 1;  // allocated once, before any groom is drawn
   for (const GroomPlan& gp : plan.grooms) layers = std::max(layers, gp.layers);
   target.useLayers(layers);
-  plan.shadowsRebuilt = shadows.needsRebuild(s, options, plan.lodCorrection);
+  plan.shadowsRebuilt = shadows.needsRebuild(s, options, plan.lodCorrection, &draws);
   layoutStats(plan, 1, plan.shadowsRebuilt ? draws.size() : shadows.totalSlots());
   statsBuffer(plan.stats.words);
 
@@ -152,7 +161,7 @@ std::unique_ptr<PendingFrame> Renderer::Impl::submitFrame(const Scene& s,
     if (options.captureGBuffer && gp.index == plan.lastDrawn)
       addCapturePass(g, *this, plan, gp, *p);
     if (options.rasterOnly) continue;
-    addShadePass(g, *this, plan, gp);
+    gp.points ? addPointShadePass(g, *this, plan, gp) : addShadePass(g, *this, plan, gp);
     if (gp.filtered) addFilterPass(g, *this, plan, gp);
     addCompositePass(g, *this, plan, gp);
     if (plan.aovs) addAovGroomPass(g, *this, plan, gp);
@@ -171,7 +180,7 @@ std::unique_ptr<PendingFrame> Renderer::Impl::submitViews(const Scene& s,
   std::vector<GroomDraw> draws;
   std::unique_ptr<PendingFrame> p = begin(*this, plan, cameras.size(), draws);
   planViews(plan, draws, resolveMode(options.dispatch));
-  plan.shadowsRebuilt = shadows.needsRebuild(s, options, plan.lodCorrection);
+  plan.shadowsRebuilt = shadows.needsRebuild(s, options, plan.lodCorrection, nullptr);
   layoutStats(plan, cameras.size(), plan.shadowsRebuilt ? draws.size() : shadows.totalSlots());
   statsBuffer(plan.stats.words);
   for (const GroomPlan& gp : plan.grooms)

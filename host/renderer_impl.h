@@ -28,6 +28,7 @@
 #include "stages/composite_stage.h"
 #include "stages/filter_stage.h"
 #include "stages/link_stage.h"
+#include "stages/point_stage.h"
 #include "stages/shade_stage.h"
 
 namespace clhair {
@@ -58,6 +59,7 @@ struct Renderer::Impl {
   GroomStages stages;
   GroomCache grooms;
   ShadeStage shade;
+  PointStage points;
   FilterStage filter;
   LinkStage link;
   CompositeStage composite;
@@ -88,6 +90,7 @@ struct Renderer::Impl {
         stages{dev, lod, strands, explicitStrands, ao, roots},
         grooms(stages),
         shade(dev),
+        points(dev),
         filter(dev),
         link(dev),
         composite(dev),

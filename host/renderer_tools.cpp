@@ -200,6 +200,8 @@ Frame Renderer::renderReference(const Scene& s, const ReferenceOptions& ro) {
   if (spp < 1 || spp > 65536)
     throw Error("reference: --spp " + std::to_string(spp) + " is outside 1..65536");
   RenderOptions o;
+  o.quality = 0;  // one sample per pixel per pass, shaded per sample, whatever the scene says
+  o.pointShading = 0;
   o.lod = 0;
   o.msaa = 1;
   o.filter = 0;

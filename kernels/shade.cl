@@ -89,15 +89,13 @@ static inline void shade_material(__global const ClhGroomGpu* g, float u, float 
   m->eta = g->bsdf[3];
 }
 
-static inline clh_v3 shade_word(__global const ClhGroomGpu* groom_g,
-                                __global const ClhViewGpu* view_g,
-                                __global const ClhSceneGpu* scene_g,
-                                __global const ClhLightGpu* lights_g, const shade_inputs* in,
-                                ulong word, float px, float py) {
-  const float z = clh_depth_decode(clh_gbuf_depth(word), groom_g->depth_near, groom_g->depth_far);
-  const clh_v3 pv =
-      clh_v3_make((px - view_g->cx) / view_g->fx * z, -(py - view_g->cy) / view_g->fy * z, z);
-  const clh_v3 pos = clh_v3_xform_point(view_g->view_to_world, pv);
+/* The radiance toward the eye of the fibre at world position `pos` whose shading inputs
+ * (tangent, u, v, w, AO) are those of G-buffer word `word` (its depth bits are not read). */
+static inline clh_v3 shade_at(__global const ClhGroomGpu* groom_g,
+                              __global const ClhViewGpu* view_g,
+                              __global const ClhSceneGpu* scene_g,
+                              __global const ClhLightGpu* lights_g, const shade_inputs* in,
+                              ulong word, clh_v3 pos) {
   float tv[3];
   clh_oct_decode(clh_gbuf_oct(word), tv);
   const clh_v3 T = clh_v3_make(tv[0], tv[1], tv[2]);
@@ -196,63 +194,96 @@ static inline clh_v3 shade_word(__global const ClhGroomGpu* groom_g,
   return out;
 }
 
-__kernel void shade_deferred(
-    __global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
-    __global const ClhSceneGpu* scene_g, __global const ClhLightGpu* lights_g,
-    __global const ClhShadowGpu* shadows_g, __global const float* shadow_opaque_g,
-    __global const float* shadow_hair_g, __global const uint* shadow_opacity_g,
-    __global const float4* env_texels_g, __global const ClhEnvLevel* env_levels_g,
-    __global const float* env_sh_g, __global const ClhVisibilityGpu* vis_g,
-    __global const float4* vis_sh_g, __global const ulong* gbuf_g, __global const uint* offsets_g,
-    __global float4* hair_g) {
+/* shade_at for a sample word of pixel position (px, py): the position is rebuilt from the
+ * pixel and the word's depth. */
+static inline clh_v3 shade_word(__global const ClhGroomGpu* groom_g,
+                                __global const ClhViewGpu* view_g,
+                                __global const ClhSceneGpu* scene_g,
+                                __global const ClhLightGpu* lights_g, const shade_inputs* in,
+                                ulong word, float px, float py) {
+  const float z = clh_depth_decode(clh_gbuf_depth(word), groom_g->depth_near, groom_g->depth_far);
+  const clh_v3 pv =
+      clh_v3_make((px - view_g->cx) / view_g->fx * z, -(py - view_g->cy) / view_g->fy * z, z);
+  return shade_at(groom_g, view_g, scene_g, lights_g, in, word,
+                  clh_v3_xform_point(view_g->view_to_world, pv));
+}
+
+/* The LOD terms of shade_inputs for a fibre at view depth z (z > 0), or for none (z <= 0:
+ * full detail). Lipp Eq. 8 with beta the share of the hair's coverage this frame kept: the
+ * fraction of the visible bundles' strands the LOD pass drew, times the widening that
+ * compensated it (N / N_LOD, bounded by the widest hit band) at that depth. */
+static inline void shade_lod(shade_inputs* in, __global const ClhGroomGpu* groom_g,
+                             __global const ClhViewGpu* view_g,
+                             __global const ClhVisibilityGpu* vis_g, __global const uint* offsets_g,
+                             float z) {
+  in->lod_shift = 0.0f;
+  in->vis_scale = 1.0f;
+  in->cluster_k = 1.0f;
+  in->cluster_w = 1.0f;
+  in->cluster_t = 1.0f;
+  const uint nb = groom_g->bundle_count;
+  const float drawn = nb > 0u ? (float)offsets_g[clh_lod_drawn_total_at(nb)] : 0.0f;
+  const float visible = nb > 0u ? (float)offsets_g[clh_lod_visible_total_at(nb)] : 0.0f;
+  const float beta = visible > 0.0f ? drawn / visible : 1.0f;
+  if (!(beta > 0.0f && beta < 1.0f && z > 0.0f)) return;
+  const float width_px = fmax(view_g->fy * groom_g->strand_width / z, groom_g->hit_diameter_px);
+  const float widen = fmin(1.0f / beta, CLH_MAX_HIT_DIAMETER / fmax(width_px, 1e-6f));
+  const float kept = fmin(beta * fmax(widen, 1.0f), 1.0f);
+  if (groom_g->shadow_lod_correction != 0u) in->lod_shift = -0.693147181f * clh_fast_log2(kept);
+  /* the bake counted every fibre; the fibres this pass left out and its widening did not
+   * make up for no longer scatter (Kulikov's "ghosts"): fewer events in proportion */
+  in->vis_scale = kept;
+  if (vis_g->lod_aggregate != 0u) {
+    /* the k fibres cover the drawn width w side by side only when they lie k / w deep:
+     * the cluster is as deep as the widening leaves its fibres (rho = 1) */
+    in->cluster_k = 1.0f / beta;
+    in->cluster_w = fmax(widen, 1.0f);
+    in->cluster_t = fmax(in->cluster_k / in->cluster_w, 1.0f);
+  }
+}
+
+/* The lighting inputs every shading kernel binds the same way. */
+#define SHADE_PARAMS                                                                 \
+  __global const ClhGroomGpu *groom_g, __global const ClhViewGpu *view_g,            \
+      __global const ClhSceneGpu *scene_g, __global const ClhLightGpu *lights_g,     \
+      __global const ClhShadowGpu *shadows_g, __global const float *shadow_opaque_g, \
+      __global const float *shadow_hair_g, __global const uint *shadow_opacity_g,    \
+      __global const float4 *env_texels_g, __global const ClhEnvLevel *env_levels_g, \
+      __global const float *env_sh_g, __global const ClhVisibilityGpu *vis_g,        \
+      __global const float4 *vis_sh_g
+
+#define SHADE_INPUTS(in)         \
+  shade_inputs in;               \
+  in.params = shadows_g;         \
+  in.opaque = shadow_opaque_g;   \
+  in.hair = shadow_hair_g;       \
+  in.opacity = shadow_opacity_g; \
+  in.env_texels = env_texels_g;  \
+  in.env_levels = env_levels_g;  \
+  in.env_sh = env_sh_g;          \
+  in.vis = vis_g;                \
+  in.vis_sh = vis_sh_g
+
+__kernel void shade_deferred(SHADE_PARAMS, __global const ulong* gbuf_g,
+                             __global const uint* offsets_g, __global float4* hair_g) {
   const uint x = (uint)get_global_id(0), y = (uint)get_global_id(1);
   const uint width = view_g->width, height = view_g->height;
   if (x >= width || y >= height) return;
   const size_t idx = (size_t)y * width + x;
   const size_t plane = (size_t)width * height;
-  shade_inputs in;
-  in.params = shadows_g;
-  in.opaque = shadow_opaque_g;
-  in.hair = shadow_hair_g;
-  in.opacity = shadow_opacity_g;
-  in.env_texels = env_texels_g;
-  in.env_levels = env_levels_g;
-  in.env_sh = env_sh_g;
-  in.vis = vis_g;
-  in.vis_sh = vis_sh_g;
+  SHADE_INPUTS(in);
+  /* the LOD terms at this pixel's depth (its first sample's) */
+  const ulong w0 = gbuf_g[idx];
+  shade_lod(&in, groom_g, view_g, vis_g, offsets_g,
+            w0 != CLH_GBUF_EMPTY
+                ? clh_depth_decode(clh_gbuf_depth(w0), groom_g->depth_near, groom_g->depth_far)
+                : 0.0f);
 
-  /* Lipp Eq. 8 with beta the share of the hair's coverage this frame kept: the fraction
-   * of the visible bundles' strands the LOD pass drew, times the widening that
-   * compensated it (N / N_LOD, bounded by the widest hit band) at this pixel's depth */
-  in.lod_shift = 0.0f;
-  in.vis_scale = 1.0f;
-  in.cluster_k = 1.0f;
-  in.cluster_w = 1.0f;
-  in.cluster_t = 1.0f;
+#if CLH_RASTER_COVER
   const uint nb = groom_g->bundle_count;
   const float drawn = nb > 0u ? (float)offsets_g[clh_lod_drawn_total_at(nb)] : 0.0f;
   const float visible = nb > 0u ? (float)offsets_g[clh_lod_visible_total_at(nb)] : 0.0f;
   const float beta = visible > 0.0f ? drawn / visible : 1.0f;
-  const ulong w0 = gbuf_g[idx];
-  if (beta > 0.0f && beta < 1.0f && w0 != CLH_GBUF_EMPTY) {
-    const float z = clh_depth_decode(clh_gbuf_depth(w0), groom_g->depth_near, groom_g->depth_far);
-    const float width_px = fmax(view_g->fy * groom_g->strand_width / z, groom_g->hit_diameter_px);
-    const float widen = fmin(1.0f / beta, CLH_MAX_HIT_DIAMETER / fmax(width_px, 1e-6f));
-    const float kept = fmin(beta * fmax(widen, 1.0f), 1.0f);
-    if (groom_g->shadow_lod_correction != 0u) in.lod_shift = -0.693147181f * clh_fast_log2(kept);
-    /* the bake counted every fibre; the fibres this pass left out and its widening did not
-     * make up for no longer scatter (Kulikov's "ghosts"): fewer events in proportion */
-    in.vis_scale = kept;
-    if (vis_g->lod_aggregate != 0u) {
-      /* the k fibres cover the drawn width w side by side only when they lie k / w deep:
-       * the cluster is as deep as the widening leaves its fibres (rho = 1) */
-      in.cluster_k = 1.0f / beta;
-      in.cluster_w = fmax(widen, 1.0f);
-      in.cluster_t = fmax(in.cluster_k / in.cluster_w, 1.0f);
-    }
-  }
-
-#if CLH_RASTER_COVER
   /* The coverage mode. alpha: the additive coverage through the fitted curve. Each layer's
    * own coverage is estimated as min(1, its strand's projected width in pixels, widened as
    * the raster widened it for LOD) (the word has no room for the fragment's coverage), and
@@ -307,4 +338,24 @@ __kernel void shade_deferred(
   }
   hair_g[idx] = (float4)(sr, sg, sb, (float)hits) / (float)CLH_MSAA;
 #endif
+}
+
+/* Per-point shading (DESIGN.md, "Shading once per visible strand point"): the marked
+ * points of the groom listed by slot (points_g, written by the strand kernels' point pass),
+ * each shaded once at its own position into colors_g. The count is on the device (the
+ * total after the ranks of kernels/points.cl, ranks_g[words]); the grid walks the slots in
+ * steps of its size. */
+__kernel void shade_points(SHADE_PARAMS, __global const uint* offsets_g,
+                           __global const ClhPointGpu* points_g, __global const uint* ranks_g,
+                           uint words, uint capacity, __global float4* colors_g) {
+  const uint n = min(ranks_g[words], capacity);
+  for (uint i = (uint)get_global_id(0); i < n; i += (uint)get_global_size(0)) {
+    const ClhPointGpu p = points_g[i];
+    SHADE_INPUTS(in);
+    shade_lod(&in, groom_g, view_g, vis_g, offsets_g, p.pos[3]);
+    const ulong word = ((ulong)p.word_hi << 32) | (ulong)p.word_lo;
+    const clh_v3 c = shade_at(groom_g, view_g, scene_g, lights_g, &in, word,
+                              clh_v3_make(p.pos[0], p.pos[1], p.pos[2]));
+    colors_g[i] = (float4)(c.x, c.y, c.z, 1.0f);
+  }
 }

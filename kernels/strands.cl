@@ -2,7 +2,7 @@
  * SG_SIZE lanes) per strand.
  *
  * Inputs: the groom (ClhGroomGpu), its bundles and hair-mesh vertices, the per-bundle LOD
- * records (ClhLodRecord: N_LOD, C, L, morph gamma) and the offsets of their scan
+ * records (ClhLodRecord: N_LOD, C, widening, morph gamma) and the offsets of their scan
  * (bundle_count + 2 entries: the exclusive scan, then the drawn total at [bundle_count]
  * and the visible total; gpu_types.h has the layout), and the progressive blue-noise
  * root sets.
@@ -207,7 +207,7 @@ static inline bool clh_strand_job(__global const ClhGroomGpu* g, __global const 
   *bundle = b;
   *C = clamp(lod.control_points, 2u, (uint)CLH_MAX_CONTROL_POINTS);
   *gamma = clamp(lod.gamma, 0.0f, 1.0f);
-  *coverage = clh_lod_record_coverage(lod, bundles_g[b].strand_count);
+  *coverage = clh_lod_record_coverage(lod);
   return *local_index < lod.strands;
 }
 
@@ -234,6 +234,12 @@ static inline void clh_draw_strand(
 #if CLH_RASTER_CURVE
   if (!clh_raster_curve_wanted(rc, id)) return; /* uniform per group */
 #endif
+#if CLH_POINT_ID || CLH_RASTER_POINTS
+  rc->point_base = id * (uint)CLH_MAX_CONTROL_POINTS; /* point k of the strand: base + k */
+#endif
+#if CLH_RASTER_POINTS
+  if (!clh_points_any(rc, rc->point_base, C)) return; /* uniform per group */
+#endif
   float4 P[CLH_PTS_CAP], T[CLH_PTS_CAP];
   clh_lane_span span;
   clh_assemble_strand(sg, scratch.layers, scratch.strand, scratch.pts, g, bundles_g + bundle,
@@ -243,8 +249,15 @@ static inline void clh_draw_strand(
   rc->v6 = clh_unorm_bits(span.uv.y, 6u);
   rc->coverage = coverage;
   clh_raster_identity(rc, id, 0.0f, 1.0f / (float)(span.C - 1u));
+#if CLH_RASTER_POINTS
+  (void)scene_depth_g;
+  (void)gbuf_g;
+  (void)stats_g;
+  clh_points_lane(rc, g, P, T, span.first, span.count);
+#else
   clh_raster_lane(rc, scene_depth_g, gbuf_g, stats_g, g, P, T, span.first, span.count, span.C,
                   span.next_p, span.next_t);
+#endif
 }
 
 #define CLH_RASTER_PARAMS                                                                  \
@@ -261,6 +274,14 @@ static inline void clh_draw_strand(
 #define CLH_CURVE_SETUP(rc)         \
   (rc).link_flags_g = link_flags_g; \
   (rc).link_words = link_words
+#elif CLH_RASTER_POINTS
+/* the point pass (per-point shading): the marked points, their ranks and their records */
+#define CLH_CURVE_PARAMS                                                                       \
+  , __global const uint *point_bits_g, __global const uint *point_offsets_g, uint point_words, \
+      __global ClhPointGpu *point_records_g, uint point_capacity
+#define CLH_CURVE_SETUP(rc)                                                            \
+  clh_points_setup(&(rc), point_bits_g, point_offsets_g, point_words, point_records_g, \
+                   point_capacity)
 #else
 #define CLH_CURVE_PARAMS
 #define CLH_CURVE_SETUP(rc) (void)0

@@ -7,7 +7,7 @@
  * the points (float4: object-space xyz, styling w), the strand offsets (strand s owns
  * points [offsets[s], offsets[s+1])), optional packed root uv (unorm16 u | v << 16), the
  * chunk table (uint4: first strand, strand count, LOD delta bits, 0), and per chunk the LOD
- * record of lod_chunks (ClhLodRecord: N_LOD, C, L, gamma) with the offsets of its scan
+ * record of lod_chunks (ClhLodRecord: N_LOD, C, widening, gamma) with the offsets of its scan
  * (scan_bundles: chunk_count + 2 entries, the drawn total at [chunk_count]; gpu_types.h
  * has the layout).
  *
@@ -118,7 +118,7 @@ static inline bool clh_x_find_job(__global const ClhGroomGpu* g, const clh_x_tab
   job->n = n;
   job->step = step;
   job->M = (n - 1u + step - 1u) / step + 1u;
-  job->coverage = clh_lod_record_coverage(lod, chunk.y);
+  job->coverage = clh_lod_record_coverage(lod);
   job->gamma = gamma;
   clh_child_setup(tb->points, tb->point_count, tb->strand_offsets, tb->strand_count, tb->kids,
                   tb->nbr, s, child, first, n, &job->ch);
@@ -240,6 +240,14 @@ static inline void clh_x_draw(sg_ctx* sg, clh_raster_ctx* rc, __global const Clh
 #if CLH_RASTER_CURVE
   if (!clh_raster_curve_wanted(rc, job.id)) return; /* uniform per group */
 #endif
+#if CLH_POINT_ID || CLH_RASTER_POINTS
+  /* drawn point j of the strand is point first + j (j < M <= n: within its stored points);
+   * child c of a guide numbers its points after c copies of the stored ones, as export does */
+  rc->point_base = job.child * tb->point_count + job.first;
+#endif
+#if CLH_RASTER_POINTS
+  if (!clh_points_any(rc, rc->point_base, job.M)) return; /* uniform per group */
+#endif
   float u, v;
   if (tb->has_uv != 0u) {
     const uint packed = tb->uv[job.strand];
@@ -259,9 +267,18 @@ static inline void clh_x_draw(sg_ctx* sg, clh_raster_ctx* rc, __global const Clh
     clh_x_round(sg, tb, &job, base, P, T, &span);
     if (g->look[2] > 0.5f || g->look[3] != 0.0f) clh_x_file_look(rc, g, tb, &job, &span, T);
     clh_raster_identity(rc, job.id, (float)span.base, 1.0f / (float)(job.M - 1u));
+#if CLH_RASTER_POINTS
+    clh_points_lane(rc, g, P, T, span.first, span.count);
+#else
     clh_raster_lane(rc, scene_depth_g, gbuf_g, stats_g, g, P, T, span.first, span.count,
                     span.points, span.next_p, span.next_t);
+#endif
   }
+#if CLH_RASTER_POINTS
+  (void)scene_depth_g;
+  (void)gbuf_g;
+  (void)stats_g;
+#endif
 }
 
 #define CLH_X_PARAMS                                                                         \
@@ -338,6 +355,10 @@ __kernel SG_KERNEL_ATTRS void strands_explicit_motion(CLH_X_PARAMS,
 /* One strand per work-group: strand_base + group (read-back and over-launch sizing). */
 #if CLH_RASTER_CURVE
 #define CLH_X_CURVE_PARAMS , __global const uint *link_flags_g, uint link_words
+#elif CLH_RASTER_POINTS
+#define CLH_X_CURVE_PARAMS                                                                     \
+  , __global const uint *point_bits_g, __global const uint *point_offsets_g, uint point_words, \
+      __global ClhPointGpu *point_records_g, uint point_capacity
 #else
 #define CLH_X_CURVE_PARAMS
 #endif
@@ -354,6 +375,9 @@ __kernel SG_KERNEL_ATTRS void strands_explicit_raster(CLH_X_PARAMS,
 #if CLH_RASTER_CURVE
   rc.link_flags_g = link_flags_g;
   rc.link_words = link_words;
+#elif CLH_RASTER_POINTS
+  clh_points_setup(&rc, point_bits_g, point_offsets_g, point_words, point_records_g,
+                   point_capacity);
 #endif
   clh_x_draw(&sg, &rc, groom_g, &tb, lod_g, offsets_g, scene_depth_g, gbuf_g, stats_g,
              sg_strand_index(strand_base));
@@ -372,6 +396,8 @@ __kernel SG_KERNEL_ATTRS void strands_explicit_raster_persistent(
 #if CLH_RASTER_CURVE
   rc.link_flags_g = 0; /* the curve pass uses strands_explicit_raster */
   rc.link_words = 0u;
+#elif CLH_RASTER_POINTS
+  clh_points_setup(&rc, 0, 0, 0u, 0, 0u); /* the point pass uses strands_explicit_raster */
 #endif
   const uint total = clh_lod_drawn_total(offsets_g, groom_g->bundle_count);
   for (uint index = sg_strand_index(0u); index < total;

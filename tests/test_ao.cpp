@@ -6,12 +6,15 @@
 // entry per groom.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <numeric>
 
 #include <glm/vec3.hpp>
 
+#include "cl/binary_cache.h"
 #include "clhair/renderer.h"
 #include "groom/groom_data.h"
 #include "groom/presets.h"
@@ -186,15 +189,29 @@ TEST(AmbientOcclusion, InsideOfTheGroomIsDarkerThanItsOutside) {
 std::vector<std::filesystem::path> aoEntries(const std::string& dir) {
   std::vector<std::filesystem::path> out;
   std::error_code ec;
-  for (const auto& e : std::filesystem::directory_iterator(dir, ec))
+  const std::filesystem::path folder =
+      std::filesystem::path(BinaryCache(dir).entryPath("x")).parent_path();
+  for (const auto& e : std::filesystem::directory_iterator(folder, ec))
     if (e.path().extension() == ".ao") out.push_back(e.path());
   return out;
 }
 
+// An entry holding `v` as the cache writes it (binary_cache.h: its key is its file name).
 void writeFloats(const std::filesystem::path& p, const std::vector<float>& v) {
+  std::vector<unsigned char> bytes(v.size() * sizeof(float));
+  std::memcpy(bytes.data(), v.data(), bytes.size());
+  const std::string entry = encodeCacheEntry(p.filename().string(), bytes);
   std::ofstream(p, std::ios::binary | std::ios::trunc)
-      .write(reinterpret_cast<const char*>(v.data()),
-             static_cast<std::streamsize>(v.size() * sizeof(float)));
+      .write(entry.data(), static_cast<std::streamsize>(entry.size()));
+}
+
+std::vector<float> entryFloats(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto bytes = decodeCacheEntry(text, p.filename().string());
+  std::vector<float> v(bytes ? bytes->size() / sizeof(float) : 0);
+  if (bytes) std::memcpy(v.data(), bytes->data(), v.size() * sizeof(float));
+  return v;
 }
 
 // The ambient-occlusion bake of a hair mesh is kept in the same folder: one entry per
@@ -208,7 +225,7 @@ TEST(AmbientOcclusion, BakeIsKeptInTheCacheFolderPerGroom) {
   ASSERT_FALSE(baked.empty());
   const std::vector<std::filesystem::path> stored = aoEntries(dir);
   ASSERT_EQ(stored.size(), 1u) << "one bake, one entry";
-  EXPECT_EQ(std::filesystem::file_size(stored[0]), baked.size() * sizeof(float));
+  EXPECT_EQ(entryFloats(stored[0]), baked) << "the entry holds the bake";
   EXPECT_EQ(r.bakeAmbientOcclusion(m), baked);
 
   // an entry the bake cannot have made (every vertex 0.25) is what the next bake returns
@@ -223,6 +240,9 @@ TEST(AmbientOcclusion, BakeIsKeptInTheCacheFolderPerGroom) {
   EXPECT_EQ(r.bakeAmbientOcclusion(m), baked);
   writeFloats(stored[0], std::vector<float>(3, 0.5f));
   EXPECT_EQ(r.bakeAmbientOcclusion(m), baked);
+  std::filesystem::resize_file(stored[0], std::filesystem::file_size(stored[0]) / 2);
+  EXPECT_EQ(r.bakeAmbientOcclusion(m), baked) << "an entry cut short is baked again";
+  EXPECT_EQ(entryFloats(stored[0]), baked) << "and rewritten whole";
   writeFloats(stored[0], planted);
 
   // a different groom (more strands) has its own entry, never the planted one

@@ -1,13 +1,20 @@
 // test_binary_cache.cpp — compiled programs kept between runs (host/cl/binary_cache.h):
 // a build stores one entry per (device, driver, options, source); a second device handle
-// takes the program from it and computes the same result; a corrupt entry is refused by
-// the driver and rebuilt from source; a changed option is a different entry.
+// takes the program from it and computes the same result; a changed option is a different
+// entry. The cache heals: an entry that is not an entry, cut short (as a full disk or a killed
+// write leaves it), flipped or another key's is discarded and rebuilt, never given to the
+// driver; the entry reader refuses every truncation and every flipped byte; a cache on a full
+// or read-only file system means no cache, and the render still succeeds.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 
+#include <sys/stat.h>
+
+#include "cl/binary_cache.h"
 #include "cl/device_impl.h"
+#include "fault_fs.h"
 #include "test_util.h"
 
 namespace clhair {
@@ -18,7 +25,8 @@ namespace fs = std::filesystem;
 std::vector<fs::path> entries(const std::string& dir, const std::string& ext = ".clbin") {
   std::vector<fs::path> out;
   std::error_code ec;
-  for (const auto& e : fs::directory_iterator(dir, ec))
+  for (const auto& e :
+       fs::directory_iterator(fs::path(BinaryCache(dir).entryPath("x")).parent_path(), ec))
     if (e.path().extension() == ext) out.push_back(e.path());
   return out;
 }
@@ -65,6 +73,102 @@ TEST(BinaryCache, StoresReusesAndSurvivesACorruptEntry) {
     EXPECT_EQ(packWords(rebuilt), first) << "corrupt entries are rebuilt from source";
   }
   for (const fs::path& p : stored) EXPECT_GT(fs::file_size(p), 100u) << p << " was written again";
+}
+
+// An entry cut to half its length made every later run die in the driver (SIGSEGV in PoCL):
+// now it is discarded before the driver sees it, and the rebuilt program is stored whole.
+TEST(BinaryCache, TruncatedEntriesAreDiscardedAndRebuilt) {
+  const std::string dir = test::scratchDir() + "/cache";
+  std::vector<cl_ulong> first;
+  {
+    Device dev = test::openWithCache(dir);
+    first = packWords(dev);
+  }
+  const std::vector<fs::path> stored = entries(dir);
+  ASSERT_FALSE(stored.empty());
+  std::vector<std::uintmax_t> sizes;
+  for (const fs::path& p : stored) {
+    sizes.push_back(fs::file_size(p));
+    fs::resize_file(p, sizes.back() / 2);
+  }
+  {
+    Device again = test::openWithCache(dir);
+    EXPECT_EQ(packWords(again), first) << "a program rebuilt after a truncated entry";
+  }
+  for (const fs::path& p : stored)
+    EXPECT_TRUE(decodeCacheEntry(test::readBytes(p.string()), p.filename().string()))
+        << p << " was not written again whole";
+}
+
+TEST(BinaryCache, EntryReaderRefusesEveryDamage) {
+  const std::string key = BinaryCache::key("p", "d", "1.0", "-DX=1", "kernel");
+  std::vector<unsigned char> payload(97);
+  for (std::size_t i = 0; i < payload.size(); ++i) payload[i] = static_cast<unsigned char>(i * 7);
+  const std::string entry = encodeCacheEntry(key, payload);
+  ASSERT_EQ(decodeCacheEntry(entry, key), payload);
+  std::string why;
+  for (std::size_t n = 0; n < entry.size(); ++n)
+    EXPECT_FALSE(decodeCacheEntry(entry.substr(0, n), key, &why)) << "cut to " << n << " bytes";
+  EXPECT_FALSE(decodeCacheEntry(entry + "x", key)) << "a trailing byte";
+  for (std::size_t i = 0; i < entry.size(); ++i)
+    for (unsigned char bit : {0x01, 0x80}) {
+      std::string flipped = entry;
+      flipped[i] = static_cast<char>(flipped[i] ^ bit);
+      EXPECT_FALSE(decodeCacheEntry(flipped, key)) << "byte " << i << " flipped";
+    }
+  EXPECT_FALSE(decodeCacheEntry(entry, BinaryCache::key("p", "d", "1.0", "-DX=2", "kernel"), &why));
+  EXPECT_EQ(why, "another key's entry");
+  EXPECT_FALSE(decodeCacheEntry(std::string(entry.size(), '\0'), key));
+}
+
+// A cache folder on a full or read-only file system (or holding a FIFO where an entry
+// belongs) costs compiles, never the render.
+TEST(BinaryCache, AFullOrReadOnlyCacheIsNoCache) {
+  const std::string dir = test::scratchDir();
+  fs::create_directories(dir + "/scene");
+  const std::string scene = dir + "/scene/scene.json";
+  test::writeBytes(scene, R"({"resolution": [32, 24],
+    "camera": {"position": [0, 0.03, 0.2], "target": [0, 0.025, 0], "fov": 35},
+    "grooms": [{"file": ")" + test::assetPath("grooms/tiny.hairmesh.json") +
+                              R"("}]})");
+  // a warm cache of this build's programs, to copy the names of
+  const std::string warm = dir + "/warm";
+  const test::CommandResult w = test::runCommand(
+      "env CLHAIR_CACHE_DIR=" + test::quote(warm) + " " + test::quote(test::cliPath()) +
+      " render " + test::quote(scene) + " -q -o " + test::quote(dir + "/warm.png"));
+  ASSERT_EQ(w.exitCode, 0) << w.output;
+  const std::string expected = test::readBytes(dir + "/warm.png");
+  {
+    test::FullFolder full(dir + "/full");
+    const test::CommandResult r =
+        test::runCommand(full.env() + "CLHAIR_CACHE_DIR=" + test::quote(dir + "/full/c") + " " +
+                         test::quote(test::cliPath()) + " render " + test::quote(scene) +
+                         " -q -o " + test::quote(dir + "/full.png"));
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_EQ(r.output, "");
+    EXPECT_EQ(test::readBytes(dir + "/full.png"), expected);
+    EXPECT_TRUE(test::temporariesIn(dir + "/full/c/v2").empty());
+  }
+  {
+    test::ReadOnlyFolder ro(dir + "/ro");
+    const test::CommandResult r = test::runCommand(
+        "env CLHAIR_CACHE_DIR=" + test::quote(dir + "/ro") + " " + test::quote(test::cliPath()) +
+        " render " + test::quote(scene) + " -q -o " + test::quote(dir + "/ro.png"));
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_EQ(test::readBytes(dir + "/ro.png"), expected);
+  }
+  // FIFOs where the entries belong: refused unopened, removed, rebuilt
+  fs::create_directories(dir + "/fifo/v2");
+  for (const auto& e : fs::directory_iterator(warm + "/v2"))
+    ASSERT_EQ(::mkfifo((dir + "/fifo/v2/" + e.path().filename().string()).c_str(), 0644), 0);
+  const test::CommandResult r =
+      test::runCommand("timeout -s KILL 60 env CLHAIR_CACHE_DIR=" + test::quote(dir + "/fifo") +
+                       " " + test::quote(test::cliPath()) + " render " + test::quote(scene) +
+                       " -q -o " + test::quote(dir + "/fifo.png"));
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(test::readBytes(dir + "/fifo.png"), expected);
+  for (const auto& e : fs::directory_iterator(dir + "/fifo/v2"))
+    EXPECT_TRUE(fs::is_regular_file(e.path())) << e.path() << " was not rebuilt as an entry";
 }
 
 TEST(BinaryCache, KeyChangesWithEveryInput) {

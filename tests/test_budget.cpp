@@ -73,6 +73,7 @@ TEST(Budget, ProportionalReductionIsExactAndHolds) {
   auto tiny = tinyMesh();
   const Scene s = smallScene(tiny, 3, true);
   RenderOptions o;
+  o.budgetRule = 0;  // the uniform rule (the screen rule: test_budget_screen.cpp)
   o.segmentBudget = 0;
   const Frame full = r.render(s, o);
   const std::uint64_t perTiny = tiny->strandCount * (tiny->controlPoints - 1);
@@ -126,12 +127,15 @@ TEST(Budget, FarGroomsDropEveryOtherControlPoint) {
   o.segmentBudget = 0;
   const Frame full = r.render(s, o);
   ASSERT_TRUE(full.stats.grooms[0].drawn);
-  o.segmentBudget = static_cast<std::int64_t>(full.stats.segmentsPlanned - 1);
-  const GroomDrawStats g = r.render(s, o).stats.grooms[0];
-  EXPECT_TRUE(g.halved);
-  // C = 17 -> 9: 8 segments per strand, and halving alone fits, so no strand is dropped
-  EXPECT_EQ(g.strands, full.stats.grooms[0].strands);
-  EXPECT_EQ(g.segments, std::uint64_t(g.strands) * ((tiny->controlPoints - 1) / 2));
+  for (int rule : {0, 1}) {  // both rules halve far grooms first (Kulikov 2025)
+    o.budgetRule = rule;
+    o.segmentBudget = static_cast<std::int64_t>(full.stats.segmentsPlanned - 1);
+    const GroomDrawStats g = r.render(s, o).stats.grooms[0];
+    EXPECT_TRUE(g.halved) << rule;
+    // C = 17 -> 9: 8 segments per strand, and halving alone fits, so no strand is dropped
+    EXPECT_EQ(g.strands, full.stats.grooms[0].strands) << rule;
+    EXPECT_EQ(g.segments, std::uint64_t(g.strands) * ((tiny->controlPoints - 1) / 2)) << rule;
+  }
 }
 
 // Summed hair alpha of a frame (the grooms' coverage).

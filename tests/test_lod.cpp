@@ -126,19 +126,20 @@ TEST(LodMath, DeltaStaggersTransitions) {
 }
 
 TEST(LodRecord, HelpersFillTheDocumentedBytes) {
-  // the table in gpu_types.h: N_LOD and C as uint32, then L and gamma as float bits
-  const ClhLodRecord r = clh_lod_record_make(7u, 33u, 0.25f, 0.5f);
+  // the table in gpu_types.h: N_LOD and C as uint32, then the widening and gamma as floats
+  const ClhLodRecord r = clh_lod_record_make(7u, 33u, clh_lod_widening(28u, 7u), 0.5f);
   std::uint32_t words[4];
   static_assert(sizeof(words) == sizeof(r), "four 32-bit words");
   std::memcpy(words, &r, sizeof words);
   EXPECT_EQ(words[0], 7u);
   EXPECT_EQ(words[1], 33u);
-  EXPECT_EQ(words[2], 0x3E800000u);  // 0.25f
+  EXPECT_EQ(words[2], 0x40800000u);  // 4.0f = 28 / 7
   EXPECT_EQ(words[3], 0x3F000000u);  // 0.5f
   // the hit-diameter widening N / N_LOD, never below 1, and 1 for a bundle drawing nothing
-  EXPECT_EQ(clh_lod_record_coverage(r, 28u), 4.0f);
-  EXPECT_EQ(clh_lod_record_coverage(r, 5u), 1.0f);
-  EXPECT_EQ(clh_lod_record_coverage(clh_lod_record_make(0u, 33u, 1.0f, 0.0f), 28u), 1.0f);
+  EXPECT_EQ(clh_lod_record_coverage(r), 4.0f);
+  EXPECT_EQ(clh_lod_widening(5u, 7u), 1.0f);
+  EXPECT_EQ(clh_lod_record_coverage(clh_lod_record_make(7u, 33u, 0.5f, 0.0f)), 1.0f);
+  EXPECT_EQ(clh_lod_record_coverage(clh_lod_record_make(0u, 33u, 4.0f, 0.0f)), 1.0f);
 }
 
 TEST(LodRecord, FixedLevelRecordFollowsTheEquations) {
@@ -146,7 +147,7 @@ TEST(LodRecord, FixedLevelRecordFollowsTheEquations) {
   const ClhLodRecord full = clh_lod_record_at(1.0f, 300u, 0.4f, 8u, 129u, 0.5f);
   EXPECT_EQ(full.strands, 300u);
   EXPECT_EQ(full.control_points, 129u);
-  EXPECT_EQ(full.lod, 1.0f);
+  EXPECT_EQ(full.coverage, 1.0f);
   EXPECT_EQ(full.gamma, 0.0f);
   // inside a transition window (gamma 0.5, as in MorphFactorIsOneExactlyWhereTheLevelSwitches)
   const float Lq = std::pow((std::pow(2.0f, 5.25f) + 2.0f) / 129.0f, 2.0f);
@@ -154,7 +155,7 @@ TEST(LodRecord, FixedLevelRecordFollowsTheEquations) {
     const ClhLodRecord r = clh_lod_record_at(L, 300u, 0.4f, 8u, 129u, 0.5f);
     EXPECT_EQ(r.strands, clh_lod_strands(L, 300u, 0.4f)) << L;
     EXPECT_EQ(r.control_points, clh_lod_control_points(L, 8u, 129u)) << L;
-    EXPECT_EQ(r.lod, L);
+    EXPECT_EQ(r.coverage, 300.0f / static_cast<float>(r.strands)) << L;
     EXPECT_EQ(r.gamma, clh_lod_morph(L, 8u, 129u, 0.5f)) << L;
   }
   EXPECT_NEAR(clh_lod_record_at(Lq, 300u, 0.4f, 8u, 129u, 0.5f).gamma, 0.5f, 1e-3f);

@@ -102,14 +102,16 @@ TEST(Shadows, InstancesOfOneMeshCastTheirOwnShadows) {
 }
 
 TEST(Shadows, LightPassLodFollowsTheLightsViewNotTheCameras) {
-  // The strands drawn into a deep opacity map are chosen by LOD in the light's view, so
-  // the camera's lens and resolution change nothing there. (The hair-mesh path once ran
-  // this LOD with the camera's view: its shadow maps drew a fraction of the strands the
-  // light's view asks for, while a strand file of the same groom drew all of them.)
+  // Without the camera's cap (RenderOptions::shadowLodCamera 0) the strands drawn into a
+  // deep opacity map are chosen by LOD in the light's view alone, so the camera's lens and
+  // resolution change nothing there. (The hair-mesh path once ran this LOD with the
+  // camera's view instead: its shadow maps drew a fraction of the strands the light's view
+  // asks for, while a strand file of the same groom drew all of them.)
   Renderer r(test::sharedDevice());
   RenderOptions o;
   o.filter = 0;
   o.lod = 1;
+  o.shadowLodCamera = 0;
   o.lodLambdaScale = 0.25f;  // small enough that LOD drops strands in the light's view
   auto drawn = [&](float fov, int camW, int camH) {
     Scene s = twoPatches(true);
@@ -125,6 +127,49 @@ TEST(Shadows, LightPassLodFollowsTheLightsViewNotTheCameras) {
   EXPECT_LT(wide, 6000u) << "LOD should drop strands in the light's view (2 patches x 3000)";
   EXPECT_EQ(narrow, wide) << "the camera's field of view changed the shadow pass";
   EXPECT_EQ(big, wide) << "the camera's resolution changed the shadow pass";
+}
+
+// The lights' passes draw no more strands per bundle than the camera's LOD (DESIGN.md,
+// "Light-pass LOD from the camera"): a groom far from the camera draws at most the
+// camera's strands into its map, fewer than its light's view alone asks for; close to the
+// camera, which then needs every strand, the map draws every strand again.
+TEST(Shadows, LightPassLodDrawsNoMoreThanTheCameraNeeds) {
+  HairMesh m = makeGroomPreset("tiny");
+  m.strandCount = 3000;
+  m.lod.enabled = true;
+  m.lod.lambda = 3.0f;
+  Scene s;
+  s.width = 128;
+  s.height = 96;
+  s.shadows.resolution = 128;
+  Light l;
+  l.direction = glm::normalize(glm::vec3(0.3f, 0.9f, 0.4f));
+  l.shadows = true;
+  s.lights.push_back(l);
+  s.grooms.emplace_back("tiny", std::make_shared<const HairMesh>(m));
+  Renderer r(test::sharedDevice());
+  auto run = [&](CameraPreset p, int cap) {
+    Scene at = s;
+    at.camera = framePreset(s, p, 30.0f, 15.0f);
+    RenderOptions o;
+    o.filter = 0;
+    o.shadowLodCamera = cap;
+    return r.render(at, o).stats;
+  };
+  const FrameStats far = run(CameraPreset::Far, -1), farLight = run(CameraPreset::Far, 0);
+  const FrameStats close = run(CameraPreset::Close, -1), again = run(CameraPreset::Far, -1);
+  RecordProperty("far_camera_strands", std::to_string(far.strandsDrawn));
+  RecordProperty("far_map_strands", std::to_string(far.shadowStrandsDrawn));
+  RecordProperty("far_map_strands_light_view", std::to_string(farLight.shadowStrandsDrawn));
+  ASSERT_GT(far.strandsDrawn, 0u);
+  ASSERT_LT(far.strandsDrawn, 3000u) << "LOD should thin the far groom in the camera";
+  EXPECT_GT(far.shadowStrandsDrawn, 0u);
+  EXPECT_LE(far.shadowStrandsDrawn, far.strandsDrawn);
+  EXPECT_GT(farLight.shadowStrandsDrawn, far.shadowStrandsDrawn)
+      << "the light's view alone should ask for more strands";
+  EXPECT_EQ(close.strandsDrawn, 3000u);
+  EXPECT_EQ(close.shadowStrandsDrawn, 3000u) << "close up, the map draws every strand again";
+  EXPECT_EQ(again.shadowStrandsDrawn, far.shadowStrandsDrawn) << "far again: rebuilt, capped";
 }
 
 // The traced reference (the quality table's ground truth, `clhair_bench --quality-lights

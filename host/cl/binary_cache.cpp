@@ -1,19 +1,47 @@
-// binary_cache.cpp — see binary_cache.h.
+// binary_cache.cpp — see binary_cache.h: keys, the entry file format and the healing load.
 #include "cl/binary_cache.h"
+
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
-#include <random>
+
+#include "clhair/error.h"
+#include "io/regular_file.h"
+#include "io/safe_write.h"
 
 namespace clhair {
 
 namespace fs = std::filesystem;
 
 namespace {
+
+constexpr char kMagic[9] = "CLHCACH2";
+constexpr std::uint32_t kEntryVersion = 1;
+constexpr std::size_t kHeaderBytes = 40;
+constexpr std::uint64_t kMaxKeyBytes = 1024;
+constexpr std::uint64_t kMaxEntryBytes = std::uint64_t(1) << 30;
+constexpr const char* kEntryFolder = "v2";
+
+std::uint64_t fnv64(const unsigned char* p, std::size_t n) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  return h;
+}
+
+void appendLe(std::string& out, std::uint64_t v, int bytes) {
+  for (int i = 0; i < bytes; ++i) out.push_back(static_cast<char>((v >> (8 * i)) & 0xFFu));
+}
+
+std::uint64_t loadLe(const unsigned char* p, int bytes) {
+  std::uint64_t v = 0;
+  for (int i = bytes - 1; i >= 0; --i) v = v << 8 | p[i];
+  return v;
+}
 
 std::string defaultFolder() {
   if (const char* v = std::getenv("CLHAIR_CACHE_DIR"); v && *v) return v;
@@ -65,36 +93,83 @@ bool BinaryCache::cacheablePlatform(const std::string& platformName) {
   return platformName.find("Oclgrind") == std::string::npos;
 }
 
+std::string BinaryCache::entryPath(const std::string& key) const {
+  return (fs::path(folder_) / kEntryFolder / key).string();
+}
+
 std::optional<std::vector<unsigned char>> BinaryCache::load(const std::string& key) const {
   if (!enabled()) return std::nullopt;
-  std::ifstream in(fs::path(folder_) / key, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
-                                   std::istreambuf_iterator<char>());
-  if (bytes.empty()) return std::nullopt;
-  return bytes;
+  const std::string path = entryPath(key);
+  struct stat named {};
+  if (::lstat(path.c_str(), &named) != 0) return std::nullopt;  // no entry
+  std::string bytes;
+  bool readable = false;
+  try {
+    RegularFile f(path, "cache entry");
+    bytes = f.readAll(kMaxEntryBytes);
+    readable = true;
+  } catch (const Error&) {
+  }
+  if (readable)
+    if (auto payload = decodeCacheEntry(bytes, key)) return payload;
+  // Damaged, foreign or unreadable: remove it (unless a writer has just replaced it with a
+  // fresh entry) so that the rebuilt program takes its place.
+  struct stat now {};
+  if (::lstat(path.c_str(), &now) == 0 && now.st_ino == named.st_ino &&
+      now.st_dev == named.st_dev && now.st_mtime == named.st_mtime)
+    ::unlink(path.c_str());
+  return std::nullopt;
 }
 
 void BinaryCache::store(const std::string& key, const std::vector<unsigned char>& binary) const {
-  if (!enabled() || binary.empty()) return;
+  if (!enabled() || binary.empty() || binary.size() > kMaxEntryBytes - 4096) return;
   std::error_code ec;
-  fs::create_directories(folder_, ec);
+  fs::create_directories(fs::path(folder_) / kEntryFolder, ec);
   if (ec) return;
-  std::random_device rd;
-  const fs::path tmp = fs::path(folder_) / (key + ".tmp" + std::to_string(rd()));
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out) return;
-    out.write(reinterpret_cast<const char*>(binary.data()),
-              static_cast<std::streamsize>(binary.size()));
-    if (!out) {
-      out.close();
-      fs::remove(tmp, ec);
-      return;
-    }
+  try {
+    writeFileAtomically(entryPath(key), encodeCacheEntry(key, binary));
+  } catch (const Error&) {  // a full disk or a read-only folder: no cache, nothing else
   }
-  fs::rename(tmp, fs::path(folder_) / key, ec);
-  if (ec) fs::remove(tmp, ec);
+}
+
+std::string encodeCacheEntry(const std::string& key, const std::vector<unsigned char>& payload) {
+  std::string out(kMagic, 8);
+  appendLe(out, kEntryVersion, 4);
+  appendLe(out, key.size(), 4);
+  appendLe(out, payload.size(), 8);
+  appendLe(out, fnv64(payload.data(), payload.size()), 8);
+  std::string head = out + key;
+  appendLe(out, fnv64(reinterpret_cast<const unsigned char*>(head.data()), head.size()), 8);
+  out += key;
+  out.append(reinterpret_cast<const char*>(payload.data()), payload.size());
+  return out;
+}
+
+std::optional<std::vector<unsigned char>> decodeCacheEntry(const std::string& bytes,
+                                                           const std::string& key,
+                                                           std::string* why) {
+  auto refuse = [&](const char* reason) -> std::optional<std::vector<unsigned char>> {
+    if (why) *why = reason;
+    return std::nullopt;
+  };
+  const auto* p = reinterpret_cast<const unsigned char*>(bytes.data());
+  if (bytes.size() < kHeaderBytes) return refuse("shorter than the header");
+  if (std::memcmp(p, kMagic, 8) != 0) return refuse("not an entry (magic)");
+  if (loadLe(p + 8, 4) != kEntryVersion) return refuse("another entry version");
+  const std::uint64_t keyBytes = loadLe(p + 12, 4), payloadBytes = loadLe(p + 16, 8);
+  if (keyBytes > kMaxKeyBytes) return refuse("a key longer than any");
+  if (payloadBytes > bytes.size() || bytes.size() - kHeaderBytes - keyBytes != payloadBytes ||
+      bytes.size() < kHeaderBytes + keyBytes)
+    return refuse("its size does not match its header (truncated?)");
+  std::string head = bytes.substr(0, 32) + bytes.substr(kHeaderBytes, keyBytes);
+  if (fnv64(reinterpret_cast<const unsigned char*>(head.data()), head.size()) != loadLe(p + 32, 8))
+    return refuse("the header checksum does not match");
+  if (bytes.compare(kHeaderBytes, keyBytes, key) != 0 || keyBytes != key.size())
+    return refuse("another key's entry");
+  const unsigned char* payload = p + kHeaderBytes + keyBytes;
+  if (fnv64(payload, payloadBytes) != loadLe(p + 24, 8))
+    return refuse("the payload checksum does not match");
+  return std::vector<unsigned char>(payload, payload + payloadBytes);
 }
 
 }  // namespace clhair

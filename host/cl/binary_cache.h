@@ -36,7 +36,10 @@ class BinaryCache {
   static std::string dataKey(const std::string& kind, const std::string& platform,
                              const std::string& device, const std::string& driver,
                              const std::string& inputs);
+  // The payload stored under `key`, or nothing (no entry, or a damaged one, which is removed).
   std::optional<std::vector<unsigned char>> load(const std::string& key) const;
+  // The file an entry is stored in.
+  std::string entryPath(const std::string& key) const;
   // False for platforms whose builds depend on more than the key holds.
   static bool cacheablePlatform(const std::string& platformName);
   // Best effort: a cache that cannot be written only costs the next run a compile.
@@ -45,5 +48,15 @@ class BinaryCache {
  private:
   std::string folder_;
 };
+
+// An entry file: "CLHCACH2", u32 version, u32 key length, u64 payload length, u64 checksum of
+// the payload, u64 checksum of the 32 bytes before it and the key, the key, the payload
+// (little endian; checksums: 64-bit FNV-1a).
+std::string encodeCacheEntry(const std::string& key, const std::vector<unsigned char>& payload);
+// The payload of an entry file's bytes, or nothing when they are not exactly an entry of `key`
+// (`why`, when given, says what is wrong). Never throws; any bytes are safe.
+std::optional<std::vector<unsigned char>> decodeCacheEntry(const std::string& bytes,
+                                                           const std::string& key,
+                                                           std::string* why = nullptr);
 
 }  // namespace clhair

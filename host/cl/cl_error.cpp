@@ -81,8 +81,8 @@ void rethrowAsClhairError(const std::string& stage) {
   } catch (const cl::BuildError& e) {
     std::string log;
     for (const auto& entry : e.getBuildLog()) log += entry.second;
-    throw Error(stage + ": " + e.what() + " failed with " + clErrorName(e.err()) +
-                "\n--- build log ---\n" + log);
+    throw Error(stage + ": " + e.what() + " failed with " + clErrorName(e.err()),
+                "--- build log ---\n" + log);
   } catch (const cl::Error& e) {
     throw Error(stage + ": " + e.what() + " failed with " + clErrorName(e.err()) + " (" +
                 std::to_string(e.err()) + ")");

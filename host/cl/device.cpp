@@ -6,6 +6,7 @@
 
 #include "cl/cl_error.h"
 #include "cl/device_impl.h"
+#include "cl/stderr_capture.h"
 #include "cl/tuning.h"
 
 namespace clhair {
@@ -104,6 +105,18 @@ std::vector<Found> enumerate() {
   return all;
 }
 
+// The first line of a build log that reports an error, as ": <line>" ("" when none does).
+std::string firstDiagnostic(const std::string& log) {
+  std::size_t at = 0;
+  while (at < log.size()) {
+    const std::size_t end = std::min(log.find('\n', at), log.size());
+    const std::string line = log.substr(at, end - at);
+    if (line.find("error") != std::string::npos) return ": " + line.substr(0, 300);
+    at = end + 1;
+  }
+  return {};
+}
+
 std::string describeList(const std::vector<Found>& all) {
   std::string s;
   for (const Found& f : all)
@@ -193,8 +206,10 @@ Device Device::open(const DeviceOptions& options) {
           chosen = &f;
     }
     if (!chosen)
-      throw Error("no OpenCL device matches \"" + sel +
-                  "\"; devices on this machine:" + describeList(all));
+      throw Error("no OpenCL device matches \"" + sel + "\" (--device or CLHAIR_DEVICE: P:D " +
+                      "indices or a name; this machine has " + std::to_string(all.size()) +
+                      (all.size() == 1 ? " device" : " devices") + ", `clhair devices` lists them)",
+                  "devices on this machine:" + describeList(all));
   }
   if (!chosen->info.int64Atomics)
     throw Error("device \"" + chosen->info.name + "\" (" + chosen->info.platformName +
@@ -370,7 +385,8 @@ cl::Program Device::Impl::programFor(SubgroupBackend backend, const std::string&
   const std::string cacheKey =
       BinaryCache::key(info.platformName, info.name, info.driverVersion, options, text);
   if (auto binary = binaries.load(cacheKey)) {
-    try {  // a binary the driver does not take back is rebuilt from source below
+    StderrCapture quiet;  // a driver refusing a binary may say so on stderr
+    try {                 // a binary the driver does not take back is rebuilt from source below
       cl::Program cached(context, {device}, cl::Program::Binaries{*binary});
       cached.build({device}, options.c_str());
       std::lock_guard<std::mutex> lock(mutex_);
@@ -380,16 +396,24 @@ cl::Program Device::Impl::programFor(SubgroupBackend backend, const std::string&
     }
   }
   cl::Program program(context, text);
-  try {
-    program.build({device}, options.c_str());
-  } catch (const cl::Error& e) {
-    std::string log;
+  {
+    // the driver's compiler may print lines of its own besides the build log: they go into
+    // the error's details with it, never onto the user's terminal
+    StderrCapture driverOutput;
     try {
-      log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device);
-    } catch (const cl::Error&) {
+      program.build({device}, options.c_str());
+    } catch (const cl::Error& e) {
+      const std::string printed = driverOutput.finish();
+      std::string log;
+      try {
+        log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device);
+      } catch (const cl::Error&) {
+      }
+      throw Error("building " + file + " for " + info.name + " failed with " +
+                      clErrorName(e.err()) + firstDiagnostic(log),
+                  "options: " + options + "\n--- build log ---\n" + log +
+                      (printed.empty() ? std::string() : "--- driver output ---\n" + printed));
     }
-    throw Error("building " + file + " for " + info.name + " failed with " + clErrorName(e.err()) +
-                " (options: " + options + ")\n--- build log ---\n" + log);
   }
   // Only for the cache: reading a binary back can cost a compile of its own (PoCL compiles
   // every kernel of the program for any local size to write one).

@@ -2,13 +2,17 @@
 #include "cl/kernel_sources.h"
 
 #include <algorithm>
-#include <fstream>
 #include <regex>
 #include <sstream>
 
 #include "clhair/error.h"
+#include "io/regular_file.h"
 
 namespace clhair {
+
+namespace {
+constexpr std::uint64_t kMaxSourceBytes = 16u << 20;  // a kernel file of the override tree
+}  // namespace
 
 KernelSources::KernelSources(std::string overrideDir) : overrideDir_(std::move(overrideDir)) {}
 
@@ -17,13 +21,12 @@ std::string KernelSources::read(const std::string& name) const {
     if (name != f.name) continue;
     if (overrideDir_.empty()) return std::string(f.data, f.size);
     std::string path = overrideDir_ + "/" + f.path;
-    std::ifstream in(path, std::ios::binary);
-    if (!in)
-      throw Error("kernel override: cannot read " + path + " (CLHAIR_KERNEL_DIR=" + overrideDir_ +
-                  ")");
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
+    try {
+      return RegularFile(path, "kernel source").readAll(kMaxSourceBytes);
+    } catch (const Error& e) {
+      throw Error(std::string("kernel override (CLHAIR_KERNEL_DIR=") + overrideDir_ +
+                  "): " + e.what());
+    }
   }
   throw Error("kernel source \"" + name + "\" is not part of the build");
 }

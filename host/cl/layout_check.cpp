@@ -26,8 +26,9 @@ static_assert(sizeof(ClhShadowGpu) == 160, "ClhShadowGpu layout");
 static_assert(sizeof(ClhLodRecord) == 16, "ClhLodRecord layout");
 static_assert(sizeof(ClhVisibilityGpu) == 64, "ClhVisibilityGpu layout");
 static_assert(offsetof(ClhLodRecord, strands) == 0 && offsetof(ClhLodRecord, control_points) == 4 &&
-                  offsetof(ClhLodRecord, lod) == 8 && offsetof(ClhLodRecord, gamma) == 12,
+                  offsetof(ClhLodRecord, coverage) == 8 && offsetof(ClhLodRecord, gamma) == 12,
               "ClhLodRecord member offsets (the bit table in gpu_types.h)");
 static_assert(sizeof(ClhBudgetDraw) == 32, "ClhBudgetDraw layout");
+static_assert(sizeof(ClhBudgetRule) == 32, "ClhBudgetRule layout");
 
 }  // namespace clhair::gpu

@@ -39,11 +39,13 @@
 #include <nlohmann/json.hpp>
 
 #include "cl/cl_error.h"
+#include "cl/stderr_capture.h"
 #include "clhair/aov.h"
 #include "clhair/device.h"
 #include "clhair/error.h"
 #include "clhair/fit.h"
 #include "clhair/hair_mesh.h"
+#include "clhair/progressive.h"
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
 #include "clhair/temporal.h"
@@ -54,8 +56,10 @@
 #include "groom/visibility_bake.h"
 #include "io/binary_file.h"
 #include "io/cyhair.h"
+#include "io/draw_warnings.h"
 #include "io/json_util.h"
 #include "io/ply_strands.h"
+#include "io/safe_write.h"
 #include "io/tressfx.h"
 #include "io/usc_hair.h"
 #include "metrics/image_metrics.h"
@@ -72,14 +76,62 @@ std::string oneLine(std::string text) {
   return text;
 }
 
+// Prints the one error line. A message's lines after the first, and `details` (a device list,
+// a build log), follow it with --verbose; otherwise they go to a log file in $TMPDIR (or /tmp)
+// that the line names, or, when that cannot be written, the line says to use --verbose.
+void reportError(const std::string& message, std::string details, bool verbose) {
+  const std::size_t nl = message.find('\n');
+  std::string line = message.substr(0, nl);
+  if (nl != std::string::npos)
+    details = message.substr(nl + 1) + (details.empty() ? "" : "\n") + details;
+  while (!details.empty() && (details.back() == '\n' || details.back() == ' ')) details.pop_back();
+  if (details.empty()) {
+    std::fprintf(stderr, "clhair: error: %s\n", oneLine(line).c_str());
+    return;
+  }
+  if (verbose) {
+    std::fprintf(stderr, "clhair: error: %s\n%s\n", oneLine(line).c_str(), details.c_str());
+    return;
+  }
+  const char* tmp = std::getenv("TMPDIR");
+  const std::string log = std::string(tmp && *tmp ? tmp : "/tmp") + "/clhair-error-" +
+                          std::to_string(::getpid()) + ".log";
+  std::string where;
+  try {
+    writeFileAtomically(log, "clhair: error: " + line + "\n" + details + "\n");
+    where = "details in " + log;
+  } catch (const Error&) {
+    where = "details with --verbose";
+  }
+  std::fprintf(stderr, "clhair: error: %s (%s)\n", oneLine(line).c_str(), where.c_str());
+}
+
+// The first word of the command line where a subcommand belongs, when it names none ("rendr"):
+// "unknown subcommand ..." for the error line; "" otherwise.
+std::string unknownSubcommand(const CLI::App& app, int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--device" || a == "--subgroup" || a == "--kernel-dir") {
+      ++i;  // the option's value
+      continue;
+    }
+    if (!a.empty() && a[0] == '-') continue;
+    std::string known;
+    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+      if (sub->get_name() == a) return {};
+      known += (known.empty() ? "" : ", ") + sub->get_name();
+    }
+    return "unknown subcommand \"" + a + "\"; expected one of: " + known;
+  }
+  return {};
+}
+
 std::string mib(std::uint64_t bytes) { return std::to_string(bytes >> 20) + " MiB"; }
 
 int cmdDevices(const DeviceOptions& opts) {
   std::vector<DeviceInfo> all = Device::list();
-  if (all.empty()) {
-    std::cout << "no OpenCL devices found (install an OpenCL driver, e.g. pocl-opencl-icd)\n";
-    return 1;
-  }
+  if (all.empty())
+    throw Error("no OpenCL devices found (install an OpenCL driver, e.g. pocl-opencl-icd)");
   for (const DeviceInfo& d : all) {
     std::cout << d.platformIndex << ":" << d.deviceIndex << "  " << d.name << "\n"
               << "    platform        " << d.platformName << "\n"
@@ -121,19 +173,34 @@ struct RenderFlags {
   bool widthGiven = false, heightGiven = false;
   std::string camera, lod, dispatch = "auto", ao = "on", visibility = "on", lodBsdf = "single";
   bool quiet = false;
-  std::string frames;  // "N", "A-B" or "A-B:STEP"; empty: frame 1
+  std::string frames;        // "N", "A-B" or "A-B:STEP"
+  bool framesGiven = false;  // --frames given (even empty, which is refused); else frame 1
   bool skipExisting = false;
   std::string aov;                 // --aov list; empty: the beauty alone through writeImage
   std::string views;               // --views: "all" or names; empty: all of the scene's "cameras"
   bool stats = false;              // --stats: strands and segments per groom instance
   std::string segmentBudget;       // --segment-budget; empty: the scene's
+  std::string budgetRule = "screen";  // --budget-rule screen|uniform
   std::string raster;              // --raster lines|coverage; empty: the scene's
   std::string temporal;            // --temporal; empty: the scene's "temporal"
   std::string screenBoxes = "on";  // --screen-boxes on|off (RenderOptions::screenBoxes)
   int framesInFlight = 2;          // --frames-in-flight (Renderer::setFramesInFlight)
   int encodeThreads = 0;           // --encode-threads (WriteQueue; 0: automatic)
   bool passes = false;             // --passes: print the first frame's graph
+  ImageWriteOptions write;         // --png-compression, --exr-compression
+  std::string quality;             // --quality draft|good|final; empty: the scene's
+  std::string shadowLod;           // --shadow-lod camera|light|off; empty: camera
+  bool sppGiven = false;           // --spp given (final's passes; else the level's default)
 };
+
+// --quality's value as RenderOptions::quality (0 draft, 1 good, 2 final); -1 when not given.
+int parseQualityFlag(const std::string& v) {
+  if (v.empty()) return -1;
+  if (v == "draft") return 0;
+  if (v == "good") return 1;
+  if (v == "final") return 2;
+  throw Error("--quality must be draft, good or final, not \"" + v + "\"");
+}
 
 // The --temporal value: frames of history, a whole number 0 (off) .. kMaxTemporalHistory.
 int parseTemporal(const std::string& v) {
@@ -169,15 +236,31 @@ void printStats(const FrameStats& st) {
       continue;
     }
     ++drawn;
-    std::printf("groom %zu \"%s\": %u strands, %llu segments, %u visible strands%s\n", g.instance,
+    std::printf("groom %zu \"%s\": %u strands, %llu segments, %u visible strands%s", g.instance,
                 g.name.c_str(), g.strands, static_cast<unsigned long long>(g.segments),
                 g.visibleStrands, g.halved ? ", every other control point" : "");
+    if (st.overBudget && st.budgetScreenRule)
+      std::printf(" (asked %u, floor %u, share %u; screen box %.0f px, keep claim %.2f)",
+                  g.requested, g.floor, g.share, g.screenArea, g.keepClaim);
+    std::printf("\n");
   }
   std::printf("total: %zu of %zu grooms drawn, %llu strands, %llu segments", drawn,
               st.grooms.size(), static_cast<unsigned long long>(st.strandsDrawn),
               static_cast<unsigned long long>(st.segmentsPlanned));
   if (st.segmentBudget == 0)
     std::printf(" (no segment budget)\n");
+  else if (st.overBudget && st.budgetScreenRule && !std::isfinite(st.budgetLevel))
+    std::printf(
+        " (budget %llu: the LOD passes asked for %llu; every other control point of the "
+        "far grooms made it fit)\n",
+        static_cast<unsigned long long>(st.segmentBudget),
+        static_cast<unsigned long long>(st.segmentsBeforeBudget));
+  else if (st.overBudget && st.budgetScreenRule)
+    std::printf(
+        " (budget %llu: the LOD passes asked for %llu, shared by screen area: %.3f segments "
+        "per pixel of screen box)\n",
+        static_cast<unsigned long long>(st.segmentBudget),
+        static_cast<unsigned long long>(st.segmentsBeforeBudget), st.budgetLevel);
   else if (st.overBudget)
     std::printf(" (budget %llu: the LOD passes asked for %llu, strands scaled by %.4f)\n",
                 static_cast<unsigned long long>(st.segmentBudget),
@@ -239,6 +322,8 @@ std::string viewPath(const std::string& pattern, const std::string& name, bool s
 std::vector<long long> parseFrames(const std::string& spec) {
   const std::string hint =
       "--frames \"" + spec + "\": expected N, FIRST-LAST or FIRST-LAST:STEP (e.g. 1-240:2)";
+  if (spec.empty())  // `--frames "$SLURM_ARRAY_TASK_ID"` with the variable unset
+    throw Error(hint + "; the value is empty (an unset variable?)");
   constexpr long long kMaxFrame = 99999999;
   auto number = [&](const std::string& t) {
     if (t.empty() || t.size() > 8 ||
@@ -262,6 +347,29 @@ std::vector<long long> parseFrames(const std::string& spec) {
   for (long long k = 0; k < count; ++k)
     out.push_back(first <= last ? first + k * step : first - k * step);
   return out;
+}
+
+// --png-compression and --exr-compression, refused before any work with the flag named.
+void checkWriteFlags(const ImageWriteOptions& w) {
+  if (w.pngCompression < 0 || w.pngCompression > 9)
+    throw Error("--png-compression " + std::to_string(w.pngCompression) +
+                " is outside 0..9 (zlib levels: 0 none, 1 fast, the default; 9 smallest)");
+  try {
+    checkImageWriteOptions(w);
+  } catch (const Error& e) {
+    throw Error(std::string("--exr-compression: ") + e.what());
+  }
+}
+
+// A frame's image with the --png-compression / --exr-compression options. Without them, the
+// two-argument writeImage: the form ../shared/gpu/bundle.sh replaces by its PPM writer on
+// machines without OpenImageIO (scripts/gpu-check.sh).
+void writeFrameImage(const Image& image, const std::string& path, const ImageWriteOptions& w) {
+  const ImageWriteOptions defaults;
+  if (w.pngCompression == defaults.pngCompression && w.exrCompression == defaults.exrCompression)
+    writeImage(image, path);
+  else
+    writeImage(image, path, w);
 }
 
 std::string seconds(double s) {
@@ -307,7 +415,7 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
   const std::string& lod = f.lod;
   const bool quiet = f.quiet;
   const std::vector<long long> frames =
-      f.frames.empty() ? std::vector<long long>{1} : parseFrames(f.frames);
+      f.framesGiven ? parseFrames(f.frames) : std::vector<long long>{1};
   if (frames.size() > 1 && framePath(out, 0) == out)
     throw Error("-o \"" + out + "\" has no '#' for the frame number, but --frames \"" + f.frames +
                 "\" names " + std::to_string(frames.size()) +
@@ -337,6 +445,8 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
                 std::to_string(f.encodeThreads));
   if (!f.views.empty() && f.views != "all" && f.views.find_first_of("/\\") != std::string::npos)
     throw Error("--views \"" + f.views + "\": expected all or view names");
+  checkWriteFlags(f.write);
+  checkImageFormat(out);  // -o x.xyz: refused before any work (folders: once the views are known)
   // the device first: strand files are checked against its largest allocation as they load
   Device dev = Device::open(opts);
   Scene scene = loadScene(scenePath, dev.info().maxAlloc);
@@ -350,6 +460,7 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
                 " (choose one with --views NAME)");
   if (several && f.reference)
     throw Error("--reference renders one view; choose one with --views NAME");
+  for (const View& v : views) checkOutputPath(framePath(viewPath(out, v.name, several), frames[0]));
   if (f.widthGiven || f.heightGiven) {
     int w = f.widthGiven ? width : scene.width, h = f.heightGiven ? height : scene.height;
     if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
@@ -390,6 +501,9 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     throw Error("--filter must be on, off, auto, lipp or huang, not \"" + f.filter + "\"");
   }
   if (!f.segmentBudget.empty()) ro.segmentBudget = parseSegmentBudget(f.segmentBudget);
+  if (f.budgetRule != "screen" && f.budgetRule != "uniform")
+    throw Error("--budget-rule must be screen or uniform, not \"" + f.budgetRule + "\"");
+  ro.budgetRule = f.budgetRule == "screen" ? 1 : 0;
   if (f.screenBoxes != "on" && f.screenBoxes != "off")
     throw Error("--screen-boxes must be on or off, not \"" + f.screenBoxes + "\"");
   ro.screenBoxes = f.screenBoxes == "on";
@@ -406,6 +520,26 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
                 "; --temporal 0 turns it off");
   if (f.reference && (f.spp < 1 || f.spp > 65536))
     throw Error("--spp must be 1..65536, not " + std::to_string(f.spp));
+  ro.quality = parseQualityFlag(f.quality);
+  if (f.shadowLod == "light") {
+    ro.shadowLodCamera = 0;
+  } else if (f.shadowLod == "off") {
+    ro.shadowLod = 0;
+  } else if (!f.shadowLod.empty() && f.shadowLod != "camera") {
+    throw Error("--shadow-lod must be camera, light or off, not \"" + f.shadowLod + "\"");
+  }
+  const bool final = !f.reference && qualityLevel(scene, ro) == Quality::Final;
+  if (f.sppGiven && !f.reference && !final)
+    throw Error("--spp counts the samples of --reference or the passes of --quality final");
+  if (final && f.sppGiven) {
+    if (f.spp < 1 || f.spp > kMaxFinalPasses)
+      throw Error("--spp must be 1.." + std::to_string(kMaxFinalPasses) +
+                  " passes with --quality final, not " + std::to_string(f.spp));
+    ro.spp = f.spp;
+  }
+  if (final && (several || temporal))
+    throw Error(std::string("--quality final renders one view without temporal reprojection (") +
+                (several ? "choose one with --views NAME" : "--temporal 0 turns it off") + ")");
   if (f.pathEvents < 1 || f.pathEvents > 1024)
     throw Error("--path-events must be 1..1024, not " + std::to_string(f.pathEvents));
   const CameraPreset* preset = nullptr;
@@ -457,18 +591,22 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
       for (std::size_t v = 0; v < views.size(); ++v) {
         auto image = std::make_shared<Image>(std::move(shots[v].color));
         const std::string vp = framePath(viewPath(out, views[v].name, true), q.number);
-        writer.submit([image, vp] { writeImage(*image, vp); });
+        writer.submit([image, vp, w = f.write] { writeFrameImage(*image, vp, w); });
       }
     } else if (aovs.empty()) {
       auto image = std::make_shared<Image>(std::move(shots[0].color));
-      writer.submit([image, path] { writeImage(*image, path); });
+      writer.submit([image, path, w = f.write] { writeFrameImage(*image, path, w); });
     } else {
       auto channels = std::make_shared<std::vector<ImageChannel>>(aovChannels(shots[0], aovs));
-      writer.submit(
-          [channels, path, w = q.width, h = q.height] { writeChannels(*channels, w, h, path); });
+      writer.submit([channels, path, w = q.width, h = q.height, o = f.write] {
+        writeChannels(*channels, w, h, path, o);
+      });
     }
-    ++rendered;
     const Frame& frame = shots[0];
+    if (rendered == 0 && !several && !f.reference)  // a groom that vanished says why
+      for (const std::string& w : drawWarnings(stillAt(q.number), frame.stats, scenePath))
+        std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
+    ++rendered;
     if (!frame.passes.empty()) std::printf("%s", frame.passes.c_str());
     if (f.stats && !several) {
       if (sequence) std::printf("frame %lld:\n", q.number);
@@ -501,6 +639,9 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
       if (frame.stats.shadowStrandsDrawn > 0)
         std::printf(" (%llu into shadow maps)",
                     static_cast<unsigned long long>(frame.stats.shadowStrandsDrawn));
+      if (frame.stats.pointsShaded > 0)
+        std::printf(", %llu points shaded",
+                    static_cast<unsigned long long>(frame.stats.pointsShaded));
       std::printf("\n");
     }
     for (const StageTime& t : frame.timings)
@@ -523,6 +664,9 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
       allExist = allExist &&
                  std::filesystem::exists(framePath(viewPath(out, v.name, several), number), ec);
     if (allExist) {
+      // a killed run may have left its unfinished temporaries of these frames
+      for (const View& v : views)
+        removeStaleTemporaries(framePath(viewPath(out, v.name, several), number));
       ++skipped;
       if (!quiet && sequence)
         std::fprintf(stderr, "clhair: frame %lld (%zu/%zu): %s exists, skipped\n", number, i + 1,
@@ -561,9 +705,10 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
         }
         ro.previous = &previous;
       }
-      if (f.reference || temporal) {  // frames of their own: rendered one by one
-        Frame frame =
-            f.reference ? renderer.renderReference(still, ref) : sequenceFrames.render(number);
+      if (f.reference || temporal || final) {  // frames of their own: rendered one by one
+        Frame frame = f.reference ? renderer.renderReference(still, ref)
+                      : final     ? renderer.render(still, ro)
+                                  : sequenceFrames.render(number);
         std::vector<Frame> shots;
         shots.push_back(std::move(frame));
         deliver(q, std::move(shots));
@@ -630,6 +775,8 @@ int cmdBakeVisibility(const DeviceOptions& opts, const std::string& scenePath,
     throw Error("--cell-stride must be 1 or more, not " + std::to_string(f.cellStride));
   if (!f.transmittanceOut.empty() && f.directions != "per-point")
     throw Error("--transmittance-out traces per-point directions, not --directions per-cell");
+  checkOutputPath(out);
+  if (!f.transmittanceOut.empty()) checkOutputPath(f.transmittanceOut);
   VisibilityBakeStats st;
   BakePhaseTimer timer(&st);
   const Scene scene = loadScene(scenePath);
@@ -694,6 +841,7 @@ int cmdBakeVisibility(const DeviceOptions& opts, const std::string& scenePath,
 }
 
 int cmdGroom(const std::string& preset, const std::string& out, long long strands) {
+  checkOutputPath(out);
   HairMesh m = makeGroomPreset(preset);
   if (strands >= 0) m.strandCount = strands;
   saveHairMesh(m, out);
@@ -704,6 +852,7 @@ int cmdGroom(const std::string& preset, const std::string& out, long long strand
 }
 
 int cmdBakeAo(const DeviceOptions& opts, const std::string& groomPath, const std::string& out) {
+  checkOutputPath(out);
   HairMesh mesh = loadHairMesh(groomPath);
   Device dev = Device::open(opts);
   Renderer renderer(dev);
@@ -780,10 +929,16 @@ CyHair exportSource(Renderer& renderer, std::uint64_t maxAlloc, const std::strin
 
 int cmdExport(const DeviceOptions& opts, const std::string& groomPath, const std::string& out,
               int groom) {
+  const std::string ext = lowerExtension(out);
+  if (ext != ".hair" && ext != ".data" && ext != ".tfx" && ext != ".ply")
+    throw Error(out + ": " +
+                (ext.empty() ? std::string("has no extension to choose a strand format by")
+                             : "no strand-file writer for extension \"" + ext + "\"") +
+                " (use .hair: cyHair, .data: USC-HairSalon, .tfx: TressFX 4.0, .ply: PLY)");
+  checkOutputPath(out);
   Device dev = Device::open(opts);
   Renderer renderer(dev);
   CyHair h = exportSource(renderer, dev.info().maxAlloc, groomPath, groom);
-  const std::string ext = lowerExtension(out);
   if (ext == ".tfx") {
     // TressFX needs one point count for all strands, and AMD's runtime a power of two in
     // 4..64: resample along the arc length (points only, like USC-HairSalon).
@@ -823,6 +978,7 @@ int cmdCompare(const std::string& pathA, const std::string& pathB, const Compare
   if (!(f.ppd >= kFlipMinPpd && f.ppd <= kFlipMaxPpd))
     throw Error("--ppd " + shortNumber(f.ppd) + " is outside " + shortNumber(kFlipMinPpd) + ".." +
                 shortNumber(kFlipMaxPpd) + " (FLIP's default viewing setup is 67)");
+  if (!f.errorMap.empty()) checkImageOutput(f.errorMap);  // before the work
   Image a = readImage(pathA);
   Image b = readImage(pathB);
   requireSameSize(a, b, pathA, pathB);
@@ -959,6 +1115,10 @@ int main(int argc, char** argv) {
       "force a sub-group backend: single, local, khr, intel, nvptx, amd (env CLHAIR_SUBGROUP)");
   app.add_option("--kernel-dir", opts.kernelDir,
                  "read kernels from this source tree (env CLHAIR_KERNEL_DIR)");
+  bool verbose = false;
+  app.add_flag("--verbose", verbose,
+               "on an error, print its details (the device list, a build log) after its line "
+               "instead of writing them to a log file the line names");
 
   auto* devices = app.add_subcommand("devices", "list OpenCL devices and their capabilities");
 
@@ -995,7 +1155,20 @@ int main(int argc, char** argv) {
   render->add_option("--path-events", rf.pathEvents,
                      "--reference path: scattering events per path, 1..1024 (default 64; 1: "
                      "direct light at the first fibre seen, shadowed)");
-  render->add_option("--spp", rf.spp, "samples per pixel of --reference (default 256)");
+  render->add_option("--spp", rf.spp,
+                     "samples per pixel of --reference (default 256), or jittered passes of "
+                     "--quality final (default " +
+                         std::to_string(kDefaultFinalPasses) + ")");
+  render->add_option("--shadow-lod", rf.shadowLod,
+                     "LOD of the lights' passes: camera (default: the light's view, no more "
+                     "strands than the camera's LOD draws), light (the light's view alone) or "
+                     "off (every strand)");
+  render->add_option("--quality", rf.quality,
+                     "draft (one sample per pixel, the scene's filter), good (" +
+                         std::to_string(kGoodMsaa) +
+                         " samples per pixel shaded once per visible strand point) or final "
+                         "(--spp jittered passes accumulated); default: the scene's \"quality\", "
+                         "draft");
   render->add_option("--frames", rf.frames,
                      "frames of an animated scene: N, FIRST-LAST or FIRST-LAST:STEP (default 1); "
                      "#### in -o becomes the zero-padded frame number");
@@ -1024,10 +1197,19 @@ int main(int argc, char** argv) {
                      "off; DESIGN.md)");
   render->add_option("--segment-budget", rf.segmentBudget,
                      "most segments of all grooms per frame (0: none; default: the scene's)");
+  render->add_option("--budget-rule", rf.budgetRule,
+                     "how the segment budget is shared: screen (default: each groom by its "
+                     "screen area) or uniform (one factor for every groom)");
   render->add_option("--screen-boxes", rf.screenBoxes,
                      "run each groom's G-buffer clear, hair linking, Huang's filter and its "
                      "compositing over the groom's screen box: on (default) or off (the whole "
                      "frame; the same image, for timing)");
+  render->add_option("--png-compression", rf.write.pngCompression,
+                     "zlib level of PNG files: 0 (none) .. 9 (smallest); default 1, fast "
+                     "(bench/README.md, \"Image writing\")");
+  render->add_option("--exr-compression", rf.write.exrCompression,
+                     "OpenEXR compression: none, rle, zips, zip (default), piz, pxr24, b44, b44a, "
+                     "dwaa, dwab (the last four lossy)");
   render->add_option("--raster", rf.raster,
                      "strand raster: lines (default: centre samples, Lipp) or coverage "
                      "(trapezoids with analytic coverage, three layers and a coverage layer; "
@@ -1113,31 +1295,42 @@ int main(int argc, char** argv) {
     // --help is the one "error" that succeeds; every other parse failure is reported like
     // any other error: one line, exit 1 (not CLI11's own codes and two-line message).
     if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);
-    std::fprintf(stderr, "clhair: error: %s (see clhair --help)\n", oneLine(e.what()).c_str());
+    const std::string unknown = unknownSubcommand(app, argc, argv);
+    std::fprintf(stderr, "clhair: error: %s (see clhair --help)\n",
+                 unknown.empty() ? oneLine(e.what()).c_str() : unknown.c_str());
     return 1;
   }
+  rf.framesGiven = render->count("--frames") > 0;
   rf.widthGiven = render->count("--width") > 0;
   rf.reference = render->count("--reference") > 0;
+  rf.sppGiven = render->count("--spp") > 0;
   rf.heightGiven = render->count("--height") > 0;
+  captureDriverOutput(true);  // a compiler's own lines go into an error's details
   try {
     DeviceOptions resolved = DeviceOptions::fromEnvironment(opts);
     if (*devices) return cmdDevices(resolved);
     if (*render) return cmdRender(resolved, scenePath, out, rf);
-    if (*groom) return cmdGroom(preset, groomOut, strands);
+    if (*groom) {
+      if (groom->count("--strands") > 0 && strands < 0)
+        throw Error("--strands " + std::to_string(strands) +
+                    " is negative; expected a strand count 0..50000000");
+      return cmdGroom(preset, groomOut, strands);
+    }
     if (*exportCmd) return cmdExport(resolved, groomPath, hairOut, exportGroom);
     if (*bakeCmd) return cmdBakeAo(resolved, bakeIn, bakeOut);
     if (*visCmd) return cmdBakeVisibility(resolved, visScene, visOut, vf);
     if (*compare) return cmdCompare(compareA, compareB, cf);
     if (*fitCmd) return cmdFitMesh(fitFlags);
   } catch (const Error& e) {
-    std::fprintf(stderr, "clhair: error: %s\n", e.what());
+    reportError(e.what(), e.details(), verbose);
     return 1;
   } catch (const cl::Error& e) {
-    std::fprintf(stderr, "clhair: error: OpenCL call %s failed with %s (%d)\n", e.what(),
-                 clErrorName(e.err()), e.err());
+    reportError(std::string("OpenCL call ") + e.what() + " failed with " + clErrorName(e.err()) +
+                    " (" + std::to_string(e.err()) + ")",
+                "", verbose);
     return 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "clhair: error: %s\n", e.what());
+    reportError(e.what(), "", verbose);
     return 1;
   }
   return 1;

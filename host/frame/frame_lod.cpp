@@ -14,10 +14,21 @@ std::size_t alignUp(std::size_t n, std::size_t a) { return (n + a - 1) / a * a; 
 const std::string kOptions = "-DSCAN_WG=" + std::to_string(LodStage::kScanWorkGroup);
 }  // namespace
 
+BudgetRule budgetRule(const RenderOptions& options, const gpu::ClhViewGpu& view) {
+  BudgetRule r;
+  r.screen = options.budgetRule != 0;
+  r.keepLow = options.budgetKeepLow;
+  r.keepHigh = options.budgetKeepHigh;
+  r.widenCap = options.budgetWidenCap;
+  r.imageArea = static_cast<float>(view.width) * static_cast<float>(view.height);
+  return r;
+}
+
 FrameLod::FrameLod(Device::Impl& dev)
     : dev_(dev),
-      plan_(dev.kernel("lod.cl", "budget_plan", kOptions)),
-      apply_(dev.kernel("lod.cl", "budget_apply", kOptions)) {
+      measure_(dev.kernel("budget.cl", "budget_measure", kOptions)),
+      plan_(dev.kernel("budget.cl", "budget_plan", kOptions)),
+      apply_(dev.kernel("budget.cl", "budget_apply", kOptions)) {
   const cl_uint bits = clCall("querying the sub-buffer alignment",
                               [&] { return dev.device.getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>(); });
   align_ = std::max<std::size_t>(bits / 8, 64);
@@ -71,7 +82,8 @@ void FrameLod::bind(const std::vector<GroomDraw>& draws) {
 }
 
 void FrameLod::enqueue(const std::vector<GroomDraw>& draws, const std::vector<char>& active,
-                       const std::vector<char>& far, std::uint64_t budget, Profiler* profiler) {
+                       const std::vector<char>& far, std::uint64_t budget, Profiler* profiler,
+                       const BudgetRule& rule) {
   const std::size_t D = draws.size();
   if (D == 0) return;
   for (std::size_t k = 0; k < D; ++k) {
@@ -82,29 +94,51 @@ void FrameLod::enqueue(const std::vector<GroomDraw>& draws, const std::vector<ch
   ensureCapacity<gpu::ClhBudgetDraw>(dev_, table_, tableCap_, "groom draw table", D);
   if (table_() != before) tableSent_.clear();
   uploadChanged(dev_, table_, tableSent_, layout_.data(), D);
-  const std::size_t words = CLH_BUDGET_HEADER + 4 * D;
+  gpu::ClhBudgetRule r{};
+  r.rule = rule.screen ? CLH_BUDGET_RULE_SCREEN : CLH_BUDGET_RULE_UNIFORM;
+  r.image_area = rule.imageArea;
+  r.keep_lo = rule.keepLow;
+  r.keep_hi = rule.keepHigh;
+  r.room_lo = rule.roomLow;
+  r.widen_cap = rule.widenCap;
+  if (!rule_()) {
+    rule_ = makeBuffer<gpu::ClhBudgetRule>(dev_, "segment budget rule", 1);
+    ruleSent_.clear();
+  }
+  uploadChanged(dev_, rule_, ruleSent_, &r, 1);
+  const std::size_t words = stateWords(D);
   ensureCapacity<cl_uint>(dev_, state_, stateCap_, "segment budget state", words);
   const auto d32 = static_cast<cl_uint>(D);
+  const cl::NDRange wg(LodStage::kScanWorkGroup);
+  const cl::NDRange perDraw(D * LodStage::kScanWorkGroup);
+  KernelArgs(measure_, "lod")
+      .buffer("draws", table_, D * sizeof(gpu::ClhBudgetDraw))
+      .value("draw count", d32)
+      .buffer("LOD records", arena_, arenaBytes_)
+      .buffer("counts and offsets", arena_, arenaBytes_)
+      .buffer("state", state_, words * sizeof(cl_uint));
+  dispatch(dev_, measure_, "lod", perDraw, wg, profiler);
   KernelArgs(plan_, "lod")
       .buffer("draws", table_, D * sizeof(gpu::ClhBudgetDraw))
       .value("draw count", d32)
       .buffer("LOD records", arena_, arenaBytes_)
       .buffer("counts and offsets", arena_, arenaBytes_)
       .value("budget", static_cast<cl_ulong>(budget))
+      .buffer("rule", rule_, sizeof(gpu::ClhBudgetRule))
       .buffer("state", state_, words * sizeof(cl_uint));
-  const cl::NDRange wg(LodStage::kScanWorkGroup);
   dispatch(dev_, plan_, "lod", wg, wg, profiler);
   KernelArgs(apply_, "lod")
       .buffer("draws", table_, D * sizeof(gpu::ClhBudgetDraw))
       .value("draw count", d32)
       .buffer("LOD records", arena_, arenaBytes_)
       .buffer("counts and offsets", arena_, arenaBytes_)
+      .buffer("rule", rule_, sizeof(gpu::ClhBudgetRule))
       .buffer("state", state_, words * sizeof(cl_uint));
-  dispatch(dev_, apply_, "lod", cl::NDRange(D * LodStage::kScanWorkGroup), wg, profiler);
+  dispatch(dev_, apply_, "lod", perDraw, wg, profiler);
 }
 
 std::size_t FrameLod::stateWords(std::size_t draws) {
-  return draws == 0 ? 0 : CLH_BUDGET_HEADER + 4 * draws;
+  return draws == 0 ? 0 : CLH_BUDGET_HEADER + CLH_BUDGET_DRAW_WORDS * draws;
 }
 
 FrameLod::Result FrameLod::read(std::size_t draws) {
@@ -116,10 +150,30 @@ FrameLod::Result FrameLod::read(std::size_t draws) {
 FrameLod::Result FrameLod::decode(const std::vector<std::uint32_t>& s, std::size_t draws) {
   Result r;
   if (draws == 0 || s.size() < stateWords(draws)) return r;
-  std::memcpy(&r.scale, &s[0], 4);
+  auto f32 = [](std::uint32_t u) {
+    float f;
+    std::memcpy(&f, &u, 4);
+    return f;
+  };
+  r.scale = f32(s[0]);
   r.over = s[1] != 0;
   r.lodSegments = std::uint64_t(s[3]) | (std::uint64_t(s[4]) << 32);
-  r.draw.assign(s.begin() + CLH_BUDGET_HEADER, s.begin() + stateWords(draws));
+  r.level = f32(s[5]);
+  r.claims = f32(s[6]);
+  r.draw.resize(4 * draws);
+  r.plan.resize(draws);
+  for (std::size_t k = 0; k < draws; ++k) {
+    const std::uint32_t* w = &s[CLH_BUDGET_HEADER + CLH_BUDGET_DRAW_WORDS * k];
+    std::copy(w, w + 4, r.draw.begin() + 4 * static_cast<std::ptrdiff_t>(k));
+    const bool halved = (w[3] & CLH_BUDGET_HALVED) != 0;
+    DrawPlan& p = r.plan[k];
+    p.request = halved ? w[5] : w[4];
+    p.floor = halved ? w[7] : w[6];
+    p.area = f32(w[8]);
+    p.share = w[10];
+    p.factor = f32(w[11]);
+    p.claim = f32(w[12]);
+  }
   return r;
 }
 

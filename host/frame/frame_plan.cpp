@@ -61,8 +61,14 @@ bool huangMethod(const FilterParams& fp, const RenderOptions& options) {
   return fp.method != FilterParams::Method::Lipp;
 }
 
+bool pointShading(const RenderOptions& options, bool given, bool cover) {
+  return options.pointShading > 0 && !given && !cover && !options.rasterOnly;
+}
+
 int gbufferLayers(const FilterParams& fp, const RenderOptions& options, bool given, bool cover) {
   if (cover) return static_cast<int>(CLH_LAYER_COVERAGE) + 1;
+  // the samples, the conservative layer, then one identity layer per sample
+  if (pointShading(options, given, cover)) return 2 * options.msaa + 1;
   const bool filtered =
       options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
   const bool huang = filtered && !options.rasterOnly && huangMethod(fp, options);
@@ -80,6 +86,7 @@ void layoutStats(FramePlan& plan, std::size_t views, std::size_t shadowSlots) {
   plan.rasterStatsAt = plan.stats.take(4);
   plan.budgetAt = plan.stats.take(views == 1 ? FrameLod::stateWords(D) : 0);
   plan.linkAt = plan.stats.take(views == 1 ? 4 * D : views * D);
+  plan.pointsAt = plan.stats.take(views == 1 ? D : 0);
   plan.shadowAt = plan.stats.take(CLH_MAX_SHADOWS * shadowSlots);
 }
 
@@ -150,8 +157,9 @@ void planFrame(FramePlan& plan, const std::vector<GroomDraw>& draws, DispatchMod
     g.far = farGroom(*d.groom, d.instance->transform, pass.worldToView, plan.view) ? 1 : 0;
     plan.lastDrawn = k;
     // the coverage mode has no filter: its alpha comes from the coverage layer
-    g.filtered =
-        !plan.cover && options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
+    g.points = pointShading(options, given, plan.cover);
+    g.filtered = !plan.cover && !g.points && options.msaa == 1 &&
+                 (options.filter < 0 ? fp.enabled : options.filter == 1);
     g.huang = g.filtered && !options.rasterOnly && huangMethod(fp, options);
     g.linking = g.huang && fp.link && !given;
     g.ids = g.huang || options.strandIds;

@@ -35,7 +35,10 @@ struct GroomPlan {
   bool filtered = false;  // Lipp's or Huang's filter (MSAA 1, lines raster)
   bool huang = false;     // Huang's: hair linking (when `linking`), alpha fix, anisotropic
   bool linking = false;
-  bool ids = false;     // the strand pass writes the identity layer
+  bool ids = false;  // the strand pass writes the identity layer
+  // shaded once per visible strand point (RenderOptions::pointShading; host/passes/
+  // point_passes.cpp): the strand pass writes the sample identity layers, no filter
+  bool points = false;
   bool motion = false;  // a deforming groom's motion pass (AOVs with a previous frame)
   // G-buffer layers the composite takes the hair's depth from
   std::uint32_t depthLayers = 1;
@@ -77,7 +80,7 @@ struct FramePlan {
   // the index of the last groom drawn (captureGBuffer keeps its layers), grooms.size(): none
   std::size_t lastDrawn = 0;
   StatsLayout stats;
-  std::size_t rasterStatsAt = 0, budgetAt = 0, linkAt = 0, shadowAt = 0;
+  std::size_t rasterStatsAt = 0, budgetAt = 0, linkAt = 0, pointsAt = 0, shadowAt = 0;
   // handles of the frame's shared resources
   FrameGraph::Handle viewRecord, scene_, shadowMaps, color, depth, gbuffer, rasterCounters,
       frameStats, lodArena, visibility, linkState, filterParams, motionParams, aovPlanes;
@@ -89,6 +92,10 @@ bool coverMode(const Scene& s, const RenderOptions& options);
 // Whether a groom with filter settings `fp` is filtered with Huang's filter (rather than
 // Lipp's), as --filter says, else as the groom's method ("auto" is Huang's).
 bool huangMethod(const FilterParams& fp, const RenderOptions& options);
+// Whether a frame's grooms are shaded once per visible strand point: asked for
+// (RenderOptions::pointShading, resolved from the quality level) and possible (the lines
+// raster of the strand pass, not a given G-buffer, not raster-only runs).
+bool pointShading(const RenderOptions& options, bool given, bool cover);
 // G-buffer layers a groom with filter settings `fp` uses (gpu_types.h).
 int gbufferLayers(const FilterParams& fp, const RenderOptions& options, bool given, bool cover);
 
@@ -99,7 +106,8 @@ void planFrame(FramePlan& plan, const std::vector<GroomDraw>& draws, DispatchMod
 void planViews(FramePlan& plan, const std::vector<GroomDraw>& draws, DispatchMode mode);
 // The statistics words of a frame of `views` views: raster counters, the budget's outcome,
 // 4 linking counters per groom (one view) or a strand total per view and groom (several),
-// and the shadow passes' strand totals for `shadowSlots` groom slots.
+// the points shaded per groom (one view), and the shadow passes' strand totals for
+// `shadowSlots` groom slots (last: the read-back takes the rest of the words for them).
 void layoutStats(FramePlan& plan, std::size_t views, std::size_t shadowSlots);
 
 }  // namespace clhair

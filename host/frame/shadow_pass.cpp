@@ -48,8 +48,8 @@ std::vector<const cl::Buffer*> ShadowPass::mapBuffers() const {
 
 std::vector<const cl::Buffer*> ShadowPass::buffers() const {
   std::vector<const cl::Buffer*> b = mapBuffers();
-  b.insert(b.end(),
-           {&lightView_, &lightColor_, &lightDepth_, &lightGBuffer_, &counters_, &totals_});
+  b.insert(b.end(), {&lightView_, &lightColor_, &lightDepth_, &lightGBuffer_, &counters_, &totals_,
+                     &cameraLod_});
   for (const cl::Buffer& one : one_) b.push_back(&one);
   return b;
 }
@@ -110,14 +110,44 @@ ShadowPass::Key ShadowPass::keyOf(const Scene& s, const RenderOptions& o, bool l
   putValue(o.ambientOcclusion);
   putValue(o.trueWidth);
   putValue(lodCorrection);
+  putValue(o.shadowLodCamera);
   const std::size_t counts[4] = {s.lights.size(), s.spheres.size(), s.planes.size(),
                                  s.grooms.size()};
   putValue(counts);
   return k;
 }
 
-bool ShadowPass::needsRebuild(const Scene& s, const RenderOptions& options, bool lodCorrection) {
+bool ShadowPass::cameraCaps(const RenderOptions& options, bool cameraLod) {
+  const bool lightLod = options.shadowLod >= 0 ? options.shadowLod != 0 : options.lod != 0;
+  return cameraLod && lightLod && options.shadowLodCamera != 0;
+}
+
+bool ShadowPass::needsRebuild(const Scene& s, const RenderOptions& options, bool lodCorrection,
+                              const std::vector<GroomDraw>* draws) {
   Key key = keyOf(s, options, lodCorrection);
+  // where the camera's LOD caps a groom's light passes, the groom's size on the camera's
+  // screen (its bounding sphere's share of the image height) to half an octave: the maps
+  // are kept while the camera moves within it
+  const glm::mat4 w2v = worldToView(s.camera);
+  const gpu::ClhViewGpu view = makeView(s.camera, s.width, s.height);
+  for (std::size_t k = 0; draws && k < draws->size(); ++k) {
+    const GroomDraw& d = (*draws)[k];
+    const bool lodOn = options.lod < 0 ? d.groom->lodEnabled() : options.lod != 0;
+    int bucket = 1 << 20;  // not capped
+    if (cameraCaps(options, lodOn)) {
+      const glm::vec3 lo = d.groom->boundsMin(), hi = d.groom->boundsMax();
+      const glm::mat4& t = d.instance->transform;
+      const glm::vec3 c = glm::vec3(t * glm::vec4(0.5f * (lo + hi), 1.0f));
+      const float scale = std::max({glm::length(glm::vec3(t[0])), glm::length(glm::vec3(t[1])),
+                                    glm::length(glm::vec3(t[2]))});
+      const float radius = 0.5f * glm::length(hi - lo) * scale;
+      const float z = (w2v * glm::vec4(c, 1.0f)).z;
+      const float share = z > radius ? view.fy * 2.0f * radius / z / float(s.height) : 1.0f;
+      bucket = share >= 1.0f ? 0 : static_cast<int>(std::floor(2.0f * std::log2(share)));
+    }
+    const auto* b = reinterpret_cast<const unsigned char*>(&bucket);
+    key.bytes.insert(key.bytes.end(), b, b + sizeof bucket);
+  }
   if (options.reuseShadows && valid_ && key == lastKey_) return false;
   // the maps are valid for this key once the rebuild is enqueued (the frame's next pass);
   // a frame that fails before it leaves them invalid
@@ -128,7 +158,7 @@ bool ShadowPass::needsRebuild(const Scene& s, const RenderOptions& options, bool
 
 void ShadowPass::rebuild(const Scene& s, const RenderOptions& cameraOptions, bool lodCorrection,
                          const std::vector<GroomDraw>& grooms, SceneGpu& scene, DispatchMode mode,
-                         Profiler* profiler) {
+                         const ViewPass* camera, Profiler* profiler) {
   totalSlots_ = grooms.size();
   ensureCapacity<cl_uint>(dev_, totals_, totalCap_, "shadow strand totals",
                           CLH_MAX_SHADOWS * std::max<std::size_t>(totalSlots_, 1));
@@ -142,6 +172,37 @@ void ShadowPass::rebuild(const Scene& s, const RenderOptions& cameraOptions, boo
   pass.lodLambdaScale = cameraOptions.lodLambdaScale * s.shadows.lodScale;
   pass.trueWidth = cameraOptions.trueWidth;
   pass.shadowLodCorrection = lodCorrection;
+  // the camera's LOD records of the grooms it draws with LOD: the light passes draw no more
+  // per bundle (lod.cl, lod_cap)
+  std::vector<char> capped(grooms.size(), 0);
+  std::vector<std::uint32_t> cameraAt(grooms.size(), 0);  // each draw's first record
+  const bool anyLight =
+      std::any_of(s.lights.begin(), s.lights.end(), [](const Light& l) { return l.shadows; });
+  std::size_t records = 0;
+  for (std::size_t k = 0; k < grooms.size() && camera && camera->view && anyLight; ++k) {
+    const GroomDraw& d = grooms[k];
+    const bool lodOn = cameraOptions.lod < 0 ? d.groom->lodEnabled() : cameraOptions.lod != 0;
+    if (!cameraCaps(cameraOptions, lodOn) || d.state->records == 0) continue;
+    cameraAt[k] = static_cast<std::uint32_t>(records);
+    records += d.state->records;
+    capped[k] = 1;
+  }
+  if (records > 0)
+    ensureCapacity<gpu::ClhLodRecord>(dev_, cameraLod_, cameraLodCap_, "the camera's LOD records",
+                                      records);
+  for (std::size_t k = 0; k < grooms.size(); ++k) {
+    if (!capped[k]) continue;
+    const GroomDraw& d = grooms[k];
+    if (!d.groom->prepare(*d.state, d.instance->transform, *camera)) {
+      capped[k] = 0;
+      continue;
+    }
+    d.groom->lod(*d.state, *camera->view, profiler);
+    // the camera's LOD records kept (16 bytes, four 32-bit words each)
+    constexpr std::size_t recordWords = sizeof(gpu::ClhLodRecord) / 4;
+    clear_.copyUints(d.state->lod, 0, cameraLod_, cameraAt[k] * recordWords,
+                     d.state->records * recordWords, "shadow", profiler);
+  }
   std::vector<gpu::ClhShadowGpu> params(CLH_MAX_SHADOWS);
   int slot = 0;
   for (const Light& light : s.lights) {
@@ -220,6 +281,9 @@ void ShadowPass::rebuild(const Scene& s, const RenderOptions& cameraOptions, boo
       const GroomDraw& d = grooms[k];
       if (!d.groom->prepare(*d.state, d.instance->transform, pass)) continue;
       d.groom->lod(*d.state, lightView_, profiler);
+      if (capped[k])
+        stage_.capLod(d.state->lod, d.state->counts, d.state->offsets, cameraLod_, cameraAt[k],
+                      d.state->records, d.groom->storedStrands(), profiler);
       rs.strands =
           mode == DispatchMode::ReadBack ? d.groom->readTotal(*d.state) : d.groom->strandCount();
       drawn.push_back({&d, rs.strands});

@@ -5,7 +5,9 @@
 // depth, the strands' nearest depth bounds the first layer, and the opacity passes fill
 // CLH_DOM_LAYERS layers per texel. The maps are reused across frames while nothing they
 // depend on changes (RenderOptions::reuseShadows): lights, shadow settings, opaque
-// primitives, grooms, their transforms and deformed cages, LOD options — not the camera.
+// primitives, grooms, their transforms and deformed cages, LOD options, and, where the
+// camera's LOD caps a groom's light passes (RenderOptions::shadowLodCamera), the groom's
+// size on the camera's screen to half an octave.
 #pragma once
 
 #include <array>
@@ -26,12 +28,20 @@ class ShadowPass {
   explicit ShadowPass(Device::Impl& dev);
   // Whether the maps must be built again for this frame: not when the previous ones still
   // hold (and reuse is allowed). Call once per frame, then rebuild() when it says so.
-  bool needsRebuild(const Scene& s, const RenderOptions& options, bool lodCorrection);
+  // `draws`: the frame's grooms when the camera's LOD may cap their light passes (a frame
+  // of one view), else null.
+  bool needsRebuild(const Scene& s, const RenderOptions& options, bool lodCorrection,
+                    const std::vector<GroomDraw>* draws);
+  // Whether the light passes of a groom drawn by the camera with `cameraLod` (its LOD on)
+  // are capped by the camera's LOD (RenderOptions::shadowLodCamera).
+  static bool cameraCaps(const RenderOptions& options, bool cameraLod);
   // Builds the maps (a pass of the frame graph). Must run before the camera's opaque pass,
   // which receives hair shadows too. Strand passes are sized by `mode` (read-back waits).
+  // `camera`: the camera's pass (its view record on the device), whose LOD caps the light
+  // passes of the grooms it draws with LOD; null: the light's view alone.
   void rebuild(const Scene& s, const RenderOptions& options, bool lodCorrection,
                const std::vector<GroomDraw>& grooms, SceneGpu& scene, DispatchMode mode,
-               Profiler* profiler);
+               const ViewPass* camera, Profiler* profiler);
   // Allocates the maps the scene's shadowed lights need, before anything of the frame is
   // released: Oclgrind 21.10 keeps a released buffer's uninitialised-memory shadow, its size
   // included, for the next buffer that gets its slot, so maps allocated after the AO bake's
@@ -68,6 +78,8 @@ class ShadowPass {
   cl::Buffer opaque_, hair_, opacity_;           // texel planes of all slots
   cl::Buffer lightView_, lightColor_, lightDepth_, lightGBuffer_, counters_;
   cl::Buffer totals_;
+  cl::Buffer cameraLod_;  // the camera's LOD records of every capped groom draw, in order
+  std::size_t cameraLodCap_ = 0;
   std::size_t totalSlots_ = 0, totalCap_ = 0;
   Key lastKey_;
   bool valid_ = false;

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <numeric>
 
 #include <glm/geometric.hpp>
 
@@ -20,19 +19,6 @@ void store3(float* dst, const glm::vec3& v, float w) {
 }
 
 int cornerCount(const std::array<int, 4>& f) { return f[3] < 0 ? 3 : 4; }
-
-// Object-space area of a root face.
-float faceArea(const HairMesh& m, const std::array<int, 4>& f) {
-  const glm::vec3& a = m.position(0, f[0]);
-  const glm::vec3& b = m.position(0, f[1]);
-  const glm::vec3& c = m.position(0, f[2]);
-  float area = 0.5f * glm::length(glm::cross(b - a, c - a));
-  if (cornerCount(f) == 4) {
-    const glm::vec3& d = m.position(0, f[3]);
-    area += 0.5f * glm::length(glm::cross(c - a, d - a));
-  }
-  return area;
-}
 
 }  // namespace
 
@@ -92,27 +78,10 @@ GroomData prepareGroom(const HairMesh& m) {
     }
   }
 
-  // Strands spread over the bundles by root-face area (largest remainder keeps the total).
+  // Strands spread over the bundles by root-face area (largest remainder keeps the total), as
+  // the file's validation counted them against kMaxBundleStrands.
   const std::size_t F = m.faces.size();
-  std::vector<double> area(F);
-  for (std::size_t f = 0; f < F; ++f) area[f] = faceArea(m, m.faces[f]);
-  double total = std::accumulate(area.begin(), area.end(), 0.0);
-  std::vector<std::uint32_t> counts(F, 0);
-  std::vector<std::pair<double, std::size_t>> remainders;
-  std::uint64_t assigned = 0;
-  for (std::size_t f = 0; f < F; ++f) {
-    double exact = total > 0.0 ? static_cast<double>(m.strandCount) * area[f] / total : 0.0;
-    counts[f] = static_cast<std::uint32_t>(std::floor(exact));
-    assigned += counts[f];
-    remainders.push_back({exact - std::floor(exact), f});
-  }
-  std::stable_sort(remainders.begin(), remainders.end(),
-                   [](const auto& a, const auto& b) { return a.first > b.first; });
-  for (std::size_t i = 0; assigned < static_cast<std::uint64_t>(m.strandCount) && i < F; ++i) {
-    ++counts[remainders[i].second];
-    ++assigned;
-  }
-
+  const std::vector<std::uint32_t> counts = bundleStrandCounts(m);
   out.bundles.resize(F);
   for (std::size_t f = 0; f < F; ++f) {
     const auto& face = m.faces[f];

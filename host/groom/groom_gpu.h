@@ -102,6 +102,9 @@ class GroomGpu {
   std::uint32_t readTotal(const GroomInstanceGpu& inst);
   // Every strand of the groom (the bound of an over-launched dispatch).
   virtual std::uint32_t strandCount() const = 0;
+  // The groom's point space for per-point shading (gpu_types.h, the sample identity word):
+  // hair meshes CLH_MAX_CONTROL_POINTS per strand, strand files their stored points.
+  virtual std::uint64_t pointSpace() const = 0;
   // Stored strands (strand files): a record's segments depend on each strand's length.
   virtual bool storedStrands() const { return false; }
   virtual void raster(GroomInstanceGpu& inst, const StrandRaster& r, Profiler* profiler) = 0;

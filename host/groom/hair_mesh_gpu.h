@@ -42,6 +42,9 @@ class HairMeshGpu final : public GroomGpu {
   std::uint32_t strandCount() const override {
     return static_cast<std::uint32_t>(data_.totalStrands);
   }
+  std::uint64_t pointSpace() const override {
+    return std::uint64_t(data_.totalStrands) * CLH_MAX_CONTROL_POINTS;
+  }
   void raster(GroomInstanceGpu& inst, const StrandRaster& r, Profiler* profiler) override;
   void opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands,
                Profiler* profiler) override;

@@ -24,6 +24,10 @@ class StrandFileGpu final : public GroomGpu {
   std::uint32_t strandCount() const override {
     return static_cast<std::uint32_t>(data_.drawnStrands);
   }
+  // child c of a guide numbers its points after c copies of the stored ones (as export does)
+  std::uint64_t pointSpace() const override {
+    return data_.totalPoints * (std::uint64_t(data_.kids.count) + 1);
+  }
   void raster(GroomInstanceGpu& inst, const StrandRaster& r, Profiler* profiler) override;
   void opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands,
                Profiler* profiler) override;

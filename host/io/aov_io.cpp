@@ -184,7 +184,7 @@ std::vector<ImageChannel> aovChannels(const Frame& frame, const std::vector<Aov>
 }
 
 void writeChannels(const std::vector<ImageChannel>& channels, int width, int height,
-                   const std::string& path) {
+                   const std::string& path, const ImageWriteOptions& options) {
   const std::string ext = lowerExtension(path);
   if (ext != ".exr")
     throw Error(path + ": layers for compositing (--aov) need an OpenEXR file (.exr), not \"" +
@@ -214,8 +214,7 @@ void writeChannels(const std::vector<ImageChannel>& channels, int width, int hei
   std::vector<float> interleaved(pixels * n);
   for (std::size_t p = 0; p < pixels; ++p)
     for (int c = 0; c < n; ++c) interleaved[p * n + c] = channels[c].values[p];
-  writeImageFile(path, spec, OIIO::TypeDesc::FLOAT, interleaved.data(),
-                 "no OpenEXR writer in this OpenImageIO");
+  writeImageFile(path, spec, OIIO::TypeDesc::FLOAT, interleaved.data(), options);
 }
 
 }  // namespace clhair

@@ -1,70 +1,45 @@
-// binary_file.h — a regular file opened for reading with its size known before the first
-// byte is read, so binary readers can check header counts against it before allocating.
+// binary_file.h — a regular file opened for reading (io/regular_file.h: FIFOs, devices and
+// folders refused) with its size known before the first byte is read, so binary readers can
+// check header counts against it before allocating.
 // Every failure is one clhair::Error line naming the file and its format (`kind`).
 #pragma once
 
 #include <algorithm>
-#include <cerrno>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
 #include "clhair/error.h"
+#include "io/regular_file.h"
 
 namespace clhair {
 
 class InputFile {
  public:
-  InputFile(const std::string& path, const std::string& kind) : path_(path) {
-    std::error_code ec;
-    auto status = std::filesystem::status(path, ec);
-    if (ec || !std::filesystem::exists(status))
-      throw Error(path + ": cannot open " + kind + " file (" +
-                  (ec ? ec.message() : std::string("no such file")) + ")");
-    if (!std::filesystem::is_regular_file(status))
-      throw Error(path + ": is not a regular file, cannot read it as a " + kind + " file");
-    size_ = std::filesystem::file_size(path, ec);
-    if (ec)
-      throw Error(path + ": cannot read the size of the " + kind + " file (" + ec.message() + ")");
-    in_.open(path, std::ios::binary);
-    if (!in_) throw Error(path + ": cannot open " + kind + " file (" + std::strerror(errno) + ")");
-  }
+  InputFile(const std::string& path, const std::string& kind) : file_(path, kind) {}
 
-  std::uint64_t size() const { return size_; }
+  std::uint64_t size() const { return file_.size(); }
   std::uint64_t offset() const { return offset_; }
 
   // Reads exactly n bytes; after the size checks only a file changed under us fails here.
   void read(unsigned char* dst, std::size_t n, const std::string& what) {
-    in_.read(reinterpret_cast<char*>(dst), static_cast<std::streamsize>(n));
-    if (static_cast<std::size_t>(in_.gcount()) != n)
-      throw Error(path_ + ": file ended early while reading " + what +
-                  " (was it changed while being read?)");
+    file_.read(dst, n, what);
     offset_ += n;
   }
 
-  void skip(std::uint64_t n, const std::string& what) {
-    in_.seekg(static_cast<std::streamoff>(n), std::ios::cur);
-    if (!in_) throw Error(path_ + ": cannot skip over " + what);
-    offset_ += n;
-  }
+  void skip(std::uint64_t n, const std::string& what) { seek(offset_ + n, what); }
 
   // Moves to an absolute byte offset (formats whose header points at its arrays); callers
   // check the offset against size() first.
   void seek(std::uint64_t offset, const std::string& what) {
-    in_.seekg(static_cast<std::streamoff>(offset), std::ios::beg);
-    if (!in_)
-      throw Error(path_ + ": cannot seek to " + what + " at byte " + std::to_string(offset));
+    file_.seek(offset, what);
     offset_ = offset;
   }
 
  private:
-  std::string path_;
-  std::ifstream in_;
-  std::uint64_t size_ = 0;
+  RegularFile file_;
   std::uint64_t offset_ = 0;
 };
 

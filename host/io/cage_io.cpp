@@ -2,12 +2,14 @@
 // vertices for every frame of a shot, float32, little endian.
 //
 // The reader checks the header against the file size and the byte limit before it
-// allocates, then every coordinate; any failure is one clhair::Error line naming the file.
+// allocates, then every coordinate (finite, within kMaxCoordinate like a hair mesh's
+// vertices); any failure is one clhair::Error line naming the file.
 #include <cmath>
 #include <cstring>
 
 #include "clhair/animation.h"
 #include "clhair/error.h"
+#include "clhair/hair_mesh.h"
 #include "io/binary_file.h"
 #include "io/json_util.h"
 
@@ -65,6 +67,13 @@ CageAnimation loadCageAnimation(const std::string& path, std::uint64_t maxBytes)
       throw Error(path + ": frame " + std::to_string(i / c.vertices) + ", vertex " +
                   std::to_string(i % c.vertices) + " has a non-finite coordinate (" +
                   showFloat(v.x) + ", " + showFloat(v.y) + ", " + showFloat(v.z) + ")");
+    // the bound of a hair mesh's layer vertices, which these positions replace
+    if (std::fabs(v.x) > kMaxCoordinate || std::fabs(v.y) > kMaxCoordinate ||
+        std::fabs(v.z) > kMaxCoordinate)
+      throw Error(path + ": frame " + std::to_string(i / c.vertices) + ", vertex " +
+                  std::to_string(i % c.vertices) + " is at (" + showFloat(v.x) + ", " +
+                  showFloat(v.y) + ", " + showFloat(v.z) +
+                  "), beyond the +-1e6 coordinates a hair mesh allows");
     c.positions[i] = v;
   });
   return c;

@@ -1,18 +1,22 @@
 // hair_mesh_io.cpp — reading, validating and writing hair-mesh files (JSON, documented in
 // docs/hair-mesh-format.md). Every rejection names the file, the JSON element and the
 // values that matter; nothing is half-read into the renderer.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 
 #include "clhair/error.h"
 #include "clhair/gpu_types.h"
 #include "clhair/hair_mesh.h"
 #include "io/appearance_io.h"
+#include "io/binary_file.h"
 #include "io/json_util.h"
 
 namespace clhair {
@@ -178,6 +182,44 @@ void readAppearance(const JsonReader& r, const json& j, AppearanceParams& a, boo
                    "min_hit_diameter_px"});
 }
 
+std::vector<std::uint32_t> bundleStrandCounts(const HairMesh& m) {
+  const std::size_t F = m.faces.size();
+  std::vector<double> area(F, 0.0);
+  double total = 0.0;
+  for (std::size_t f = 0; f < F; ++f) {
+    const auto& face = m.faces[f];
+    bool inside = true;
+    for (int c = 0; c < (face[3] < 0 ? 3 : 4); ++c)
+      inside = inside && face[c] >= 0 && static_cast<std::size_t>(face[c]) < m.positions.size();
+    if (!inside) continue;
+    // in float, as the areas have always been computed (the same strands per bundle)
+    const glm::vec3 &a = m.positions[face[0]], &b = m.positions[face[1]], &c = m.positions[face[2]];
+    float s = 0.5f * glm::length(glm::cross(b - a, c - a));
+    if (face[3] >= 0) s += 0.5f * glm::length(glm::cross(c - a, m.positions[face[3]] - a));
+    area[f] = std::isfinite(s) ? s : 0.0;
+    total += area[f];
+  }
+  std::vector<std::uint32_t> counts(F, 0);
+  if (m.strandCount <= 0) return counts;
+  const double strands = static_cast<double>(std::min<std::int64_t>(m.strandCount, kMaxStrands));
+  const bool spread = total > 0.0 && std::isfinite(total);  // else one each, in face order
+  std::vector<std::pair<double, std::size_t>> remainders;
+  std::uint64_t assigned = 0;
+  for (std::size_t f = 0; f < F; ++f) {
+    const double exact = spread ? strands * area[f] / total : 0.0;
+    counts[f] = static_cast<std::uint32_t>(std::floor(exact));
+    assigned += counts[f];
+    remainders.push_back({exact - std::floor(exact), f});
+  }
+  std::stable_sort(remainders.begin(), remainders.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  for (std::size_t i = 0; assigned < static_cast<std::uint64_t>(strands) && i < F; ++i) {
+    ++counts[remainders[i].second];
+    ++assigned;
+  }
+  return counts;
+}
+
 void validateHairMesh(const HairMesh& m, const std::string& where) {
   auto fail = [&](const std::string& what) { throw Error(where + ": " + what); };
   if (m.layerCount < 2)
@@ -206,6 +248,11 @@ void validateHairMesh(const HairMesh& m, const std::string& where) {
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
       fail("layer " + std::to_string(i / m.vertexCount) + " vertex " +
            std::to_string(i % m.vertexCount) + " has a non-finite position");
+    if (std::fabs(p.x) > kMaxCoordinate || std::fabs(p.y) > kMaxCoordinate ||
+        std::fabs(p.z) > kMaxCoordinate)
+      fail("layer " + std::to_string(i / m.vertexCount) + " vertex " +
+           std::to_string(i % m.vertexCount) + " is at (" + showFloat(p.x) + ", " + showFloat(p.y) +
+           ", " + showFloat(p.z) + "), beyond the +-1e6 coordinates allowed");
     if (!m.tangents.empty() && !(std::isfinite(m.tangents[i].x) && std::isfinite(m.tangents[i].y) &&
                                  std::isfinite(m.tangents[i].z)))
       fail("tangent of layer vertex " + std::to_string(i) + " is not finite");
@@ -235,6 +282,18 @@ void validateHairMesh(const HairMesh& m, const std::string& where) {
   if (m.strandCount < 0 || m.strandCount > kMaxStrands)
     fail("strands is " + std::to_string(m.strandCount) + ", expected 0.." +
          std::to_string(kMaxStrands));
+  const std::vector<std::uint32_t> counts = bundleStrandCounts(m);
+  const auto most = std::max_element(counts.begin(), counts.end());
+  if (most != counts.end() && *most > kMaxBundleStrands) {
+    const std::size_t f = static_cast<std::size_t>(most - counts.begin());
+    const double fit = static_cast<double>(m.strandCount) * kMaxBundleStrands / *most;
+    fail("strands is " + std::to_string(m.strandCount) + ": bundle " + std::to_string(f) +
+         " (faces[" + std::to_string(f) + "], the largest scalp face) gets " +
+         std::to_string(*most) + " of them, and a bundle holds at most " +
+         std::to_string(kMaxBundleStrands) +
+         " (docs/hair-mesh-format.md); split that face or ask for at most " +
+         std::to_string(static_cast<long long>(fit)) + " strands");
+  }
   bool pow2plus1 = false;
   for (int k = 1; k <= 7; ++k) pow2plus1 |= m.controlPoints == (1 << k) + 1;
   if (!pow2plus1)
@@ -246,6 +305,10 @@ HairMesh loadHairMesh(const std::string& path) {
   json root = readJsonFile(path, "hair mesh");
   JsonReader r(path, root);
   HairMesh m;
+  // the keys the format requires (docs/hair-mesh-format.md) must be there, not defaulted
+  for (const char* key :
+       {"format", "version", "layer_count", "vertex_count", "faces", "uv", "layers"})
+    r.require(key);
   std::string format = r.string("format", "");
   if (format != "clhair-hairmesh")
     r.fail("format", "is \"" + format + "\", expected \"clhair-hairmesh\"");

@@ -1,17 +1,14 @@
-// json_util.cpp — strict JSON getters, file reading with positions, atomic writes.
+// json_util.cpp — strict JSON getters, file reading with positions, atomic writes (safe_write.h).
 #include "io/json_util.h"
 
 #include <cctype>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
-#include <unistd.h>
-
 #include "clhair/error.h"
+#include "io/regular_file.h"
+#include "io/safe_write.h"
 
 namespace clhair {
 
@@ -127,16 +124,9 @@ void JsonReader::rejectUnknown(const std::vector<std::string>& known) const {
 }
 
 json readJsonFile(const std::string& path, const std::string& what) {
-  // A device or FIFO (/dev/zero, /dev/stdin) would be read forever or block.
-  std::error_code ec;
-  const auto status = std::filesystem::status(path, ec);
-  if (!ec && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
-    throw Error(path + ": is not a regular file, cannot read it as a " + what + " file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path + ": cannot open " + what + " file (" + std::strerror(errno) + ")");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  std::string text = ss.str();
+  // a device or FIFO (/dev/zero, /dev/stdin) would be read forever or block: refused unopened
+  RegularFile file(path, what);
+  const std::string text = file.readAll(~std::uint64_t(0));
   try {
     return json::parse(text);
   } catch (const json::parse_error& e) {
@@ -166,24 +156,7 @@ std::string lowerExtension(const std::string& path) {
 }
 
 void writeTextAtomically(const std::string& path, const std::string& text) {
-  std::string tmp = path + ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error(path + ": cannot write (" + std::strerror(errno) + ")");
-    out << text;
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      throw Error(path + ": write failed (" + std::strerror(errno) + ")");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw Error(path + ": cannot move the finished file into place (" + ec.message() + ")");
-  }
+  writeFileAtomically(path, text);
 }
 
 }  // namespace clhair

@@ -46,7 +46,7 @@ class JsonReader {
 // with the file, line and column. `what` names the file's role ("scene", "hair mesh").
 nlohmann::json readJsonFile(const std::string& path, const std::string& what);
 
-// Writes text to path.tmp-<pid> then renames it over `path`.
+// Writes text (or any bytes) to `path` through writeFileAtomically (io/safe_write.h).
 void writeTextAtomically(const std::string& path, const std::string& text);
 
 // The file name's extension in lower case, with its dot (".hair"), or "" when it has none.

@@ -20,6 +20,7 @@
 #include "clhair/error.h"
 #include "clhair/triangle_mesh.h"
 #include "io/json_util.h"
+#include "io/regular_file.h"
 
 namespace clhair {
 
@@ -159,19 +160,12 @@ TriangleMesh loadTriangleMesh(const std::string& path, const MeshLimits& limits,
                 ": PLY meshes are not supported; convert it to OBJ (e.g. with Blender or MeshLab)");
   if (ext != ".obj") throw Error(label + ": expected a Wavefront .obj mesh, not \"" + ext + "\"");
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec))
-    throw Error(label + ": \"" + path + "\" does not exist or is not a file");
-  const std::uint64_t size = std::filesystem::file_size(path, ec);
-  if (ec) throw Error(label + ": cannot read its size (" + ec.message() + ")");
-  if (size > limits.maxFileBytes)
-    throw Error(label + ": the file is " + mib(size) + ", more than the " +
+  if (!std::filesystem::exists(path, ec)) throw Error(label + ": \"" + path + "\" does not exist");
+  RegularFile file(path, "OBJ mesh");
+  if (file.size() > limits.maxFileBytes)
+    throw Error(label + ": the file is " + mib(file.size()) + ", more than the " +
                 mib(limits.maxFileBytes) + " an OBJ mesh may be (decimate the mesh)");
-  std::string text(static_cast<std::size_t>(size), '\0');
-  {
-    std::ifstream in(path, std::ios::binary);
-    if (!in.read(text.data(), static_cast<std::streamsize>(size)))
-      throw Error(label + ": cannot be read (" + std::strerror(errno) + ")");
-  }
+  std::string text = file.readAll(limits.maxFileBytes);
   const std::size_t nul = text.find('\0');
   if (nul != std::string::npos)
     throw Error(label + ": holds binary data (a zero byte at offset " + std::to_string(nul) +

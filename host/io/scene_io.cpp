@@ -34,6 +34,27 @@ using nlohmann::json;
 
 constexpr double kBig = 1e6;
 
+// The scene's "quality": a level name, or {"level": name, "spp": passes of final}.
+QualityParams readQuality(const JsonReader& r) {
+  QualityParams q;
+  const json& v = r.require("quality");
+  auto level = [&](const std::string& name, const JsonReader& at, const char* key) {
+    if (name == "draft") return Quality::Draft;
+    if (name == "good") return Quality::Good;
+    if (name == "final") return Quality::Final;
+    at.fail(key, "must be \"draft\", \"good\" or \"final\", not \"" + name + "\"");
+  };
+  if (v.is_string()) {
+    q.level = level(v.get<std::string>(), r, "quality");
+    return q;
+  }
+  JsonReader o = r.object(v, "quality");
+  q.level = level(o.string("level", "draft"), o, "level");
+  q.spp = o.integer("spp", 0, 1, kMaxFinalPasses);
+  o.rejectUnknown({"level", "spp"});
+  return q;
+}
+
 std::string showNumber(double v) {
   char buf[32];
   std::snprintf(buf, sizeof(buf), "%g", v);
@@ -111,6 +132,13 @@ glm::mat4 readTransform(const JsonReader& parent, const json& j, KeyTrack* keys 
           t.fail("matrix", "holds a non-finite number or one beyond float range");
         m[c][r] = static_cast<float>(d);
       }
+    // a singular matrix flattens what it places to a plane, a line or a point, which then
+    // draws nothing (the smallest "scale" allowed, 1e-6 on every axis, has a determinant of 1e-18)
+    const double det = glm::determinant(glm::dmat3(glm::mat3(m)));
+    if (!(std::fabs(det) >= 1e-18))
+      t.fail("matrix", "is degenerate: its 3x3 part has determinant " + showNumber(det) +
+                           ", so it flattens everything it places (expected at least 1e-18 in "
+                           "magnitude)");
     t.rejectUnknown({"matrix"});
     return m;
   }
@@ -1103,6 +1131,7 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
     else
       r.fail("raster", "must be \"lines\" or \"coverage\", not \"" + m + "\"");
   }
+  if (r.has("quality")) s.quality = readQuality(r);
   if (r.has("temporal")) {  // temporal reprojection (clhair/temporal.h), off by default
     JsonReader o = r.object(r.require("temporal"), "temporal");
     TemporalParams& tp = s.temporal;
@@ -1112,10 +1141,10 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
         static_cast<float>(o.number("depth_tolerance", tp.depthTolerance, 1e-4, 10.0));
     o.rejectUnknown({"history", "blend", "depth_tolerance"});
   }
-  r.rejectUnknown({"resolution", "camera", "cameras", "background", "ambient", "lights", "spheres",
-                   "planes", "meshes", "grooms", "shadows", "filter", "environment",
-                   "background_image", "frame_rate", "segment_budget", "max_strands", "raster",
-                   "temporal"});
+  r.rejectUnknown({"resolution",     "camera",      "cameras",     "background",       "ambient",
+                   "lights",         "spheres",     "planes",      "meshes",           "grooms",
+                   "shadows",        "filter",      "environment", "background_image", "frame_rate",
+                   "segment_budget", "max_strands", "raster",      "temporal",         "quality"});
   return s;
 }
 

@@ -1,6 +1,7 @@
 // lod_passes.cpp — each drawn groom's LOD pre-pass from the camera, then the segment budget
-// over all of them on the device (passes.h). The pre-pass also writes the groom's record for
-// the camera (GroomGpu::prepare): the shadow pass before it wrote the light's.
+// over all of them on the device, shared out by the options' rule (passes.h, frame_lod.h).
+// The pre-pass also writes the groom's record for the camera (GroomGpu::prepare): the shadow
+// pass before it wrote the light's.
 #include "passes/passes.h"
 
 namespace clhair {
@@ -29,7 +30,7 @@ void addLodPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
         for (GroomPlan& gp : plan.grooms)
           if (gp.active) s.readWrite(gp.lod);
         s.readWrite(plan.lodArena);
-        s.kernel("budget_plan").kernel("budget_apply");
+        s.kernel("budget_measure").kernel("budget_plan").kernel("budget_apply");
       },
       [&] {
         std::vector<GroomDraw> draws;
@@ -39,7 +40,8 @@ void addLodPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
           active.push_back(gp.active);
           far.push_back(gp.far);
         }
-        r.frameLod.enqueue(draws, active, far, plan.budget, &r.profiler);
+        r.frameLod.enqueue(draws, active, far, plan.budget, &r.profiler,
+                           budgetRule(plan.options, plan.view));
       });
 }
 

@@ -51,6 +51,11 @@ ShadeStage::Params shadeParams(Renderer::Impl& r, const RenderTarget& t, const G
 void addFilterPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
 void addCompositePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
 
+// point_passes.cpp: the groom shaded once per visible strand point (GroomPlan::points), in
+// place of addShadePass: the points marked and ranked, their inputs written by the strand
+// kernels' point pass, each shaded once, every sample resolved along its segment.
+void addPointShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
+
 // aov_passes.cpp: the layers for compositing, started after the opaque scene and folded in
 // after each groom's composite, on the device.
 void addAovBeginPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingFrame& out);

@@ -83,56 +83,67 @@ void addReadBackPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingF
   // the statistics, decoded once the words are on the host
   struct Drawn {
     std::string name;
-    bool drawn = false, huang = false;
+    bool drawn = false, huang = false, points = false;
   };
   struct Offsets {
-    std::size_t budgetAt, linkAt, shadowAt, rasterStatsAt;
+    std::size_t budgetAt, linkAt, pointsAt, shadowAt, rasterStatsAt;
   };
   std::vector<Drawn> drawn;
   for (const GroomPlan& gp : plan.grooms)
-    drawn.push_back({gp.draw.instance->name, gp.active != 0, gp.huang && !plan.options.rasterOnly});
-  out.finishers.insert(out.finishers.begin(), [drawn, budget = plan.budget,
-                                               at = Offsets{plan.budgetAt, plan.linkAt,
-                                                            plan.shadowAt, plan.rasterStatsAt},
-                                               D, shadowWords](PendingFrame& p) {
-    FrameStats& st = p.frames[0].stats;
-    const std::vector<std::uint32_t>& w = p.stats;
-    std::vector<std::uint32_t> lodWords(
-        w.begin() + static_cast<std::ptrdiff_t>(at.budgetAt),
-        w.begin() + static_cast<std::ptrdiff_t>(at.budgetAt + FrameLod::stateWords(D)));
-    const FrameLod::Result lod = FrameLod::decode(lodWords, D);
-    st.segmentBudget = budget;
-    st.overBudget = lod.over;
-    st.budgetScale = lod.scale;
-    st.segmentsBeforeBudget = lod.lodSegments;
-    for (std::size_t k = 0; k < D; ++k) {
-      GroomDrawStats g;
-      g.instance = k;
-      g.name = drawn[k].name;
-      g.drawn = drawn[k].drawn;
-      if (g.drawn && lod.draw.size() >= 4 * D) {
-        g.strands = lod.draw[4 * k];
-        g.segments = lod.draw[4 * k + 1];
-        g.visibleStrands = lod.draw[4 * k + 2];
-        g.halved = (lod.draw[4 * k + 3] & CLH_BUDGET_HALVED) != 0;
-      }
-      st.strandsDrawn += g.strands;
-      st.segmentsPlanned += g.segments;
-      st.grooms.push_back(std::move(g));
-      if (!drawn[k].huang) continue;
-      const std::uint32_t* c = &w[at.linkAt + 4 * k];
-      st.linkSelecting += c[0];
-      st.linkedPixels += c[1];
-      st.linkStrands += c[2];
-      st.linkTurnedAway += c[3];
-    }
-    for (std::size_t i = 0; i < shadowWords; ++i) st.shadowStrandsDrawn += w[at.shadowAt + i];
-    const std::uint32_t* rs = &w[at.rasterStatsAt];
-    st.pixelWrites = rs[0];
-    st.atomicsIssued = rs[1];
-    st.atomicsSkipped = rs[2];
-    st.segmentsDrawn = rs[3];
-  });
+    drawn.push_back({gp.draw.instance->name, gp.active != 0, gp.huang && !plan.options.rasterOnly,
+                     gp.active != 0 && gp.points});
+  const bool screenRule = plan.options.budgetRule != 0;
+  out.finishers.insert(
+      out.finishers.begin(),
+      [drawn, budget = plan.budget, screenRule,
+       at = Offsets{plan.budgetAt, plan.linkAt, plan.pointsAt, plan.shadowAt, plan.rasterStatsAt},
+       D, shadowWords](PendingFrame& p) {
+        FrameStats& st = p.frames[0].stats;
+        const std::vector<std::uint32_t>& w = p.stats;
+        std::vector<std::uint32_t> lodWords(
+            w.begin() + static_cast<std::ptrdiff_t>(at.budgetAt),
+            w.begin() + static_cast<std::ptrdiff_t>(at.budgetAt + FrameLod::stateWords(D)));
+        const FrameLod::Result lod = FrameLod::decode(lodWords, D);
+        st.segmentBudget = budget;
+        st.overBudget = lod.over;
+        st.budgetScale = lod.scale;
+        st.budgetScreenRule = screenRule;
+        st.budgetLevel = lod.level;
+        st.segmentsBeforeBudget = lod.lodSegments;
+        for (std::size_t k = 0; k < D; ++k) {
+          GroomDrawStats g;
+          g.instance = k;
+          g.name = drawn[k].name;
+          g.drawn = drawn[k].drawn;
+          if (g.drawn && lod.draw.size() >= 4 * D) {
+            g.strands = lod.draw[4 * k];
+            g.segments = lod.draw[4 * k + 1];
+            g.visibleStrands = lod.draw[4 * k + 2];
+            g.halved = (lod.draw[4 * k + 3] & CLH_BUDGET_HALVED) != 0;
+            g.requested = lod.plan[k].request;
+            g.floor = lod.plan[k].floor;
+            g.share = lod.plan[k].share;
+            g.screenArea = lod.plan[k].area;
+            g.keepClaim = lod.plan[k].claim * lod.claims;
+          }
+          st.strandsDrawn += g.strands;
+          st.segmentsPlanned += g.segments;
+          st.grooms.push_back(std::move(g));
+          if (drawn[k].points) st.pointsShaded += w[at.pointsAt + k];
+          if (!drawn[k].huang) continue;
+          const std::uint32_t* c = &w[at.linkAt + 4 * k];
+          st.linkSelecting += c[0];
+          st.linkedPixels += c[1];
+          st.linkStrands += c[2];
+          st.linkTurnedAway += c[3];
+        }
+        for (std::size_t i = 0; i < shadowWords; ++i) st.shadowStrandsDrawn += w[at.shadowAt + i];
+        const std::uint32_t* rs = &w[at.rasterStatsAt];
+        st.pixelWrites = rs[0];
+        st.atomicsIssued = rs[1];
+        st.atomicsSkipped = rs[2];
+        st.segmentsDrawn = rs[3];
+      });
 }
 
 }  // namespace clhair

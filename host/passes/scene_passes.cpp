@@ -73,6 +73,7 @@ void addShadowPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
       "shadow maps",
       [&](FrameGraph::Setup& s) {
         s.read(plan.scene_).write(plan.shadowMaps);
+        if (plan.viewRecord) s.read(plan.viewRecord);  // the camera's LOD caps the lights'
         for (const GroomPlan& gp : plan.grooms) {
           s.read(gp.tables).write(gp.params).write(gp.lod);
           const GroomKernels k = gp.draw.groom->kernels();
@@ -80,6 +81,7 @@ void addShadowPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
         }
         opaqueKernels(s);
         s.kernel("scan_bundles").kernel("shadow_resolve_depth").kernel("shadow_clear");
+        s.kernel("lod_cap");
         s.kernel("clear_uints").kernel("copy_uints");
         if (plan.mode == DispatchMode::ReadBack)
           s.hostWait("each groom's strand total from each light (--dispatch readback)");
@@ -87,8 +89,10 @@ void addShadowPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
       [&] {
         std::vector<GroomDraw> draws;
         for (const GroomPlan& gp : plan.grooms) draws.push_back(gp.draw);
+        // the camera's LOD caps the light passes (a frame of one view)
+        const ViewPass* camera = plan.cameraPass.view ? &plan.cameraPass : nullptr;
         r.shadows.rebuild(plan.scene, plan.options, plan.lodCorrection, draws, r.scene, plan.mode,
-                          &r.profiler);
+                          camera, &r.profiler);
       });
 }
 

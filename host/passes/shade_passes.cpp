@@ -88,10 +88,11 @@ void addCompositePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPl
       },
       [&] {
         RenderTarget& t = *plan.target;
-        r.composite.enqueue({t.viewTarget(), &gp.draw.state->groom, &g.buffer(gp.result),
-                             &t.gbuffer, &t.color, &t.depth, plan.options.msaa,
-                             static_cast<int>(gp.depthLayers), gp.huang ? gp.hairBox : PixelRect{}},
-                            &r.profiler);
+        r.composite.enqueue(
+            {t.viewTarget(), &gp.draw.state->groom, &g.buffer(gp.result), &t.gbuffer, &t.color,
+             &t.depth, plan.options.msaa, static_cast<int>(gp.depthLayers),
+             gp.huang || gp.points ? gp.hairBox : PixelRect{}},
+            &r.profiler);
       });
 }
 

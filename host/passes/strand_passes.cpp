@@ -22,6 +22,7 @@ StrandRaster cameraRaster(Renderer::Impl&, const FramePlan& plan, const GroomPla
       plan.mode == DispatchMode::ReadBack ? d.groom->readTotal(*d.state) : d.groom->strandCount();
   raster.layers = t.usedLayers();
   raster.ids = gp.ids;
+  raster.pointIds = gp.points;
   return raster;
 }
 

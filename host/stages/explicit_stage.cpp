@@ -82,7 +82,7 @@ void ExplicitStage::motion(const Inputs& in, const cl::Buffer& previous, const M
 
 void ExplicitStage::raster(const Inputs& in, const StrandRaster& r, Profiler* profiler) {
   r.check();
-  const bool persistent = r.mode == DispatchMode::Persistent && !r.curve;
+  const bool persistent = r.mode == DispatchMode::Persistent && !r.curve && !r.points;
   cl::Kernel& k =
       kernel(persistent ? "strands_explicit_raster_persistent" : "strands_explicit_raster",
              "strands_explicit.cl", r.entryOptions(persistent));
@@ -93,9 +93,7 @@ void ExplicitStage::raster(const Inputs& in, const StrandRaster& r, Profiler* pr
   // the first strand of a chunked launch, or the persistent grid's size
   const cl_uint last = a.next();
   a.value("strand base", 0u);
-  if (r.curve)
-    a.buffer("source strands", *r.linkFlags, std::uint64_t(r.linkWords) * sizeof(cl_uint))
-        .value("source strand words", static_cast<cl_uint>(r.linkWords));
+  r.bindExtras(a);
   if (r.strands == 0) return;
   if (persistent)
     dispatchStrandsPersistent(dev_, k, r.stage(), r.strands, last, profiler);

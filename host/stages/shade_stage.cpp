@@ -45,4 +45,33 @@ cl::Event ShadeStage::enqueue(const Params& p, Profiler* profiler) {
                   profiler);
 }
 
+cl::Event ShadeStage::enqueuePoints(const Params& p, const PointStage::Lists& lists,
+                                    Profiler* profiler) {
+  if (!points_()) points_ = dev_.kernel("shade.cl", "shade_points");
+  const PointStage::Sizes& s = lists.sizes;
+  KernelArgs a(points_, "shade");
+  a.buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
+      .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
+      .buffer("scene", *p.lighting.scene, sizeof(gpu::ClhSceneGpu));
+  bindLightsAndShadows(a, p.lighting);
+  bindEnvironment(a, p.lighting.env);
+  a.buffer("visibility", *p.visibility, sizeof(gpu::ClhVisibilityGpu))
+      .buffer("visibility table", *p.visibilityTable,
+              std::uint64_t(std::max<std::uint32_t>(p.visibilityCells, 1)) * 4 * sizeof(float))
+      .buffer("strand offsets", *p.offsets,
+              std::uint64_t(gpu::clh_lod_offsets_length(p.records)) * sizeof(cl_uint))
+      .buffer("point records", *lists.records, s.recordsBytes())
+      .buffer("point ranks", *lists.offsets, s.offsetsBytes())
+      .value("point words", static_cast<cl_uint>(s.words))
+      .value("point capacity", static_cast<cl_uint>(s.capacity))
+      .buffer("point colours", *lists.colors, s.colorsBytes());
+  // the count is known on the device only: a grid that walks the slots, as wide as the
+  // device keeps busy and no wider than the capacity
+  const std::size_t local = 64;
+  const std::size_t wide = std::size_t(std::max<std::uint32_t>(dev_.info.computeUnits, 1)) * 2048;
+  const std::size_t global =
+      roundUp(std::max<std::size_t>(std::min<std::size_t>(s.capacity, wide), 1), local);
+  return dispatch(dev_, points_, "shade", cl::NDRange(global), cl::NDRange(local), profiler);
+}
+
 }  // namespace clhair

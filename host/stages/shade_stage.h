@@ -5,6 +5,7 @@
 #include <map>
 #include <utility>
 
+#include "stages/point_stage.h"
 #include "stages/stage_inputs.h"
 
 namespace clhair {
@@ -27,11 +28,17 @@ class ShadeStage {
     bool cover = false;  // coverage mode: three layers and the coverage plane (coverage.h)
   };
   cl::Event enqueue(const Params& p, Profiler* profiler);
+  // Per-point shading: every point listed in `lists` shaded once at its own position into
+  // lists.colors (shade_points; p.gbuffer, p.hair and p.msaa are not read). A grid of at
+  // most a few thousand work-items per compute unit walks the slots up to the count the
+  // device holds.
+  cl::Event enqueuePoints(const Params& p, const PointStage::Lists& lists, Profiler* profiler);
 
  private:
   cl::Kernel& kernel(int msaa, bool cover);
   Device::Impl& dev_;
   std::map<std::pair<int, bool>, cl::Kernel> kernels_;
+  cl::Kernel points_;
 };
 
 }  // namespace clhair

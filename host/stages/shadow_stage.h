@@ -19,10 +19,16 @@ class ShadowStage {
                     int res, std::size_t allTexels, Profiler* profiler);
   void clearOpacity(const cl::Buffer& shadow, cl::Buffer& opacity, std::size_t slotTexels,
                     std::size_t allTexels, Profiler* profiler);
+  // The light pass's LOD of one groom instance (its `records` records, counts and scan, in
+  // the light's view) capped per bundle by the camera's records, `records` of them from
+  // record `cameraAt` of `camera` (lod.cl, lod_cap); `stored`: a strand file (its segments
+  // are per strand).
+  void capLod(cl::Buffer& lod, cl::Buffer& counts, cl::Buffer& offsets, const cl::Buffer& camera,
+              std::uint32_t cameraAt, std::uint32_t records, bool stored, Profiler* profiler);
 
  private:
   Device::Impl& dev_;
-  cl::Kernel resolve_, clear_;
+  cl::Kernel resolve_, clear_, cap_;
 };
 
 }  // namespace clhair

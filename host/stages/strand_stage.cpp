@@ -25,7 +25,7 @@ void StrandStage::bindGroom(KernelArgs& a, const Inputs& in) {
 
 void StrandStage::raster(const Inputs& in, const StrandRaster& r, Profiler* profiler) {
   r.check();
-  const bool persistent = r.mode == DispatchMode::Persistent && !r.curve;
+  const bool persistent = r.mode == DispatchMode::Persistent && !r.curve && !r.points;
   const std::string key = r.options() + (persistent ? "|1" : "|0");
   auto it = raster_.find(key);
   if (it == raster_.end())
@@ -44,9 +44,7 @@ void StrandStage::raster(const Inputs& in, const StrandRaster& r, Profiler* prof
       .buffer("raster counters", *r.counters, 4 * sizeof(cl_uint));
   const cl_uint baseArg = a.next();
   a.value("strand base", 0u).value("strand stride", 0u);
-  if (r.curve)
-    a.buffer("source strands", *r.linkFlags, std::uint64_t(r.linkWords) * sizeof(cl_uint))
-        .value("source strand words", static_cast<cl_uint>(r.linkWords));
+  r.bindExtras(a);
   if (r.strands == 0) return;
   if (persistent)
     dispatchStrandsPersistent(dev_, k, r.stage(), r.strands, baseArg + 1, profiler);

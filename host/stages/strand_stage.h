@@ -4,18 +4,30 @@
 // for statistics runs); the dispatch follows the chosen sizing mode.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <map>
 #include <string>
 
 #include "cl/dispatch.h"
 #include "clhair/error.h"
+#include "clhair/gpu_types.h"
 #include "clhair/raster_core.h"
 
 namespace clhair {
 
 // The build option that keeps one entry point of a strand program (CLH_ENTRY, raster_core.h).
 inline std::string entryOption(int entry) { return " -DCLH_ENTRY=" + std::to_string(entry); }
+
+// The point lists of per-point shading (PointStage, kernels/points.cl): what the strand
+// kernels' point pass reads (the marked points and their ranks) and writes (the records).
+struct PointLists {
+  const cl::Buffer* bits = nullptr;     // uint per 32 points of the groom's point space
+  const cl::Buffer* offsets = nullptr;  // uint per bitmap word, then the total
+  cl::Buffer* records = nullptr;        // ClhPointGpu per slot
+  std::uint32_t words = 0;              // bitmap words
+  std::uint32_t capacity = 0;           // records
+};
 
 // Where a strand pass draws: shared by the hair-mesh and explicit strand kernels.
 struct StrandRaster {
@@ -30,6 +42,10 @@ struct StrandRaster {
   std::uint32_t strands = 0;  // ReadBack: the exact total; otherwise an upper bound
   int layers = 0;             // layers of `gbuffer` (0: msaa + 1)
   bool ids = false;           // also write the identity layer (layer msaa + 1, MSAA 1)
+  // also write the sample identity layers (layers msaa + 1 .. 2 msaa, per-point shading)
+  bool pointIds = false;
+  // the point pass of per-point shading: nothing drawn; the marked points' records written
+  const PointLists* points = nullptr;
   // the curve pass of hair linking: only the strands flagged in linkFlags (linkWords uints)
   // draw their centre lines into layers CLH_LAYER_CURVE and CLH_LAYER_CURVE_ID
   bool curve = false;
@@ -54,8 +70,11 @@ struct StrandRaster {
       throw Error("strand identities need MSAA 1, not " + std::to_string(msaa));
     if (cover && (msaa != 1 || ids || curve))
       throw Error("the coverage raster draws one sample per pixel without strand identities");
+    if ((pointIds || points) && (ids || curve || cover || (pointIds && points)))
+      throw Error("per-point shading's passes draw the plain lines raster");
   }
-  std::string stage() const { return curve ? "link" : "strands"; }  // for timings
+  // for timings
+  std::string stage() const { return curve ? "link" : (points ? "points" : "strands"); }
   // options() plus the entry point (CLH_ENTRY, raster_core.h): the plain or persistent raster
   std::string entryOptions(bool persistent) const {
     return options() + entryOption(persistent ? CLH_ENTRY_RASTER_PERSISTENT : CLH_ENTRY_RASTER);
@@ -63,7 +82,23 @@ struct StrandRaster {
   std::string options() const {
     return "-DCLH_MSAA=" + std::to_string(msaa) + (stats ? " -DCLH_RASTER_STATS=1" : "") +
            (curve ? " -DCLH_RASTER_CURVE=1" : (ids ? " -DCLH_STRAND_ID=1" : "")) +
-           (cover ? " -DCLH_RASTER_COVER=1" : "");
+           (cover ? " -DCLH_RASTER_COVER=1" : "") + (pointIds ? " -DCLH_POINT_ID=1" : "") +
+           (points ? " -DCLH_RASTER_POINTS=1" : "");
+  }
+  // Binds the arguments the curve pass or the point pass take after the common ones.
+  void bindExtras(KernelArgs& a) const {
+    if (curve)
+      a.buffer("source strands", *linkFlags, std::uint64_t(linkWords) * sizeof(cl_uint))
+          .value("source strand words", static_cast<cl_uint>(linkWords));
+    if (points)
+      a.buffer("marked points", *points->bits, std::uint64_t(points->words) * sizeof(cl_uint))
+          .buffer("point ranks", *points->offsets,
+                  (std::uint64_t(points->words) + 1) * sizeof(cl_uint))
+          .value("point words", static_cast<cl_uint>(points->words))
+          .buffer("point records", *points->records,
+                  std::uint64_t(std::max<std::uint32_t>(points->capacity, 1)) *
+                      sizeof(gpu::ClhPointGpu))
+          .value("point capacity", static_cast<cl_uint>(points->capacity));
   }
 };
 

@@ -25,6 +25,8 @@
 #include <string>
 #include <vector>
 
+#include "clhair/image.h"
+
 namespace clhair {
 
 struct Frame;
@@ -64,9 +66,10 @@ double motionWarpIoU(const FrameAovs& now, const FrameAovs& before, int width, i
 // The same intersection over union without moving anything (what motion 0 would give).
 double maskIoU(const FrameAovs& now, const FrameAovs& before, int width, int height);
 
-// Writes channels as one OpenEXR file (the name must end in .exr), atomically like
-// writeImage; channels are stored in the order given.
+// Writes channels as one OpenEXR file (the name must end in .exr), through the same checked
+// path as writeImage (options.exrCompression applies); channels are stored in the order given.
+// Safe from several threads at once on different paths.
 void writeChannels(const std::vector<ImageChannel>& channels, int width, int height,
-                   const std::string& path);
+                   const std::string& path, const ImageWriteOptions& options = {});
 
 }  // namespace clhair

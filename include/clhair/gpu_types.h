@@ -244,47 +244,59 @@ typedef struct {
 
 /* ---- LOD record: one per bundle of a hair mesh or chunk of a strand file, 16 bytes -----
  * Written by lod_bundles / lod_chunks (lod.cl), or by the host when it fixes L itself
- * (strand export, clh_lod_record_at in lod_math.h); read by the strand kernels
- * (strands.cl, strands_explicit.cl) for the bundle or chunk a strand belongs to.
+ * (strand export, clh_lod_record_at in lod_math.h), rewritten by the segment budget
+ * (budget.cl); read by the strand kernels (strands.cl, strands_explicit.cl) for the bundle
+ * or chunk a strand belongs to.
  *
  *   bytes   member          type  meaning
  *   0..3    strands         u32   N_LOD, strands drawn (Lipp Eq. 1); 0: culled
  *   4..7    control_points  u32   C, points per strand (Lipp Eq. 4-5), 2^k + 1
- *   8..11   lod             f32   L (Lipp Eq. 2); 1 when culled or kept at full detail
+ *   8..11   coverage        f32   the factor by which its strands widen their hit diameter
+ *                                 for the strands left out: N / N_LOD from the pre-pass
+ *                                 (1 at full detail or culled), N / N' once the segment
+ *                                 budget keeps N' (less under a widening cap)
  *   12..15  gamma           f32   vertex-LOD morph factor (Bhokare Eq. 10-12), 0: none
  *
- * A culled bundle keeps the groom's full-detail C, with L = 1 and gamma = 0.           */
+ * A culled bundle keeps the groom's full-detail C, with coverage 1 and gamma = 0.       */
 typedef struct {
   clh_u32 strands;
   clh_u32 control_points;
-  float lod;
+  float coverage;
   float gamma;
 } ClhLodRecord;
 
-CLH_FN ClhLodRecord clh_lod_record_make(clh_u32 strands, clh_u32 control_points, float lod,
+CLH_FN ClhLodRecord clh_lod_record_make(clh_u32 strands, clh_u32 control_points, float coverage,
                                         float gamma) {
   ClhLodRecord r;
   r.strands = strands;
   r.control_points = control_points;
-  r.lod = lod;
+  r.coverage = coverage;
   r.gamma = gamma;
   return r;
 }
 
-/* N / N_LOD (at least 1): the factor by which a strand of the record's bundle, n_full
- * strands at full detail, widens its hit diameter to make up for the strands LOD left out;
- * 1 when the bundle draws none. */
-CLH_FN float clh_lod_record_coverage(ClhLodRecord r, clh_u32 n_full) {
-  return r.strands > 0u ? fmax((float)n_full / (float)r.strands, 1.0f) : 1.0f;
+/* The widening of a bundle (or chunk) of n_full strands that draws n of them: N / n, at
+ * least 1, and 1 when it draws none. */
+CLH_FN float clh_lod_widening(clh_u32 n_full, clh_u32 n) {
+  return n > 0u ? fmax((float)n_full / (float)n, 1.0f) : 1.0f;
+}
+
+/* The factor by which a strand of the record widens its hit diameter (at least 1; 1 when
+ * the record draws nothing). */
+CLH_FN float clh_lod_record_coverage(ClhLodRecord r) {
+  return r.strands > 0u ? fmax(r.coverage, 1.0f) : 1.0f;
 }
 
 /* ---- the LOD counts and their scan, for n bundles (or chunks) --------------------------
- * counts: lod_bundles / lod_chunks -> scan_bundles, clh_lod_counts_length(n) = 3n uints
+ * counts: lod_bundles / lod_chunks -> scan_bundles, clh_lod_counts_length(n) = 7n uints
  *   [b]      N_LOD of bundle b (its record's strands)
  *   [n + b]  N of bundle b when it is not culled, else 0    (clh_lod_full_count_at)
  *   [2n + b] segments bundle b draws: N_LOD (C - 1) for a hair mesh; for a strand-file
  *            chunk the sum over its drawn strands of their drawn points - 1
  *                                                            (clh_lod_segment_count_at)
+ *   [3n + b .. 6n + b], step n: the bundle's screen box (its LOD AABB) clipped to the
+ *            image, pixels, as f32 bits: x0, y0, x1, y1 (all 0 when culled); the segment
+ *            budget's screen rule reads it (budget.cl)      (clh_lod_box_at(n, b, k))
  * offsets: scan_bundles -> strand kernels, shade.cl and the host,
  *   clh_lod_offsets_length(n) = n + 3 uints
  *   [b]      exclusive scan of counts[0..n): the first draw index of bundle b
@@ -295,16 +307,19 @@ CLH_FN float clh_lod_record_coverage(ClhLodRecord r, clh_u32 n_full) {
  *   [n + 2]  segment total, the sum of counts[2n..3n)       (clh_lod_segment_total_at)
  * A draw index i < offsets[n] belongs to the last bundle b with offsets[b] <= i and is
  * that bundle's (i - offsets[b])-th strand.                                            */
-CLH_FN clh_u32 clh_lod_counts_length(clh_u32 n) { return 3u * n; }
+CLH_FN clh_u32 clh_lod_counts_length(clh_u32 n) { return 7u * n; }
 CLH_FN clh_u32 clh_lod_full_count_at(clh_u32 n, clh_u32 b) { return n + b; }
 CLH_FN clh_u32 clh_lod_segment_count_at(clh_u32 n, clh_u32 b) { return 2u * n + b; }
+/* k: 0 x0, 1 y0, 2 x1, 3 y1 */
+CLH_FN clh_u32 clh_lod_box_at(clh_u32 n, clh_u32 b, clh_u32 k) { return (3u + k) * n + b; }
 CLH_FN clh_u32 clh_lod_offsets_length(clh_u32 n) { return n + 3u; }
 CLH_FN clh_u32 clh_lod_drawn_total_at(clh_u32 n) { return n; }
 CLH_FN clh_u32 clh_lod_visible_total_at(clh_u32 n) { return n + 1u; }
 CLH_FN clh_u32 clh_lod_segment_total_at(clh_u32 n) { return n + 2u; }
 
 /* ---- the segment budget: one frame's LOD records of every groom in one buffer, 32 bytes
- * per groom draw (host/frame/frame_lod.h, lod.cl: budget_plan, budget_apply).
+ * per groom draw (host/frame/frame_lod.h, lod.cl: budget_measure, budget_plan,
+ * budget_apply).
  * The records, counts and offsets of draw d lie in one shared buffer (the "arena") at
  * records_at (in ClhLodRecord units), counts_at and offsets_at (in uint units), with the
  * layouts above for `records` bundles or chunks.
@@ -326,14 +341,50 @@ typedef struct {
   clh_u32 far;
 } ClhBudgetDraw;
 
-/* What budget_plan decides for the frame and budget_apply reports per draw: a header of
- * CLH_BUDGET_HEADER words, then 4 words per draw.
- *   header: [0] the factor f (f32 bits; 1 when within budget), [1] 1: the LOD pre-passes
- *           exceeded the budget, [2] 0, [3] and [4]: the segment total of
- *           the pre-passes (low and high 32 bits), [5..7] 0
- *   per draw: strands, segments, visible strands, flags (CLH_BUDGET_HALVED: every other
- *           control point dropped)                                                      */
+/* How the budget shares the segments out, 32 bytes (DESIGN.md, "The segment budget").
+ *   rule        CLH_BUDGET_RULE_UNIFORM: one factor f for every groom (the largest that
+ *               fits); CLH_BUDGET_RULE_SCREEN: each groom's share by its screen area
+ *   image_area  the view's width x height, pixels
+ *   keep_lo, keep_hi  screen shares (groom box area / image area) between which a groom's
+ *               claim to keep its LOD count ramps from 0 to 1 (smoothstep)
+ *   room_lo     the claims hold in full while the budget above every groom's floor covers
+ *               them; they fade out linearly as that room falls to room_lo of them
+ *   widen_cap   the screen rule widens a surviving strand by at most this factor for the
+ *               strands the budget removed, on top of LOD's own widening; 0: no cap
+ *               (N_LOD / N')                                                            */
+typedef struct {
+  clh_u32 rule;
+  float image_area;
+  float keep_lo;
+  float keep_hi;
+  float room_lo;
+  float widen_cap;
+  clh_u32 pad0;
+  clh_u32 pad1;
+} ClhBudgetRule;
+#define CLH_BUDGET_RULE_UNIFORM 0u
+#define CLH_BUDGET_RULE_SCREEN 1u
+
+/* What the budget measures, decides for the frame and reports per draw: a header of
+ * CLH_BUDGET_HEADER words, then CLH_BUDGET_DRAW_WORDS words per draw.
+ *   header: [0] the uniform rule's factor f (f32 bits; 1 within budget or under the screen
+ *           rule), [1] 1: the LOD pre-passes exceeded the budget, [2] the rule, [3] and
+ *           [4]: the segment total of the pre-passes (low and high 32 bits), [5] the
+ *           screen rule's level mu (segments per pixel of screen box, f32), [6] the
+ *           strength phi of the claims (f32), [7] 0
+ *   per draw, by budget_apply: [0] strands, [1] segments, [2] visible strands;
+ *           by budget_plan: [3] flags (CLH_BUDGET_HALVED: every other control point
+ *           dropped);
+ *           by budget_measure (every active draw, either rule): [4] R, the segments its
+ *           LOD records ask, [5] R at every other control point, [6] F, its floor: one
+ *           strand per drawn record, [7] F at every other control point, [8] A, its
+ *           screen box (the union of its records' boxes clipped to the image, pixels,
+ *           f32), [9] its drawn records;
+ *           by budget_plan (screen rule over the budget; else S = R, f = 1): [10] S, its
+ *           share of segments, [11] its factor f_d (f32), [12] its claim p (f32), [13] G,
+ *           the floor of its share with its claim; [14], [15] 0                         */
 #define CLH_BUDGET_HEADER 8u
+#define CLH_BUDGET_DRAW_WORDS 16u
 #define CLH_BUDGET_DRAW_FIXED 1u
 #define CLH_BUDGET_DRAW_BUDGETED 2u
 #define CLH_BUDGET_HALVED 1u
@@ -513,6 +564,46 @@ typedef struct {
   float clump;
   clh_u32 seed;
 } ClhChildrenGpu;
+
+/* ---- per-point shading: the sample identity word, one more layer per sample ------------
+ * With per-point shading (DESIGN.md, "Shading once per visible strand point") the strand
+ * pass writes, next to each sample word of sample layer s (0 <= s < MSAA), the identity of
+ * the segment that drew it into layer CLH_LAYER_POINT_ID(msaa) + s, by the same depth test
+ * and its own atom_min:
+ *  bits 63..40  depth code, the same 24 bits as the sample word's
+ *  bits 39..8   point: the index of the segment's first point in the groom's point space
+ *               (hair meshes: strand x CLH_MAX_CONTROL_POINTS + k; strand files: the
+ *               strand's first stored point + k; k the point's index among the drawn ones),
+ *               so the segment's second point is point + 1
+ *  bits  7..0   t: where the sample lies between the two, 0 (the first) .. 255 (the
+ *               second), perspective-correct
+ * All ones is empty. The marked points are one bit each in a bitmap over the point space;
+ * a point's slot in the lists below is its rank among the marked bits.                   */
+#define CLH_LAYER_POINT_ID(msaa) ((clh_u32)(msaa) + 1u)
+#define CLH_PT_T_MAX 255u
+CLH_FN clh_u64 clh_pt_pack(clh_u32 depth24, clh_u32 point, clh_u32 t8) {
+  return ((clh_u64)(depth24 & 0xFFFFFFu) << 40) | ((clh_u64)point << 8) | (clh_u64)(t8 & 0xFFu);
+}
+CLH_FN clh_u32 clh_pt_point(clh_u64 id) { return (clh_u32)(id >> 8); }
+CLH_FN clh_u32 clh_pt_t(clh_u64 id) { return (clh_u32)id & 0xFFu; }
+CLH_FN float clh_pt_fraction(clh_u64 id) { return (float)clh_pt_t(id) * (1.0f / 255.0f); }
+
+/* A marked point's shading inputs, written by the point pass of the strand kernels
+ * (CLH_RASTER_POINTS) at the point's slot and read by shade_points (shade.cl), 32 bytes.
+ *   pos    world position; pos[3] its view depth
+ *   word   the G-buffer word at the point, as the raster forms it there (tangent, u, v, w,
+ *          AO; depth bits 0), low and high 32 bits                                       */
+typedef struct {
+  float pos[4];
+  clh_u32 word_lo, word_hi;
+  clh_u32 pad0, pad1;
+} ClhPointGpu;
+
+/* The point lists of one groom: the marked-point bitmap over `space` points (space / 32
+ * + 1 words), then per bitmap word the marked points before it (its words + 1 entries, the
+ * last the total). CLH_POINT_BLOCK words per block of the scan.                          */
+#define CLH_POINT_BLOCK 32u
+CLH_FN clh_u32 clh_point_words(clh_u32 space) { return space / 32u + 1u; }
 
 /* ---- random numbers: identical streams on host and device ----------------------------
  * lowbias32 integer hash (Chris Wellons' hash-prospector), combined per key.            */

@@ -95,8 +95,20 @@ struct HairMesh {
   }
 };
 
+// Strands one bundle may hold at full detail: its roots are the first samples of a
+// progressive blue-noise set of at most this size (host/groom/blue_noise.h).
+constexpr std::uint32_t kMaxBundleStrands = 1u << 16;
+// The largest layer-vertex coordinate, either sign (1000 km in clhair's metres): products of
+// coordinates (areas, styling frames) stay far inside float range. Cage animations too.
+constexpr float kMaxCoordinate = 1e6f;
+
+// The strands of each bundle at full detail: mesh.strandCount spread over the scalp faces by
+// their object-space area (layer 0), the largest remainders rounded up so they add up.
+std::vector<std::uint32_t> bundleStrandCounts(const HairMesh& mesh);
+
 // Throws clhair::Error naming `where` and the offending element when the mesh is not
-// renderable: counts, index ranges, finite numbers, parameter ranges, degenerate uv.
+// renderable: counts, index ranges, finite numbers within kMaxCoordinate, parameter ranges,
+// degenerate uv, and a bundle given more than kMaxBundleStrands strands.
 void validateHairMesh(const HairMesh& mesh, const std::string& where);
 
 HairMesh loadHairMesh(const std::string& path);

@@ -71,13 +71,14 @@ CLH_FN float clh_lod_morph(float L, clh_u32 layers, clh_u32 c_max, float window)
 
 /* The LOD record (gpu_types.h) of a bundle or chunk of n_full strands drawn at LOD value
  * L: N_LOD by Eq. 1 with its delta, C by Eq. 4-5 between min_points (the layer count; 3
- * for strand files) and c_full, and gamma for the morph window. lod.cl writes it for every
- * bundle LOD does not cull or keep at full detail; the host writes it when it fixes L
- * (strand export). */
+ * for strand files) and c_full, the widening N / N_LOD, and gamma for the morph window. lod.cl
+ * writes it for every bundle LOD does not cull or keep at full detail; the host writes it when it
+ * fixes L (strand export). */
 CLH_FN ClhLodRecord clh_lod_record_at(float L, clh_u32 n_full, float delta, clh_u32 min_points,
                                       clh_u32 c_full, float window) {
-  return clh_lod_record_make(clh_lod_strands(L, n_full, delta),
-                             clh_lod_control_points(L, min_points, c_full), L,
+  const clh_u32 n = clh_lod_strands(L, n_full, delta);
+  return clh_lod_record_make(n, clh_lod_control_points(L, min_points, c_full),
+                             clh_lod_widening(n_full, n),
                              clh_lod_morph(L, min_points, c_full, window));
 }
 

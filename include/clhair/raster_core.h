@@ -28,7 +28,12 @@
  *
  * With CLH_STRAND_ID every centre-sample write (MSAA 1) is followed by one of the strand
  * identity word (gpu_types.h) into layer CLH_MSAA + 1, with its own atom_min; off, the walk
- * is the same instructions as before. With CLH_RASTER_CURVE (device only, hair linking)
+ * is the same instructions as before. With CLH_POINT_ID (device only, any MSAA; per-point
+ * shading) every sample write of layer s is followed by one of the sample identity word
+ * (the segment's first point and the sample's place between its two points, gpu_types.h)
+ * into layer CLH_MSAA + 1 + s. With CLH_RASTER_POINTS (device only) nothing is drawn: the
+ * strand kernels' point pass writes the shading inputs of the points marked visible
+ * (raster.h, clh_points_lane). With CLH_RASTER_CURVE (device only, hair linking)
  * the segment leaves only its centre line, one pixel per column (the pixel holding the line
  * at the column's centre), as G-buffer word and identity in layers CLH_LAYER_CURVE and
  * CLH_LAYER_CURVE_ID.
@@ -81,6 +86,21 @@ namespace gpu {
 #ifndef CLH_RASTER_COVER
 #define CLH_RASTER_COVER 0 /* 1: coverage mode, trapezoids into three layers + coverage */
 #endif
+#ifndef CLH_POINT_ID
+#define CLH_POINT_ID 0 /* 1: write the sample identity layers (per-point shading) */
+#endif
+#ifndef CLH_RASTER_POINTS
+#define CLH_RASTER_POINTS 0 /* 1: the point pass: write the marked points' shading inputs */
+#endif
+#if CLH_RASTER_POINTS &&                                                               \
+    (!defined(CLH_DEVICE_CODE) || CLH_POINT_ID || CLH_STRAND_ID || CLH_RASTER_CURVE || \
+     CLH_RASTER_COVER || CLH_RASTER_OPACITY || CLH_RASTER_MOTION)
+#error "the point pass exists on the device only, on its own"
+#endif
+#if CLH_POINT_ID && (!defined(CLH_DEVICE_CODE) || CLH_STRAND_ID || CLH_RASTER_CURVE || \
+                     CLH_RASTER_COVER || CLH_RASTER_OPACITY || CLH_RASTER_MOTION)
+#error "the sample identity layers exist on the device only, in the plain raster"
+#endif
 /* The entry points of the strand programs (strands.cl, strands_explicit.cl). A build with
  * -DCLH_ENTRY=<one of these> holds that kernel alone: drivers that compile every kernel of a
  * program when it is built or its binary is read back (PoCL compiles each kernel for any
@@ -118,6 +138,9 @@ typedef struct {
   float ao, w;
   float iz, sx, sy; /* 1 / z and the screen position, when z >= near */
   float u;          /* position along the strand in [0, 1] (the identity word) */
+#if CLH_POINT_ID
+  float k; /* index of the point among the strand's drawn points (fractional where clipped) */
+#endif
 #if CLH_RASTER_MOTION
   float mx, my; /* screen motion to the previous frame, pixels (y down) */
 #endif
@@ -138,6 +161,16 @@ typedef struct {
   clh_u64 plane;         /* words per G-buffer layer */
   clh_u64 id_strand;     /* the strand's identity bits (strand << 16), CLH_STRAND_ID */
   float u_base, u_scale; /* vertex k of a lane's run lies at u = (u_base + k) * u_scale */
+#if CLH_POINT_ID || CLH_RASTER_POINTS
+  clh_u32 point_base; /* the strand's first point in the groom's point space */
+#endif
+#if CLH_RASTER_POINTS
+  __global const clh_u32* point_bits_g;    /* marked points, one bit each */
+  __global const clh_u32* point_offsets_g; /* marked points before each bitmap word */
+  __global ClhPointGpu* points_g;          /* the marked points' shading inputs, by slot */
+  clh_u32 point_words;                     /* words of the bitmap */
+  clh_u32 point_capacity;                  /* records points_g holds */
+#endif
 #if CLH_RASTER_CURVE
   __global const clh_u32* link_flags_g; /* source strands of hair linking, one bit each */
   clh_u32 link_words;
@@ -284,7 +317,10 @@ typedef struct {
   float ma, na, iza, izb;
   float ta[3], tb[3]; /* tangents / z */
   float aoa, aob, wa, wb;
-  float ua, ub;   /* position along the strand at the ends */
+  float ua, ub; /* position along the strand at the ends */
+#if CLH_POINT_ID
+  float ka, kb; /* point index at the ends */
+#endif
   float inv_span; /* 1 / (mb - ma) */
   float span;
 #if CLH_RASTER_MOTION
@@ -353,6 +389,20 @@ CLH_FN clh_u64 clh_col_id(const clh_raster_ctx* rc, const clh_col_word* c) {
   return ((clh_u64)c->dcode << 40) | rc->id_strand | ((clh_u64)clh_id_pos_code(c->u) << 1);
 }
 
+#if CLH_POINT_ID
+/* The sample identity word of a fragment at screen parameter c->t of segment s
+ * (gpu_types.h): the segment's first point and the fraction of the way to the second, the
+ * point index interpolated perspective-correctly (like the word's attributes). */
+CLH_FN clh_u64 clh_col_point_id(const clh_raster_ctx* rc, const clh_seg* s, const clh_col_word* c) {
+  const float k = clh_lerpf(s->ka * s->iza, s->kb * s->izb, c->t) * c->z;
+  const float k0 = floor(s->ka < s->kb ? s->ka : s->kb);
+  float f = k - k0;
+  f = f < 0.0f ? 0.0f : (f > 1.0f ? 1.0f : f);
+  return clh_pt_pack(c->dcode, rc->point_base + (clh_u32)k0,
+                     (clh_u32)(f * (float)CLH_PT_T_MAX + 0.5f));
+}
+#endif
+
 CLH_FN void clh_col_write(const clh_raster_ctx* rc, const clh_seg* s,
                           CLH_GLOBAL const float* scene_depth, CLH_GLOBAL clh_u64* gbuf,
                           clh_u32* counts, clh_u64 layer_at, clh_u64 idx, clh_col_word* c) {
@@ -406,6 +456,14 @@ CLH_FN void clh_col_write(const clh_raster_ctx* rc, const clh_seg* s,
     c->have = 1;
   }
   clh_gbuf_write(gbuf, counts, layer_at + idx, c->word);
+#if CLH_POINT_ID
+  /* a sample write's identity, by the same depth test (counters untouched) */
+  if (layer_at < (clh_u64)CLH_MSAA * rc->plane) {
+    clh_u32 none[4] = {0u, 0u, 0u, 0u};
+    clh_gbuf_write(gbuf, none, (clh_u64)(CLH_MSAA + 1) * rc->plane + layer_at + idx,
+                   clh_col_point_id(rc, s, c));
+  }
+#endif
 #if CLH_STRAND_ID && CLH_MSAA == 1
   /* the identity of a centre-sample write, by the same depth test (counters untouched) */
   if (layer_at == 0u) {
@@ -539,6 +597,9 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
     c.ao = clh_lerpf(a.ao, b.ao, t);
     c.w = clh_lerpf(a.w, b.w, t);
     c.u = clh_lerpf(a.u, b.u, t);
+#if CLH_POINT_ID
+    c.k = clh_lerpf(a.k, b.k, t);
+#endif
 #if CLH_RASTER_MOTION
     c.mx = clh_lerpf(a.mx, b.mx, t);
     c.my = clh_lerpf(a.my, b.my, t);
@@ -588,6 +649,10 @@ CLH_FN void clh_raster_segment(const clh_raster_ctx* rc, CLH_GLOBAL const float*
   s.wb = hi_v.w * s.izb;
   s.ua = lo_v.u;
   s.ub = hi_v.u;
+#if CLH_POINT_ID
+  s.ka = lo_v.k;
+  s.kb = hi_v.k;
+#endif
   s.span = mb - s.ma;
   s.inv_span = 1.0f / s.span;
 #if CLH_RASTER_MOTION

@@ -22,7 +22,22 @@ namespace clhair {
 struct RenderOptions {
   int lod = -1;  // -1: as each groom says; 0: off; 1: on
   float lodLambdaScale = 1.0f;
-  int msaa = 1;     // samples per pixel: 1, 2, 4 or 8 (software MSAA, averaged)
+  int msaa = 1;  // samples per pixel: 1, 2, 4 or 8 (software MSAA, averaged)
+  // Shading once per visible strand point (DESIGN.md): the points whose segments own a
+  // visible sample are shaded once each and every sample takes the colour interpolated
+  // along its segment; -1 as the quality level says (on for good and final), 0 off (every
+  // sample shaded), 1 on. No filter runs on such a frame; frames of several views, the
+  // coverage raster and references shade every sample.
+  int pointShading = -1;
+  // The quality level (clhair/scene.h, Quality; README "Quality"): -1 as the scene says, 0
+  // draft (the options as given), 1 good (msaa kGoodMsaa unless more than 1 is given, point
+  // shading, no filter), 2 final (render() accumulates jittered passes: ProgressiveStill in
+  // clhair/progressive.h; submit() refuses it).
+  int quality = -1;
+  int spp = 0;  // final: jittered passes, 0 as the scene says (kDefaultFinalPasses by default)
+  // final's passes: -1 the measured default (kFinalPassGood in clhair/progressive.h), 0 one
+  // sample per pixel without a filter, 1 the good path
+  int finalPath = -1;
   int filter = -1;  // reconstruction filter with MSAA 1: -1 as the scene says, 0 off, 1 on
   // which filter: -1 as the scene says (FilterParams::method; "auto", the default, is Huang's
   // in one view and Lipp's in several), 0 Lipp, 1 Huang (linking, alpha fix, anisotropic
@@ -33,6 +48,10 @@ struct RenderOptions {
   int raster = -1;
   int shadowLod = -1;            // LOD in the lights' passes: -1 on unless lod == 0, 0 off, 1 on
   int shadowLodCorrection = -1;  // Lipp §3.2.3 depth shift: -1 as the scene says, 0 off, 1 on
+  // The lights' passes draw no more strands and control points per bundle than the camera's
+  // LOD does for a groom the camera draws with LOD (DESIGN.md, "Light-pass LOD from the
+  // camera"): -1 / 1 on (with LOD in the lights' passes), 0 off (the light's view alone).
+  int shadowLodCamera = -1;
   DispatchMode dispatch = DispatchMode::Auto;
   bool rasterStats = false;  // count pixel writes and atomics (slower; benchmark)
   float jitterX = 0.0f;      // sub-pixel shift of the image plane, pixels (reference passes, tests)
@@ -66,6 +85,18 @@ struct RenderOptions {
   // Segment budget (Scene::segmentBudget): -1 as the scene says, 0 none, > 0 at most this
   // many segments per frame over all grooms drawn with LOD.
   std::int64_t segmentBudget = -1;
+  // How the segment budget shares the segments out: -1 the default (1), 0 one factor for
+  // every groom (the uniform rule), 1 each groom's share by its screen need (DESIGN.md
+  // "The segment budget").
+  int budgetRule = -1;
+  // The screen rule's claim: a groom whose screen box covers more than budgetKeepHigh of
+  // the image keeps its LOD count while the other grooms' cuts down to their floors pay for
+  // it; the claim ramps in from budgetKeepLow (smoothstep; equal values: a hard threshold).
+  float budgetKeepLow = 0.15f, budgetKeepHigh = 0.25f;
+  // Under the screen rule, the most the budget widens a surviving strand on top of LOD's
+  // own widening (>= 1; 0: no cap, the survivors stand for every strand removed). Kept for
+  // measurement: widening in full measured best (DESIGN.md "The segment budget").
+  float budgetWidenCap = 0.0f;
   // The strand pass also writes the identity layer next to the centre layer (MSAA 1 only;
   // gpu_types.h), and with aovs the frame gets the strand layer (clhair/aov.h). Huang's
   // filter writes it whatever this says.
@@ -129,6 +160,13 @@ struct GroomDrawStats {
   std::uint64_t segments = 0;        // segments drawn (strand files under the budget: see docs)
   std::uint32_t visibleStrands = 0;  // full-detail strands of the bundles not culled
   bool halved = false;               // every other control point dropped by the segment budget
+  // What the segment budget measured and decided (DESIGN.md "The segment budget"):
+  std::uint32_t requested = 0;  // segments its LOD records asked (at every other point if halved)
+  std::uint32_t floor = 0;      // segments at one strand per drawn bundle (or chunk)
+  std::uint32_t share = 0;      // the screen rule's share over the budget, else requested
+  float screenArea = 0.0f;      // its screen box clipped to the image, pixels
+  float keepClaim = 0.0f;       // its claim to keep its LOD count as it held, 0..1 (screen
+                                // rule: p_d faded by the room the others leave, DESIGN.md)
 };
 
 struct FrameStats {
@@ -139,9 +177,13 @@ struct FrameStats {
   std::uint64_t segmentsBeforeBudget = 0;
   std::uint64_t segmentBudget = 0;       // the budget this frame used (0: none)
   bool overBudget = false;               // the pre-passes exceeded it and strands were reduced
-  float budgetScale = 1.0f;              // the factor applied to every bundle's strand count
+  float budgetScale = 1.0f;              // the uniform rule's factor on every bundle's strands
+  bool budgetScreenRule = false;         // the budget shared by screen area (else uniform)
+  float budgetLevel = 0.0f;              // screen rule: segments per pixel of screen box, mu
   std::vector<GroomDrawStats> grooms;    // one per groom instance of the scene, in order
   std::uint64_t shadowStrandsDrawn = 0;  // strands drawn into the deep opacity maps, all lights
+  // points shaded once each (RenderOptions::pointShading), summed over the grooms
+  std::uint64_t pointsShaded = 0;
   // with RenderOptions::rasterStats only:
   std::uint64_t segmentsDrawn = 0;   // segments the raster walked (after near clipping)
   std::uint64_t pixelWrites = 0;     // G-buffer writes that passed coverage and depth tests

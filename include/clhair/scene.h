@@ -205,6 +205,20 @@ enum class CameraPreset { Close, Mid, Far };
 // clhair/coverage.h).
 enum class RasterMode { Lines, Coverage };
 
+// Quality levels (scene key "quality", `clhair render --quality`; README "Quality"):
+//   Draft  one sample per pixel with the scene's filter (Huang's by default);
+//   Good   kGoodMsaa samples per pixel, shaded once per visible strand point, no filter;
+//   Final  jittered passes accumulated (`spp` of them, kDefaultFinalPasses when 0), each the
+//          path kFinalPassGood says (ProgressiveStill, clhair/progressive.h).
+enum class Quality { Draft, Good, Final };
+constexpr int kGoodMsaa = 4;
+constexpr int kDefaultFinalPasses = 16;
+constexpr int kMaxFinalPasses = 4096;
+struct QualityParams {
+  Quality level = Quality::Draft;
+  int spp = 0;  // final: passes (0: kDefaultFinalPasses)
+};
+
 // The per-asset strand cap (Kulikov 2025: at most so many strands per model, applied at
 // load): a groom of more than `cap` strands keeps `cap` of them, spread evenly over the
 // groom (a hair mesh: the first `cap` of its progressive root sets; a strand file: every
@@ -262,6 +276,8 @@ struct Scene {
   // strand and do not count. 0: no budget.
   std::uint64_t segmentBudget = kDefaultSegmentBudget;
   RasterMode raster = RasterMode::Lines;  // "raster": "lines" or "coverage"
+  // "quality": "draft", "good" or "final", or {"level": ..., "spp": N}
+  QualityParams quality;
   // Problems found while loading that do not stop the scene from rendering, one line each
   // naming the file (the CLI prints them as "clhair: warning: ...").
   std::vector<std::string> warnings;

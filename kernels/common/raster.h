@@ -89,6 +89,9 @@ static inline void clh_raster_lane(clh_raster_ctx* rc, __global const float* sce
     v.ao = t.w;
     v.w = p.w;
     v.u = (rc->u_base + (float)(first + i)) * rc->u_scale;
+#if CLH_POINT_ID
+    v.k = rc->u_base + (float)(first + i);
+#endif
     clh_raster_project(rc, &v);
     if (i > 0u) clh_raster_segment(rc, scene_depth_g, gbuf_g, counts, prev, v);
     prev = v;
@@ -100,6 +103,75 @@ static inline void clh_raster_lane(clh_raster_ctx* rc, __global const float* sce
   (void)stats_g;
 #endif
 }
+
+#if CLH_RASTER_POINTS
+/* The point pass of per-point shading (-DCLH_RASTER_POINTS=1): the marked-point bitmap and
+ * its per-word ranks (kernels/points.cl), and where the marked points' inputs go. */
+static inline void clh_points_setup(clh_raster_ctx* rc, __global const uint* bits_g,
+                                    __global const uint* offsets_g, uint words,
+                                    __global ClhPointGpu* points_g, uint capacity) {
+  rc->point_bits_g = bits_g;
+  rc->point_offsets_g = offsets_g;
+  rc->point_words = words;
+  rc->points_g = points_g;
+  rc->point_capacity = capacity;
+}
+
+static inline bool clh_point_marked(const clh_raster_ctx* rc, uint point) {
+  const uint w = point >> 5;
+  return w < rc->point_words && ((rc->point_bits_g[w] >> (point & 31u)) & 1u) != 0u;
+}
+
+/* Whether any of points [base, base + n) is marked (the same answer in every lane). */
+static inline bool clh_points_any(const clh_raster_ctx* rc, uint base, uint n) {
+  if (n == 0u) return false;
+  const uint w0 = base >> 5, w1 = (base + n - 1u) >> 5;
+  for (uint w = w0; w <= w1 && w < rc->point_words; ++w) {
+    uint bits = rc->point_bits_g[w];
+    if (w == w0) bits &= ~0u << (base & 31u);
+    if (w == w1 && ((base + n) & 31u) != 0u) bits &= ~(~0u << ((base + n) & 31u));
+    if (bits != 0u) return true;
+  }
+  return false;
+}
+
+/* Writes the shading inputs of the marked points of a lane's run (the points it owns,
+ * first + i for i < count, numbered as clh_raster_lane numbers them) at their slots: the
+ * world position and view depth, and the G-buffer word the raster forms at the point. */
+static inline void clh_points_lane(const clh_raster_ctx* rc, __global const ClhGroomGpu* g,
+                                   const float4* P, const float4* T, uint first, uint count) {
+  float to_view[12], to_world[12];
+  for (int k = 0; k < 12; ++k) {
+    to_view[k] = g->obj_to_view[k];
+    to_world[k] = g->obj_to_world[k];
+  }
+  for (uint i = 0; i < count; ++i) {
+    const uint point = rc->point_base + (uint)rc->u_base + first + i;
+    if (!clh_point_marked(rc, point)) continue;
+    const uint w = point >> 5, below = rc->point_bits_g[w] & ((1u << (point & 31u)) - 1u);
+    const uint slot = rc->point_offsets_g[w] + popcount(below);
+    if (slot >= rc->point_capacity) continue;
+    float wp[3], vp[3], wt[3];
+    clh_xform3(to_world, P[i].x, P[i].y, P[i].z, 1.0f, wp);
+    clh_xform3(to_view, P[i].x, P[i].y, P[i].z, 1.0f, vp);
+    clh_xform3(to_world, T[i].x, T[i].y, T[i].z, 0.0f, wt);
+    const float l1 = fabs(wt[0]) + fabs(wt[1]) + fabs(wt[2]);
+    const uint oct = (l1 > 1e-30f && l1 < 1e30f) ? clh_oct_encode(wt[0], wt[1], wt[2])
+                                                 : clh_oct_encode(0.0f, 1.0f, 0.0f);
+    const ulong word = clh_gbuf_pack(0u, oct, rc->u6, rc->v6, clh_unorm_bits(P[i].w, 6u),
+                                     clh_unorm_bits(T[i].w, 6u));
+    __global ClhPointGpu* out = rc->points_g + slot;
+    out->pos[0] = wp[0];
+    out->pos[1] = wp[1];
+    out->pos[2] = wp[2];
+    out->pos[3] = vp[2];
+    out->word_lo = (uint)word;
+    out->word_hi = (uint)(word >> 32);
+    out->pad0 = 0u;
+    out->pad1 = 0u;
+  }
+}
+#endif
 
 #if CLH_RASTER_MOTION
 /* The motion pass (-DCLH_RASTER_MOTION=1): a lane's run drawn as clh_raster_lane draws it,

@@ -5,9 +5,9 @@
 
 #include "clhair/hair_mesh.h"
 #include "clhair/renderer.h"
+#include "commands.h"
 #include "io/json_util.h"
 #include "io/safe_write.h"
-#include "commands.h"
 #include "options.h"
 
 namespace clhair::cli {

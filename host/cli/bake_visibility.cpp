@@ -11,10 +11,10 @@
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
 #include "clhair/visibility_sh.h"
+#include "commands.h"
 #include "io/binary_file.h"
 #include "io/json_util.h"
 #include "io/safe_write.h"
-#include "commands.h"
 #include "options.h"
 
 namespace clhair::cli {

@@ -8,8 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "clhair/error.h"
-#include "io/json_util.h"
 #include "commands.h"
+#include "io/json_util.h"
 #include "options.h"
 
 namespace clhair::cli {

@@ -11,13 +11,13 @@
 #include "clhair/hair_mesh.h"
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
+#include "commands.h"
 #include "io/cyhair.h"
 #include "io/json_util.h"
-#include "io/safe_write.h"
 #include "io/ply_strands.h"
+#include "io/safe_write.h"
 #include "io/tressfx.h"
 #include "io/usc_hair.h"
-#include "commands.h"
 #include "options.h"
 
 namespace clhair::cli {
@@ -88,9 +88,9 @@ CyHair exportSource(Renderer& renderer, std::uint64_t maxAlloc, const std::strin
 
 CLI::App* addExportCommand(CLI::App& app, ExportFlags& f) {
   CLI::App* exportCmd = app.add_subcommand("export-strands",
-                                       "write the generated strands as a cyHair .hair file "
-                                       "(USC-HairSalon when the name ends in .data, "
-                                       "TressFX 4.0 for .tfx, PLY for .ply)");
+                                           "write the generated strands as a cyHair .hair file "
+                                           "(USC-HairSalon when the name ends in .data, "
+                                           "TressFX 4.0 for .tfx, PLY for .ply)");
   exportCmd
       ->add_option("groom", f.groomPath,
                    "hair-mesh file, strand file, or scene (its groom as drawn, children "

@@ -6,8 +6,8 @@
 
 #include "clhair/hair_mesh.h"
 #include "clhair/triangle_mesh.h"
-#include "io/json_util.h"
 #include "commands.h"
+#include "io/json_util.h"
 #include "options.h"
 
 namespace clhair::cli {

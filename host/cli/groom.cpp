@@ -4,17 +4,18 @@
 
 #include "clhair/error.h"
 #include "clhair/hair_mesh.h"
+#include "commands.h"
 #include "groom/presets.h"
 #include "io/json_util.h"
 #include "io/safe_write.h"
-#include "commands.h"
 #include "options.h"
 
 namespace clhair::cli {
 
 CLI::App* addGroomCommand(CLI::App& app, GroomFlags& f) {
   CLI::App* groom = app.add_subcommand("groom", "write a generated hair mesh");
-  groom->add_option("--preset", f.preset, "long_wavy, curly_medium, fur_sphere or tiny")->required();
+  groom->add_option("--preset", f.preset, "long_wavy, curly_medium, fur_sphere or tiny")
+      ->required();
   addOutputOption(groom, f.out, "output hair-mesh file (.json)");
   groom->add_option("--strands", f.strands, "override the strand count");
   return groom;

@@ -29,19 +29,19 @@ void addCameraOptions(CLI::App* cmd, int& width, int& height, std::string& camer
 
 void addQualityOptions(CLI::App* cmd, int& spp, std::string& shadowLod, std::string& quality) {
   cmd->add_option("--spp", spp,
-                     "samples per pixel of --reference (default 256), or jittered passes of "
-                     "--quality final (default " +
-                         std::to_string(kDefaultFinalPasses) + ")");
+                  "samples per pixel of --reference (default 256), or jittered passes of "
+                  "--quality final (default " +
+                      std::to_string(kDefaultFinalPasses) + ")");
   cmd->add_option("--shadow-lod", shadowLod,
-                     "LOD of the lights' passes: camera (default: the light's view, no more "
-                     "strands than the camera's LOD draws), light (the light's view alone) or "
-                     "off (every strand)");
+                  "LOD of the lights' passes: camera (default: the light's view, no more "
+                  "strands than the camera's LOD draws), light (the light's view alone) or "
+                  "off (every strand)");
   cmd->add_option("--quality", quality,
-                     "draft (one sample per pixel, the scene's filter), good (" +
-                         std::to_string(kGoodMsaa) +
-                         " samples per pixel shaded once per visible strand point) or final "
-                         "(--spp jittered passes accumulated); default: the scene's \"quality\", "
-                         "draft");
+                  "draft (one sample per pixel, the scene's filter), good (" +
+                      std::to_string(kGoodMsaa) +
+                      " samples per pixel shaded once per visible strand point) or final "
+                      "(--spp jittered passes accumulated); default: the scene's \"quality\", "
+                      "draft");
 }
 
 int parseQualityFlag(const std::string& v) {

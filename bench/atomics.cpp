@@ -1,6 +1,6 @@
 // atomics.cpp — the benchmark's atomics section (clhair_bench --only atomics):
-// 64-bit atom_min throughput with and without the load skip, and each
-// table1 MSAA-1 raster time as a multiple of that floor.
+// 64-bit atom_min throughput with and without the load skip, and each table1 MSAA-1 raster time as
+// a multiple of that floor.
 #include "harness.h"
 
 #include <algorithm>
@@ -57,24 +57,23 @@ void runAtomics(Run& r) {
   std::ostringstream& md = r.md;
   json& report = r.report;
   auto& msaa1Rows = r.msaa1Rows;
-    json probe;
-    auto [plain, skip] = atomicProbe(*dev.impl(), static_cast<std::size_t>(width) * height,
-                                     std::max(runs, 3), probe);
-    report["atomic_probe"] = probe;
-    md << "\n## Atomic floor\n\n64-bit `atom_min` on " << width << "x" << height
-       << " words, coherent addresses, 4 attempts per word: " << fmt(plain, 3)
-       << " ns per attempt (plain), " << fmt(skip, 3)
-       << " ns with the load skip.\n\n| configuration | strand pass ms | atomics issued | floor "
-          "ms "
-          "(issued x plain) | raster / floor |\n|---|---|---|---|---|\n";
-    for (const auto& [name, m] : msaa1Rows) {
-      double floorMs = m.counts.atomicsIssued * plain * 1e-6;
-      double ratio = floorMs > 0 ? stageMedian(m, "strands") / floorMs : 0.0;
-      md << "| " << name << " | " << fmt(stageMedian(m, "strands")) << " | "
-         << m.counts.atomicsIssued << " | " << fmt(floorMs, 3) << " | " << fmt(ratio, 1)
-         << "x |\n";
-      report["raster_over_atomic_floor"][name] = ratio;
-    }
+  json probe;
+  auto [plain, skip] =
+      atomicProbe(*dev.impl(), static_cast<std::size_t>(width) * height, std::max(runs, 3), probe);
+  report["atomic_probe"] = probe;
+  md << "\n## Atomic floor\n\n64-bit `atom_min` on " << width << "x" << height
+     << " words, coherent addresses, 4 attempts per word: " << fmt(plain, 3)
+     << " ns per attempt (plain), " << fmt(skip, 3)
+     << " ns with the load skip.\n\n| configuration | strand pass ms | atomics issued | floor "
+        "ms "
+        "(issued x plain) | raster / floor |\n|---|---|---|---|---|\n";
+  for (const auto& [name, m] : msaa1Rows) {
+    double floorMs = m.counts.atomicsIssued * plain * 1e-6;
+    double ratio = floorMs > 0 ? stageMedian(m, "strands") / floorMs : 0.0;
+    md << "| " << name << " | " << fmt(stageMedian(m, "strands")) << " | " << m.counts.atomicsIssued
+       << " | " << fmt(floorMs, 3) << " | " << fmt(ratio, 1) << "x |\n";
+    report["raster_over_atomic_floor"][name] = ratio;
+  }
 }
 
 }  // namespace clhair::bench

@@ -14,7 +14,6 @@
 
 namespace clhair::bench {
 
-
 Stats summarize(std::vector<double> v) {
   Stats s;
   if (v.empty()) return s;
@@ -192,9 +191,8 @@ Run::Run(const Options& options)
       dev(Device::open(DeviceOptions::fromEnvironment(opt.dopts))),
       b{dev, Renderer(dev), opt.warmup, opt.runs} {
   const int runs = opt.runs, warmup = opt.warmup;
-  compileMs =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started_)
-          .count();
+  compileMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started_)
+                  .count();
   const DeviceInfo& info = dev.info();
   report["device"] = info.name;
   report["platform"] = info.platformName;
@@ -208,8 +206,7 @@ Run::Run(const Options& options)
   md << "# clhair benchmark\n\n"
      << "device: " << info.name << " (" << info.platformName << ", driver " << info.driverVersion
      << "), sub-group backend " << subgroupBackendName(info.backend) << ", revision "
-     << report["revision"].get<std::string>() << "; median of " << runs << " runs after "
-     << warmup
+     << report["revision"].get<std::string>() << "; median of " << runs << " runs after " << warmup
      << " warm-up; device times from profiling events. Start-up incl. kernel compilation: "
      << fmt(compileMs, 0) << " ms.\n\n";
   csv << "section,groom,lod,msaa,distance,strands_target,width,height,dispatch,total_ms,strands_"
@@ -255,14 +252,14 @@ std::shared_ptr<const StrandGroom> Run::exportedGroom1() {
 }
 
 void Run::csvRow(const std::string& section, const std::string& groom, int lod, int msaa,
-                  const std::string& dist, std::int64_t strandsTarget, int w, int h,
-                  const std::string& dispatch, const Measured& m) {
+                 const std::string& dist, std::int64_t strandsTarget, int w, int h,
+                 const std::string& dispatch, const Measured& m) {
   csv << section << ",\"" << groom << "\"," << lod << "," << msaa << "," << dist << ","
-      << strandsTarget << "," << w << "," << h << "," << dispatch << "," << m.total.median
-      << "," << stageMedian(m, "strands") << "," << stageMedian(m, "lod") << ","
-      << stageMedian(m, "shade") << "," << stageMedian(m, "composite") << ","
-      << m.counts.strandsDrawn << "," << m.counts.segmentsDrawn << "," << m.counts.pixelWrites
-      << "," << m.counts.atomicsIssued << "," << m.counts.atomicsSkipped << "\n";
+      << strandsTarget << "," << w << "," << h << "," << dispatch << "," << m.total.median << ","
+      << stageMedian(m, "strands") << "," << stageMedian(m, "lod") << "," << stageMedian(m, "shade")
+      << "," << stageMedian(m, "composite") << "," << m.counts.strandsDrawn << ","
+      << m.counts.segmentsDrawn << "," << m.counts.pixelWrites << "," << m.counts.atomicsIssued
+      << "," << m.counts.atomicsSkipped << "\n";
 }
 
 }  // namespace clhair::bench

@@ -214,8 +214,9 @@ __kernel __attribute__((reqd_work_group_size(SCAN_WG, 1, 1))) void lod_cap(
       r.control_points = C;
       r.gamma = c.control_points == C ? c.gamma : 0.0f;
     }
+    /* the strands left out widen those kept: N / kept, with N = coverage x strands */
+    r.coverage = r.coverage * (float)r.strands / (float)kept;
     r.strands = kept;
-    r.lod = fmin(r.lod, c.lod);
     rec_g[b] = r;
     counts_g[b] = kept;
     counts_g[clh_lod_segment_count_at(n, b)] = (uint)min(s2, (ulong)0xFFFFFFFFu);

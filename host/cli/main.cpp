@@ -176,21 +176,21 @@ struct RenderFlags {
   std::string frames;        // "N", "A-B" or "A-B:STEP"
   bool framesGiven = false;  // --frames given (even empty, which is refused); else frame 1
   bool skipExisting = false;
-  std::string aov;                 // --aov list; empty: the beauty alone through writeImage
-  std::string views;               // --views: "all" or names; empty: all of the scene's "cameras"
-  bool stats = false;              // --stats: strands and segments per groom instance
-  std::string segmentBudget;       // --segment-budget; empty: the scene's
+  std::string aov;            // --aov list; empty: the beauty alone through writeImage
+  std::string views;          // --views: "all" or names; empty: all of the scene's "cameras"
+  bool stats = false;         // --stats: strands and segments per groom instance
+  std::string segmentBudget;  // --segment-budget; empty: the scene's
   std::string budgetRule = "screen";  // --budget-rule screen|uniform
-  std::string raster;              // --raster lines|coverage; empty: the scene's
-  std::string temporal;            // --temporal; empty: the scene's "temporal"
-  std::string screenBoxes = "on";  // --screen-boxes on|off (RenderOptions::screenBoxes)
-  int framesInFlight = 2;          // --frames-in-flight (Renderer::setFramesInFlight)
-  int encodeThreads = 0;           // --encode-threads (WriteQueue; 0: automatic)
-  bool passes = false;             // --passes: print the first frame's graph
-  ImageWriteOptions write;         // --png-compression, --exr-compression
-  std::string quality;             // --quality draft|good|final; empty: the scene's
-  std::string shadowLod;           // --shadow-lod camera|light|off; empty: camera
-  bool sppGiven = false;           // --spp given (final's passes; else the level's default)
+  std::string raster;                 // --raster lines|coverage; empty: the scene's
+  std::string temporal;               // --temporal; empty: the scene's "temporal"
+  std::string screenBoxes = "on";     // --screen-boxes on|off (RenderOptions::screenBoxes)
+  int framesInFlight = 2;             // --frames-in-flight (Renderer::setFramesInFlight)
+  int encodeThreads = 0;              // --encode-threads (WriteQueue; 0: automatic)
+  bool passes = false;                // --passes: print the first frame's graph
+  ImageWriteOptions write;            // --png-compression, --exr-compression
+  std::string quality;                // --quality draft|good|final; empty: the scene's
+  std::string shadowLod;              // --shadow-lod camera|light|off; empty: camera
+  bool sppGiven = false;              // --spp given (final's passes; else the level's default)
 };
 
 // --quality's value as RenderOptions::quality (0 draft, 1 good, 2 final); -1 when not given.

@@ -1,0 +1,243 @@
+// scene_strand_groom.cpp — a scene's groom entry that names a strand file ("strands_file":
+// cyHair .hair, USC-HairSalon .data, TressFX .tfx, PLY or a per-frame "bob.####.hair"
+// pattern): the file read once per scene with a byte limit before anything is allocated,
+// its placement (scale, "auto" included, up axis, then the entry's transform), appearance,
+// LOD, strand cap, children, filter and baked visibility.
+//
+// Entries naming one file with the same look, LOD, cap, children and scale share one groom,
+// and so one device form.
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <memory>
+#include <string>
+#include <system_error>
+
+#include "clhair/error.h"
+#include "io/appearance_io.h"
+#include "io/enum_field.h"
+#include "io/scene_sections.h"
+
+namespace clhair::scene_io {
+
+namespace {
+
+constexpr EnumName<ChildrenParams::Mode> kChildModes[] = {
+    {"follow", ChildrenParams::Mode::Follow}, {"interpolated", ChildrenParams::Mode::Interpolated}};
+
+// The frames of a per-frame strand-file pattern ("dir/bob.####.hair", absolute): every file
+// in its folder whose name is the pattern with a frame number for the '#' run; fails when
+// there is none.
+std::shared_ptr<StrandFrames> findStrandFrames(const JsonReader& o, const std::string& pattern,
+                                               std::uint64_t maxBytes) {
+  const std::filesystem::path folder = std::filesystem::path(pattern).parent_path();
+  const std::string name = std::filesystem::path(pattern).filename().string();
+  const std::size_t end = name.find_last_of('#');
+  std::size_t begin = end;
+  while (begin > 0 && name[begin - 1] == '#') --begin;
+  const std::string prefix = name.substr(0, begin), suffix = name.substr(end + 1);
+  auto frames = std::make_shared<StrandFrames>();
+  frames->pattern = pattern;
+  frames->maxBytes = maxBytes;
+  std::size_t found = 0;
+  std::error_code ec;
+  for (std::filesystem::directory_iterator it(folder.empty() ? "." : folder, ec), last;
+       !ec && it != last; it.increment(ec)) {
+    const std::string n = it->path().filename().string();
+    if (n.size() <= prefix.size() + suffix.size() || n.compare(0, prefix.size(), prefix) != 0 ||
+        n.compare(n.size() - suffix.size(), suffix.size(), suffix) != 0)
+      continue;
+    const std::string digits = n.substr(prefix.size(), n.size() - prefix.size() - suffix.size());
+    if (digits.size() > 9 ||
+        !std::all_of(digits.begin(), digits.end(), [](unsigned char c) { return std::isdigit(c); }))
+      continue;
+    const long long number = std::stoll(digits);
+    if (framePath(name, number) != n) continue;  // other padding: not this pattern's name
+    frames->first = found == 0 ? number : std::min(frames->first, number);
+    frames->last = found == 0 ? number : std::max(frames->last, number);
+    ++found;
+  }
+  if (ec) o.fail("strands_file", "cannot list \"" + folder.string() + "\" (" + ec.message() + ")");
+  if (found == 0)
+    o.fail("strands_file", "no file matches \"" + pattern +
+                               "\" (the '#' run stands for a frame number, zero-padded)");
+  return frames;
+}
+
+// "scale": "auto": the factor that makes the roots' largest extent (file units) a human
+// head's hair line, kAutoRootExtent metres; 1 when the roots have no extent.
+constexpr float kAutoRootExtent = 0.18f;
+
+float autoScaleFactor(const StrandGroom& g, float* extent) {
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  std::size_t at = 0;
+  for (std::uint32_t n : g.pointCounts) {
+    lo = glm::min(lo, g.points[at]);
+    hi = glm::max(hi, g.points[at]);
+    at += n;
+  }
+  const glm::vec3 e = hi - lo;
+  *extent = std::max(e.x, std::max(e.y, e.z));
+  return *extent > 0.0f ? kAutoRootExtent / *extent : 1.0f;
+}
+
+// A groom entry's "children" (docs/scene-format.md, "Children"): lengths in scene units, at
+// the file's `scale`. TressFX files grow the runtime's follow hairs unless told otherwise;
+// other files draw their strands alone.
+ChildrenParams readChildren(const JsonReader& o, float scale, bool tressfx) {
+  ChildrenParams c;
+  if (tressfx) {
+    c.count = kTressFxFollowHairs;
+    c.tipSpread = kTressFxTipSeparation;
+    c.radius = kTressFxFollowRadiusMetres / scale;
+  }
+  if (!o.has("children")) return c;
+  JsonReader k = o.object(o.require("children"), "children");
+  c.mode = readEnum(k, "mode", k.string("mode", "follow"), kChildModes, EnumWording::Expected);
+  const bool follow = c.mode == ChildrenParams::Mode::Follow;
+  // follow: TressFX's defaults; interpolated: Blender's display amount of 10 per guide,
+  // roots spread over half the guide spacing, no tip spread
+  c.count = static_cast<std::uint32_t>(
+      k.integer("count", follow ? static_cast<int>(kTressFxFollowHairs) : 10, 0,
+                static_cast<int>(kMaxChildren)));
+  c.tipSpread =
+      static_cast<float>(k.number("tip_spread", follow ? kTressFxTipSeparation : 0.0, 0.0, 1000.0));
+  c.radius = follow ? kTressFxFollowRadiusMetres / scale : 0.0f;  // 0: the guide spacing's
+  if (k.has("radius")) c.radius = static_cast<float>(k.number("radius", 0.0, 0.0, 1e6)) / scale;
+  c.clump = static_cast<float>(k.number("clump", 0.0, -1.0, 1.0));
+  c.seed = static_cast<std::uint32_t>(k.integer64("seed", 1, 0, 0xFFFFFFFFll));
+  k.rejectUnknown({"count", "mode", "radius", "tip_spread", "clump", "seed"});
+  return c;
+}
+
+}  // namespace
+
+// A groom entry with "strands_file": the file (read once per scene), its placement (scale,
+// up axis, then the entry's transform), appearance, LOD and filter.
+GroomInstance readStrandGroom(
+    const JsonReader& o, const std::filesystem::path& base, const FilterParams& sceneFilter,
+    std::uint64_t maxBytes, std::map<std::string, std::shared_ptr<const StrandGroom>>& loaded,
+    std::map<std::string, std::shared_ptr<const StrandGroom>>& variants,
+    std::map<std::string, std::shared_ptr<const VisibilityBake>>& loadedVisibility,
+    std::uint64_t sceneCap, std::vector<std::string>& warnings, std::vector<std::string>& notes,
+    float& autoScale) {
+  const std::string file = o.string("strands_file", "");
+  if (file.empty()) o.fail("strands_file", "is empty: name a .hair, .data or .tfx strand file");
+  std::filesystem::path p =
+      std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;
+  std::string key = p.lexically_normal().string();
+  // "bob.####.hair": one file per frame; the first one found stands for the still groom
+  std::shared_ptr<StrandFrames> frames;
+  if (framePath(key, 0) != key) {
+    frames = findStrandFrames(o, key, maxBytes);
+    key = framePath(key, frames->first);
+    p = key;
+  }
+  std::error_code ec;
+  const bool found = std::filesystem::exists(p, ec);
+  if (ec) o.fail("strands_file", "\"" + key + "\" cannot be checked (" + ec.message() + ")");
+  if (!found) o.fail("strands_file", "\"" + key + "\" does not exist");
+  // the entry's look, from the defaults: entries naming the same file may differ
+  AppearanceParams look;
+  LodParams lod;
+  if (o.has("appearance")) readAppearance(o, o.require("appearance"), look, true);
+  if (o.has("lod")) {
+    JsonReader l = o.object(o.require("lod"), "lod");
+    lod.enabled = l.boolean("enabled", lod.enabled);
+    lod.lambda = static_cast<float>(l.number("lambda", lod.lambda, 1e-3, 1e3));
+    lod.morphWindow = static_cast<float>(l.number("morph_window", lod.morphWindow, 0.0, 1.0));
+    l.rejectUnknown({"enabled", "lambda", "morph_window"});
+  }
+  const auto cap =
+      static_cast<std::uint64_t>(o.integer64("max_strands", static_cast<long long>(sceneCap), 0,
+                                             static_cast<long long>(kMaxStrandPoints)));
+  // "scale": a number, or "auto" (chosen from the file's roots below)
+  const bool scaleAuto = o.has("scale") && o.require("scale").is_string();
+  if (scaleAuto && o.string("scale", "") != "auto")
+    o.fail("scale", "is \"" + o.string("scale", "") + "\", expected a number or \"auto\"");
+  float scale = scaleAuto ? 1.0f : static_cast<float>(o.number("scale", 1.0, 1e-6, 1e6));
+  float rootExtent = 0.0f;
+  const UpAxis up = readUpAxis(o);
+  // entries that name one file with the same look, LOD, cap, children and scale share one
+  // groom (and so one device form); the first entry of a file takes it as read, other
+  // variants copy it
+  const auto dumpOf = [&](const char* k) { return o.has(k) ? o.require(k).dump() : ""; };
+  const std::string variant = key + "\n" + dumpOf("appearance") + "\n" + dumpOf("lod") + "\n" +
+                              std::to_string(cap) + "\n" + dumpOf("children") + "\n" +
+                              dumpOf("scale");
+  std::shared_ptr<const StrandGroom> shared;
+  if (const auto same = variants.find(variant); same != variants.end()) {
+    shared = same->second;
+    if (scaleAuto) scale = autoScaleFactor(*shared, &rootExtent);
+  } else {
+    StrandGroom groom;
+    const auto it = loaded.find(key);
+    const bool firstRead = it == loaded.end();
+    if (!firstRead) {
+      groom = *it->second;
+    } else {
+      try {
+        std::vector<std::string> notes;
+        groom = loadStrandGroom(key, maxBytes, nullptr, &notes);
+        for (const std::string& n : notes)
+          warnings.push_back(o.file() + ": " + o.path("strands_file") + ": " + n);
+      } catch (const Error& e) {
+        o.fail("strands_file", e.what());
+      }
+    }
+    // the file's own colours, thicknesses and transparencies are drawn unless the entry's
+    // appearance gives its own (per key); asking for them by name on a file without any
+    // says so
+    const bool fileLook =
+        !groom.colors.empty() || !groom.thickness.empty() || !groom.transparency.empty();
+    if (!fileLook && o.has("appearance") && o.require("appearance").is_object() &&
+        o.require("appearance").value("use_file_color", false))
+      warnings.push_back(
+          o.file() + ": " + o.path("appearance.use_file_color") + ": " + key +
+          " has no per-point colours, thicknesses or transparencies, the groom's appearance " +
+          "is used");
+    groom.appearance = look;
+    groom.lod = lod;
+    if (scaleAuto) scale = autoScaleFactor(groom, &rootExtent);
+    groom.children = readChildren(o, scale, lowerExtension(key) == ".tfx");
+    const bool capped = cap > 0 && groom.pointCounts.size() > cap;
+    if (firstRead && capped) loaded[key] = std::make_shared<const StrandGroom>(groom);
+    capStrands(groom, cap);
+    shared = std::make_shared<const StrandGroom>(std::move(groom));
+    if (firstRead && !capped) loaded[key] = shared;
+    variants[variant] = shared;
+  }
+  if (scaleAuto) {
+    char buf[200];
+    std::snprintf(buf, sizeof(buf),
+                  "\"scale\": \"auto\" scales %s by %g: its roots span %g file units, "
+                  "%g m after scaling",
+                  key.c_str(), static_cast<double>(scale), static_cast<double>(rootExtent),
+                  static_cast<double>(rootExtent * scale));
+    notes.push_back(o.file() + ": " + o.path("scale") + ": " + buf);
+    if (!(autoScale > 0.0f)) autoScale = scale;
+  }
+  GroomInstance g;
+  g.name = o.string("name", shared->name);
+  g.strands = shared;
+  g.strandFrames = frames;
+  glm::mat4 placement = o.has("transform")
+                            ? readTransform(o, o.require("transform"), &g.transformKeys)
+                            : glm::mat4(1.0f);
+  g.fileTransform = strandFileTransform(scale, up);
+  g.transform = placement * g.fileTransform;
+  if (o.has("filter")) {
+    g.hasFilter = true;
+    g.filter = readFilter(o, o.require("filter"), sceneFilter);
+  }
+  readVisibilityEntry(o, base, shared->pointCounts.size(),
+                      look.useFileColor && !shared->colors.empty(), loadedVisibility, g);
+  o.rejectUnknown({"strands_file", "name", "transform", "scale", "up", "appearance", "lod",
+                   "filter", "max_strands", "visibility", "children"});
+  return g;
+}
+
+}  // namespace clhair::scene_io

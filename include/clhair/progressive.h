@@ -28,8 +28,8 @@ int finalPasses(const Scene& scene, const RenderOptions& options);
 // 1), so the result renders one frame.
 RenderOptions qualityOptions(const Scene& scene, const RenderOptions& options);
 // Whether final's passes take the good path (else one sample per pixel, unfiltered) unless
-// RenderOptions::finalPath says: the one that measured lower FLIP per millisecond
-// (bench/README.md, "Quality levels").
+// RenderOptions::finalPath says. The good path is the default by choice, not yet by
+// measurement: the bench's quality rows for good and final (bench/README.md) decide it.
 constexpr bool kFinalPassGood = true;
 // The image-plane offset of pass `pass` of final, pixels in x and y (-0.5..0.5).
 void finalJitter(int pass, float& x, float& y);

@@ -100,7 +100,8 @@ void crowdSection(Renderer& renderer, const CrowdOptions& opt, std::ostringstrea
                   json& report) {
   Scene crowd =
       loadScene(std::string(CLHAIR_SOURCE_DIR) + "/assets/scenes/crowd.json", opt.maxAlloc);
-  const std::uint64_t defaultBudget = crowd.segmentBudget;
+  const std::uint64_t defaultBudget =
+      crowd.segmentBudget.value_or(defaultSegmentBudget(crowd.width, crowd.height));
   const std::vector<std::pair<int, int>> sizes =
       opt.quick ? std::vector<std::pair<int, int>>{{480, 270}}
                 : std::vector<std::pair<int, int>>{{960, 540}, {1920, 1080}};
@@ -179,7 +180,9 @@ void crowdSection(Renderer& renderer, const CrowdOptions& opt, std::ostringstrea
       const double ms = median(v.wall), f = flip(ref, v.image);
       cell[{v.rule, v.budget}] = {ms, f};
       csv << w << "," << h << ",budget," << ruleName(v.rule) << "," << v.budget << "," << ms << ","
-          << f << "\n";
+          << f << std::endl;  // flushed: an interrupted run keeps its rows
+      std::fprintf(stderr, "crowd %s: %s %s: FLIP %.4f\n", tag.c_str(), ruleName(v.rule),
+                   millions(v.budget).c_str(), f);
       rs["budgets"][std::to_string(v.budget)][ruleName(v.rule)] = {
           {"wall_ms", ms}, {"flip", f}, {"segments", v.stats.segmentsPlanned}};
       if (!opt.out.empty() && v.budget == defaultBudget && w == sizes.front().first)

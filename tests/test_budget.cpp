@@ -11,7 +11,7 @@
 // thickness compensation, stays within 10 % of the full groom's (without compensation the
 // cap loses more than that). --stats: per-groom strands and segments against counts taken
 // from the files (strand count x (control points - 1); the cyHair file's points - strands).
-// Bad budgets and caps are one error line.
+// The default budget and LOD's λ by image size. Bad budgets and caps are one error line.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -236,6 +236,63 @@ TEST(Budget, StatsMatchCountsFromTheFiles) {
              " segments");
   expectLine("total: 2 of 2 grooms drawn, " + std::to_string(ts + bs) + " strands, " +
              std::to_string(ts * (tc - 1) + bseg) + " segments \\(no segment budget\\)");
+}
+
+// The defaults by image size (DESIGN.md, "LOD defaults by image size"): the budget is 2 M up
+// to 960x540 and grows with the pixel count above it; a scene that gives a budget keeps it.
+TEST(Budget, DefaultBudgetGrowsWithThePixelsAbove960x540) {
+  EXPECT_EQ(defaultSegmentBudget(960, 540), 2'000'000u);
+  EXPECT_EQ(defaultSegmentBudget(320, 180), 2'000'000u);
+  EXPECT_EQ(defaultSegmentBudget(1920, 1080), 8'000'000u);
+  EXPECT_EQ(defaultSegmentBudget(1280, 720), 3'555'556u);  // 2 M x 921 600 / 518 400, rounded up
+  EXPECT_EQ(defaultSegmentBudget(200000, 200000), kMaxSegmentBudget);
+  Renderer r(sharedDevice());
+  Scene s = smallScene(tinyMesh(), 1, false);
+  s.width = 1280;
+  s.height = 720;
+  EXPECT_EQ(r.render(s).stats.segmentBudget, 3'555'556u);
+  s.width = 640;
+  s.height = 360;
+  EXPECT_EQ(r.render(s).stats.segmentBudget, 2'000'000u);
+  s.segmentBudget = 1000;  // the scene's own
+  EXPECT_EQ(r.render(s).stats.segmentBudget, 1000u);
+  RenderOptions o;
+  o.segmentBudget = 0;  // the option's
+  EXPECT_EQ(r.render(s, o).stats.segmentBudget, 0u);
+  // from the scene file: absent, the default of the size; given, kept
+  const std::string dir = scratchDir();
+  json j = cliScene();
+  writeJson(dir + "/scene.json", j);
+  EXPECT_FALSE(loadScene(dir + "/scene.json").segmentBudget.has_value());
+  j["segment_budget"] = 0;
+  writeJson(dir + "/scene.json", j);
+  EXPECT_EQ(loadScene(dir + "/scene.json").segmentBudget, std::optional<std::uint64_t>(0));
+}
+
+// LOD's λ grows with the image height above 540 lines: at 1920x1080 a groom keeps the
+// strands it keeps at 960x540 with twice its λ, so a kept strand's gap spans the same pixels.
+TEST(Budget, LodLambdaGrowsWithTheHeightAbove540) {
+  EXPECT_FLOAT_EQ(lodResolutionScale(540), 1.0f);
+  EXPECT_FLOAT_EQ(lodResolutionScale(90), 1.0f);
+  EXPECT_FLOAT_EQ(lodResolutionScale(1080), 2.0f);
+  StrandGroom g = *fringe(128, 5);
+  g.lod.lambda = 0.5f;  // L well below 1: the strands kept follow λ
+  Scene s = smallScene(tinyMesh(), 0, false);
+  s.grooms.emplace_back("fringe", std::make_shared<const StrandGroom>(std::move(g)));
+  Renderer r(sharedDevice());
+  RenderOptions o;
+  o.segmentBudget = 0;
+  auto strandsAt = [&](int w, int h, float lambdaScale) {
+    s.width = w;
+    s.height = h;
+    o.lodLambdaScale = lambdaScale;
+    return r.render(s, o).stats.strandsDrawn;
+  };
+  const std::uint64_t at540 = strandsAt(960, 540, 1.0f), at540x2 = strandsAt(960, 540, 2.0f),
+                      at1080 = strandsAt(1920, 1080, 1.0f);
+  EXPECT_LT(at540, 64u);  // LOD reduces
+  EXPECT_GE(at1080, at540 + at540 / 2);
+  EXPECT_NEAR(static_cast<double>(at1080), static_cast<double>(at540x2), 2.0);  // ceil per chunk
 }
 
 TEST(Budget, BadBudgetsAndCapsAreOneErrorLine) {

@@ -124,8 +124,9 @@ void planFrame(FramePlan& plan, const std::vector<GroomDraw>& draws, DispatchMod
   plan.aovs = options.aovs && !options.rasterOnly;
   plan.lodCorrection =
       options.shadowLodCorrection < 0 ? s.shadows.lodCorrection : options.shadowLodCorrection == 1;
-  plan.budget = options.segmentBudget < 0 ? s.segmentBudget
-                                          : static_cast<std::uint64_t>(options.segmentBudget);
+  plan.budget = options.segmentBudget >= 0
+                    ? static_cast<std::uint64_t>(options.segmentBudget)
+                    : s.segmentBudget.value_or(defaultSegmentBudget(s.width, s.height));
   plan.view = makeView(s.camera, s.width, s.height);
   plan.view.samples = static_cast<gpu::clh_u32>(options.msaa);
   plan.view.cx += options.jitterX;
@@ -135,7 +136,7 @@ void planFrame(FramePlan& plan, const std::vector<GroomDraw>& draws, DispatchMod
   pass.view = &plan.target->view;
   pass.worldToView = worldToView(s.camera);
   pass.lod = options.lod;
-  pass.lodLambdaScale = options.lodLambdaScale;
+  pass.lodLambdaScale = options.lodLambdaScale * lodResolutionScale(s.height);
   pass.trueWidth = options.trueWidth;
   pass.shadowLodCorrection = plan.lodCorrection;
 

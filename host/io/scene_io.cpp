@@ -40,9 +40,9 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
   if (r.has("filter")) s.filter = readFilter(r, r.require("filter"), s.filter);
   readEnvironment(r, base, s);
 
-  s.segmentBudget = static_cast<std::uint64_t>(
-      r.integer64("segment_budget", static_cast<long long>(s.segmentBudget), 0,
-                  static_cast<long long>(kMaxSegmentBudget)));
+  if (r.has("segment_budget"))
+    s.segmentBudget = static_cast<std::uint64_t>(
+        r.integer64("segment_budget", 0, 0, static_cast<long long>(kMaxSegmentBudget)));
   const float autoScale = readGrooms(r, path, base, maxStrandBytes, s);
 
   // meshes after the grooms: a mesh's "scale": "auto" takes the grooms' factor

@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -228,9 +229,22 @@ struct QualityParams {
 float capStrands(HairMesh& mesh, std::uint64_t cap);
 float capStrands(StrandGroom& groom, std::uint64_t cap);
 
-// Scene::segmentBudget's default and its largest accepted value.
+// Scene::segmentBudget's default at 960x540 and below, and its largest accepted value.
 constexpr std::uint64_t kDefaultSegmentBudget = 2'000'000;
 constexpr std::uint64_t kMaxSegmentBudget = 4'000'000'000;
+
+// The image LOD and the segment budget are tuned at (DESIGN.md, "LOD defaults by image
+// size"): above it the default budget grows with the pixel count and LOD's λ with the
+// image height, so a kept strand spans the same pixels as at this size.
+constexpr int kLodReferenceWidth = 960, kLodReferenceHeight = 540;
+
+// The budget of a scene that gives none: kDefaultSegmentBudget, times the image's pixels
+// over kLodReferenceWidth x kLodReferenceHeight where that is more (8 M at 1920x1080).
+std::uint64_t defaultSegmentBudget(int width, int height);
+
+// The factor on every groom's λ (Lipp Eq. 2) in a view of this height: the height over
+// kLodReferenceHeight where that is more, else 1.
+float lodResolutionScale(int height);
 
 // A keyed camera: either explicit keys (position x, y, z, target x, y, z, up x, y, z, fov)
 // or keys of a preset framing (azimuth, elevation, fov), as the scene's camera was given.
@@ -273,8 +287,8 @@ struct Scene {
   // The most segments all grooms drawn with LOD together draw in one frame (Kulikov 2025):
   // over it, every such groom's strands are cut in proportion and far ones drop every
   // other control point (host/frame/frame_lod.h). Grooms drawn without LOD keep every
-  // strand and do not count. 0: no budget.
-  std::uint64_t segmentBudget = kDefaultSegmentBudget;
+  // strand and do not count. 0: no budget; unset: defaultSegmentBudget(width, height).
+  std::optional<std::uint64_t> segmentBudget;
   RasterMode raster = RasterMode::Lines;  // "raster": "lines" or "coverage"
   // "quality": "draft", "good" or "final", or {"level": ..., "spp": N}
   QualityParams quality;

@@ -249,7 +249,8 @@ void runQuality(Run& r) {
         o.lodAggregate = c.lodAggregate;
         o.raster = c.raster;
         o.segmentBudget = c.budget;
-        o.pointShading = c.points;
+        // draft rows say whether they shade per point; good and final leave it to the level
+        if (c.quality == 0) o.pointShading = c.points;
         o.quality = c.quality;
         o.finalPath = c.finalPath;
         Scene sc = s;

@@ -322,6 +322,22 @@ TEST(Budget, BadBudgetsAndCapsAreOneErrorLine) {
     EXPECT_NE(onlyErrorLine(r.output).find("--segment-budget"), std::string::npos);
     EXPECT_FALSE(std::filesystem::exists(out));
   }
+  for (const std::string v : {"x", "Screen", ""}) {
+    const CommandResult r = runCli("render " + quote(dir + "/scene.json") + " -o " + quote(out) +
+                                   " --budget-rule '" + v + "'");
+    SCOPED_TRACE("--budget-rule " + v + ":\n" + r.output);
+    EXPECT_NE(r.exitCode, 0);
+    EXPECT_NE(onlyErrorLine(r.output).find("--budget-rule"), std::string::npos);
+    EXPECT_FALSE(std::filesystem::exists(out));
+  }
+  // the accepted spellings render
+  for (const std::string v : {"screen", "uniform"}) {
+    const CommandResult r = runCli("render " + quote(dir + "/scene.json") + " -o " + quote(out) +
+                                   " --budget-rule " + v);
+    EXPECT_EQ(r.exitCode, 0) << v << "\n" << r.output;
+    EXPECT_TRUE(std::filesystem::exists(out)) << v;
+    std::filesystem::remove(out);
+  }
 }
 
 }  // namespace

@@ -11,8 +11,8 @@ std::uint64_t defaultSegmentBudget(int width, int height) {
   const double pixels = static_cast<double>(std::max(width, 0)) * std::max(height, 0);
   const double reference = static_cast<double>(kLodReferenceWidth) * kLodReferenceHeight;
   const double scaled = std::ceil(static_cast<double>(kDefaultSegmentBudget) * pixels / reference);
-  return std::max(kDefaultSegmentBudget,
-                  static_cast<std::uint64_t>(std::min(scaled, static_cast<double>(kMaxSegmentBudget))));
+  return std::max(kDefaultSegmentBudget, static_cast<std::uint64_t>(std::min(
+                                             scaled, static_cast<double>(kMaxSegmentBudget))));
 }
 
 float lodResolutionScale(int height) {

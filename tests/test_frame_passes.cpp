@@ -115,13 +115,15 @@ TEST(FramePasses, MsaaNoFilterAndLippsFilterRunTheirPasses) {
             concat({head, {"strands 0", "shade 0", "filter 0", "composite 0", "read-back"}}));
 }
 
-// Quality good: the groom is shaded once per visible strand point (point_passes.cpp) in
-// place of the per-sample shading pass, with no filter, and the frame still waits once.
-TEST(FramePasses, GoodShadesPerPointAndWaitsOnce) {
+// Quality good with point shading (--shading point): the groom is shaded once per visible
+// strand point (point_passes.cpp) in place of the per-sample shading pass, with no filter,
+// and the frame still waits once.
+TEST(FramePasses, PointShadingReplacesTheShadePassAndWaitsOnce) {
   const Scene s = smallScene("default.json");
   RenderOptions o;
   o.lod = 1;
   o.quality = 1;
+  o.pointShading = 1;
   const Rendered d = twoFrames(s, o);
   const std::vector<std::string> groom = {"strands 0", "point marks 0", "point inputs 0",
                                           "shade points 0", "composite 0"};

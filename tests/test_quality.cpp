@@ -6,8 +6,11 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <memory>
+#include <string>
 
+#include "clhair/image.h"
 #include "clhair/progressive.h"
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
@@ -54,12 +57,19 @@ TEST(Quality, LevelsResolveToTheirOptions) {
   s.quality.level = Quality::Good;
   const RenderOptions g = qualityOptions(s, o);
   EXPECT_EQ(g.msaa, kGoodMsaa);
-  EXPECT_EQ(g.pointShading, 1);
+  EXPECT_EQ(g.pointShading, kGoodPointShading ? 1 : 0);
   EXPECT_EQ(g.filter, 0);
+  RenderOptions pointOption;  // --shading point
+  pointOption.pointShading = 1;
+  EXPECT_EQ(qualityOptions(s, pointOption).pointShading, 1);
+  EXPECT_EQ(qualityOptions(s, pointOption).msaa, kGoodMsaa);
   o.quality = 0;  // the option wins over the scene
   EXPECT_EQ(qualityOptions(s, o).msaa, 1);
   o.quality = 2;
   EXPECT_EQ(finalPasses(s, o), kDefaultFinalPasses);
+  const RenderOptions pass = qualityOptions(s, o);  // final's pass path
+  EXPECT_EQ(pass.msaa, kFinalPassGood ? kGoodMsaa : 1);
+  EXPECT_EQ(pass.filter, 0);
   s.quality.spp = 8;
   EXPECT_EQ(finalPasses(s, o), 8);
   o.spp = 3;
@@ -68,19 +78,26 @@ TEST(Quality, LevelsResolveToTheirOptions) {
   EXPECT_NE(errorOf([&] { r.submit(s, o); }).find("render()"), std::string::npos);
 }
 
-// Good: the frame draws 4 samples per pixel shaded per point (its points counted).
-TEST(Quality, GoodShadesOncePerVisiblePoint) {
+// Good: the frame draws 4 samples per pixel, unfiltered, shaded as kGoodPointShading says;
+// with point shading asked for (--shading point) it shades once per visible point (its
+// points counted).
+TEST(Quality, GoodIsMsaa4UnfilteredShadedAsAsked) {
   Scene s = smallGroom();
   Renderer r(sharedDevice());
   RenderOptions o;
   o.quality = 1;
   const Frame good = r.render(s, o);
-  EXPECT_GT(good.stats.pointsShaded, 0u);
+  EXPECT_EQ(good.stats.pointsShaded > 0u, kGoodPointShading);
   RenderOptions explicitGood;
   explicitGood.msaa = kGoodMsaa;
-  explicitGood.pointShading = 1;
+  explicitGood.pointShading = kGoodPointShading ? 1 : 0;
   explicitGood.filter = 0;
   EXPECT_TRUE(sameBytes(good, r.render(s, explicitGood)));
+  o.pointShading = 1;
+  const Frame points = r.render(s, o);
+  EXPECT_GT(points.stats.pointsShaded, 0u);
+  explicitGood.pointShading = 1;
+  EXPECT_TRUE(sameBytes(points, r.render(s, explicitGood)));
 }
 
 // One pass of final is the pass path's frame at pass 0's offset, to the accumulator's
@@ -125,6 +142,36 @@ TEST(Quality, FinalHalvesMergeIntoTheWholeRun) {
   // and it is an average: not any one pass
   RenderOptions pass = qualityOptions(s, o);
   EXPECT_GT(maxAbsDiff(whole.frame(), r.render(s, pass)), 1e-4f);
+}
+
+// The command line: a bad level, shading or shadow LOD is one error line and no image;
+// --shading sample and point give different frames, good's default being the one
+// kGoodPointShading names.
+TEST(Quality, CommandLineFlags) {
+  const std::string dir = scratchDir();
+  const std::string out = dir + "/out.png";
+  const std::string scene = quote(assetPath("scenes/default.json"));
+  for (const std::string& bad : {std::string("--quality best"), std::string("--shading pixel"),
+                                 std::string("--shadow-lod near")}) {
+    const CommandResult r =
+        runCli("render " + scene + " --width 48 --height 32 -o " + quote(out) + " " + bad);
+    SCOPED_TRACE(bad + ":\n" + r.output);
+    EXPECT_NE(r.exitCode, 0);
+    EXPECT_NE(onlyErrorLine(r.output).find(bad.substr(0, bad.find(' '))), std::string::npos);
+    EXPECT_FALSE(std::filesystem::exists(out));
+  }
+  auto render = [&](const std::string& flags, const std::string& file) {
+    const CommandResult r = runCli("render " + scene + " --width 48 --height 32 --lod off -o " +
+                                   quote(dir + "/" + file) + " " + flags);
+    EXPECT_EQ(r.exitCode, 0) << flags << "\n" << r.output;
+    return readImage(dir + "/" + file);
+  };
+  const Image good = render("--quality good", "good.exr");
+  const Image sample2 = render("--quality good --shading sample", "sample2.exr");
+  const Image point = render("--quality good --shading point", "point.exr");
+  ASSERT_EQ(sample2.rgba.size(), point.rgba.size());
+  EXPECT_EQ(good.rgba, kGoodPointShading ? point.rgba : sample2.rgba) << "good's default";
+  EXPECT_NE(sample2.rgba, point.rgba) << "--shading point should change how the frame is shaded";
 }
 
 }  // namespace

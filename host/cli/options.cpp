@@ -27,7 +27,8 @@ void addCameraOptions(CLI::App* cmd, int& width, int& height, std::string& camer
   cmd->add_option("--camera", camera, "frame the grooms with a preset: close, mid, far");
 }
 
-void addQualityOptions(CLI::App* cmd, int& spp, std::string& shadowLod, std::string& quality) {
+void addQualityOptions(CLI::App* cmd, int& spp, std::string& shadowLod, std::string& quality,
+                       std::string& shading) {
   cmd->add_option("--spp", spp,
                   "samples per pixel of --reference (default 256), or jittered passes of "
                   "--quality final (default " +
@@ -39,9 +40,12 @@ void addQualityOptions(CLI::App* cmd, int& spp, std::string& shadowLod, std::str
   cmd->add_option("--quality", quality,
                   "draft (one sample per pixel, the scene's filter), good (" +
                       std::to_string(kGoodMsaa) +
-                      " samples per pixel shaded once per visible strand point) or final "
-                      "(--spp jittered passes accumulated); default: the scene's \"quality\", "
-                      "draft");
+                      " samples per pixel, no filter) or final (--spp jittered passes of one "
+                      "sample accumulated); default: the scene's \"quality\", draft");
+  cmd->add_option("--shading", shading,
+                  "with more than one sample per pixel: sample (shade every sample; good's "
+                  "default) or point (shade once per visible strand point and interpolate "
+                  "along the segment)");
 }
 
 int parseQualityFlag(const std::string& v) {

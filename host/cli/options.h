@@ -24,7 +24,8 @@ CLI::Option* addOutputOption(CLI::App* cmd, std::string& path, const std::string
 void addCameraOptions(CLI::App* cmd, int& width, int& height, std::string& camera);
 
 // --spp (samples of --reference, passes of --quality final), --shadow-lod and --quality.
-void addQualityOptions(CLI::App* cmd, int& spp, std::string& shadowLod, std::string& quality);
+void addQualityOptions(CLI::App* cmd, int& spp, std::string& shadowLod, std::string& quality,
+                       std::string& shading);
 
 // --quality's value as RenderOptions::quality (0 draft, 1 good, 2 final); -1 when not given.
 int parseQualityFlag(const std::string& v);

@@ -48,6 +48,7 @@ struct RenderFlags {
   ImageWriteOptions write;            // --png-compression, --exr-compression
   std::string quality;                // --quality draft|good|final; empty: the scene's
   std::string shadowLod;              // --shadow-lod camera|light|off; empty: camera
+  std::string shading;                // --shading sample|point; empty: the level's
   bool sppGiven = false;              // --spp given (final's passes; else the level's default)
 };
 

@@ -46,7 +46,7 @@ CLI::App* addRenderCommand(CLI::App& app, RenderFlags& f) {
   render->add_option("--path-events", f.pathEvents,
                      "--reference path: scattering events per path, 1..1024 (default 64; 1: "
                      "direct light at the first fibre seen, shadowed)");
-  addQualityOptions(render, f.spp, f.shadowLod, f.quality);
+  addQualityOptions(render, f.spp, f.shadowLod, f.quality, f.shading);
   render->add_option("--frames", f.frames,
                      "frames of an animated scene: N, FIRST-LAST or FIRST-LAST:STEP (default 1); "
                      "#### in -o becomes the zero-padded frame number");

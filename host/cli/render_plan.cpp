@@ -128,6 +128,13 @@ RenderPlan planRender(const DeviceOptions& opts, const std::string& scenePath,
   if (f.reference && (f.spp < 1 || f.spp > 65536))
     throw Error("--spp must be 1..65536, not " + std::to_string(f.spp));
   ro.quality = parseQualityFlag(f.quality);
+  if (f.shading == "point") {
+    ro.pointShading = 1;
+  } else if (f.shading == "sample") {
+    ro.pointShading = 0;
+  } else if (!f.shading.empty()) {
+    throw Error("--shading must be sample or point, not \"" + f.shading + "\"");
+  }
   if (f.shadowLod == "light") {
     ro.shadowLodCamera = 0;
   } else if (f.shadowLod == "off") {

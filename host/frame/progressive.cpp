@@ -61,7 +61,7 @@ RenderOptions qualityOptions(const Scene& scene, const RenderOptions& options) {
   o.quality = q == Quality::Good ? 1 : 0;
   if (good) {
     if (o.msaa <= 1) o.msaa = kGoodMsaa;
-    if (o.pointShading < 0) o.pointShading = 1;
+    if (o.pointShading < 0) o.pointShading = kGoodPointShading ? 1 : 0;
   } else {
     o.msaa = 1;
     o.pointShading = 0;

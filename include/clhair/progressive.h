@@ -23,14 +23,16 @@ Quality qualityLevel(const Scene& scene, const RenderOptions& options);
 // Passes of final (RenderOptions::spp, else the scene's, else kDefaultFinalPasses).
 int finalPasses(const Scene& scene, const RenderOptions& options);
 // The options of one frame at its level: draft keeps them; good sets MSAA (kGoodMsaa unless
-// more than one sample is given), point shading on and the filter off; for final, the
+// more than one sample is given), point shading as kGoodPointShading says unless
+// RenderOptions::pointShading does, and the filter off; for final, the
 // options of its passes (the pass path, without the offset). The level is then fixed (0 or
 // 1), so the result renders one frame.
 RenderOptions qualityOptions(const Scene& scene, const RenderOptions& options);
 // Whether final's passes take the good path (else one sample per pixel, unfiltered) unless
-// RenderOptions::finalPath says. The good path is the default by choice, not yet by
-// measurement: the bench's quality rows for good and final (bench/README.md) decide it.
-constexpr bool kFinalPassGood = true;
+// RenderOptions::finalPath says. One sample per pixel: at the same number of passes it
+// reaches about the FLIP of good's passes at two thirds of their time (bench/README.md,
+// "Quality levels").
+constexpr bool kFinalPassGood = false;
 // The image-plane offset of pass `pass` of final, pixels in x and y (-0.5..0.5).
 void finalJitter(int pass, float& x, float& y);
 

@@ -25,14 +25,14 @@ struct RenderOptions {
   int msaa = 1;  // samples per pixel: 1, 2, 4 or 8 (software MSAA, averaged)
   // Shading once per visible strand point (DESIGN.md): the points whose segments own a
   // visible sample are shaded once each and every sample takes the colour interpolated
-  // along its segment; -1 as the quality level says (on for good and final), 0 off (every
-  // sample shaded), 1 on. No filter runs on such a frame; frames of several views, the
-  // coverage raster and references shade every sample.
+  // along its segment; -1 as the quality level says (kGoodPointShading for good and final's
+  // good passes, else off), 0 off (every sample shaded), 1 on. No filter runs on such a frame;
+  // frames of several views, the coverage raster and references shade every sample.
   int pointShading = -1;
   // The quality level (clhair/scene.h, Quality; README "Quality"): -1 as the scene says, 0
-  // draft (the options as given), 1 good (msaa kGoodMsaa unless more than 1 is given, point
-  // shading, no filter), 2 final (render() accumulates jittered passes: ProgressiveStill in
-  // clhair/progressive.h; submit() refuses it).
+  // draft (the options as given), 1 good (msaa kGoodMsaa unless more than 1 is given,
+  // kGoodPointShading, no filter), 2 final (render() accumulates jittered passes: ProgressiveStill
+  // in clhair/progressive.h; submit() refuses it).
   int quality = -1;
   int spp = 0;  // final: jittered passes, 0 as the scene says (kDefaultFinalPasses by default)
   // final's passes: -1 the measured default (kFinalPassGood in clhair/progressive.h), 0 one

@@ -208,12 +208,18 @@ enum class RasterMode { Lines, Coverage };
 
 // Quality levels (scene key "quality", `clhair render --quality`; README "Quality"):
 //   Draft  one sample per pixel with the scene's filter (Huang's by default);
-//   Good   kGoodMsaa samples per pixel, shaded once per visible strand point, no filter;
+//   Good   kGoodMsaa samples per pixel, each sample shaded (kGoodPointShading), no filter;
 //   Final  jittered passes accumulated (`spp` of them, kDefaultFinalPasses when 0), each the
 //          path kFinalPassGood says (ProgressiveStill, clhair/progressive.h).
+// The choices are measured in bench/README.md ("Quality levels").
 enum class Quality { Draft, Good, Final };
 constexpr int kGoodMsaa = 4;
-constexpr int kDefaultFinalPasses = 16;
+// Whether good shades once per visible strand point rather than every sample. Per sample:
+// per-point shading at MSAA 4 measured 1.26x the per-sample FLIP on the curly groom at
+// close (its colour interpolated along a segment misses the highlights a turning tangent
+// moves), and on PoCL it cost more than shading every sample (DESIGN.md).
+constexpr bool kGoodPointShading = false;
+constexpr int kDefaultFinalPasses = 64;
 constexpr int kMaxFinalPasses = 4096;
 struct QualityParams {
   Quality level = Quality::Draft;

@@ -18,6 +18,7 @@ import sys
 import matplotlib
 
 matplotlib.use("Agg")
+import matplotlib.ticker  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 
 DISTANCES = ("close", "mid", "far")
@@ -87,6 +88,7 @@ def main():
                 ax.plot([p[0] for p in pts], [p[1] for p in pts], color=colour[pts[-1][2]],
                         lw=1, zorder=2)
             ax.set_xscale("log")
+            ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
             ax.set_title(f"{label}, {d}", fontsize=9)
             ax.set_xlabel("frame ms (log)", fontsize=8)
             ax.set_ylabel("hair FLIP", fontsize=8)

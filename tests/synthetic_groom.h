@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 
 #include "clhair/strand_groom.h"
+#include "io/cyhair.h"
 
 namespace clhair::test {
 
@@ -38,6 +39,16 @@ inline StrandGroom syntheticGroom(std::size_t strands) {
     }
   }
   return g;
+}
+
+// The strands of `s` as a cyHair file's contents, every strand `width` thick.
+inline CyHair toCyHair(const StrandSet& s, float width) {
+  CyHair h;
+  for (std::uint32_t c : s.pointCounts) h.segments.push_back(c - 1);
+  h.points = s.points;
+  h.defaultThickness = width;
+  h.info = "clhair tests";
+  return h;
 }
 
 }  // namespace clhair::test

@@ -498,7 +498,8 @@ TEST(ExplicitCli, RendersAStrandFileIdenticallyWithAnyThreadCount) {
   Renderer r(test::sharedDevice());
   HairMesh mesh = makeGroomPreset("tiny");
   mesh.strandCount = 2000;  // dense: strands of concurrent work-groups meet in many pixels
-  writeCyHair(test::toCyHair(r.generateStrands(mesh), mesh.appearance.strandWidth), dir + "/tiny.hair");
+  writeCyHair(test::toCyHair(r.generateStrands(mesh), mesh.appearance.strandWidth),
+              dir + "/tiny.hair");
   json s = {
       {"resolution", {96, 64}},
       {"camera", {{"preset", "close"}, {"azimuth", 30}}},

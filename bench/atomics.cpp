@@ -50,29 +50,23 @@ std::pair<double, double> atomicProbe(Device::Impl& d, std::size_t words, int re
 }  // namespace
 
 void runAtomics(Run& r) {
-  const int runs = r.opt.runs;
-  const int width = r.opt.width;
-  const int height = r.opt.height;
-  Device& dev = r.dev;
-  std::ostringstream& md = r.md;
-  json& report = r.report;
-  auto& msaa1Rows = r.msaa1Rows;
   json probe;
   auto [plain, skip] =
-      atomicProbe(*dev.impl(), static_cast<std::size_t>(width) * height, std::max(runs, 3), probe);
-  report["atomic_probe"] = probe;
-  md << "\n## Atomic floor\n\n64-bit `atom_min` on " << width << "x" << height
-     << " words, coherent addresses, 4 attempts per word: " << fmt(plain, 3)
-     << " ns per attempt (plain), " << fmt(skip, 3)
-     << " ns with the load skip.\n\n| configuration | strand pass ms | atomics issued | floor "
-        "ms "
-        "(issued x plain) | raster / floor |\n|---|---|---|---|---|\n";
-  for (const auto& [name, m] : msaa1Rows) {
+      atomicProbe(*r.dev.impl(), static_cast<std::size_t>(r.opt.width) * r.opt.height,
+                  std::max(r.opt.runs, 3), probe);
+  r.report["atomic_probe"] = probe;
+  r.md << "\n## Atomic floor\n\n64-bit `atom_min` on " << r.opt.width << "x" << r.opt.height
+       << " words, coherent addresses, 4 attempts per word: " << fmt(plain, 3)
+       << " ns per attempt (plain), " << fmt(skip, 3)
+       << " ns with the load skip.\n\n| configuration | strand pass ms | atomics issued | floor "
+          "ms "
+          "(issued x plain) | raster / floor |\n|---|---|---|---|---|\n";
+  for (const auto& [name, m] : r.msaa1Rows) {
     double floorMs = m.counts.atomicsIssued * plain * 1e-6;
     double ratio = floorMs > 0 ? stageMedian(m, "strands") / floorMs : 0.0;
-    md << "| " << name << " | " << fmt(stageMedian(m, "strands")) << " | " << m.counts.atomicsIssued
-       << " | " << fmt(floorMs, 3) << " | " << fmt(ratio, 1) << "x |\n";
-    report["raster_over_atomic_floor"][name] = ratio;
+    r.md << "| " << name << " | " << fmt(stageMedian(m, "strands")) << " | "
+         << m.counts.atomicsIssued << " | " << fmt(floorMs, 3) << " | " << fmt(ratio, 1) << "x |\n";
+    r.report["raster_over_atomic_floor"][name] = ratio;
   }
 }
 

@@ -14,19 +14,13 @@
 namespace clhair::bench {
 
 void runChildren(Run& r) {
-  const int width = r.opt.width;
-  const int height = r.opt.height;
-  Bench& b = r.b;
-  std::ostringstream& md = r.md;
-  json& report = r.report;
-  const auto& scenes = r.scenes;
   // Children from guides (docs/scene-format.md, "Children"): 3000 guides of groom1, as a
   // guides-only TressFX export would hold them (32 points each), with 16 follow hairs
   // each, against the same 51 000 strands exported and read as a strand file. The strand
   // pass (device time, median) at each distance, LOD off and on.
-  HairMesh guidesMesh = *scenes[0].grooms[0].mesh;
+  HairMesh guidesMesh = *r.scenes[0].grooms[0].mesh;
   guidesMesh.strandCount = 3000;
-  StrandSet gs = b.renderer.generateStrands(guidesMesh);
+  StrandSet gs = r.b.renderer.generateStrands(guidesMesh);
   CyHair gh;
   for (std::uint32_t c : gs.pointCounts) gh.segments.push_back(c - 1);
   gh.points = gs.points;
@@ -45,7 +39,7 @@ void runChildren(Run& r) {
   guides.children.count = 16;
   guides.children.radius = kTressFxFollowRadiusMetres;
   guides.children.tipSpread = kTressFxTipSeparation;
-  StrandSet all = b.renderer.generateStrands(guides);
+  StrandSet all = r.b.renderer.generateStrands(guides);
   StrandGroom file;
   file.name = "groom1 children as a file";
   file.pointCounts = all.pointCounts;
@@ -55,25 +49,25 @@ void runChildren(Run& r) {
   file.lod = guides.lod;
   auto kids = std::make_shared<const StrandGroom>(std::move(guides));
   auto stored = std::make_shared<const StrandGroom>(std::move(file));
-  md << "\n## Children from guides (3000 guides x 17 = " << stored->pointCounts.size()
-     << " strands, " << width << "x" << height
-     << ")\n\n| distance | LOD | children ms | file ms | ratio |\n|---|---|---|---|---|\n";
+  r.md << "\n## Children from guides (3000 guides x 17 = " << stored->pointCounts.size()
+       << " strands, " << r.opt.width << "x" << r.opt.height
+       << ")\n\n| distance | LOD | children ms | file ms | ratio |\n|---|---|---|---|---|\n";
   const CameraPreset dists[3] = {CameraPreset::Close, CameraPreset::Mid, CameraPreset::Far};
   const char* distNames[3] = {"close", "mid", "far"};
   for (int lod = 0; lod < 2; ++lod)
     for (int d = 0; d < 3; ++d) {
       RenderOptions o;
       o.lod = lod;
-      Scene s = scenes[0];
+      Scene s = r.scenes[0];
       s.grooms[0] = GroomInstance("children", stored, s.grooms[0].transform);
-      s = framed(s, dists[d], width, height);  // one camera for both
+      s = framed(s, dists[d], r.opt.width, r.opt.height);  // one camera for both
       Scene k = s;
       k.grooms[0].strands = kids;
-      const double tk = stageMedian(b.measure(k, o, false), "strands");
-      const double tf = stageMedian(b.measure(s, o, false), "strands");
-      md << "| " << distNames[d] << " | " << (lod ? "on" : "off") << " | " << fmt(tk) << " | "
-         << fmt(tf) << " | " << fmt(tk / tf) << " |\n";
-      report["children"][std::string(distNames[d]) + (lod ? "_lod" : "")] = {
+      const double tk = stageMedian(r.b.measure(k, o, false), "strands");
+      const double tf = stageMedian(r.b.measure(s, o, false), "strands");
+      r.md << "| " << distNames[d] << " | " << (lod ? "on" : "off") << " | " << fmt(tk) << " | "
+           << fmt(tf) << " | " << fmt(tk / tf) << " |\n";
+      r.report["children"][std::string(distNames[d]) + (lod ? "_lod" : "")] = {
           {"children_ms", tk}, {"file_ms", tf}, {"ratio", tk / tf}};
       std::fprintf(stderr, "children %s LOD %s: strands %.1f ms, file %.1f ms, %.3fx\n",
                    distNames[d], lod ? "on" : "off", tk, tf, tk / tf);

@@ -13,21 +13,14 @@
 namespace clhair::bench {
 
 void runMesh(Run& r) {
-  const int width = r.opt.width;
-  const int height = r.opt.height;
-  Bench& b = r.b;
-  std::ostringstream& md = r.md;
-  json& report = r.report;
-  const auto& scenes = r.scenes;
-  const auto& groomNames = r.groomNames;
   // groom1's head sphere (radius 0.093) against a latitude/longitude mesh of the same
   // sphere with 158 rings of 160 segments (50 240 triangles, a decimated head scan's
   // size) at close range, where the head covers the most pixels
   TriangleMesh head;
   head.name = "sphere50k";
   constexpr int kRings = 158, kSegments = 160;
-  const glm::vec3 c = scenes[0].spheres.at(0).center;
-  const float radius = scenes[0].spheres.at(0).radius;
+  const glm::vec3 c = r.scenes[0].spheres.at(0).center;
+  const float radius = r.scenes[0].spheres.at(0).radius;
   head.positions.push_back(c + glm::vec3(0, radius, 0));
   for (int i = 1; i < kRings; ++i)
     for (int j = 0; j < kSegments; ++j) {
@@ -50,14 +43,14 @@ void runMesh(Run& r) {
                                                ring(i, j), ring(i + 1, j + 1), ring(i + 1, j)});
   const std::size_t triangles = head.indices.size() / 3;
   auto headMesh = std::make_shared<const TriangleMesh>(std::move(head));
-  md << "\n## Head as a triangle mesh (" << groomNames[0] << ", " << width << "x" << height
-     << ", close, " << triangles
-     << " triangles)\n\n| head | frame ms | opaque ms | mesh ms | opaque + mesh share of the "
-        "frame |\n"
-     << "|---|---|---|---|---|\n";
+  r.md << "\n## Head as a triangle mesh (" << r.groomNames[0] << ", " << r.opt.width << "x"
+       << r.opt.height << ", close, " << triangles
+       << " triangles)\n\n| head | frame ms | opaque ms | mesh ms | opaque + mesh share of the "
+          "frame |\n"
+       << "|---|---|---|---|---|\n";
   double sphereOpaque = 0.0, sphereShare = 0.0;
   for (int asMesh = 0; asMesh < 2; ++asMesh) {
-    Scene s = framed(scenes[0], CameraPreset::Close, width, height);
+    Scene s = framed(r.scenes[0], CameraPreset::Close, r.opt.width, r.opt.height);
     if (asMesh) {
       MeshInstance mi;
       mi.name = headMesh->name;
@@ -66,24 +59,24 @@ void runMesh(Run& r) {
       s.spheres.clear();
       s.meshes.push_back(mi);
     }
-    Measured m = b.measure(s, RenderOptions{}, false);
+    Measured m = r.b.measure(s, RenderOptions{}, false);
     const double opaqueMs = stageMedian(m, "opaque") + stageMedian(m, "mesh");
     const double share = opaqueMs / std::max(m.total.median, 1e-9);
     const char* name = asMesh ? "mesh" : "sphere";
-    md << "| " << name << " | " << fmt(m.total.median) << " | " << fmt(stageMedian(m, "opaque"))
-       << " | " << fmt(stageMedian(m, "mesh")) << " | " << fmt(100.0 * share, 1) << " % |\n";
-    report["mesh"][name] = measuredJson(m);
-    report["mesh"][name]["opaque_and_mesh_ms"] = opaqueMs;
+    r.md << "| " << name << " | " << fmt(m.total.median) << " | " << fmt(stageMedian(m, "opaque"))
+         << " | " << fmt(stageMedian(m, "mesh")) << " | " << fmt(100.0 * share, 1) << " % |\n";
+    r.report["mesh"][name] = measuredJson(m);
+    r.report["mesh"][name]["opaque_and_mesh_ms"] = opaqueMs;
     std::fprintf(stderr, "mesh section, %s head: frame %.1f ms, opaque %.2f ms, mesh %.2f ms\n",
                  name, m.total.median, stageMedian(m, "opaque"), stageMedian(m, "mesh"));
     if (!asMesh) {
       sphereOpaque = opaqueMs;
       sphereShare = share;
     } else {
-      report["mesh"]["cost_vs_sphere"] = opaqueMs / std::max(sphereOpaque, 1e-9);
-      md << "\nThe mesh head's opaque work is " << fmt(opaqueMs / std::max(sphereOpaque, 1e-9))
-         << "x the sphere's (" << fmt(100.0 * share, 1) << " % against "
-         << fmt(100.0 * sphereShare, 1) << " % of the frame; target: at most 2x).\n";
+      r.report["mesh"]["cost_vs_sphere"] = opaqueMs / std::max(sphereOpaque, 1e-9);
+      r.md << "\nThe mesh head's opaque work is " << fmt(opaqueMs / std::max(sphereOpaque, 1e-9))
+           << "x the sphere's (" << fmt(100.0 * share, 1) << " % against "
+           << fmt(100.0 * sphereShare, 1) << " % of the frame; target: at most 2x).\n";
     }
   }
 }

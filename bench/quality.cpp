@@ -26,36 +26,20 @@
 namespace clhair::bench {
 
 void runQuality(Run& r) {
-  const std::string& out = r.opt.out;
-  const int runs = r.opt.runs;
-  const bool quick = r.opt.quick;
-  const int refSpp = r.opt.refSpp;
-  const int qualityWidth = r.opt.qualityWidth;
-  const int qualityHeight = r.opt.qualityHeight;
-  const std::string& qualityGrooms = r.opt.qualityGrooms;
-  const std::string& refName = r.opt.refName;
-  const std::string& refCache = r.opt.refCache;
-  const std::string& qualityConfigs = r.opt.qualityConfigs;
-  const std::string& qualityDistances = r.opt.qualityDistances;
-  const std::string& qualityLights = r.opt.qualityLights;
-  Bench& b = r.b;
-  std::ostringstream& md = r.md;
-  json& report = r.report;
-  const auto& scenes = r.scenes;
-  const auto& groomNames = r.groomNames;
-  const auto& dists = r.dists;
-  const auto& distNames = r.distNames;
   // Lipp Fig. 7: each configuration against the reference (average of refSpp jittered
   // true-width passes), FLIP and PSNR, with its frame time.
-  const int qw = quick ? 320 : qualityWidth, qh = quick ? 180 : qualityHeight;
-  const ReferenceMethod refMethod = parseReferenceMethod(refName);
+  const int qw = r.opt.quick ? 320 : r.opt.qualityWidth,
+            qh = r.opt.quick ? 180 : r.opt.qualityHeight;
+  const ReferenceMethod refMethod = parseReferenceMethod(r.opt.refName);
   const ReferenceMethod otherMethod =
       refMethod == ReferenceMethod::Embree ? ReferenceMethod::Raster : ReferenceMethod::Embree;
-  if (qualityGrooms != "1" && qualityGrooms != "2" && qualityGrooms != "both")
-    throw Error("--quality-grooms must be 1, 2 or both, not \"" + qualityGrooms + "\"");
-  if (qualityLights != "plain" && qualityLights != "maps" && qualityLights != "both")
-    throw Error("--quality-lights must be plain, maps or both, not \"" + qualityLights + "\"");
-  std::filesystem::create_directories(out + "/quality");
+  if (r.opt.qualityGrooms != "1" && r.opt.qualityGrooms != "2" && r.opt.qualityGrooms != "both")
+    throw Error("--quality-grooms must be 1, 2 or both, not \"" + r.opt.qualityGrooms + "\"");
+  if (r.opt.qualityLights != "plain" && r.opt.qualityLights != "maps" &&
+      r.opt.qualityLights != "both")
+    throw Error("--quality-lights must be plain, maps or both, not \"" + r.opt.qualityLights +
+                "\"");
+  std::filesystem::create_directories(r.opt.out + "/quality");
   struct Config {
     const char* name;
     int msaa, filter, lod;
@@ -106,8 +90,8 @@ void runQuality(Run& r) {
     }
     return items;
   };
-  const std::set<std::string> chosen = splitList(qualityConfigs);
-  const std::set<std::string> distances = splitList(qualityDistances);
+  const std::set<std::string> chosen = splitList(r.opt.qualityConfigs);
+  const std::set<std::string> distances = splitList(r.opt.qualityDistances);
   for (const std::string& name : distances)
     if (name != "close" && name != "mid" && name != "far")
       throw Error("--quality-distances: no distance \"" + name + "\" (close, mid, far)");
@@ -115,21 +99,21 @@ void runQuality(Run& r) {
     if (std::none_of(std::begin(configs), std::end(configs),
                      [&](const Config& c) { return name == c.name; }))
       throw Error("--quality-configs: no configuration \"" + name + "\"");
-  if (!refCache.empty()) std::filesystem::create_directories(refCache);
+  if (!r.opt.refCache.empty()) std::filesystem::create_directories(r.opt.refCache);
   // the reference of one groom and distance, from the cache when it holds it
   auto reference = [&](const Scene& s, int g, int d, ReferenceMethod method, std::string ltag) {
     // the path reference shadows every light by the geometry whatever the lights say:
     // one reference serves both lightings, and its mask is always from the depth
     const bool traced = method == ReferenceMethod::Path;
     if (traced) ltag.clear();
-    const std::string path = refCache + "/groom" + std::to_string(g + 1) + "_" + ltag +
-                             distNames[d] + "_" + std::to_string(s.width) + "x" +
+    const std::string path = r.opt.refCache + "/groom" + std::to_string(g + 1) + "_" + ltag +
+                             r.distNames[d] + "_" + std::to_string(s.width) + "x" +
                              std::to_string(s.height) + "_" + referenceMethodName(method) + "_" +
-                             std::to_string(refSpp) + "spp.exr";
+                             std::to_string(r.opt.refSpp) + "spp.exr";
     // the depth (the hair mask of the lighting with maps) as raw floats beside it
     const std::string depthPath = path + ".depth";
     Frame f;
-    if (!refCache.empty() && std::filesystem::exists(path)) {
+    if (!r.opt.refCache.empty() && std::filesystem::exists(path)) {
       f.color = readImage(path);
       if (ltag.empty() && !traced) return f;  // plain: the mask is from the colour alone
       f.depth.resize(static_cast<std::size_t>(f.color.width) * f.color.height);
@@ -139,8 +123,8 @@ void runQuality(Run& r) {
       if (in && in.gcount() == static_cast<std::streamsize>(f.depth.size() * sizeof(float)))
         return f;
     }
-    f = b.renderer.renderReference(s, refSpp, method);
-    if (!refCache.empty()) {
+    f = r.b.renderer.renderReference(s, r.opt.refSpp, method);
+    if (!r.opt.refCache.empty()) {
       writeImage(f.color, path);
       std::ofstream o(depthPath, std::ios::binary);
       o.write(reinterpret_cast<const char*>(f.depth.data()),
@@ -179,48 +163,49 @@ void runQuality(Run& r) {
   json q;
   for (int run = 0; run < 4; ++run) {  // plain lights, then lights with maps
     const int lighting = run / 2, g = run % 2;
-    if ((g == 0 && qualityGrooms == "2") || (g == 1 && qualityGrooms == "1")) continue;
+    if ((g == 0 && r.opt.qualityGrooms == "2") || (g == 1 && r.opt.qualityGrooms == "1")) continue;
     // lighting 1: every light of the groom's scene with a deep opacity map, so that the
     // reference (maps of the full groom) and the frames (maps drawn with their LOD) are
     // shadowed between fibres by the same model
     const bool maps = lighting == 1;
-    if ((maps && qualityLights == "plain") || (!maps && qualityLights == "maps")) continue;
+    if ((maps && r.opt.qualityLights == "plain") || (!maps && r.opt.qualityLights == "maps"))
+      continue;
     const std::string ltag = maps ? "maps_" : "";               // plain keeps its file names
     const std::string gtag = ltag + (g == 0 ? "" : "groom2_");  // groom1 keeps its names
-    md << "\n## Quality against the reference (" << groomNames[g] << ", " << qw << "x" << qh << ", "
-       << referenceMethodName(refMethod) << " reference " << refSpp << " spp"
-       << (maps ? ", every light with a deep opacity map" : "") << ")\n\nOver the hair's pixels ("
-       << (maps || refMethod == ReferenceMethod::Path
-               ? "where a sample of the reference saw hair in front of the scene: the hair "
-                 "also shadows the head"
-               : "where the reference differs from the scene without hair")
-       << "): mean FLIP (lower is better) / PSNR dB / frame ms. Whole-image values are in "
-          "bench.json. SWR1+H: Huang's filter (DESIGN.md).\n\n| configuration |";
+    r.md << "\n## Quality against the reference (" << r.groomNames[g] << ", " << qw << "x" << qh
+         << ", " << referenceMethodName(refMethod) << " reference " << r.opt.refSpp << " spp"
+         << (maps ? ", every light with a deep opacity map" : "") << ")\n\nOver the hair's pixels ("
+         << (maps || refMethod == ReferenceMethod::Path
+                 ? "where a sample of the reference saw hair in front of the scene: the hair "
+                   "also shadows the head"
+                 : "where the reference differs from the scene without hair")
+         << "): mean FLIP (lower is better) / PSNR dB / frame ms. Whole-image values are in "
+            "bench.json. SWR1+H: Huang's filter (DESIGN.md).\n\n| configuration |";
     for (int d = 0; d < 3; ++d)
-      if (distances.count(distNames[d])) md << " " << distNames[d] << " |";
-    md << "\n|---|";
+      if (distances.count(r.distNames[d])) r.md << " " << r.distNames[d] << " |";
+    r.md << "\n|---|";
     for (int d = 0; d < 3; ++d)
-      if (distances.count(distNames[d])) md << "---|";
-    md << "\n";
+      if (distances.count(r.distNames[d])) r.md << "---|";
+    r.md << "\n";
     std::map<std::string, std::vector<std::string>> cells;
     json& ql = maps ? q["lights_maps"] : q;
     json& qg = g == 0 ? ql : ql["groom2"];
     std::ostringstream refMd;  // the two references at mid
     for (int d = 0; d < 3; ++d) {
-      if (!distances.count(distNames[d])) continue;
-      Scene s = framed(scenes[g], dists[d], qw, qh);
+      if (!distances.count(r.distNames[d])) continue;
+      Scene s = framed(r.scenes[g], r.dists[d], qw, qh);
       if (maps)
         for (Light& light : s.lights) light.shadows = true;
       Frame ref;
       const double refMs = wallMs([&] { ref = reference(s, g, d, refMethod, ltag); });
-      qg["reference"][distNames[d]] = {
-          {"method", referenceMethodName(refMethod)}, {"spp", refSpp}, {"wall_ms", refMs}};
+      qg["reference"][r.distNames[d]] = {
+          {"method", referenceMethodName(refMethod)}, {"spp", r.opt.refSpp}, {"wall_ms", refMs}};
       std::fprintf(stderr, "quality %s%s %s: %s reference, %d spp, %.1f s\n", ltag.c_str(),
-                   groomNames[g], distNames[d], referenceMethodName(refMethod), refSpp,
+                   r.groomNames[g], r.distNames[d], referenceMethodName(refMethod), r.opt.refSpp,
                    refMs / 1000.0);
       Scene bare = s;
       bare.grooms.clear();
-      const Frame background = b.renderer.render(bare);
+      const Frame background = r.b.renderer.render(bare);
       std::vector<char> hairMask(ref.color.rgba.size() / 4, 0);
       // the hair's shadows change the head too (maps, and always in the path reference):
       // the mask is where a sample of the reference saw hair
@@ -232,11 +217,13 @@ void runQuality(Run& r) {
           for (int c = 0; c < 3; ++c)
             hairMask[i] |=
                 std::fabs(ref.color.rgba[4 * i + c] - background.color.rgba[4 * i + c]) > 1e-4f;
-      qg["reference"][distNames[d]]["hair_luminance"] = hairLuminance(ref, hairMask);
-      const std::string refPath = out + "/quality/" + gtag + distNames[d] + "_reference.png";
+      qg["reference"][r.distNames[d]]["hair_luminance"] = hairLuminance(ref, hairMask);
+      const std::string refPath =
+          r.opt.out + "/quality/" + gtag + r.distNames[d] + "_reference.png";
       writeImage(ref.color, refPath);
       // the scene without hair: the hair's pixels are where the reference differs from it
-      writeImage(background.color, out + "/quality/" + gtag + distNames[d] + "_background.png");
+      writeImage(background.color,
+                 r.opt.out + "/quality/" + gtag + r.distNames[d] + "_background.png");
       // quality final: one progressive run per pass path and cell, whose first N passes
       // give the row of N passes (the rows of fewer passes are its prefixes)
       std::map<int, std::unique_ptr<ProgressiveStill>> finals;
@@ -258,17 +245,17 @@ void runQuality(Run& r) {
         Frame f;
         if (c.finalPasses > 0) {
           std::unique_ptr<ProgressiveStill>& acc = finals[c.finalPath];
-          if (!acc) acc = std::make_unique<ProgressiveStill>(b.renderer, s, o);
+          if (!acc) acc = std::make_unique<ProgressiveStill>(r.b.renderer, s, o);
           acc->add(acc->passes(), std::max(c.finalPasses - acc->passes(), 0));
           f = acc->frame();
         } else {
-          f = b.renderer.render(sc, o);
+          f = r.b.renderer.render(sc, o);
         }
         // --runs 0 (quick tuning runs): the times of this one frame; final: the sum of
         // its passes' times
         Measured m;
-        if (runs > 0 && c.finalPasses == 0) {
-          m = b.measure(sc, o, false);
+        if (r.opt.runs > 0 && c.finalPasses == 0) {
+          m = r.b.measure(sc, o, false);
         } else {
           for (const StageTime& t : f.timings) m.stages[t.stage] = summarize({t.ms});
           m.total = summarize({f.totalMs()});
@@ -288,38 +275,38 @@ void runQuality(Run& r) {
         std::string file = name;
         for (char& ch : file)
           if (ch == ' ' || ch == '+' || ch == ',' || ch == '(' || ch == ')') ch = '_';
-        writeImage(f.color, out + "/quality/" + gtag + distNames[d] + "_" + file + ".png");
+        writeImage(f.color, r.opt.out + "/quality/" + gtag + r.distNames[d] + "_" + file + ".png");
         // the filter's share of the frame: Huang's link and filter stages, or Lipp's
         const double filterMs = stageMedian(m, "link") + stageMedian(m, "filter");
         cells[name].push_back(fmt(flipHair, 4) + " / " + fmt(psnrHair, 1) + " / " +
                               fmt(m.total.median));
-        qg[name][distNames[d]] = {{"flip_hair", flipHair},
-                                  {"psnr_hair_db", psnrHair},
-                                  {"flip", cmp.flip.mean},
-                                  {"psnr_db", cmp.psnr.psnrDb},
-                                  {"frame_ms", m.total.median},
-                                  {"hair_pixels", nHair},
-                                  {"hair_luminance", hairLuminance(f, hairMask)},
-                                  {"filter_ms", filterMs},
-                                  {"linked_pixels", f.stats.linkedPixels},
-                                  {"link_turned_away", f.stats.linkTurnedAway}};
+        qg[name][r.distNames[d]] = {{"flip_hair", flipHair},
+                                    {"psnr_hair_db", psnrHair},
+                                    {"flip", cmp.flip.mean},
+                                    {"psnr_db", cmp.psnr.psnrDb},
+                                    {"frame_ms", m.total.median},
+                                    {"hair_pixels", nHair},
+                                    {"hair_luminance", hairLuminance(f, hairMask)},
+                                    {"filter_ms", filterMs},
+                                    {"linked_pixels", f.stats.linkedPixels},
+                                    {"link_turned_away", f.stats.linkTurnedAway}};
         std::fprintf(stderr,
                      "quality %s%s %s %s: hair FLIP %.4f PSNR %.1f (image FLIP %.4f), frame "
                      "%.1f ms, filter %.1f ms\n",
-                     ltag.c_str(), groomNames[g], c.name, distNames[d], flipHair, psnrHair,
+                     ltag.c_str(), r.groomNames[g], c.name, r.distNames[d], flipHair, psnrHair,
                      cmp.flip.mean, m.total.median, filterMs);
         if (!maps && g == 0 && d == 1 && c.msaa == 1 && c.filter == 0 && c.lod == 0 &&
             c.raster == 0 && c.quality == 0 && c.points == 0) {
           // SWR1 at mid against the other reference too, over the same hair pixels
           Frame other;
           const double otherMs = wallMs([&] { other = reference(s, g, d, otherMethod, ltag); });
-          writeImage(other.color,
-                     out + "/quality/mid_reference_" + referenceMethodName(otherMethod) + ".png");
+          writeImage(other.color, r.opt.out + "/quality/mid_reference_" +
+                                      referenceMethodName(otherMethod) + ".png");
           const double flipOther = hairFlip(other, f, hairMask);
           const double flipRefs = hairFlip(ref, other, hairMask);
           const char* a = referenceMethodName(refMethod);
           const char* o = referenceMethodName(otherMethod);
-          refMd << "\nSWR1 at mid, mean FLIP over the hair against each reference (" << refSpp
+          refMd << "\nSWR1 at mid, mean FLIP over the hair against each reference (" << r.opt.refSpp
                 << " spp): " << a << " " << fmt(flipHair, 4) << ", " << o << " "
                 << fmt(flipOther, 4) << "; the " << o << " reference against the " << a
                 << " one: " << fmt(flipRefs, 4) << ". Reference wall time: " << a << " "
@@ -337,15 +324,15 @@ void runQuality(Run& r) {
     }
     for (const Config& c : configs) {
       if (!chosen.empty() && !chosen.count(c.name)) continue;
-      md << "| " << c.name << " |";
-      for (const std::string& cell : cells[c.name]) md << " " << cell << " |";
-      md << "\n";
+      r.md << "| " << c.name << " |";
+      for (const std::string& cell : cells[c.name]) r.md << " " << cell << " |";
+      r.md << "\n";
     }
-    md << refMd.str();
+    r.md << refMd.str();
   }
-  report["quality"] = q;
-  report["quality_size"] = std::to_string(qw) + "x" + std::to_string(qh);
-  md << "\nImages: `" << out << "/quality/`.\n";
+  r.report["quality"] = q;
+  r.report["quality_size"] = std::to_string(qw) + "x" + std::to_string(qh);
+  r.md << "\nImages: `" << r.opt.out << "/quality/`.\n";
 }
 
 }  // namespace clhair::bench

@@ -25,15 +25,8 @@
 namespace clhair::bench {
 
 void runSequences(Run& r) {
-  const bool quick = r.opt.quick;
-  const int seqFrames = r.opt.seqFrames;
-  const int viewPairsOpt = r.opt.viewPairsOpt;
-  Bench& b = r.b;
-  const double compileMs = r.compileMs;
-  std::ostringstream& md = r.md;
-  json& report = r.report;
   Scene shot = loadScene(std::string(CLHAIR_SOURCE_DIR) + "/assets/scenes/wind.json");
-  const int frames = quick ? std::min(seqFrames, 8) : seqFrames;
+  const int frames = r.opt.quick ? std::min(r.opt.seqFrames, 8) : r.opt.seqFrames;
   auto ms = [](std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   };
@@ -51,7 +44,7 @@ void runSequences(Run& r) {
     double c0 = processCpuMs();
     auto t0 = std::chrono::steady_clock::now();
     const Scene s = sceneAtFrame(shot, static_cast<double>(f));
-    b.renderer.render(s, RenderOptions{});
+    r.b.renderer.render(s, RenderOptions{});
     const double t = ms(t0), tc = processCpuMs() - c0;
     if (f == 1) {
       firstMs = t;
@@ -62,13 +55,13 @@ void runSequences(Run& r) {
     if (f % 4 == 2) {
       c0 = processCpuMs();
       t0 = std::chrono::steady_clock::now();
-      b.renderer.render(still, RenderOptions{});
+      r.b.renderer.render(still, RenderOptions{});
       stillCold.push_back(ms(t0));
       coldCpu.push_back(processCpuMs() - c0);
       pairCpu.push_back(tc / coldCpu.back());
       c0 = processCpuMs();
       t0 = std::chrono::steady_clock::now();
-      b.renderer.render(still, RenderOptions{});
+      r.b.renderer.render(still, RenderOptions{});
       stillKept.push_back(ms(t0));
       keptCpu.push_back(processCpuMs() - c0);
     }
@@ -82,39 +75,39 @@ void runSequences(Run& r) {
     return " | " + fmt(c.median, 0) + " | " + fmt(c.min, 0) + " | " + fmt(c.max, 0) + " | " +
            fmt(c.median / ref.median, 3) + "x |\n";
   };
-  md << "\n## Sequences (assets/scenes/wind.json: the default groom in wind, " << still.width << "x"
-     << still.height << ", " << frames
-     << " frames in one process)\n\nStart-up (device, kernel compilation) " << fmt(compileMs, 0)
-     << " ms, once per process; first frame " << fmt(firstMs, 0)
-     << " ms.\n\n| | renders | median ms | min | max | vs still (maps kept) | CPU ms median "
-        "| min | max | CPU vs still (maps kept) |\n|---|---|---|---|---|---|---|---|---|---|\n"
-     << "| shot frames 2.." << frames << " (mean " << fmt(mean, 0) << ") | " << shotMs.size()
-     << " | " << fmt(shotS.median, 0) << " | " << fmt(shotS.min, 0) << " | " << fmt(shotS.max, 0)
-     << " | " << fmt(shotS.median / keptS.median, 3) << "x" << cpuCells(shotC, keptC)
-     << "| still frame, maps kept | " << stillKept.size() << " | " << fmt(keptS.median, 0) << " | "
-     << fmt(keptS.min, 0) << " | " << fmt(keptS.max, 0) << " | 1x" << cpuCells(keptC, keptC)
-     << "| still frame, maps rebuilt | " << stillCold.size() << " | " << fmt(coldS.median, 0)
-     << " | " << fmt(coldS.min, 0) << " | " << fmt(coldS.max, 0) << " | "
-     << fmt(coldS.median / keptS.median, 3) << "x" << cpuCells(coldC, keptC)
-     << "\nShot frame against the still frame that rebuilds its "
-     << "maps: " << fmt(shotS.median / coldS.median, 3) << "x wall, "
-     << fmt(shotC.median / coldC.median, 3) << "x process CPU (ratio of medians); pair by "
-     << "pair (each rebuilt still against the shot frame before it, CPU) median "
-     << fmt(pairC.median, 3) << "x, min " << fmt(pairC.min, 3) << "x, max " << fmt(pairC.max, 3)
-     << "x over " << pairCpu.size() << " pairs (target within 5 %).\n";
-  report["sequences"]["frames"] = frames;
-  report["sequences"]["first_frame_ms"] = firstMs;
-  report["sequences"]["shot_frame_ms"] = {
+  r.md << "\n## Sequences (assets/scenes/wind.json: the default groom in wind, " << still.width
+       << "x" << still.height << ", " << frames
+       << " frames in one process)\n\nStart-up (device, kernel compilation) " << fmt(r.compileMs, 0)
+       << " ms, once per process; first frame " << fmt(firstMs, 0)
+       << " ms.\n\n| | renders | median ms | min | max | vs still (maps kept) | CPU ms median "
+          "| min | max | CPU vs still (maps kept) |\n|---|---|---|---|---|---|---|---|---|---|\n"
+       << "| shot frames 2.." << frames << " (mean " << fmt(mean, 0) << ") | " << shotMs.size()
+       << " | " << fmt(shotS.median, 0) << " | " << fmt(shotS.min, 0) << " | " << fmt(shotS.max, 0)
+       << " | " << fmt(shotS.median / keptS.median, 3) << "x" << cpuCells(shotC, keptC)
+       << "| still frame, maps kept | " << stillKept.size() << " | " << fmt(keptS.median, 0)
+       << " | " << fmt(keptS.min, 0) << " | " << fmt(keptS.max, 0) << " | 1x"
+       << cpuCells(keptC, keptC) << "| still frame, maps rebuilt | " << stillCold.size() << " | "
+       << fmt(coldS.median, 0) << " | " << fmt(coldS.min, 0) << " | " << fmt(coldS.max, 0) << " | "
+       << fmt(coldS.median / keptS.median, 3) << "x" << cpuCells(coldC, keptC)
+       << "\nShot frame against the still frame that rebuilds its "
+       << "maps: " << fmt(shotS.median / coldS.median, 3) << "x wall, "
+       << fmt(shotC.median / coldC.median, 3) << "x process CPU (ratio of medians); pair by "
+       << "pair (each rebuilt still against the shot frame before it, CPU) median "
+       << fmt(pairC.median, 3) << "x, min " << fmt(pairC.min, 3) << "x, max " << fmt(pairC.max, 3)
+       << "x over " << pairCpu.size() << " pairs (target within 5 %).\n";
+  r.report["sequences"]["frames"] = frames;
+  r.report["sequences"]["first_frame_ms"] = firstMs;
+  r.report["sequences"]["shot_frame_ms"] = {
       {"median", shotS.median}, {"mean", mean}, {"min", shotS.min}, {"max", shotS.max}};
-  report["sequences"]["still_maps_kept_ms"] = keptS.median;
-  report["sequences"]["still_maps_rebuilt_ms"] = coldS.median;
-  report["sequences"]["shot_vs_still"] = shotS.median / keptS.median;
-  report["sequences"]["shot_vs_still_rebuilt"] = shotS.median / coldS.median;
-  report["sequences"]["shot_frame_cpu_ms"] = shotC.median;
-  report["sequences"]["still_maps_kept_cpu_ms"] = keptC.median;
-  report["sequences"]["still_maps_rebuilt_cpu_ms"] = coldC.median;
-  report["sequences"]["shot_vs_still_rebuilt_cpu"] = shotC.median / coldC.median;
-  report["sequences"]["shot_vs_still_rebuilt_cpu_pairs"] = {
+  r.report["sequences"]["still_maps_kept_ms"] = keptS.median;
+  r.report["sequences"]["still_maps_rebuilt_ms"] = coldS.median;
+  r.report["sequences"]["shot_vs_still"] = shotS.median / keptS.median;
+  r.report["sequences"]["shot_vs_still_rebuilt"] = shotS.median / coldS.median;
+  r.report["sequences"]["shot_frame_cpu_ms"] = shotC.median;
+  r.report["sequences"]["still_maps_kept_cpu_ms"] = keptC.median;
+  r.report["sequences"]["still_maps_rebuilt_cpu_ms"] = coldC.median;
+  r.report["sequences"]["shot_vs_still_rebuilt_cpu"] = shotC.median / coldC.median;
+  r.report["sequences"]["shot_vs_still_rebuilt_cpu_pairs"] = {
       {"median", pairC.median}, {"min", pairC.min}, {"max", pairC.max}};
   std::fprintf(stderr,
                "sequences: first %.0f ms, shot median %.0f ms, still kept %.0f ms, still "
@@ -149,7 +142,7 @@ void runSequences(Run& r) {
     std::vector<double> ratios;  // two / one, pair by pair (wall)
   };
   Setting still2, wind2;
-  const int viewPairs = quick ? std::min(viewPairsOpt, 3) : viewPairsOpt;
+  const int viewPairs = r.opt.quick ? std::min(r.opt.viewPairsOpt, 3) : r.opt.viewPairsOpt;
   const int midFrame = std::max(frames / 2, 1);
   auto stereo = [](const Scene& s) {
     View left, right;
@@ -172,7 +165,7 @@ void runSequences(Run& r) {
     }
     side.dev.push_back(sum);
   };
-  Renderer windRenderer(b.device);
+  Renderer windRenderer(r.b.device);
   auto pair = [&](Renderer& r, Setting& set, const Scene& s, const RenderOptions& o) {
     const std::vector<Camera> eyes = stereo(s);
     Scene one = s;
@@ -185,7 +178,7 @@ void runSequences(Run& r) {
     const Scene held = sceneAtFrame(shot, static_cast<double>(midFrame));
     RenderOptions kept, rebuilt;
     rebuilt.reuseShadows = false;
-    for (Renderer* r : {&b.renderer, &windRenderer}) {  // warm-up: both paths built
+    for (Renderer* r : {&r.b.renderer, &windRenderer}) {  // warm-up: both paths built
       const std::vector<Camera> eyes = stereo(held);
       Scene one = held;
       one.camera = eyes[0];
@@ -193,7 +186,7 @@ void runSequences(Run& r) {
       r->renderViews(held, eyes);
     }
     for (int i = 0; i < viewPairs; ++i) {
-      pair(b.renderer, still2, held, kept);
+      pair(r.b.renderer, still2, held, kept);
       // frames midFrame, midFrame + 1, ... (wrapping inside the shot)
       const int f = 2 + (midFrame - 2 + i) % std::max(frames - 1, 1);
       pair(windRenderer, wind2, sceneAtFrame(shot, static_cast<double>(f)), rebuilt);
@@ -204,32 +197,32 @@ void runSequences(Run& r) {
   const double windOne = summarize(wind2.one.ms).median, windTwo = summarize(wind2.two.ms).median;
   auto viewRow = [&](const std::string& name, const Side& side) {
     const Stats st = summarize(side.ms);
-    md << "| " << name << " | " << fmt(st.median, 0) << " | " << fmt(st.min, 0) << " | "
-       << fmt(st.max, 0) << " |";
+    r.md << "| " << name << " | " << fmt(st.median, 0) << " | " << fmt(st.min, 0) << " | "
+         << fmt(st.max, 0) << " |";
   };
-  md << "\n| stereo pair | median ms | min | max | two views / one |\n|---|---|---|---|---|\n";
+  r.md << "\n| stereo pair | median ms | min | max | two views / one |\n|---|---|---|---|---|\n";
   viewRow("(a) one view of a stereo pair, still frame, maps kept", still2.one);
-  md << " |\n";
+  r.md << " |\n";
   viewRow("(a) both views, one assembly, still frame, maps kept", still2.two);
-  md << " " << fmt(twoViews / oneView, 3) << "x of one view (target <= 1.6x) |\n";
+  r.md << " " << fmt(twoViews / oneView, 3) << "x of one view (target <= 1.6x) |\n";
   viewRow("(b) one view, wind shot frame, maps rebuilt", wind2.one);
-  md << " |\n";
+  r.md << " |\n";
   viewRow("(b) both views, one assembly, wind shot frame, maps rebuilt once", wind2.two);
-  md << " " << fmt(windTwo / windOne, 3) << "x of one view (target <= 1.6x) |\n";
+  r.md << " " << fmt(windTwo / windOne, 3) << "x of one view (target <= 1.6x) |\n";
   auto spread = [&](const char* tag, const Setting& set) {
-    const Stats r = summarize(set.ratios);
+    const Stats st = summarize(set.ratios);
     std::string list;
     for (double v : set.ratios) list += (list.empty() ? "" : ", ") + fmt(v, 2);
-    md << "- " << tag << ": ratio of medians "
-       << fmt(summarize(set.two.ms).median / summarize(set.one.ms).median, 3) << "x wall, "
-       << fmt(summarize(set.two.cpu).median / summarize(set.one.cpu).median, 3)
-       << "x process CPU; pair by pair (wall) median " << fmt(r.median, 3) << "x, min "
-       << fmt(r.min, 3) << "x, max " << fmt(r.max, 3) << "x (" << list << ")\n";
-    return r;
+    r.md << "- " << tag << ": ratio of medians "
+         << fmt(summarize(set.two.ms).median / summarize(set.one.ms).median, 3) << "x wall, "
+         << fmt(summarize(set.two.cpu).median / summarize(set.one.cpu).median, 3)
+         << "x process CPU; pair by pair (wall) median " << fmt(st.median, 3) << "x, min "
+         << fmt(st.min, 3) << "x, max " << fmt(st.max, 3) << "x (" << list << ")\n";
+    return st;
   };
-  md << "\nTwo views against one, " << viewPairs
-     << " interleaved pairs (one view, then two views of the same frame) per setting, "
-        "the settings alternating:\n\n";
+  r.md << "\nTwo views against one, " << viewPairs
+       << " interleaved pairs (one view, then two views of the same frame) per setting, "
+          "the settings alternating:\n\n";
   const Stats stillR = spread("(a) still frame, maps kept", still2);
   const Stats windR = spread("(b) wind shot frame, maps rebuilt in every render", wind2);
   // where the second view's time goes: each stage's median device time on either side
@@ -241,24 +234,24 @@ void runSequences(Run& r) {
     for (const Setting* set : {&still2, &wind2})
       for (const Side* side : {&set->one, &set->two})
         for (const auto& [k, v] : side->stages) names.insert(k);
-    md << "\nThe stereo pair stage by stage (medians over the pairs; deep opacity maps "
-          "rebuilt in "
-       << still2.one.shadowRuns + still2.two.shadowRuns << " of the " << 2 * viewPairs
-       << " renders of (a) and " << wind2.one.shadowRuns << " + " << wind2.two.shadowRuns
-       << " of (b)):\n\n"
-       << "| | (a) one view ms | (a) two views ms | (a) two / one | (b) one view ms | (b) two "
-          "views ms | (b) two / one |\n|---|---|---|---|---|---|---|\n";
+    r.md << "\nThe stereo pair stage by stage (medians over the pairs; deep opacity maps "
+            "rebuilt in "
+         << still2.one.shadowRuns + still2.two.shadowRuns << " of the " << 2 * viewPairs
+         << " renders of (a) and " << wind2.one.shadowRuns << " + " << wind2.two.shadowRuns
+         << " of (b)):\n\n"
+         << "| | (a) one view ms | (a) two views ms | (a) two / one | (b) one view ms | (b) two "
+            "views ms | (b) two / one |\n|---|---|---|---|---|---|---|\n";
     auto cell = [&](double a, double c) {
-      md << " " << fmt(a, 1) << " | " << fmt(c, 1) << " | "
-         << (a > 0.0 ? fmt(c / a, 3) + "x" : std::string("")) << " |";
+      r.md << " " << fmt(a, 1) << " | " << fmt(c, 1) << " | "
+           << (a > 0.0 ? fmt(c / a, 3) + "x" : std::string("")) << " |";
     };
     auto row = [&](const std::string& name, double a1, double a2, double b1, double b2) {
-      md << "| " << name << " |";
+      r.md << "| " << name << " |";
       cell(a1, a2);
       cell(b1, b2);
-      md << "\n";
-      report["sequences"]["views_split"][name] = {{"one", a1}, {"two", a2}};
-      report["sequences"]["wind_views_split"][name] = {{"one", b1}, {"two", b2}};
+      r.md << "\n";
+      r.report["sequences"]["views_split"][name] = {{"one", a1}, {"two", a2}};
+      r.report["sequences"]["wind_views_split"][name] = {{"one", b1}, {"two", b2}};
     };
     auto stage = [](const Side& side, const std::string& k) {
       auto it = side.stages.find(k);
@@ -279,23 +272,24 @@ void runSequences(Run& r) {
     row("wall", oneView, twoViews, windOne, windTwo);
     row("process CPU", med(still2.one.cpu), med(still2.two.cpu), med(wind2.one.cpu),
         med(wind2.two.cpu));
-    report["sequences"]["one_view_cpu_ms"] = med(still2.one.cpu);
-    report["sequences"]["two_views_cpu_ms"] = med(still2.two.cpu);
-    report["sequences"]["wind_one_view_cpu_ms"] = med(wind2.one.cpu);
-    report["sequences"]["wind_two_views_cpu_ms"] = med(wind2.two.cpu);
-    report["sequences"]["views_shadow_rebuilds"] = still2.one.shadowRuns + still2.two.shadowRuns;
-    report["sequences"]["wind_views_shadow_rebuilds"] = wind2.one.shadowRuns + wind2.two.shadowRuns;
+    r.report["sequences"]["one_view_cpu_ms"] = med(still2.one.cpu);
+    r.report["sequences"]["two_views_cpu_ms"] = med(still2.two.cpu);
+    r.report["sequences"]["wind_one_view_cpu_ms"] = med(wind2.one.cpu);
+    r.report["sequences"]["wind_two_views_cpu_ms"] = med(wind2.two.cpu);
+    r.report["sequences"]["views_shadow_rebuilds"] = still2.one.shadowRuns + still2.two.shadowRuns;
+    r.report["sequences"]["wind_views_shadow_rebuilds"] =
+        wind2.one.shadowRuns + wind2.two.shadowRuns;
   }
-  report["sequences"]["view_pairs"] = viewPairs;
-  report["sequences"]["one_view_ms"] = oneView;
-  report["sequences"]["two_views_ms"] = twoViews;
-  report["sequences"]["two_views_vs_one"] = twoViews / oneView;
-  report["sequences"]["two_views_vs_one_pairs"] = {
+  r.report["sequences"]["view_pairs"] = viewPairs;
+  r.report["sequences"]["one_view_ms"] = oneView;
+  r.report["sequences"]["two_views_ms"] = twoViews;
+  r.report["sequences"]["two_views_vs_one"] = twoViews / oneView;
+  r.report["sequences"]["two_views_vs_one_pairs"] = {
       {"median", stillR.median}, {"min", stillR.min}, {"max", stillR.max}};
-  report["sequences"]["wind_one_view_ms"] = windOne;
-  report["sequences"]["wind_two_views_ms"] = windTwo;
-  report["sequences"]["wind_two_views_vs_one"] = windTwo / windOne;
-  report["sequences"]["wind_two_views_vs_one_pairs"] = {
+  r.report["sequences"]["wind_one_view_ms"] = windOne;
+  r.report["sequences"]["wind_two_views_ms"] = windTwo;
+  r.report["sequences"]["wind_two_views_vs_one"] = windTwo / windOne;
+  r.report["sequences"]["wind_two_views_vs_one_pairs"] = {
       {"median", windR.median}, {"min", windR.min}, {"max", windR.max}};
   std::fprintf(stderr,
                "sequences views: (a) still, maps kept: one %.0f ms, two %.0f ms (%.3fx, "
@@ -314,14 +308,14 @@ void runSequences(Run& r) {
       const Scene s0 = sceneAtFrame(seq, f), p0 = sceneAtFrame(seq, f - 1);
       const Scene s1 = sceneAtFrame(seq, f + 1);
       o.previous = &p0;
-      const Frame a = b.renderer.render(s0, o);
+      const Frame a = r.b.renderer.render(s0, o);
       o.previous = &s0;
       auto t0 = std::chrono::steady_clock::now();
-      const Frame c = b.renderer.render(s1, o);
+      const Frame c = r.b.renderer.render(s1, o);
       if (aovMs) *aovMs += ms(t0) / static_cast<double>(starts.size());
       if (plainMs) {
         t0 = std::chrono::steady_clock::now();
-        b.renderer.render(s1, RenderOptions{});
+        r.b.renderer.render(s1, RenderOptions{});
         *plainMs += ms(t0) / static_cast<double>(starts.size());
       }
       warped +=
@@ -352,27 +346,27 @@ void runSequences(Run& r) {
       orbit(s0, 5.0f * static_cast<float>(i));
       orbit(s1, 5.0f * static_cast<float>(i) + 0.5f);
       o.previous = nullptr;
-      const Frame a = b.renderer.render(s0, o);
+      const Frame a = r.b.renderer.render(s0, o);
       o.previous = &s0;
-      const Frame cf = b.renderer.render(s1, o);
+      const Frame cf = r.b.renderer.render(s1, o);
       turnIoU += motionWarpIoU(cf.aovs, a.aovs, s1.width, s1.height) / pairs;
       turnStill += maskIoU(cf.aovs, a.aovs, s1.width, s1.height) / pairs;
     }
   }
-  md << "\nMotion vectors, frame t warped to t+1 by t+1's motion (docs/aovs.md, mean over "
-     << starts.size()
-     << " pairs): \n\n| shot | IoU warped | IoU not warped | target |\n|---|---|---|---|\n"
-     << "| slow turntable (default scene, 0.5 deg a frame) | " << fmt(turnIoU, 3) << " | "
-     << fmt(turnStill, 3) << " | >= 0.9 |\n"
-     << "| wind shot | " << fmt(windIoU, 3) << " | " << fmt(windStill, 3)
-     << " | >= 0.8 |\n\nA wind frame with `--aov all` (motion pass included): " << fmt(aovMs, 0)
-     << " ms, without: " << fmt(plainMs, 0) << " ms.\n";
-  report["sequences"]["iou_turntable"] = turnIoU;
-  report["sequences"]["iou_turntable_unwarped"] = turnStill;
-  report["sequences"]["iou_wind"] = windIoU;
-  report["sequences"]["iou_wind_unwarped"] = windStill;
-  report["sequences"]["aov_frame_ms"] = aovMs;
-  report["sequences"]["plain_frame_ms"] = plainMs;
+  r.md << "\nMotion vectors, frame t warped to t+1 by t+1's motion (docs/aovs.md, mean over "
+       << starts.size()
+       << " pairs): \n\n| shot | IoU warped | IoU not warped | target |\n|---|---|---|---|\n"
+       << "| slow turntable (default scene, 0.5 deg a frame) | " << fmt(turnIoU, 3) << " | "
+       << fmt(turnStill, 3) << " | >= 0.9 |\n"
+       << "| wind shot | " << fmt(windIoU, 3) << " | " << fmt(windStill, 3)
+       << " | >= 0.8 |\n\nA wind frame with `--aov all` (motion pass included): " << fmt(aovMs, 0)
+       << " ms, without: " << fmt(plainMs, 0) << " ms.\n";
+  r.report["sequences"]["iou_turntable"] = turnIoU;
+  r.report["sequences"]["iou_turntable_unwarped"] = turnStill;
+  r.report["sequences"]["iou_wind"] = windIoU;
+  r.report["sequences"]["iou_wind_unwarped"] = windStill;
+  r.report["sequences"]["aov_frame_ms"] = aovMs;
+  r.report["sequences"]["plain_frame_ms"] = plainMs;
   std::fprintf(stderr, "sequences IoU: turntable %.3f (%.3f), wind %.3f (%.3f)\n", turnIoU,
                turnStill, windIoU, windStill);
 }

@@ -11,36 +11,24 @@
 namespace clhair::bench {
 
 void runTable1(Run& r) {
-  const std::string& only = r.opt.only;
-  const int width = r.opt.width;
-  const int height = r.opt.height;
-  const bool quick = r.opt.quick;
-  Bench& b = r.b;
-  std::ostringstream& md = r.md;
-  json& report = r.report;
-  const auto& scenes = r.scenes;
-  const auto& groomNames = r.groomNames;
-  const auto& dists = r.dists;
-  const auto& distNames = r.distNames;
-  auto& msaa1Rows = r.msaa1Rows;
-  auto csvRow = [&r](auto&&... a) { r.csvRow(a...); };
   // rows: software MSAA 1 (filter off), SWR1+F (the default filter: Huang's), MSAA 2, 4, 8
   struct Row {
     int msaa;
     bool filter;
     const char* label;
   };
-  std::vector<Row> rows = quick
+  std::vector<Row> rows = r.opt.quick
                               ? std::vector<Row>{{1, false, "1"}, {1, true, "1+F"}, {4, false, "4"}}
                               : std::vector<Row>{{1, false, "1"},
                                                  {1, true, "1+F"},
                                                  {2, false, "2"},
                                                  {4, false, "4"},
                                                  {8, false, "8"}};
-  md << "## Table 1: frame time in ms, total (strand pass), " << width << "x" << height << "\n\n";
-  md << "| LOD | MSAA | " << groomNames[0] << " close | mid | far | " << groomNames[1]
-     << " close | mid | far |\n";
-  md << "|---|---|---|---|---|---|---|---|\n";
+  r.md << "## Table 1: frame time in ms, total (strand pass), " << r.opt.width << "x"
+       << r.opt.height << "\n\n";
+  r.md << "| LOD | MSAA | " << r.groomNames[0] << " close | mid | far | " << r.groomNames[1]
+       << " close | mid | far |\n";
+  r.md << "|---|---|---|---|---|---|---|---|\n";
   json t1 = json::array();
   std::ostringstream counts;
   counts << "\n### Work per frame (LOD off / on, MSAA 1, no filter)\n\n| groom | distance | "
@@ -50,58 +38,59 @@ void runTable1(Run& r) {
   for (int lod = 0; lod < 2; ++lod) {
     for (const Row& rowSpec : rows) {
       const int msaa = rowSpec.msaa;
-      md << "| " << (lod ? "on" : "off") << " | " << rowSpec.label << " |";
+      r.md << "| " << (lod ? "on" : "off") << " | " << rowSpec.label << " |";
       for (int g = 0; g < 2; ++g) {
         for (int d = 0; d < 3; ++d) {
-          if (only == "atomics" && (msaa != 1 || rowSpec.filter)) continue;
-          Scene s = framed(scenes[g], dists[d], width, height);
+          if (r.opt.only == "atomics" && (msaa != 1 || rowSpec.filter)) continue;
+          Scene s = framed(r.scenes[g], r.dists[d], r.opt.width, r.opt.height);
           RenderOptions o;
           o.lod = lod;
           o.msaa = msaa;
           o.filter = rowSpec.filter ? 1 : 0;
-          Measured m = b.measure(s, o);
-          md << " " << fmt(m.wall.median) << " (" << fmt(m.total.median) << "; "
-             << fmt(stageMedian(m, "strands")) << ") |";
+          Measured m = r.b.measure(s, o);
+          r.md << " " << fmt(m.wall.median) << " (" << fmt(m.total.median) << "; "
+               << fmt(stageMedian(m, "strands")) << ") |";
           json row = measuredJson(m);
-          row["groom"] = groomNames[g];
+          row["groom"] = r.groomNames[g];
           row["lod"] = lod == 1;
           row["msaa"] = msaa;
           row["filter"] = rowSpec.filter;
-          row["distance"] = distNames[d];
+          row["distance"] = r.distNames[d];
           t1.push_back(row);
-          csvRow(rowSpec.filter ? "table1+F" : "table1", groomNames[g], lod, msaa, distNames[d],
-                 scenes[g].grooms[0].mesh->strandCount, width, height, "auto", m);
+          r.csvRow(rowSpec.filter ? "table1+F" : "table1", r.groomNames[g], lod, msaa,
+                   r.distNames[d], r.scenes[g].grooms[0].mesh->strandCount, r.opt.width,
+                   r.opt.height, "auto", m);
           if (msaa == 1 && !rowSpec.filter) {
-            msaa1Rows.push_back(
-                {std::string(groomNames[g]) + " " + distNames[d] + (lod ? " LOD" : ""), m});
-            counts << "| " << groomNames[g] << " | " << distNames[d] << " | "
+            r.msaa1Rows.push_back(
+                {std::string(r.groomNames[g]) + " " + r.distNames[d] + (lod ? " LOD" : ""), m});
+            counts << "| " << r.groomNames[g] << " | " << r.distNames[d] << " | "
                    << (lod ? "on" : "off") << " | " << m.counts.strandsDrawn << " | "
                    << m.counts.segmentsDrawn << " | " << m.counts.pixelWrites << " | "
                    << m.counts.atomicsIssued << " | " << m.counts.atomicsSkipped << " |\n";
           }
-          std::fprintf(stderr, "table1 %s LOD %d MSAA %s %s: %.1f ms\n", groomNames[g], lod,
-                       rowSpec.label, distNames[d], m.total.median);
+          std::fprintf(stderr, "table1 %s LOD %d MSAA %s %s: %.1f ms\n", r.groomNames[g], lod,
+                       rowSpec.label, r.distNames[d], m.total.median);
         }
       }
-      md << "\n";
+      r.md << "\n";
     }
   }
-  md << counts.str();
+  r.md << counts.str();
   // LOD speed-up at far, per groom (MSAA 1)
   for (bool filtered : {false, true}) {
-    md << "\nLOD speed-up at far (" << (filtered ? "SWR1+F" : "SWR1") << ", total frame): ";
+    r.md << "\nLOD speed-up at far (" << (filtered ? "SWR1+F" : "SWR1") << ", total frame): ";
     for (int g = 0; g < 2; ++g) {
       double off = 0, on = 0;
       for (const auto& row : t1)
-        if (row["groom"] == groomNames[g] && row["distance"] == "far" && row["msaa"] == 1 &&
+        if (row["groom"] == r.groomNames[g] && row["distance"] == "far" && row["msaa"] == 1 &&
             row["filter"].get<bool>() == filtered)
           (row["lod"].get<bool>() ? on : off) = row["total_ms"]["median"].get<double>();
-      if (on > 0) md << groomNames[g] << " " << fmt(off / on) << "x" << (g == 0 ? ", " : "\n");
-      report["lod_far_speedup"][filtered ? "SWR1+F" : "SWR1"][groomNames[g]] =
+      if (on > 0) r.md << r.groomNames[g] << " " << fmt(off / on) << "x" << (g == 0 ? ", " : "\n");
+      r.report["lod_far_speedup"][filtered ? "SWR1+F" : "SWR1"][r.groomNames[g]] =
           on > 0 ? off / on : 0.0;
     }
   }
-  report["table1"] = t1;
+  r.report["table1"] = t1;
 }
 
 }  // namespace clhair::bench

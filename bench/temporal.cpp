@@ -23,26 +23,18 @@
 namespace clhair::bench {
 
 void runTemporal(Run& r) {
-  const bool quick = r.opt.quick;
-  const int qualityWidth = r.opt.qualityWidth;
-  const int qualityHeight = r.opt.qualityHeight;
-  const int temporalRefSpp = r.opt.temporalRefSpp;
-  const std::string& qualityConfigs = r.opt.qualityConfigs;
-  Bench& b = r.b;
-  std::ostringstream& md = r.md;
-  json& report = r.report;
-  const auto& scenes = r.scenes;
-  const auto& groomNames = r.groomNames;
   // flicker: a 30-frame orbit, the mean absolute frame-to-frame change of sRGB values;
   // with temporal reprojection (clhair/temporal.h) also the error against a per-frame
   // reference (ghosting adds error, flicker alone does not) and, on a shot whose groom
   // moves fast, the hair left behind in the pixels it vacated
-  const int tw = quick ? 320 : qualityWidth, th = quick ? 180 : qualityHeight;
-  const int frames = quick ? 8 : 30;
+  const int tw = r.opt.quick ? 320 : r.opt.qualityWidth,
+            th = r.opt.quick ? 180 : r.opt.qualityHeight;
+  const int frames = r.opt.quick ? 8 : 30;
   std::set<std::string> temporalChosen;  // --quality-configs, the names this section has
-  for (std::size_t at = 0; !qualityConfigs.empty() && at <= qualityConfigs.size();) {
-    const std::size_t comma = std::min(qualityConfigs.find(',', at), qualityConfigs.size());
-    temporalChosen.insert(qualityConfigs.substr(at, comma - at));
+  for (std::size_t at = 0; !r.opt.qualityConfigs.empty() && at <= r.opt.qualityConfigs.size();) {
+    const std::size_t comma =
+        std::min(r.opt.qualityConfigs.find(',', at), r.opt.qualityConfigs.size());
+    temporalChosen.insert(r.opt.qualityConfigs.substr(at, comma - at));
     at = comma + 1;
   }
   struct Config {
@@ -79,10 +71,10 @@ void runTemporal(Run& r) {
   };
   auto truthOf = [&](const Scene& s) {
     Truth t;
-    t.ref = b.renderer.renderReference(s, temporalRefSpp, ReferenceMethod::Embree);
+    t.ref = r.b.renderer.renderReference(s, r.opt.temporalRefSpp, ReferenceMethod::Embree);
     Scene bare = s;
     bare.grooms.clear();
-    const Frame background = b.renderer.render(bare);
+    const Frame background = r.b.renderer.render(bare);
     t.mask.assign(t.ref.depth.size(), 0);
     for (std::size_t i = 0; i < t.mask.size(); ++i)
       for (int c = 0; c < 3; ++c)
@@ -117,7 +109,7 @@ void runTemporal(Run& r) {
     return s;
   };
   auto orbitAt = [&](long long f) {
-    Scene s = scenes[0];
+    Scene s = r.scenes[0];
     s.width = tw;
     s.height = th;
     s.camera =
@@ -132,28 +124,28 @@ void runTemporal(Run& r) {
         static_cast<std::size_t>(std::count(truth.back().mask.begin(), truth.back().mask.end(), 1));
   }
   hairPerFrame /= static_cast<std::size_t>(frames);
-  md << "\n## Temporal stability (" << groomNames[0] << ", mid, " << frames
-     << "-frame orbit of 0.5 deg per frame, " << tw << "x" << th
-     << ")\n\nFlicker: mean absolute sRGB change between consecutive frames (lower is "
-        "steadier). FLIP: mean over the frames of the mean FLIP over the hair's pixels "
-        "against that frame's Embree reference ("
-     << temporalRefSpp
-     << " spp). Reprojection: the hair of the frames before carried along the motion "
-        "vectors and blended (DESIGN.md, \"Temporal reprojection\"); unprotected: without "
-        "its depth rule and neighbourhood clamp. Frames rendered: outputs and history "
-        "frames together, in one pass over the range. Flicker (hair): the same change over "
-        "the pixels that are hair in either frame's reference. Dropped / clamped: pixels "
-        "per frame whose history the depth rule dropped / the clamp changed (the hair "
-        "covers about "
-     << hairPerFrame
-     << " pixels a frame).\n\n| configuration | flicker | flicker (hair) | FLIP (hair) | "
-        "dropped / clamped | ms per frame | frames rendered |\n|---|---|---|---|---|---|---|\n";
+  r.md << "\n## Temporal stability (" << r.groomNames[0] << ", mid, " << frames
+       << "-frame orbit of 0.5 deg per frame, " << tw << "x" << th
+       << ")\n\nFlicker: mean absolute sRGB change between consecutive frames (lower is "
+          "steadier). FLIP: mean over the frames of the mean FLIP over the hair's pixels "
+          "against that frame's Embree reference ("
+       << r.opt.temporalRefSpp
+       << " spp). Reprojection: the hair of the frames before carried along the motion "
+          "vectors and blended (DESIGN.md, \"Temporal reprojection\"); unprotected: without "
+          "its depth rule and neighbourhood clamp. Frames rendered: outputs and history "
+          "frames together, in one pass over the range. Flicker (hair): the same change over "
+          "the pixels that are hair in either frame's reference. Dropped / clamped: pixels "
+          "per frame whose history the depth rule dropped / the clamp changed (the hair "
+          "covers about "
+       << hairPerFrame
+       << " pixels a frame).\n\n| configuration | flicker | flicker (hair) | FLIP (hair) | "
+          "dropped / clamped | ms per frame | frames rendered |\n|---|---|---|---|---|---|---|\n";
   int temporalRows = 0;
   for (const Config& c : configs) {
     if (!temporalChosen.empty() && !temporalChosen.count(c.name)) continue;
     ++temporalRows;
     FrameSequence seq(
-        b.renderer, [&](long long f) { return protectedScene(orbitAt(f), c); }, optionsOf(c), 0);
+        r.b.renderer, [&](long long f) { return protectedScene(orbitAt(f), c); }, optionsOf(c), 0);
     double total = 0.0, flip = 0.0, totalHair = 0.0;
     std::vector<float> prev;
     double renderMs = 0.0;
@@ -189,29 +181,29 @@ void runTemporal(Run& r) {
     flip /= frames;
     const double dropped = static_cast<double>(steps.rejected) / frames;
     const double clamped = static_cast<double>(steps.clamped) / frames;
-    md << "| " << c.name << " | " << fmt(flicker, 5) << " | " << fmt(flickerHair, 4) << " | "
-       << fmt(flip, 4) << " | " << fmt(dropped, 0) << " / " << fmt(clamped, 0) << " | "
-       << fmt(renderMs / frames, 0) << " | " << seq.framesRendered() << " |\n";
+    r.md << "| " << c.name << " | " << fmt(flicker, 5) << " | " << fmt(flickerHair, 4) << " | "
+         << fmt(flip, 4) << " | " << fmt(dropped, 0) << " / " << fmt(clamped, 0) << " | "
+         << fmt(renderMs / frames, 0) << " | " << seq.framesRendered() << " |\n";
     // the first three rows keep their flat numbers in bench.json (earlier reports)
-    if (c.history == 0) report["temporal"][c.name] = flicker;
-    report["temporal_study"][c.name] = {{"flicker", flicker},
-                                        {"flicker_hair", flickerHair},
-                                        {"flip_hair", flip},
-                                        {"dropped_per_frame", dropped},
-                                        {"clamped_per_frame", clamped},
-                                        {"ms_per_frame", renderMs / frames},
-                                        {"frames_rendered", seq.framesRendered()}};
+    if (c.history == 0) r.report["temporal"][c.name] = flicker;
+    r.report["temporal_study"][c.name] = {{"flicker", flicker},
+                                          {"flicker_hair", flickerHair},
+                                          {"flip_hair", flip},
+                                          {"dropped_per_frame", dropped},
+                                          {"clamped_per_frame", clamped},
+                                          {"ms_per_frame", renderMs / frames},
+                                          {"frames_rendered", seq.framesRendered()}};
     std::fprintf(stderr,
                  "temporal %s: flicker %.5f (hair %.4f), hair FLIP %.4f, dropped %.0f clamped "
                  "%.0f, %.0f ms a frame\n",
                  c.name, flicker, flickerHair, flip, dropped, clamped, renderMs / frames);
   }
   if (temporalRows == 0) {
-    md << "| (none: --quality-configs names none of this section's rows) | |\n";
+    r.md << "| (none: --quality-configs names none of this section's rows) | |\n";
     std::fprintf(stderr, "temporal: --quality-configs names none of this section's rows\n");
   }
   // a fast shot: the groom translated sideways about 8 px a frame, camera still
-  const int fastFrames = quick ? 5 : 10;
+  const int fastFrames = r.opt.quick ? 5 : 10;
   const Scene fast0 = orbitAt(0);
   const float dist = glm::length(fast0.camera.position - fast0.camera.target);
   const float fy =
@@ -234,23 +226,23 @@ void runTemporal(Run& r) {
     o.lod = 0;
     o.filter = 1;
     o.aovs = true;
-    FrameSequence own(b.renderer, fastAt, o, 0);
+    FrameSequence own(r.b.renderer, fastAt, o, 0);
     for (int f = 0; f < fastFrames; ++f) ownAlpha.push_back(own.render(f).aovs.hairAlpha);
   }
-  md << "\nFast shot (the same groom translated " << fmt(step, 4)
-     << " world units, about 8 px, a frame; camera still; " << fastFrames
-     << " frames): in the pixels each frame vacated (hair alpha >= 0.5 in the frame before, "
-        "no hair within a pixel now), the blended hair alpha (0 is right: they are "
-        "background), and the share of them above 0.01; FLIP, dropped and clamped as "
-        "above.\n\n| configuration | vacated pixels | trail alpha mean | trail alpha max | "
-        "share > 0.01 | FLIP (hair) | dropped / clamped |\n|---|---|---|---|---|---|---|\n";
+  r.md << "\nFast shot (the same groom translated " << fmt(step, 4)
+       << " world units, about 8 px, a frame; camera still; " << fastFrames
+       << " frames): in the pixels each frame vacated (hair alpha >= 0.5 in the frame before, "
+          "no hair within a pixel now), the blended hair alpha (0 is right: they are "
+          "background), and the share of them above 0.01; FLIP, dropped and clamped as "
+          "above.\n\n| configuration | vacated pixels | trail alpha mean | trail alpha max | "
+          "share > 0.01 | FLIP (hair) | dropped / clamped |\n|---|---|---|---|---|---|---|\n";
   for (const Config& c : configs) {
     // SWR1+F with and without reprojection
     if (c.msaa != 1 || c.filter != 1 || c.huang != 0) continue;
     RenderOptions o = optionsOf(c);
     o.aovs = true;
     FrameSequence seq(
-        b.renderer, [&](long long f) { return protectedScene(fastAt(f), c); }, o, 0);
+        r.b.renderer, [&](long long f) { return protectedScene(fastAt(f), c); }, o, 0);
     std::size_t vacated = 0, trail = 0;
     double mean = 0.0, flip = 0.0;
     float worst = 0.0f;
@@ -284,11 +276,11 @@ void runTemporal(Run& r) {
     mean /= static_cast<double>(std::max<std::size_t>(vacated, 1));
     flip /= fastFrames;
     const double share = static_cast<double>(trail) / std::max<std::size_t>(vacated, 1);
-    md << "| " << c.name << " | " << vacated << " | " << fmt(mean, 5) << " | " << fmt(worst, 4)
-       << " | " << fmt(share, 4) << " | " << fmt(flip, 4) << " | "
-       << fmt(static_cast<double>(steps.rejected) / fastFrames, 0) << " / "
-       << fmt(static_cast<double>(steps.clamped) / fastFrames, 0) << " |\n";
-    report["temporal_study"]["fast_shot"][c.name] = {
+    r.md << "| " << c.name << " | " << vacated << " | " << fmt(mean, 5) << " | " << fmt(worst, 4)
+         << " | " << fmt(share, 4) << " | " << fmt(flip, 4) << " | "
+         << fmt(static_cast<double>(steps.rejected) / fastFrames, 0) << " / "
+         << fmt(static_cast<double>(steps.clamped) / fastFrames, 0) << " |\n";
+    r.report["temporal_study"]["fast_shot"][c.name] = {
         {"vacated_pixels", vacated},
         {"trail_alpha_mean", mean},
         {"trail_alpha_max", worst},

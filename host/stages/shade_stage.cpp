@@ -18,6 +18,23 @@ cl::Kernel& ShadeStage::kernel(int msaa, bool cover) {
              "-DCLH_MSAA=" + std::to_string(msaa) + (cover ? " -DCLH_RASTER_COVER=1" : ""));
 }
 
+namespace {
+
+// The arguments both shading kernels open with (shade.cl, SHADE_PARAMS): the groom, view
+// and scene, the lights with their maps, the environment and the baked visibility.
+void bindShadeInputs(KernelArgs& a, const ShadeStage::Params& p) {
+  a.buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
+      .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
+      .buffer("scene", *p.lighting.scene, sizeof(gpu::ClhSceneGpu));
+  bindLightsAndShadows(a, p.lighting);
+  bindEnvironment(a, p.lighting.env);
+  a.buffer("visibility", *p.visibility, sizeof(gpu::ClhVisibilityGpu))
+      .buffer("visibility table", *p.visibilityTable,
+              std::uint64_t(std::max<std::uint32_t>(p.visibilityCells, 1)) * 4 * sizeof(float));
+}
+
+}  // namespace
+
 cl::Event ShadeStage::enqueue(const Params& p, Profiler* profiler) {
   if (p.cover && p.msaa != 1)
     throw Error("the coverage mode shades one sample per pixel, not MSAA " +
@@ -29,14 +46,7 @@ cl::Event ShadeStage::enqueue(const Params& p, Profiler* profiler) {
       p.cover ? CLH_LAYER_COVERAGE + 1u : static_cast<std::uint64_t>(p.msaa + 1);
   const std::uint64_t pixels = p.target.pixels();
   KernelArgs a(k, "shade");
-  a.buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
-      .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
-      .buffer("scene", *p.lighting.scene, sizeof(gpu::ClhSceneGpu));
-  bindLightsAndShadows(a, p.lighting);
-  bindEnvironment(a, p.lighting.env);
-  a.buffer("visibility", *p.visibility, sizeof(gpu::ClhVisibilityGpu))
-      .buffer("visibility table", *p.visibilityTable,
-              std::uint64_t(std::max<std::uint32_t>(p.visibilityCells, 1)) * 4 * sizeof(float));
+  bindShadeInputs(a, p);
   a.buffer("G-buffer", *p.gbuffer, pixels * layers * sizeof(cl_ulong))
       .buffer("strand offsets", *p.offsets,
               std::uint64_t(gpu::clh_lod_offsets_length(p.records)) * sizeof(cl_uint))
@@ -50,16 +60,9 @@ cl::Event ShadeStage::enqueuePoints(const Params& p, const PointStage::Lists& li
   if (!points_()) points_ = dev_.kernel("shade.cl", "shade_points");
   const PointStage::Sizes& s = lists.sizes;
   KernelArgs a(points_, "shade");
-  a.buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
-      .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
-      .buffer("scene", *p.lighting.scene, sizeof(gpu::ClhSceneGpu));
-  bindLightsAndShadows(a, p.lighting);
-  bindEnvironment(a, p.lighting.env);
-  a.buffer("visibility", *p.visibility, sizeof(gpu::ClhVisibilityGpu))
-      .buffer("visibility table", *p.visibilityTable,
-              std::uint64_t(std::max<std::uint32_t>(p.visibilityCells, 1)) * 4 * sizeof(float))
-      .buffer("strand offsets", *p.offsets,
-              std::uint64_t(gpu::clh_lod_offsets_length(p.records)) * sizeof(cl_uint))
+  bindShadeInputs(a, p);
+  a.buffer("strand offsets", *p.offsets,
+           std::uint64_t(gpu::clh_lod_offsets_length(p.records)) * sizeof(cl_uint))
       .buffer("point records", *lists.records, s.recordsBytes())
       .buffer("point ranks", *lists.offsets, s.offsetsBytes())
       .value("point words", static_cast<cl_uint>(s.words))

@@ -123,7 +123,7 @@ std::optional<int> parseOptions(int argc, char** argv, Options& o) {
   app.add_option(
       "--only", only,
       "one section: table1, dispatch, scaling, atomics, quality, temporal, explicit, children, "
-      "mesh, crowd, floor, sequences, lodfar, throughput");
+      "mesh, crowd, floor, sequences, lodfar, throughput, look");
   app.add_option("--runs", runs,
                  "timed runs per configuration (median reported); the quality section takes 0 "
                  "for the times of the one frame it compares");
@@ -154,6 +154,13 @@ std::optional<int> parseOptions(int argc, char** argv, Options& o) {
   app.add_option("--quality-configs", qualityConfigs,
                  "quality and temporal sections: only these configurations (comma-separated "
                  "names as in the tables, e.g. \"SWR1,SWR MSAA 4\"); default all");
+  app.add_option("--look-scattering", o.lookScattering,
+                 "look section: multiple (default) or both (also rows with the light between "
+                 "fibres left out)")
+      ->check(CLI::IsMember({"multiple", "both"}));
+  app.add_option("--look-final-passes", o.lookFinalPasses,
+                 "look section: passes of the final level (16)")
+      ->check(CLI::Range(1, 4096));
   app.add_option("--temporal-ref-spp", temporalRefSpp,
                  "temporal section: samples per pixel of each frame's reference (default 4)")
       ->check(CLI::Range(1, 4096));

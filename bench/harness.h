@@ -78,7 +78,9 @@ struct Options {
   std::string refCache;        // quality: folder of references kept between runs
   std::string qualityConfigs;  // quality: the configurations to run (comma-separated names)
   std::string qualityDistances = "close,mid,far";
-  std::string qualityLights = "plain";  // quality: plain, maps or both
+  std::string qualityLights = "plain";      // quality: plain, maps or both
+  std::string lookScattering = "multiple";  // look: multiple, or both (single-scattering rows too)
+  int lookFinalPasses = 16;                 // look: passes of the final level
   ThroughputOptions tp;
   int tpWidth = 0, tpHeight = 0;
 };

@@ -22,6 +22,7 @@ void runAtomics(Run& r);
 void runDispatch(Run& r);
 void runScaling(Run& r);
 void runQuality(Run& r);
+void runLook(Run& r);
 void runTemporal(Run& r);
 void runExplicit(Run& r);
 void runChildren(Run& r);
@@ -44,6 +45,7 @@ const Section kSections[] = {
     {"dispatch", runDispatch},
     {"scaling", runScaling},
     {"quality", runQuality},
+    {"look", runLook},
     {"temporal", runTemporal},
     {"explicit", runExplicit},
     {"children", runChildren},

@@ -194,8 +194,7 @@ void runQuality(Run& r) {
     for (int d = 0; d < 3; ++d) {
       if (!distances.count(r.distNames[d])) continue;
       Scene s = framed(r.scenes[g], r.dists[d], qw, qh);
-      if (maps)
-        for (Light& light : s.lights) light.shadows = true;
+      for (Light& light : s.lights) light.shadows = maps;
       Frame ref;
       const double refMs = wallMs([&] { ref = reference(s, g, d, refMethod, ltag); });
       qg["reference"][r.distNames[d]] = {

@@ -16,6 +16,10 @@
  * fibre count k in slot 7, its widening w in slot 11 and its depth t (fibre widths along the
  * view) in slot 15. Output 2 float4 per record:
  *    0 (clh_hair_agg_eval_cos rgb, luminance)   1 (clh_hair_eval_cos rgb, luminance)
+ * bsdf_probe_dual: dual scattering (hair_dual.h) on the same records, with the optical depth
+ * tau toward the light in slot 7, the depth behind tau_b in slot 11 and the AO in slot 15.
+ * Output 2 float4 per record:
+ *    0 (clh_hair_dual_eval_cos rgb, luminance)   1 (clh_hair_dual_probe rgb, 0)
  * bsdf_probe_visibility: the baked-visibility lookup (kernels/common/visibility.h); record i
  * is 8 floats: SH c0..c3, light direction xyz (world), unused; output float4 per record:
  *    (transmittance, clamped events, unclamped SH value in the object-space direction, 0)
@@ -24,6 +28,9 @@
 #include "clhair/gpu_types.h"
 #include "clhair/fast_math.h"
 #include "hair_bsdf.h"
+#include "hair_aggregate.h"
+#include "hair_env.h"
+#include "hair_dual.h"
 #include "visibility.h"
 
 #define BSDF_PROBE_IN 20
@@ -113,4 +120,21 @@ __kernel void bsdf_probe_visibility(__global const ClhVisibilityGpu* vis_g,
   out_g[i] = (float4)(clh_vis_transmittance(vis_g, sh, l),
                       clh_vis_events(sh.x, sh.y, sh.z, sh.w, x * inv, y * inv, z * inv),
                       clh_vis_sh_eval(sh.x, sh.y, sh.z, sh.w, x * inv, y * inv, z * inv), 0.0f);
+}
+
+__kernel void bsdf_probe_dual(__global const float* rec_g, uint count, __global float4* out_g) {
+  uint i = (uint)get_global_id(0);
+  if (i >= count) return;
+  __global const float* r = rec_g + (size_t)i * BSDF_PROBE_IN;
+  clh_hair_material m;
+  clh_v3 t, wo, wi;
+  probe_record(r, &m, &t, &wo, &wi);
+  clh_hair_view hv;
+  clh_hair_prepare_to(&hv, &m, t, wo);
+  clh_hair_dual ds;
+  clh_hair_dual_prepare_to(&ds, &hv);
+  const clh_v3 f = clh_hair_dual_eval_cos(&hv, &ds, wi, clh_hair_eval_cos(&hv, wi), r[7], r[11]);
+  const clh_v3 lum = clh_v3_make(0.2126f, 0.7152f, 0.0722f);
+  out_g[2 * (size_t)i] = (float4)(clh_v3_f3(f), clh_v3_dot(f, lum));
+  out_g[2 * (size_t)i + 1] = (float4)(clh_v3_f3(clh_hair_dual_probe(&ds, r[15])), 0.0f);
 }

@@ -7,7 +7,12 @@
  * root/tip colours when the groom has no melanin), the groom's roughness, tilt and index.
  * The hair BSDF (kernels/common/hair_bsdf.h: R, TT, TRT and a diffuse term, fitted to
  * Chiang et al. 2016) is evaluated for every light, shadowed lights looking up their deep
- * opacity maps (Lipp's LOD depth correction applied). Probe lighting: the environment's
+ * opacity maps (Lipp's LOD depth correction applied). For those lights and for the probe
+ * light the light scattered between fibres is added (dual scattering, Zinke et al. 2008,
+ * hair_dual.h): the map's optical depth in front of the fibre and behind it give the light
+ * forward-scattered through the hair and the light the hair behind sends back; the baked AO
+ * gives the same for the probe. A strand file's colour is its fibres' albedo
+ * (clh_hair_sigma_a_from_albedo). Probe lighting: the environment's
  * prefiltered radiance along the mirror direction about the view-facing fibre normal,
  * with the GGX roughness and weight that stand for R + TRT, and its SH irradiance at
  * that normal (and at its opposite for TT) for the diffuse part; without an environment
@@ -36,6 +41,9 @@
 #include "clhair/fast_math.h"
 #include "visibility.h"
 #include "hair_bsdf.h"
+#include "hair_aggregate.h"
+#include "hair_dual.h"
+#include "hair_env.h"
 #include "clhair/coverage.h"
 
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
@@ -109,14 +117,19 @@ static inline clh_v3 shade_at(__global const ClhGroomGpu* groom_g,
 
   clh_hair_material mat;
   shade_material(groom_g, u, v, w, &mat);
-  clh_v3 fc = clh_v3_splat(1.0f);
   if (file_color) {
-    fc = clh_v3_make(clh_file_color_value(clh_gbuf_u(word)), clh_file_color_value(clh_gbuf_v(word)),
-                     clh_file_color_value(clh_gbuf_ao(word)));
-    mat.sigma_a = clh_hair_sigma_a_from_color(fc, groom_g->bsdf[1]);
+    /* a file's colour is the colour its fibres show under white light: the fibre's albedo */
+    const clh_v3 fc =
+        clh_v3_make(clh_file_color_value(clh_gbuf_u(word)), clh_file_color_value(clh_gbuf_v(word)),
+                    clh_file_color_value(clh_gbuf_ao(word)));
+    mat.sigma_a = clh_hair_sigma_a_from_albedo(fc, groom_g->bsdf[3]);
   }
   clh_hair_view hv;
   clh_hair_prepare_to(&hv, &mat, T, V);
+  /* light scattered between fibres (Zinke 2008, hair_dual.h) */
+  const bool dual = (in->vis->shade_flags & CLH_SHADE_SINGLE_SCATTER) == 0u;
+  clh_hair_dual ds;
+  if (dual) clh_hair_dual_prepare_to(&ds, &hv);
   /* a LOD strand standing for a cluster: the aggregated BCSDF (Huang 2024, hair_bsdf.h) */
   const bool agg = in->cluster_k > 1.0f;
   clh_hair_agg ag;
@@ -149,25 +162,29 @@ static inline clh_v3 shade_at(__global const ClhGroomGpu* groom_g,
     }
     const int slot = clh_light_shadow_slot(light);
     const bool mapped = slot >= 0 && slot < CLH_MAX_SHADOWS;
-    if (mapped)
+    float tau = 0.0f, tau_b = 0.0f;
+    if (mapped && dual)
+      clh_shadow_depths_v3(in->params + slot, in->opaque, in->hair, in->opacity, pos, in->lod_shift,
+                           &tau, &tau_b);
+    else if (mapped)
       falloff *= clh_shadow_transmittance_v3(in->params + slot, in->opaque, in->hair, in->opacity,
                                              pos, in->lod_shift);
     else if (use_vis)
       falloff *= clh_vis_transmittance(in->vis, vis_sh, L);
+    if (!(falloff > 0.0f) || tau >= 80.0f) continue;
     /* the aggregate: the cluster's fibres between the light and the shaded one are already in
      * a deep opacity map (drawn with the LOD's coverage) or a bake (of every fibre) */
-    if (falloff > 0.0f)
-      radiance = clh_v3_add(
-          radiance,
-          clh_v3_scale(clh_v3_mul(lc, agg ? clh_hair_agg_eval_cos(&hv, &ag, L, !(mapped || use_vis))
-                                          : clh_hair_eval_cos(&hv, L)),
-                       falloff));
+    clh_v3 f =
+        agg ? clh_hair_agg_eval_cos(&hv, &ag, L, !(mapped || use_vis)) : clh_hair_eval_cos(&hv, L);
+    /* a mapped light: what the map took away comes back through the fibres (dual scattering) */
+    if (mapped && dual) f = clh_hair_dual_eval_cos(&hv, &ds, L, f, tau, tau_b);
+    radiance = clh_v3_add(radiance, clh_v3_scale(clh_v3_mul(lc, f), falloff));
   }
 
   /* probe lighting, darkened by the baked AO */
   clh_hair_env env;
   clh_hair_env_terms_to(&env, &hv);
-  clh_v3 probe;
+  clh_v3 probe, uniform; /* the probe's light, and its mean radiance */
   const uint env_levels = scene_g->env_levels & ~CLH_ENV_VISIBLE;
   if (env_levels > 0u) {
     const float3 spec = clh_env_radiance(in->env_texels, in->env_levels, env_levels,
@@ -177,20 +194,15 @@ static inline clh_v3 shade_at(__global const ClhGroomGpu* groom_g,
     probe = clh_v3_add(clh_v3_add(clh_v3_mul(env.spec_weight, clh_v3_from(spec)),
                                   clh_v3_mul(env.diffuse_albedo, clh_v3_from(front))),
                        clh_v3_mul(env.tt_weight, clh_v3_from(back)));
+    uniform = clh_v3_scale(clh_v3_add(clh_v3_from(front), clh_v3_from(back)), 0.5f);
   } else {
-    probe = clh_v3_mul(clh_v3_make(scene_g->ambient[0], scene_g->ambient[1], scene_g->ambient[2]),
+    uniform = clh_v3_make(scene_g->ambient[0], scene_g->ambient[1], scene_g->ambient[2]);
+    probe = clh_v3_mul(uniform,
                        clh_v3_add(clh_v3_add(env.spec_weight, env.diffuse_albedo), env.tt_weight));
   }
   clh_v3 out = clh_v3_add(radiance, clh_v3_scale(probe, ao));
-  if (file_color) {
-    /* A file's colour is the colour its fibres show under uniform white light, as in the
-     * renders its author made: the lobes keep the shapes of the absorption the colour maps
-     * to and are scaled so that their energies (the fibre's albedo at this view) sum to it. */
-    const clh_v3 albedo =
-        clh_v3_add(clh_v3_add(hv.mass[0], hv.mass[1]), clh_v3_add(hv.mass[2], hv.mass[3]));
-    out = clh_v3_mul(out, clh_v3_make(fc.x / fmax(albedo.x, 1e-4f), fc.y / fmax(albedo.y, 1e-4f),
-                                      fc.z / fmax(albedo.z, 1e-4f)));
-  }
+  /* the probe light the AO took away, given back by the hair around (dual scattering) */
+  if (dual && ao < 1.0f) out = clh_v3_add(out, clh_v3_mul(uniform, clh_hair_dual_probe(&ds, ao)));
   return out;
 }
 
@@ -233,7 +245,7 @@ static inline void shade_lod(shade_inputs* in, __global const ClhGroomGpu* groom
   /* the bake counted every fibre; the fibres this pass left out and its widening did not
    * make up for no longer scatter (Kulikov's "ghosts"): fewer events in proportion */
   in->vis_scale = kept;
-  if (vis_g->lod_aggregate != 0u) {
+  if ((vis_g->shade_flags & CLH_SHADE_AGGREGATE) != 0u) {
     /* the k fibres cover the drawn width w side by side only when they lie k / w deep:
      * the cluster is as deep as the widening leaves its fibres (rho = 1) */
     in->cluster_k = 1.0f / beta;

@@ -29,7 +29,8 @@ struct RenderFlags {
   int pathEvents = 64;          // --reference path: scattering events per path
   std::string filter = "auto";
   bool widthGiven = false, heightGiven = false;
-  std::string camera, lod, dispatch = "auto", ao = "on", visibility = "on", lodBsdf = "single";
+  std::string camera, lod, dispatch = "auto", ao = "on", visibility = "on", lodBsdf = "single",
+                           scattering = "multiple";
   bool quiet = false;
   std::string frames;        // "N", "A-B" or "A-B:STEP"
   bool framesGiven = false;  // --frames given (even empty, which is refused); else frame 1

@@ -31,6 +31,9 @@ CLI::App* addRenderCommand(CLI::App& app, RenderFlags& f) {
   render->add_option("--lod-bsdf", f.lodBsdf,
                      "BSDF of strands LOD widened for a cluster: single (default, the "
                      "single-fibre BSDF) or aggregated (Huang 2024)");
+  render->add_option("--scattering", f.scattering,
+                     "light between fibres: multiple (default: dual scattering for lights with "
+                     "a deep opacity map and the ambient/environment light) or single");
   render->add_option("--filter", f.filter,
                      "reconstruction filter with MSAA 1: on, off, auto (as the scene says; by "
                      "default Huang's filter in one view, Lipp's in several), lipp or huang (on, "

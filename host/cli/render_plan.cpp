@@ -95,6 +95,9 @@ RenderPlan planRender(const DeviceOptions& opts, const std::string& scenePath,
   if (f.lodBsdf != "aggregated" && f.lodBsdf != "single")
     throw Error("--lod-bsdf must be aggregated or single, not \"" + f.lodBsdf + "\"");
   ro.lodAggregate = f.lodBsdf == "aggregated" ? 1 : 0;
+  if (f.scattering != "multiple" && f.scattering != "single")
+    throw Error("--scattering must be multiple or single, not \"" + f.scattering + "\"");
+  ro.multipleScattering = f.scattering == "multiple" ? 1 : 0;
   ro.aovs = std::any_of(aovs.begin(), aovs.end(), [](Aov a) { return a != Aov::Rgba; });
   ro.strandIds = std::find(aovs.begin(), aovs.end(), Aov::Strand) != aovs.end();
   if (f.filter == "on") {

@@ -14,15 +14,16 @@ VisibilityGpu::VisibilityGpu(Device::Impl& dev) : dev_(dev) {
   none_ = makeBuffer<cl_float4>(dev, "no baked visibility", 1, &zero);
 }
 
-void VisibilityGpu::prepare(std::size_t k, const GroomInstance& gi, bool enabled,
-                            bool lodAggregate) {
+void VisibilityGpu::prepare(std::size_t k, const GroomInstance& gi, bool enabled, bool lodAggregate,
+                            bool multipleScattering) {
   while (records_.size() <= k) {
     records_.push_back(makeBuffer<gpu::ClhVisibilityGpu>(dev_, "baked visibility record", 1));
     sent_.emplace_back();
   }
   if (inputs_.size() <= k) inputs_.resize(k + 1);
   gpu::ClhVisibilityGpu v{};
-  v.lod_aggregate = lodAggregate ? 1u : 0u;
+  v.shade_flags = (lodAggregate ? CLH_SHADE_AGGREGATE : 0u) |
+                  (multipleScattering ? 0u : CLH_SHADE_SINGLE_SCATTER);
   Inputs in{&records_[k], &none_, 1u};
   if (enabled && gi.visibility) {
     auto it = tables_.find(gi.visibility.get());

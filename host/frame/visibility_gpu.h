@@ -20,7 +20,8 @@ class VisibilityGpu {
   explicit VisibilityGpu(Device::Impl& dev);
   // Draw k's record for instance `gi` (a disabled one when it has no bake or `enabled` is
   // false); the record also says whether LOD strands take the aggregated BCSDF.
-  void prepare(std::size_t k, const GroomInstance& gi, bool enabled, bool lodAggregate);
+  void prepare(std::size_t k, const GroomInstance& gi, bool enabled, bool lodAggregate,
+               bool multipleScattering);
   struct Inputs {
     const cl::Buffer* record = nullptr;
     const cl::Buffer* table = nullptr;

@@ -53,6 +53,7 @@ inline clh_v3 clh_v3_unit(clh_v3 v) { return clh_v3_scale(v, 1.0f / sqrt(clh_v3_
 
 #define CLHAIR_CLH_MATH_H
 #include "../../kernels/common/hair_bsdf.h"
+#include "../../kernels/common/hair_dual.h"
 
 }  // namespace cpu_bsdf
 }  // namespace clhair

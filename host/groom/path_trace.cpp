@@ -115,7 +115,7 @@ void materialOf(const gpu::ClhGroomGpu& g, bool fileColor, std::uint64_t word,
     const hb::clh_v3 fc = hb::clh_v3_make(clh_file_color_value(clh_gbuf_u(word)),
                                           clh_file_color_value(clh_gbuf_v(word)),
                                           clh_file_color_value(clh_gbuf_ao(word)));
-    m->sigma_a = hb::clh_hair_sigma_a_from_color(fc, g.bsdf[1]);
+    m->sigma_a = hb::clh_hair_sigma_a_from_albedo(fc, g.bsdf[3]);
   }
 }
 

@@ -18,6 +18,8 @@ using nlohmann::json;
 
 namespace {
 
+constexpr int kMaxShadowedLights = 4;  // deep opacity maps a frame has (CLH_MAX_SHADOWS)
+
 constexpr EnumName<Light::Type> kLightTypes[] = {{"point", Light::Type::Point},
                                                  {"directional", Light::Type::Directional}};
 
@@ -41,6 +43,7 @@ void readLights(const JsonReader& r, Scene& s) {
   if (!r.has("lights")) return;
   const json& lights = r.require("lights");
   if (!lights.is_array()) r.fail("lights", "must be an array");
+  std::vector<std::size_t> implicit;  // lights that did not say whether they cast shadows
   for (std::size_t i = 0; i < lights.size(); ++i) {
     JsonReader l = r.object(lights[i], "lights[" + std::to_string(i) + "]");
     Light light;
@@ -55,7 +58,8 @@ void readLights(const JsonReader& r, Scene& s) {
     }
     light.color = l.vec3("color", light.color, 0.0, kBig);
     light.intensity = static_cast<float>(l.number("intensity", light.intensity, 0.0, kBig));
-    light.shadows = l.boolean("shadows", false);
+    light.shadows = l.boolean("shadows", true);
+    if (!l.has("shadows")) implicit.push_back(i);
     l.rejectUnknown({"type", "position", "direction", "color", "intensity", "shadows"});
     s.lights.push_back(light);
   }
@@ -64,8 +68,20 @@ void readLights(const JsonReader& r, Scene& s) {
            "holds " + std::to_string(s.lights.size()) + " lights, at most 16 are supported");
   int shadowed = 0;
   for (const Light& l : s.lights) shadowed += l.shadows;
-  if (shadowed > 4)
-    r.fail("lights", std::to_string(shadowed) + " lights cast shadows, at most 4 can");
+  const int implicitCount = static_cast<int>(implicit.size());
+  if (shadowed - implicitCount > kMaxShadowedLights)
+    r.fail("lights", std::to_string(shadowed - implicitCount) +
+                         " lights say \"shadows\": true, at most " +
+                         std::to_string(kMaxShadowedLights) + " can");
+  // Every light casts hair shadows unless it says "shadows": false; past the maps there are,
+  // the last lights that did not ask for one go without, with a note.
+  for (int k = implicitCount - 1; k >= 0 && shadowed > kMaxShadowedLights; --k, --shadowed) {
+    s.lights[implicit[k]].shadows = false;
+    s.notes.push_back(r.file() + ": lights[" + std::to_string(implicit[k]) +
+                      "] casts no hair shadow: at most " + std::to_string(kMaxShadowedLights) +
+                      " lights have deep opacity maps (set \"shadows\": false on another light "
+                      "to give this one a map)");
+  }
 }
 
 void readShadows(const JsonReader& r, Scene& s) {

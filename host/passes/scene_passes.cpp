@@ -37,8 +37,8 @@ void importFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
   }
   for (const GroomPlan& gp : plan.grooms)
     if (gp.active)
-      r.visibility.prepare(gp.index, *gp.draw.instance, o.bakedVisibility != 0,
-                           o.lodAggregate != 0);
+      r.visibility.prepare(gp.index, *gp.draw.instance, o.bakedVisibility != 0, o.lodAggregate != 0,
+                           o.multipleScattering != 0);
 
   plan.viewRecord = g.import("view", {&t.view}, true);
   plan.scene_ = g.import("scene", r.scene.buffers(), true);

@@ -231,15 +231,19 @@ typedef struct {
  * absorption   : visibility = exp(-absorption * max(0, SH(light direction)))
  * cells        : SH cells in the table (CLH_VIS_CELLS), 0 when the groom has no bake
  * enabled      : 1 to look the table up for lights without a deep opacity map
- * lod_aggregate: 1 to shade strands LOD widened with the aggregated BCSDF (Huang 2024,
- *                hair_bsdf.h), 0 with the single-fibre one (this record is the groom
- *                instance's per-draw shading record)                                     */
+ * shade_flags  : the groom instance's per-draw shading choices (this record carries them):
+ *                CLH_SHADE_AGGREGATE shades strands LOD widened with the aggregated BCSDF
+ *                (Huang 2024, hair_aggregate.h) instead of the single-fibre one;
+ *                CLH_SHADE_SINGLE_SCATTER leaves out the light scattered between fibres
+ *                (dual scattering, hair_dual.h)                                          */
+#define CLH_SHADE_AGGREGATE 1u
+#define CLH_SHADE_SINGLE_SCATTER 2u
 typedef struct {
   float world_to_obj[12];
   float absorption;
   clh_u32 cells;
   clh_u32 enabled;
-  clh_u32 lod_aggregate;
+  clh_u32 shade_flags;
 } ClhVisibilityGpu;
 
 /* ---- LOD record: one per bundle of a hair mesh or chunk of a strand file, 16 bytes -----

@@ -76,6 +76,11 @@ struct RenderOptions {
   // Off by default: against the traced full-groom reference it raises the LOD frame's FLIP
   // (docs/hair-shading.md §6, `clhair_bench --only quality`).
   int lodAggregate = 0;
+  // 1 (default): hair is lit with the light scattered between fibres too (dual scattering,
+  // Zinke et al. 2008: kernels/common/hair_dual.h) for the lights with a deep opacity map
+  // and the probe light; 0: every fibre scatters the light that reaches it once
+  // (docs/hair-shading.md §8).
+  int multipleScattering = 1;
   // Every strand at its true projected width: the grooms' minimum hit diameter is ignored
   // (the passes of renderReference).
   bool trueWidth = false;

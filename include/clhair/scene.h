@@ -39,7 +39,9 @@ struct Light {
   glm::vec3 direction{0.0f, 1.0f, 0.0f};  // directional: toward the light
   glm::vec3 color{1.0f};
   float intensity = 1.0f;
-  bool shadows = false;  // deep opacity map from this light (at most 4 lights)
+  // deep opacity map from this light, with the light scattered through the hair (at most
+  // CLH_MAX_SHADOWS = 4 lights; a scene file's lights have one unless they say false)
+  bool shadows = true;
 };
 
 // Deep opacity maps (Yuksel & Keyser 2008) of the shadowed lights.

@@ -120,6 +120,11 @@ static inline float clh_hair_mp(float sin_i, float cos_i, float sin_o, float cos
   return clh_hair_i0e_exp(a, e) * norm;
 }
 
+/* 1 / (v (1 - e^{-2/v})): the normalisation of M_p for variance v. */
+static inline float clh_hair_mnorm(float v) {
+  return 1.0f / (v * (1.0f - clh_hair_exp(-2.0f / v)));
+}
+
 /* Logistic CDF with scale 1 / inv_s. */
 static inline float clh_hair_lcdf(float x, float inv_s) {
   return 1.0f / (1.0f + clh_hair_exp(-x * inv_s));
@@ -250,6 +255,34 @@ static inline clh_v3 clh_hair_n_trt(const clh_hair_view* hv, float phi) {
   ((k) == 0 ? 0.2927485f : (k) == 1 ? 0.7166590f : (k) == 2 ? 0.9207311f : 0.9931226f)
 #define CLH_HAIR_PANEL_CM(k) \
   ((k) == 0 ? 0.9561895f : (k) == 1 ? 0.6974237f : (k) == 2 ? 0.3901977f : 0.1170790f)
+
+/* sigma_a of a fibre whose own albedo (the energy it scatters, every lobe together) is c
+ * at normal incidence: what a strand file's colour means (the colour a strand shows under
+ * white light, not the colour of a dense volume of it, which Chiang Eq. 9 maps). Per
+ * channel, the fibre's energy F + (1 - F)^2 T / (1 - F T) (all paths p >= 0 summed, one
+ * mean Fresnel F and one mean transmittance T = e^{-kappa sigma_a}) is inverted for T, with
+ * F the h-average of the Fresnel factor at theta_o = 0 and kappa = 2 E_h[cos gamma_t], both
+ * from the 4 panels of clh_hair_prepare_to; so the shading's Ā_0..3 at theta_o = 0 sum to c
+ * within a few % (tests/test_dual.cpp). Colours below F (no fibre is that dark) clamp. */
+static inline float clh_hair_sigma_a_channel(float c, float f, float kappa) {
+  const float e = fmax(c - f, 1e-4f);
+  const float t = e / ((1.0f - f) * (1.0f - f) + f * e);
+  return fmin(-0.693147181f * clh_fast_log2(fmin(t, 1.0f)) / kappa, 40.0f);
+}
+
+static inline clh_v3 clh_hair_sigma_a_from_albedo(clh_v3 c, float eta) {
+  float f = 0.0f, kappa = 0.0f;
+  const float inv_eta = 1.0f / eta;
+  for (int k = 0; k < 4; ++k) {
+    const float dh = CLH_HAIR_PANEL_H(k + 1) - CLH_HAIR_PANEL_H(k);
+    const float sin_gt = CLH_HAIR_PANEL_HM(k) * inv_eta;
+    f += dh * clh_hair_fresnel(CLH_HAIR_PANEL_CM(k), eta);
+    kappa += dh * 2.0f * sqrt(fmax(1.0f - sin_gt * sin_gt, 0.0f));
+  }
+  return clh_v3_make(clh_hair_sigma_a_channel(clamp(c.x, 0.0f, 1.0f), f, kappa),
+                     clh_hair_sigma_a_channel(clamp(c.y, 0.0f, 1.0f), f, kappa),
+                     clh_hair_sigma_a_channel(clamp(c.z, 0.0f, 1.0f), f, kappa));
+}
 
 /* Written through `out` (no struct returned by value: Oclgrind's LLVM lacks the
  * noalias-scope intrinsic clang emits when one is inlined). */
@@ -396,221 +429,6 @@ static inline clh_v3 clh_hair_bsdf(const clh_hair_material* m, clh_v3 t, clh_v3 
   clh_hair_view hv;
   clh_hair_prepare_to(&hv, m, t, wo);
   return clh_hair_eval(&hv, wi);
-}
-
-/* ---- aggregated BCSDF of a LOD strand (Huang et al. 2024, §4) ---------------------------
- * When LOD draws one strand, widened w times, in place of a cluster of k fibres, the light
- * scatters between the cluster's fibres before it leaves. Huang Eq. 7:
- *   f_agg = S(phi) [ sum_p M^_p N^_p + M_B^ N_B^ ]
- * - inherited lobes (Eq. 8-9): the fibre's R, TT, TRT and diffuse after the light crossed
- *   n - 1 other fibres of the cluster, each passing on the fraction a_F: N^_p = a_F^(n-1) N_p,
- *   and each widening the longitudinal lobe by the forward spread: v^_p = v_p + (n-1) v_TT.
- * - B^ lobe (Eq. 10-11): light sent back to the viewer's side by the fibres behind, with the
- *   dual-scattering paths A_1 = a_B a_F^2 / (1 - a_F^2), A_3 = a_B^3 a_F^2 / (1 - a_F^2)^3
- *   and Huang's A_1+ = d_1+ a_B sum_{i=1..n} a_F^(2i-1) (closed form), a constant azimuthal
- *   lobe over the back hemisphere (|phi| < pi/2, I_B / pi) and a Gaussian-like M with the
- *   variance of the R and TRT lobes summed (two back-scattering events at least).
- * - shadowing-masking (Eq. 12-15), for |phi| < pi/2 only (Huang §4: the back half's
- *   attenuation is the inherited lobes' a_F^(n-1)): P_s = (1 - rho)(1 - cos phi),
- *   P_m = (1 - rho) c_m, S = P_s a_F + max(0, 1 - P_s - P_m); S = 1 for |phi| >= pi/2.
- * The cluster's cross-section is Huang's ellipse, semi-axes w r across the view (the drawn
- * width, r the fibre radius) and t r along it, 1 <= w, t <= k (the caller's: see shade.cl,
- * where the LOD widening fixes t):
- * - density rho = k r^2 / (w r t r) = k / (w t) (at most 1), and a chord of length l meets
- *   n = rho l sqrt(k / (pi w t r^2)) fibres (Huang §4);
- * - light from the back half (cos phi < 0) reaches the view-facing fibre along the chord
- *   from that fibre to the far side, l = 2 r |cos phi| / (t (sin^2 phi / w^2 + cos^2 phi /
- *   t^2)) (2 t r straight from behind, 0 at |phi| = pi/2), and crosses the other
- *   n - 1 fibres on it, clamped to 0..k-1 (so k = 1 gives back the single fibre exactly);
- *   light from the front half reaches it directly (n = 1), where S acts;
- * - A_1+ sums over the fibres behind the shaded one along the view (the chord at phi = pi);
- * - a_F = A_TT + A_3 / 2 and a_B = A_R + A_TRT + A_3 / 2 from the fibre's h-averaged
- *   energies at theta_o (the hemispherical averages of dual scattering);
- * - A_1, A_3 and A_1+ are weighted by 1 - 1/k, the share of the cluster that is other
- *   fibres, and the B^ energy is capped at 1 - (the fibre's own energy), which keeps the
- *   aggregate within the white furnace. */
-#define CLH_AGG_CM 0.2f  /* Huang Eq. 13 */
-#define CLH_AGG_D1P 0.6f /* Huang Eq. 10 */
-
-typedef struct {
-  float rho;            /* strand density of the cluster's cross-section */
-  float other;          /* 1 - 1/k: share of the cluster's fibres besides the shaded one */
-  float per_r;          /* fibres met per fibre radius of chord */
-  float inv_t2, inv_w2; /* 1 / t^2, 1 / w^2 */
-  float t, n_max;       /* t, and the other fibres there are: k - 1 */
-  clh_v3 ln_af;         /* ln a_F per channel */
-  clh_v3 a_f;           /* forward attenuation of one fibre */
-  clh_v3 b_weight;      /* A_B^ energy */
-  float v_b, norm_b;
-} clh_hair_agg;
-
-static inline float clh_hair_mnorm(float v) {
-  return 1.0f / (v * (1.0f - clh_hair_exp(-2.0f / v)));
-}
-
-static inline float clh_hair_agg_a1p(float a_f, float a_b, float n) {
-  /* sum_{i=1..n} a_F^(2i-1) = a_F (1 - a_F^(2n)) / (1 - a_F^2), continued to real n */
-  const float af2 = a_f * a_f;
-  const float num =
-      a_f * (1.0f - clh_hair_exp(2.0f * n * 0.693147181f * clh_fast_log2(fmax(a_f, 1e-8f))));
-  return CLH_AGG_D1P * a_b * (af2 < 0.999f ? num / (1.0f - af2) : a_f * n);
-}
-
-static inline float clh_hair_agg_b(float a_f, float a_b, float n, float other, float own) {
-  const float af2 = fmin(a_f * a_f, 0.999f);
-  const float d = 1.0f - af2;
-  const float a1 = a_b * af2 / d;
-  const float a3 = a_b * a_b * a_b * af2 / (d * d * d);
-  const float e = other * (a1 + a3 + clh_hair_agg_a1p(a_f, a_b, n));
-  return fmin(e, fmax(1.0f - own, 0.0f));
-}
-
-/* Per pixel: the cluster of k >= 1 fibres the strand stands for, drawn w >= 1 times as wide
- * as one fibre, t >= 1 fibre widths deep along the view. */
-static inline void clh_hair_agg_prepare_to(clh_hair_agg* out, const clh_hair_view* hv, float k,
-                                           float w, float t) {
-  k = fmax(k, 1.0f);
-  w = clamp(w, 1.0f, k); /* k fibres fill at most k widths: the LOD widening never exceeds k */
-  t = clamp(t, 1.0f, k); /* nor more than k depths */
-  out->rho = fmin(k / (w * t), 1.0f);
-  out->other = 1.0f - 1.0f / k;
-  out->per_r = out->rho * sqrt(k / (CLH_HAIR_PI * w * t));
-  out->inv_t2 = 1.0f / (t * t);
-  out->inv_w2 = 1.0f / (w * w);
-  out->t = t;
-  out->n_max = k - 1.0f;
-  /* the fibres behind the shaded one straight along the view: chord 2 t r */
-  const float behind = clamp(2.0f * t * out->per_r - 1.0f, 0.0f, out->n_max);
-  const clh_v3 half_d = clh_v3_scale(hv->mass[3], 0.5f);
-  const clh_v3 a_f = clh_v3_add(hv->mass[1], half_d);
-  const clh_v3 a_b = clh_v3_add(clh_v3_add(hv->mass[0], hv->mass[2]), half_d);
-  const clh_v3 own =
-      clh_v3_add(clh_v3_add(hv->mass[0], hv->mass[1]), clh_v3_add(hv->mass[2], hv->mass[3]));
-  out->a_f = a_f;
-  out->ln_af = clh_v3_make(0.693147181f * clh_fast_log2(fmax(a_f.x, 1e-8f)),
-                           0.693147181f * clh_fast_log2(fmax(a_f.y, 1e-8f)),
-                           0.693147181f * clh_fast_log2(fmax(a_f.z, 1e-8f)));
-  out->b_weight = clh_v3_make(clh_hair_agg_b(a_f.x, a_b.x, behind, out->other, own.x),
-                              clh_hair_agg_b(a_f.y, a_b.y, behind, out->other, own.y),
-                              clh_hair_agg_b(a_f.z, a_b.z, behind, out->other, own.z));
-  out->v_b = hv->v[0] + hv->v[2];
-  out->norm_b = clh_hair_mnorm(out->v_b);
-}
-
-/* f_agg cos(theta_i) for a light: the aggregated counterpart of clh_hair_eval_cos (equal to
- * it when k = 1: then no other fibre is crossed, S = 1 and the B^ lobe is zero).
- * attenuate = 0 leaves out the a_F^(n-1) of the fibres crossed (their spread stays): for a
- * light whose transmittance through the hair already counts them (shade.cl: a deep opacity
- * map drawn with the LOD's coverage compensation, or a visibility bake of every fibre). */
-static inline clh_v3 clh_hair_agg_eval_cos(const clh_hair_view* hv, const clh_hair_agg* ag,
-                                           clh_v3 wi, int attenuate) {
-  float sin_i = clamp(clh_v3_dot(hv->t, wi), -1.0f, 1.0f);
-  clh_v3 wp = clh_v3_sub(wi, clh_v3_scale(hv->t, sin_i));
-  float l2 = clh_v3_dot(wp, wp);
-  float cos_i = fmin(sqrt(l2), 1.0f);
-  float cos_phi =
-      l2 > 1e-12f ? clamp(clh_v3_dot(wp, hv->n) / sqrt(fmax(l2, 1e-12f)), -1.0f, 1.0f) : 1.0f;
-  float phi = clh_fast_acos(cos_phi);
-  /* inherited lobes (Eq. 8-9): the other fibres on the chord toward a light behind */
-  float nm1 = 0.0f;
-  if (cos_phi < 0.0f) {
-    const float c2 = cos_phi * cos_phi;
-    const float l_r = -2.0f * cos_phi / (ag->t * (c2 * ag->inv_t2 + (1.0f - c2) * ag->inv_w2));
-    nm1 = clamp(l_r * ag->per_r - 1.0f, 0.0f, ag->n_max);
-  }
-  float m[3];
-  for (int p = 0; p < 3; ++p) {
-    const float v = hv->v[p] + nm1 * hv->v[1];
-    const float norm = nm1 > 0.0f ? clh_hair_mnorm(v) : hv->m_norm[p];
-    m[p] = clh_hair_mp(sin_i, cos_i, hv->sin_o_tilt[p], hv->cos_o_tilt[p], v, norm);
-  }
-  clh_v3 f = clh_v3_add(clh_v3_add(clh_v3_add(clh_v3_splat(m[0] * clh_hair_n_r(hv, phi)),
-                                              clh_v3_scale(clh_hair_n_tt(hv, phi), m[1])),
-                                   clh_v3_scale(clh_hair_n_trt(hv, phi), m[2])),
-                        clh_v3_scale(clh_hair_diffuse(hv), cos_i));
-  if (attenuate && nm1 > 0.0f) f = clh_v3_mul(f, clh_hair_exp3(clh_v3_scale(ag->ln_af, nm1)));
-  if (cos_phi <= 0.0f) return f;
-  /* front half: B^ lobe (Eq. 10-11) and shadowing-masking (Eq. 12-15) */
-  const float mb =
-      clh_hair_mp(sin_i, cos_i, hv->sin_o, hv->cos_o, ag->v_b, ag->norm_b) * (1.0f / CLH_HAIR_PI);
-  f = clh_v3_add(f, clh_v3_scale(ag->b_weight, mb));
-  const float ps = (1.0f - ag->rho) * (1.0f - cos_phi);
-  const float pn = fmax(1.0f - ps - (1.0f - ag->rho) * CLH_AGG_CM, 0.0f);
-  const clh_v3 S = clh_v3_add(clh_v3_scale(ag->a_f, ps), clh_v3_splat(pn));
-  return clh_v3_mul(S, f);
-}
-
-/* ---- environment (probe) lighting, Lipp §3.4 -------------------------------------------
- * R and TRT as one GGX lobe around the mirror direction of wo about the view-facing fibre
- * normal n; TT and diffuse for an irradiance (SH) lookup. Radiance from a probe is then
- *   spec_weight * prefiltered(refl_dir, ggx_alpha)      (split-sum style, no extra cosine)
- * + diffuse_albedo * E(n) / pi  (+ tt_weight * E(-n) / pi, a crude forward-scatter term),
- * with E(n) the cosine-weighted irradiance about n.
- * ggx_alpha matches the mean cosine E[dot(wi, refl_dir)] of the h-averaged R+TRT lobes to
- * that of a GGX lobe at normal incidence (docs/hair-shading.md). */
-typedef struct {
-  clh_v3 spec_weight;    /* Ā_R + Ā_TRT (h-averaged energies at this theta_o) */
-  clh_v3 tt_weight;      /* Ā_TT */
-  clh_v3 diffuse_albedo; /* Ā_3 */
-  clh_v3 n;              /* view-facing fibre normal */
-  clh_v3 refl_dir;       /* mirror of wo about n (theta_i = -theta_o, phi = 0) */
-  float ggx_alpha;
-} clh_hair_env;
-
-/* Mean cosine of a GGX reflection lobe is 2 (1/c + a² ln(a²)/c²) - 1, c = 1 - a²; its
- * inverse is fitted as a = sqrt(x) (0.31679 + 0.74467 x - 0.44206 x² + 0.38109 x³),
- * x = 1 - mean cosine (max error 0.004 in a). */
-static inline float clh_hair_ggx_alpha_from_mean_cos(float mu) {
-  float x = clamp(1.0f - mu, 1e-6f, 1.0f);
-  return clamp(sqrt(x) * (0.31679f + x * (0.74467f + x * (-0.44206f + x * 0.38109f))), 0.002f,
-               1.0f);
-}
-
-static inline void clh_hair_env_terms_to(clh_hair_env* out, const clh_hair_view* hv) {
-  out->spec_weight = clh_v3_add(hv->mass[0], hv->mass[2]);
-  out->tt_weight = hv->mass[1];
-  out->diffuse_albedo = hv->mass[3];
-  out->n = hv->n;
-  /* wo = sin_o t + cos_o n */
-  out->refl_dir = clh_v3_sub(clh_v3_scale(hv->n, hv->cos_o), clh_v3_scale(hv->t, hv->sin_o));
-  /* E[cos phi] of each azimuthal lobe: panel-wise box averages of cos, times the logistic's
-   * characteristic function at 1, pi s / sinh(pi s). R's phase is -2 gamma_o, and
-   * cos(2 gamma_o) = 1 - 2 h² averages to 1 - 2 (h0² + h0 h1 + h1²) / 3 over a panel. */
-  const float ps = CLH_HAIR_PI * hv->s;
-  float lam = 2.0f * ps / (clh_hair_exp(ps) - clh_hair_exp(-ps)); /* pi s / sinh(pi s) */
-  float c_r = 0.0f, w_r = 0.0f;
-  clh_v3 c_trt = clh_v3_splat(0.0f), w_trt = clh_v3_splat(0.0f);
-  for (int k = 0; k < 4; ++k) {
-    float h0 = CLH_HAIR_PANEL_H(k), h1 = CLH_HAIR_PANEL_H(k + 1);
-    float dh = h1 - h0;
-    float f = clh_hair_fresnel(hv->cos_o * CLH_HAIR_PANEL_CM(k), hv->eta);
-    float cr = 1.0f - (2.0f / 3.0f) * (h0 * h0 + h0 * h1 + h1 * h1);
-    float p0 = hv->trt_phi[k], p1 = hv->trt_phi[k + 1];
-    float s0, c0, s1, c1;
-    clh_fast_sincos(p0, &s0, &c0);
-    clh_fast_sincos(p1, &s1, &c1);
-    float ct = fabs(p1 - p0) > 1e-4f ? (s1 - s0) / (p1 - p0) : c0;
-    c_r += dh * f * cr;
-    w_r += dh * f;
-    c_trt = clh_v3_add(c_trt, clh_v3_scale(hv->trt_w[k], ct));
-    w_trt = clh_v3_add(w_trt, hv->trt_w[k]);
-  }
-  const clh_v3 lum = clh_v3_make(0.2126f, 0.7152f, 0.0722f);
-  float cos_phi_r = lam * c_r / fmax(w_r, 1e-8f);
-  float lum_trt = clh_v3_dot(w_trt, lum);
-  float cos_phi_trt = lam * clh_v3_dot(c_trt, lum) / fmax(lum_trt, 1e-12f);
-  /* mean cosine to refl_dir of a lobe at theta_i = -theta_o + delta:
-   * E[cos delta] (sin² theta_o + cos² theta_o E[cos phi]). delta is treated as a von Mises
-   * angle of concentration k = 1/v about the tilt shift, E[cos delta] = I1(k)/I0(k) cos(shift),
-   * with I1/I0 ~ k / (0.5 + sqrt(k² + 2.25)) (exact slopes at 0 and infinity, <2% error). */
-  float s2 = hv->sin_o * hv->sin_o, c2 = hv->cos_o * hv->cos_o;
-  float k0 = 1.0f / hv->v[0], k2 = 1.0f / hv->v[2];
-  float a_r = k0 / (0.5f + sqrt(k0 * k0 + 2.25f)), a_trt = k2 / (0.5f + sqrt(k2 * k2 + 2.25f));
-  float mu_r = a_r * hv->cos_shift[0] * (s2 + c2 * cos_phi_r);
-  float mu_trt = a_trt * hv->cos_shift[2] * (s2 + c2 * cos_phi_trt);
-  float wr = w_r, wt = 2.0f * lum_trt;
-  float mu = (wr * mu_r + wt * mu_trt) / fmax(wr + wt, 1e-8f);
-  out->ggx_alpha = clh_hair_ggx_alpha_from_mean_cos(mu);
 }
 
 #endif /* CLHAIR_HAIR_BSDF_H */

@@ -17,33 +17,56 @@
 #include "clh_math.h"
 #include "clhair/fast_math.h"
 
-static inline float clh_dom_texel(__global const ClhShadowGpu* sh, __global const float* opaque_g,
-                                  __global const float* hair_g, __global const uint* opacity_g,
-                                  int tx, int ty, float z, float shift) {
+/* Transmittance at depth z of texel (tx, ty); with `total` non-null also the transmittance
+ * through every layer of the texel (all the hair the map holds there, past the point too). */
+static inline float clh_dom_texel_total(__global const ClhShadowGpu* sh,
+                                        __global const float* opaque_g,
+                                        __global const float* hair_g,
+                                        __global const uint* opacity_g, int tx, int ty, float z,
+                                        float shift, float* total) {
   const int w = (int)sh->width, h = (int)sh->height;
   tx = clamp(tx, 0, w - 1);
   ty = clamp(ty, 0, h - 1);
   const size_t plane = (size_t)w * (size_t)h;
   const size_t t = (size_t)sh->offset + (size_t)ty * (size_t)w + (size_t)tx;
   const float zo = opaque_g[t];
-  if (z > zo + sh->bias * zo / sh->fx) return 0.0f;
+  if (z > zo + sh->bias * zo / sh->fx) {
+    if (total) *total = 0.0f;
+    return 0.0f;
+  }
   const float z0 = hair_g[t];
-  if (!(z0 < INFINITY)) return 1.0f;
+  if (!(z0 < INFINITY)) {
+    if (total) *total = 1.0f;
+    return 1.0f;
+  }
   const float d = z - z0 - shift * sh->bound[0];
-  if (!(d > 0.0f)) return 1.0f;
   const size_t layers = (size_t)sh->offset * CLH_DOM_LAYERS + (size_t)ty * (size_t)w + (size_t)tx;
-  float acc = 0.0f, lo = 0.0f;
+  if (!total && !(d > 0.0f)) return 1.0f;
+  float acc = 0.0f, all = 0.0f, lo = 0.0f;
+  bool inside = d > 0.0f;
   for (int k = 0; k < CLH_DOM_LAYERS; ++k) {
     const float v = (float)opacity_g[layers + (size_t)k * plane] * (1.0f / CLH_DOM_FIXED);
     const float hi = sh->bound[k];
-    if (d < hi) {
-      acc += v * (d - lo) / fmax(hi - lo, 1e-12f);
-      break;
+    all += v;
+    if (inside) {
+      if (d < hi) {
+        acc += v * (d - lo) / fmax(hi - lo, 1e-12f);
+        inside = false;
+        if (!total) break;
+      } else {
+        acc += v;
+      }
     }
-    acc += v;
     lo = hi;
   }
+  if (total) *total = clh_fast_exp(-sh->density * all);
   return clh_fast_exp(-sh->density * acc);
+}
+
+static inline float clh_dom_texel(__global const ClhShadowGpu* sh, __global const float* opaque_g,
+                                  __global const float* hair_g, __global const uint* opacity_g,
+                                  int tx, int ty, float z, float shift) {
+  return clh_dom_texel_total(sh, opaque_g, hair_g, opacity_g, tx, ty, z, shift, 0);
 }
 
 /* Fraction of the light reaching world point p (1 = unshadowed). Scalar arithmetic only
@@ -68,6 +91,45 @@ static inline float clh_shadow_transmittance_v3(__global const ClhShadowGpu* sh,
   const float t11 = clh_dom_texel(sh, opaque_g, hair_g, opacity_g, x0 + 1, y0 + 1, pv.z, shift);
   const float top = t00 + (t10 - t00) * ax, bottom = t01 + (t11 - t01) * ax;
   return top + (bottom - top) * ay;
+}
+
+/* The hair between the light and world point p, and behind p along the light, as optical
+ * depths (expected fibres crossed; the map's transmittance is e^-depth), for the dual
+ * scattering of hair_dual.h: the bilinear blend of the four nearest texels' transmittances
+ * at p (the value clh_shadow_transmittance_v3 returns) and through the whole texel. Behind
+ * the opaque scene both are "blocked" (depth 80, e^-80 = 0). */
+static inline void clh_shadow_depths_v3(__global const ClhShadowGpu* sh,
+                                        __global const float* opaque_g,
+                                        __global const float* hair_g,
+                                        __global const uint* opacity_g, clh_v3 p, float shift,
+                                        float* tau, float* tau_behind) {
+  *tau = 0.0f;
+  *tau_behind = 0.0f;
+  if (sh->width == 0u || sh->height == 0u) return;
+  const clh_v3 pv = clh_v3_xform_point(sh->world_to_view, p);
+  if (!(pv.z > 1e-6f)) return;
+  const float u = sh->cx + sh->fx * pv.x / pv.z - 0.5f;
+  const float v = sh->cy - sh->fy * pv.y / pv.z - 0.5f;
+  if (u < -1.0f || v < -1.0f || u > (float)sh->width || v > (float)sh->height) return;
+  const float fu = floor(u), fv = floor(v);
+  const int x0 = (int)fu, y0 = (int)fv;
+  const float ax = u - fu, ay = v - fv;
+  float a00, a10, a01, a11;
+  const float t00 = clh_dom_texel_total(sh, opaque_g, hair_g, opacity_g, x0, y0, pv.z, shift, &a00);
+  const float t10 =
+      clh_dom_texel_total(sh, opaque_g, hair_g, opacity_g, x0 + 1, y0, pv.z, shift, &a10);
+  const float t01 =
+      clh_dom_texel_total(sh, opaque_g, hair_g, opacity_g, x0, y0 + 1, pv.z, shift, &a01);
+  const float t11 =
+      clh_dom_texel_total(sh, opaque_g, hair_g, opacity_g, x0 + 1, y0 + 1, pv.z, shift, &a11);
+  const float top = t00 + (t10 - t00) * ax, bottom = t01 + (t11 - t01) * ax;
+  const float t = top + (bottom - top) * ay;
+  const float atop = a00 + (a10 - a00) * ax, abottom = a01 + (a11 - a01) * ax;
+  const float all = fmin(atop + (abottom - atop) * ay, t);
+  const float d = t > 1e-35f ? fmin(-0.693147181f * clh_fast_log2(t), 80.0f) : 80.0f;
+  const float d_all = all > 1e-35f ? fmin(-0.693147181f * clh_fast_log2(all), 80.0f) : 80.0f;
+  *tau = d;
+  *tau_behind = fmax(d_all - d, 0.0f);
 }
 
 static inline float clh_shadow_transmittance(__global const ClhShadowGpu* sh,

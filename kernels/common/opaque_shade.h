@@ -39,7 +39,7 @@ static inline float3 clh_opaque_shade(
     int slot = clh_light_shadow_slot(lights_g + i);
     if (slot >= 0 && slot < CLH_MAX_SHADOWS)
       visibility = clh_shadow_transmittance_opaque(shadows_g + slot, shadow_opaque_g, shadow_hair_g,
-                                                   shadow_opacity_g, pos + n * (1e-3f * t));
+                                                   shadow_opacity_g, pos + n * (1e-3f * t), n);
     radiance += albedo * lc * (visibility * falloff * fmax(dot(n, l), 0.0f) / CLH_PI);
   }
   return radiance;

@@ -8,7 +8,8 @@
  * plus the ambient term: the environment's SH irradiance / pi when there is one, else the
  * constant ambient colour. Inputs: the world hit point `pos`, the unit normal `n` facing
  * the viewer, the albedo and the view depth `t` (the shadow lookup starts 1e-3 t off the
- * surface along n, so a surface does not shadow itself in the opaque shadow map).
+ * surface along n and compares the opaque shadow map with the tangent plane there, so a
+ * surface does not shadow itself).
  */
 #ifndef CLHAIR_OPAQUE_SHADE_H
 #define CLHAIR_OPAQUE_SHADE_H

@@ -1,7 +1,8 @@
 // test_shadows_opaque.cpp — hair shadows on opaque objects: the ground under a fur ball keeps
 // the transmittance Beer-Lambert gives the hair's coverage at any tessellation and map size,
 // the LOD depth correction (Lipp §3.2.3) is inert when LOD removes nothing and undoes part of
-// LOD's darkening when it does, and opaque shadow edges are percentage-closer filtered.
+// LOD's darkening when it does, opaque shadow edges are percentage-closer filtered, and a lit
+// sphere does not shadow itself.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -140,7 +141,10 @@ TEST(Shadows, OpaqueObjectsReceiveHairShadows) {
 // tessellated or on the map's size. When it added the width to every texel each segment
 // touched, the ground kept 0.59 / 0.49 / 0.35 / 0.18 of its light at 5 / 9 / 17 / 33 points
 // and 0.34 / 0.60 with 256 / 1024 texels (PoCL), against 0.65 .. 0.74 from Beer-Lambert;
-// now 0.737 / 0.737 / 0.736 at 5 / 9 / 17 points and 0.694 / 0.753 at 256 / 1024 texels.
+// then 0.737 / 0.737 / 0.736 at 5 / 9 / 17 points and 0.694 / 0.753 at 256 / 1024 texels, and
+// now 0.749 / 0.749 / 0.748 and 0.748 / 0.753: the lower figures at 256 and 512 texels were
+// the ground, lit 63 degrees off its normal, shadowing itself across the percentage-closer
+// filter's reach until the opaque test compared the receiver's plane (shadow.h).
 TEST(Shadows, GroundShadowFollowsBeerLambertAtAnyTessellationAndMapSize) {
   for (auto [points, texels] : {std::pair{5, 512}, {9, 512}, {17, 512}, {9, 256}, {9, 1024}}) {
     const GroundShadow g = groundUnderFurBall(points, texels);
@@ -295,6 +299,84 @@ TEST(Shadows, OpaqueShadowEdgesArePercentageCloserFiltered) {
   }
   for (int x = centre - 2; x <= centre + 2; ++x) EXPECT_EQ(soft[x], 0.0f) << "pixel " << x;
   EXPECT_GT(unchanged, 10);
+}
+
+// A lit sphere cannot shadow itself, so with its light's map every pixel of it must keep
+// the light it gets without the map. The sphere is seen from between the light and its
+// terminator, so its pixels span the angles to the light from 0 to 90 degrees; thin strands
+// at the corners of a 1-unit box only frame the light's map (their shadows fall at |z| = 0.5,
+// away from the sphere). Compared: the pixels lit at least 10 % of the brightest (the light
+// within 84 degrees of the normal: receiver plane slopes are capped only within ~1 degree of
+// grazing, kernels/common/shadow.h), within 1e-3 relative (the filter weights sum to one up to
+// rounding). With the constant 2-texel bias alone, the surface past ~45 degrees from the light
+// shadowed itself across the filter's 4 x 4 texels, in rings that followed the texel grid
+// (the default scene's head sphere at 1280 x 720).
+struct SelfShadow {
+  int compared = 0, darker = 0;  // sphere pixels compared; those that lost light with the map
+  double worst = 0.0;            // largest relative loss
+};
+
+SelfShadow sphereSelfShadow(bool pcf) {
+  StrandGroom g;
+  g.name = "frame";
+  for (float x : {-0.5f, 0.5f})
+    for (float z : {-0.5f, 0.5f}) {
+      g.pointCounts.push_back(2);
+      g.points.push_back(glm::vec3(x, -0.25f, z));
+      g.points.push_back(glm::vec3(x, 0.25f, z));
+    }
+  g.appearance.strandWidth = 1e-4f;
+  Scene s;
+  s.width = 80;
+  s.height = 72;
+  s.ambient = glm::vec3(0.0f);
+  s.background = glm::vec3(0.0f);
+  s.grooms.emplace_back("frame", std::make_shared<const StrandGroom>(std::move(g)));
+  Sphere ball;
+  ball.radius = 0.1f;
+  ball.color = glm::vec3(0.6f);
+  s.spheres.push_back(ball);
+  Light l;
+  l.direction = glm::normalize(glm::vec3(0.6f, 1.0f, 0.0f));
+  l.intensity = 2.0f;
+  s.lights.push_back(l);
+  s.shadows.pcf = pcf;
+  s.camera.position = glm::vec3(0.25f, 0.2f, 0.5f);
+  s.camera.target = glm::vec3(0.0f);
+  s.camera.fovYDegrees = 24.0f;
+  Renderer r(test::sharedDevice());
+  RenderOptions o;
+  o.captureGBuffer = true;
+  const Frame open = r.render(s, o);
+  s.lights[0].shadows = true;
+  const Frame mapped = r.render(s, o);
+  float brightest = 0.0f;
+  for (std::size_t i = 0; i < open.depth.size(); ++i)
+    if (std::isfinite(open.depth[i])) brightest = std::max(brightest, open.color.rgba[4 * i]);
+  SelfShadow out;
+  for (std::size_t i = 0; i < open.depth.size(); ++i) {
+    const float lit = open.color.rgba[4 * i];
+    if (!std::isfinite(open.depth[i]) || open.gbuffer[i] != ~std::uint64_t(0) ||
+        mapped.gbuffer[i] != ~std::uint64_t(0) || !(lit >= 0.1f * brightest))
+      continue;
+    ++out.compared;
+    const double loss = (lit - mapped.color.rgba[4 * i]) / static_cast<double>(lit);
+    out.worst = std::max(out.worst, loss);
+    out.darker += loss > 1e-3;
+  }
+  std::printf("[ shadows  ] sphere, pcf %s: %d of %d lit pixels darker with the map, worst %.4f\n",
+              pcf ? "on" : "off", out.darker, out.compared, out.worst);
+  return out;
+}
+
+TEST(Shadows, LitSphereDoesNotShadowItself) {
+  for (bool pcf : {true, false}) {
+    const SelfShadow d = sphereSelfShadow(pcf);
+    RecordProperty(pcf ? "darker_pixels_pcf" : "darker_pixels_bilinear", d.darker);
+    EXPECT_GT(d.compared, 500) << "the sphere should fill much of the frame";
+    EXPECT_EQ(d.darker, 0) << "pcf " << pcf << ": the sphere shadows itself (worst loss " << d.worst
+                           << " of the light)";
+  }
 }
 
 }  // namespace

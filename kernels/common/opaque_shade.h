@@ -8,7 +8,8 @@
  * plus the ambient term: the environment's SH irradiance / pi when there is one, else the
  * constant ambient colour. Inputs: the world hit point `pos`, the unit normal `n` facing
  * the viewer, the albedo and the view depth `t` (the shadow lookup starts 1e-3 t off the
- * surface along n, so a surface does not shadow itself in the opaque shadow map).
+ * surface along n and compares the opaque shadow map with the tangent plane there, so a
+ * surface does not shadow itself).
  */
 #ifndef CLHAIR_OPAQUE_SHADE_H
 #define CLHAIR_OPAQUE_SHADE_H
@@ -39,7 +40,7 @@ static inline float3 clh_opaque_shade(
     int slot = clh_light_shadow_slot(lights_g + i);
     if (slot >= 0 && slot < CLH_MAX_SHADOWS)
       visibility = clh_shadow_transmittance_opaque(shadows_g + slot, shadow_opaque_g, shadow_hair_g,
-                                                   shadow_opacity_g, pos + n * (1e-3f * t));
+                                                   shadow_opacity_g, pos + n * (1e-3f * t), n);
     radiance += albedo * lc * (visibility * falloff * fmax(dot(n, l), 0.0f) / CLH_PI);
   }
   return radiance;

@@ -17,20 +17,21 @@
 #include "clh_math.h"
 #include "clhair/fast_math.h"
 
-/* Transmittance at depth z of texel (tx, ty); with `total` non-null also the transmittance
- * through every layer of the texel (all the hair the map holds there, past the point too). */
-static inline float clh_dom_texel_total(__global const ClhShadowGpu* sh,
-                                        __global const float* opaque_g,
-                                        __global const float* hair_g,
-                                        __global const uint* opacity_g, int tx, int ty, float z,
-                                        float shift, float* total) {
+/* One texel's transmittance for a point at light-view depth z; the opaque test compares
+ * z_opaque (clh_shadow_transmittance_opaque: the receiver's plane at the texel), the hair
+ * layers z. With `total` non-null also the transmittance through every layer of the texel
+ * (all the hair the map holds there, past the point too). */
+static inline float clh_dom_texel_at(__global const ClhShadowGpu* sh,
+                                     __global const float* opaque_g, __global const float* hair_g,
+                                     __global const uint* opacity_g, int tx, int ty, float z_opaque,
+                                     float z, float shift, float* total) {
   const int w = (int)sh->width, h = (int)sh->height;
   tx = clamp(tx, 0, w - 1);
   ty = clamp(ty, 0, h - 1);
   const size_t plane = (size_t)w * (size_t)h;
   const size_t t = (size_t)sh->offset + (size_t)ty * (size_t)w + (size_t)tx;
   const float zo = opaque_g[t];
-  if (z > zo + sh->bias * zo / sh->fx) {
+  if (z_opaque > zo + sh->bias * zo / sh->fx) {
     if (total) *total = 0.0f;
     return 0.0f;
   }
@@ -66,7 +67,7 @@ static inline float clh_dom_texel_total(__global const ClhShadowGpu* sh,
 static inline float clh_dom_texel(__global const ClhShadowGpu* sh, __global const float* opaque_g,
                                   __global const float* hair_g, __global const uint* opacity_g,
                                   int tx, int ty, float z, float shift) {
-  return clh_dom_texel_total(sh, opaque_g, hair_g, opacity_g, tx, ty, z, shift, 0);
+  return clh_dom_texel_at(sh, opaque_g, hair_g, opacity_g, tx, ty, z, z, shift, 0);
 }
 
 /* Fraction of the light reaching world point p (1 = unshadowed). Scalar arithmetic only
@@ -115,13 +116,14 @@ static inline void clh_shadow_depths_v3(__global const ClhShadowGpu* sh,
   const int x0 = (int)fu, y0 = (int)fv;
   const float ax = u - fu, ay = v - fv;
   float a00, a10, a01, a11;
-  const float t00 = clh_dom_texel_total(sh, opaque_g, hair_g, opacity_g, x0, y0, pv.z, shift, &a00);
+  const float t00 =
+      clh_dom_texel_at(sh, opaque_g, hair_g, opacity_g, x0, y0, pv.z, pv.z, shift, &a00);
   const float t10 =
-      clh_dom_texel_total(sh, opaque_g, hair_g, opacity_g, x0 + 1, y0, pv.z, shift, &a10);
+      clh_dom_texel_at(sh, opaque_g, hair_g, opacity_g, x0 + 1, y0, pv.z, pv.z, shift, &a10);
   const float t01 =
-      clh_dom_texel_total(sh, opaque_g, hair_g, opacity_g, x0, y0 + 1, pv.z, shift, &a01);
+      clh_dom_texel_at(sh, opaque_g, hair_g, opacity_g, x0, y0 + 1, pv.z, pv.z, shift, &a01);
   const float t11 =
-      clh_dom_texel_total(sh, opaque_g, hair_g, opacity_g, x0 + 1, y0 + 1, pv.z, shift, &a11);
+      clh_dom_texel_at(sh, opaque_g, hair_g, opacity_g, x0 + 1, y0 + 1, pv.z, pv.z, shift, &a11);
   const float top = t00 + (t10 - t00) * ax, bottom = t01 + (t11 - t01) * ax;
   const float t = top + (bottom - top) * ay;
   const float atop = a00 + (a10 - a00) * ax, abottom = a01 + (a11 - a01) * ax;
@@ -140,18 +142,29 @@ static inline float clh_shadow_transmittance(__global const ClhShadowGpu* sh,
   return clh_shadow_transmittance_v3(sh, opaque_g, hair_g, opacity_g, clh_v3_from(p), shift);
 }
 
-/* Fraction of the light reaching a point on an opaque surface. With sh->pcf the bilinear
- * lookup above is averaged over 3 x 3 positions one texel apart around p (percentage-
- * closer filtering): each texel of the 4 x 4 block around p weighs w_x w_y, w = (1 - a,
- * 1, 1, a) / 3 along an axis with a the point's fraction within its texel, so the weights
- * sum to one, a shadow edge ramps over three texels instead of one (smooth where a texel
- * covers several pixels), and blocks that are all lit or all shadowed keep their value.
- * The weights are continuous in p, so the result is too. */
+/* Fraction of the light reaching a point p with unit normal n on an opaque surface. Each
+ * texel's opaque depth is compared with the depth of p's tangent plane along that texel's
+ * ray (receiver plane depth bias, Isidoro 2006), not with p's own depth: a texel a distance
+ * delta from p samples the surface delta * tan(theta) deeper or shallower (theta between n
+ * and the light's ray), which exceeds the constant bias once theta passes ~45 degrees over
+ * the filter's reach of up to 2 texels, and a curved surface then shadows itself in bands
+ * that follow the texel grid (rings on a sphere). A convex or flat receiver lies at or behind
+ * its tangent plane, so it never shadows itself; the constant bias stays for depth rounding.
+ * The plane's slope is capped where the light grazes the surface (|cos theta| < 0.02 along
+ * the ray's z = 1 length), where Lambert leaves under 2 % of the light.
+ * Filtering: with sh->pcf the lookup is averaged over 3 x 3 positions one texel apart around
+ * p (percentage-closer filtering): each texel of the 4 x 4 block around p weighs w_x w_y,
+ * w = (1 - a, 1, 1, a) / 3 along an axis with a the point's fraction within its texel, so the
+ * weights sum to one, a shadow edge ramps over three texels instead of one (smooth where a
+ * texel covers several pixels), and blocks that are all lit or all shadowed keep their
+ * value; without it, the bilinear blend of the four nearest texels, w = (0, 1 - a, a, 0).
+ * The weights are continuous in p, so the result is too. Hair transmittance is looked up at
+ * p's own depth, as for the hair. */
 static inline float clh_shadow_transmittance_opaque(__global const ClhShadowGpu* sh,
                                                     __global const float* opaque_g,
                                                     __global const float* hair_g,
-                                                    __global const uint* opacity_g, float3 p) {
-  if (sh->pcf == 0u) return clh_shadow_transmittance(sh, opaque_g, hair_g, opacity_g, p, 0.0f);
+                                                    __global const uint* opacity_g, float3 p,
+                                                    float3 n) {
   if (sh->width == 0u || sh->height == 0u) return 1.0f;
   const clh_mat34 w2v = clh_load_mat34(sh->world_to_view);
   const float3 pv = clh_xform_point(w2v, p);
@@ -162,13 +175,30 @@ static inline float clh_shadow_transmittance_opaque(__global const ClhShadowGpu*
   const float fu = floor(u), fv = floor(v);
   const int x0 = (int)fu - 1, y0 = (int)fv - 1;
   const float ax = u - fu, ay = v - fv;
-  const float wx[4] = {(1.0f - ax) / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f, ax / 3.0f};
-  const float wy[4] = {(1.0f - ay) / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f, ay / 3.0f};
+  /* the tangent plane n.(q - pv) = 0 met by the texel rays q = z' (x/z, y/z, 1): dz'/du and
+   * dz'/dv at p, with n.(pv / pv.z) (negative when n faces the light) capped away from 0 */
+  const float3 nv = clh_xform_dir(w2v, n);
+  const float facing = fmin(dot(nv, pv) / pv.z, -0.02f);
+  const float dzdu = -pv.z * nv.x / (sh->fx * facing), dzdv = pv.z * nv.y / (sh->fy * facing);
+  float wx[4], wy[4];
+  if (sh->pcf != 0u) {
+    wx[0] = (1.0f - ax) / 3.0f, wx[1] = wx[2] = 1.0f / 3.0f, wx[3] = ax / 3.0f;
+    wy[0] = (1.0f - ay) / 3.0f, wy[1] = wy[2] = 1.0f / 3.0f, wy[3] = ay / 3.0f;
+  } else {
+    wx[0] = wx[3] = wy[0] = wy[3] = 0.0f;
+    wx[1] = 1.0f - ax, wx[2] = ax, wy[1] = 1.0f - ay, wy[2] = ay;
+  }
   float sum = 0.0f;
   for (int j = 0; j < 4; ++j) {
+    if (wy[j] == 0.0f) continue;
     float row = 0.0f;
-    for (int i = 0; i < 4; ++i)
-      row += wx[i] * clh_dom_texel(sh, opaque_g, hair_g, opacity_g, x0 + i, y0 + j, pv.z, 0.0f);
+    for (int i = 0; i < 4; ++i) {
+      if (wx[i] == 0.0f) continue;
+      /* texel (x0 + i, y0 + j)'s centre sits i - 1 - ax, j - 1 - ay texels from p */
+      const float zr = pv.z + dzdu * ((float)i - 1.0f - ax) + dzdv * ((float)j - 1.0f - ay);
+      row += wx[i] *
+             clh_dom_texel_at(sh, opaque_g, hair_g, opacity_g, x0 + i, y0 + j, zr, pv.z, 0.0f, 0);
+    }
     sum += wy[j] * row;
   }
   return sum;

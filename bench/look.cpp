@@ -10,7 +10,8 @@
 // with --look-final-passes passes): mean FLIP over the hair's pixels (where a sample of the
 // reference saw hair), the mean colour of those pixels (sRGB, 8 bit) and its CIE76 distance
 // in CIELAB (D65) to the reference's mean colour, and the frame's time. --look-scattering
-// single adds rows with the light between fibres left out (the shading before it).
+// both adds rows with the light between fibres left out, and the draft as it was before
+// (one scattering event, the bench scenes' lights without maps).
 #include "harness.h"
 
 #include <algorithm>
@@ -88,8 +89,8 @@ void runLook(Run& r) {
   if (!r.opt.refCache.empty()) std::filesystem::create_directories(r.opt.refCache);
   struct Groom {
     std::string tag, name;
-    int scene;      // bench scene (0 groom1, 1 groom2)
-    float eu;       // eumelanin at root and tip (hair meshes), or < 0: the strand file
+    int scene;  // bench scene (0 groom1, 1 groom2)
+    float eu;   // eumelanin at root and tip (hair meshes), or < 0: the strand file
   };
   std::vector<Groom> grooms;
   for (int g = 0; g < 2; ++g)
@@ -102,11 +103,13 @@ void runLook(Run& r) {
   struct Level {
     const char* name;
     int quality, scattering;
+    bool plain = false;  // the bench scenes' lights without maps (the defaults before)
   };
   std::vector<Level> levels = {{"draft", 0, 1}, {"good", 1, 1}, {"final", 2, 1}};
   if (r.opt.lookScattering == "both") {
     levels.push_back({"draft, single scattering", 0, 0});
     levels.push_back({"good, single scattering", 1, 0});
+    levels.push_back({"draft before: single scattering, no maps", 0, 0, true});
   }
   json q;
   r.md << "\n## The look against the path-traced reference (" << qw << "x" << qh << ", path "
@@ -186,14 +189,17 @@ void runLook(Run& r) {
         RenderOptions o;
         o.quality = l.quality;
         o.multipleScattering = l.scattering;
+        Scene sl = s;
+        if (l.plain)
+          for (Light& light : sl.lights) light.shadows = false;
         Frame f;
         const auto t0 = std::chrono::steady_clock::now();
         if (l.quality == 2) {
-          ProgressiveStill still(r.b.renderer, s, o);
+          ProgressiveStill still(r.b.renderer, sl, o);
           still.add(0, r.opt.lookFinalPasses);
           f = still.frame();
         } else {
-          f = r.b.renderer.render(s, o);
+          f = r.b.renderer.render(sl, o);
         }
         const double ms =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
@@ -207,7 +213,7 @@ void runLook(Run& r) {
         const double de = deltaE(colour, refColour);
         std::string file = l.name;
         for (char& ch : file)
-          if (ch == ' ' || ch == ',') ch = '_';
+          if (ch == ' ' || ch == ',' || ch == ':') ch = '_';
         writeImage(f.color, dir + "/" + cell + "_" + file + ".png");
         qc[l.name] = {{"flip_hair", flip},
                       {"delta_e", de},
@@ -215,7 +221,8 @@ void runLook(Run& r) {
                       {"chroma", chroma(colour)},
                       {"wall_ms", ms}};
         r.md << " " << fmt(flip, 3) << " / " << fmt(de, 1) << " / " << fmt(ms, 0) << " |";
-        std::fprintf(stderr, "look %s %s %s: FLIP %.4f, dE %.2f, %s (chroma %.1f vs %.1f), %.0f ms\n",
+        std::fprintf(stderr,
+                     "look %s %s %s: FLIP %.4f, dE %.2f, %s (chroma %.1f vs %.1f), %.0f ms\n",
                      gr.tag.c_str(), r.distNames[d], l.name, flip, de, colourText(colour).c_str(),
                      chroma(colour), chroma(refColour), ms);
       }

@@ -117,11 +117,11 @@ static inline clh_v3 shade_at(__global const ClhGroomGpu* groom_g,
 
   clh_hair_material mat;
   shade_material(groom_g, u, v, w, &mat);
+  clh_v3 fc = clh_v3_splat(1.0f);
   if (file_color) {
     /* a file's colour is the colour its fibres show under white light: the fibre's albedo */
-    const clh_v3 fc =
-        clh_v3_make(clh_file_color_value(clh_gbuf_u(word)), clh_file_color_value(clh_gbuf_v(word)),
-                    clh_file_color_value(clh_gbuf_ao(word)));
+    fc = clh_v3_make(clh_file_color_value(clh_gbuf_u(word)), clh_file_color_value(clh_gbuf_v(word)),
+                     clh_file_color_value(clh_gbuf_ao(word)));
     mat.sigma_a = clh_hair_sigma_a_from_albedo(fc, groom_g->bsdf[3]);
   }
   clh_hair_view hv;
@@ -203,6 +203,16 @@ static inline clh_v3 shade_at(__global const ClhGroomGpu* groom_g,
   clh_v3 out = clh_v3_add(radiance, clh_v3_scale(probe, ao));
   /* the probe light the AO took away, given back by the hair around (dual scattering) */
   if (dual && ao < 1.0f) out = clh_v3_add(out, clh_v3_mul(uniform, clh_hair_dual_probe(&ds, ao)));
+  if (file_color) {
+    /* The absorption above gives the fibre about its colour as albedo (within a few %, at
+     * normal incidence); the lobes are scaled so that their energies at this view sum to it
+     * exactly, so under uniform white light a fibre shows its colour. The path reference
+     * scales its events the same way (host/groom/path_trace.cpp). */
+    const clh_v3 albedo =
+        clh_v3_add(clh_v3_add(hv.mass[0], hv.mass[1]), clh_v3_add(hv.mass[2], hv.mass[3]));
+    out = clh_v3_mul(out, clh_v3_make(fc.x / fmax(albedo.x, 1e-4f), fc.y / fmax(albedo.y, 1e-4f),
+                                      fc.z / fmax(albedo.z, 1e-4f)));
+  }
   return out;
 }
 

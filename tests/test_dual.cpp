@@ -68,8 +68,8 @@ Shaded prepare(const hb::clh_hair_material& m, Dir t, Dir wo) {
 }
 
 hb::clh_v3 dual(const Shaded& s, Dir wi, float tau, float tauB) {
-  return hb::clh_hair_dual_eval_cos(&s.hv, &s.ds, v3(wi), hb::clh_hair_eval_cos(&s.hv, v3(wi)),
-                                    tau, tauB);
+  return hb::clh_hair_dual_eval_cos(&s.hv, &s.ds, v3(wi), hb::clh_hair_eval_cos(&s.hv, v3(wi)), tau,
+                                    tauB);
 }
 
 // Sum over a (sin theta, phi) grid about the world z axis of g(direction) dw, g returning rgb.
@@ -94,10 +94,9 @@ TEST(Dual, DeviceMatchesCpuCompile) {
   auto& d = *test::sharedDevice().impl();
   std::mt19937 gen(7);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const hb::clh_v3 sigmas[] = {melanin(0.3f), melanin(1.3f), melanin(8.0f),
-                               hb::clh_v3_splat(0.0f),
-                               hb::clh_hair_sigma_a_from_albedo(
-                                   hb::clh_v3_make(1.0f, 0.925f, 0.569f), 1.55f)};
+  const hb::clh_v3 sigmas[] = {
+      melanin(0.3f), melanin(1.3f), melanin(8.0f), hb::clh_v3_splat(0.0f),
+      hb::clh_hair_sigma_a_from_albedo(hb::clh_v3_make(1.0f, 0.925f, 0.569f), 1.55f)};
   const float taus[] = {0.0f, 0.4f, 2.5f, 9.0f}, backs[] = {0.0f, 1.0f, 6.0f};
   std::vector<float> rec;
   std::vector<hb::clh_v3> expectF, expectP;
@@ -134,8 +133,8 @@ TEST(Dual, DeviceMatchesCpuCompile) {
                 rec.data());
   const cl_float4 canary = {{-123.0f, -456.0f, -789.0f, -1.0f}};
   std::vector<cl_float4> out(static_cast<std::size_t>(n) * 2 + 2, canary);
-  cl::Buffer ob(d.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
-                out.size() * sizeof(cl_float4), out.data());
+  cl::Buffer ob(d.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, out.size() * sizeof(cl_float4),
+                out.data());
   k.setArg(0, in);
   k.setArg(1, n);
   k.setArg(2, ob);
@@ -151,8 +150,8 @@ TEST(Dual, DeviceMatchesCpuCompile) {
     const float ef[3] = {expectF[i].x, expectF[i].y, expectF[i].z};
     const float ep[3] = {expectP[i].x, expectP[i].y, expectP[i].z};
     for (int c = 0; c < 3; ++c) {
-      EXPECT_TRUE(near(out[2 * i].s[c], ef[c])) << i << " light " << c << ": " << out[2 * i].s[c]
-                                                << " vs " << ef[c];
+      EXPECT_TRUE(near(out[2 * i].s[c], ef[c]))
+          << i << " light " << c << ": " << out[2 * i].s[c] << " vs " << ef[c];
       EXPECT_TRUE(near(out[2 * i + 1].s[c], ep[c]))
           << i << " probe " << c << ": " << out[2 * i + 1].s[c] << " vs " << ep[c];
     }
@@ -186,11 +185,11 @@ TEST(Dual, GlobalPartCarriesThePoissonShare) {
     for (float tau : {0.5f, 2.0f, 6.0f}) {
       const auto g = sphereIntegral([&](Dir wi) {
         const hb::clh_v3 single = hb::clh_hair_eval_cos(&s.hv, v3(wi));
-        return hb::clh_v3_sub(dual(s, wi, tau, 0.0f),
-                              hb::clh_v3_scale(single, std::exp(-tau)));
+        return hb::clh_v3_sub(dual(s, wi, tau, 0.0f), hb::clh_v3_scale(single, std::exp(-tau)));
       });
       for (int c = 0; c < 3; ++c) {
-        const double want = CLH_DUAL_DF * (std::exp(-tau * (1.0 - af[c])) - std::exp(-tau)) * alb[c];
+        const double want =
+            CLH_DUAL_DF * (std::exp(-tau * (1.0 - af[c])) - std::exp(-tau)) * alb[c];
         EXPECT_NEAR(g[c], want, 0.01 * want + 1e-5) << "eumelanin " << eu << " tau " << tau;
       }
     }
@@ -233,13 +232,17 @@ TEST(Dual, WhiteFurnaceInASlab) {
       const Dir t = unit(std::cos(a), std::sin(a), 0.05);
       const Dir wo = unit(0.3 * k - 0.4, 0.2, 0.9);  // looking from above the slab
       const Shaded s = prepare(white, t, wo);
-      const auto full = sphereIntegral([&](Dir wi) {
-        const Dir back{-wi.x, -wi.y, -wi.z};
-        return dual(s, wi, tau(wi), tau(back));
-      }, 120, 240);
-      const auto shadowed = sphereIntegral([&](Dir wi) {
-        return hb::clh_v3_scale(hb::clh_hair_eval_cos(&s.hv, v3(wi)), std::exp(-tau(wi)));
-      }, 120, 240);
+      const auto full = sphereIntegral(
+          [&](Dir wi) {
+            const Dir back{-wi.x, -wi.y, -wi.z};
+            return dual(s, wi, tau(wi), tau(back));
+          },
+          120, 240);
+      const auto shadowed = sphereIntegral(
+          [&](Dir wi) {
+            return hb::clh_v3_scale(hb::clh_hair_eval_cos(&s.hv, v3(wi)), std::exp(-tau(wi)));
+          },
+          120, 240);
       for (int c = 0; c < 3; ++c) {
         // the single fibre's furnace error is 0.6 % (docs/hair-shading.md §4)
         EXPECT_LE(full[c], 1.01) << "depth " << z0 << " frame " << k;
@@ -285,7 +288,8 @@ TEST(Dual, FileColourIsTheFibreAlbedo) {
     EXPECT_NEAR(albedo, c, 0.04f * c + 0.005f) << "colour " << c;
   }
   // darker channels absorb more
-  const hb::clh_v3 s = hb::clh_hair_sigma_a_from_albedo(hb::clh_v3_make(1.0f, 0.925f, 0.569f), 1.55f);
+  const hb::clh_v3 s =
+      hb::clh_hair_sigma_a_from_albedo(hb::clh_v3_make(1.0f, 0.925f, 0.569f), 1.55f);
   EXPECT_LT(s.x, s.y);
   EXPECT_LT(s.y, s.z);
 }

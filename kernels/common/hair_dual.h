@@ -70,9 +70,10 @@ static inline void clh_hair_dual_prepare_to(clh_hair_dual* out, const clh_hair_v
   const clh_v3 a_f = clh_v3_add(hv->mass[1], half_d);
   const clh_v3 a_b = clh_v3_add(clh_v3_add(hv->mass[0], hv->mass[2]), half_d);
   out->a_f = a_f;
-  out->one_m_af = clh_v3_make(fmax(1.0f - a_f.x, 0.0f), fmax(1.0f - a_f.y, 0.0f),
-                              fmax(1.0f - a_f.z, 0.0f));
-  out->albedo = clh_v3_add(clh_v3_add(hv->mass[0], hv->mass[1]), clh_v3_add(hv->mass[2], hv->mass[3]));
+  out->one_m_af =
+      clh_v3_make(fmax(1.0f - a_f.x, 0.0f), fmax(1.0f - a_f.y, 0.0f), fmax(1.0f - a_f.z, 0.0f));
+  out->albedo =
+      clh_v3_add(clh_v3_add(hv->mass[0], hv->mass[1]), clh_v3_add(hv->mass[2], hv->mass[3]));
   /* the back lobe's energy, capped so that it and the fibre's own never pass 1 */
   const clh_v3 ab = clh_v3_make(clh_dual_a1a3(a_f.x, a_b.x), clh_dual_a1a3(a_f.y, a_b.y),
                                 clh_dual_a1a3(a_f.z, a_b.z));
@@ -92,7 +93,7 @@ static inline void clh_hair_dual_prepare_to(clh_hair_dual* out, const clh_hair_v
 static inline clh_v3 clh_hair_dual_eval_cos(const clh_hair_view* hv, const clh_hair_dual* ds,
                                             clh_v3 wi, clh_v3 single, float tau, float tau_b) {
   tau = fmax(tau, 0.0f);
-  const float direct = clh_hair_exp(-tau);
+  const float direct = tau > 0.0f ? clh_hair_exp(-tau) : 1.0f; /* exact where nothing is in front */
   /* light arriving after any number of forward scatterings (direct included), per channel */
   const clh_v3 arrive = clh_hair_exp3(clh_v3_scale(ds->one_m_af, -tau));
   const clh_v3 through = clh_v3_fmax(clh_v3_sub(arrive, clh_v3_splat(direct)), 0.0f);
@@ -117,7 +118,7 @@ static inline clh_v3 clh_hair_dual_eval_cos(const clh_hair_view* hv, const clh_h
     }
     out = clh_v3_add(out, clh_v3_scale(clh_v3_mul(through, g), CLH_DUAL_DF));
   }
-  const float behind = 1.0f - clh_hair_exp(-fmax(tau_b, 0.0f));
+  const float behind = tau_b > 0.0f ? 1.0f - clh_hair_exp(-tau_b) : 0.0f;
   if (cos_phi > 0.0f && behind > 0.0f) {
     /* local back scattering of the light that reached the point (direct + global) */
     const float v = ds->v_b + n * ds->v_f;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <sstream>
 
 #include "cl/cache_proof.h"
@@ -438,7 +439,20 @@ cl::Program Device::Impl::programFor(SubgroupBackend backend, const std::string&
   // every kernel of the program for any local size to write one).
   if (binaries.enabled()) try {
       const std::vector<std::vector<unsigned char>> bins = program.getInfo<CL_PROGRAM_BINARIES>();
-      if (bins.size() == 1) binaries.store(cacheKey, bins[0]);
+      if (bins.size() == 1) {
+        binaries.store(cacheKey, bins[0]);
+        // proven now, while the start pays a compile anyway, so that the next start finds
+        // it stamped (a binary that fails is not kept; this run has its program from source)
+        std::string why;
+        std::error_code ec;
+        // not stored (a full or read-only cache folder): nothing to prove
+        const bool stored = std::filesystem::is_regular_file(binaries.entryPath(cacheKey), ec);
+        if (stored && proveCachedProgram(info.platformIndex, info.deviceIndex,
+                                         binaries.entryPath(cacheKey), cacheKey, options, why))
+          binaries.markProven(cacheKey, bins[0]);
+        else if (stored)
+          binaries.remove(cacheKey);
+      }
     } catch (const cl::Error&) {  // a driver without binaries just compiles every time
     }
   std::lock_guard<std::mutex> lock(mutex_);

@@ -42,8 +42,8 @@ void InputFiles::check(const std::string& flag, const std::string& out) const {
   for (const Entry& e : entries_)
     if (e.device == static_cast<unsigned long long>(st.st_dev) &&
         e.inode == static_cast<unsigned long long>(st.st_ino))
-      throw Error(flag + " \"" + out + "\" is " + e.file.role + " \"" + e.file.path +
-                  "\" this command reads: writing it would replace its input (nothing was "
+      throw Error(flag + " \"" + out + "\" is " + e.file.role + " (\"" + e.file.path +
+                  "\"): writing it would replace an input of this command (nothing was "
                   "written; choose another output file)");
 }
 

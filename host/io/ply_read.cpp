@@ -341,9 +341,10 @@ PlyStrands readPlyStrands(const std::string& path, std::uint64_t maxBytes) {
                  ? 2
                  : static_cast<std::uint64_t>(typeBytes(p.list ? p.countType : p.type));
     if (per > 0 && e.count > (left - std::min(left, least)) / per + (fmt == Format::Ascii ? 1 : 0))
-      throw Error(path + ": truncated: the header says " + std::to_string(e.count) + " " + e.name +
-                  " elements, which need at least " + std::to_string(e.count * per) +
-                  " bytes, but " + std::to_string(left) + " bytes follow the header");
+      throw Error(path + ": truncated, the file is cut short: the header says " +
+                  std::to_string(e.count) + " " + e.name + " elements, which need at least " +
+                  std::to_string(e.count * per) + " bytes, but " + std::to_string(left) +
+                  " bytes follow the header");
     least += per * e.count;
   }
   const std::uint64_t V = vertex->count;

@@ -165,8 +165,12 @@ bool BinaryCache::proven(const std::string& key, const std::vector<unsigned char
 void BinaryCache::markProven(const std::string& key,
                              const std::vector<unsigned char>& payload) const {
   if (!enabled()) return;
+  const std::string stamp = entryPath(key) + ".proven";
+  struct stat st {};
+  if (::lstat(stamp.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+    ::unlink(stamp.c_str());  // a FIFO or a folder where the stamp belongs: replaced
   try {
-    writeFileAtomically(entryPath(key) + ".proven", payloadStamp(payload));
+    writeFileAtomically(stamp, payloadStamp(payload));
   } catch (const Error&) {  // no stamp: the entry is proven again next time
   }
 }

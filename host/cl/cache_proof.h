@@ -9,7 +9,9 @@
 // from the entry, creates every kernel and asks each for its work-group size (drivers that
 // generate code lazily do it there), and exits 0. A crash, a refusal, or no answer in 60 s
 // fails the proof; the caller then removes the entry and builds from source. A proven entry
-// is stamped (BinaryCache::markProven) so it is proven once, not on every start.
+// is stamped (BinaryCache::markProven) so it is proven once, not on every start. Linked into
+// a shared object (a Python module), where /proc/self/exe is another program, there is no
+// child to start: the entry is trusted as its checksums leave it.
 #pragma once
 
 #include <string>

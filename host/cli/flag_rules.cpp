@@ -3,7 +3,8 @@
 // variable unset would otherwise read as the flag left out), and every flag that takes a
 // count, a size or a number that sizes work is within its documented range (a negative count
 // is refused, not wrapped; `fit-mesh --fibre-width 1e30` never starts). The commands check
-// what needs more than a range (one of 1, 2, 4, 8; a scene's groom count) themselves.
+// what needs more than a range (one of 1, 2, 4, 8; a scene's groom count; --width and
+// --height, whose check names the resolution with the scene's other side) themselves.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -29,8 +30,6 @@ struct FlagRule {
 };
 
 const FlagRule kFlagRules[] = {
-    {"render", "--width", 1, kMaxImageSide},
-    {"render", "--height", 1, kMaxImageSide},
     {"render", "--msaa", 1, 8},
     {"render", "--path-events", 1, 1024},
     {"render", "--spp", 1, 65536},

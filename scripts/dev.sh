@@ -103,7 +103,8 @@ else
   host_tests='^(StrandFile[A-Za-z]*|Mesh|MeshCli|ExplicitScene|Metrics[A-Za-z]*|CpuRaster'
   host_tests+='|Reference|TracedReference'
   host_tests+='|BsdfReference|LodMath|FastMath|Environment(Sh|Errors|Mapping|Sky|Build)|Render'
-  host_tests+='|BinaryCache|ExplicitMemory|ExplicitRender|Host|Keyframes|AnimatedScene|CageFile)\.'
+  host_tests+='|BinaryCache|ExplicitMemory|ExplicitRender|Host|Keyframes|AnimatedScene|CageFile'
+  host_tests+='|FitSanitized)\.'
   host_tests+='|^Cli\.(Missing|Malformed|Absurd|Zero|HairMeshWith|Unknown|ParseErrors|Devices'
   host_tests+='|GeneratedPreset)|^ExplicitCli\.(Malformed|TrailingBytes|WarnsAbout)|^Fuzz\.'
   sanitize=0

@@ -4,11 +4,14 @@
 // entry. The cache heals: an entry that is not an entry, cut short (as a full disk or a killed
 // write leaves it), flipped or another key's is discarded and rebuilt, never given to the
 // driver; the entry reader refuses every truncation and every flipped byte; a cache on a full
-// or read-only file system means no cache, and the render still succeeds.
+// or read-only file system means no cache, and the render still succeeds. A binary written
+// wrong under a valid checksum is caught in a child process and rebuilt; baked data is keyed
+// by the host build.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include <sys/stat.h>
 
@@ -181,6 +184,70 @@ TEST(BinaryCache, KeyChangesWithEveryInput) {
   // field boundaries are part of the key
   EXPECT_NE(BinaryCache::key("ab", "c", "", "", ""), BinaryCache::key("a", "bc", "", "", ""));
   EXPECT_EQ(base, BinaryCache::key("p", "d", "1.0", "-DX=1", "kernel"));
+}
+
+// A binary the driver wrote wrong, stored under a valid checksum (the checksums cannot see
+// it): the next start builds it in a child process first, which fails, so the entry is
+// removed and rebuilt from source with one note line, and the run goes on. A proven entry is
+// stamped and not proven again.
+TEST(BinaryCache, ABinaryWrittenWrongIsCaughtInAChildAndRebuilt) {
+  const std::string dir = test::scratchDir() + "/cache";
+  std::vector<cl_ulong> first;
+  {
+    Device dev = test::openWithCache(dir);
+    first = packWords(dev);
+  }
+  const std::vector<fs::path> stored = entries(dir);
+  ASSERT_EQ(stored.size(), 1u);
+  const fs::path entry = stored[0];
+  const std::string key = entry.filename().string();
+  {
+    Device again = test::openWithCache(dir);  // proves the entry, once
+    EXPECT_EQ(packWords(again), first);
+  }
+  ASSERT_TRUE(fs::exists(entry.string() + ".proven")) << "a proven entry is stamped";
+  auto readAll = [](const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  auto payload = decodeCacheEntry(readAll(entry), key);
+  ASSERT_TRUE(payload.has_value());
+  std::vector<unsigned char> damaged = *payload;
+  for (std::size_t i = damaged.size() / 4; i < 3 * damaged.size() / 4; ++i) damaged[i] ^= 0x5a;
+  std::ofstream(entry, std::ios::binary | std::ios::trunc) << encodeCacheEntry(key, damaged);
+  ASSERT_TRUE(decodeCacheEntry(readAll(entry), key).has_value()) << "the checksum is valid";
+  // through the command, whose device builds this program on every start (the self-test)
+  const test::CommandResult r = test::runCommand("CLHAIR_CACHE_DIR=" + test::quote(dir) + " " +
+                                                 test::quote(test::cliPath()) + " devices");
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("clhair: note: the cached program of selftest.cl"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("rebuilt from source"), std::string::npos) << r.output;
+  const auto rebuilt = decodeCacheEntry(readAll(entry), key);
+  ASSERT_TRUE(rebuilt.has_value()) << "the rebuilt program is stored again";
+  EXPECT_NE(*rebuilt, damaged);
+  {
+    Device after = test::openWithCache(dir);
+    EXPECT_EQ(packWords(after), first);
+  }
+}
+
+// Baked data (the AO of a hair mesh) is keyed by the host build as well: a cache folder filled
+// by another build (a sanitized one, whose AO bytes differed from Release's under one key)
+// holds its entries under other names, which this build never reads.
+TEST(BinaryCache, BakedDataIsKeyedByTheHostBuild) {
+  const std::string build = BinaryCache::hostBuild();
+  EXPECT_NE(build, "unknown build") << "CMakeLists.txt names the build";
+  EXPECT_NE(build.find(CLHAIR_TEST_COMPILER), std::string::npos) << build;
+  const std::string here = BinaryCache::dataKey("ao", "p", "d", "1.0", "mesh");
+  EXPECT_EQ(here, BinaryCache::dataKey("ao", "p", "d", "1.0", "mesh", build));
+  const std::string other =
+      BinaryCache::dataKey("ao", "p", "d", "1.0", "mesh", build + " -fsanitize=address");
+  EXPECT_NE(here, other);
+  const std::string dir = test::scratchDir() + "/cache";
+  BinaryCache(dir).store(other, {1, 2, 3, 4});  // the other build fills the shared folder
+  EXPECT_TRUE(BinaryCache(dir).load(other).has_value());
+  EXPECT_FALSE(BinaryCache(dir).load(here).has_value()) << "this build read the other's entry";
 }
 
 TEST(BinaryCache, OffMeansNoFiles) {

@@ -290,6 +290,29 @@ TEST(FitDegenerate, BadInputIsOneClearError) {
   EXPECT_NE(test::errorOf([&] { fitHairMesh(ok, o); }).find("bundles is -2"), std::string::npos);
 }
 
+// The fit paths under UBSan (these run in the sanitized suite, scripts/dev.sh): a groom
+// centred on the origin puts cells left of and below the lattice's first (a negative cell
+// coordinate in the lattice's key), and 16384 bundles asked of 61 strands shrink the lattice
+// far below the roots' spacing (cell coordinates beyond the int range). Both fit.
+TEST(FitSanitized, GroomCentredOnTheOrigin) {
+  StrandGroom g = straightStrands(4000, 5);
+  for (glm::vec3& p : g.points) p -= glm::vec3(0.02f, 0.0f, 0.05f);
+  const FitResult r = fitHairMesh(g);
+  EXPECT_NO_THROW(validateHairMesh(r.mesh, "fitted"));
+  EXPECT_GT(r.mesh.faces.size(), 10u);
+  EXPECT_EQ(r.mesh.strandCount, 4000);
+}
+
+TEST(FitSanitized, MoreBundlesThanStrands) {
+  const StrandGroom g = straightStrands(61, 5);
+  FitOptions o;
+  o.bundles = kFitMaxBundles;
+  const FitResult r = fitHairMesh(g, o);
+  EXPECT_NO_THROW(validateHairMesh(r.mesh, "fitted"));
+  EXPECT_LE(r.mesh.faces.size(), 61u) << "no more bundles than strands";
+  EXPECT_EQ(r.mesh.strandCount, 61);
+}
+
 TEST(FitCli, FitsAFileAndWritesTheReport) {
   const std::string dir = test::scratchDir();
   const StrandGroom g = test::strandsOf(test::patchMesh(PatchShape{}));

@@ -164,6 +164,43 @@ TEST(PlyStrands, MalformedFilesAreOneErrorLine) {
   EXPECT_THROW(readPlyStrands(dir + "/b.ply", 64), Error);
 }
 
+// An element of 2^40 entries without properties costs no bytes and no time: skipped in one
+// step wherever it stands (the fuzz seeds bad_empty_element_2e40*.ply, read as they are).
+TEST(PlyStrands, ElementWithoutPropertiesIsSkippedWhole) {
+  for (const char* seed : {"bad_empty_element_2e40.ply", "bad_empty_element_2e40_ascii.ply"}) {
+    SCOPED_TRACE(seed);
+    const PlyStrands p =
+        readPlyStrands(test::sourceDir() + "/tests/fuzz/corpus/ply/" + seed, kLimit);
+    EXPECT_EQ(p.hair.segments, (std::vector<std::uint32_t>{1}));
+    ASSERT_EQ(p.hair.points.size(), 6u);
+    EXPECT_EQ(p.hair.points[4], 1.0f);
+  }
+}
+
+// A file cut anywhere after its header says it is cut short ("truncated"), in both formats;
+// a file of the signature alone says nothing follows it.
+TEST(PlyStrands, EveryCutAfterTheHeaderSaysTruncated) {
+  const std::string dir = test::scratchDir();
+  const std::string ascii =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement strand 1\nproperty uint vertex_count\nend_header\n"
+      "0.25 0.5 0.75\n0.25 1.5 0.75\n0.25 2.5 0.75\n3\n";
+  for (const std::string& whole : {binaryPly(false), binaryPly(true), ascii}) {
+    const std::size_t data = whole.find("end_header\n") + 11;
+    for (std::size_t cut = data; cut < whole.size(); ++cut) {
+      SCOPED_TRACE(cut);
+      writeBytes(dir + "/cut.ply", whole.substr(0, cut));
+      if (cut + 1 == whole.size() && whole.back() == '\n') continue;  // only the last newline
+      const std::string m = test::errorOf([&] { readPlyStrands(dir + "/cut.ply", kLimit); });
+      EXPECT_NE(m.find("truncated"), std::string::npos) << m;
+    }
+  }
+  writeBytes(dir + "/sig.ply", "ply");
+  const std::string m = test::errorOf([&] { readPlyStrands(dir + "/sig.ply", kLimit); });
+  EXPECT_NE(m.find("ends after its PLY signature"), std::string::npos) << m;
+  EXPECT_EQ(m.find("not the PLY signature"), std::string::npos) << m;
+}
+
 TEST(PlyStrands, Ct2HairBinSkipsNonFiniteStrands) {
   const std::string dir = test::scratchDir();
   std::string s = u32(3);

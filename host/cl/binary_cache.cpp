@@ -82,10 +82,18 @@ std::string BinaryCache::key(const std::string& platform, const std::string& dev
   return digest(all) + ".clbin";
 }
 
+std::string BinaryCache::hostBuild() {
+#ifdef CLHAIR_BUILD_ID
+  return CLHAIR_BUILD_ID;
+#else
+  return "unknown build";
+#endif
+}
+
 std::string BinaryCache::dataKey(const std::string& kind, const std::string& platform,
                                  const std::string& device, const std::string& driver,
-                                 const std::string& inputs) {
-  std::string k = key(platform, device, driver, kind, inputs);
+                                 const std::string& inputs, const std::string& build) {
+  std::string k = key(platform, device, driver, kind + "|" + build, inputs);
   return k.substr(0, k.size() - std::string(".clbin").size()) + "." + kind;
 }
 
@@ -130,6 +138,47 @@ void BinaryCache::store(const std::string& key, const std::vector<unsigned char>
     writeFileAtomically(entryPath(key), encodeCacheEntry(key, binary));
   } catch (const Error&) {  // a full disk or a read-only folder: no cache, nothing else
   }
+}
+
+namespace {
+
+std::string payloadStamp(const std::vector<unsigned char>& payload) {
+  char out[32];
+  std::snprintf(out, sizeof out, "%016llx %llu",
+                static_cast<unsigned long long>(fnv64(payload.data(), payload.size())),
+                static_cast<unsigned long long>(payload.size()));
+  return out;
+}
+
+}  // namespace
+
+bool BinaryCache::proven(const std::string& key, const std::vector<unsigned char>& payload) const {
+  if (!enabled()) return false;
+  try {
+    RegularFile f(entryPath(key) + ".proven", "cache stamp");
+    return f.readAll(64) == payloadStamp(payload);
+  } catch (const Error&) {
+    return false;
+  }
+}
+
+void BinaryCache::markProven(const std::string& key,
+                             const std::vector<unsigned char>& payload) const {
+  if (!enabled()) return;
+  const std::string stamp = entryPath(key) + ".proven";
+  struct stat st {};
+  if (::lstat(stamp.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+    ::unlink(stamp.c_str());  // a FIFO or a folder where the stamp belongs: replaced
+  try {
+    writeFileAtomically(stamp, payloadStamp(payload));
+  } catch (const Error&) {  // no stamp: the entry is proven again next time
+  }
+}
+
+void BinaryCache::remove(const std::string& key) const {
+  if (!enabled()) return;
+  ::unlink(entryPath(key).c_str());
+  ::unlink((entryPath(key) + ".proven").c_str());
 }
 
 std::string encodeCacheEntry(const std::string& key, const std::vector<unsigned char>& payload) {

@@ -4,14 +4,16 @@
 // clhair's kernels on every start). After a build the program's binary is stored under a
 // key that names everything it depends on — platform, device, driver version, build
 // options and the full expanded source text — so any change makes a new entry and a stale
-// binary is never used. A binary the driver refuses is ignored (and rebuilt from source).
+// binary is never used. A binary the driver refuses is ignored (and rebuilt from source), and
+// an entry is built in a child process before its first use (cl/cache_proof.h), so a binary
+// written wrong under a valid checksum never reaches the renderer's driver.
 // Writes go to a temporary file that is renamed into place, so concurrent processes never
 // read a half-written entry. The folder is CLHAIR_CACHE_DIR, else $XDG_CACHE_HOME/clhair,
 // else ~/.cache/clhair; CLHAIR_CACHE_DIR=off disables the cache. Simulators whose build
 // options come from their own environment (Oclgrind: OCLGRIND_BUILD_OPTIONS, which the key
 // cannot see) are never cached (cacheablePlatform). The same folder keeps results a device
-// computes deterministically from inputs the key can name (dataKey): the ambient-occlusion
-// bake of a hair mesh (host/groom/hair_mesh_gpu.cpp).
+// computes deterministically from inputs the key can name (dataKey, which also names the host
+// build): the ambient-occlusion bake of a hair mesh (host/groom/hair_mesh_gpu.cpp).
 #pragma once
 
 #include <optional>
@@ -33,9 +35,15 @@ class BinaryCache {
                          const std::string& source);
   // The entry's file name for other results computed on a device from `inputs`: `kind`
   // names what it holds and is the file's extension (".ao": a baked ambient occlusion).
+  // The key also names the host build (`build`, by default hostBuild()): a result the host
+  // helped compute may differ in its last bits between compilers and flags, and a cache
+  // folder shared by a Release and a sanitized build must not hand one build's bytes to
+  // the other.
   static std::string dataKey(const std::string& kind, const std::string& platform,
                              const std::string& device, const std::string& driver,
-                             const std::string& inputs);
+                             const std::string& inputs, const std::string& build = hostBuild());
+  // This build's compiler, its version, build type, flags and sanitizers (CMakeLists.txt).
+  static std::string hostBuild();
   // The payload stored under `key`, or nothing (no entry, or a damaged one, which is removed).
   std::optional<std::vector<unsigned char>> load(const std::string& key) const;
   // The file an entry is stored in.
@@ -44,6 +52,12 @@ class BinaryCache {
   static bool cacheablePlatform(const std::string& platformName);
   // Best effort: a cache that cannot be written only costs the next run a compile.
   void store(const std::string& key, const std::vector<unsigned char>& binary) const;
+  // Whether the entry `key` holding `payload` was proven (host/cl/cache_proof.h): a stamp
+  // beside it ("<entry>.proven") holds the payload's checksum, so a replaced entry is proven
+  // again. markProven writes the stamp (best effort); remove deletes the entry and its stamp.
+  bool proven(const std::string& key, const std::vector<unsigned char>& payload) const;
+  void markProven(const std::string& key, const std::vector<unsigned char>& payload) const;
+  void remove(const std::string& key) const;
 
  private:
   std::string folder_;

@@ -1,9 +1,12 @@
 // device.cpp — device enumeration and choice, capability checks, the sub-group backend
 // choice with its start-up self-test, and the program cache.
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <sstream>
 
+#include "cl/cache_proof.h"
 #include "cl/cl_error.h"
 #include "cl/device_impl.h"
 #include "cl/stderr_capture.h"
@@ -384,7 +387,24 @@ cl::Program Device::Impl::programFor(SubgroupBackend backend, const std::string&
   std::string text = sources.program(file);
   const std::string cacheKey =
       BinaryCache::key(info.platformName, info.name, info.driverVersion, options, text);
-  if (auto binary = binaries.load(cacheKey)) {
+  auto binary = binaries.load(cacheKey);
+  if (binary && !binaries.proven(cacheKey, *binary)) {
+    // a binary the driver wrote wrong (or a disk stored wrong) under a valid checksum can
+    // crash the driver: built in a child process first, once per entry
+    std::string why;
+    if (proveCachedProgram(info.platformIndex, info.deviceIndex, binaries.entryPath(cacheKey),
+                           cacheKey, options, why)) {
+      binaries.markProven(cacheKey, *binary);
+    } else {
+      binaries.remove(cacheKey);
+      binary.reset();
+      std::fprintf(stderr,
+                   "clhair: note: the cached program of %s (%s) failed its check: %s; removed, "
+                   "rebuilt from source\n",
+                   file.c_str(), binaries.entryPath(cacheKey).c_str(), why.c_str());
+    }
+  }
+  if (binary) {
     StderrCapture quiet;  // a driver refusing a binary may say so on stderr
     try {                 // a binary the driver does not take back is rebuilt from source below
       cl::Program cached(context, {device}, cl::Program::Binaries{*binary});
@@ -419,7 +439,20 @@ cl::Program Device::Impl::programFor(SubgroupBackend backend, const std::string&
   // every kernel of the program for any local size to write one).
   if (binaries.enabled()) try {
       const std::vector<std::vector<unsigned char>> bins = program.getInfo<CL_PROGRAM_BINARIES>();
-      if (bins.size() == 1) binaries.store(cacheKey, bins[0]);
+      if (bins.size() == 1) {
+        binaries.store(cacheKey, bins[0]);
+        // proven now, while the start pays a compile anyway, so that the next start finds
+        // it stamped (a binary that fails is not kept; this run has its program from source)
+        std::string why;
+        std::error_code ec;
+        // not stored (a full or read-only cache folder): nothing to prove
+        const bool stored = std::filesystem::is_regular_file(binaries.entryPath(cacheKey), ec);
+        if (stored && proveCachedProgram(info.platformIndex, info.deviceIndex,
+                                         binaries.entryPath(cacheKey), cacheKey, options, why))
+          binaries.markProven(cacheKey, bins[0]);
+        else if (stored)
+          binaries.remove(cacheKey);
+      }
     } catch (const cl::Error&) {  // a driver without binaries just compiles every time
     }
   std::lock_guard<std::mutex> lock(mutex_);

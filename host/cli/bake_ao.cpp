@@ -9,6 +9,7 @@
 #include "io/json_util.h"
 #include "io/safe_write.h"
 #include "options.h"
+#include "outputs.h"
 
 namespace clhair::cli {
 
@@ -20,7 +21,7 @@ CLI::App* addBakeAoCommand(CLI::App& app, BakeAoFlags& f) {
 }
 
 int cmdBakeAo(const DeviceOptions& opts, const std::string& groomPath, const std::string& out) {
-  checkOutputPath(out);
+  checkOutputs({{"-o", out, {".json"}, "hair-mesh (JSON)"}}, {{"the hair-mesh file", groomPath}});
   HairMesh mesh = loadHairMesh(groomPath);
   Device dev = Device::open(opts);
   Renderer renderer(dev);

@@ -16,6 +16,7 @@
 #include "io/json_util.h"
 #include "io/safe_write.h"
 #include "options.h"
+#include "outputs.h"
 
 namespace clhair::cli {
 
@@ -84,12 +85,19 @@ int cmdBakeVisibility(const DeviceOptions& opts, const std::string& scenePath,
     throw Error("--cell-stride must be 1 or more, not " + std::to_string(f.cellStride));
   if (!f.transmittanceOut.empty() && f.directions != "per-point")
     throw Error("--transmittance-out traces per-point directions, not --directions per-cell");
-  checkOutputPath(out);
-  if (!f.transmittanceOut.empty()) checkOutputPath(f.transmittanceOut);
+  checkOutputs({{"-o", out, {".clhvis"}, "baked visibility"},
+                {"--transmittance-out", f.transmittanceOut, {}, "transmittance table"}},
+               {{"the scene", scenePath}});
   VisibilityBakeStats st;
   BakePhaseTimer timer(&st);
   const Scene scene = loadScene(scenePath);
   timer.finish("scene");
+  // the files the scene names are known once it is read, before the bake
+  std::vector<NamedFile> inputs;
+  for (const std::string& file : scene.files) inputs.push_back({"a file the scene reads", file});
+  checkNotAnInput("-o", out, inputs);
+  if (!f.transmittanceOut.empty())
+    checkNotAnInput("--transmittance-out", f.transmittanceOut, inputs);
   if (groom < 0 || static_cast<std::size_t>(groom) >= scene.grooms.size())
     throw Error(scenePath + ": --groom " + std::to_string(groom) +
                 " does not exist, the scene has " + std::to_string(scene.grooms.size()) +

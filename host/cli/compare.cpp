@@ -11,6 +11,7 @@
 #include "commands.h"
 #include "io/json_util.h"
 #include "options.h"
+#include "outputs.h"
 
 namespace clhair::cli {
 
@@ -42,7 +43,11 @@ int cmdCompare(const std::string& pathA, const std::string& pathB, const Compare
   if (!(f.ppd >= kFlipMinPpd && f.ppd <= kFlipMaxPpd))
     throw Error("--ppd " + shortNumber(f.ppd) + " is outside " + shortNumber(kFlipMinPpd) + ".." +
                 shortNumber(kFlipMaxPpd) + " (FLIP's default viewing setup is 67)");
-  if (!f.errorMap.empty()) checkImageOutput(f.errorMap);  // before the work
+  if (!f.errorMap.empty()) {  // before the work
+    checkImageOutput(f.errorMap);
+    checkNotAnInput("--error-map", f.errorMap,
+                    {{"the reference image", pathA}, {"the test image", pathB}});
+  }
   Image a = readImage(pathA);
   Image b = readImage(pathB);
   requireSameSize(a, b, pathA, pathB);

@@ -15,10 +15,12 @@
 #include "io/cyhair.h"
 #include "io/json_util.h"
 #include "io/ply_strands.h"
+#include "io/regular_file.h"
 #include "io/safe_write.h"
 #include "io/tressfx.h"
 #include "io/usc_hair.h"
 #include "options.h"
+#include "outputs.h"
 
 namespace clhair::cli {
 
@@ -109,7 +111,8 @@ int cmdExport(const DeviceOptions& opts, const std::string& groomPath, const std
                 (ext.empty() ? std::string("has no extension to choose a strand format by")
                              : "no strand-file writer for extension \"" + ext + "\"") +
                 " (use .hair: cyHair, .data: USC-HairSalon, .tfx: TressFX 4.0, .ply: PLY)");
-  checkOutputPath(out);
+  checkOutputs({{"-o", out, {}, "strand file"}}, {{"the groom file", groomPath}});
+  { RegularFile groomFile(groomPath, "groom"); }  // named before the device opens
   Device dev = Device::open(opts);
   Renderer renderer(dev);
   CyHair h = exportSource(renderer, dev.info().maxAlloc, groomPath, groom);

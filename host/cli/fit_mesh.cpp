@@ -9,6 +9,7 @@
 #include "commands.h"
 #include "io/json_util.h"
 #include "options.h"
+#include "outputs.h"
 
 namespace clhair::cli {
 
@@ -29,17 +30,25 @@ CLI::App* addFitMeshCommand(CLI::App& app, FitMeshFlags& f) {
                   "take colours and fibre BSDF from this hair-mesh file (default: the strand "
                   "file's colours when it has them)");
   cmd->add_option("--fibre-width", f.options.fibreWidth,
-                  "fibre width (file units; default: the file's thickness, else 7e-5)");
+                  "fibre width (file units, 0..1 and at most a tenth of the median strand length; "
+                  "default: the file's thickness, else 7e-5)");
   cmd->add_option("--shape-weight", f.options.shapeWeight,
                   "weight of strand shape against root position when clustering (default 1)");
   cmd->add_option("--seed", f.options.seed, "the mesh's seed (default 1)");
   cmd->add_option("--error-sample", f.options.errorSample,
-                  "measure the distance of this many input strands, evenly spread (0: all)");
+                  "measure the distance of this many input strands, evenly spread (0: all; at most "
+                  "2^31)");
   cmd->add_flag("-q,--quiet", f.quiet, "print nothing on success");
   return cmd;
 }
 
 int cmdFitMesh(FitMeshFlags f) {
+  // before any work: the mesh and the report go to new files, neither is an input
+  checkOutputs({{"-o", f.output, {".json"}, "hair-mesh (JSON)"},
+                {"--report", f.report, {".json"}, "fit report (JSON)"}},
+               {{"the strand file", f.input},
+                {"the head mesh", f.head},
+                {"the appearance file", f.appearance}});
   TriangleMesh head;
   if (!f.head.empty()) {
     head = loadTriangleMesh(f.head);

@@ -9,6 +9,7 @@
 #include "io/json_util.h"
 #include "io/safe_write.h"
 #include "options.h"
+#include "outputs.h"
 
 namespace clhair::cli {
 
@@ -28,7 +29,7 @@ int cmdGroom(const GroomFlags& f) {
   if (f.strandsGiven && strands < 0)
     throw Error("--strands " + std::to_string(strands) +
                 " is negative; expected a strand count 0..50000000");
-  checkOutputPath(out);
+  checkOutputs({{"-o", out, {".json"}, "hair-mesh (JSON)"}}, {});
   HairMesh m = makeGroomPreset(preset);
   if (strands >= 0) m.strandCount = strands;
   saveHairMesh(m, out);

@@ -79,6 +79,12 @@ int main(int argc, char** argv) {
                  unknown.empty() ? oneLine(e.what()).c_str() : unknown.c_str());
     return 1;
   }
+  try {
+    checkFlagRules(app);
+  } catch (const Error& e) {
+    reportError(e.what(), "", verbose);
+    return 1;
+  }
   noteRenderFlagsGiven(*render, rf);
   gf.strandsGiven = groom->count("--strands") > 0;
   captureDriverOutput(true);  // a compiler's own lines go into an error's details

@@ -27,6 +27,10 @@ void addCameraOptions(CLI::App* cmd, int& width, int& height, std::string& camer
 void addQualityOptions(CLI::App* cmd, int& spp, std::string& shadowLod, std::string& quality,
                        std::string& shading);
 
+// The table of rules every given value meets before any work (flag_rules.cpp): none empty,
+// the numbers that size work within their documented range; throws the first failure.
+void checkFlagRules(const CLI::App& app);
+
 // --quality's value as RenderOptions::quality (0 draft, 1 good, 2 final); -1 when not given.
 int parseQualityFlag(const std::string& v);
 

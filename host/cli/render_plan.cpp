@@ -9,8 +9,10 @@
 #include "clhair/progressive.h"
 #include "clhair/temporal.h"
 #include "io/json_util.h"
+#include "io/regular_file.h"
 #include "io/safe_write.h"
 #include "options.h"
+#include "outputs.h"
 #include "render.h"
 
 namespace clhair::cli {
@@ -54,6 +56,8 @@ RenderPlan planRender(const DeviceOptions& opts, const std::string& scenePath,
     throw Error("--views \"" + f.views + "\": expected all or view names");
   checkWriteFlags(f.write);
   checkImageFormat(out);  // -o x.xyz: refused before any work (folders: once the views are known)
+  checkNotAnInput("-o", framePath(out, frames[0]), {{"the scene", scenePath}});
+  { RegularFile scene(scenePath, "scene"); }  // a missing scene is named before the device opens
   // the device first: strand files are checked against its largest allocation as they load
   Device dev = Device::open(opts);
   Scene scene = loadScene(scenePath, dev.info().maxAlloc);
@@ -68,6 +72,14 @@ RenderPlan planRender(const DeviceOptions& opts, const std::string& scenePath,
   if (several && f.reference)
     throw Error("--reference renders one view; choose one with --views NAME");
   for (const View& v : views) checkOutputPath(framePath(viewPath(out, v.name, several), frames[0]));
+  {  // no frame of any view writes over a file the scene reads (strands, images, meshes)
+    std::vector<NamedFile> files;
+    for (const std::string& file : scene.files) files.push_back({"a file the scene reads", file});
+    const InputFiles inputs(files);
+    for (const View& v : views)
+      for (long long frame : frames)
+        inputs.check("-o", framePath(viewPath(out, v.name, several), frame));
+  }
   if (f.widthGiven || f.heightGiven) {
     int w = f.widthGiven ? width : scene.width, h = f.heightGiven ? height : scene.height;
     if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)

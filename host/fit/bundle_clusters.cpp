@@ -17,13 +17,24 @@ namespace {
 
 constexpr int kIterations = 6;
 
+// The two cell coordinates' bit patterns side by side (unsigned: a negative x shifted left is
+// undefined before C++20).
 std::int64_t cellKey(int x, int y) {
-  return (static_cast<std::int64_t>(x) << 32) ^ static_cast<std::uint32_t>(y);
+  const std::uint64_t key = static_cast<std::uint64_t>(static_cast<std::uint32_t>(x)) << 32 |
+                            static_cast<std::uint32_t>(y);
+  return static_cast<std::int64_t>(key);
+}
+
+// A lattice coordinate, clamped to what an int holds (a spacing far below the roots' spread
+// would otherwise convert a value beyond the int range).
+int cellCoordinate(float offset, float h) {
+  const double c = std::floor(static_cast<double>(offset) / static_cast<double>(h));
+  constexpr double kMost = 1 << 30;
+  return static_cast<int>(std::clamp(c, -kMost, kMost));
 }
 
 glm::ivec2 cellOf(const glm::vec2& p, const glm::vec2& lo, float h) {
-  return glm::ivec2(static_cast<int>(std::floor((p.x - lo.x) / h)),
-                    static_cast<int>(std::floor((p.y - lo.y) / h)));
+  return glm::ivec2(cellCoordinate(p.x - lo.x, h), cellCoordinate(p.y - lo.y, h));
 }
 
 std::size_t occupiedCells(const std::vector<glm::vec2>& pts, const glm::vec2& lo, float h) {

@@ -98,6 +98,14 @@ FitResult fitHairMesh(const StrandGroom& groom, const FitOptions& opt) {
   // 1. input
   fit::FitStrands s = fit::prepareFitStrands(groom, kFitSamples, opt.fibreWidth, threads);
   const std::size_t n = s.count();
+  // a fibre wider than a tenth of a typical strand is no hair (and sizes the cage's quads
+  // and the error's search beyond the groom: fit-mesh --fibre-width 1e30)
+  if (!(s.fibreWidth <= 0.1 * s.medianLength) && s.medianLength > 0.0)
+    throw Error("fibre width " + std::to_string(s.fibreWidth) +
+                " is more than a tenth of the "
+                "median strand length " +
+                std::to_string(s.medianLength) +
+                (opt.fibreWidth > 0.0f ? " (--fibre-width)" : " (the strand file's thickness)"));
   rep.fibreWidth = s.fibreWidth;
   rep.strandsIn = n;
   rep.lengthIn = fit::lengthStats(s.length);

@@ -201,6 +201,9 @@ PlyStrands readPlyStrands(const std::string& path, std::uint64_t maxBytes) {
     if (most > 0) f.read(head.data(), head.size(), "the header");
     header.assign(head.begin(), head.end());
   }
+  if (header == "ply" || header == "ply\r")
+    throw Error(path + ": ends after its PLY signature \"ply\": no header follows (truncated, " +
+                "is it complete?)");
   if (header.compare(0, 3, "ply") != 0 || header.size() < 4 ||
       (header[3] != '\n' && header[3] != '\r'))
     throw Error(path + ": starts with \"" +
@@ -338,9 +341,10 @@ PlyStrands readPlyStrands(const std::string& path, std::uint64_t maxBytes) {
                  ? 2
                  : static_cast<std::uint64_t>(typeBytes(p.list ? p.countType : p.type));
     if (per > 0 && e.count > (left - std::min(left, least)) / per + (fmt == Format::Ascii ? 1 : 0))
-      throw Error(path + ": truncated: the header says " + std::to_string(e.count) + " " + e.name +
-                  " elements, which need at least " + std::to_string(e.count * per) +
-                  " bytes, but " + std::to_string(left) + " bytes follow the header");
+      throw Error(path + ": truncated, the file is cut short: the header says " +
+                  std::to_string(e.count) + " " + e.name + " elements, which need at least " +
+                  std::to_string(e.count * per) + " bytes, but " + std::to_string(left) +
+                  " bytes follow the header");
     least += per * e.count;
   }
   const std::uint64_t V = vertex->count;
@@ -370,6 +374,8 @@ PlyStrands readPlyStrands(const std::string& path, std::uint64_t maxBytes) {
     }
     if (isStrand) counts.reserve(static_cast<std::size_t>(e.count));
     if (isEdge) next.assign(static_cast<std::size_t>(V), 0);
+    // an element without properties takes no bytes, however many it declares: skipped whole
+    if (e.props.empty()) continue;
     for (std::uint64_t i = 0; i < e.count; ++i) {
       auto what = [&] { return e.name + " " + std::to_string(i); };
       double edgeFirst = 0.0;  // the edge's first-listed vertex of vertex1, vertex2

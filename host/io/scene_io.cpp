@@ -23,6 +23,32 @@ namespace clhair {
 using nlohmann::json;
 using namespace scene_io;
 
+namespace {
+
+// Every file a scene names ("file", "strands_file", "background_image", at any depth), as the
+// readers resolve it: relative to the scene's folder. Frame patterns ("bob.####.hair") stay
+// patterns.
+void collectFiles(const json& j, const std::filesystem::path& base, std::vector<std::string>& out) {
+  if (j.is_array()) {
+    for (const json& e : j) collectFiles(e, base, out);
+    return;
+  }
+  if (!j.is_object()) return;
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    const std::string& k = it.key();
+    if ((k == "file" || k == "strands_file" || k == "background_image") && it.value().is_string() &&
+        !it.value().get<std::string>().empty()) {
+      std::filesystem::path p = it.value().get<std::string>();
+      if (!p.is_absolute()) p = base / p;
+      out.push_back(p.lexically_normal().string());
+    } else {
+      collectFiles(it.value(), base, out);
+    }
+  }
+}
+
+}  // namespace
+
 Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
   json root = readJsonFile(path, "scene");
   JsonReader r(path, root);
@@ -62,6 +88,8 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
                    "lights",         "spheres",     "planes",      "meshes",           "grooms",
                    "shadows",        "filter",      "environment", "background_image", "frame_rate",
                    "segment_budget", "max_strands", "raster",      "temporal",         "quality"});
+  s.files.push_back(path);
+  collectFiles(root, base, s.files);
   return s;
 }
 

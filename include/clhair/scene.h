@@ -305,6 +305,9 @@ struct Scene {
   std::vector<std::string> warnings;
   // What loading chose for the scene (one line each, e.g. a "scale": "auto" factor).
   std::vector<std::string> notes;
+  // Every file the scene named and loading read (strand and hair-mesh files, meshes, images,
+  // baked visibility, animation caches): the inputs a command must not write over.
+  std::vector<std::string> files;
 };
 
 // Frames the world bounds of all grooms and meshes together (the grooms at 60 / 20 / 5 %

@@ -1,4 +1,4 @@
-// test_view_notes.cpp — the notes a scene gets before it renders (clhair/scene.h, viewNotes):
+// test_view_notes.cpp — the notes a scene gets before it renders (host/io/view_notes.h):
 // a sparse groom of fibres far thinner than a pixel is named, with the key that makes it
 // visible ("min_hit_diameter_px"), and that key does make it cover at least 1 % of a
 // 640x480 frame; a dense groom gets no note; a scene without lights gets one line.
@@ -12,6 +12,7 @@
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
 #include "io/cyhair.h"
+#include "io/view_notes.h"
 #include "test_util.h"
 
 namespace clhair {
@@ -40,13 +41,11 @@ void writeCap(const std::string& path, int strands) {
   writeCyHair(h, path);
 }
 
-std::string sceneText(const std::string& file, const std::string& appearance,
-                      bool lights = true) {
+std::string sceneText(const std::string& file, const std::string& appearance, bool lights = true) {
   return std::string("{\"resolution\": [640, 480], \"camera\": {\"preset\": \"close\"}, ") +
          (lights ? "\"lights\": [{\"type\": \"directional\", \"direction\": [0.3, 0.8, 0.5]}], "
                  : "") +
-         "\"grooms\": [{\"strands_file\": \"" + file + "\", \"appearance\": " + appearance +
-         "}]}";
+         "\"grooms\": [{\"strands_file\": \"" + file + "\", \"appearance\": " + appearance + "}]}";
 }
 
 std::size_t countWith(const std::vector<std::string>& notes, const std::string& what) {

@@ -18,6 +18,7 @@
 #include "io/draw_warnings.h"
 #include "io/json_util.h"
 #include "io/safe_write.h"
+#include "io/view_notes.h"
 #include "render.h"
 
 namespace clhair::cli {

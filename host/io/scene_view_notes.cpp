@@ -1,5 +1,5 @@
 // scene_view_notes.cpp — what a scene will look like that its author may not expect, said
-// before the render as note lines (clhair/scene.h, viewNotes): a strand-file groom whose
+// before the render as note lines (view_notes.h): a strand-file groom whose
 // fibres are far thinner than a pixel and whose drawn hair covers a small share of its
 // screen box (it draws as a faint ghost; the note names "min_hit_diameter_px"), and a scene
 // without lights (the hair is lit by the ambient term alone).
@@ -17,7 +17,7 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
-#include "clhair/scene.h"
+#include "io/view_notes.h"
 
 namespace clhair {
 

@@ -323,13 +323,6 @@ CameraPreset parseCameraPreset(const std::string& name);
 // large (over 50 units across), or that covers less than a pixel of the image.
 std::vector<std::string> viewWarnings(const Scene& scene, const std::string& where);
 
-// Notes about how the scene will look (host/io/scene_view_notes.cpp), one line each starting
-// with `where`: a strand-file groom (without "min_hit_diameter_px" or file thicknesses) whose
-// fibres are under a quarter of a pixel wide and whose hair covers under 5 % of its screen
-// box, so that it draws faint (the line names "min_hit_diameter_px"); a scene with grooms
-// and neither lights nor an environment.
-std::vector<std::string> viewNotes(const Scene& scene, const std::string& where);
-
 // Largest accepted image side; larger requests are refused as absurd.
 constexpr int kMaxImageSide = 16384;
 

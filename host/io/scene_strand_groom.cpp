@@ -18,6 +18,7 @@
 
 #include "clhair/error.h"
 #include "io/appearance_io.h"
+#include "io/auto_scale.h"
 #include "io/enum_field.h"
 #include "io/scene_sections.h"
 
@@ -65,20 +66,6 @@ std::shared_ptr<StrandFrames> findStrandFrames(const JsonReader& o, const std::s
     o.fail("strands_file", "no file matches \"" + pattern +
                                "\" (the '#' run stands for a frame number, zero-padded)");
   return frames;
-}
-
-// "scale": "auto": the factor that makes the roots' largest extent (file units, all the
-// scene's "auto" grooms together) a human head's hair line, kAutoRootExtent metres; 1 when
-// the roots have no extent.
-constexpr float kAutoRootExtent = 0.18f;
-
-void addRoots(const StrandGroom& g, glm::vec3& lo, glm::vec3& hi) {
-  std::size_t at = 0;
-  for (std::uint32_t n : g.pointCounts) {
-    lo = glm::min(lo, g.points[at]);
-    hi = glm::max(hi, g.points[at]);
-    at += n;
-  }
 }
 
 // The entry's strand file as a path key: "bob.####.hair" stands for its first frame, whose
@@ -258,12 +245,11 @@ float sceneAutoScale(const JsonReader& r, const std::filesystem::path& base, std
                .emplace(key, std::make_shared<const StrandGroom>(
                                  readStrandFile(o, key, maxBytes, warnings)))
                .first;
-    addRoots(*it->second, lo, hi);
+    addRootBounds(*it->second, lo, hi);
   }
   if (files.empty()) return 0.0f;
-  const glm::vec3 e = hi - lo;
-  const float extent = std::max(e.x, std::max(e.y, e.z));
-  const float factor = extent > 0.0f ? kAutoRootExtent / extent : 1.0f;
+  float extent = 0.0f;
+  const float factor = autoScaleFactor(lo, hi, &extent);
   std::string names = std::filesystem::path(files[0]).filename().string();
   for (std::size_t k = 1; k < files.size() && k < 4; ++k)
     names += ", " + std::filesystem::path(files[k]).filename().string();

@@ -19,7 +19,7 @@ namespace {
 
 // The patch's strands (0.1 m across) written in file units of `unit` metres.
 void writePatch(const std::string& path, float unit) {
-  PatchShape shape;
+  test::PatchShape shape;
   shape.cells = 4;
   const StrandGroom g = test::strandsOf(test::patchMesh(shape));
   CyHair h;

@@ -110,6 +110,14 @@ int cmdFitMesh(FitMeshFlags f) {
   const float scale = toMetres(groom, f.scale, f.input);
   for (glm::vec3& p : head.positions) p *= scale;  // the head is in the strand file's units
   FitResult r = fitHairMesh(groom, f.options);
+  // a TressFX file draws its runtime's follow hairs around each guide (as a scene does):
+  // the mesh grows as many strands as the file draws
+  if (lowerExtension(f.input) == ".tfx" && r.mesh.strandCount > 0) {
+    r.mesh.strandCount *= 1 + static_cast<std::int64_t>(kTressFxFollowHairs);
+    r.report.notes.push_back("the TressFX file draws " + std::to_string(kTressFxFollowHairs) +
+                             " follow hairs per guide: the mesh grows " +
+                             std::to_string(r.mesh.strandCount) + " strands");
+  }
   if (!f.appearance.empty()) {
     const float width = r.mesh.appearance.strandWidth;
     r.mesh.appearance = look.appearance;

@@ -7,7 +7,7 @@ Writes into OUT_DIR:
   strand.ply           the same without the edge element
   edge.ply             the same without the strand element
   twin.hair            the same strands in cyHair (colours linear: the 8-bit sRGB decoded)
-  layouts.json         a scene drawing the four side by side (each shifted along x)
+  NAME.json            for each file, a scene drawing it (the same camera and lights)
 The headers are hapPLY's byte for byte: "format binary_little_endian 1.0", its comment line
 "Written with hapPLY (https://github.com/nmwsharp/happly)", elements and properties in the
 order written, "end_header". With --seeds, also the broken twins (an edge missing inside a
@@ -15,8 +15,11 @@ strand, a count of an unknown name) and small files for the fuzzer's seed corpus
 
   scripts/make-ply-layouts.py OUT_DIR [--strands N] [--points P] [--seeds]
 
-The contact sheet in docs/images/ply_layouts_sheet.png:
-  scripts/make-ply-layouts.py build/ply && build/clhair render build/ply/layouts.json \
+The contact sheet in docs/images/ply_layouts_sheet.png (left to right: strand_and_edge,
+strand, edge, twin):
+  d=build/ply; scripts/make-ply-layouts.py $d
+  for n in strand_and_edge strand edge twin; do build/clhair render $d/$n.json -o $d/$n.png; done
+  oiiotool $d/strand_and_edge.png $d/strand.png $d/edge.png $d/twin.png --mosaic 4x1 \
       -o docs/images/ply_layouts_sheet.png
 Pure Python (struct, math): no numpy needed.
 """
@@ -99,18 +102,15 @@ def main():
     for name, kw in files.items():
         write(os.path.join(a.out, name), happly(xyz, rgb, a.points, **kw)[0])
     write(os.path.join(a.out, "twin.hair"), cyhair(xyz, rgb, a.points))
-    grooms = []
-    for i, name in enumerate(list(files) + ["twin.hair"]):
-        x = 0.2 * (i - 1.5)
-        grooms.append({"strands_file": name, "name": name,
-                       "transform": {"translate": [x, 0, 0]}})
-    scene = {"resolution": [800, 240], "background": [0.06, 0.06, 0.07],
-             "ambient": [0.12, 0.12, 0.13],
-             "camera": {"position": [0, 0.0, 0.62], "target": [0, 0.0, 0], "fov": 45},
-             "lights": [{"type": "directional", "direction": [0.4, 0.8, 0.6], "intensity": 2.6}],
-             "grooms": grooms}
-    with open(os.path.join(a.out, "layouts.json"), "w") as f:
-        json.dump(scene, f, indent=1)
+    for name in list(files) + ["twin.hair"]:
+        scene = {"resolution": [240, 240], "background": [0.06, 0.06, 0.07],
+                 "ambient": [0.12, 0.12, 0.13],
+                 "camera": {"position": [0, 0.02, 0.5], "target": [0, 0.02, 0], "fov": 40},
+                 "lights": [{"type": "directional", "direction": [0.4, 0.8, 0.6],
+                             "intensity": 2.6}],
+                 "grooms": [{"strands_file": name, "appearance": {"min_hit_diameter_px": 1}}]}
+        with open(os.path.join(a.out, name.split(".")[0] + ".json"), "w") as f:
+            json.dump(scene, f, indent=1)
     if a.seeds:
         small_xyz, small_rgb = strands(3, 4)
         for name, kw in files.items():

@@ -21,7 +21,9 @@ namespace {
 void writePatch(const std::string& path, float unit) {
   test::PatchShape shape;
   shape.cells = 4;
-  const StrandGroom g = test::strandsOf(test::patchMesh(shape));
+  HairMesh mesh = test::patchMesh(shape);
+  mesh.strandCount = 1500;  // enough for 8 bundles, quick to fit
+  const StrandGroom g = test::strandsOf(mesh);
   CyHair h;
   for (std::uint32_t c : g.pointCounts) h.segments.push_back(c - 1);
   for (const glm::vec3& p : g.points)

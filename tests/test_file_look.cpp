@@ -219,6 +219,79 @@ TEST(ScaleAuto, TheUnitsWarningSuggestsIt) {
   EXPECT_NE(w[0].find("\"auto\""), std::string::npos) << w[0];
 }
 
+// A groom of four files in one space (a ponytail's back, front, side and tail, the tail's
+// roots in a small patch): "auto" takes one factor from all their roots together, so it draws
+// as with the number that puts those roots at 0.18 m (hair masks' IoU at least 0.99), where a
+// factor per file would scale the tail several times larger; one note line gives the factor.
+TEST(ScaleAuto, AGroomOfSeveralFilesSharesOneFactor) {
+  const std::string dir = test::scratchDir();
+  const char* parts[] = {"back", "front", "side", "tail"};
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (int i = 0; i < 4; ++i) {
+    CyHair h = centimetreGroom(40, false);
+    for (std::size_t p = 0; p < h.points.size(); p += 3) {
+      // back, front and side: discs around the head; the tail: 1.5 cm patch below the back
+      const float sx = i == 3 ? 0.08f : 1.0f;
+      h.points[p] = h.points[p] * sx + (i == 2 ? 6.0f : 0.0f);
+      h.points[p + 2] = h.points[p + 2] * sx + (i == 0 ? -6.0f : i == 1 ? 6.0f : 0.0f);
+      if (i == 3) {
+        h.points[p + 1] -= 4.0f;
+        h.points[p + 2] -= 8.0f;
+      }
+    }
+    for (std::size_t s = 0; s < h.segments.size(); ++s) {
+      const glm::vec3 r(h.points[s * 36], h.points[s * 36 + 1], h.points[s * 36 + 2]);
+      lo = glm::min(lo, r);
+      hi = glm::max(hi, r);
+    }
+    writeCyHair(h, dir + "/" + parts[i] + ".hair");
+  }
+  const glm::vec3 ext = hi - lo;
+  const float factor = 0.18f / std::max(ext.x, std::max(ext.y, ext.z));
+  auto scene = [&](const std::string& scale) {
+    std::string grooms;
+    for (const char* p : parts)
+      grooms += std::string(grooms.empty() ? "" : ", ") + "{\"strands_file\": \"" + p +
+                ".hair\", \"scale\": " + scale + "}";
+    writeText(dir + "/p.json",
+              "{\"resolution\": [160, 120], \"camera\": {\"preset\": \"mid\"}, "
+              "\"grooms\": [" +
+                  grooms + "]}");
+    return loadScene(dir + "/p.json");
+  };
+  const Scene a = scene("\"auto\""), n = scene(std::to_string(factor));
+  EXPECT_NEAR(a.grooms[3].transform[0][0], factor, 1e-4f * factor) << "the tail's factor";
+  ASSERT_EQ(a.notes.size(), 1u);
+  EXPECT_NE(a.notes[0].find("4 files"), std::string::npos) << a.notes[0];
+  char f[32];
+  std::snprintf(f, sizeof(f), "%g", static_cast<double>(a.grooms[0].transform[0][0]));
+  EXPECT_NE(a.notes[0].find(f), std::string::npos) << a.notes[0];
+  Renderer r(test::sharedDevice());
+  const Image ia = r.render(a, RenderOptions{}).color, in = r.render(n, RenderOptions{}).color;
+  std::size_t both = 0, either = 0;
+  for (std::size_t i = 3; i < ia.rgba.size(); i += 4) {
+    const bool ma = ia.rgba[i] > 0.05f, mn = in.rgba[i] > 0.05f;
+    both += ma && mn;
+    either += ma || mn;
+  }
+  ASSERT_GT(either, 200u) << "the groom covers some pixels";
+  EXPECT_GE(static_cast<double>(both) / static_cast<double>(either), 0.99);
+  // a groom that names its number keeps it; the others still share the factor
+  writeText(dir + "/m.json",
+            "{\"grooms\": [{\"strands_file\": \"back.hair\", \"scale\": \"auto\"}, "
+            "{\"strands_file\": \"tail.hair\", \"scale\": 0.5}]}");
+  const Scene m = loadScene(dir + "/m.json");
+  EXPECT_FLOAT_EQ(m.grooms[1].transform[0][0], 0.5f);
+  // the broken twin: a misspelt "auto" is one error line naming the entry
+  writeText(dir + "/b.json",
+            "{\"grooms\": [{\"strands_file\": \"back.hair\", \"scale\": \"auto\"}, "
+            "{\"strands_file\": \"tail.hair\", \"scale\": \"Auto\"}]}");
+  const std::string e = test::errorOf([&] { loadScene(dir + "/b.json"); });
+  EXPECT_NE(e.find("grooms[1]"), std::string::npos) << e;
+  EXPECT_NE(e.find("\"auto\""), std::string::npos) << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+}
+
 // A small groom on a large head: the close preset frames both, so no mesh vertex falls off
 // the image.
 TEST(CameraPresets, FrameTheMeshesWithTheGrooms) {

@@ -83,6 +83,7 @@ int cmdCompare(const std::string& pathA, const std::string& pathB, const Compare
 
 struct FitMeshFlags {
   std::string input, output, report, head, appearance;
+  std::string scale;  // --scale: a number or "auto"; empty: 1 (the file is in metres)
   FitOptions options;
   bool quiet = false;
 };

@@ -18,8 +18,9 @@
 //                [--bundles N] [--layers L] [--report R.json] [--head MESH.obj]
 //
 // Global options choose the device (--device, CLHAIR_DEVICE), force a sub-group backend
-// (--subgroup, CLHAIR_SUBGROUP) or read kernels from a source tree (--kernel-dir,
-// CLHAIR_KERNEL_DIR). Any failure prints one line "clhair: error: ..." and exits 1;
+// (--subgroup, CLHAIR_SUBGROUP), read kernels from a source tree (--kernel-dir,
+// CLHAIR_KERNEL_DIR) or print an error's details (--verbose); they go before or after the
+// subcommand. Any failure prints one line "clhair: error: ..." and exits 1;
 // output files are only written when the work completed.
 //
 // This file builds the command line from the subcommands' files (commands.h, render.h; the
@@ -45,6 +46,9 @@ using namespace clhair::cli;
 int main(int argc, char** argv) {
   CLI::App app{"clhair: real-time strand hair rendering on OpenCL"};
   app.require_subcommand(1);
+  // the global options may follow the subcommand too (`clhair render s.json --device 1:0`):
+  // a subcommand hands the options it does not know to the whole command
+  app.fallthrough();
   DeviceOptions opts;
   addDeviceOptions(app, opts);
   bool verbose = false;

@@ -18,6 +18,7 @@
 #include "io/draw_warnings.h"
 #include "io/json_util.h"
 #include "io/safe_write.h"
+#include "io/view_notes.h"
 #include "render.h"
 
 namespace clhair::cli {
@@ -265,9 +266,12 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     } else {
       if (!views[0].relative || views[0].offset != glm::vec3(0.0f))
         still.camera = viewCamera(still, views[0]);
-      if (rendered == 0 && inFlight.empty())
+      if (rendered == 0 && inFlight.empty()) {
         for (const std::string& w : viewWarnings(still, scenePath))
           std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
+        for (const std::string& n : viewNotes(still, scenePath))
+          std::fprintf(stderr, "clhair: note: %s\n", n.c_str());
+      }
       // motion goes to the previous frame; frames 1 and before (a shot's first) have none, so
       // they are their own previous frame and their motion is zero
       if (ro.aovs) {

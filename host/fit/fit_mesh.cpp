@@ -195,6 +195,14 @@ FitResult fitHairMesh(const StrandGroom& groom, const FitOptions& opt) {
   m.appearance = groom.appearance;
   m.appearance.useFileColor = false;
   m.appearance.strandWidth = s.fibreWidth;
+  // the file's transparency: strand files draw a fibre (1 - t) times as wide (its share of
+  // a pixel's coverage), hair meshes have no transparency, so the width carries it
+  if (!groom.transparency.empty()) {
+    double t = 0.0;
+    for (float v : groom.transparency) t += static_cast<double>(v);
+    t /= static_cast<double>(groom.transparency.size());
+    m.appearance.strandWidth *= static_cast<float>(1.0 - std::min(std::max(t, 0.0), 0.99));
+  }
   glm::vec3 rootColour, tipColour;
   if (fileColours(groom, rootColour, tipColour)) {
     m.appearance.rootColor = rootColour;

@@ -11,10 +11,12 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "clhair/error.h"
 #include "io/binary_file.h"
+#include "io/ply_layout.h"
 #include "io/ply_strands.h"
 
 namespace clhair {
@@ -309,27 +311,37 @@ PlyStrands readPlyStrands(const std::string& path, std::uint64_t maxBytes) {
     throw Error(path + ": has neither an \"element strand\" (a segment or vertex count per " +
                 "strand) nor an \"element edge\" (vertex1, vertex2): is it a mesh or a point " +
                 "cloud rather than strands?");
-  if (strand && edge)
-    throw Error(path + ": has both a strand and an edge element; give one of them");
+  // the count: a scalar integer property named as ply_layout.h lists (others are skipped)
   int countProp = -1;
   bool countsSegments = false;
   if (strand) {
-    if (strand->props.size() != 1 || strand->props[0].list || strand->props[0].type == Type::F32 ||
-        strand->props[0].type == Type::F64)
-      throw Error(path + ": the " + strand->name + " element must have one integer property, " +
-                  "segment_count or vertex_count");
-    const std::string& n = strand->props[0].name;
-    if (n == "segment_count" || n == "segments")
-      countsSegments = true;
-    else if (n != "vertex_count" && n != "point_count")
-      throw Error(path + ": the " + strand->name + " element's property is \"" + n +
-                  "\", expected segment_count or vertex_count");
-    countProp = 0;
+    for (std::size_t k = 0; k < strand->props.size() && countProp < 0; ++k)
+      if (plyCountKind(strand->props[k].name) != PlyCountKind::Unknown)
+        countProp = static_cast<int>(k);
+    if (countProp < 0) {
+      std::string names;
+      for (const Prop& p : strand->props) names += (names.empty() ? "" : ", ") + p.name;
+      throw Error(path + ": the " + strand->name + " element's properties (" +
+                  (names.empty() ? "none" : names) + ") hold no count; expected one named for " +
+                  plyCountNames());
+    }
+    const Prop& c = strand->props[static_cast<std::size_t>(countProp)];
+    if (c.list || c.type == Type::F32 || c.type == Type::F64)
+      throw Error(path + ": the " + strand->name + " element's " + c.name +
+                  " must be a scalar integer (uchar to uint32), not a list or a float");
+    countsSegments = plyCountKind(c.name) == PlyCountKind::Segments;
   }
-  const int pv1 = edge ? findProp(edge, "vertex1") : -1,
-            pv2 = edge ? findProp(edge, "vertex2") : -1;
-  if (edge && (pv1 < 0 || pv2 < 0 || edge->props[pv1].list || edge->props[pv2].list))
-    throw Error(path + ": the edge element needs scalar vertex1 and vertex2 properties");
+  // the edge's two vertices: vertex1 and vertex2, else its only two properties
+  int pv1 = edge ? findProp(edge, "vertex1") : -1, pv2 = edge ? findProp(edge, "vertex2") : -1;
+  if (edge && (pv1 < 0 || pv2 < 0) && edge->props.size() == 2) {
+    pv1 = 0;
+    pv2 = 1;
+  }
+  if (edge && (pv1 < 0 || pv2 < 0 || edge->props[pv1].list || edge->props[pv2].list ||
+               edge->props[pv1].type == Type::F32 || edge->props[pv1].type == Type::F64 ||
+               edge->props[pv2].type == Type::F32 || edge->props[pv2].type == Type::F64))
+    throw Error(path + ": the edge element needs two scalar integer vertex properties " +
+                "(vertex1 and vertex2)");
 
   // sizes before allocating: every element's least size against the bytes left
   const std::uint64_t left = f.size() - end;
@@ -348,7 +360,8 @@ PlyStrands readPlyStrands(const std::string& path, std::uint64_t maxBytes) {
     least += per * e.count;
   }
   const std::uint64_t V = vertex->count;
-  const std::uint64_t memory = V * (colours ? 24 : 12) + 4 * (strand ? strand->count : V);
+  const std::uint64_t memory =
+      V * (colours ? 24 : 12) + 4 * (strand ? strand->count : V) + (edge ? V : 0);
   const std::uint64_t limit =
       std::min<std::uint64_t>(maxBytes, std::numeric_limits<std::size_t>::max());
   if (memory > limit)
@@ -437,7 +450,7 @@ PlyStrands readPlyStrands(const std::string& path, std::uint64_t maxBytes) {
     }
   }
 
-  // strands from the counts or the edges
+  // strands from the counts (checked against the edges when both are given) or the edges
   std::vector<std::uint32_t> pointsPer;
   if (strand) {
     std::uint64_t sum = 0;
@@ -445,17 +458,10 @@ PlyStrands readPlyStrands(const std::string& path, std::uint64_t maxBytes) {
     if (sum != V)
       throw Error(path + ": the " + strand->name + " counts add up to " + std::to_string(sum) +
                   " vertices, but the file has " + std::to_string(V));
-    pointsPer = counts;
+    if (edge && edge->count > 0) plyCheckEdgesAgree(counts, next, path, strand->name);
+    pointsPer = std::move(counts);
   } else {
-    std::uint32_t run = 1;
-    for (std::uint64_t i = 0; i < V; ++i) {
-      if (i + 1 < V && next[static_cast<std::size_t>(i)]) {
-        ++run;
-        continue;
-      }
-      pointsPer.push_back(run);
-      run = 1;
-    }
+    pointsPer = plyStrandsFromEdges(next);
   }
   std::uint64_t at = 0;
   for (std::uint32_t n : pointsPer) {

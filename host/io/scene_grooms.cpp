@@ -105,7 +105,9 @@ float readGrooms(const JsonReader& r, const std::string& path, const std::filesy
   std::map<std::string, std::shared_ptr<const StrandGroom>> loadedStrands, strandVariants;
   const auto sceneCap = static_cast<std::uint64_t>(r.integer64("max_strands", 0, 0, 50'000'000));
   std::map<std::string, std::shared_ptr<const VisibilityBake>> loadedVisibility;
-  float autoScale = 0.0f;  // the first "scale": "auto" groom's factor (meshes may take it)
+  // one "scale": "auto" factor for every groom (and mesh) that asks for it
+  const float autoScale =
+      sceneAutoScale(r, base, maxStrandBytes, loadedStrands, s.warnings, s.notes);
   if (!r.has("grooms")) return autoScale;
   const json& a = r.require("grooms");
   if (!a.is_array()) r.fail("grooms", "must be an array");
@@ -118,7 +120,7 @@ float readGrooms(const JsonReader& r, const std::string& path, const std::filesy
     if (o.has("strands_file")) {
       s.grooms.push_back(readStrandGroom(o, base, s.filter, maxStrandBytes, loadedStrands,
                                          strandVariants, loadedVisibility, sceneCap, s.warnings,
-                                         s.notes, autoScale));
+                                         autoScale));
       continue;
     }
     std::string file = o.string("file", "");

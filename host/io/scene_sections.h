@@ -86,8 +86,15 @@ GroomInstance readStrandGroom(
     std::uint64_t maxBytes, std::map<std::string, std::shared_ptr<const StrandGroom>>& loaded,
     std::map<std::string, std::shared_ptr<const StrandGroom>>& variants,
     std::map<std::string, std::shared_ptr<const VisibilityBake>>& loadedVisibility,
-    std::uint64_t sceneCap, std::vector<std::string>& warnings, std::vector<std::string>& notes,
-    float& autoScale);
+    std::uint64_t sceneCap, std::vector<std::string>& warnings, float autoScale);
+
+// "scale": "auto" for the whole scene (scene_strand_groom.cpp): one factor from the roots of
+// every strand-file groom entry with "auto" together, so the files of one groom (a ponytail's
+// back, front, sides and tail) stay together; their files are read once into `loaded`. One
+// note line names the files and the factor. 0 when no entry has "auto".
+float sceneAutoScale(const JsonReader& r, const std::filesystem::path& base, std::uint64_t maxBytes,
+                     std::map<std::string, std::shared_ptr<const StrandGroom>>& loaded,
+                     std::vector<std::string>& warnings, std::vector<std::string>& notes);
 
 // A groom entry's "visibility": {"file": a baked visibility file, "absorption"}, read once
 // per file and checked against the groom it was baked for (`strands` at full detail).

@@ -18,6 +18,7 @@
 
 #include "clhair/error.h"
 #include "io/appearance_io.h"
+#include "io/auto_scale.h"
 #include "io/enum_field.h"
 #include "io/scene_sections.h"
 
@@ -67,21 +68,40 @@ std::shared_ptr<StrandFrames> findStrandFrames(const JsonReader& o, const std::s
   return frames;
 }
 
-// "scale": "auto": the factor that makes the roots' largest extent (file units) a human
-// head's hair line, kAutoRootExtent metres; 1 when the roots have no extent.
-constexpr float kAutoRootExtent = 0.18f;
-
-float autoScaleFactor(const StrandGroom& g, float* extent) {
-  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  std::size_t at = 0;
-  for (std::uint32_t n : g.pointCounts) {
-    lo = glm::min(lo, g.points[at]);
-    hi = glm::max(hi, g.points[at]);
-    at += n;
+// The entry's strand file as a path key: "bob.####.hair" stands for its first frame, whose
+// frames `frames` receives. Fails when the file does not exist.
+std::string strandFileKey(const JsonReader& o, const std::filesystem::path& base,
+                          std::uint64_t maxBytes, std::shared_ptr<StrandFrames>* frames) {
+  const std::string file = o.string("strands_file", "");
+  if (file.empty()) o.fail("strands_file", "is empty: name a .hair, .data or .tfx strand file");
+  std::filesystem::path p =
+      std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;
+  std::string key = p.lexically_normal().string();
+  if (framePath(key, 0) != key) {
+    *frames = findStrandFrames(o, key, maxBytes);
+    key = framePath(key, (*frames)->first);
+    p = key;
   }
-  const glm::vec3 e = hi - lo;
-  *extent = std::max(e.x, std::max(e.y, e.z));
-  return *extent > 0.0f ? kAutoRootExtent / *extent : 1.0f;
+  std::error_code ec;
+  const bool found = std::filesystem::exists(p, ec);
+  if (ec) o.fail("strands_file", "\"" + key + "\" cannot be checked (" + ec.message() + ")");
+  if (!found) o.fail("strands_file", "\"" + key + "\" does not exist");
+  return key;
+}
+
+// The strand file `key` as read; its reader's notes become the scene's warnings.
+StrandGroom readStrandFile(const JsonReader& o, const std::string& key, std::uint64_t maxBytes,
+                           std::vector<std::string>& warnings) {
+  try {
+    std::vector<std::string> notes;
+    StrandGroom g = loadStrandGroom(key, maxBytes, nullptr, &notes);
+    for (const std::string& n : notes)
+      warnings.push_back(o.file() + ": " + o.path("strands_file") + ": " + n);
+    return g;
+  } catch (const Error& e) {
+    o.fail("strands_file", e.what());
+  }
+  return {};  // o.fail throws
 }
 
 // A groom entry's "children" (docs/scene-format.md, "Children"): lengths in scene units, at
@@ -115,31 +135,17 @@ ChildrenParams readChildren(const JsonReader& o, float scale, bool tressfx) {
 
 }  // namespace
 
-// A groom entry with "strands_file": the file (read once per scene), its placement (scale,
-// up axis, then the entry's transform), appearance, LOD and filter.
+// A groom entry with "strands_file": the file (read once per scene), its placement (scale:
+// a number, or "auto": `autoScale`, sceneAutoScale's; up axis; then the entry's transform),
+// appearance, LOD and filter.
 GroomInstance readStrandGroom(
     const JsonReader& o, const std::filesystem::path& base, const FilterParams& sceneFilter,
     std::uint64_t maxBytes, std::map<std::string, std::shared_ptr<const StrandGroom>>& loaded,
     std::map<std::string, std::shared_ptr<const StrandGroom>>& variants,
     std::map<std::string, std::shared_ptr<const VisibilityBake>>& loadedVisibility,
-    std::uint64_t sceneCap, std::vector<std::string>& warnings, std::vector<std::string>& notes,
-    float& autoScale) {
-  const std::string file = o.string("strands_file", "");
-  if (file.empty()) o.fail("strands_file", "is empty: name a .hair, .data or .tfx strand file");
-  std::filesystem::path p =
-      std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;
-  std::string key = p.lexically_normal().string();
-  // "bob.####.hair": one file per frame; the first one found stands for the still groom
+    std::uint64_t sceneCap, std::vector<std::string>& warnings, float autoScale) {
   std::shared_ptr<StrandFrames> frames;
-  if (framePath(key, 0) != key) {
-    frames = findStrandFrames(o, key, maxBytes);
-    key = framePath(key, frames->first);
-    p = key;
-  }
-  std::error_code ec;
-  const bool found = std::filesystem::exists(p, ec);
-  if (ec) o.fail("strands_file", "\"" + key + "\" cannot be checked (" + ec.message() + ")");
-  if (!found) o.fail("strands_file", "\"" + key + "\" does not exist");
+  const std::string key = strandFileKey(o, base, maxBytes, &frames);
   // the entry's look, from the defaults: entries naming the same file may differ
   AppearanceParams look;
   LodParams lod;
@@ -159,7 +165,6 @@ GroomInstance readStrandGroom(
   if (scaleAuto && o.string("scale", "") != "auto")
     o.fail("scale", "is \"" + o.string("scale", "") + "\", expected a number or \"auto\"");
   float scale = scaleAuto ? 1.0f : static_cast<float>(o.number("scale", 1.0, 1e-6, 1e6));
-  float rootExtent = 0.0f;
   const UpAxis up = readUpAxis(o);
   // entries that name one file with the same look, LOD, cap, children and scale share one
   // groom (and so one device form); the first entry of a file takes it as read, other
@@ -171,23 +176,11 @@ GroomInstance readStrandGroom(
   std::shared_ptr<const StrandGroom> shared;
   if (const auto same = variants.find(variant); same != variants.end()) {
     shared = same->second;
-    if (scaleAuto) scale = autoScaleFactor(*shared, &rootExtent);
+    if (scaleAuto) scale = autoScale;
   } else {
-    StrandGroom groom;
     const auto it = loaded.find(key);
     const bool firstRead = it == loaded.end();
-    if (!firstRead) {
-      groom = *it->second;
-    } else {
-      try {
-        std::vector<std::string> notes;
-        groom = loadStrandGroom(key, maxBytes, nullptr, &notes);
-        for (const std::string& n : notes)
-          warnings.push_back(o.file() + ": " + o.path("strands_file") + ": " + n);
-      } catch (const Error& e) {
-        o.fail("strands_file", e.what());
-      }
-    }
+    StrandGroom groom = firstRead ? readStrandFile(o, key, maxBytes, warnings) : *it->second;
     // the file's own colours, thicknesses and transparencies are drawn unless the entry's
     // appearance gives its own (per key); asking for them by name on a file without any
     // says so
@@ -201,7 +194,7 @@ GroomInstance readStrandGroom(
           "is used");
     groom.appearance = look;
     groom.lod = lod;
-    if (scaleAuto) scale = autoScaleFactor(groom, &rootExtent);
+    if (scaleAuto) scale = autoScale;
     groom.children = readChildren(o, scale, lowerExtension(key) == ".tfx");
     const bool capped = cap > 0 && groom.pointCounts.size() > cap;
     if (firstRead && capped) loaded[key] = std::make_shared<const StrandGroom>(groom);
@@ -209,16 +202,6 @@ GroomInstance readStrandGroom(
     shared = std::make_shared<const StrandGroom>(std::move(groom));
     if (firstRead && !capped) loaded[key] = shared;
     variants[variant] = shared;
-  }
-  if (scaleAuto) {
-    char buf[200];
-    std::snprintf(buf, sizeof(buf),
-                  "\"scale\": \"auto\" scales %s by %g: its roots span %g file units, "
-                  "%g m after scaling",
-                  key.c_str(), static_cast<double>(scale), static_cast<double>(rootExtent),
-                  static_cast<double>(rootExtent * scale));
-    notes.push_back(o.file() + ": " + o.path("scale") + ": " + buf);
-    if (!(autoScale > 0.0f)) autoScale = scale;
   }
   GroomInstance g;
   g.name = o.string("name", shared->name);
@@ -238,6 +221,49 @@ GroomInstance readStrandGroom(
   o.rejectUnknown({"strands_file", "name", "transform", "scale", "up", "appearance", "lod",
                    "filter", "max_strands", "visibility", "children"});
   return g;
+}
+
+float sceneAutoScale(const JsonReader& r, const std::filesystem::path& base, std::uint64_t maxBytes,
+                     std::map<std::string, std::shared_ptr<const StrandGroom>>& loaded,
+                     std::vector<std::string>& warnings, std::vector<std::string>& notes) {
+  if (!r.has("grooms") || !r.require("grooms").is_array()) return 0.0f;
+  const nlohmann::json& a = r.require("grooms");
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  std::vector<std::string> files;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (!a[i].is_object() || !a[i].contains("strands_file") || !a[i].contains("scale") ||
+        a[i]["scale"] != "auto")
+      continue;  // anything else is the entry's own reader's to check
+    JsonReader o = r.object(a[i], "grooms[" + std::to_string(i) + "]");
+    std::shared_ptr<StrandFrames> frames;
+    const std::string key = strandFileKey(o, base, maxBytes, &frames);
+    if (std::find(files.begin(), files.end(), key) != files.end()) continue;
+    files.push_back(key);
+    auto it = loaded.find(key);
+    if (it == loaded.end())
+      it = loaded
+               .emplace(key, std::make_shared<const StrandGroom>(
+                                 readStrandFile(o, key, maxBytes, warnings)))
+               .first;
+    addRootBounds(*it->second, lo, hi);
+  }
+  if (files.empty()) return 0.0f;
+  float extent = 0.0f;
+  const float factor = autoScaleFactor(lo, hi, &extent);
+  std::string names = std::filesystem::path(files[0]).filename().string();
+  for (std::size_t k = 1; k < files.size() && k < 4; ++k)
+    names += ", " + std::filesystem::path(files[k]).filename().string();
+  if (files.size() > 4) names += ", ...";
+  char buf[160];
+  std::snprintf(buf, sizeof(buf),
+                " by %g: their roots span %g file units together, %g m after scaling",
+                static_cast<double>(factor), static_cast<double>(extent),
+                static_cast<double>(extent * factor));
+  notes.push_back(r.file() + ": grooms: \"scale\": \"auto\" scales " +
+                  std::to_string(files.size()) + (files.size() == 1 ? " file (" : " files (") +
+                  names + ")" + buf +
+                  "; meshes with \"auto\" take the same factor, grooms with a number keep it");
+  return factor;
 }
 
 }  // namespace clhair::scene_io

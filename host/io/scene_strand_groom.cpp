@@ -131,15 +131,19 @@ GroomInstance readStrandGroom(
   std::string key = p.lexically_normal().string();
   // "bob.####.hair": one file per frame; the first one found stands for the still groom
   std::shared_ptr<StrandFrames> frames;
-  if (framePath(key, 0) != key) {
-    frames = findStrandFrames(o, key, maxBytes);
-    key = framePath(key, frames->first);
-    p = key;
+  if (loaded.count(file)) {
+    key = file;  // a groom held in memory under this name (clhair/scene_json.h)
+  } else {
+    if (framePath(key, 0) != key) {
+      frames = findStrandFrames(o, key, maxBytes);
+      key = framePath(key, frames->first);
+      p = key;
+    }
+    std::error_code ec;
+    const bool found = std::filesystem::exists(p, ec);
+    if (ec) o.fail("strands_file", "\"" + key + "\" cannot be checked (" + ec.message() + ")");
+    if (!found) o.fail("strands_file", "\"" + key + "\" does not exist");
   }
-  std::error_code ec;
-  const bool found = std::filesystem::exists(p, ec);
-  if (ec) o.fail("strands_file", "\"" + key + "\" cannot be checked (" + ec.message() + ")");
-  if (!found) o.fail("strands_file", "\"" + key + "\" does not exist");
   // the entry's look, from the defaults: entries naming the same file may differ
   AppearanceParams look;
   LodParams lod;

@@ -40,6 +40,10 @@ def straight_groom(angle_deg: float = 30.0, tilt_deg: float = 0.0, strands: int 
 
 
 def base_scene(groom_entry: Dict[str, Any]) -> Dict[str, Any]:
+    """A 64x48 frame of the groom 0.6 from the camera; fibres drawn at least a pixel wide
+    (the grooms here are far thinner than a pixel)."""
+    groom_entry = dict(groom_entry)
+    groom_entry.setdefault("appearance", {"min_hit_diameter_px": 1.0})
     return {
         "resolution": [W, H],
         "camera": {"position": [0.0, 0.0, 0.6], "target": [0.0, 0.0, 0.0], "fov": 35},

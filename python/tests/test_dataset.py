@@ -25,7 +25,8 @@ def make_spec(tmp_path: Path) -> Path:
     spec = {
         "seed": 7, "samples": SAMPLES, "resolution": [64, 48], "batch": 2,
         "scene": {"background": [0.1, 0.1, 0.1], "ambient": [0.1, 0.1, 0.1]},
-        "grooms": [{"strands_file": "a.hair"}, {"strands_file": "b.hair"}],
+        "grooms": [{"strands_file": "a.hair", "appearance": {"min_hit_diameter_px": 1.0}},
+                   {"strands_file": "b.hair", "appearance": {"min_hit_diameter_px": 1.0}}],
         "views": {"preset": "mid", "azimuth": [-40, 40], "elevation": [-10, 20], "fov": [30, 40]},
         "lighting": [[{"type": "directional", "direction": [0, 1, 1], "intensity": 3}],
                      [{"type": "directional", "direction": [1, 0.2, 0.5], "intensity": 2}]],

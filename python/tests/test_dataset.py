@@ -89,6 +89,8 @@ def test_identical_however_it_ran(first_run, tmp_path: Path) -> None:
     s = dataset.load_spec(str(spec))
     dataset.run(s, str(tmp_path / "again"), quiet=True)
     assert files(tmp_path / "again") == files(out)
+    dataset.run(s, str(tmp_path / "two"), workers=2, quiet=True)  # two local processes
+    assert files(tmp_path / "two") == files(out)
     pytest.importorskip("ray", reason="Ray is not installed (pip install ray)")
     dataset.run(s, str(tmp_path / "ray"), workers=2, ray_address="local", quiet=True)
     assert files(tmp_path / "ray") == files(out)

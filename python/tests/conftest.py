@@ -12,6 +12,8 @@ import pytest
 import clhair
 
 ROOT = Path(__file__).resolve().parents[2]
+# Ray's local cluster in the tests: no usage report sent anywhere
+os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
 W, H = 64, 48  # small frames: the suite's time stays small
 
 

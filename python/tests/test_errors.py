@@ -60,3 +60,9 @@ def test_bad_scene_and_options(renderer: clhair.Renderer) -> None:
     with pytest.raises(clhair.Error) as e:
         renderer.wait(123456)
     assert "123456" in one_line(e)
+
+
+def test_unknown_device() -> None:
+    with pytest.raises(clhair.Error) as e:
+        clhair.Renderer(device="no-such-device-xyz")
+    assert "no-such-device-xyz" in one_line(e)

@@ -2,7 +2,9 @@
 # dev.sh — one command from a fresh Debian 12 machine to a result.
 #
 #   scripts/dev.sh demo   install what is missing, build, render the default scene to clhair-default.png
-#   scripts/dev.sh test   install what is missing, build, run the whole test suite; then, in
+#   scripts/dev.sh test   install what is missing, build, run the whole test suite; then the
+#                         Python package: built into a virtual environment (./build-py/venv)
+#                         against ./build's library, its pytest suite run; then, in
 #                         a clang ASan + UBSan build (./build-san), a brief libFuzzer run of
 #                         the file readers and the host-heavy tests (see below)
 #   scripts/dev.sh intel  also install Intel's CPU OpenCL runtime from PyPI into
@@ -71,6 +73,20 @@ ENV
   exit 0
 fi
 
+python_tests() {
+  local venv="$PWD/build-py/venv" req=python/requirements-test.txt
+  if [[ ! -x "$venv/bin/python" ]]; then
+    python3 -m venv "$venv" || { echo "python3 -m venv failed (Debian: python3-venv)" >&2; return 1; }
+  fi
+  if ! cmp -s "$req" "$venv/requirements-installed.txt"; then
+    "$venv/bin/python" -m pip install -q --disable-pip-version-check -r "$req"
+    cp "$req" "$venv/requirements-installed.txt"
+  fi
+  "$venv/bin/python" -m pip install -q --disable-pip-version-check --no-build-isolation --no-deps \
+    -C cmake.define.CLHAIR_CORE_BUILD="$PWD/build" .
+  (cd python/tests && CLHAIR_CLI="$PWD/../../build/clhair" "$venv/bin/python" -m pytest -q -p no:cacheprovider)
+}
+
 jobs=$(nproc 2>/dev/null || echo 2)
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DCLHAIR_WERROR=ON > build-configure.log 2>&1 ||
   { cat build-configure.log; exit 1; }
@@ -116,6 +132,12 @@ else
 
   echo "dev.sh: tests (Release)"
   time (cd build && ctest --output-on-failure -j2 --timeout 600 "${release_filter[@]}")
+  # The Python package (python/, docs/python.md) in ./build-py/venv: its PyPI requirements
+  # (installed again only when python/requirements-test.txt changes), then `pip install .`
+  # linking ./build's libclhair_core.a (only the binding's files compile), then pytest; a
+  # failing test fails the command.
+  echo "dev.sh: Python package and its tests (pytest)"
+  time python_tests
   # on Intel's CPU runtime too, when `scripts/dev.sh intel` registered it
   if [[ -f build/intel-ocl/env.sh ]]; then
     (

@@ -100,9 +100,10 @@ void readVisibilityEntry(const JsonReader& o, const std::filesystem::path& base,
 }
 
 float readGrooms(const JsonReader& r, const std::string& path, const std::filesystem::path& base,
-                 std::uint64_t maxStrandBytes, Scene& s) {
+                 std::uint64_t maxStrandBytes, Scene& s, const MemoryGrooms* memory) {
   std::map<std::string, std::shared_ptr<const HairMesh>> loaded, loadedVariants;
   std::map<std::string, std::shared_ptr<const StrandGroom>> loadedStrands, strandVariants;
+  if (memory) loadedStrands.insert(memory->begin(), memory->end());
   const auto sceneCap = static_cast<std::uint64_t>(r.integer64("max_strands", 0, 0, 50'000'000));
   std::map<std::string, std::shared_ptr<const VisibilityBake>> loadedVisibility;
   // one "scale": "auto" factor for every groom (and mesh) that asks for it

@@ -15,6 +15,7 @@
 
 #include "clhair/error.h"
 #include "clhair/scene.h"
+#include "clhair/scene_json.h"
 #include "io/json_util.h"
 #include "io/scene_sections.h"
 
@@ -47,13 +48,10 @@ void collectFiles(const json& j, const std::filesystem::path& base, std::vector<
   }
 }
 
-}  // namespace
-
-Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
-  json root = readJsonFile(path, "scene");
+Scene readScene(const json& root, const std::string& path, const std::filesystem::path& base,
+                std::uint64_t maxStrandBytes, const MemoryGrooms* memory) {
   JsonReader r(path, root);
   Scene s;
-  const std::filesystem::path base = std::filesystem::path(path).parent_path();
 
   readResolution(r, s);
   readBackground(r, base, s);
@@ -69,7 +67,7 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
   if (r.has("segment_budget"))
     s.segmentBudget = static_cast<std::uint64_t>(
         r.integer64("segment_budget", 0, 0, static_cast<long long>(kMaxSegmentBudget)));
-  const float autoScale = readGrooms(r, path, base, maxStrandBytes, s);
+  const float autoScale = readGrooms(r, path, base, maxStrandBytes, s, memory);
 
   // meshes after the grooms: a mesh's "scale": "auto" takes the grooms' factor
   readMeshes(r, base, maxStrandBytes, autoScale, s);
@@ -91,6 +89,25 @@ Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
   s.files.push_back(path);
   collectFiles(root, base, s.files);
   return s;
+}
+
+}  // namespace
+
+Scene loadScene(const std::string& path, std::uint64_t maxStrandBytes) {
+  json root = readJsonFile(path, "scene");
+  return readScene(root, path, std::filesystem::path(path).parent_path(), maxStrandBytes, nullptr);
+}
+
+Scene loadSceneJson(const std::string& text, const std::string& where, const std::string& baseDir,
+                    const MemoryGrooms& memoryGrooms, std::uint64_t maxStrandBytes) {
+  json root;
+  try {
+    root = json::parse(text);
+  } catch (const json::parse_error& e) {
+    throw Error(where + ": not valid JSON (" + e.what() + ")");
+  }
+  if (!root.is_object()) throw Error(where + ": the scene must be a JSON object");
+  return readScene(root, where, std::filesystem::path(baseDir), maxStrandBytes, &memoryGrooms);
 }
 
 }  // namespace clhair

@@ -23,6 +23,7 @@
 
 #include "clhair/animation.h"
 #include "clhair/scene.h"
+#include "clhair/scene_json.h"
 #include "io/json_util.h"
 
 namespace clhair::scene_io {
@@ -76,9 +77,10 @@ void readEnvironment(const JsonReader& r, const std::filesystem::path& base, Sce
 // --- grooms and appearance --------------------------------------------------------------
 
 // "max_strands" and "grooms" of the scene `path`; returns the factor of the first
-// "scale": "auto" groom (0 when none), which meshes may take.
+// "scale": "auto" groom (0 when none), which meshes may take. `memory`: strand grooms held in
+// memory, named by the "strands_file" value that stands for them (clhair/scene_json.h).
 float readGrooms(const JsonReader& r, const std::string& path, const std::filesystem::path& base,
-                 std::uint64_t maxStrandBytes, Scene& s);
+                 std::uint64_t maxStrandBytes, Scene& s, const MemoryGrooms* memory = nullptr);
 
 // A groom entry with "strands_file" (scene_strand_groom.cpp).
 GroomInstance readStrandGroom(

@@ -145,7 +145,9 @@ GroomInstance readStrandGroom(
     std::map<std::string, std::shared_ptr<const VisibilityBake>>& loadedVisibility,
     std::uint64_t sceneCap, std::vector<std::string>& warnings, float autoScale) {
   std::shared_ptr<StrandFrames> frames;
-  const std::string key = strandFileKey(o, base, maxBytes, &frames);
+  // a groom held in memory under its name (clhair/scene_json.h), else a file
+  const std::string named = o.string("strands_file", "");
+  const std::string key = loaded.count(named) ? named : strandFileKey(o, base, maxBytes, &frames);
   // the entry's look, from the defaults: entries naming the same file may differ
   AppearanceParams look;
   LodParams lod;
@@ -236,7 +238,8 @@ float sceneAutoScale(const JsonReader& r, const std::filesystem::path& base, std
       continue;  // anything else is the entry's own reader's to check
     JsonReader o = r.object(a[i], "grooms[" + std::to_string(i) + "]");
     std::shared_ptr<StrandFrames> frames;
-    const std::string key = strandFileKey(o, base, maxBytes, &frames);
+    const std::string named = o.string("strands_file", "");
+    const std::string key = loaded.count(named) ? named : strandFileKey(o, base, maxBytes, &frames);
     if (std::find(files.begin(), files.end(), key) != files.end()) continue;
     files.push_back(key);
     auto it = loaded.find(key);

@@ -41,7 +41,8 @@ void runPathConvergence(Run& r) {
   Scene s = loadScene(std::string(CLHAIR_SOURCE_DIR) + "/assets/scenes/default.json");
   s.width = 320;
   s.height = 180;
-  const std::vector<int> spps = r.opt.quick ? std::vector<int>{4, 16} : std::vector<int>{16, 64, 256};
+  const std::vector<int> spps =
+      r.opt.quick ? std::vector<int>{4, 16} : std::vector<int>{16, 64, 256};
   const int refSpp = r.opt.quick ? 64 : 1024;
   std::fprintf(stderr, "pathref: %d-sample reference at %dx%d\n", refSpp, s.width, s.height);
   const PathRun ref = trace(r.b.renderer, s, refSpp, 1000u);

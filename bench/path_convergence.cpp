@@ -66,7 +66,7 @@ void runPathConvergence(Run& r) {
   r.md << "\n## Path reference: time and error against samples per pixel (default scene, "
        << s.width << "x" << s.height << ", reference " << refSpp
        << " samples)\n\n| spp | seconds | M rays/s | RMSE (linear) | mean colour over the "
-          "scene's pixels | largest channel error of that mean |\n|---|---|---|---|---|---|\n";
+          "head | largest channel error of that mean |\n|---|---|---|---|---|---|\n";
   auto row = [&](int spp, const PathRun& p, double rmse, double err) {
     const std::vector<double> m = hairMean(p.frame);
     r.md << "| " << spp << " | " << fmt(p.seconds) << " | " << fmt(1e-6 * raysPerSecond(p.frame))

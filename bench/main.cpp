@@ -32,6 +32,7 @@ void runFloor(Run& r);
 void runSequences(Run& r);
 void runLodFar(Run& r);
 void runThroughput(Run& r);
+void runPathConvergence(Run& r);
 
 struct Section {
   const char* name;
@@ -55,6 +56,7 @@ const Section kSections[] = {
     {"sequences", runSequences},
     {"lodfar", runLodFar},
     {"throughput", runThroughput},
+    {"pathref", runPathConvergence},
 };
 
 }  // namespace clhair::bench

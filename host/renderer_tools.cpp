@@ -176,6 +176,9 @@ Frame pathReference(Renderer::Impl& r, const Scene& s, const RenderOptions& o,
     f.color.rgba[4 * i + 3] = 1.0f;
   }
   f.depth = std::move(img.depth);
+  f.stats.pathRays = img.rays;
+  f.stats.pathEscapedAfter = std::move(img.escapedAfter);
+  for (double& e : f.stats.pathEscapedAfter) e /= static_cast<double>(f.depth.size());
   for (auto [stage, ms] :
        {std::pair<const char*, double>{"export", exportMs}, {"bvh", buildMs}, {"paths", traceMs}}) {
     StageTime t;

@@ -222,6 +222,10 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
     }
     for (const StageTime& t : frame.timings)
       std::printf("  %-10s %9.2f ms\n", t.stage.c_str(), t.ms);
+    if (frame.stats.pathRays > 0 && frame.stageMs("paths") > 0.0)
+      std::printf("  %-10s %9.3f M rays/s (%llu rays)\n", "paths",
+                  1e-3 * static_cast<double>(frame.stats.pathRays) / frame.stageMs("paths"),
+                  static_cast<unsigned long long>(frame.stats.pathRays));
     std::printf("  %-10s %9.2f ms\n", "total", frame.totalMs());
   };
   auto deliverOldest = [&] {

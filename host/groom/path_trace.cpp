@@ -11,10 +11,10 @@
 // roulette from the third event on:
 // - at a fibre, the single-fibre BSDF of the shading pass (hair_bsdf_cpu.h: the same
 //   h-averaged model, evaluated with the same material the shading kernel decodes from
-//   the G-buffer word of that hit), sampled from a mixture of the uniform sphere and two
-//   longitudinal cones around theta_i = -theta_o, one uniform in phi, one about the
-//   forward direction phi = pi (FibreSampler); the weight is f cos(theta_i) / pdf of the
-//   mixture. Rays leaving a fibre start where the ray met it and skip the fibre
+//   the G-buffer word of that hit, a file colour's scale included), sampled lobe by lobe
+//   (fibre_sampler.h: a lobe in proportion to its energy, theta_i from its M_p exactly,
+//   phi from a table of its Ñ_p); the weight is f cos(theta_i) / pdf of that mixture.
+//   Rays leaving a fibre start where the ray met it and skip the fibre
 //   itself (SkipContext), so light sent through it (TT) leaves from its far side;
 // - at an opaque surface, Lambert (albedo / pi), cosine-sampled.
 // A continuation that leaves the scene brings back the ambient radiance (the scene's
@@ -25,8 +25,10 @@
 #include <atomic>
 #include <cstring>
 #include <limits>
+#include <mutex>
 #include <thread>
 
+#include "groom/fibre_sampler.h"
 #include "groom/hair_bsdf_cpu.h"
 #include "groom/strand_tracer_impl.h"
 
@@ -88,9 +90,10 @@ void skipOwnFibre(const RTCFilterFunctionNArguments* a) {
 
 hb::clh_v3 v3(const float* p) { return hb::clh_v3_make(p[0], p[1], p[2]); }
 
-// shade.cl's shade_material (and its file-colour override) for a G-buffer word.
-void materialOf(const gpu::ClhGroomGpu& g, bool fileColor, std::uint64_t word,
-                hb::clh_hair_material* m) {
+// shade.cl's shade_material (and its file-colour override) for a G-buffer word. Returns
+// whether the word holds a file colour, and then that colour in *fc.
+bool materialOf(const gpu::ClhGroomGpu& g, bool fileColor, std::uint64_t word,
+                hb::clh_hair_material* m, hb::clh_v3* fc) {
   using namespace gpu;
   const float u = clh_unorm_value(clh_gbuf_u(word), 6u), v = clh_unorm_value(clh_gbuf_v(word), 6u);
   const float w = clh_unorm_value(clh_gbuf_w(word), 6u);
@@ -111,69 +114,23 @@ void materialOf(const gpu::ClhGroomGpu& g, bool fileColor, std::uint64_t word,
   m->beta_n = g.bsdf[1];
   m->alpha = g.bsdf[2];
   m->eta = g.bsdf[3];
-  if (fileColor) {
-    const hb::clh_v3 fc = hb::clh_v3_make(clh_file_color_value(clh_gbuf_u(word)),
-                                          clh_file_color_value(clh_gbuf_v(word)),
-                                          clh_file_color_value(clh_gbuf_ao(word)));
-    m->sigma_a = hb::clh_hair_sigma_a_from_albedo(fc, g.bsdf[3]);
-  }
+  if (!fileColor) return false;
+  *fc = hb::clh_v3_make(clh_file_color_value(clh_gbuf_u(word)),
+                        clh_file_color_value(clh_gbuf_v(word)),
+                        clh_file_color_value(clh_gbuf_ao(word)));
+  m->sigma_a = hb::clh_hair_sigma_a_from_albedo(*fc, g.bsdf[3]);
+  return true;
 }
 
-// The continuation's direction distribution at a fibre, a mixture of three in equal parts:
-// the uniform sphere; a cone theta_i = -theta_o + delta (delta logistic of the R lobe's
-// longitudinal width, truncated to theta_i in [-pi/2, pi/2]), phi uniform; and the same
-// cone with phi = pi + a logistic of the azimuthal roughness's scale (truncated to one turn),
-// where TT sends most of a light fibre's energy. pdf() is the mixture's density.
-struct FibreSampler {
-  hb::clh_v3 t, n, b;
-  float theta_o = 0.0f, s = 0.1f, f0 = 0.0f, f1 = 1.0f, sp = 0.1f, g0 = 0.0f, g1 = 1.0f;
-
-  static float cdf(float x, float s) { return 1.0f / (1.0f + std::exp(-x / s)); }
-  static float logit(float c) {
-    c = std::clamp(c, 1e-7f, 1.0f - 1e-7f);
-    return std::log(c / (1.0f - c));
-  }
-
-  explicit FibreSampler(const hb::clh_hair_view& hv) : t(hv.t), n(hv.n) {
-    b = hb::clh_v3_make(t.y * n.z - t.z * n.y, t.z * n.x - t.x * n.z, t.x * n.y - t.y * n.x);
-    theta_o = std::asin(std::clamp(hv.sin_o, -1.0f, 1.0f));
-    s = std::max(std::sqrt(3.0f * hv.v[0]) / kPiF, 0.02f);
-    f0 = cdf(-0.5f * kPiF + theta_o, s);
-    f1 = cdf(0.5f * kPiF + theta_o, s);
-    sp = std::max(hv.s, 0.02f);
-    g0 = cdf(-kPiF, sp);
-    g1 = cdf(kPiF, sp);
-  }
-  hb::clh_v3 sample(Rng& rng) const {
-    const float pick = rng.next(), u1 = rng.next(), u2 = rng.next();
-    float sin_i, cos_i, phi = 2.0f * kPiF * u2;
-    if (pick < 1.0f / 3.0f) {
-      sin_i = 1.0f - 2.0f * u1;
-      cos_i = std::sqrt(std::max(0.0f, 1.0f - sin_i * sin_i));
-    } else {
-      const float theta_i =
-          std::clamp(-theta_o + s * logit(f0 + u1 * (f1 - f0)), -0.5f * kPiF, 0.5f * kPiF);
-      sin_i = std::sin(theta_i);
-      cos_i = std::cos(theta_i);
-      if (pick >= 2.0f / 3.0f) phi = kPiF + sp * logit(g0 + u2 * (g1 - g0));
-    }
-    const hb::clh_v3 across =
-        hb::clh_v3_add(hb::clh_v3_scale(n, std::cos(phi)), hb::clh_v3_scale(b, std::sin(phi)));
-    return hb::clh_v3_add(hb::clh_v3_scale(t, sin_i), hb::clh_v3_scale(across, cos_i));
-  }
-  float pdf(hb::clh_v3 wi) const {
-    const float sin_i = std::clamp(hb::clh_v3_dot(t, wi), -1.0f, 1.0f);
-    const float cos_i = std::max(std::sqrt(std::max(0.0f, 1.0f - sin_i * sin_i)), 1e-6f);
-    const float c = cdf(std::asin(sin_i) + theta_o, s);
-    const float p_theta = c * (1.0f - c) / s / std::max(f1 - f0, 1e-12f);
-    // phi - pi in (-pi, pi]
-    const float d = std::atan2(-hb::clh_v3_dot(wi, b), -hb::clh_v3_dot(wi, n));
-    const float e = cdf(d, sp);
-    const float p_phi = e * (1.0f - e) / sp / std::max(g1 - g0, 1e-12f);
-    return (1.0f / (4.0f * kPiF) + p_theta / (2.0f * kPiF * cos_i) + p_theta * p_phi / cos_i) /
-           3.0f;
-  }
-};
+// shade.cl's scale of a file-coloured fibre: its lobes keep the shapes of the absorption
+// the colour maps to and are scaled so that their energies (the fibre's albedo at this
+// view) sum to the file colour, per channel.
+hb::clh_v3 fileColorTint(const hb::clh_hair_view& hv, hb::clh_v3 fc) {
+  const hb::clh_v3 albedo = hb::clh_v3_add(hb::clh_v3_add(hv.mass[0], hv.mass[1]),
+                                           hb::clh_v3_add(hv.mass[2], hv.mass[3]));
+  return hb::clh_v3_make(fc.x / std::max(albedo.x, 1e-4f), fc.y / std::max(albedo.y, 1e-4f),
+                         fc.z / std::max(albedo.z, 1e-4f));
+}
 
 // A unit vector about unit n, cosine-distributed.
 hb::clh_v3 cosineAbout(hb::clh_v3 n, Rng& rng) {
@@ -279,6 +236,7 @@ StrandTracer::PathImage StrandTracer::tracePaths(const PathSetup& ps) const {
   const float inf = std::numeric_limits<float>::infinity();
   std::atomic<std::uint32_t> nextRow{0};
   std::atomic<std::uint64_t> rayTotal{0};
+  std::mutex merge;
 
   // Light gathered at an event at `p` (skipping `skip`), for a BSDF value f cos per light
   // direction given by `eval`.
@@ -311,6 +269,7 @@ StrandTracer::PathImage StrandTracer::tracePaths(const PathSetup& ps) const {
 
   auto work = [&] {
     std::uint64_t rays = 0;
+    std::vector<double> escaped;
     SkipContext skip;
     rtcInitIntersectContext(&skip.ctx);
     skip.ctx.filter = skipOwnFibre;
@@ -343,7 +302,10 @@ StrandTracer::PathImage StrandTracer::tracePaths(const PathSetup& ps) const {
             const unsigned gid = rh.hit.geomID;
             if (gid == RTC_INVALID_GEOMETRY_ID) {
               const float* e = event == 1 ? ps.background : ps.ambient;
-              L = hb::clh_v3_add(L, hb::clh_v3_mul(thr, v3(e)));
+              const hb::clh_v3 in = hb::clh_v3_mul(thr, v3(e));
+              L = hb::clh_v3_add(L, in);
+              if (escaped.size() < static_cast<std::size_t>(event)) escaped.resize(event, 0.0);
+              escaped[event - 1] += (in.x + in.y + in.z) / (3.0 * ps.spp);
               break;
             }
             if (event == 1) out.depth[idx] = std::min(out.depth[idx], rh.ray.tfar);
@@ -364,9 +326,11 @@ StrandTracer::PathImage StrandTracer::tracePaths(const PathSetup& ps) const {
                                                   m[4] * tw[0] + m[5] * tw[1] + m[6] * tw[2],
                                                   m[8] * tw[0] + m[9] * tw[1] + m[10] * tw[2]));
               hb::clh_hair_material mat;
-              materialOf(gr.params, gr.fileColor, word, &mat);
+              hb::clh_v3 fc;
+              const bool tinted = materialOf(gr.params, gr.fileColor, word, &mat, &fc);
               hb::clh_hair_view hv;
               hb::clh_hair_prepare_to(&hv, &mat, T, wo);
+              const hb::clh_v3 tint = tinted ? fileColorTint(hv, fc) : hb::clh_v3_splat(1.0f);
               // the event where the ray met the fibre; rays leaving it skip the fibre
               const std::uint32_t a = gr.segFirst[h.prim];
               const float u = std::clamp(h.u, 0.0f, 1.0f);
@@ -393,14 +357,16 @@ StrandTracer::PathImage StrandTracer::tracePaths(const PathSetup& ps) const {
               skip.radius = std::max(pa[3] + (pb[3] - pa[3]) * u, 0.0f);
               tnear = 0.0f;
               L = hb::clh_v3_add(L, hb::clh_v3_mul(thr, gather(org, skip, rays, [&](hb::clh_v3 wi) {
-                                                     return hb::clh_hair_eval_cos(&hv, wi);
+                                                     return hb::clh_v3_mul(
+                                                         tint, hb::clh_hair_eval_cos(&hv, wi));
                                                    })));
               if (event >= ps.maxEvents) break;
-              const FibreSampler sampler(hv);
-              next = sampler.sample(rng);
+              const FibreSampler sampler(hv, tint);
+              const float us[4] = {rng.next(), rng.next(), rng.next(), rng.next()};
+              next = sampler.sample(us);
               const float pdf = sampler.pdf(next);
-              thr = hb::clh_v3_mul(thr, hb::clh_v3_scale(hb::clh_hair_eval_cos(&hv, next),
-                                                         1.0f / std::max(pdf, 1e-12f)));
+              if (!(pdf > 0.0f)) break;
+              thr = hb::clh_v3_mul(thr, hb::clh_v3_scale(sampler.evalCos(next), 1.0f / pdf));
             } else {
               const float* alb = gid < r.opaque.size() ? r.opaque[gid].albedo : nullptr;
               if (!alb) break;
@@ -439,6 +405,9 @@ StrandTracer::PathImage StrandTracer::tracePaths(const PathSetup& ps) const {
       }
     }
     rayTotal += rays;
+    const std::lock_guard<std::mutex> lock(merge);
+    if (out.escapedAfter.size() < escaped.size()) out.escapedAfter.resize(escaped.size(), 0.0);
+    for (std::size_t k = 0; k < escaped.size(); ++k) out.escapedAfter[k] += escaped[k];
   };
   const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
   std::vector<std::thread> pool;

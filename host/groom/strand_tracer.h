@@ -77,6 +77,11 @@ class StrandTracer {
     std::vector<float> rgb;    // 3 per pixel, mean radiance of the pixel's paths
     std::vector<float> depth;  // view depth of the nearest surface any of its camera rays met
     std::uint64_t rays = 0;    // Embree queries: camera, continuation and shadow rays
+    // [N]: the radiance paths brought back from the environment (ambient or background, mean
+    // of the channels) after N scattering events, summed over the pixels, per sample. With
+    // no lights it sums to the image's mean times its pixels; the sums' order across threads
+    // varies, so unlike the image it may differ in its last bits between runs.
+    std::vector<double> escapedAfter;
   };
   PathImage tracePaths(const PathSetup& setup) const;
 

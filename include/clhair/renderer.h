@@ -202,6 +202,11 @@ struct FrameStats {
   // Times the host waited for the device for this frame, its final read-back included
   // (Renderer::wait); a steady-state frame has exactly one.
   std::uint64_t hostWaits = 0;
+  // ReferenceMethod::Path: the rays its paths traced (camera, continuation and shadow rays),
+  // and per number N of scattering events, the mean radiance (over channels, pixels and
+  // samples) that paths brought back from the environment after N events
+  std::uint64_t pathRays = 0;
+  std::vector<double> pathEscapedAfter;
 };
 
 // Layers for compositing (RenderOptions::aovs); each empty without them. Per pixel, row-major.

@@ -9,7 +9,8 @@
 // --ref-spp samples (>= 256 for the published table). Per cell and level (draft, good, final
 // with --look-final-passes passes): mean FLIP over the hair's pixels (where a sample of the
 // reference saw hair), the mean colour of those pixels (sRGB, 8 bit) and its CIE76 distance
-// in CIELAB (D65) to the reference's mean colour, and the frame's time. --look-scattering
+// in CIELAB (D65) to the reference's mean colour, and the frame's time. --quality-grooms
+// picks the bench grooms (1, the default, with the strand file; 2; both). --look-scattering
 // both adds rows with the light between fibres left out, and the draft as it was before
 // (one scattering event, the bench scenes' lights without maps).
 #include "harness.h"
@@ -122,6 +123,10 @@ void runLook(Run& r) {
   for (std::size_t i = 0; i < levels.size(); ++i) r.md << "---|";
   r.md << "\n";
   for (const Groom& gr : grooms) {
+    // --quality-grooms: 1 (default) groom1 and the strand file, 2 groom2, both
+    if ((gr.scene == 0 && r.opt.qualityGrooms == "2") ||
+        (gr.scene == 1 && r.opt.qualityGrooms == "1"))
+      continue;
     for (int d = 0; d < 3; ++d) {
       if (r.opt.qualityDistances.find(r.distNames[d]) == std::string::npos) continue;
       Scene s = framed(r.scenes[gr.scene], r.dists[d], qw, qh);

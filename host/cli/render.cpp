@@ -273,8 +273,10 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
       if (rendered == 0 && inFlight.empty()) {
         for (const std::string& w : viewWarnings(still, scenePath))
           std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
-        for (const std::string& n : viewNotes(still, scenePath))
-          std::fprintf(stderr, "clhair: note: %s\n", n.c_str());
+        // notes are for a person watching: -q (print nothing on success) leaves them out
+        if (!quiet)
+          for (const std::string& n : viewNotes(still, scenePath))
+            std::fprintf(stderr, "clhair: note: %s\n", n.c_str());
       }
       // motion goes to the previous frame; frames 1 and before (a shot's first) have none, so
       // they are their own previous frame and their motion is zero

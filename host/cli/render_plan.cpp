@@ -63,7 +63,8 @@ RenderPlan planRender(const DeviceOptions& opts, const std::string& scenePath,
   Scene scene = loadScene(scenePath, dev.info().maxAlloc);
   for (const std::string& w : scene.warnings)
     std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
-  for (const std::string& n : scene.notes) std::fprintf(stderr, "clhair: note: %s\n", n.c_str());
+  if (!quiet)
+    for (const std::string& n : scene.notes) std::fprintf(stderr, "clhair: note: %s\n", n.c_str());
   const std::vector<View> views = selectViews(scene, f.views);
   const bool several = views.size() > 1;
   if (several && !aovs.empty())

@@ -40,8 +40,9 @@ struct Light {
   glm::vec3 color{1.0f};
   float intensity = 1.0f;
   // deep opacity map from this light, with the light scattered through the hair (at most
-  // CLH_MAX_SHADOWS = 4 lights; a scene file's lights have one unless they say false)
-  bool shadows = true;
+  // CLH_MAX_SHADOWS = 4 lights). A scene file's lights have one unless they say false; a
+  // Light built in code says so itself.
+  bool shadows = false;
 };
 
 // Deep opacity maps (Yuksel & Keyser 2008) of the shadowed lights.

@@ -190,8 +190,8 @@ TEST(ImageIo, CompressionFlagsRefusedBeforeAnyWork) {
   const std::string render =
       "render " + quote(dir + "/no_scene.json") + " -o " + quote(dir + "/x.png");
   for (const auto& [flag, fragment] : std::vector<std::pair<std::string, std::string>>{
-           {" --png-compression 12", "--png-compression 12"},
-           {" --png-compression -1", "--png-compression -1"},
+           {" --png-compression 12", "--png-compression must be 0..9, not 12"},
+           {" --png-compression -1", "--png-compression must be 0..9, not -1"},
            {" --exr-compression zstd", "--exr-compression"}}) {
     const CommandResult r = runCli(render + flag);
     EXPECT_EQ(r.exitCode, 1) << r.output;

@@ -64,6 +64,9 @@ TEST(Shadows, HairBehindHairIsDarker) {
   Renderer r(test::sharedDevice());
   RenderOptions o;
   o.filter = 0;
+  // the map's attenuation alone: the light scattered through the front patch (dual
+  // scattering, tests/test_dual.cpp) gives some of it back and is measured apart
+  o.multipleScattering = 0;
   Scene lit = twoPatches(false), shadowed = twoPatches(true);
   // the camera at +x looking at -x: image left is +z (the front patch, nearer the light)
   auto [frontLit, backLit] = halves(r.render(lit, o), lit.width);
@@ -80,6 +83,22 @@ TEST(Shadows, HairBehindHairIsDarker) {
   EXPECT_LT(backKept, 0.6 * frontKept)
       << "front keeps " << frontKept << ", back keeps " << backKept;
   EXPECT_LT(frontKept, 1.0) << "hair shadows itself too";
+}
+
+TEST(Shadows, LightScatteredThroughTheFrontPatchReachesTheBackOne) {
+  // dual scattering (hair_dual.h) gives the shadowed back patch part of what the front one
+  // scattered forward: brighter than with the map's attenuation alone, and never brighter
+  // than unshadowed
+  Renderer r(test::sharedDevice());
+  RenderOptions single, dual;
+  single.filter = dual.filter = 0;
+  single.multipleScattering = 0;
+  const Scene lit = twoPatches(false), shadowed = twoPatches(true);
+  const double backLit = halves(r.render(lit, single), lit.width).second;
+  const double backSingle = halves(r.render(shadowed, single), shadowed.width).second;
+  const double backDual = halves(r.render(shadowed, dual), shadowed.width).second;
+  EXPECT_GT(backDual, backSingle * 1.01) << "single " << backSingle << ", dual " << backDual;
+  EXPECT_LT(backDual, backLit) << "lit " << backLit << ", dual " << backDual;
 }
 
 TEST(Shadows, InstancesOfOneMeshCastTheirOwnShadows) {

@@ -112,12 +112,8 @@ static inline void clh_hair_agg_prepare_to(clh_hair_agg* out, const clh_hair_vie
  * map drawn with the LOD's coverage compensation, or a visibility bake of every fibre). */
 static inline clh_v3 clh_hair_agg_eval_cos(const clh_hair_view* hv, const clh_hair_agg* ag,
                                            clh_v3 wi, int attenuate) {
-  float sin_i = clamp(clh_v3_dot(hv->t, wi), -1.0f, 1.0f);
-  clh_v3 wp = clh_v3_sub(wi, clh_v3_scale(hv->t, sin_i));
-  float l2 = clh_v3_dot(wp, wp);
-  float cos_i = fmin(sqrt(l2), 1.0f);
-  float cos_phi =
-      l2 > 1e-12f ? clamp(clh_v3_dot(wp, hv->n) / sqrt(fmax(l2, 1e-12f)), -1.0f, 1.0f) : 1.0f;
+  float sin_i, cos_i, cos_phi;
+  clh_hair_angles_to(hv, wi, &sin_i, &cos_i, &cos_phi);
   float phi = clh_fast_acos(cos_phi);
   /* inherited lobes (Eq. 8-9): the other fibres on the chord toward a light behind */
   float nm1 = 0.0f;

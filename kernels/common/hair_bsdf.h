@@ -374,14 +374,21 @@ static inline clh_v3 clh_hair_diffuse(const clh_hair_view* hv) {
 
 /* The three specular lobes times cos(theta_i), i.e. M_p Ñ_p (what a light loop needs; no
  * division, so it stays exact as wi approaches the fibre axis). Returns cos(theta_i). */
+/* sin(theta_i), cos(theta_i) and cos(phi) of wi about the prepared fibre. */
+static inline void clh_hair_angles_to(const clh_hair_view* hv, clh_v3 wi, float* sin_i,
+                                      float* cos_i, float* cos_phi) {
+  *sin_i = clamp(clh_v3_dot(hv->t, wi), -1.0f, 1.0f);
+  clh_v3 wp = clh_v3_sub(wi, clh_v3_scale(hv->t, *sin_i));
+  float l2 = clh_v3_dot(wp, wp);
+  *cos_i = fmin(sqrt(l2), 1.0f); /* |wi_perp|: no cancellation near the fibre axis */
+  *cos_phi =
+      l2 > 1e-12f ? clamp(clh_v3_dot(wp, hv->n) / sqrt(fmax(l2, 1e-12f)), -1.0f, 1.0f) : 1.0f;
+}
+
 static inline float clh_hair_lobes_cos(const clh_hair_view* hv, clh_v3 wi, clh_v3* r, clh_v3* tt,
                                        clh_v3* trt) {
-  float sin_i = clamp(clh_v3_dot(hv->t, wi), -1.0f, 1.0f);
-  clh_v3 wp = clh_v3_sub(wi, clh_v3_scale(hv->t, sin_i));
-  float l2 = clh_v3_dot(wp, wp);
-  float cos_i = fmin(sqrt(l2), 1.0f); /* |wi_perp|: no cancellation near the fibre axis */
-  float cos_phi =
-      l2 > 1e-12f ? clamp(clh_v3_dot(wp, hv->n) / sqrt(fmax(l2, 1e-12f)), -1.0f, 1.0f) : 1.0f;
+  float sin_i, cos_i, cos_phi;
+  clh_hair_angles_to(hv, wi, &sin_i, &cos_i, &cos_phi);
   float phi = clh_fast_acos(cos_phi); /* the h-averaged lobes are even in phi */
   float m0 =
       clh_hair_mp(sin_i, cos_i, hv->sin_o_tilt[0], hv->cos_o_tilt[0], hv->v[0], hv->m_norm[0]);

@@ -99,12 +99,8 @@ static inline clh_v3 clh_hair_dual_eval_cos(const clh_hair_view* hv, const clh_h
   const clh_v3 through = clh_v3_fmax(clh_v3_sub(arrive, clh_v3_splat(direct)), 0.0f);
   const float n = tau * ds->af_lum; /* mean crossings of the forward-scattered light */
 
-  float sin_i = clamp(clh_v3_dot(hv->t, wi), -1.0f, 1.0f);
-  clh_v3 wp = clh_v3_sub(wi, clh_v3_scale(hv->t, sin_i));
-  float l2 = clh_v3_dot(wp, wp);
-  float cos_i = fmin(sqrt(l2), 1.0f);
-  float cos_phi =
-      l2 > 1e-12f ? clamp(clh_v3_dot(wp, hv->n) / sqrt(fmax(l2, 1e-12f)), -1.0f, 1.0f) : 1.0f;
+  float sin_i, cos_i, cos_phi;
+  clh_hair_angles_to(hv, wi, &sin_i, &cos_i, &cos_phi);
 
   clh_v3 out = clh_v3_scale(single, direct);
   if (n > 1e-4f) {

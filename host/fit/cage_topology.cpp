@@ -127,7 +127,9 @@ CageTopology buildCageTopology(const Clusters& cl, const std::vector<glm::vec2>&
       return std::pair<int, int>(g.x, g.y);
     };
     auto pack = [](int x, int y) {
-      return (static_cast<std::int64_t>(x) << 32) ^ static_cast<std::uint32_t>(y);
+      // from the bit patterns (a negative x shifted left is undefined)
+      const std::uint64_t hi = static_cast<std::uint64_t>(static_cast<std::uint32_t>(x)) << 32;
+      return static_cast<std::int64_t>(hi ^ static_cast<std::uint32_t>(y));
     };
     for (int i = 0; i < N; ++i) {
       const auto g = key(cornerPos(i));

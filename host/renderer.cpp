@@ -185,7 +185,10 @@ std::unique_ptr<PendingFrame> Renderer::Impl::submitViews(const Scene& s,
   statsBuffer(plan.stats.words);
   for (const GroomPlan& gp : plan.grooms)
     visibility.prepare(gp.index, *gp.draw.instance, options.bakedVisibility != 0,
-                       options.lodAggregate != 0, options.multipleScattering != 0);
+                       options.lodAggregate != 0, options.multipleScattering != 0,
+                       options.ambientOcclusion != 0
+                           ? gp.draw.groom->aoField(s, gp.draw.instance->transform)
+                           : nullptr);
   FrameGraph g(dev, pool);
   buildViewsFrame(g, *this, plan, cameras, *p);
   return run(*this, g, plan, std::move(p), waits0);

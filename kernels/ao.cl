@@ -7,6 +7,8 @@
  *   point (AO_FIXED), scale = strand width * strands represented per generated strand /
  *   voxel volume, so a voxel ends with the extinction coefficient sigma_t = fibre length
  *   per volume * fibre diameter (Beer-Lambert for randomly oriented fibres).
+ * ao_field: the same visibility at every voxel centre, for grooms without layer vertices
+ *   (strand files; the density is splatted on the host, host/groom/ao_field.cpp).
  * ao_bake: per hair-mesh vertex, AO_DIRS directions on a spherical Fibonacci set; along
  *   each, the optical depth through the grid (steps of half a voxel, from a voxel away)
  *   gives exp(-tau), and a ray that meets the scalp (the root-layer faces, each as two
@@ -61,6 +63,34 @@ __kernel void ao_voxelize(__global const float4* points_g, __global const uint* 
     atomic_add(density_g + ((size_t)v.z * g.dims.y + (size_t)v.y) * g.dims.x + (size_t)v.x, add);
 }
 
+/* Optical depth through the hair from p along unit d, starting a voxel away from p itself
+ * (steps of half a voxel until the ray leaves the grid). */
+static inline float ao_optical_depth(ao_grid g, __global const uint* density_g, float3 p,
+                                     float3 d) {
+  const float voxel = g.lo.w;
+  const float extent = voxel * (float)max(max(g.dims.x, g.dims.y), g.dims.z);
+  const float step = 0.5f * voxel;
+  float tau = 0.0f;
+  for (float t = voxel; t < extent; t += step) {
+    int3 v;
+    if (!ao_voxel(g, p + d * t, &v)) {
+      if (t > 2.0f * voxel) break; /* left the grid */
+      continue;
+    }
+    tau += (float)density_g[((size_t)v.z * g.dims.y + (size_t)v.y) * g.dims.x + (size_t)v.x] *
+           (1.0f / AO_FIXED) * step;
+  }
+  return tau;
+}
+
+/* Spherical Fibonacci direction k of AO_DIRS. */
+static inline float3 ao_direction(uint k) {
+  const float z = 1.0f - (2.0f * (float)k + 1.0f) / (float)AO_DIRS;
+  const float r = sqrt(fmax(0.0f, 1.0f - z * z));
+  const float phi = (float)k * 2.39996322972865332f;
+  return (float3)(r * cos(phi), z, r * sin(phi));
+}
+
 /* Ray-triangle distance (Moller-Trumbore), or INFINITY. */
 static inline float ao_triangle(float3 o, float3 d, float3 a, float3 b, float3 c) {
   const float3 e1 = b - a, e2 = c - a;
@@ -89,19 +119,13 @@ __kernel void ao_bake(__global const ClhMeshVertex* verts_g, uint vertex_total,
   g.dims = grid_dims;
   const float voxel = grid_lo.w;
   const float3 p = vload3(0, verts_g[vi].pos);
-  const float extent = voxel * (float)max(max(grid_dims.x, grid_dims.y), grid_dims.z);
-  const float step = 0.5f * voxel;
   const bool on_scalp = vi < root_vertices && vertex_total > root_vertices;
   const float3 grow = on_scalp ? clh_normalize_or(vload3(0, verts_g[vi + root_vertices].pos) - p,
                                                   (float3)(0.0f, 1.0f, 0.0f))
                                : (float3)(0.0f);
   float visible = 0.0f;
   for (uint k = 0; k < AO_DIRS; ++k) {
-    /* spherical Fibonacci direction k */
-    const float z = 1.0f - (2.0f * (float)k + 1.0f) / (float)AO_DIRS;
-    const float r = sqrt(fmax(0.0f, 1.0f - z * z));
-    const float phi = (float)k * 2.39996322972865332f;
-    const float3 d = (float3)(r * cos(phi), z, r * sin(phi));
+    const float3 d = ao_direction(k);
     /* the scalp blocks the ray */
     if (on_scalp && dot(d, grow) < 0.0f) continue;
     float blocked = INFINITY;
@@ -116,18 +140,40 @@ __kernel void ao_bake(__global const ClhMeshVertex* verts_g, uint vertex_total,
       blocked = fmin(blocked, ao_triangle(p + d * eps, d, a, c, e));
     }
     if (blocked < INFINITY) continue;
-    /* optical depth through the hair, starting a voxel away from the vertex itself */
-    float tau = 0.0f;
-    for (float t = voxel; t < extent; t += step) {
-      int3 v;
-      if (!ao_voxel(g, p + d * t, &v)) {
-        if (t > 2.0f * voxel) break; /* left the grid */
-        continue;
-      }
-      tau += (float)density_g[((size_t)v.z * g.dims.y + (size_t)v.y) * g.dims.x + (size_t)v.x] *
-             (1.0f / AO_FIXED) * step;
-    }
-    visible += exp(-tau);
+    visible += exp(-ao_optical_depth(g, density_g, p, d));
   }
   ao_g[vi] = visible / (float)AO_DIRS;
+}
+
+/* The AO of every voxel centre (strand files, which have no layer vertices; the shading
+ * looks it up trilinearly at the shaded point, kernels/common/ao_field.h): the directions
+ * and the march of ao_bake, without a scalp. A voxel with no hair within one voxel of it
+ * is never read by a lookup at a fibre and is left open (1). */
+__kernel void ao_field(float4 grid_lo, uint4 grid_dims, __global const uint* density_g,
+                       __global float* ao_g) {
+  const size_t cells = (size_t)grid_dims.x * grid_dims.y * grid_dims.z;
+  const size_t i = get_global_id(0);
+  if (i >= cells) return;
+  ao_grid g;
+  g.lo = grid_lo;
+  g.dims = grid_dims;
+  const int x = (int)(i % grid_dims.x), y = (int)((i / grid_dims.x) % grid_dims.y),
+            z = (int)(i / ((size_t)grid_dims.x * grid_dims.y));
+  uint near_hair = 0u;
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int3 v = (int3)(x + dx, y + dy, z + dz);
+        if (v.x >= 0 && v.y >= 0 && v.z >= 0 && v.x < (int)g.dims.x && v.y < (int)g.dims.y &&
+            v.z < (int)g.dims.z)
+          near_hair |= density_g[((size_t)v.z * g.dims.y + (size_t)v.y) * g.dims.x + (size_t)v.x];
+      }
+  if (near_hair == 0u) {
+    ao_g[i] = 1.0f;
+    return;
+  }
+  const float3 p = grid_lo.xyz + ((float3)((float)x, (float)y, (float)z) + 0.5f) * grid_lo.w;
+  float visible = 0.0f;
+  for (uint k = 0; k < AO_DIRS; ++k) visible += exp(-ao_optical_depth(g, density_g, p, ao_direction(k)));
+  ao_g[i] = visible / (float)AO_DIRS;
 }

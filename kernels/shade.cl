@@ -16,7 +16,8 @@
  * prefiltered radiance along the mirror direction about the view-facing fibre normal,
  * with the GGX roughness and weight that stand for R + TRT, and its SH irradiance at
  * that normal (and at its opposite for TT) for the diffuse part; without an environment
- * the constant ambient lights the same energies. Probe light is darkened by the baked AO.
+ * the constant ambient lights the same energies. Probe light is darkened by the baked AO
+ * (a strand file's: its AO field at the point, ao_field.h).
  * Lights without a deep opacity map are dimmed by the groom's baked spherical visibility
  * when it has one (Kulikov 2025; clhair/visibility_sh.h): exp(-absorption * events), events
  * the clamped L1 SH of the word's (u, v, w) cell toward the light, scaled by the share of
@@ -40,6 +41,7 @@
 #include "env_lookup.h"
 #include "clhair/fast_math.h"
 #include "visibility.h"
+#include "ao_field.h"
 #include "hair_bsdf.h"
 #include "hair_aggregate.h"
 #include "hair_dual.h"
@@ -69,6 +71,7 @@ typedef struct {
   __global const float* env_sh;
   __global const ClhVisibilityGpu* vis; /* baked visibility of this groom instance */
   __global const float4* vis_sh;        /* its SH table, vis->cells cells */
+  __global const float* ao_field;       /* its AO field (ao_field.h), when vis->ao_dims[3] */
   float vis_scale; /* share of the full groom's fibres this LOD pass keeps (ghost correction) */
   float cluster_k; /* fibres a drawn strand stands for (1: full detail, single-fibre BSDF) */
   float cluster_w; /* how many times a fibre's width it is drawn */
@@ -110,7 +113,9 @@ static inline clh_v3 shade_at(__global const ClhGroomGpu* groom_g,
   const float u = clh_unorm_value(clh_gbuf_u(word), 6u), v = clh_unorm_value(clh_gbuf_v(word), 6u);
   const float w = clh_unorm_value(clh_gbuf_w(word), 6u);
   const bool file_color = groom_g->look[2] > 0.5f; /* u, v, AO fields hold rgb (gpu_types.h) */
-  const float ao = file_color ? 1.0f : clh_unorm_value(clh_gbuf_ao(word), 6u);
+  /* baked vertex AO, or (strand files) the groom's AO field at the point */
+  const float ao = (file_color ? 1.0f : clh_unorm_value(clh_gbuf_ao(word), 6u)) *
+                   clh_ao_field_at(in->vis, in->ao_field, pos.x, pos.y, pos.z);
   const clh_v3 to_eye =
       clh_v3_sub(clh_v3_make(view_g->eye[0], view_g->eye[1], view_g->eye[2]), pos);
   const clh_v3 V = clh_v3_unit(to_eye);
@@ -272,7 +277,7 @@ static inline void shade_lod(shade_inputs* in, __global const ClhGroomGpu* groom
       __global const float *shadow_hair_g, __global const uint *shadow_opacity_g,    \
       __global const float4 *env_texels_g, __global const ClhEnvLevel *env_levels_g, \
       __global const float *env_sh_g, __global const ClhVisibilityGpu *vis_g,        \
-      __global const float4 *vis_sh_g
+      __global const float4 *vis_sh_g, __global const float *ao_field_g
 
 #define SHADE_INPUTS(in)         \
   shade_inputs in;               \
@@ -284,7 +289,8 @@ static inline void shade_lod(shade_inputs* in, __global const ClhGroomGpu* groom
   in.env_levels = env_levels_g;  \
   in.env_sh = env_sh_g;          \
   in.vis = vis_g;                \
-  in.vis_sh = vis_sh_g
+  in.vis_sh = vis_sh_g;          \
+  in.ao_field = ao_field_g
 
 __kernel void shade_deferred(SHADE_PARAMS, __global const ulong* gbuf_g,
                              __global const uint* offsets_g, __global float4* hair_g) {

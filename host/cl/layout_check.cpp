@@ -24,7 +24,7 @@ static_assert(sizeof(ClhFilterGpu) == 32, "ClhFilterGpu layout");
 static_assert(sizeof(ClhLinkGpu) == 48, "ClhLinkGpu layout");
 static_assert(sizeof(ClhShadowGpu) == 160, "ClhShadowGpu layout");
 static_assert(sizeof(ClhLodRecord) == 16, "ClhLodRecord layout");
-static_assert(sizeof(ClhVisibilityGpu) == 64, "ClhVisibilityGpu layout");
+static_assert(sizeof(ClhVisibilityGpu) == 96, "ClhVisibilityGpu layout");
 static_assert(offsetof(ClhLodRecord, strands) == 0 && offsetof(ClhLodRecord, control_points) == 4 &&
                   offsetof(ClhLodRecord, coverage) == 8 && offsetof(ClhLodRecord, gamma) == 12,
               "ClhLodRecord member offsets (the bit table in gpu_types.h)");

@@ -15,16 +15,30 @@ VisibilityGpu::VisibilityGpu(Device::Impl& dev) : dev_(dev) {
 }
 
 void VisibilityGpu::prepare(std::size_t k, const GroomInstance& gi, bool enabled, bool lodAggregate,
-                            bool multipleScattering) {
+                            bool multipleScattering, const AoField* ao) {
   while (records_.size() <= k) {
     records_.push_back(makeBuffer<gpu::ClhVisibilityGpu>(dev_, "baked visibility record", 1));
+    fields_.push_back(none_);
     sent_.emplace_back();
   }
   if (inputs_.size() <= k) inputs_.resize(k + 1);
   gpu::ClhVisibilityGpu v{};
   v.shade_flags = (lodAggregate ? CLH_SHADE_AGGREGATE : 0u) |
                   (multipleScattering ? 0u : CLH_SHADE_SINGLE_SCATTER);
-  Inputs in{&records_[k], &none_, 1u};
+  Inputs in{&records_[k], &none_, 1u, &none_, 1u};
+  const glm::mat4 inv = glm::inverse(gi.transform);
+  fields_[k] = none_;
+  if (ao) {
+    for (int row = 0; row < 3; ++row)
+      for (int col = 0; col < 4; ++col) v.world_to_obj[4 * row + col] = inv[col][row];
+    for (int i = 0; i < 4; ++i) {
+      v.ao_lo[i] = ao->lo.s[i];
+      v.ao_dims[i] = i < 3 ? ao->dims.s[i] : 1u;
+    }
+    fields_[k] = ao->values;
+    in.aoField = &fields_[k];
+    in.aoFieldVoxels = ao->voxels();
+  }
   if (enabled && gi.visibility) {
     auto it = tables_.find(gi.visibility.get());
     if (it == tables_.end()) {
@@ -39,7 +53,6 @@ void VisibilityGpu::prepare(std::size_t k, const GroomInstance& gi, bool enabled
     }
     in.table = &it->second.second;
     in.cells = static_cast<std::uint32_t>(CLH_VIS_CELLS);
-    const glm::mat4 inv = glm::inverse(gi.transform);
     for (int row = 0; row < 3; ++row)
       for (int col = 0; col < 4; ++col) v.world_to_obj[4 * row + col] = inv[col][row];
     v.absorption = gi.visibilityAbsorption;
@@ -53,6 +66,11 @@ void VisibilityGpu::prepare(std::size_t k, const GroomInstance& gi, bool enabled
 std::vector<const cl::Buffer*> VisibilityGpu::buffers() const {
   std::vector<const cl::Buffer*> b = {&none_};
   for (const cl::Buffer& r : records_) b.push_back(&r);
+  for (std::size_t k = 0; k < fields_.size(); ++k) {  // each field once
+    bool seen = fields_[k]() == none_();
+    for (std::size_t j = 0; j < k && !seen; ++j) seen = fields_[j]() == fields_[k]();
+    if (!seen) b.push_back(&fields_[k]);
+  }
   for (const auto& [bake, table] : tables_) b.push_back(&table.second);
   return b;
 }

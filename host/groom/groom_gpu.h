@@ -27,6 +27,7 @@
 namespace clhair {
 
 class AoStage;
+struct AoField;
 class RootSetsGpu;
 
 // The stages and shared tables every groom draws with; owned by the renderer.
@@ -117,6 +118,12 @@ class GroomGpu {
   virtual glm::vec3 boundsMax() const = 0;
   // Baked AO on or off for the next passes (hair meshes; strand files carry none).
   virtual void useAo(bool) {}
+  // The groom's AO field for an instance placed by `objToWorld` in `scene` (strand files,
+  // host/groom/ao_field.h; baked on first use), or null when its AO is baked per vertex
+  // (hair meshes) or it has no extent.
+  virtual const AoField* aoField(const Scene& /*scene*/, const glm::mat4& /*objToWorld*/) {
+    return nullptr;
+  }
   // Hair meshes: draw the next passes with the layer vertices `cage` (layer-major, object
   // space), or the mesh's own when null. Strand files have no cage and refuse one.
   virtual void deform(const std::shared_ptr<const std::vector<glm::vec3>>& cage);

@@ -10,6 +10,7 @@
 #include "cl/buffers.h"
 #include "clhair/lod_math.h"
 #include "frame/view_math.h"
+#include "groom/ao_field.h"
 #include "groom/groom_data.h"
 
 namespace clhair {
@@ -47,6 +48,10 @@ StrandFileGpu::StrandFileGpu(std::shared_ptr<const StrandGroom> groom, GroomStag
   // uniform transparency with neither narrows the width itself
   if (d.fileOpacity && !d.fileThickness) p.look[3] = -1.0f;
   if (!d.fileOpacity && !d.fileThickness) p.strand_width *= 1.0f - sg.appearance.transparency;
+  // the AO field's density, while the points and their file look are on the host
+  aoDensity_ = splatAoDensity(d, sg.appearance.strandWidth * (1.0f - sg.appearance.transparency),
+                              d.totalStrands > 0 ? float(d.drawnStrands) / float(d.totalStrands)
+                                                 : 1.0f);
   if (!d.fileLook.empty()) d.points.insert(d.points.end(), d.fileLook.begin(), d.fileLook.end());
   std::vector<glm::vec4>().swap(d.fileLook);
   pointWords_ = d.points.size();
@@ -127,6 +132,22 @@ bool StrandFileGpu::prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld,
   }
   uploadChanged(dev_, inst.groom, inst.sent, &p, 1);
   return true;
+}
+
+const AoField* StrandFileGpu::aoField(const Scene& scene, const glm::mat4& objToWorld) {
+  if (aoDensity_.density.empty()) return nullptr;
+  const AoDensity d = withOccluders(aoDensity_, scene, objToWorld);
+  std::uint64_t sum = 1469598103934665603ull;  // FNV-1a over the grid
+  for (std::uint32_t v : d.density) sum = (sum ^ v) * 1099511628211ull;
+  std::unique_ptr<AoField>& f = aoFields_[sum];
+  if (!f) {
+    if (aoFields_.size() > 8) {  // a moving groom: keep the latest placements only
+      aoFields_.clear();
+      return aoField(scene, objToWorld);
+    }
+    f = std::make_unique<AoField>(bakeAoField(dev_, stages_.ao, d));
+  }
+  return f.get();
 }
 
 void StrandFileGpu::lod(GroomInstanceGpu& inst, const cl::Buffer& view, Profiler* profiler) {

@@ -5,9 +5,11 @@
 // of the stored strands included (host/groom/children.h).
 #pragma once
 
+#include <map>
 #include <memory>
 
 #include "clhair/strand_groom.h"
+#include "groom/ao_field.h"
 #include "groom/explicit_data.h"
 #include "groom/groom_gpu.h"
 
@@ -45,6 +47,7 @@ class StrandFileGpu final : public GroomGpu {
     return {&points_,      &strandOffsets_, &uv_,         &chunks_,
             &chunkBounds_, &kids_,          &neighbours_, &prevPoints_};
   }
+  const AoField* aoField(const Scene& scene, const glm::mat4& objToWorld) override;
   glm::vec3 boundsMin() const override { return data_.boundsMin; }
   glm::vec3 boundsMax() const override { return data_.boundsMax; }
 
@@ -61,6 +64,9 @@ class StrandFileGpu final : public GroomGpu {
   cl::Buffer points_, strandOffsets_, uv_, chunks_, chunkBounds_, kids_, neighbours_;
   cl::Buffer prevPoints_;  // the motion pass: previous frame's points in this order
   std::shared_ptr<const StrandGroom> prevGroom_;
+  AoDensity aoDensity_;  // the AO field's density grid of the hair alone
+  // fields baked for placements among occluders, by their density grid's checksum
+  std::map<std::uint64_t, std::unique_ptr<AoField>> aoFields_;
 };
 
 }  // namespace clhair

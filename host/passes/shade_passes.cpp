@@ -21,6 +21,8 @@ ShadeStage::Params shadeParams(Renderer::Impl& r, const RenderTarget& t, const G
   sp.visibility = v.record;
   sp.visibilityTable = v.table;
   sp.visibilityCells = v.cells;
+  sp.aoField = v.aoField;
+  sp.aoFieldVoxels = v.aoFieldVoxels;
   return sp;
 }
 

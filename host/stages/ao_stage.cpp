@@ -48,4 +48,21 @@ std::vector<float> AoStage::bake(const Strands& s, const Grid& grid, const Mesh&
   return ao;
 }
 
+std::vector<float> AoStage::field(const std::vector<std::uint32_t>& density, const Grid& grid) {
+  if (!field_()) field_ = dev_.kernel("ao.cl", "ao_field");
+  const std::size_t cells = std::size_t(grid.dims.s[0]) * grid.dims.s[1] * grid.dims.s[2];
+  if (density.size() != cells) throw Error("AO field: the density grid does not match its size");
+  cl::Buffer d = makeBuffer<cl_uint>(dev_, "the AO density grid", cells, density.data());
+  cl::Buffer out = makeBuffer<cl_float>(dev_, "the AO field", cells);
+  KernelArgs(field_, "ao")
+      .value("grid corner", grid.lo)
+      .value("grid size", grid.dims)
+      .buffer("density", d, cells * sizeof(cl_uint))
+      .buffer("AO", out, cells * sizeof(float));
+  dispatch(dev_, field_, "ao", cl::NDRange((cells + 63) / 64 * 64), cl::NDRange(64), nullptr);
+  std::vector<float> ao(cells, 1.0f);
+  readBack(dev_, "the AO field", out, ao.data(), ao.size());
+  return ao;
+}
+
 }  // namespace clhair

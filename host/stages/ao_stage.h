@@ -1,7 +1,9 @@
 // ao_stage.h — binds and launches the ambient-occlusion bake (kernels/ao.cl): exported
 // strands are splatted into a density grid of fibre extinction, then every hair-mesh
-// layer vertex averages the visibility of 64 directions through it. The kernels are
-// built on first use (scenes whose meshes carry AO never compile them).
+// layer vertex averages the visibility of 64 directions through it. A groom without layer
+// vertices (a strand file) gets the same visibility at every voxel centre instead: its AO
+// field, which the shading reads at the shaded point (kernels/common/ao_field.h). The
+// kernels are built on first use (scenes whose meshes carry AO never compile them).
 #pragma once
 
 #include <cstdint>
@@ -10,6 +12,14 @@
 #include "cl/dispatch.h"
 
 namespace clhair {
+
+// A groom's AO field on the device: visibility per voxel centre, x fastest.
+struct AoField {
+  cl::Buffer values;  // float per voxel
+  cl_float4 lo{};     // xyz: object-space corner of voxel (0, 0, 0), w: voxel size
+  cl_uint4 dims{};    // voxels per axis
+  std::uint64_t voxels() const { return std::uint64_t(dims.s[0]) * dims.s[1] * dims.s[2]; }
+};
 
 class AoStage {
  public:
@@ -31,10 +41,13 @@ class AoStage {
   };
   // AO per layer vertex (1 = open).
   std::vector<float> bake(const Strands& strands, const Grid& grid, const Mesh& mesh);
+  // The AO of every voxel centre of `grid` (ao_field), from a density grid already splatted
+  // (uint per voxel, fixed point as ao_voxelize writes it; grid.scale is not read).
+  std::vector<float> field(const std::vector<std::uint32_t>& density, const Grid& grid);
 
  private:
   Device::Impl& dev_;
-  cl::Kernel clear_, voxelize_, bake_;
+  cl::Kernel clear_, voxelize_, bake_, field_;
 };
 
 }  // namespace clhair

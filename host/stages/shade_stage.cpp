@@ -21,7 +21,8 @@ cl::Kernel& ShadeStage::kernel(int msaa, bool cover) {
 namespace {
 
 // The arguments both shading kernels open with (shade.cl, SHADE_PARAMS): the groom, view
-// and scene, the lights with their maps, the environment and the baked visibility.
+// and scene, the lights with their maps, the environment, the baked visibility and the AO
+// field.
 void bindShadeInputs(KernelArgs& a, const ShadeStage::Params& p) {
   a.buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
       .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
@@ -30,7 +31,8 @@ void bindShadeInputs(KernelArgs& a, const ShadeStage::Params& p) {
   bindEnvironment(a, p.lighting.env);
   a.buffer("visibility", *p.visibility, sizeof(gpu::ClhVisibilityGpu))
       .buffer("visibility table", *p.visibilityTable,
-              std::uint64_t(std::max<std::uint32_t>(p.visibilityCells, 1)) * 4 * sizeof(float));
+              std::uint64_t(std::max<std::uint32_t>(p.visibilityCells, 1)) * 4 * sizeof(float))
+      .buffer("AO field", *p.aoField, std::max<std::uint64_t>(p.aoFieldVoxels, 1) * sizeof(float));
 }
 
 }  // namespace

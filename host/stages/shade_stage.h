@@ -24,6 +24,8 @@ class ShadeStage {
     const cl::Buffer* visibility = nullptr;       // ClhVisibilityGpu of the groom instance
     const cl::Buffer* visibilityTable = nullptr;  // float4 per SH cell (one when it has none)
     std::uint32_t visibilityCells = 0;
+    const cl::Buffer* aoField = nullptr;  // float per voxel of the groom's AO field (one: none)
+    std::uint64_t aoFieldVoxels = 1;
     int msaa = 1;
     bool cover = false;  // coverage mode: three layers and the coverage plane (coverage.h)
   };

@@ -224,10 +224,11 @@ typedef struct {
   clh_u32 promote;      /* 1: conservative-only pixels are promoted (§3.3.2), 0: left empty */
 } ClhFilterGpu;
 
-/* ---- baked spherical visibility of one groom instance, 64 bytes ------------------------
+/* ---- baked spherical visibility of one groom instance, 96 bytes ------------------------
  * (Kulikov 2025, "precomputed self-shadowing"; include/clhair/visibility_sh.h, shade.cl)
- * world_to_obj : 3x4 row-major inverse of the instance's object -> world transform; only
- *                its linear part is used, to turn light directions into the bake's space
+ * world_to_obj : 3x4 row-major inverse of the instance's object -> world transform; its
+ *                linear part turns light directions into the bake's space, the whole
+ *                matrix shaded points into the AO field's
  * absorption   : visibility = exp(-absorption * max(0, SH(light direction)))
  * cells        : SH cells in the table (CLH_VIS_CELLS), 0 when the groom has no bake
  * enabled      : 1 to look the table up for lights without a deep opacity map
@@ -244,6 +245,10 @@ typedef struct {
   clh_u32 cells;
   clh_u32 enabled;
   clh_u32 shade_flags;
+  float ao_lo[4];      /* the groom's AO field (kernels/ao.cl, ao_field): object-space corner
+                          of voxel (0, 0, 0), w: voxel size */
+  clh_u32 ao_dims[4];  /* voxels per axis (x fastest in the table), w: 1 to multiply the
+                          word's AO by the field at the shaded point, 0: no field */
 } ClhVisibilityGpu;
 
 /* ---- LOD record: one per bundle of a hair mesh or chunk of a strand file, 16 bytes -----

@@ -66,25 +66,12 @@ bool removeIfStale(const std::string& tmp) {
   return removed;
 }
 
-// Writes all n bytes, retrying short writes and interrupts; the errno of a failure, else 0.
-int writeAll(int fd, const unsigned char* p, std::size_t n, std::size_t& written) {
-  written = 0;
-  while (written < n) {
-    const ssize_t k = ::write(fd, p + written, std::min<std::size_t>(n - written, 1u << 30));
-    if (k < 0) {
-      if (errno == EINTR) continue;
-      return errno;
-    }
-    if (k == 0) return EIO;
-    written += static_cast<std::size_t>(k);
-  }
-  return 0;
-}
+}  // namespace
 
 // The open temporary of one write: removed (with its lock released) unless committed.
-class Temporary {
+class WriteTemporary {
  public:
-  Temporary(const std::string& target, const std::string& folder) : target_(target) {
+  WriteTemporary(const std::string& target, const std::string& folder) : target_(target) {
     const std::string hash = nameHash(fileNameOf(target));
     for (int slot = 0; slot < kSlots && fd_ < 0; ++slot) {
       const std::string tmp = slotPath(folder, hash, slot);
@@ -121,14 +108,14 @@ class Temporary {
                   " other writes of this file are in progress in " + folder);
   }
 
-  ~Temporary() {
+  ~WriteTemporary() {
     if (fd_ >= 0) ::close(fd_);
     if (!committed_ && !path_.empty()) ::unlink(path_.c_str());
     if (lock_ >= 0) ::close(lock_);
   }
 
-  Temporary(const Temporary&) = delete;
-  Temporary& operator=(const Temporary&) = delete;
+  WriteTemporary(const WriteTemporary&) = delete;
+  WriteTemporary& operator=(const WriteTemporary&) = delete;
 
   int fd() const { return fd_; }
   const std::string& path() const { return path_; }
@@ -148,8 +135,6 @@ class Temporary {
   int fd_ = -1, lock_ = -1;
   bool committed_ = false;
 };
-
-}  // namespace
 
 std::string errnoText(int error) {
   char buf[256];
@@ -207,16 +192,64 @@ void checkOutputPath(const std::string& path) {
     throw Error(path + ": is " + fileTypeName(st.st_mode) + ", not a file clhair can replace");
 }
 
-void writeFileAtomically(const std::string& path, const void* data, std::size_t size) {
+struct AtomicFileState {
+  AtomicFileState(const std::string& target, const std::string& dir)
+      : path(target), folder(dir), tmp(target, dir) {}
+  std::string path, folder;
+  WriteTemporary tmp;
+  std::uint64_t size = 0;
+  unsigned char head[kReadBackBytes] = {};  // the first bytes as written, for the read-back
+};
+
+namespace {
+
+std::string preparedFolder(const std::string& path) {
   checkOutputPath(path);
-  const std::string folder = folderOf(path);
   removeStaleTemporaries(path);
-  Temporary tmp(path, folder);
+  return folderOf(path);
+}
+
+}  // namespace
+
+AtomicFile::AtomicFile(const std::string& path)
+    : s_(std::make_unique<AtomicFileState>(path, preparedFolder(path))) {}
+
+AtomicFile::~AtomicFile() = default;
+
+std::uint64_t AtomicFile::size() const { return s_->size; }
+
+void AtomicFile::write(const void* data, std::size_t n, std::uint64_t offset) {
   const auto* bytes = static_cast<const unsigned char*>(data);
-  std::size_t written = 0;
-  if (const int e = writeAll(tmp.fd(), bytes, size, written))
-    throw Error(path + ": writing failed after " + std::to_string(written) + " of " +
-                std::to_string(size) + " bytes (" + errnoText(e) + ")");
+  std::size_t done = 0;
+  while (done < n) {
+    const ssize_t k = ::pwrite(s_->tmp.fd(), bytes + done, std::min<std::size_t>(n - done, 1u << 30),
+                               static_cast<off_t>(offset + done));
+    const int e = k < 0 ? errno : EIO;
+    if (k < 0 && e == EINTR) continue;
+    if (k <= 0)
+      throw Error(s_->path + ": writing failed after " +
+                  std::to_string(std::max<std::uint64_t>(s_->size, offset + done)) + " bytes (" +
+                  errnoText(e) + ")");
+    done += static_cast<std::size_t>(k);
+  }
+  if (offset < kReadBackBytes)
+    std::memcpy(s_->head + offset, bytes,
+                std::min<std::uint64_t>(n, kReadBackBytes - offset));
+  s_->size = std::max<std::uint64_t>(s_->size, offset + n);
+}
+
+std::size_t AtomicFile::read(void* data, std::size_t n, std::uint64_t offset) const {
+  const ssize_t k = ::pread(s_->tmp.fd(), data, n, static_cast<off_t>(offset));
+  if (k < 0)
+    throw Error(s_->path + ": reading back the file being written failed (" + errnoText(errno) +
+                ")");
+  return static_cast<std::size_t>(k);
+}
+
+void AtomicFile::commit() {
+  const std::string& path = s_->path;
+  WriteTemporary& tmp = s_->tmp;
+  const std::uint64_t size = s_->size;
   if (::fsync(tmp.fd()) != 0)
     throw Error(path + ": flushing the file to disk failed (" + errnoText(errno) + ")");
   struct stat st {};
@@ -225,11 +258,11 @@ void writeFileAtomically(const std::string& path, const void* data, std::size_t 
   if (static_cast<std::uint64_t>(st.st_size) != size)
     throw Error(path + ": the written file holds " + std::to_string(st.st_size) +
                 " bytes, expected " + std::to_string(size));
-  const std::size_t head = std::min(size, kReadBackBytes);
+  const std::size_t head = static_cast<std::size_t>(std::min<std::uint64_t>(size, kReadBackBytes));
   if (head > 0) {
     unsigned char back[kReadBackBytes];
     const ssize_t k = ::pread(tmp.fd(), back, head, 0);
-    if (k != static_cast<ssize_t>(head) || std::memcmp(back, bytes, head) != 0)
+    if (k != static_cast<ssize_t>(head) || std::memcmp(back, s_->head, head) != 0)
       throw Error(path + ": the written file does not read back as written" +
                   (k < 0 ? " (" + errnoText(errno) + ")" : std::string()));
   }
@@ -239,7 +272,7 @@ void writeFileAtomically(const std::string& path, const void* data, std::size_t 
   tmp.commit();
   // the rename itself is durable only once the folder is flushed; folders that cannot be
   // flushed (EINVAL: some network and FUSE file systems) hold it as well as they can
-  const int dir = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  const int dir = ::open(s_->folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (dir >= 0) {
     const int r = ::fsync(dir);
     const int e = errno;
@@ -248,6 +281,12 @@ void writeFileAtomically(const std::string& path, const void* data, std::size_t 
       throw Error(path + ": written, but flushing its folder to disk failed (" + errnoText(e) +
                   ")");
   }
+}
+
+void writeFileAtomically(const std::string& path, const void* data, std::size_t size) {
+  AtomicFile f(path);
+  f.write(data, size, 0);
+  f.commit();
 }
 
 }  // namespace clhair

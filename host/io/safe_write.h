@@ -14,12 +14,38 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 
 namespace clhair {
 
 // Writes `size` bytes to `path` as described above; throws clhair::Error on any failure.
 void writeFileAtomically(const std::string& path, const void* data, std::size_t size);
+
+struct AtomicFileState;
+
+// The same write for a file produced in pieces (a streaming encoder, which may also go back
+// to fill in a table): the temporary is made on construction, every write is checked as it
+// happens, and commit() does the rest (flush, size and first bytes read back against what
+// was written, close, rename, folder flush). Destroyed without commit() (an encoder's
+// failure, an exception), the temporary is removed and an existing target stays as it was.
+class AtomicFile {
+ public:
+  explicit AtomicFile(const std::string& path);
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+  // n bytes at `offset` (the file grows as needed).
+  void write(const void* data, std::size_t n, std::uint64_t offset);
+  // Up to n bytes from `offset`: the count read.
+  std::size_t read(void* data, std::size_t n, std::uint64_t offset) const;
+  // One past the last byte written.
+  std::uint64_t size() const;
+  void commit();
+
+ private:
+  std::unique_ptr<AtomicFileState> s_;
+};
 inline void writeFileAtomically(const std::string& path, const std::string& bytes) {
   writeFileAtomically(path, bytes.data(), bytes.size());
 }

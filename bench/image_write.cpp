@@ -12,8 +12,18 @@
 //   and file size.
 // DIR (default: /dev/shm when it exists, else /tmp) holds the files; on a tmpfs the flushes
 // cost nothing and the times are the encoders'. Prints a Markdown table.
+//
+//   clhair_bench_image_write --peak WIDTHxHEIGHT EXT [--out DIR]
+//
+// The memory of one write: a synthetic frame of that size (a gradient with fine stripes,
+// every page touched) written once to DIR/peak.EXT; prints the process's peak resident size
+// before and after the write, against the float image's own bytes (run it once per format:
+// the peak is the process's whole life).
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -41,9 +51,61 @@ double medianMs(int runs, F f) {
   return ms[ms.size() / 2];
 }
 
+// Peak resident size of this process so far, bytes.
+double peakBytes() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_maxrss) * 1024.0;  // Linux: KiB
+}
+
+int peakMode(int argc, char** argv) {
+  int w = 0, h = 0;
+  if (argc < 4 || std::sscanf(argv[2], "%dx%d", &w, &h) != 2 || w <= 0 || h <= 0) {
+    std::fprintf(stderr, "usage: clhair_bench_image_write --peak WIDTHxHEIGHT EXT [--out DIR]\n");
+    return 2;
+  }
+  std::string out = std::filesystem::is_directory("/dev/shm") ? "/dev/shm" : "/tmp";
+  if (argc >= 6 && std::string(argv[4]) == "--out") out = argv[5];
+  const std::string path = out + "/clhair-peak." + argv[3];
+  try {
+    Image img;
+    img.width = w;
+    img.height = h;
+    img.rgba.resize(std::size_t(w) * h * 4);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        float* p = &img.rgba[(std::size_t(y) * w + x) * 4];
+        const float stripe = 0.5f + 0.5f * std::sin(0.7f * x + 0.05f * y);
+        p[0] = 0.6f * stripe * y / h;
+        p[1] = 0.4f * stripe;
+        p[2] = 0.2f * x / w;
+        p[3] = stripe > 0.2f ? 1.0f : 0.5f;
+      }
+    const double image = static_cast<double>(img.rgba.size() * sizeof(float));
+    const double before = peakBytes();
+    const auto t0 = Clock::now();
+    writeImage(img, path);
+    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    const double after = peakBytes();
+    std::printf(
+        "| %dx%d %s | float image %.0f MB | peak before %.0f MB | peak after %.0f MB | write "
+        "adds %.0f MB (%.3fx the image; %.2f MB per megapixel) | peak %.3fx the image | %.0f ms "
+        "| %ju bytes |\n",
+        w, h, argv[3], image / 1e6, before / 1e6, after / 1e6, (after - before) / 1e6,
+        (after - before) / image, (after - before) / 1e6 / (double(w) * h / 1e6), after / image, ms,
+        std::filesystem::file_size(path));
+    std::filesystem::remove(path);
+  } catch (const Error& e) {
+    std::fprintf(stderr, "clhair_bench_image_write: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc >= 2 && std::string(argv[1]) == "--peak") return peakMode(argc, argv);
   if (argc < 2) {
     std::fprintf(stderr, "usage: clhair_bench_image_write FRAME.exr [--runs N] [--out DIR]\n");
     return 2;

@@ -27,6 +27,7 @@
 #include "clhair/image.h"
 #include "fault_fs.h"
 #include "io/image_file.h"
+#include "io/safe_write.h"
 #include "io/srgb_encode.h"
 #include "test_util.h"
 
@@ -281,6 +282,33 @@ TEST(ImageIo, ConcurrentWritersOnOnePath) {
 
 // The table of formats checked before any work (io/image_file.h) names only formats this
 // build's OpenImageIO encodes into memory, with the alpha channel the table says.
+// The streaming write: pieces placed at any offset (an encoder filling in a table it wrote
+// ahead) make the file; dropped without commit, nothing is left and the target is as it was.
+TEST(ImageIo, AtomicFileTakesPiecesAndLeavesNothingUnlessCommitted) {
+  const std::string dir = scratchDir();
+  const std::string target = dir + "/pieces.bin";
+  {
+    AtomicFile f(target);
+    f.write("world", 5, 6);
+    f.write("hello ", 6, 0);
+    EXPECT_EQ(f.size(), 11u);
+    char back[5] = {};
+    EXPECT_EQ(f.read(back, 5, 6), 5u);
+    EXPECT_EQ(std::string(back, 5), "world");
+    EXPECT_FALSE(fs::exists(target)) << "nothing at the target before the commit";
+    f.commit();
+  }
+  EXPECT_EQ(readBytes(target), "hello world");
+  {
+    AtomicFile f(target);
+    f.write("replaced", 8, 0);
+  }  // an encoder that failed: no commit
+  EXPECT_EQ(readBytes(target), "hello world");
+  std::size_t entries = 0;
+  for (const auto& e : fs::directory_iterator(dir)) entries += e.path().filename() != "pieces.bin";
+  EXPECT_EQ(entries, 0u) << "the temporary is removed";
+}
+
 TEST(ImageIo, FormatTableMatchesTheCodecs) {
   const std::vector<std::string> exts = imageFormatExtensions();
   ASSERT_GE(exts.size(), 5u);

@@ -1,6 +1,6 @@
 // safe_write.h — the one way clhair puts a file on disk.
 //
-// writeFileAtomically writes bytes already in memory (images are encoded in memory first) to a
+// writeFileAtomically writes bytes already in memory (AtomicFile, below, bytes made in pieces) to a
 // temporary in the target's folder, checks every write, the size on disk and the first bytes
 // read back, flushes the file to disk, closes it (checked), renames it over the target and
 // flushes the folder. On any failure the temporary is removed, an existing target is left as

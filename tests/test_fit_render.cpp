@@ -4,7 +4,7 @@
 // renders through every path (plain, LOD, segment budget, wind, strand export, whose
 // device strands match the fitter's CPU generator). The round trip: the tiny preset's
 // exported strands fitted, compared by strand distance, hair FLIP and mask IoU against the
-// yardstick of the same preset with another seed.
+// yardstick of the same preset with another seed. A blonde strand file's fit keeps its colour.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -22,6 +22,7 @@
 #include "fit/fit_strands.h"
 #include "fit_groom.h"
 #include "groom/presets.h"
+#include "metrics/colour_difference.h"
 #include "metrics/image_metrics.h"
 #include "test_util.h"
 
@@ -193,6 +194,62 @@ TEST(FitRoundTrip, FittedGroomIsAsCloseAsTheOriginalWithAnotherSeed) {
       "round trip: mean distance %.3g m (reseeded %.3g m), hair FLIP %.4f (reseeded %.4f), "
       "mask IoU %.4f (reseeded %.4f)\n",
       fitted, other, flipFit, flipSeed, maskIoU(f0, f1), maskIoU(f0, f2));
+}
+
+// A blonde strand file (the tiny preset's strands, colours from a darker root to a lighter
+// tip per point, as a script would write them) and the mesh fitted to it, in one scene: the
+// mean colour of their hair within ΔE 5 (CIE76 of the mean 8-bit sRGB colour over the pixels
+// either draws with alpha >= 0.5). A file's colour is its fibres' albedo; the fit turns it
+// into the mesh colour of the same absorption.
+TEST(FitColour, BlondeStrandFileFitKeepsItsColour) {
+  const std::string dir = test::scratchDir();
+  Renderer renderer(test::sharedDevice());
+  HairMesh src = makeGroomPreset("tiny");
+  src.strandCount = 6000;
+  src.ao.assign(src.positions.size(), 1.0f);
+  const StrandSet exported = renderer.generateStrands(src);
+  StrandGroom strands;
+  strands.name = "blonde";
+  strands.pointCounts = exported.pointCounts;
+  strands.appearance = src.appearance;
+  strands.appearance.useFileColor = true;
+  const glm::vec3 root(0.80f, 0.62f, 0.36f), tip(1.0f, 0.92f, 0.62f);
+  std::size_t at = 0;
+  for (std::uint32_t n : exported.pointCounts)
+    for (std::uint32_t k = 0; k < n; ++k, ++at) {
+      strands.points.push_back(glm::vec3(exported.points[3 * at], exported.points[3 * at + 1],
+                                         exported.points[3 * at + 2]));
+      strands.colors.push_back(glm::mix(root, tip, float(k) / float(std::max(n, 2u) - 1)));
+    }
+  FitOptions o;
+  o.bundles = 48;
+  o.evaluate = false;
+  o.fibreWidth = src.appearance.strandWidth;
+  const FitResult r = fitHairMesh(strands, o);
+  EXPECT_FALSE(r.mesh.appearance.useMelanin);
+
+  saveHairMesh(src, dir + "/src.hairmesh.json");
+  RenderOptions ro;
+  ro.aovs = true;
+  Scene s0 = loadScene(writeGroomScene(dir, dir + "/src.hairmesh.json"));
+  s0.ambient = glm::vec3(0.1f);
+  s0.grooms[0] = GroomInstance("blonde", std::make_shared<const StrandGroom>(strands));
+  Scene s1 = s0;
+  s1.grooms[0] = GroomInstance("fit", std::make_shared<const HairMesh>(r.mesh));
+  const Frame f0 = renderer.render(s0, ro), f1 = renderer.render(s1, ro);
+  std::vector<char> mask(f0.aovs.hairAlpha.size(), 0);
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < mask.size(); ++i) {
+    mask[i] = f0.aovs.hairAlpha[i] >= 0.5f && f1.aovs.hairAlpha[i] >= 0.5f;
+    n += mask[i] ? 1u : 0u;
+  }
+  ASSERT_GT(n, 200u) << "the two grooms overlap on screen";
+  const std::array<double, 3> c0 = meanSrgb(f0.color, mask), c1 = meanSrgb(f1.color, mask);
+  const double de = deltaE(c0, c1);
+  RecordProperty("delta_e", std::to_string(de));
+  std::printf("file (%.0f, %.0f, %.0f), fit (%.0f, %.0f, %.0f): ΔE %.2f over %zu pixels\n", c0[0],
+              c0[1], c0[2], c1[0], c1[1], c1[2], de, n);
+  EXPECT_LE(de, 5.0);
 }
 
 }  // namespace

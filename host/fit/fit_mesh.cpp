@@ -28,6 +28,7 @@
 #include "fit/parallel.h"
 #include "fit/scalp_chart.h"
 #include "fit/style_fit.h"
+#include "groom/hair_bsdf_cpu.h"
 
 namespace clhair {
 
@@ -63,6 +64,21 @@ bool fileColours(const StrandGroom& g, glm::vec3& root, glm::vec3& tip) {
   root = glm::clamp(glm::vec3(r / k), glm::vec3(0.0f), glm::vec3(1.0f));
   tip = glm::clamp(glm::vec3(t / k), glm::vec3(0.0f), glm::vec3(1.0f));
   return true;
+}
+
+// A file's colour is its fibres' albedo (shade.cl: clh_hair_sigma_a_from_albedo), a hair
+// mesh's root and tip colours go through Chiang et al.'s mapping (clh_hair_sigma_a_from_color,
+// sigma_a = (ln c / d(beta_n))^2): the mesh colour with the same absorption is
+// c = exp(-sqrt(sigma_a) d(beta_n)).
+glm::vec3 meshColourOfAlbedo(glm::vec3 albedo, float betaN, float ior) {
+  namespace hb = cpu_bsdf;
+  const hb::clh_v3 s =
+      hb::clh_hair_sigma_a_from_albedo(hb::clh_v3_make(albedo.x, albedo.y, albedo.z), ior);
+  const float b = betaN, b2 = b * b, b3 = b2 * b, b4 = b2 * b2, b5 = b4 * b;
+  const float d = 5.969f - 0.215f * b + 2.532f * b2 - 10.73f * b3 + 5.574f * b4 + 0.245f * b5;
+  return glm::vec3(std::exp(-std::sqrt(std::max(s.x, 0.0f)) * d),
+                   std::exp(-std::sqrt(std::max(s.y, 0.0f)) * d),
+                   std::exp(-std::sqrt(std::max(s.z, 0.0f)) * d));
 }
 
 void checkOptions(const FitOptions& o) {
@@ -205,8 +221,8 @@ FitResult fitHairMesh(const StrandGroom& groom, const FitOptions& opt) {
   }
   glm::vec3 rootColour, tipColour;
   if (fileColours(groom, rootColour, tipColour)) {
-    m.appearance.rootColor = rootColour;
-    m.appearance.tipColor = tipColour;
+    m.appearance.rootColor = meshColourOfAlbedo(rootColour, m.appearance.betaN, m.appearance.ior);
+    m.appearance.tipColor = meshColourOfAlbedo(tipColour, m.appearance.betaN, m.appearance.ior);
     m.appearance.useMelanin = false;
   }
   m.lod = groom.lod;

@@ -3,8 +3,9 @@
 //
 // The quality section measures the raster against references that share its assumptions;
 // this one measures what a user sees: both bench grooms at eumelanin 0.3 (blonde), 1.3
-// (brown) and 8 (black), and a blonde strand file (groom1's strands exported with a per-point
-// colour (1.0, 0.925, 0.569), the colour of a public blonde cyHair groom), at close, mid and
+// (brown) and 8 (black), and two blonde strand files (groom1's strands exported with a per-point
+// colour: (1.0, 0.925, 0.569), the colour of a public blonde cyHair groom, which absorbs no red,
+// and a darker (0.8, 0.62, 0.36)), at close, mid and
 // far, every light with a deep opacity map (the default), against `--reference path` at
 // --ref-spp samples (>= 256 for the published table). Per cell and level (draft, good, final
 // with --look-final-passes passes): mean FLIP over the hair's pixels (where a sample of the
@@ -52,6 +53,7 @@ void runLook(Run& r) {
     std::string tag, name;
     int scene;  // bench scene (0 groom1, 1 groom2)
     float eu;   // eumelanin at root and tip (hair meshes), or < 0: the strand file
+    glm::vec3 colour{1.0f};  // the strand file's colour
   };
   std::vector<Groom> grooms;
   for (int g = 0; g < 2; ++g)
@@ -60,7 +62,10 @@ void runLook(Run& r) {
       std::snprintf(tag, sizeof(tag), "groom%d_eu%.1f", g + 1, eu);
       grooms.push_back({tag, std::string(r.groomNames[g]) + ", eumelanin " + fmt(eu, 1), g, eu});
     }
-  grooms.push_back({"blonde_file", "groom1's strands, file colour (1.0, 0.925, 0.569)", 0, -1.0f});
+  grooms.push_back({"blonde_file", "groom1's strands, file colour (1.0, 0.925, 0.569)", 0, -1.0f,
+                    glm::vec3(1.0f, 0.925f, 0.569f)});
+  grooms.push_back({"dark_blonde_file", "groom1's strands, file colour (0.8, 0.62, 0.36)", 0, -1.0f,
+                    glm::vec3(0.8f, 0.62f, 0.36f)});
   struct Level {
     const char* name;
     int quality, scattering;
@@ -98,7 +103,7 @@ void runLook(Run& r) {
         s.grooms[0].mesh = std::make_shared<const HairMesh>(std::move(m));
       } else {
         StrandGroom sg = *r.exportedGroom1();
-        sg.colors.assign(sg.points.size(), glm::vec3(1.0f, 0.925f, 0.569f));
+        sg.colors.assign(sg.points.size(), gr.colour);
         sg.appearance.useFileColor = true;
         GroomInstance gi = s.grooms[0];
         gi.mesh.reset();

@@ -51,8 +51,8 @@ void runLook(Run& r) {
   if (!r.opt.refCache.empty()) std::filesystem::create_directories(r.opt.refCache);
   struct Groom {
     std::string tag, name;
-    int scene;  // bench scene (0 groom1, 1 groom2)
-    float eu;   // eumelanin at root and tip (hair meshes), or < 0: the strand file
+    int scene;               // bench scene (0 groom1, 1 groom2)
+    float eu;                // eumelanin at root and tip (hair meshes), or < 0: the strand file
     glm::vec3 colour{1.0f};  // the strand file's colour
   };
   std::vector<Groom> grooms;

@@ -174,6 +174,7 @@ __kernel void ao_field(float4 grid_lo, uint4 grid_dims, __global const uint* den
   }
   const float3 p = grid_lo.xyz + ((float3)((float)x, (float)y, (float)z) + 0.5f) * grid_lo.w;
   float visible = 0.0f;
-  for (uint k = 0; k < AO_DIRS; ++k) visible += exp(-ao_optical_depth(g, density_g, p, ao_direction(k)));
+  for (uint k = 0; k < AO_DIRS; ++k)
+    visible += exp(-ao_optical_depth(g, density_g, p, ao_direction(k)));
   ao_g[i] = visible / (float)AO_DIRS;
 }

@@ -135,15 +135,16 @@ double maskIoU(const Frame& a, const Frame& b) {
   return u > 0 ? static_cast<double>(i) / static_cast<double>(u) : 1.0;
 }
 
-TEST(FitRoundTrip, FittedGroomIsAsCloseAsTheOriginalWithAnotherSeed) {
-  // the tiny preset's strands as export-strands writes them (generated on the device), a
-  // mesh fitted to them, and as the yardstick the same preset with another seed: a groom
-  // of the same cage and styling whose strands differ one by one
-  const std::string dir = test::scratchDir();
-  Renderer renderer(test::sharedDevice());
+// The tiny preset at 6000 strands, AO open (the fit's mesh carries none either).
+HairMesh tiny6000() {
   HairMesh src = makeGroomPreset("tiny");
   src.strandCount = 6000;
   src.ao.assign(src.positions.size(), 1.0f);
+  return src;
+}
+
+// `src`'s strands as export-strands writes them (generated on the device).
+StrandGroom exportedStrands(Renderer& renderer, const HairMesh& src) {
   const StrandSet exported = renderer.generateStrands(src);
   StrandGroom strands;
   strands.name = "tiny";
@@ -151,6 +152,17 @@ TEST(FitRoundTrip, FittedGroomIsAsCloseAsTheOriginalWithAnotherSeed) {
   for (std::size_t i = 0; i < exported.points.size(); i += 3)
     strands.points.push_back(
         glm::vec3(exported.points[i], exported.points[i + 1], exported.points[i + 2]));
+  return strands;
+}
+
+TEST(FitRoundTrip, FittedGroomIsAsCloseAsTheOriginalWithAnotherSeed) {
+  // the tiny preset's strands as export-strands writes them (generated on the device), a
+  // mesh fitted to them, and as the yardstick the same preset with another seed: a groom
+  // of the same cage and styling whose strands differ one by one
+  const std::string dir = test::scratchDir();
+  Renderer renderer(test::sharedDevice());
+  const HairMesh src = tiny6000();
+  const StrandGroom strands = exportedStrands(renderer, src);
   FitOptions o;
   o.bundles = 48;
   o.errorSample = 2000;
@@ -204,23 +216,15 @@ TEST(FitRoundTrip, FittedGroomIsAsCloseAsTheOriginalWithAnotherSeed) {
 TEST(FitColour, BlondeStrandFileFitKeepsItsColour) {
   const std::string dir = test::scratchDir();
   Renderer renderer(test::sharedDevice());
-  HairMesh src = makeGroomPreset("tiny");
-  src.strandCount = 6000;
-  src.ao.assign(src.positions.size(), 1.0f);
-  const StrandSet exported = renderer.generateStrands(src);
-  StrandGroom strands;
+  const HairMesh src = tiny6000();
+  StrandGroom strands = exportedStrands(renderer, src);
   strands.name = "blonde";
-  strands.pointCounts = exported.pointCounts;
   strands.appearance = src.appearance;
   strands.appearance.useFileColor = true;
   const glm::vec3 root(0.80f, 0.62f, 0.36f), tip(1.0f, 0.92f, 0.62f);
-  std::size_t at = 0;
-  for (std::uint32_t n : exported.pointCounts)
-    for (std::uint32_t k = 0; k < n; ++k, ++at) {
-      strands.points.push_back(glm::vec3(exported.points[3 * at], exported.points[3 * at + 1],
-                                         exported.points[3 * at + 2]));
+  for (std::uint32_t n : strands.pointCounts)
+    for (std::uint32_t k = 0; k < n; ++k)
       strands.colors.push_back(glm::mix(root, tip, float(k) / float(std::max(n, 2u) - 1)));
-    }
   FitOptions o;
   o.bundles = 48;
   o.evaluate = false;

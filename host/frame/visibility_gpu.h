@@ -2,8 +2,8 @@
 // (Renderer::Impl): each bake's spherical-harmonics table, uploaded on first use and kept
 // with the bake, one ClhVisibilityGpu record per groom draw of the frame and a one-cell
 // table for draws without a bake. The record also places the groom's AO field (strand
-// files, host/groom/ao_field.h), which the draw's inputs hold. Records are written when a frame is planned, so every
-// draw has its own and the shading passes of one frame never see another's.
+// files, host/groom/ao_field.h), which the draw's inputs hold. Records are written when a frame is
+// planned, so every draw has its own and the shading passes of one frame never see another's.
 #pragma once
 
 #include <deque>

@@ -49,9 +49,9 @@ StrandFileGpu::StrandFileGpu(std::shared_ptr<const StrandGroom> groom, GroomStag
   if (d.fileOpacity && !d.fileThickness) p.look[3] = -1.0f;
   if (!d.fileOpacity && !d.fileThickness) p.strand_width *= 1.0f - sg.appearance.transparency;
   // the AO field's density, while the points and their file look are on the host
-  aoDensity_ = splatAoDensity(d, sg.appearance.strandWidth * (1.0f - sg.appearance.transparency),
-                              d.totalStrands > 0 ? float(d.drawnStrands) / float(d.totalStrands)
-                                                 : 1.0f);
+  aoDensity_ =
+      splatAoDensity(d, sg.appearance.strandWidth * (1.0f - sg.appearance.transparency),
+                     d.totalStrands > 0 ? float(d.drawnStrands) / float(d.totalStrands) : 1.0f);
   if (!d.fileLook.empty()) d.points.insert(d.points.end(), d.fileLook.begin(), d.fileLook.end());
   std::vector<glm::vec4>().swap(d.fileLook);
   pointWords_ = d.points.size();

@@ -73,6 +73,7 @@ class WriteTemporary {
  public:
   WriteTemporary(const std::string& target, const std::string& folder) : target_(target) {
     const std::string hash = nameHash(fileNameOf(target));
+    int restarts = 0;
     for (int slot = 0; slot < kSlots && fd_ < 0; ++slot) {
       const std::string tmp = slotPath(folder, hash, slot);
       for (int attempt = 0; attempt < 2 && fd_ < 0; ++attempt) {
@@ -89,18 +90,19 @@ class WriteTemporary {
       if (fd_ < 0) continue;
       // The lock marks the temporary as live. A cleaner that opened the name between our
       // create and this lock may have removed it: then start again on a fresh name.
+      // (Removed before our open, the name is gone: the same as a removal after it.)
       lock_ = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC);
-      if (lock_ >= 0 && ::flock(lock_, LOCK_EX) == 0) {
-        struct stat opened {};
-        struct stat named {};
-        if (::fstat(fd_, &opened) != 0 || ::lstat(path_.c_str(), &named) != 0 ||
-            named.st_ino != opened.st_ino || named.st_dev != opened.st_dev) {
-          ::close(fd_);
-          ::close(lock_);
-          fd_ = lock_ = -1;
-          path_.clear();
-          --slot;  // the same slot again: it is free now
-        }
+      struct stat opened {};
+      struct stat named {};
+      const bool held = lock_ >= 0 && ::flock(lock_, LOCK_EX) == 0 && ::fstat(fd_, &opened) == 0 &&
+                        ::lstat(path_.c_str(), &named) == 0 && named.st_ino == opened.st_ino &&
+                        named.st_dev == opened.st_dev;
+      if (!held) {
+        ::close(fd_);
+        if (lock_ >= 0) ::close(lock_);
+        fd_ = lock_ = -1;
+        path_.clear();
+        if (++restarts < kSlots * 4) --slot;  // the same slot again: it is free now
       }
     }
     if (fd_ < 0)
@@ -222,8 +224,9 @@ void AtomicFile::write(const void* data, std::size_t n, std::uint64_t offset) {
   const auto* bytes = static_cast<const unsigned char*>(data);
   std::size_t done = 0;
   while (done < n) {
-    const ssize_t k = ::pwrite(s_->tmp.fd(), bytes + done, std::min<std::size_t>(n - done, 1u << 30),
-                               static_cast<off_t>(offset + done));
+    const ssize_t k =
+        ::pwrite(s_->tmp.fd(), bytes + done, std::min<std::size_t>(n - done, 1u << 30),
+                 static_cast<off_t>(offset + done));
     const int e = k < 0 ? errno : EIO;
     if (k < 0 && e == EINTR) continue;
     if (k <= 0)
@@ -233,8 +236,7 @@ void AtomicFile::write(const void* data, std::size_t n, std::uint64_t offset) {
     done += static_cast<std::size_t>(k);
   }
   if (offset < kReadBackBytes)
-    std::memcpy(s_->head + offset, bytes,
-                std::min<std::uint64_t>(n, kReadBackBytes - offset));
+    std::memcpy(s_->head + offset, bytes, std::min<std::uint64_t>(n, kReadBackBytes - offset));
   s_->size = std::max<std::uint64_t>(s_->size, offset + n);
 }
 

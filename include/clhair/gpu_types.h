@@ -245,10 +245,10 @@ typedef struct {
   clh_u32 cells;
   clh_u32 enabled;
   clh_u32 shade_flags;
-  float ao_lo[4];      /* the groom's AO field (kernels/ao.cl, ao_field): object-space corner
-                          of voxel (0, 0, 0), w: voxel size */
-  clh_u32 ao_dims[4];  /* voxels per axis (x fastest in the table), w: 1 to multiply the
-                          word's AO by the field at the shaded point, 0: no field */
+  float ao_lo[4];     /* the groom's AO field (kernels/ao.cl, ao_field): object-space corner
+                         of voxel (0, 0, 0), w: voxel size */
+  clh_u32 ao_dims[4]; /* voxels per axis (x fastest in the table), w: 1 to multiply the
+                         word's AO by the field at the shaded point, 0: no field */
 } ClhVisibilityGpu;
 
 /* ---- LOD record: one per bundle of a hair mesh or chunk of a strand file, 16 bytes -----

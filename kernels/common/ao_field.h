@@ -26,7 +26,8 @@ static inline float clh_ao_field_at(__global const ClhVisibilityGpu* vis,
   const int x0 = (int)cx, y0 = (int)cy, z0 = (int)cz;
   const int x1 = min(x0 + 1, nx - 1), y1 = min(y0 + 1, ny - 1), z1 = min(z0 + 1, nz - 1);
   const float fx = cx - (float)x0, fy = cy - (float)y0, fz = cz - (float)z0;
-#define CLH_AO_AT(x, y, z) field_g[((size_t)(z) * (size_t)ny + (size_t)(y)) * (size_t)nx + (size_t)(x)]
+#define CLH_AO_AT(x, y, z) \
+  field_g[((size_t)(z) * (size_t)ny + (size_t)(y)) * (size_t)nx + (size_t)(x)]
   const float c00 = mix(CLH_AO_AT(x0, y0, z0), CLH_AO_AT(x1, y0, z0), fx);
   const float c10 = mix(CLH_AO_AT(x0, y1, z0), CLH_AO_AT(x1, y1, z0), fx);
   const float c01 = mix(CLH_AO_AT(x0, y0, z1), CLH_AO_AT(x1, y0, z1), fx);

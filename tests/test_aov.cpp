@@ -34,8 +34,8 @@
 #include "clhair/gpu_types.h"
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
-#include "frame/view_math.h"
 #include "io/cyhair.h"
+#include "stages/view_math.h"
 #include "test_util.h"
 
 namespace clhair::test {

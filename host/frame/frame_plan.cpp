@@ -7,7 +7,7 @@
 
 #include "frame/frame_lod.h"
 #include "frame/render_target.h"
-#include "frame/view_math.h"
+#include "stages/view_math.h"
 
 namespace clhair {
 

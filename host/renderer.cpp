@@ -165,6 +165,7 @@ std::unique_ptr<PendingFrame> Renderer::Impl::submitFrame(const Scene& s,
     if (gp.filtered) addFilterPass(g, *this, plan, gp);
     addCompositePass(g, *this, plan, gp);
     if (plan.aovs) addAovGroomPass(g, *this, plan, gp);
+    if (plan.aovs && options.cryptomatte) addCryptomattePass(g, *this, plan, gp, *p);
   }
   addReadBackPass(g, *this, plan, *p);
   return run(*this, g, plan, std::move(p), waits0);

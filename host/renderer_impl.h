@@ -26,6 +26,7 @@
 #include "stages/ao_stage.h"
 #include "stages/aov_stage.h"
 #include "stages/composite_stage.h"
+#include "stages/cryptomatte_stage.h"
 #include "stages/filter_stage.h"
 #include "stages/link_stage.h"
 #include "stages/point_stage.h"
@@ -64,6 +65,7 @@ struct Renderer::Impl {
   LinkStage link;
   CompositeStage composite;
   AovStage aov;
+  CryptomatteStage cryptomatte;
   RenderTarget target;
   ViewTargets views;  // the targets and slices of frames with several views
   SceneGpu scene;
@@ -95,6 +97,7 @@ struct Renderer::Impl {
         link(dev),
         composite(dev),
         aov(dev),
+        cryptomatte(dev),
         target(dev),
         views(dev),
         scene(dev),

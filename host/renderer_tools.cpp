@@ -8,10 +8,10 @@
 #include <map>
 #include <utility>
 
-#include "frame/view_math.h"
 #include "groom/strand_file_gpu.h"
 #include "groom/strand_tracer.h"
 #include "renderer_impl.h"
+#include "stages/view_math.h"
 
 namespace clhair {
 

@@ -34,8 +34,8 @@
 #include "clhair/gpu_types.h"
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
-#include "frame/view_math.h"
 #include "io/cyhair.h"
+#include "stages/view_math.h"
 #include "test_util.h"
 
 namespace clhair::test {
@@ -162,7 +162,8 @@ TEST(Aov, ListParsesInTheDocumentedOrderAndRefusesUnknownNames) {
     } catch (const Error& e) {
       const std::string msg = e.what();
       EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
-      EXPECT_NE(msg.find("rgba, z, alpha, tangent, motion, strand or all"), std::string::npos)
+      EXPECT_NE(msg.find("rgba, z, alpha, tangent, motion, strand, cryptomatte or all"),
+                std::string::npos)
           << msg;
     }
   }

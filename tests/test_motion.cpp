@@ -29,8 +29,8 @@
 #include "clhair/aov.h"
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
-#include "frame/view_math.h"
 #include "io/cyhair.h"
+#include "stages/view_math.h"
 #include "test_util.h"
 
 namespace clhair::test {

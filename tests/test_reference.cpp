@@ -14,9 +14,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "clhair/renderer.h"
-#include "frame/view_math.h"
 #include "groom/presets.h"
 #include "groom/strand_tracer.h"
+#include "stages/view_math.h"
 #include "synthetic_groom.h"
 #include "test_util.h"
 

@@ -1,4 +1,4 @@
-// test_screen_box.cpp — each groom's passes bounded to its screen box (frame/view_math.h,
+// test_screen_box.cpp — each groom's passes bounded to its screen box (stages/view_math.h,
 // screenBox; kernels/link.cl, "Screen boxes"): the G-buffer clear, hair linking, Huang's
 // filter and its compositing run over the box of the groom's projected bounds, each pass
 // grown by the margin it reads, and the frame must be the whole-frame passes' frame bit for
@@ -16,8 +16,8 @@
 #include "clhair/hair_mesh.h"
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
-#include "frame/view_math.h"
 #include "groom/groom_data.h"
+#include "stages/view_math.h"
 #include "test_util.h"
 
 namespace clhair {

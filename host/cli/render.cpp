@@ -174,9 +174,9 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
       writer.submit([image, path, w = f.write] { writeFrameImage(*image, path, w); });
     } else {
       auto channels = std::make_shared<std::vector<ImageChannel>>(aovChannels(shots[0], aovs));
-      writer.submit([channels, path, w = q.width, h = q.height, o = f.write] {
-        writeChannels(*channels, w, h, path, o);
-      });
+      writer.submit([channels, header = aovAttributes(shots[0], aovs), path, w = q.width,
+                     h = q.height,
+                     o = f.write] { writeChannels(*channels, w, h, path, o, header); });
     }
     const Frame& frame = shots[0];
     if (rendered == 0 && !several && !f.reference)  // a groom that vanished says why

@@ -53,9 +53,11 @@ CLI::App* addRenderCommand(CLI::App& app, RenderFlags& f) {
   render->add_option("--frames", f.frames,
                      "frames of an animated scene: N, FIRST-LAST or FIRST-LAST:STEP (default 1); "
                      "#### in -o becomes the zero-padded frame number");
-  render->add_option("--aov", f.aov,
-                     "layers for compositing in one multi-channel EXR: a comma-separated list of "
-                     "rgba, z, alpha, tangent, motion, strand, or all (docs/aovs.md)");
+  render->add_option(
+      "--aov", f.aov,
+      "layers for compositing in one multi-channel EXR: a comma-separated list of "
+      "rgba, z, alpha, tangent, motion, strand, cryptomatte (ID mattes per groom and "
+      "strand), or all (every layer but cryptomatte; docs/aovs.md)");
   render->add_option("--views", f.views,
                      "views of a scene with \"cameras\": all (default) or a comma-separated list "
                      "of names (\"camera\": the scene's camera); %v in -o becomes the view's name");

@@ -45,6 +45,12 @@ RenderPlan planRender(const DeviceOptions& opts, const std::string& scenePath,
                     std::to_string(f.msaa));
       aovs.erase(strand);
     }
+    const bool crypto = std::find(aovs.begin(), aovs.end(), Aov::Cryptomatte) != aovs.end();
+    if (crypto && f.msaa != 1)
+      throw Error(
+          "--aov cryptomatte needs --msaa 1 (it reads one strand identity per pixel), not "
+          "--msaa " +
+          std::to_string(f.msaa));
   }
   if (f.framesInFlight < 1 || f.framesInFlight > kMaxFramesInFlight)
     throw Error("--frames-in-flight must be 1.." + std::to_string(kMaxFramesInFlight) + ", not " +
@@ -113,6 +119,7 @@ RenderPlan planRender(const DeviceOptions& opts, const std::string& scenePath,
   ro.multipleScattering = f.scattering == "multiple" ? 1 : 0;
   ro.aovs = std::any_of(aovs.begin(), aovs.end(), [](Aov a) { return a != Aov::Rgba; });
   ro.strandIds = std::find(aovs.begin(), aovs.end(), Aov::Strand) != aovs.end();
+  ro.cryptomatte = std::find(aovs.begin(), aovs.end(), Aov::Cryptomatte) != aovs.end();
   if (f.filter == "on") {
     ro.filter = 1;
   } else if (f.filter == "off") {

@@ -8,7 +8,7 @@
 #include <glm/matrix.hpp>
 
 #include "clhair/aov.h"
-#include "frame/view_math.h"
+#include "stages/view_math.h"
 
 namespace clhair {
 

@@ -7,7 +7,7 @@
 
 #include "frame/frame_lod.h"
 #include "frame/render_target.h"
-#include "frame/view_math.h"
+#include "stages/view_math.h"
 
 namespace clhair {
 
@@ -51,8 +51,10 @@ bool coverMode(const Scene& s, const RenderOptions& options) {
         "the coverage raster takes one sample per pixel (its coverage is analytic), not "
         "MSAA " +
         std::to_string(options.msaa));
-  if (cover && options.strandIds)
-    throw Error("the coverage raster has no strand identity layer (use the lines raster)");
+  if (cover && (options.strandIds || options.cryptomatte))
+    throw Error(std::string("the coverage raster has no strand identity layer") +
+                (options.cryptomatte ? " for the Cryptomatte layers" : "") +
+                " (use the lines raster)");
   return cover;
 }
 
@@ -72,10 +74,11 @@ int gbufferLayers(const FilterParams& fp, const RenderOptions& options, bool giv
   const bool filtered =
       options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
   const bool huang = filtered && !options.rasterOnly && huangMethod(fp, options);
-  const bool ids = huang || options.strandIds;
+  const bool ids = huang || options.strandIds || options.cryptomatte;
   if (ids && options.msaa != 1)
-    throw Error("strand identities (the strand.id layer) need MSAA 1, not " +
-                std::to_string(options.msaa));
+    throw Error(std::string("strand identities (") +
+                (options.cryptomatte ? "the Cryptomatte layers" : "the strand.id layer") +
+                ") need MSAA 1, not " + std::to_string(options.msaa));
   if (huang && fp.link && !given) return static_cast<int>(CLH_LAYER_LINKED) + 1;
   return ids ? static_cast<int>(CLH_LAYER_ID) + 1 : options.msaa + 1;
 }
@@ -163,7 +166,7 @@ void planFrame(FramePlan& plan, const std::vector<GroomDraw>& draws, DispatchMod
                  (options.filter < 0 ? fp.enabled : options.filter == 1);
     g.huang = g.filtered && !options.rasterOnly && huangMethod(fp, options);
     g.linking = g.huang && fp.link && !given;
-    g.ids = g.huang || options.strandIds;
+    g.ids = g.huang || options.strandIds || options.cryptomatte;
     // the composite takes the hair's depth from the samples, plus the conservative layer
     // after Lipp's filter (the centre layer holds the linked pixels after Huang's)
     g.depthLayers = static_cast<std::uint32_t>(g.filtered && !g.huang ? 2 : options.msaa);

@@ -61,6 +61,11 @@ struct StatsLayout {
   }
 };
 
+// The Cryptomatte layers' ranked lists (host/passes/cryptomatte_pass.cpp).
+struct CryptoHandles {
+  FrameGraph::Handle groomKeys, groomCoverage, strandKeys, strandCoverage;
+};
+
 struct FramePlan {
   FramePlan(const Scene& s, const RenderOptions& o) : scene(s), options(o) {}
   const Scene& scene;
@@ -84,6 +89,7 @@ struct FramePlan {
   // handles of the frame's shared resources
   FrameGraph::Handle viewRecord, scene_, shadowMaps, color, depth, gbuffer, rasterCounters,
       frameStats, lodArena, visibility, linkState, filterParams, motionParams, aovPlanes;
+  CryptoHandles crypto;
 };
 
 // Whether a frame draws in the coverage mode (clhair/coverage.h), and the option checks

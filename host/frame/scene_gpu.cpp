@@ -10,7 +10,7 @@
 
 #include "cl/buffers.h"
 #include "clhair/image.h"
-#include "frame/view_math.h"
+#include "stages/view_math.h"
 
 namespace clhair {
 

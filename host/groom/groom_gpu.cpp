@@ -2,9 +2,9 @@
 #include "groom/groom_gpu.h"
 
 #include "cl/buffers.h"
-#include "frame/view_math.h"
 #include "groom/hair_mesh_gpu.h"
 #include "groom/strand_file_gpu.h"
+#include "stages/view_math.h"
 
 namespace clhair {
 

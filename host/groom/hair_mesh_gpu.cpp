@@ -9,8 +9,8 @@
 
 #include "cl/buffers.h"
 #include "clhair/lod_math.h"
-#include "frame/view_math.h"
 #include "stages/ao_stage.h"
+#include "stages/view_math.h"
 
 namespace clhair {
 

@@ -9,9 +9,9 @@
 
 #include "cl/buffers.h"
 #include "clhair/lod_math.h"
-#include "frame/view_math.h"
 #include "groom/ao_field.h"
 #include "groom/groom_data.h"
+#include "stages/view_math.h"
 
 namespace clhair {
 

@@ -8,6 +8,7 @@
 #include "clhair/aov.h"
 #include "clhair/error.h"
 #include "clhair/renderer.h"
+#include "io/cryptomatte_io.h"
 #include "io/image_file.h"
 #include "io/json_util.h"
 
@@ -15,7 +16,8 @@ namespace clhair {
 
 namespace {
 
-constexpr Aov kAllAovs[] = {Aov::Rgba, Aov::Z, Aov::Alpha, Aov::Tangent, Aov::Motion, Aov::Strand};
+constexpr Aov kAllAovs[] = {Aov::Rgba,   Aov::Z,      Aov::Alpha,      Aov::Tangent,
+                            Aov::Motion, Aov::Strand, Aov::Cryptomatte};
 
 std::string knownNames() {
   std::string names;
@@ -46,6 +48,8 @@ const char* aovName(Aov aov) {
       return "motion";
     case Aov::Strand:
       return "strand";
+    case Aov::Cryptomatte:
+      return "cryptomatte";
   }
   return "?";
 }
@@ -56,8 +60,9 @@ std::vector<Aov> parseAovList(const std::string& list) {
   while (true) {
     const std::size_t end = list.find(',', begin);
     const std::string name = list.substr(begin, end == std::string::npos ? end : end - begin);
-    if (name == "all") {
-      std::fill(want.begin(), want.end(), true);
+    if (name == "all") {  // every layer but the ID mattes, which are asked for by name
+      for (std::size_t k = 0; k < want.size(); ++k)
+        want[k] = want[k] || kAllAovs[k] != Aov::Cryptomatte;
     } else {
       std::size_t k = 0;
       while (k < std::size(kAllAovs) && name != aovName(kAllAovs[k])) ++k;
@@ -132,6 +137,26 @@ double warpIoU(const FrameAovs& now, const FrameAovs& before, int width, int hei
   return either == 0 ? 1.0 : static_cast<double>(both) / static_cast<double>(either);
 }
 
+// The frame's Cryptomatte layers. A frame rendered with AOVs in which no groom was drawn
+// has none (the pass runs with the grooms): its layers are empty, as nothing covers a pixel.
+std::vector<CryptomatteLayer> cryptomatteOf(const Frame& frame) {
+  if (!frame.cryptomatte.empty()) return frame.cryptomatte;
+  const bool bare = std::all_of(frame.aovs.hairAlpha.begin(), frame.aovs.hairAlpha.end(),
+                                [](float a) { return a == 0.0f; });
+  if (!bare)
+    throw Error("the layer \"cryptomatte\" needs a frame rendered with RenderOptions::cryptomatte");
+  const std::size_t pixels =
+      static_cast<std::size_t>(frame.color.width) * static_cast<std::size_t>(frame.color.height);
+  std::vector<CryptomatteLayer> layers(2);
+  layers[0].name = kCryptoGroomLayer;
+  layers[1].name = kCryptoStrandLayer;
+  for (CryptomatteLayer& l : layers) {
+    l.ids.assign(pixels * kCryptomatteRanks, 0.0f);
+    l.coverage.assign(pixels * kCryptomatteRanks, 0.0f);
+  }
+  return layers;
+}
+
 }  // namespace
 
 double motionWarpIoU(const FrameAovs& now, const FrameAovs& before, int width, int height) {
@@ -178,13 +203,23 @@ std::vector<ImageChannel> aovChannels(const Frame& frame, const std::vector<Aov>
         out.push_back({"strand.id", component(frame.aovs.strand, 3, 1), false});
         out.push_back({"strand.u", component(frame.aovs.strand, 3, 2), false});
         break;
+      case Aov::Cryptomatte:
+        for (ImageChannel& c : cryptomatteChannels(cryptomatteOf(frame), pixels))
+          out.push_back(std::move(c));
+        break;
     }
   }
   return out;
 }
 
+std::vector<ImageAttribute> aovAttributes(const Frame& frame, const std::vector<Aov>& layers) {
+  if (std::find(layers.begin(), layers.end(), Aov::Cryptomatte) == layers.end()) return {};
+  return cryptomatteAttributes(cryptomatteOf(frame));
+}
+
 void writeChannels(const std::vector<ImageChannel>& channels, int width, int height,
-                   const std::string& path, const ImageWriteOptions& options) {
+                   const std::string& path, const ImageWriteOptions& options,
+                   const std::vector<ImageAttribute>& attributes) {
   const std::string ext = lowerExtension(path);
   if (ext != ".exr")
     throw Error(path + ": layers for compositing (--aov) need an OpenEXR file (.exr), not \"" +
@@ -211,6 +246,7 @@ void writeChannels(const std::vector<ImageChannel>& channels, int width, int hei
     if (channels[c].name == "Z") spec.z_channel = c;
   }
   spec.attribute("oiio:ColorSpace", "Linear");
+  for (const ImageAttribute& a : attributes) spec.attribute(a.name, a.value);
   std::vector<float> interleaved(pixels * n);
   for (std::size_t p = 0; p < pixels; ++p)
     for (int c = 0; c < n; ++c) interleaved[p * n + c] = channels[c].values[p];

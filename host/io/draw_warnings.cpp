@@ -13,7 +13,7 @@ namespace clhair {
 namespace {
 
 // The near limit below which the renderer draws nothing of a groom (every point at a view
-// depth of at most this is "behind the camera": host/frame/view_math.cpp, depthRange).
+// depth of at most this is "behind the camera": host/stages/view_math.cpp, depthRange).
 constexpr float kNearLimit = 1e-4f;
 
 std::string fmt(double v) {

@@ -4,8 +4,8 @@
 // the composite takes the pixel's depth from, so Z and motion describe one fragment. The
 // previous camera's intrinsics keep this frame's sub-pixel shift.
 #include "cl/buffers.h"
-#include "frame/view_math.h"
 #include "passes/passes.h"
+#include "stages/view_math.h"
 
 namespace clhair {
 

@@ -61,6 +61,11 @@ void addPointShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomP
 void addAovBeginPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingFrame& out);
 void addAovGroomPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
 
+// cryptomatte_pass.cpp: the groom's hair folded into the Cryptomatte layers after its
+// composite (RenderOptions::cryptomatte); the last groom drawn reads them back into `out`.
+void addCryptomattePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp,
+                        PendingFrame& out);
+
 // readback_pass.cpp: the frame's result, statistics and AOV planes read back without
 // blocking into `out`, which completes with the marker after them.
 void addReadBackPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingFrame& out);

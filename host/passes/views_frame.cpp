@@ -9,8 +9,8 @@
 #include <memory>
 
 #include "cl/buffers.h"
-#include "frame/view_math.h"
 #include "passes/passes.h"
+#include "stages/view_math.h"
 
 namespace clhair {
 

@@ -24,7 +24,7 @@ struct ViewTarget {
 };
 
 // A box of pixels [x0, x1) x [y0, y1) of a target: the screen box of a groom
-// (frame/view_math.h, screenBox), over which the passes that only concern that groom's
+// (stages/view_math.h, screenBox), over which the passes that only concern that groom's
 // pixels run (hair linking and Huang's filter, the bounded compositing, the G-buffer
 // clears). The default holds every pixel of any target.
 struct PixelRect {

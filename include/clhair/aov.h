@@ -19,6 +19,9 @@
 //                         file order) and its position root (0) to tip (1); -1 in all three
 //                         where no strand is; 32-bit floats, exact for indices below 2^24
 //                         (the identity word's limit). MSAA 1 only.
+//   cryptomatte  CryptoGroom00..02.R/G/B/A, CryptoStrand00..02.R/G/B/A  ID mattes per groom
+//                         and per strand (clhair/cryptomatte.h), with their manifests in the
+//                         header (aovAttributes). MSAA 1 only; named alone, never by "all".
 // Inputs and outputs only: nothing here touches the device.
 #pragma once
 
@@ -32,15 +35,16 @@ namespace clhair {
 struct Frame;
 struct FrameAovs;
 
-enum class Aov { Rgba, Z, Alpha, Tangent, Motion, Strand };
+enum class Aov { Rgba, Z, Alpha, Tangent, Motion, Strand, Cryptomatte };
 
 // `Z` where no surface was drawn: a large finite depth (compositing arithmetic on +inf
 // gives NaN, e.g. inf * 0 in a depth blend), the value Blender and others use.
 constexpr float kAovBackgroundZ = 1.0e10f;
 
 // The layers of a --aov value: a comma-separated list of rgba, z, alpha, tangent, motion,
-// strand, or "all"; duplicates collapse, the order is always the one above. Throws clhair::Error
-// (one line naming the bad entry and the known names) for an unknown or empty entry.
+// strand, cryptomatte, or "all" (every layer but cryptomatte, whose channels and manifests
+// are asked for by name); duplicates collapse, the order is always the one above. Throws
+// clhair::Error (one line naming the bad entry and the known names) for an unknown or empty entry.
 std::vector<Aov> parseAovList(const std::string& list);
 const char* aovName(Aov aov);
 
@@ -51,9 +55,18 @@ struct ImageChannel {
   bool half = false;  // stored as 16-bit float (values where exactness does not matter)
 };
 
+// One string attribute of an image file's header.
+struct ImageAttribute {
+  std::string name, value;
+};
+
 // The channels of `layers` from a frame rendered with RenderOptions::aovs (throws
-// clhair::Error when a layer other than rgba is asked of a frame without them).
+// clhair::Error when a layer other than rgba is asked of a frame without them; cryptomatte
+// needs RenderOptions::cryptomatte too).
 std::vector<ImageChannel> aovChannels(const Frame& frame, const std::vector<Aov>& layers);
+// The header attributes `layers` need: the Cryptomatte layers' name, hash, conversion and
+// manifest (none for the other layers).
+std::vector<ImageAttribute> aovAttributes(const Frame& frame, const std::vector<Aov>& layers);
 
 // How well the motion layer explains the change between two frames (docs/aovs.md, "Checking
 // motion"): frame t's hair alpha (`before`) warped to frame t+1 (`now`) by t+1's motion
@@ -67,9 +80,10 @@ double motionWarpIoU(const FrameAovs& now, const FrameAovs& before, int width, i
 double maskIoU(const FrameAovs& now, const FrameAovs& before, int width, int height);
 
 // Writes channels as one OpenEXR file (the name must end in .exr), through the same checked
-// path as writeImage (options.exrCompression applies); channels are stored in the order given.
-// Safe from several threads at once on different paths.
+// path as writeImage (options.exrCompression applies); channels are stored in the order given,
+// `attributes` go into the header. Safe from several threads at once on different paths.
 void writeChannels(const std::vector<ImageChannel>& channels, int width, int height,
-                   const std::string& path, const ImageWriteOptions& options = {});
+                   const std::string& path, const ImageWriteOptions& options = {},
+                   const std::vector<ImageAttribute>& attributes = {});
 
 }  // namespace clhair

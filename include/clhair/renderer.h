@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "clhair/cryptomatte.h"
 #include "clhair/device.h"
 #include "clhair/frame_types.h"
 #include "clhair/image.h"
@@ -106,6 +107,10 @@ struct RenderOptions {
   // gpu_types.h), and with aovs the frame gets the strand layer (clhair/aov.h). Huang's
   // filter writes it whatever this says.
   bool strandIds = false;
+  // With aovs: Frame::cryptomatte gets the ID mattes per groom and per strand
+  // (clhair/cryptomatte.h). Needs MSAA 1 and the lines raster (it reads strand identities, as
+  // strandIds does).
+  bool cryptomatte = false;
   // With aovs: the still scene of the previous frame (sceneAtFrame(scene, frame - 1)), whose
   // camera, groom transforms and cages or per-frame strands (grooms matched by index) give the
   // motion layer; null: the motion is zero.
@@ -239,6 +244,9 @@ struct Frame {
   std::vector<std::uint8_t> rasterGroom, rasterView;
   std::vector<float> rasterDepth;
   FrameAovs aovs;
+  // With RenderOptions::aovs and cryptomatte: the layers CryptoGroom and CryptoStrand (empty
+  // when no groom was drawn).
+  std::vector<CryptomatteLayer> cryptomatte;
   // With RenderOptions::describePasses: the frame's passes, buffers and host waits.
   std::string passes;
 

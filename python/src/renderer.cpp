@@ -14,7 +14,7 @@
 #include "clhair/device.h"
 #include "clhair/error.h"
 #include "clhair/renderer.h"
-#include "frame/view_math.h"
+#include "stages/view_math.h"
 
 namespace clhair::py {
 

@@ -1,4 +1,4 @@
-// in_flight.cpp — the frames a Renderer has submitted and not yet handed out: at most
+// renderer_in_flight.cpp — the frames a Renderer has submitted and not yet handed out: at most
 // Renderer::framesInFlight() of them run on the device while the host builds the next; the
 // oldest is waited for when one more would exceed that, and a frame is handed out (and its
 // results decoded) by Renderer::wait.

@@ -1,5 +1,5 @@
 // view_math.cpp — see view_math.h.
-#include "frame/view_math.h"
+#include "stages/view_math.h"
 
 #include <algorithm>
 #include <cmath>

@@ -238,19 +238,19 @@ TEST(Budget, StatsMatchCountsFromTheFiles) {
              std::to_string(ts * (tc - 1) + bseg) + " segments \\(no segment budget\\)");
 }
 
-// The defaults by image size (DESIGN.md, "LOD defaults by image size"): the budget is 2 M up
-// to 960x540 and grows with the pixel count above it; a scene that gives a budget keeps it.
-TEST(Budget, DefaultBudgetGrowsWithThePixelsAbove960x540) {
-  EXPECT_EQ(defaultSegmentBudget(960, 540), 2'000'000u);
-  EXPECT_EQ(defaultSegmentBudget(320, 180), 2'000'000u);
-  EXPECT_EQ(defaultSegmentBudget(1920, 1080), 8'000'000u);
-  EXPECT_EQ(defaultSegmentBudget(1280, 720), 3'555'556u);  // 2 M x 921 600 / 518 400, rounded up
+// The default budget is a safety limit that grows with the pixel count (DESIGN.md, "LOD from
+// the screen"): 32 segments per pixel, at least 2 M; a scene that gives a budget keeps it.
+TEST(Budget, DefaultBudgetGrowsWithThePixels) {
+  EXPECT_EQ(defaultSegmentBudget(960, 540), 16'588'800u);  // 32 x 518 400
+  EXPECT_EQ(defaultSegmentBudget(320, 180), 2'000'000u);   // 1.84 M: the least
+  EXPECT_EQ(defaultSegmentBudget(1920, 1080), 66'355'200u);
+  EXPECT_EQ(defaultSegmentBudget(1280, 720), 29'491'200u);
   EXPECT_EQ(defaultSegmentBudget(200000, 200000), kMaxSegmentBudget);
   Renderer r(sharedDevice());
   Scene s = smallScene(tinyMesh(), 1, false);
   s.width = 1280;
   s.height = 720;
-  EXPECT_EQ(r.render(s).stats.segmentBudget, 3'555'556u);
+  EXPECT_EQ(r.render(s).stats.segmentBudget, 29'491'200u);
   s.width = 640;
   s.height = 360;
   EXPECT_EQ(r.render(s).stats.segmentBudget, 2'000'000u);

@@ -82,6 +82,7 @@ struct Options {
   // pixels: the sizes, and which tables (cost, flip, final; comma-separated)
   std::string pixelSizes = "480x270,960x540,1920x1080,3840x2160";
   std::string pixelParts = "cost,flip,final";
+  std::string pixelK;  // pixels: FLIP columns at these strands per pixel (comma-separated)
   std::string lookScattering = "multiple";  // look: multiple, or both (single-scattering rows too)
   int lookFinalPasses = 16;                 // look: passes of the final level
   ThroughputOptions tp;

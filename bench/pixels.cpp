@@ -176,11 +176,42 @@ void costTable(Run& r, const std::vector<Size>& sizes) {
   r.md << "\n";
 }
 
+// One column of the FLIP table: LOD off, the defaults, or the defaults with another number
+// of strands per pixel (k > 0) or with the maps at the scene's resolution.
+struct Column {
+  std::string name;
+  int lod = -1;
+  float k = 0.0f;  // > 0: every groom's strands per pixel
+  bool sceneMaps = false;
+  bool fullPoints = false;  // L = 1 (λ 1000): every control point
+};
+
+Scene withStrandsPerPixel(Scene s, float k, bool fullPoints) {
+  for (GroomInstance& g : s.grooms)
+    if (g.mesh) {
+      auto m = std::make_shared<HairMesh>(*g.mesh);
+      if (k > 0.0f) m->lod.strandsPerPixel = k;
+      if (fullPoints) m->lod.lambda = 1000.0f;
+      g.mesh = m;
+    }
+  return s;
+}
+
 void flipTable(Run& r, const std::vector<Size>& sizes) {
+  std::vector<Column> cols = {{"LOD off", 0}, {"default", -1}};
+  std::stringstream ks(r.opt.pixelK);
+  for (std::string k; std::getline(ks, k, ',');)
+    if (!k.empty())  // "16" or "16f" (every control point)
+      cols.push_back({"k " + k, -1, std::stof(k), false, k.back() == 'f'});
+  if (r.opt.pixelParts.find("scenemaps") != std::string::npos)
+    cols.push_back({"default, maps at the scene's resolution", -1, 0.0f, true});
   r.md << "\n## LOD from the screen against LOD off (Embree reference " << r.opt.refSpp
-       << " spp, mean FLIP over the hair's pixels / frame ms)\n\n"
-       << "| groom | distance | size | LOD off | default | FLIP ratio | segments off | "
-          "segments default |\n|---|---|---|---|---|---|---|---|\n";
+       << " spp, mean FLIP over the hair's pixels / segments drawn; in brackets the FLIP over "
+          "LOD off's)\n\n| groom | distance | size |";
+  for (const Column& c : cols) r.md << " " << c.name << " |";
+  r.md << "\n|---|---|---|";
+  for (std::size_t c = 0; c < cols.size(); ++c) r.md << "---|";
+  r.md << "\n";
   json& j = r.report["pixels"]["flip"];
   std::stringstream dist(r.opt.qualityDistances);
   std::vector<std::string> distances;
@@ -195,30 +226,32 @@ void flipTable(Run& r, const std::vector<Size>& sizes) {
         const std::string tag = "groom" + std::to_string(g + 1) + "_" + r.distNames[d];
         const Frame ref = reference(r, s, tag, r.opt.refSpp);
         const std::vector<char> mask = hairMask(r, s, ref);
-        double flip[2], ms[2];
-        std::uint64_t segs[2];
-        for (int k = 0; k < 2; ++k) {
-          Frame f;
-          ms[k] = wallMs([&] { f = r.b.renderer.render(s, optionsOf(k == 0 ? 0 : -1)); });
-          ms[k] = f.totalMs();
-          flip[k] = hairFlip(ref, f, mask);
-          segs[k] = f.stats.segmentsPlanned;
+        r.md << "| " << (g + 1) << " | " << r.distNames[d] << " | " << sizeName(z) << " |";
+        double off = 0.0;
+        for (const Column& c : cols) {
+          RenderOptions o = optionsOf(c.lod);
+          if (c.sceneMaps) o.shadowResFromCamera = false;
+          const Frame f = r.b.renderer.render(
+              c.k > 0.0f || c.fullPoints ? withStrandsPerPixel(s, c.k, c.fullPoints) : s, o);
+          const double flip = hairFlip(ref, f, mask);
+          if (c.lod == 0) off = flip;
+          r.md << " " << fmt(flip, 4) << " / " << f.stats.segmentsPlanned;
+          if (c.lod != 0) r.md << " (" << fmt(flip / std::max(off, 1e-9), 3) << ")";
+          r.md << " |";
+          j.push_back({{"groom", g + 1},
+                       {"distance", r.distNames[d]},
+                       {"size", sizeName(z)},
+                       {"column", c.name},
+                       {"flip", flip},
+                       {"ratio", flip / std::max(off, 1e-9)},
+                       {"segments", f.stats.segmentsPlanned},
+                       {"device_ms", f.totalMs()}});
+          std::fprintf(stderr, "pixels flip groom%d %s %s %s: %.4f (%.3f), %llu segments\n",
+                       g + 1, r.distNames[d], sizeName(z).c_str(), c.name.c_str(), flip,
+                       flip / std::max(off, 1e-9),
+                       static_cast<unsigned long long>(f.stats.segmentsPlanned));
         }
-        r.md << "| " << (g + 1) << " | " << r.distNames[d] << " | " << sizeName(z) << " | "
-             << fmt(flip[0], 4) << " / " << fmt(ms[0], 0) << " | " << fmt(flip[1], 4) << " / "
-             << fmt(ms[1], 0) << " | " << fmt(flip[1] / std::max(flip[0], 1e-9), 3) << " | "
-             << segs[0] << " | " << segs[1] << " |\n";
-        j.push_back({{"groom", g + 1},
-                     {"distance", r.distNames[d]},
-                     {"size", sizeName(z)},
-                     {"flip_off", flip[0]},
-                     {"flip_default", flip[1]},
-                     {"ms_off", ms[0]},
-                     {"ms_default", ms[1]},
-                     {"segments_off", segs[0]},
-                     {"segments_default", segs[1]}});
-        std::fprintf(stderr, "pixels flip groom%d %s %s: off %.4f default %.4f\n", g + 1,
-                     r.distNames[d], sizeName(z).c_str(), flip[0], flip[1]);
+        r.md << "\n";
       }
     }
   }

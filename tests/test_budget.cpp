@@ -251,9 +251,9 @@ TEST(Budget, DefaultBudgetGrowsWithThePixels) {
   s.width = 1280;
   s.height = 720;
   EXPECT_EQ(r.render(s).stats.segmentBudget, 29'491'200u);
-  s.width = 640;
-  s.height = 360;
-  EXPECT_EQ(r.render(s).stats.segmentBudget, 2'000'000u);
+  s.width = 240;
+  s.height = 135;
+  EXPECT_EQ(r.render(s).stats.segmentBudget, 2'000'000u);  // 1.04 M: the least
   s.segmentBudget = 1000;  // the scene's own
   EXPECT_EQ(r.render(s).stats.segmentBudget, 1000u);
   RenderOptions o;

@@ -97,7 +97,7 @@ TEST(LodScreen, KeepingEveryStrandDrawsTheLodOffImage) {
   ASSERT_EQ(a.color.rgba.size(), b.color.rgba.size());
   EXPECT_EQ(std::memcmp(a.color.rgba.data(), b.color.rgba.data(), a.color.rgba.size() * 4), 0);
   // and where LOD does leave strands out, the images differ (the comparison can fail)
-  Scene fewer = wavyScene(4000, 96, 64);
+  Scene fewer = wavyScene(4000, 96, 64, 1.0f);
   fewer.lights = s.lights;
   const Frame c = r.render(fewer, on), d = r.render(fewer, off);
   EXPECT_LT(c.stats.strandsDrawn, 4000u);

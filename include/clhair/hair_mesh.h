@@ -69,7 +69,7 @@ struct AppearanceParams {
 
 // Strands per pixel of a bundle's projected width that LOD keeps by default (DESIGN.md,
 // "LOD from the screen": the value measured against the references).
-constexpr float kLodStrandsPerPixel = 4.0f;
+constexpr float kLodStrandsPerPixel = 8.0f;
 
 // A groom's level of detail. Files turn it on unless they say otherwise (a hair-mesh file's
 // "lod", a scene's strand-file entry: docs/scene-format.md); code that builds a groom says

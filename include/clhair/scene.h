@@ -242,16 +242,16 @@ float capStrands(StrandGroom& groom, std::uint64_t cap);
 constexpr std::uint64_t kDefaultSegmentBudget = 2'000'000;
 constexpr std::uint64_t kMaxSegmentBudget = 4'000'000'000;
 // The default budget per pixel of the image: a safety limit that a frame of LOD from the
-// screen does not reach (DESIGN.md, "LOD from the screen": the default scene asks for
-// fewer than 8 segments per pixel at every size measured).
-constexpr std::uint64_t kBudgetSegmentsPerPixel = 32;
+// screen does not reach (DESIGN.md, "LOD from the screen": the default scene asks for at
+// most 21 segments per pixel at the sizes measured; LOD off, 62 at 480x270).
+constexpr std::uint64_t kBudgetSegmentsPerPixel = 64;
 
 // The image height LOD's λ is tuned at (DESIGN.md, "LOD defaults by image size"): above it
 // λ grows with the image height, so a bundle's control points span the same pixels.
 constexpr int kLodReferenceWidth = 960, kLodReferenceHeight = 540;
 
 // The budget of a scene that gives none: kBudgetSegmentsPerPixel times the image's pixels,
-// at least kDefaultSegmentBudget (16.6 M at 960x540, 66.4 M at 1920x1080).
+// at least kDefaultSegmentBudget (33.2 M at 960x540, 132.7 M at 1920x1080).
 std::uint64_t defaultSegmentBudget(int width, int height);
 
 // The factor on every groom's λ (Lipp Eq. 2) in a view of this height: the height over

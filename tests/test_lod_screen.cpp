@@ -111,8 +111,11 @@ TEST(LodScreen, ShippedGroomsAndStrandFilesDrawWithLod) {
     EXPECT_FLOAT_EQ(m.lod.strandsPerPixel, kLodStrandsPerPixel) << name;
   }
   const Scene s = loadScene(test::assetPath("scenes/head_mesh.json"));
-  for (const GroomInstance& g : s.grooms)
-    if (g.strands) EXPECT_TRUE(g.strands->lod.enabled) << g.name;
+  for (const GroomInstance& g : s.grooms) {
+    if (g.strands) {
+      EXPECT_TRUE(g.strands->lod.enabled) << g.name;
+    }
+  }
 }
 
 // A small groom under one shadowed light, for the maps' reuse.

@@ -156,10 +156,11 @@ std::optional<int> parseOptions(int argc, char** argv, Options& o) {
                  "names as in the tables, e.g. \"SWR1,SWR MSAA 4\"); default all");
   app.add_option("--pixel-sizes", o.pixelSizes,
                  "pixels section: image sizes, comma-separated WxH (480x270,...,3840x2160)");
-  app.add_option("--pixel-parts", o.pixelParts,
-                 "pixels section: cost (default scene by size), flip (against the reference, "
-                 "--quality-grooms and --quality-distances; scenemaps: a column with the maps at the "
-                 "scene's resolution), final (against Embree at equal spp)");
+  app.add_option(
+      "--pixel-parts", o.pixelParts,
+      "pixels section: cost (default scene by size), flip (against the reference, "
+      "--quality-grooms and --quality-distances; scenemaps: a column with the maps at the "
+      "scene's resolution), final (against Embree at equal spp)");
   app.add_option("--pixel-k", o.pixelK,
                  "pixels section: FLIP columns with every groom at these strands per pixel");
   app.add_option("--look-scattering", o.lookScattering,

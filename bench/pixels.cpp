@@ -80,9 +80,8 @@ Scene before(Scene s) {
 
 // The Embree reference of s at spp, from the cache folder when it holds it.
 Frame reference(Run& r, const Scene& s, const std::string& tag, int spp) {
-  const std::string path = r.opt.refCache + "/pixels_" + tag + "_" + std::to_string(s.width) +
-                           "x" + std::to_string(s.height) + "_embree_" + std::to_string(spp) +
-                           "spp.exr";
+  const std::string path = r.opt.refCache + "/pixels_" + tag + "_" + std::to_string(s.width) + "x" +
+                           std::to_string(s.height) + "_embree_" + std::to_string(spp) + "spp.exr";
   Frame f;
   if (!r.opt.refCache.empty() && std::filesystem::exists(path)) {
     f.color = readImage(path);
@@ -127,7 +126,8 @@ void costTable(Run& r, const std::vector<Size>& sizes) {
   r.md << "\n## A frame's cost against its pixels (assets/scenes/default.json, maps built in "
           "every frame, device-time medians of "
        << r.b.runs << " runs)\n\n"
-       << "| size | settings | segments | strands | map texels | shadow ms | strands ms | frame ms | "
+       << "| size | settings | segments | strands | map texels | shadow ms | strands ms | frame ms "
+          "| "
           "wall ms |\n|---|---|---|---|---|---|---|---|---|\n";
   json& j = r.report["pixels"]["cost"];
   std::map<std::string, double> frameMs;
@@ -157,9 +157,8 @@ void costTable(Run& r, const std::vector<Size>& sizes) {
                    {"strands_ms", stageMedian(m, "strands")},
                    {"frame_ms", m.total.median},
                    {"wall_ms", m.wall.median}});
-      std::fprintf(stderr, "pixels %s LOD %s: %llu segments, frame %.1f ms\n",
-                   sizeName(z).c_str(), name,
-                   static_cast<unsigned long long>(f.stats.segmentsPlanned), m.total.median);
+      std::fprintf(stderr, "pixels %s LOD %s: %llu segments, frame %.1f ms\n", sizeName(z).c_str(),
+                   name, static_cast<unsigned long long>(f.stats.segmentsPlanned), m.total.median);
       frameMs[sizeName(z) + name] = m.total.median;
     }
   }
@@ -246,8 +245,8 @@ void flipTable(Run& r, const std::vector<Size>& sizes) {
                        {"ratio", flip / std::max(off, 1e-9)},
                        {"segments", f.stats.segmentsPlanned},
                        {"device_ms", f.totalMs()}});
-          std::fprintf(stderr, "pixels flip groom%d %s %s %s: %.4f (%.3f), %llu segments\n",
-                       g + 1, r.distNames[d], sizeName(z).c_str(), c.name.c_str(), flip,
+          std::fprintf(stderr, "pixels flip groom%d %s %s %s: %.4f (%.3f), %llu segments\n", g + 1,
+                       r.distNames[d], sizeName(z).c_str(), c.name.c_str(), flip,
                        flip / std::max(off, 1e-9),
                        static_cast<unsigned long long>(f.stats.segmentsPlanned));
         }
@@ -287,10 +286,14 @@ void finalTable(Run& r, const Size& z) {
        << "\nfinal / Embree time: " << fmt(finMs / std::max(tracedMs, 1e-9), 3)
        << "; final's FLIP / good's: " << fmt(fFin / std::max(fGood, 1e-9), 3)
        << "; maps built over final's passes: " << fin.stats.shadowMapsBuilt << ".\n";
-  r.report["pixels"]["final"] = {{"spp", spp},           {"final_ms", finMs},
-                                 {"final_flip", fFin},   {"embree_ms", tracedMs},
-                                 {"embree_flip", fTraced}, {"good_ms", goodMs},
-                                 {"good_flip", fGood},   {"maps_built", fin.stats.shadowMapsBuilt}};
+  r.report["pixels"]["final"] = {{"spp", spp},
+                                 {"final_ms", finMs},
+                                 {"final_flip", fFin},
+                                 {"embree_ms", tracedMs},
+                                 {"embree_flip", fTraced},
+                                 {"good_ms", goodMs},
+                                 {"good_flip", fGood},
+                                 {"maps_built", fin.stats.shadowMapsBuilt}};
 }
 
 }  // namespace

@@ -111,9 +111,8 @@ __kernel void lod_bundles(__global const ClhGroomGpu* groom_g, __global const Cl
     across = fmax(across, fmax(distance(q[0], q[2]), distance(q[1], q[3])));
   }
 
-  const ClhLodRecord rec =
-      clh_lod_record_for_box(g, lo, hi, across, all_behind, unprojectable, width, height, n_full,
-                             bundle->lod_delta, layers);
+  const ClhLodRecord rec = clh_lod_record_for_box(g, lo, hi, across, all_behind, unprojectable,
+                                                  width, height, n_full, bundle->lod_delta, layers);
   lod_g[b] = rec;
   const uint n = g->bundle_count;
   counts_g[b] = rec.strands;
@@ -167,9 +166,8 @@ __kernel void lod_chunks(__global const ClhGroomGpu* groom_g, __global const Clh
                           length((float3)(to_view.r0.z, to_view.r1.z, to_view.r2.z)));
   const float across = isfinite(nearest) ? fx * bounds_g[2u * c].w * axis / nearest : 0.0f;
 
-  const ClhLodRecord rec =
-      clh_lod_record_for_box(g, lo, hi, across, all_behind, unprojectable, width, height, n_full,
-                             as_float(chunk.z), 3u);
+  const ClhLodRecord rec = clh_lod_record_for_box(g, lo, hi, across, all_behind, unprojectable,
+                                                  width, height, n_full, as_float(chunk.z), 3u);
   lod_g[c] = rec;
   counts_g[c] = rec.strands;
   counts_g[clh_lod_full_count_at(g->bundle_count, c)] = rec.strands > 0u ? n_full : 0u;

@@ -37,7 +37,7 @@ std::shared_ptr<const StrandGroom> fringe(std::uint32_t n, std::uint32_t points)
   StrandGroom g;
   g.name = "fringe";
   g.lod.enabled = true;
-  g.lod.lambda = 1000.0f;  // L = 1: full detail, the budget alone reduces
+  g.lod.lambda = 1000.0f;        // L = 1: full detail, the budget alone reduces
   g.lod.strandsPerPixel = 0.0f;  // the strands from L (Lipp Eq. 1), not from the screen
   for (std::uint32_t s = 0; s < n; ++s) {
     g.pointCounts.push_back(points);
@@ -257,7 +257,7 @@ TEST(Budget, DefaultBudgetGrowsWithThePixels) {
   s.width = 160;
   s.height = 90;
   EXPECT_EQ(r.render(s).stats.segmentBudget, 2'000'000u);  // 0.92 M: the least
-  s.segmentBudget = 1000;  // the scene's own
+  s.segmentBudget = 1000;                                  // the scene's own
   EXPECT_EQ(r.render(s).stats.segmentBudget, 1000u);
   RenderOptions o;
   o.segmentBudget = 0;  // the option's

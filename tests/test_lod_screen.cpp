@@ -24,11 +24,11 @@ using namespace gpu;
 TEST(LodScreenMath, StrandsPerPixelOfWidth) {
   // ceil(width * per_px + delta), between 1 and N
   EXPECT_EQ(clh_lod_strands_screen(10.0f, 4.0f, 1000u, 0.0f), 40u);
-  EXPECT_EQ(clh_lod_strands_screen(10.0f, 4.0f, 1000u, 0.5f), 41u);   // ceil(40.5)
-  EXPECT_EQ(clh_lod_strands_screen(2.6f, 4.0f, 1000u, 0.0f), 11u);    // ceil(10.4)
-  EXPECT_EQ(clh_lod_strands_screen(0.0f, 4.0f, 1000u, 0.0f), 1u);     // at least one
+  EXPECT_EQ(clh_lod_strands_screen(10.0f, 4.0f, 1000u, 0.5f), 41u);     // ceil(40.5)
+  EXPECT_EQ(clh_lod_strands_screen(2.6f, 4.0f, 1000u, 0.0f), 11u);      // ceil(10.4)
+  EXPECT_EQ(clh_lod_strands_screen(0.0f, 4.0f, 1000u, 0.0f), 1u);       // at least one
   EXPECT_EQ(clh_lod_strands_screen(500.0f, 4.0f, 1000u, 0.3f), 1000u);  // at most N
-  EXPECT_EQ(clh_lod_strands_screen(10.0f, 4.0f, 0u, 0.3f), 0u);       // empty stays empty
+  EXPECT_EQ(clh_lod_strands_screen(10.0f, 4.0f, 0u, 0.3f), 0u);         // empty stays empty
   // the count does not follow the groom's strands: only the cap at N does
   EXPECT_EQ(clh_lod_strands_screen(10.0f, 4.0f, 5000u, 0.2f),
             clh_lod_strands_screen(10.0f, 4.0f, 100u, 0.2f));
@@ -106,7 +106,8 @@ TEST(LodScreen, KeepingEveryStrandDrawsTheLodOffImage) {
 
 TEST(LodScreen, ShippedGroomsAndStrandFilesDrawWithLod) {
   for (const char* name : {"long_wavy", "curly_medium", "fur_sphere", "tiny"}) {
-    const HairMesh m = loadHairMesh(test::assetPath(std::string("grooms/") + name + ".hairmesh.json"));
+    const HairMesh m =
+        loadHairMesh(test::assetPath(std::string("grooms/") + name + ".hairmesh.json"));
     EXPECT_TRUE(m.lod.enabled) << name;
     EXPECT_FLOAT_EQ(m.lod.strandsPerPixel, kLodStrandsPerPixel) << name;
   }
@@ -137,7 +138,7 @@ TEST(ShadowReuse, MapIsBuiltOnceOverFinalPassesAndAgainWhenItsLightMoves) {
   o.spp = 4;
   // the passes differ only by their jitter, which the map does not depend on
   EXPECT_EQ(r.render(s, o).stats.shadowMapsBuilt, 1u);
-  EXPECT_EQ(r.render(s, o).stats.shadowMapsBuilt, 0u);  // a second still of the same scene
+  EXPECT_EQ(r.render(s, o).stats.shadowMapsBuilt, 0u);   // a second still of the same scene
   s.lights[0].direction = glm::vec3(-0.3f, 1.0f, 0.5f);  // the light moves: built again, once
   EXPECT_EQ(r.render(s, o).stats.shadowMapsBuilt, 1u);
   o.reuseShadows = false;  // every pass builds its own

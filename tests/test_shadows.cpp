@@ -133,7 +133,7 @@ TEST(Shadows, LightPassLodFollowsTheLightsViewNotTheCameras) {
   o.lod = 1;
   o.shadowLodCamera = 0;
   o.shadowResFromCamera = false;  // the maps at the scene's resolution, not the camera's
-  o.lodLambdaScale = 0.25f;  // small enough that LOD drops strands in the light's view
+  o.lodLambdaScale = 0.25f;       // small enough that LOD drops strands in the light's view
   auto drawn = [&](float fov, int camW, int camH) {
     Scene s = twoPatches(true);
     s.camera.fovYDegrees = fov;

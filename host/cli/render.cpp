@@ -70,10 +70,11 @@ void printStats(const FrameStats& st) {
     std::printf(" (no groom drawn with LOD: the budget of %llu applies to none)\n",
                 static_cast<unsigned long long>(st.segmentBudget));
   else
-    std::printf(" (budget %llu over the grooms drawn with LOD, which asked for %llu: "
-                "not reached)\n",
-                static_cast<unsigned long long>(st.segmentBudget),
-                static_cast<unsigned long long>(st.segmentsBeforeBudget));
+    std::printf(
+        " (budget %llu over the grooms drawn with LOD, which asked for %llu: "
+        "not reached)\n",
+        static_cast<unsigned long long>(st.segmentBudget),
+        static_cast<unsigned long long>(st.segmentsBeforeBudget));
   std::printf("host waits: %llu\n", static_cast<unsigned long long>(st.hostWaits));
 }
 

@@ -152,8 +152,8 @@ bool ShadowPass::needsRebuild(const Scene& s, const RenderOptions& options, bool
     const glm::vec3 lo = d.groom->boundsMin(), hi = d.groom->boundsMax();
     const glm::mat4& t = d.instance->transform;
     const glm::vec3 c = glm::vec3(t * glm::vec4(0.5f * (lo + hi), 1.0f));
-    const float scale = std::max({glm::length(glm::vec3(t[0])), glm::length(glm::vec3(t[1])),
-                                  glm::length(glm::vec3(t[2]))});
+    const float scale = std::max(
+        {glm::length(glm::vec3(t[0])), glm::length(glm::vec3(t[1])), glm::length(glm::vec3(t[2]))});
     const float radius = 0.5f * glm::length(hi - lo) * scale;
     const float z = (w2v * glm::vec4(c, 1.0f)).z;
     const float share = z > radius ? view.fy * 2.0f * radius / z / float(s.height) : 1e30f;

@@ -80,9 +80,9 @@ class ShadowPass {
   Device::Impl& dev_;
   ShadowStage stage_;
   ClearStage clear_;
-  int res_ = 0;       // texels per side of the maps built last
-  int capacity_ = 0;  // texels per side the planes hold
-  int planned_ = 0;   // this frame's (needsRebuild)
+  int res_ = 0;                                  // texels per side of the maps built last
+  int capacity_ = 0;                             // texels per side the planes hold
+  int planned_ = 0;                              // this frame's (needsRebuild)
   std::array<cl::Buffer, CLH_MAX_SHADOWS> one_;  // one ClhShadowGpu per slot
   cl::Buffer all_;                               // ClhShadowGpu[CLH_MAX_SHADOWS]
   cl::Buffer opaque_, hair_, opacity_;           // texel planes of all slots

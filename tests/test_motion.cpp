@@ -320,6 +320,9 @@ void expectEachViewIsItsSingleRender(int msaa) {
   RenderOptions o;
   o.lod = 0;
   o.msaa = msaa;
+  // the maps at the scene's resolution, as a frame of several views builds them (a single
+  // view's follow its camera: RenderOptions::shadowResFromCamera)
+  o.shadowResFromCamera = false;
   const std::vector<Frame> both = r.renderViews(scene, cams, o);
   ASSERT_EQ(both.size(), 2u);
   for (std::size_t v = 0; v < 2; ++v) {

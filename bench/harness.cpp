@@ -123,7 +123,7 @@ std::optional<int> parseOptions(int argc, char** argv, Options& o) {
   app.add_option(
       "--only", only,
       "one section: table1, dispatch, scaling, atomics, quality, temporal, explicit, children, "
-      "mesh, crowd, floor, sequences, lodfar, throughput, look");
+      "mesh, crowd, floor, sequences, lodfar, throughput, look, pixels");
   app.add_option("--runs", runs,
                  "timed runs per configuration (median reported); the quality section takes 0 "
                  "for the times of the one frame it compares");
@@ -154,6 +154,15 @@ std::optional<int> parseOptions(int argc, char** argv, Options& o) {
   app.add_option("--quality-configs", qualityConfigs,
                  "quality and temporal sections: only these configurations (comma-separated "
                  "names as in the tables, e.g. \"SWR1,SWR MSAA 4\"); default all");
+  app.add_option("--pixel-sizes", o.pixelSizes,
+                 "pixels section: image sizes, comma-separated WxH (480x270,...,3840x2160)");
+  app.add_option(
+      "--pixel-parts", o.pixelParts,
+      "pixels section: cost (default scene by size), flip (against the reference, "
+      "--quality-grooms and --quality-distances; scenemaps: a column with the maps at the "
+      "scene's resolution), final (against Embree at equal spp)");
+  app.add_option("--pixel-k", o.pixelK,
+                 "pixels section: FLIP columns with every groom at these strands per pixel");
   app.add_option("--look-scattering", o.lookScattering,
                  "look section: multiple (default) or both (also rows with the light between "
                  "fibres left out)")

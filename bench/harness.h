@@ -78,7 +78,11 @@ struct Options {
   std::string refCache;        // quality: folder of references kept between runs
   std::string qualityConfigs;  // quality: the configurations to run (comma-separated names)
   std::string qualityDistances = "close,mid,far";
-  std::string qualityLights = "plain";      // quality: plain, maps or both
+  std::string qualityLights = "plain";  // quality: plain, maps or both
+  // pixels: the sizes, and which tables (cost, flip, final; comma-separated)
+  std::string pixelSizes = "480x270,960x540,1920x1080,3840x2160";
+  std::string pixelParts = "cost,flip,final";
+  std::string pixelK;  // pixels: FLIP columns at these strands per pixel (comma-separated)
   std::string lookScattering = "multiple";  // look: multiple, or both (single-scattering rows too)
   int lookFinalPasses = 16;                 // look: passes of the final level
   ThroughputOptions tp;

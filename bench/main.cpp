@@ -33,6 +33,7 @@ void runSequences(Run& r);
 void runLodFar(Run& r);
 void runThroughput(Run& r);
 void runPathConvergence(Run& r);
+void runPixels(Run& r);
 
 struct Section {
   const char* name;
@@ -57,6 +58,7 @@ const Section kSections[] = {
     {"lodfar", runLodFar},
     {"throughput", runThroughput},
     {"pathref", runPathConvergence},
+    {"pixels", runPixels},
 };
 
 }  // namespace clhair::bench

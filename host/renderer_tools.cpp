@@ -208,9 +208,10 @@ Frame Renderer::renderReference(const Scene& s, const ReferenceOptions& ro) {
   o.lod = 0;
   o.msaa = 1;
   o.filter = 0;
-  o.trueWidth = true;   // no minimum hit diameter
-  o.raster = 0;         // point samples of the strands, whatever the scene's raster
-  o.segmentBudget = 0;  // every strand of every groom
+  o.trueWidth = true;             // no minimum hit diameter
+  o.raster = 0;                   // point samples of the strands, whatever the scene's raster
+  o.segmentBudget = 0;            // every strand of every groom
+  o.shadowResFromCamera = false;  // maps at the scene's resolution, whatever the camera sees
   if (ro.method == ReferenceMethod::Path) return pathReference(*impl_, s, o, ro);
   std::unique_ptr<StrandTracer> tracer;
   std::unique_ptr<TracedLayers> layers;

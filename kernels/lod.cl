@@ -3,7 +3,9 @@
  * lod_bundles (one work-item per bundle, Lipp §3.2): projects the four corners of every
  * layer quad, accumulates one screen AABB (Eq. 3) widened by the groom's styling reach,
  * culls bundles entirely off screen, and computes L (Eq. 2), N_LOD (Eq. 1 with the
- * bundle's delta) and C (Eq. 4-5). With LOD off L = 1, N_LOD = N and C is the groom's
+ * bundle's delta) and C (Eq. 4-5); where the groom gives strands per pixel (the default),
+ * N_LOD is that many per pixel of the bundle's projected width instead (its widest layer quad,
+ * lod_math.h clh_lod_strands_screen). With LOD off L = 1, N_LOD = N and C is the groom's
  * full-detail count; gamma is the vertex-LOD morph factor (lod_math.h). Output: one
  * ClhLodRecord per bundle (N_LOD, C, the widening N / N_LOD, gamma) and the counts for the scan:
  * N_LOD, the full count of bundles not culled and the segments (layout: gpu_types.h, "the LOD
@@ -36,9 +38,9 @@
  * full detail when LOD is off or some corner cannot be projected; otherwise Eq. 1-5 and
  * the morph factor (lod_math.h), C_max being the groom's full detail. */
 static inline ClhLodRecord clh_lod_record_for_box(__global const ClhGroomGpu* g, float2 lo,
-                                                  float2 hi, bool all_behind, bool unprojectable,
-                                                  float width, float height, uint n_full,
-                                                  float delta, uint min_points) {
+                                                  float2 hi, float across, bool all_behind,
+                                                  bool unprojectable, float width, float height,
+                                                  uint n_full, float delta, uint min_points) {
   const uint C_full = clamp(g->control_points, 3u, (uint)CLH_MAX_CONTROL_POINTS);
   bool off_screen = hi.x < 0.0f || hi.y < 0.0f || lo.x > width || lo.y > height;
   if (all_behind || (!unprojectable && off_screen))
@@ -47,6 +49,9 @@ static inline ClhLodRecord clh_lod_record_for_box(__global const ClhGroomGpu* g,
     return clh_lod_record_make(n_full, C_full, clh_lod_widening(n_full, n_full), 0.0f);
   float2 ext = hi - lo;
   float L = clh_lod_value(ext.x, ext.y, height, g->lod_lambda); /* Eq. 2 */
+  if (g->lod_strands_px > 0.0f) /* the strands from the screen, C from L */
+    return clh_lod_record_screen(L, across, g->lod_strands_px, n_full, delta, min_points, C_full,
+                                 g->lod_morph_window);
   return clh_lod_record_at(L, n_full, delta, min_points, C_full, g->lod_morph_window);
 }
 
@@ -82,24 +87,32 @@ __kernel void lod_bundles(__global const ClhGroomGpu* groom_g, __global const Cl
    * full detail, unless every corner lies behind the camera by more than the reach. */
   float2 lo = (float2)(INFINITY), hi = (float2)(-INFINITY);
   bool all_behind = true, unprojectable = false;
+  float across = 0.0f; /* the bundle's width on screen: its widest layer quad, in pixels */
   for (uint l = 0; l < layers; ++l) {
+    float2 q[4];
     for (uint c = 0; c < 4u; ++c) {
       int vi = clamp(bundle->vtx[c], 0, (int)nv - 1);
       float3 p = clh_xform_point(to_view, vload3(0, verts_g[(size_t)l * nv + (uint)vi].pos));
       if (p.z >= -reach) all_behind = false;
+      q[c] = (float2)(0.0f);
       if (p.z <= 1e-4f) {
         unprojectable = true;
         continue;
       }
       float2 s = (float2)(cx + fx * p.x / p.z, cy - fy * p.y / p.z);
+      q[c] = s;
       float r = fx * reach / p.z; /* styling can move strands this far off the mesh */
       lo = fmin(lo, s - r);
       hi = fmax(hi, s + r);
     }
+    /* the quad's diameter (a triangle repeats its third corner) */
+    across = fmax(across, fmax(fmax(distance(q[0], q[1]), distance(q[1], q[2])),
+                               fmax(distance(q[2], q[3]), distance(q[3], q[0]))));
+    across = fmax(across, fmax(distance(q[0], q[2]), distance(q[1], q[3])));
   }
 
-  const ClhLodRecord rec = clh_lod_record_for_box(g, lo, hi, all_behind, unprojectable, width,
-                                                  height, n_full, bundle->lod_delta, layers);
+  const ClhLodRecord rec = clh_lod_record_for_box(g, lo, hi, across, all_behind, unprojectable,
+                                                  width, height, n_full, bundle->lod_delta, layers);
   lod_g[b] = rec;
   const uint n = g->bundle_count;
   counts_g[b] = rec.strands;
@@ -131,6 +144,7 @@ __kernel void lod_chunks(__global const ClhGroomGpu* groom_g, __global const Clh
    * unless all of them are behind the camera */
   float2 lo = (float2)(INFINITY), hi = (float2)(-INFINITY);
   bool all_behind = true, unprojectable = false;
+  float nearest = INFINITY;
   for (uint k = 0; k < 8u; ++k) {
     float3 corner =
         (float3)((k & 1u) ? bhi.x : blo.x, (k & 2u) ? bhi.y : blo.y, (k & 4u) ? bhi.z : blo.z);
@@ -143,10 +157,17 @@ __kernel void lod_chunks(__global const ClhGroomGpu* groom_g, __global const Clh
     float2 s = (float2)(cx + fx * p.x / p.z, cy - fy * p.y / p.z);
     lo = fmin(lo, s);
     hi = fmax(hi, s);
+    nearest = fmin(nearest, p.z);
   }
+  /* the chunk's width on screen: its widest cross-section (bounds_g[2c].w, object units,
+   * host/groom/explicit_data.h) at its nearest corner's depth, times the largest axis scale */
+  const float axis = fmax(fmax(length((float3)(to_view.r0.x, to_view.r1.x, to_view.r2.x)),
+                               length((float3)(to_view.r0.y, to_view.r1.y, to_view.r2.y))),
+                          length((float3)(to_view.r0.z, to_view.r1.z, to_view.r2.z)));
+  const float across = isfinite(nearest) ? fx * bounds_g[2u * c].w * axis / nearest : 0.0f;
 
-  const ClhLodRecord rec = clh_lod_record_for_box(g, lo, hi, all_behind, unprojectable, width,
-                                                  height, n_full, as_float(chunk.z), 3u);
+  const ClhLodRecord rec = clh_lod_record_for_box(g, lo, hi, across, all_behind, unprojectable,
+                                                  width, height, n_full, as_float(chunk.z), 3u);
   lod_g[c] = rec;
   counts_g[c] = rec.strands;
   counts_g[clh_lod_full_count_at(g->bundle_count, c)] = rec.strands > 0u ? n_full : 0u;

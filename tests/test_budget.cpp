@@ -37,7 +37,8 @@ std::shared_ptr<const StrandGroom> fringe(std::uint32_t n, std::uint32_t points)
   StrandGroom g;
   g.name = "fringe";
   g.lod.enabled = true;
-  g.lod.lambda = 1000.0f;  // L = 1: full detail, the budget alone reduces
+  g.lod.lambda = 1000.0f;        // L = 1: full detail, the budget alone reduces
+  g.lod.strandsPerPixel = 0.0f;  // the strands from L (Lipp Eq. 1), not from the screen
   for (std::uint32_t s = 0; s < n; ++s) {
     g.pointCounts.push_back(points);
     const float x = -0.02f + 0.04f * (static_cast<float>(s) + 0.5f) / static_cast<float>(n);
@@ -65,6 +66,7 @@ std::shared_ptr<const HairMesh> tinyMesh() {
   HairMesh m = makeGroomPreset("tiny");
   m.lod.enabled = true;
   m.lod.lambda = 1000.0f;
+  m.lod.strandsPerPixel = 0.0f;  // the strands from L (Lipp Eq. 1), not from the screen
   return std::make_shared<const HairMesh>(std::move(m));
 }
 
@@ -166,6 +168,7 @@ TEST(Budget, CoverageStaysWithinTenPercentUnderTheBudget) {
   m.appearance.minHitDiameterPx = 0.5f;
   m.lod.enabled = true;
   m.lod.lambda = 1000.0f;  // full detail: the budget alone reduces
+  m.lod.strandsPerPixel = 0.0f;
   const Scene s = coverageScene(m, 96, 72);
   const double full = coverage(r, s, 0);
   ASSERT_GT(full, 50.0);
@@ -238,23 +241,23 @@ TEST(Budget, StatsMatchCountsFromTheFiles) {
              std::to_string(ts * (tc - 1) + bseg) + " segments \\(no segment budget\\)");
 }
 
-// The defaults by image size (DESIGN.md, "LOD defaults by image size"): the budget is 2 M up
-// to 960x540 and grows with the pixel count above it; a scene that gives a budget keeps it.
-TEST(Budget, DefaultBudgetGrowsWithThePixelsAbove960x540) {
-  EXPECT_EQ(defaultSegmentBudget(960, 540), 2'000'000u);
-  EXPECT_EQ(defaultSegmentBudget(320, 180), 2'000'000u);
-  EXPECT_EQ(defaultSegmentBudget(1920, 1080), 8'000'000u);
-  EXPECT_EQ(defaultSegmentBudget(1280, 720), 3'555'556u);  // 2 M x 921 600 / 518 400, rounded up
+// The default budget is a safety limit that grows with the pixel count (DESIGN.md, "LOD from
+// the screen"): 64 segments per pixel, at least 2 M; a scene that gives a budget keeps it.
+TEST(Budget, DefaultBudgetGrowsWithThePixels) {
+  EXPECT_EQ(defaultSegmentBudget(960, 540), 33'177'600u);  // 64 x 518 400
+  EXPECT_EQ(defaultSegmentBudget(160, 90), 2'000'000u);    // 0.92 M: the least
+  EXPECT_EQ(defaultSegmentBudget(1920, 1080), 132'710'400u);
+  EXPECT_EQ(defaultSegmentBudget(1280, 720), 58'982'400u);
   EXPECT_EQ(defaultSegmentBudget(200000, 200000), kMaxSegmentBudget);
   Renderer r(sharedDevice());
   Scene s = smallScene(tinyMesh(), 1, false);
   s.width = 1280;
   s.height = 720;
-  EXPECT_EQ(r.render(s).stats.segmentBudget, 3'555'556u);
-  s.width = 640;
-  s.height = 360;
-  EXPECT_EQ(r.render(s).stats.segmentBudget, 2'000'000u);
-  s.segmentBudget = 1000;  // the scene's own
+  EXPECT_EQ(r.render(s).stats.segmentBudget, 58'982'400u);
+  s.width = 160;
+  s.height = 90;
+  EXPECT_EQ(r.render(s).stats.segmentBudget, 2'000'000u);  // 0.92 M: the least
+  s.segmentBudget = 1000;                                  // the scene's own
   EXPECT_EQ(r.render(s).stats.segmentBudget, 1000u);
   RenderOptions o;
   o.segmentBudget = 0;  // the option's
@@ -270,7 +273,8 @@ TEST(Budget, DefaultBudgetGrowsWithThePixelsAbove960x540) {
 }
 
 // LOD's λ grows with the image height above 540 lines: at 1920x1080 a groom keeps the
-// strands it keeps at 960x540 with twice its λ, so a kept strand's gap spans the same pixels.
+// strands it keeps at 960x540 with twice its λ, so a kept strand's gap spans the same pixels
+// (the strands from L, Lipp Eq. 1: strands_per_pixel 0).
 TEST(Budget, LodLambdaGrowsWithTheHeightAbove540) {
   EXPECT_FLOAT_EQ(lodResolutionScale(540), 1.0f);
   EXPECT_FLOAT_EQ(lodResolutionScale(90), 1.0f);

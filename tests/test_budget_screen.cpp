@@ -239,6 +239,7 @@ std::shared_ptr<const HairMesh> densePatch(int strands) {
   m.strandCount = strands;
   m.lod.enabled = true;
   m.lod.lambda = 1000.0f;
+  m.lod.strandsPerPixel = 0.0f;  // the strands from L (Lipp Eq. 1), not from the screen
   return std::make_shared<const HairMesh>(std::move(m));
 }
 
@@ -246,6 +247,7 @@ std::shared_ptr<const HairMesh> tinyPatch() {
   HairMesh m = makeGroomPreset("tiny");
   m.lod.enabled = true;
   m.lod.lambda = 1000.0f;
+  m.lod.strandsPerPixel = 0.0f;  // the strands from L (Lipp Eq. 1), not from the screen
   return std::make_shared<const HairMesh>(std::move(m));
 }
 

@@ -420,6 +420,7 @@ TEST(Cli, GeneratedPresetGroomRenders) {
   ASSERT_EQ(api.grooms.size(), 1u);
   HairMesh preset = makeGroomPreset("tiny");
   preset.strandCount = 2000;
+  preset.lod.enabled = true;  // `clhair groom` writes a file that draws with LOD
   api.grooms[0].mesh = std::make_shared<const HairMesh>(preset);
   Renderer renderer(sharedDevice());
   RenderOptions o;

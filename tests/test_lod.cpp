@@ -273,6 +273,7 @@ StrandRange expectedStrands(const HairMesh& mesh, const Frame& f, bool lod) {
 TEST(LodKernel, CullsBundlesOffScreenAndKeepsVisibleOnes) {
   HairMesh mesh = makeGroomPreset("fur_sphere");
   mesh.strandCount = 3000;
+  mesh.lod.strandsPerPixel = 0.0f;  // Eq. 1-2 below: the strands from L, not from the screen
   Scene s;
   s.width = 200;
   s.height = 100;

@@ -23,6 +23,7 @@ namespace {
 // seen from the side (+x), so each covers its own half of the image.
 Scene twoPatches(bool shadows) {
   HairMesh m = makeGroomPreset("tiny");
+  m.lod.strandsPerPixel = 0.0f;  // with LOD, the strands from L (Lipp Eq. 1)
   m.strandCount = 3000;
   m.appearance.minHitDiameterPx = 1.0f;
   auto mesh = std::make_shared<const HairMesh>(m);
@@ -131,7 +132,8 @@ TEST(Shadows, LightPassLodFollowsTheLightsViewNotTheCameras) {
   o.filter = 0;
   o.lod = 1;
   o.shadowLodCamera = 0;
-  o.lodLambdaScale = 0.25f;  // small enough that LOD drops strands in the light's view
+  o.shadowResFromCamera = false;  // the maps at the scene's resolution, not the camera's
+  o.lodLambdaScale = 0.25f;       // small enough that LOD drops strands in the light's view
   auto drawn = [&](float fov, int camW, int camH) {
     Scene s = twoPatches(true);
     s.camera.fovYDegrees = fov;
@@ -157,6 +159,7 @@ TEST(Shadows, LightPassLodDrawsNoMoreThanTheCameraNeeds) {
   m.strandCount = 3000;
   m.lod.enabled = true;
   m.lod.lambda = 3.0f;
+  m.lod.strandsPerPixel = 0.0f;  // the strands from L (Lipp Eq. 1): all of them close up
   Scene s;
   s.width = 128;
   s.height = 96;

@@ -167,6 +167,7 @@ TEST(Shadows, LodCorrectionIsInertWithoutLodAndUndoesPartOfLodsDarkening) {
   HairMesh m = makeGroomPreset("tiny");
   m.strandCount = 20000;
   m.appearance.minHitDiameterPx = 1.0f;
+  m.lod.strandsPerPixel = 0.0f;  // with LOD, the strands from L (Lipp Eq. 1), thinned by λ
   Scene s;
   s.width = 120;
   s.height = 80;

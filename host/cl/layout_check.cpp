@@ -9,7 +9,7 @@ namespace clhair::gpu {
 static_assert(sizeof(ClhMeshVertex) == 64, "ClhMeshVertex layout");
 static_assert(sizeof(ClhBundle) == 64, "ClhBundle layout");
 static_assert(offsetof(ClhBundle, uv) == 32, "ClhBundle uv offset");
-static_assert(sizeof(ClhGroomGpu) == 288, "ClhGroomGpu layout");
+static_assert(sizeof(ClhGroomGpu) == 304, "ClhGroomGpu layout");
 static_assert(sizeof(ClhChildrenGpu) == 32, "ClhChildrenGpu layout");
 static_assert(offsetof(ClhGroomGpu, bundle_count) == 96, "ClhGroomGpu counts offset");
 static_assert(offsetof(ClhGroomGpu, clump_strength) == 160, "ClhGroomGpu styling offset");

@@ -131,6 +131,7 @@ int cmdFitMesh(FitMeshFlags f) {
     r.mesh.appearance = look.appearance;
     if (f.options.fibreWidth > 0.0f) r.mesh.appearance.strandWidth = width;
   }
+  r.mesh.lod.enabled = true;  // a groom file draws with LOD unless it says otherwise
   saveHairMesh(r.mesh, f.output);
   std::error_code ec;
   r.report.strandFileBytes = std::filesystem::file_size(f.input, ec);

@@ -32,6 +32,7 @@ int cmdGroom(const GroomFlags& f) {
   checkOutputs({{"-o", out, {".json"}, "hair-mesh (JSON)"}}, {});
   HairMesh m = makeGroomPreset(preset);
   if (strands >= 0) m.strandCount = strands;
+  m.lod.enabled = true;  // a groom file draws with LOD unless it says otherwise
   saveHairMesh(m, out);
   std::printf("%s: %s, %d bundles, %d layers, %lld strands\n", out.c_str(), m.name.c_str(),
               static_cast<int>(m.faces.size()), m.layerCount,

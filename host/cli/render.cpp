@@ -5,6 +5,7 @@
 // checks before the first frame are planRender's (render_plan.cpp).
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -37,6 +38,7 @@ void printStats(const FrameStats& st) {
     std::printf("groom %zu \"%s\": %u strands, %llu segments, %u visible strands%s", g.instance,
                 g.name.c_str(), g.strands, static_cast<unsigned long long>(g.segments),
                 g.visibleStrands, g.halved ? ", every other control point" : "");
+    if (!g.lod) std::printf(", without LOD");
     if (st.overBudget && st.budgetScreenRule)
       std::printf(" (asked %u, floor %u, share %u; screen box %.0f px, keep claim %.2f)",
                   g.requested, g.floor, g.share, g.screenArea, g.keepClaim);
@@ -63,8 +65,16 @@ void printStats(const FrameStats& st) {
     std::printf(" (budget %llu: the LOD passes asked for %llu, strands scaled by %.4f)\n",
                 static_cast<unsigned long long>(st.segmentBudget),
                 static_cast<unsigned long long>(st.segmentsBeforeBudget), st.budgetScale);
+  else if (std::none_of(st.grooms.begin(), st.grooms.end(),
+                        [](const GroomDrawStats& g) { return g.drawn && g.lod; }))
+    std::printf(" (no groom drawn with LOD: the budget of %llu applies to none)\n",
+                static_cast<unsigned long long>(st.segmentBudget));
   else
-    std::printf(" (budget %llu, not reached)\n", static_cast<unsigned long long>(st.segmentBudget));
+    std::printf(
+        " (budget %llu over the grooms drawn with LOD, which asked for %llu: "
+        "not reached)\n",
+        static_cast<unsigned long long>(st.segmentBudget),
+        static_cast<unsigned long long>(st.segmentsBeforeBudget));
   std::printf("host waits: %llu\n", static_cast<unsigned long long>(st.hostWaits));
 }
 

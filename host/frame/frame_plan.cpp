@@ -140,6 +140,7 @@ void planFrame(FramePlan& plan, const std::vector<GroomDraw>& draws, DispatchMod
   pass.worldToView = worldToView(s.camera);
   pass.lod = options.lod;
   pass.lodLambdaScale = options.lodLambdaScale * lodResolutionScale(s.height);
+  pass.lodStrandScale = options.lodLambdaScale;
   pass.trueWidth = options.trueWidth;
   pass.shadowLodCorrection = plan.lodCorrection;
 

@@ -1,4 +1,5 @@
-// lod_defaults.cpp — the segment budget and LOD's λ by image size (clhair/scene.h).
+// lod_defaults.cpp — the segment budget (a safety limit) and LOD's λ by image size
+// (clhair/scene.h).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -9,8 +10,7 @@ namespace clhair {
 
 std::uint64_t defaultSegmentBudget(int width, int height) {
   const double pixels = static_cast<double>(std::max(width, 0)) * std::max(height, 0);
-  const double reference = static_cast<double>(kLodReferenceWidth) * kLodReferenceHeight;
-  const double scaled = std::ceil(static_cast<double>(kDefaultSegmentBudget) * pixels / reference);
+  const double scaled = static_cast<double>(kBudgetSegmentsPerPixel) * pixels;
   return std::max(kDefaultSegmentBudget, static_cast<std::uint64_t>(std::min(
                                              scaled, static_cast<double>(kMaxSegmentBudget))));
 }

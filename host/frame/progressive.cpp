@@ -113,6 +113,7 @@ void ProgressiveStill::add(int first, int count) {
       for (std::size_t k = 0; k < first_.depth.size() && k < f.depth.size(); ++k)
         first_.depth[k] = std::min(first_.depth[k], f.depth[k]);
       addTimings(first_.timings, f.timings);
+      first_.stats.shadowMapsBuilt += f.stats.shadowMapsBuilt;
     }
     ++passes_;
     if (progress) progress(passes_);
@@ -135,6 +136,7 @@ void ProgressiveStill::merge(const ProgressiveStill& other) {
   for (std::size_t k = 0; k < first_.depth.size() && k < other.first_.depth.size(); ++k)
     first_.depth[k] = std::min(first_.depth[k], other.first_.depth[k]);
   addTimings(first_.timings, other.first_.timings);
+  first_.stats.shadowMapsBuilt += other.first_.stats.shadowMapsBuilt;
   passes_ += other.passes_;
 }
 

@@ -21,7 +21,12 @@ ShadowPass::ShadowPass(Device::Impl& dev) : dev_(dev), stage_(dev), clear_(dev) 
 }
 
 void ShadowPass::ensureBuffers(int res) {
-  if (res == res_) return;
+  allocate(res);
+  res_ = res;
+}
+
+void ShadowPass::allocate(int res) {
+  if (res <= capacity_) return;  // a smaller map uses the front of the planes
   const std::size_t plane = static_cast<std::size_t>(res) * res;
   const std::string what = std::to_string(res) + "x" + std::to_string(res) + " deep opacity maps";
   opaque_ = makeBuffer<cl_float>(dev_, what, plane * CLH_MAX_SHADOWS);
@@ -30,14 +35,14 @@ void ShadowPass::ensureBuffers(int res) {
   lightColor_ = makeBuffer<cl_float4>(dev_, what, plane);
   lightDepth_ = makeBuffer<cl_float>(dev_, what, plane);
   lightGBuffer_ = makeBuffer<cl_ulong>(dev_, what, plane * 2);
-  res_ = res;
+  capacity_ = res;
 }
 
 void ShadowPass::reserve(const Scene& s) {
   if (s.grooms.empty()) return;
   for (const Light& l : s.lights)
     if (l.shadows) {
-      ensureBuffers(s.shadows.resolution);
+      allocate(s.shadows.resolution);
       return;
     }
 }
@@ -111,10 +116,19 @@ ShadowPass::Key ShadowPass::keyOf(const Scene& s, const RenderOptions& o, bool l
   putValue(o.trueWidth);
   putValue(lodCorrection);
   putValue(o.shadowLodCamera);
+  putValue(o.shadowResFromCamera);
   const std::size_t counts[4] = {s.lights.size(), s.spheres.size(), s.planes.size(),
                                  s.grooms.size()};
   putValue(counts);
   return k;
+}
+
+int ShadowPass::mapResolution(int sceneResolution, float across) {
+  // a texel per camera pixel across the grooms' bounding sphere, to the next power of two
+  // (it changes an octave at a time, so a dolly rebuilds the maps seldom)
+  int res = kMinResolution;
+  while (res < sceneResolution && float(res) < across) res *= 2;
+  return std::min(res, sceneResolution);
 }
 
 bool ShadowPass::cameraCaps(const RenderOptions& options, bool cameraLod) {
@@ -130,24 +144,29 @@ bool ShadowPass::needsRebuild(const Scene& s, const RenderOptions& options, bool
   // are kept while the camera moves within it
   const glm::mat4 w2v = worldToView(s.camera);
   const gpu::ClhViewGpu view = makeView(s.camera, s.width, s.height);
+  // the grooms' largest diameter on the camera's screen, pixels (the map's resolution)
+  float across = draws && options.shadowResFromCamera ? 0.0f : float(s.shadows.resolution);
   for (std::size_t k = 0; draws && k < draws->size(); ++k) {
     const GroomDraw& d = (*draws)[k];
     const bool lodOn = options.lod < 0 ? d.groom->lodEnabled() : options.lod != 0;
+    const glm::vec3 lo = d.groom->boundsMin(), hi = d.groom->boundsMax();
+    const glm::mat4& t = d.instance->transform;
+    const glm::vec3 c = glm::vec3(t * glm::vec4(0.5f * (lo + hi), 1.0f));
+    const float scale = std::max(
+        {glm::length(glm::vec3(t[0])), glm::length(glm::vec3(t[1])), glm::length(glm::vec3(t[2]))});
+    const float radius = 0.5f * glm::length(hi - lo) * scale;
+    const float z = (w2v * glm::vec4(c, 1.0f)).z;
+    const float share = z > radius ? view.fy * 2.0f * radius / z / float(s.height) : 1e30f;
+    across = std::max(across, share * float(s.height));
     int bucket = 1 << 20;  // not capped
-    if (cameraCaps(options, lodOn)) {
-      const glm::vec3 lo = d.groom->boundsMin(), hi = d.groom->boundsMax();
-      const glm::mat4& t = d.instance->transform;
-      const glm::vec3 c = glm::vec3(t * glm::vec4(0.5f * (lo + hi), 1.0f));
-      const float scale = std::max({glm::length(glm::vec3(t[0])), glm::length(glm::vec3(t[1])),
-                                    glm::length(glm::vec3(t[2]))});
-      const float radius = 0.5f * glm::length(hi - lo) * scale;
-      const float z = (w2v * glm::vec4(c, 1.0f)).z;
-      const float share = z > radius ? view.fy * 2.0f * radius / z / float(s.height) : 1.0f;
+    if (cameraCaps(options, lodOn))
       bucket = share >= 1.0f ? 0 : static_cast<int>(std::floor(2.0f * std::log2(share)));
-    }
     const auto* b = reinterpret_cast<const unsigned char*>(&bucket);
     key.bytes.insert(key.bytes.end(), b, b + sizeof bucket);
   }
+  planned_ = mapResolution(s.shadows.resolution, across);
+  key.bytes.insert(key.bytes.end(), reinterpret_cast<const unsigned char*>(&planned_),
+                   reinterpret_cast<const unsigned char*>(&planned_) + sizeof planned_);
   if (options.reuseShadows && valid_ && key == lastKey_) return false;
   // the maps are valid for this key once the rebuild is enqueued (the frame's next pass);
   // a frame that fails before it leaves them invalid
@@ -170,6 +189,7 @@ void ShadowPass::rebuild(const Scene& s, const RenderOptions& cameraOptions, boo
   pass.lod = cameraOptions.lod == 0 ? 0 : 1;
   if (cameraOptions.shadowLod >= 0) pass.lod = cameraOptions.shadowLod;
   pass.lodLambdaScale = cameraOptions.lodLambdaScale * s.shadows.lodScale;
+  pass.lodStrandScale = pass.lodLambdaScale;
   pass.trueWidth = cameraOptions.trueWidth;
   pass.shadowLodCorrection = lodCorrection;
   // the camera's LOD records of the grooms it draws with LOD: the light passes draw no more
@@ -207,7 +227,7 @@ void ShadowPass::rebuild(const Scene& s, const RenderOptions& cameraOptions, boo
   int slot = 0;
   for (const Light& light : s.lights) {
     if (!light.shadows || grooms.empty() || slot >= CLH_MAX_SHADOWS) continue;
-    const int res = s.shadows.resolution;
+    const int res = planned_ > 0 ? planned_ : s.shadows.resolution;
     ensureBuffers(res);
     const std::size_t plane = static_cast<std::size_t>(res) * res;
     // the light's view: a pinhole at the light (directional: far away, narrow) framing all grooms

@@ -56,6 +56,13 @@ class ShadowPass {
   // (CLH_MAX_SHADOWS x totalSlots()), summed by the frame's read-back.
   const cl::Buffer& totals() const { return totals_; }
   std::size_t totalSlots() const { return totalSlots_; }
+  // Texels per side of the maps this frame reads (after needsRebuild).
+  int resolution() const { return planned_ > 0 ? planned_ : res_; }
+  // The maps' resolution: the scene's (ShadowParams::resolution) or, where the camera's view
+  // of the grooms is smaller, a texel per pixel of their bounding sphere's diameter on the
+  // camera's screen (`across`), rounded up to a power of two, at least kMinResolution.
+  static int mapResolution(int sceneResolution, float across);
+  static constexpr int kMinResolution = 64;
 
  private:
   // Everything the maps depend on, to reuse them while it stays the same: the bytes of the
@@ -67,12 +74,15 @@ class ShadowPass {
     bool operator==(const Key& o) const { return bytes == o.bytes && held == o.held; }
   };
   static Key keyOf(const Scene& s, const RenderOptions& o, bool lodCorrection);
-  void ensureBuffers(int res);
+  void ensureBuffers(int res);  // maps of res x res texels from now on
+  void allocate(int res);       // planes that hold maps of up to res x res texels
 
   Device::Impl& dev_;
   ShadowStage stage_;
   ClearStage clear_;
-  int res_ = 0;
+  int res_ = 0;                                  // texels per side of the maps built last
+  int capacity_ = 0;                             // texels per side the planes hold
+  int planned_ = 0;                              // this frame's (needsRebuild)
   std::array<cl::Buffer, CLH_MAX_SHADOWS> one_;  // one ClhShadowGpu per slot
   cl::Buffer all_;                               // ClhShadowGpu[CLH_MAX_SHADOWS]
   cl::Buffer opaque_, hair_, opacity_;           // texel planes of all slots

@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
 
 #include "clhair/gpu_types.h"
 #include "groom/children.h"
@@ -37,6 +38,25 @@ std::uint32_t quantize(float v, float lo, float extent) {
 std::uint32_t unorm16(float v) {
   v = std::min(std::max(v, 0.0f), 1.0f);
   return static_cast<std::uint32_t>(v * 65535.0f + 0.5f);
+}
+
+// The width of the n strands from `first` across their length (lod.cl, LOD from the
+// screen): the largest diagonal of the boxes of their points at 0, 1/4, .., 1 of each
+// strand's points.
+float chunkWidth(const ExplicitData& d, std::size_t first, std::size_t n) {
+  float width = 0.0f;
+  for (int q = 0; q <= 4; ++q) {
+    glm::vec3 lo(1e30f), hi(-1e30f);
+    for (std::size_t s = first; s < first + n; ++s) {
+      const std::uint32_t a = d.strandOffsets[s], e = d.strandOffsets[s + 1];
+      if (e <= a) continue;
+      const glm::vec3 p(d.points[a + (e - 1 - a) * q / 4]);
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
+    if (lo.x <= hi.x) width = std::max(width, glm::length(hi - lo));
+  }
+  return width;
 }
 
 }  // namespace
@@ -168,7 +188,7 @@ ExplicitData prepareExplicit(const StrandGroom& g, std::uint32_t chunkStrands) {
     out.chunks[c] = glm::uvec4(static_cast<std::uint32_t>(b),
                                static_cast<std::uint32_t>(n * (std::uint64_t(kids.count) + 1)),
                                deltaBits, static_cast<std::uint32_t>(n));
-    out.chunkBounds[2 * c] = glm::vec4(clo, 0.0f);
+    out.chunkBounds[2 * c] = glm::vec4(clo, chunkWidth(out, b, n));
     out.chunkBounds[2 * c + 1] = glm::vec4(chi, 0.0f);
     lo = glm::min(lo, clo);
     hi = glm::max(hi, chi);

@@ -18,7 +18,10 @@
 //                  x + j % w (child 0: the guide), so the first N_LOD slots are every guide,
 //                  then one child of each, and so on (host/groom/children.h)
 //   chunkBounds    (below) cover the children too
-//   chunkBounds    float4 pair per chunk: object-space AABB min (w 0), max (w 0)
+//   chunkBounds    float4 pair per chunk: object-space AABB min (w: the chunk's width, the
+//                  largest diagonal of its stored strands' points at five fractions of
+//                  their length, root to tip: LOD's strands per pixel of width, lod.cl),
+//                  max (w 0)
 //   fileLook       float4 per stored point in the order of `points`, only when the groom
 //                  draws per-point colours, thicknesses or transparencies of its file
 //                  (AppearanceParams::useFile*): linear rgb (the appearance's root colour

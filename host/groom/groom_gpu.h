@@ -57,6 +57,8 @@ struct ViewPass {
   float nearZ = -1.0f, farZ = -1.0f;
   int lod = -1;  // RenderOptions::lod semantics
   float lodLambdaScale = 1.0f;
+  float lodStrandScale =
+      1.0f;                // on every groom's strands per pixel (RenderOptions::lodLambdaScale)
   bool trueWidth = false;  // ignore the minimum hit diameter (reference passes)
   bool shadowLodCorrection = true;
 };

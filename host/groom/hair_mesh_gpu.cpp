@@ -95,6 +95,7 @@ bool HairMeshGpu::prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld,
   const HairMesh& mesh = *mesh_;
   p.lod_enabled = pass.lod < 0 ? (mesh.lod.enabled ? 1u : 0u) : static_cast<gpu::clh_u32>(pass.lod);
   p.lod_lambda = mesh.lod.lambda * pass.lodLambdaScale;
+  p.lod_strands_px = mesh.lod.strandsPerPixel * pass.lodStrandScale;
   p.total_strands = static_cast<gpu::clh_u32>(data_.totalStrands);
   p.shadow_lod_correction = pass.shadowLodCorrection ? 1u : 0u;
   p.hit_diameter_px = pass.trueWidth ? 0.0f : mesh.appearance.minHitDiameterPx;

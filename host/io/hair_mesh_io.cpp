@@ -92,7 +92,8 @@ void readLod(const JsonReader& r, const json& j, LodParams& lod) {
   lod.enabled = o.boolean("enabled", lod.enabled);
   lod.lambda = o.number("lambda", lod.lambda, 1e-3, 1e3);
   lod.morphWindow = o.number("morph_window", lod.morphWindow, 0.0, 1.0);
-  o.rejectUnknown({"enabled", "lambda", "morph_window"});
+  lod.strandsPerPixel = o.number("strands_per_pixel", lod.strandsPerPixel, 0.0, 1e4);
+  o.rejectUnknown({"enabled", "lambda", "morph_window", "strands_per_pixel"});
 }
 
 // Rounds to 6 significant digits so files stay small and diff-friendly.
@@ -305,6 +306,7 @@ HairMesh loadHairMesh(const std::string& path) {
   json root = readJsonFile(path, "hair mesh");
   JsonReader r(path, root);
   HairMesh m;
+  m.lod.enabled = true;  // a file draws with LOD unless it says otherwise
   // the keys the format requires (docs/hair-mesh-format.md) must be there, not defaulted
   for (const char* key :
        {"format", "version", "layer_count", "vertex_count", "faces", "uv", "layers"})
@@ -447,7 +449,8 @@ void saveHairMesh(const HairMesh& m, const std::string& path) {
                      {"min_hit_diameter_px", tidy(a.minHitDiameterPx)}};
   j["lod"] = {{"enabled", m.lod.enabled},
               {"lambda", tidy(m.lod.lambda)},
-              {"morph_window", tidy(m.lod.morphWindow)}};
+              {"morph_window", tidy(m.lod.morphWindow)},
+              {"strands_per_pixel", tidy(m.lod.strandsPerPixel)}};
   writeTextAtomically(path, layout(j));
 }
 

@@ -167,7 +167,9 @@ float readGrooms(const JsonReader& r, const std::string& path, const std::filesy
         copy.lod.lambda = static_cast<float>(l.number("lambda", copy.lod.lambda, 1e-3, 1e3));
         copy.lod.morphWindow =
             static_cast<float>(l.number("morph_window", copy.lod.morphWindow, 0.0, 1.0));
-        l.rejectUnknown({"enabled", "lambda", "morph_window"});
+        copy.lod.strandsPerPixel =
+            static_cast<float>(l.number("strands_per_pixel", copy.lod.strandsPerPixel, 0.0, 1e4));
+        l.rejectUnknown({"enabled", "lambda", "morph_window", "strands_per_pixel"});
       }
       capStrands(copy, cap);
       validateHairMesh(copy, path + ": grooms[" + std::to_string(i) + "]");

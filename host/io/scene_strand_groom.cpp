@@ -151,13 +151,16 @@ GroomInstance readStrandGroom(
   // the entry's look, from the defaults: entries naming the same file may differ
   AppearanceParams look;
   LodParams lod;
+  lod.enabled = true;  // a strand file draws with LOD unless the entry says otherwise
   if (o.has("appearance")) readAppearance(o, o.require("appearance"), look, true);
   if (o.has("lod")) {
     JsonReader l = o.object(o.require("lod"), "lod");
     lod.enabled = l.boolean("enabled", lod.enabled);
     lod.lambda = static_cast<float>(l.number("lambda", lod.lambda, 1e-3, 1e3));
     lod.morphWindow = static_cast<float>(l.number("morph_window", lod.morphWindow, 0.0, 1.0));
-    l.rejectUnknown({"enabled", "lambda", "morph_window"});
+    lod.strandsPerPixel =
+        static_cast<float>(l.number("strands_per_pixel", lod.strandsPerPixel, 0.0, 1e4));
+    l.rejectUnknown({"enabled", "lambda", "morph_window", "strands_per_pixel"});
   }
   const auto cap =
       static_cast<std::uint64_t>(o.integer64("max_strands", static_cast<long long>(sceneCap), 0,

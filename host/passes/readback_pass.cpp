@@ -83,7 +83,7 @@ void addReadBackPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingF
   // the statistics, decoded once the words are on the host
   struct Drawn {
     std::string name;
-    bool drawn = false, huang = false, points = false;
+    bool drawn = false, huang = false, points = false, lod = false;
   };
   struct Offsets {
     std::size_t budgetAt, linkAt, pointsAt, shadowAt, rasterStatsAt;
@@ -91,11 +91,15 @@ void addReadBackPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingF
   std::vector<Drawn> drawn;
   for (const GroomPlan& gp : plan.grooms)
     drawn.push_back({gp.draw.instance->name, gp.active != 0, gp.huang && !plan.options.rasterOnly,
-                     gp.active != 0 && gp.points});
+                     gp.active != 0 && gp.points, gp.active == CLH_BUDGET_DRAW_BUDGETED});
   const bool screenRule = plan.options.budgetRule != 0;
+  std::uint32_t mapsBuilt = 0;
+  if (plan.shadowsRebuilt && !plan.grooms.empty())
+    for (const Light& l : plan.scene.lights) mapsBuilt += l.shadows && mapsBuilt < CLH_MAX_SHADOWS;
+  const int mapRes = r.shadows.resolution();
   out.finishers.insert(
       out.finishers.begin(),
-      [drawn, budget = plan.budget, screenRule,
+      [drawn, budget = plan.budget, screenRule, mapsBuilt, mapRes,
        at = Offsets{plan.budgetAt, plan.linkAt, plan.pointsAt, plan.shadowAt, plan.rasterStatsAt},
        D, shadowWords](PendingFrame& p) {
         FrameStats& st = p.frames[0].stats;
@@ -110,11 +114,14 @@ void addReadBackPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingF
         st.budgetScreenRule = screenRule;
         st.budgetLevel = lod.level;
         st.segmentsBeforeBudget = lod.lodSegments;
+        st.shadowMapsBuilt = mapsBuilt;
+        st.shadowResolution = mapRes;
         for (std::size_t k = 0; k < D; ++k) {
           GroomDrawStats g;
           g.instance = k;
           g.name = drawn[k].name;
           g.drawn = drawn[k].drawn;
+          g.lod = drawn[k].lod;
           if (g.drawn && lod.draw.size() >= 4 * D) {
             g.strands = lod.draw[4 * k];
             g.segments = lod.draw[4 * k + 1];

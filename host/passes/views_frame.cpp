@@ -45,6 +45,7 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
     passes[v].worldToView = worldToView(cameras[v]);
     passes[v].lod = o.lod;
     passes[v].lodLambdaScale = o.lodLambdaScale * lodResolutionScale(s.height);
+    passes[v].lodStrandScale = o.lodLambdaScale;
     passes[v].trueWidth = o.trueWidth;
     passes[v].shadowLodCorrection = plan.lodCorrection;
   }

@@ -81,7 +81,7 @@ typedef struct {
   float uv[8];
 } ClhBundle;
 
-/* ---- per-groom parameters for one view, 288 bytes ------------------------------------- */
+/* ---- per-groom parameters for one view, 304 bytes ------------------------------------- */
 typedef struct {
   float obj_to_view[12];  /* 3x4 row-major: object space -> view space (+z forward) */
   float obj_to_world[12]; /* 3x4 row-major: object space -> world space */
@@ -131,6 +131,10 @@ typedef struct {
                      * whose G-buffer words carry per-point colour, see below), file
                      * thickness scale (0: none; > 0: object -> world scale of the
                      * per-point thickness; -1: per-point opacity times strand_width) */
+  /* LOD from the screen (lod_math.h clh_lod_strands_screen): strands per pixel of a bundle's
+   * projected width (0: Lipp Eq. 1 from L instead); then padding */
+  float lod_strands_px;
+  float lod_pad[3];
 } ClhGroomGpu;
 
 /* ---- camera for one view, 128 bytes ------------------------------------------------

@@ -67,10 +67,19 @@ struct AppearanceParams {
   float transparency = 0.0f;
 };
 
+// Strands per pixel of a bundle's projected width that LOD keeps by default (DESIGN.md,
+// "LOD from the screen": the value measured against the references).
+constexpr float kLodStrandsPerPixel = 8.0f;
+
+// A groom's level of detail. Files turn it on unless they say otherwise (a hair-mesh file's
+// "lod", a scene's strand-file entry: docs/scene-format.md); code that builds a groom says
+// what it wants, and `enabled` here starts false so a groom built in code is drawn in full.
 struct LodParams {
   bool enabled = false;
-  float lambda = 3.0f;       // Lipp Eq. 2
+  float lambda = 3.0f;       // Lipp Eq. 2: L, which sets the control points (Eq. 4-5)
   float morphWindow = 0.5f;  // Bhokare Eq. 10 transition window
+  // strands kept per pixel of a bundle's projected width (0: Lipp Eq. 1 from L instead)
+  float strandsPerPixel = kLodStrandsPerPixel;
 };
 
 struct HairMesh {

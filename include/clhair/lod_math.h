@@ -7,8 +7,10 @@
  * jump: at the point where C switches from 2^k + 1 to 2^(k-1) + 1, gamma is exactly 1.
  * C_max is the groom's full-detail control-point count (at most CLH_MAX_CONTROL_POINTS,
  * 129, see gpu_types.h), so LOD never draws more points than LOD off. clh_lod_record_at
- * puts them together into one bundle's LOD record. Written in the common subset of C++17
- * and OpenCL C like gpu_types.h.
+ * puts them together into one bundle's LOD record (Lipp's strand count, which the strand
+ * export uses); clh_lod_record_screen is the record the LOD pre-pass writes, its strand count
+ * set by the bundle's width on screen instead (DESIGN.md, "LOD from the screen"). Written
+ * in the common subset of C++17 and OpenCL C like gpu_types.h.
  */
 #ifndef CLHAIR_LOD_MATH_H
 #define CLHAIR_LOD_MATH_H
@@ -30,6 +32,18 @@ CLH_FN clh_u32 clh_lod_strands(float L, clh_u32 n_full, float delta) {
   if (n_full == 0u) return 0u;
   float n = ceil(L * ((float)n_full + delta));
   if (n < 1.0f) return 1u;
+  if (n > (float)n_full) return n_full;
+  return (clh_u32)n;
+}
+
+/* N_LOD from the screen (DESIGN.md, "LOD from the screen"): per_px strands per pixel of the
+ * bundle's projected width width_px, with the bundle's delta in [0, 1) as the dither of Eq. 1,
+ * between 1 and N; 0 strands stay 0. The count follows the pixels the bundle covers, not the
+ * strands the groom has; the strands left out widen the kept ones by N / N_LOD. */
+CLH_FN clh_u32 clh_lod_strands_screen(float width_px, float per_px, clh_u32 n_full, float delta) {
+  if (n_full == 0u) return 0u;
+  float n = ceil(fmax(width_px, 0.0f) * per_px + delta);
+  if (!(n >= 1.0f)) return 1u;
   if (n > (float)n_full) return n_full;
   return (clh_u32)n;
 }
@@ -77,6 +91,17 @@ CLH_FN float clh_lod_morph(float L, clh_u32 layers, clh_u32 c_max, float window)
 CLH_FN ClhLodRecord clh_lod_record_at(float L, clh_u32 n_full, float delta, clh_u32 min_points,
                                       clh_u32 c_full, float window) {
   const clh_u32 n = clh_lod_strands(L, n_full, delta);
+  return clh_lod_record_make(n, clh_lod_control_points(L, min_points, c_full),
+                             clh_lod_widening(n_full, n),
+                             clh_lod_morph(L, min_points, c_full, window));
+}
+
+/* The LOD record lod.cl writes: C and gamma from L as clh_lod_record_at, the strands from the
+ * screen (clh_lod_strands_screen) with the widening N / N_LOD. */
+CLH_FN ClhLodRecord clh_lod_record_screen(float L, float width_px, float per_px, clh_u32 n_full,
+                                          float delta, clh_u32 min_points, clh_u32 c_full,
+                                          float window) {
+  const clh_u32 n = clh_lod_strands_screen(width_px, per_px, n_full, delta);
   return clh_lod_record_make(n, clh_lod_control_points(L, min_points, c_full),
                              clh_lod_widening(n_full, n),
                              clh_lod_morph(L, min_points, c_full, window));

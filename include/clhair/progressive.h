@@ -46,7 +46,8 @@ class ProgressiveStill {
   void merge(const ProgressiveStill& other);
   int passes() const { return passes_; }
   // The mean of the passes added: colour (the fixed-point sums over the passes), depth the
-  // nearest of the passes', timings the sums per stage, statistics those of the first pass.
+  // nearest of the passes', timings the sums per stage, statistics those of the first pass
+  // (but FrameStats::shadowMapsBuilt: the sum over the passes).
   // Throws when no pass was added.
   Frame frame() const;
   std::function<void(int done)> progress;

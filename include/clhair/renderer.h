@@ -53,6 +53,11 @@ struct RenderOptions {
   // LOD does for a groom the camera draws with LOD (DESIGN.md, "Light-pass LOD from the
   // camera"): -1 / 1 on (with LOD in the lights' passes), 0 off (the light's view alone).
   int shadowLodCamera = -1;
+  // The deep opacity maps' resolution follows the camera's view of the grooms (a texel per
+  // pixel of their bounding sphere on screen, to a power of two, at most the scene's
+  // ShadowParams::resolution: ShadowPass::mapResolution); false: the scene's resolution.
+  // Frames of several views use the scene's.
+  bool shadowResFromCamera = true;
   DispatchMode dispatch = DispatchMode::Auto;
   bool rasterStats = false;  // count pixel writes and atomics (slower; benchmark)
   float jitterX = 0.0f;      // sub-pixel shift of the image plane, pixels (reference passes, tests)
@@ -66,7 +71,8 @@ struct RenderOptions {
   bool screenBoxes = true;
   // Keep the deep opacity maps of the previous frame when nothing they depend on changed
   // (lights, shadow settings, grooms and their transforms, opaque objects, LOD options; the
-  // camera does not enter them). false: rebuild them every frame.
+  // camera enters only through the grooms' size on its screen, to half an octave, and the
+  // maps' resolution: not the jitter of final's passes). false: rebuild them every frame.
   bool reuseShadows = true;
   int ambientOcclusion = 1;  // 1: baked AO (baked on first use when the mesh has none), 0: off
   // 1: grooms with a baked visibility (GroomInstance::visibility) use it for the lights
@@ -169,6 +175,7 @@ struct GroomDrawStats {
   std::uint32_t strands = 0;         // strands drawn
   std::uint64_t segments = 0;        // segments drawn (strand files under the budget: see docs)
   std::uint32_t visibleStrands = 0;  // full-detail strands of the bundles not culled
+  bool lod = false;                  // drawn with LOD (so under the segment budget)
   bool halved = false;               // every other control point dropped by the segment budget
   // What the segment budget measured and decided (DESIGN.md "The segment budget"):
   std::uint32_t requested = 0;  // segments its LOD records asked (at every other point if halved)
@@ -192,6 +199,10 @@ struct FrameStats {
   float budgetLevel = 0.0f;              // screen rule: segments per pixel of screen box, mu
   std::vector<GroomDrawStats> grooms;    // one per groom instance of the scene, in order
   std::uint64_t shadowStrandsDrawn = 0;  // strands drawn into the deep opacity maps, all lights
+  // Deep opacity maps built for this frame (one per shadowed light; 0: the previous frame's
+  // were kept, RenderOptions::reuseShadows). A still of quality final sums its passes'.
+  std::uint32_t shadowMapsBuilt = 0;
+  int shadowResolution = 0;  // texels per side of the maps the frame read
   // points shaded once each (RenderOptions::pointShading), summed over the grooms
   std::uint64_t pointsShaded = 0;
   // with RenderOptions::rasterStats only:

@@ -238,17 +238,20 @@ struct QualityParams {
 float capStrands(HairMesh& mesh, std::uint64_t cap);
 float capStrands(StrandGroom& groom, std::uint64_t cap);
 
-// Scene::segmentBudget's default at 960x540 and below, and its largest accepted value.
+// Scene::segmentBudget's least default, and its largest accepted value.
 constexpr std::uint64_t kDefaultSegmentBudget = 2'000'000;
 constexpr std::uint64_t kMaxSegmentBudget = 4'000'000'000;
+// The default budget per pixel of the image: a safety limit that a frame of LOD from the
+// screen does not reach (DESIGN.md, "LOD from the screen": the default scene asks for at
+// most 21 segments per pixel at the sizes measured; LOD off, 62 at 480x270).
+constexpr std::uint64_t kBudgetSegmentsPerPixel = 64;
 
-// The image LOD and the segment budget are tuned at (DESIGN.md, "LOD defaults by image
-// size"): above it the default budget grows with the pixel count and LOD's λ with the
-// image height, so a kept strand spans the same pixels as at this size.
+// The image height LOD's λ is tuned at (DESIGN.md, "LOD defaults by image size"): above it
+// λ grows with the image height, so a bundle's control points span the same pixels.
 constexpr int kLodReferenceWidth = 960, kLodReferenceHeight = 540;
 
-// The budget of a scene that gives none: kDefaultSegmentBudget, times the image's pixels
-// over kLodReferenceWidth x kLodReferenceHeight where that is more (8 M at 1920x1080).
+// The budget of a scene that gives none: kBudgetSegmentsPerPixel times the image's pixels,
+// at least kDefaultSegmentBudget (33.2 M at 960x540, 132.7 M at 1920x1080).
 std::uint64_t defaultSegmentBudget(int width, int height);
 
 // The factor on every groom's λ (Lipp Eq. 2) in a view of this height: the height over

@@ -102,7 +102,9 @@ AoDensity withOccluders(const AoDensity& d, const Scene& scene, const glm::mat4&
       const glm::vec3 b(m * glm::vec4(pos[mi.mesh->indices[t + 1]], 1.0f));
       const glm::vec3 c(m * glm::vec4(pos[mi.mesh->indices[t + 2]], 1.0f));
       const float edge = std::max({glm::length(b - a), glm::length(c - a), glm::length(c - b)});
-      const int n = std::min(256, 1 + static_cast<int>(std::ceil(3.0f * edge / voxel)));
+      if (!std::isfinite(edge)) continue;
+      // (bounded before the conversion: a mesh far larger than the grid)
+      const int n = 1 + static_cast<int>(std::min(255.0f, std::ceil(3.0f * edge / voxel)));
       for (int i = 0; i <= n; ++i)
         for (int j = 0; i + j <= n; ++j)
           mark(a + (b - a) * (float(i) / n) + (c - a) * (float(j) / n));

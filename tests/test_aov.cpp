@@ -34,6 +34,7 @@
 #include "clhair/gpu_types.h"
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
+#include "exr_file.h"
 #include "io/cyhair.h"
 #include "stages/view_math.h"
 #include "test_util.h"
@@ -47,33 +48,6 @@ using nlohmann::json;
 constexpr std::uint64_t kEmptyWord = ~std::uint64_t(0);  // CLH_GBUF_EMPTY
 
 // An EXR read back channel by channel, as float, with each channel's stored type.
-struct ExrFile {
-  int width = 0, height = 0;
-  std::map<std::string, std::vector<float>> channels;
-  std::map<std::string, OIIO::TypeDesc> types;
-};
-
-ExrFile readExr(const std::string& path) {
-  ExrFile f;
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) {
-    ADD_FAILURE() << "cannot open " << path << ": " << OIIO::geterror();
-    return f;
-  }
-  const OIIO::ImageSpec& spec = in->spec();
-  f.width = spec.width;
-  f.height = spec.height;
-  const int n = spec.nchannels;
-  std::vector<float> data(static_cast<std::size_t>(f.width) * f.height * n);
-  EXPECT_TRUE(in->read_image(0, 0, 0, n, OIIO::TypeDesc::FLOAT, data.data())) << in->geterror();
-  for (int c = 0; c < n; ++c) {
-    std::vector<float>& plane = f.channels[spec.channelnames[c]];
-    plane.resize(static_cast<std::size_t>(f.width) * f.height);
-    for (std::size_t p = 0; p < plane.size(); ++p) plane[p] = data[p * n + c];
-    f.types[spec.channelnames[c]] = spec.channelformat(c);
-  }
-  return f;
-}
 
 void writeFile(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);

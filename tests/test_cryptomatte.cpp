@@ -28,6 +28,7 @@
 #include "clhair/cryptomatte.h"
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
+#include "exr_file.h"
 #include "io/cyhair.h"
 #include "test_util.h"
 
@@ -36,40 +37,9 @@ namespace {
 
 using nlohmann::json;
 
-struct Exr {
-  int width = 0, height = 0;
-  std::map<std::string, std::vector<float>> channels;
-  std::map<std::string, OIIO::TypeDesc> types;
-  std::map<std::string, std::string> header;
-};
-
-Exr readExr(const std::string& path) {
-  Exr f;
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) {
-    ADD_FAILURE() << "cannot open " << path << ": " << OIIO::geterror();
-    return f;
-  }
-  const OIIO::ImageSpec& spec = in->spec();
-  f.width = spec.width;
-  f.height = spec.height;
-  const int n = spec.nchannels;
-  std::vector<float> data(static_cast<std::size_t>(f.width) * f.height * n);
-  EXPECT_TRUE(in->read_image(0, 0, 0, n, OIIO::TypeDesc::FLOAT, data.data())) << in->geterror();
-  for (int c = 0; c < n; ++c) {
-    std::vector<float>& plane = f.channels[spec.channelnames[c]];
-    plane.resize(static_cast<std::size_t>(f.width) * f.height);
-    for (std::size_t p = 0; p < plane.size(); ++p) plane[p] = data[p * n + c];
-    f.types[spec.channelnames[c]] = spec.channelformat(c);
-  }
-  for (const OIIO::ParamValue& a : spec.extra_attribs)
-    if (a.type() == OIIO::TypeDesc::STRING) f.header[a.name().string()] = a.get_string();
-  return f;
-}
-
 // The matte of `name` in the file's layer `layer`: coverage summed over the ranks holding
 // its id (what a compositor's Cryptomatte node computes).
-std::vector<float> matte(const Exr& f, const std::string& layer, const std::string& name) {
+std::vector<float> matte(const ExrFile& f, const std::string& layer, const std::string& name) {
   const float id = cryptomatteId(name);
   std::vector<float> m(static_cast<std::size_t>(f.width) * f.height, 0.0f);
   for (int set = 0; set < kCryptomatteRanks / 2; ++set) {
@@ -172,7 +142,7 @@ TEST(Cryptomatte, EachGroomsMatteIsItsHairAlphaWhereTheGroomsDoNotOverlap) {
   const CommandResult r = runCli("render " + quote(twoGroomScene(dir)) +
                                  " -q --aov cryptomatte,alpha,strand -o " + quote(dir + "/c.exr"));
   ASSERT_EQ(r.exitCode, 0) << r.output;
-  const Exr f = readExr(dir + "/c.exr");
+  const ExrFile f = readExr(dir + "/c.exr");
   ASSERT_EQ(f.width, 64);
   // the channels: three RGBA sets per layer, 32-bit floats
   for (const char* layer : {"CryptoGroom", "CryptoStrand"})

@@ -34,7 +34,6 @@ AoDensity splatAoDensity(const ExplicitData& d, float width, float represented) 
     dims[a] = static_cast<cl_uint>(std::ceil((hi[a] - lo[a]) / voxel)) + 3;  // + margins
   out.grid.lo = {{lo.x - voxel, lo.y - voxel, lo.z - voxel, voxel}};
   out.grid.dims = {{dims[0], dims[1], dims[2], 0}};
-  out.grid.scale = width * represented / (voxel * voxel * voxel);
   std::vector<double> sum(static_cast<std::size_t>(dims[0]) * dims[1] * dims[2], 0.0);
   const bool look = d.fileLook.size() == d.points.size();
   const float perUnit = represented / (voxel * voxel * voxel);

@@ -137,6 +137,19 @@ bool StrandFileGpu::prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld,
 
 const AoField* StrandFileGpu::aoField(const Scene& scene, const glm::mat4& objToWorld) {
   if (aoDensity_.density.empty()) return nullptr;
+  // the placement: the transform and the occluders' geometry; a frame placed as the last
+  // one takes its field without marking the grid again
+  std::string placement(reinterpret_cast<const char*>(&objToWorld), sizeof(objToWorld));
+  for (const Sphere& sp : scene.spheres) {
+    placement.append(reinterpret_cast<const char*>(&sp.center), sizeof(sp.center));
+    placement.append(reinterpret_cast<const char*>(&sp.radius), sizeof(sp.radius));
+  }
+  for (const MeshInstance& mi : scene.meshes) {
+    const void* mesh = mi.mesh.get();
+    placement.append(reinterpret_cast<const char*>(&mesh), sizeof(mesh));
+    placement.append(reinterpret_cast<const char*>(&mi.transform), sizeof(mi.transform));
+  }
+  if (lastField_ && placement == lastPlacement_) return lastField_;
   const AoDensity d = withOccluders(aoDensity_, scene, objToWorld);
   std::uint64_t sum = 1469598103934665603ull;  // FNV-1a over the grid
   for (std::uint32_t v : d.density) sum = (sum ^ v) * 1099511628211ull;
@@ -144,11 +157,14 @@ const AoField* StrandFileGpu::aoField(const Scene& scene, const glm::mat4& objTo
   if (!f) {
     if (aoFields_.size() > 8) {  // a moving groom: keep the latest placements only
       aoFields_.clear();
+      lastField_ = nullptr;
       return aoField(scene, objToWorld);
     }
     f = std::make_unique<AoField>(bakeAoField(dev_, stages_.ao, d));
   }
-  return f.get();
+  lastPlacement_ = placement;
+  lastField_ = f.get();
+  return lastField_;
 }
 
 void StrandFileGpu::lod(GroomInstanceGpu& inst, const cl::Buffer& view, Profiler* profiler) {

@@ -67,6 +67,8 @@ class StrandFileGpu final : public GroomGpu {
   AoDensity aoDensity_;  // the AO field's density grid of the hair alone
   // fields baked for placements among occluders, by their density grid's checksum
   std::map<std::uint64_t, std::unique_ptr<AoField>> aoFields_;
+  std::string lastPlacement_;  // the last placement's bytes, and its field
+  const AoField* lastField_ = nullptr;
 };
 
 }  // namespace clhair

@@ -17,7 +17,8 @@
  * with the GGX roughness and weight that stand for R + TRT, and its SH irradiance at
  * that normal (and at its opposite for TT) for the diffuse part; without an environment
  * the constant ambient lights the same energies. Probe light is darkened by the baked AO
- * (a strand file's: its AO field at the point, ao_field.h).
+ * (a strand file's: its AO field at the point, ao_field.h), the TT part by its cube (the
+ * light from behind the fibre crosses the groom).
  * Lights without a deep opacity map are dimmed by the groom's baked spherical visibility
  * when it has one (Kulikov 2025; clhair/visibility_sh.h): exp(-absorption * events), events
  * the clamped L1 SH of the word's (u, v, w) cell toward the light, scaled by the share of
@@ -189,23 +190,29 @@ static inline clh_v3 shade_at(__global const ClhGroomGpu* groom_g,
   /* probe lighting, darkened by the baked AO */
   clh_hair_env env;
   clh_hair_env_terms_to(&env, &hv);
-  clh_v3 probe, uniform; /* the probe's light, and its mean radiance */
+  clh_v3 probe, probe_tt, uniform; /* the probe's light on R, TRT and the diffuse part; on
+                                    * TT; and its mean radiance */
   const uint env_levels = scene_g->env_levels & ~CLH_ENV_VISIBLE;
   if (env_levels > 0u) {
     const float3 spec = clh_env_radiance(in->env_texels, in->env_levels, env_levels,
                                          clh_v3_f3(env.refl_dir), env.ggx_alpha);
     const float3 front = clh_env_irradiance(in->env_sh, clh_v3_f3(env.n)) / CLH_PI;
     const float3 back = clh_env_irradiance(in->env_sh, -clh_v3_f3(env.n)) / CLH_PI;
-    probe = clh_v3_add(clh_v3_add(clh_v3_mul(env.spec_weight, clh_v3_from(spec)),
-                                  clh_v3_mul(env.diffuse_albedo, clh_v3_from(front))),
-                       clh_v3_mul(env.tt_weight, clh_v3_from(back)));
+    probe = clh_v3_add(clh_v3_mul(env.spec_weight, clh_v3_from(spec)),
+                       clh_v3_mul(env.diffuse_albedo, clh_v3_from(front)));
+    probe_tt = clh_v3_mul(env.tt_weight, clh_v3_from(back));
     uniform = clh_v3_scale(clh_v3_add(clh_v3_from(front), clh_v3_from(back)), 0.5f);
   } else {
     uniform = clh_v3_make(scene_g->ambient[0], scene_g->ambient[1], scene_g->ambient[2]);
-    probe = clh_v3_mul(uniform,
-                       clh_v3_add(clh_v3_add(env.spec_weight, env.diffuse_albedo), env.tt_weight));
+    probe = clh_v3_mul(uniform, clh_v3_add(env.spec_weight, env.diffuse_albedo));
+    probe_tt = clh_v3_mul(uniform, env.tt_weight);
   }
-  clh_v3 out = clh_v3_add(radiance, clh_v3_scale(probe, ao));
+  /* TT carries the light from behind the fibre as the camera sees it: through the rest of
+   * the groom (and the head), where the sphere's mean visibility, the AO, says too little.
+   * It is darkened by the AO cubed (DESIGN.md, "Hair the colour of hair": measured against
+   * the path reference's single scattering of the ambient light). */
+  clh_v3 out = clh_v3_add(
+      radiance, clh_v3_add(clh_v3_scale(probe, ao), clh_v3_scale(probe_tt, ao * ao * ao)));
   /* the probe light the AO took away, given back by the hair around (dual scattering) */
   if (dual && ao < 1.0f) out = clh_v3_add(out, clh_v3_mul(uniform, clh_hair_dual_probe(&ds, ao)));
   if (file_color) {

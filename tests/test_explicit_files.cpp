@@ -437,6 +437,9 @@ TEST(ExplicitCli, FileColoursAndThicknessesAreDrawnUnlessTheSceneGivesItsOwn) {
     json s = {
         {"resolution", {96, 64}},
         {"background", {0.0, 0.0, 0.0}},
+        // enough ambient light that the hair away from the light is above the cut-off below
+        // (TT under ambient light is darkened by the groom behind, shade.cl)
+        {"ambient", {0.15, 0.15, 0.15}},
         {"camera", {{"preset", "close"}, {"azimuth", 30}}},
         {"lights", {{{"type", "directional"}, {"direction", {0.4, 0.8, 0.5}}, {"intensity", 3}}}},
         {"grooms", {groom}}};

@@ -21,24 +21,46 @@
  *   (Zinke's sigma_f^2 = n beta_F^2). Its azimuthal spread is taken as complete: each
  *   lobe's energy spread evenly over phi (Ñ_p -> Ā_p / 2 pi), which keeps its energy.
  * - The same map, read past the last layer, gives the depth tau_b of the hair behind the
- *   point along the light. Zinke assume an infinite volume behind; clhair weighs the back
- *   lobe by 1 - e^-tau_b, the chance that the light meets hair behind at all, so a fibre at
- *   the far side of the groom (or alone) gets none.
+ *   point along the light. Zinke assume an infinite volume behind.
+ * - Zinke sum the paths through the fibres along the light as a stack of layers that each
+ *   pass a_F on and send a_B back, truncated at three backward events (A_1 + A_3) and with
+ *   no backward event on the way in. That is right for dark hair and short for light hair:
+ *   where a fibre absorbs little (a file colour of red 1, blonde in red), light crosses the
+ *   groom back and forth many times, and the truncated sums return a third less from behind
+ *   and, 10 fibres deep, a quarter of the light that arrives. clhair sums the same stack in
+ *   closed form instead (the adding equations of identical layers, as Kubelka and Munk or
+ *   Stokes's pile of plates):
+ *     R_inf = 2 a_B / (s + sqrt(s^2 - 4 a_B^2)),  s = 1 + a_B^2 - a_F^2  (the infinite stack)
+ *     lambda = a_F / (1 - a_B R_inf)                    (the decay per layer of its mode)
+ *     T_n = (1 - R^2) lambda^n / (1 - R^2 lambda^2n),  R_n = R (1 - lambda^2n) / (1 - R^2
+ * lambda^2n) (R = R_inf). Expanded in a_B, R_inf - a_B begins with Zinke's A_1 and A_3; for a_F +
+ * a_B
+ *   -> 1 it goes to a_F where A_1 + A_3 stays near half of it. With the number of fibres
+ *   Poisson of mean tau, E[T_n] = (1 - R^2) sum_k R^2k e^{-tau (1 - lambda^(2k+1))}; clhair
+ *   takes the terms k = 0, 1 and the rest as a geometric tail with the ratio of terms 3 and
+ *   2 (clh_dual_slab_through: within 3 % of the Poisson sum where a_F + a_B <= 0.995, never
+ *   below the forward-only e^{-tau (1 - a_F)}). The hair behind, m fibres Poisson of mean
+ *   tau_b, sends back E[R_{1+m}] - a_B (clh_dual_slab_back, summed the same way, within
+ *   5 %; 0 with nothing behind, the shaded fibre's own back scattering being the
+ *   single-fibre lobes).
+ *   tests/test_dual.cpp checks both against the Poisson sums of the stack built layer by
+ *   layer.
  * - The back lobe is a M of variance 2 v_TT + (v_R + v_TRT) / 2 (two forward crossings and
  *   one backward event; Zinke's sigma_b without the shift Delta_b) about the mirror
  *   direction, constant over the back half of azimuths (|phi| < pi/2, 1 / pi), carrying
- *   d_b A_b of the light that reached the point (direct and global).
+ *   d_b (E[R_{1+m}] - a_B) of the light that reached the point (direct and global).
  * - a_F = Ā_TT + Ā_3 / 2 and a_B = Ā_R + Ā_TRT + Ā_3 / 2 from the fibre's own h-averaged
  *   energies at theta_o (hair_bsdf.h), per channel, so melanin and file colours need no
  *   table; this is the split hair_aggregate.h uses too.
  * - d_f = d_b = 0.7: Zinke's density factors (§5), kept as published.
  * Probe light: the AO a is the unoccluded share of the probe; the same Poisson reading with
- * tau = -ln a gives the global part e^{-tau (1 - a_F)} - a of the probe's radiance spread over
- * the fibre's whole albedo, and the back part d_b (1 - a) A_b.
+ * tau = -ln a gives the global part E[T_n] - a of the probe's radiance spread over the fibre's
+ * whole albedo, and the back part d_b (1 - a) (R_inf - a_B).
  * Energy: the direct part is the single fibre (<= 1 in the furnace); the global part only
- * returns light the map took away, at most a_F of it per fibre crossed; the back part is
- * bounded by d_b A_b (1 - e^-tau_b), A_b < 1 for a_F + a_B <= 1 (tests/test_dual.cpp
- * integrates the whole term in a white furnace around a cluster).
+ * returns light the map took away (E[T_n] <= 1: the stack conserves or absorbs); the back
+ * part is bounded by d_b (R_inf - a_B) <= d_b a_F; the stack leaves out the light that goes
+ * back and forth between the hair in front and the hair behind, so the sum stays under the
+ * furnace (tests/test_dual.cpp integrates the whole term in a white furnace in a slab).
  */
 #ifndef CLHAIR_HAIR_DUAL_H
 #define CLHAIR_HAIR_DUAL_H
@@ -50,19 +72,52 @@
 
 typedef struct {
   clh_v3 a_f;       /* forward-scattered energy of the fibre (per channel) */
-  clh_v3 one_m_af;  /* 1 - a_f */
   clh_v3 albedo;    /* Ā_R + Ā_TT + Ā_TRT + Ā_3 */
-  clh_v3 back;      /* d_b A_b: what the hair behind sends back, per unit light */
+  clh_v3 back;      /* d_b (R_inf - a_B): what infinite hair behind sends back, per unit light */
+  clh_v3 a_b;       /* backward-scattered energy of the fibre (per channel) */
+  clh_v3 r2;        /* R_inf^2 of the stack of fibres (per channel) */
+  clh_v3 ln_l;      /* ln lambda, the stack's decay per fibre (per channel) */
   clh_v3 lobe_e[3]; /* Ā_R, Ā_TT, Ā_TRT over 2 pi: the spread lobes' azimuthal value */
   float af_lum;     /* luminance of a_f: fibres crossed per unit tau among transmitted light */
   float v_f;        /* variance one forward crossing adds (the TT lobe's) */
   float v_b;        /* the back lobe's variance */
 } clh_hair_dual;
 
-static inline float clh_dual_a1a3(float a_f, float a_b) {
-  const float af2 = fmin(a_f * a_f, 0.999f);
-  const float d = 1.0f - af2;
-  return a_b * af2 / d + a_b * a_b * a_b * af2 / (d * d * d);
+/* The stack's reflectance R_inf and decay per layer lambda for one channel (see above);
+ * a_F + a_B is held at 0.995 or less so that R_inf < 1 and the sums stay finite. */
+static inline void clh_dual_slab(float a_f, float a_b, float* r_inf, float* lambda) {
+  const float sum = a_f + a_b;
+  if (sum > 0.995f) {
+    a_f *= 0.995f / sum;
+    a_b *= 0.995f / sum;
+  }
+  a_b = fmax(a_b, 1e-6f);
+  const float s = 1.0f + a_b * a_b - a_f * a_f;
+  const float r = 2.0f * a_b / (s + sqrt(fmax(s * s - 4.0f * a_b * a_b, 0.0f)));
+  *r_inf = fmin(r, 0.999f);
+  *lambda = clamp(a_f / (1.0f - a_b * r), 1e-6f, 0.9999f);
+}
+
+/* E[T_n] for n Poisson of mean tau, per channel: light arriving through the stack after
+ * any number of forward and backward events (the unscattered e^-tau included). */
+static inline float clh_dual_slab_through(float tau, float a_f, float r2, float ln_l) {
+  const float l = clh_hair_exp(ln_l), l2 = l * l, l3 = l2 * l, l5 = l3 * l2;
+  const float tail = clh_hair_exp(-tau * (1.0f - l5)) /
+                     fmax(1.0f - r2 * clh_hair_exp(-tau * l5 * (1.0f - l2)), 1e-6f);
+  const float t = (1.0f - r2) * (clh_hair_exp(-tau * (1.0f - l)) +
+                                 r2 * (clh_hair_exp(-tau * (1.0f - l3)) + r2 * tail));
+  return fmin(fmax(t, clh_hair_exp(-tau * (1.0f - a_f))), 1.0f);
+}
+
+/* E[R_{1+m}] - a_B for m Poisson of mean tau_b, per channel: what the hair behind the shaded
+ * fibre sends back to it per unit light that reached it. */
+static inline float clh_dual_slab_back(float tau_b, float a_b, float r2, float ln_l) {
+  const float l = clh_hair_exp(ln_l), l2 = l * l, l6 = l2 * l2 * l2, rl2 = r2 * l2;
+  const float tail = clh_hair_exp(-tau_b * (1.0f - l6)) /
+                     fmax(1.0f - rl2 * clh_hair_exp(-tau_b * l6 * (1.0f - l2)), 1e-6f);
+  const float sum = clh_hair_exp(-tau_b * (1.0f - l2)) +
+                    rl2 * (clh_hair_exp(-tau_b * (1.0f - l2 * l2)) + rl2 * tail);
+  return fmax(sqrt(r2) * (1.0f - (1.0f - r2) * l2 * sum) - a_b, 0.0f);
 }
 
 static inline void clh_hair_dual_prepare_to(clh_hair_dual* out, const clh_hair_view* hv) {
@@ -70,20 +125,31 @@ static inline void clh_hair_dual_prepare_to(clh_hair_dual* out, const clh_hair_v
   const clh_v3 a_f = clh_v3_add(hv->mass[1], half_d);
   const clh_v3 a_b = clh_v3_add(clh_v3_add(hv->mass[0], hv->mass[2]), half_d);
   out->a_f = a_f;
-  out->one_m_af =
-      clh_v3_make(fmax(1.0f - a_f.x, 0.0f), fmax(1.0f - a_f.y, 0.0f), fmax(1.0f - a_f.z, 0.0f));
   out->albedo =
       clh_v3_add(clh_v3_add(hv->mass[0], hv->mass[1]), clh_v3_add(hv->mass[2], hv->mass[3]));
-  /* the back lobe's energy, capped so that it and the fibre's own never pass 1 */
-  const clh_v3 ab = clh_v3_make(clh_dual_a1a3(a_f.x, a_b.x), clh_dual_a1a3(a_f.y, a_b.y),
-                                clh_dual_a1a3(a_f.z, a_b.z));
-  out->back = clh_v3_make(fmin(CLH_DUAL_DB * ab.x, 1.0f), fmin(CLH_DUAL_DB * ab.y, 1.0f),
-                          fmin(CLH_DUAL_DB * ab.z, 1.0f));
+  out->a_b = a_b;
+  float r[3], l[3];
+  clh_dual_slab(a_f.x, a_b.x, &r[0], &l[0]);
+  clh_dual_slab(a_f.y, a_b.y, &r[1], &l[1]);
+  clh_dual_slab(a_f.z, a_b.z, &r[2], &l[2]);
+  out->r2 = clh_v3_make(r[0] * r[0], r[1] * r[1], r[2] * r[2]);
+  out->ln_l = clh_v3_make(0.693147181f * clh_fast_log2(l[0]), 0.693147181f * clh_fast_log2(l[1]),
+                          0.693147181f * clh_fast_log2(l[2]));
+  /* the infinite stack's back scattering past the shaded fibre (the probe's back part) */
+  out->back =
+      clh_v3_make(CLH_DUAL_DB * fmax(r[0] - a_b.x, 0.0f), CLH_DUAL_DB * fmax(r[1] - a_b.y, 0.0f),
+                  CLH_DUAL_DB * fmax(r[2] - a_b.z, 0.0f));
   for (int p = 0; p < 3; ++p)
     out->lobe_e[p] = clh_v3_scale(hv->mass[p], 1.0f / (2.0f * CLH_HAIR_PI));
   out->af_lum = 0.2126f * a_f.x + 0.7152f * a_f.y + 0.0722f * a_f.z;
   out->v_f = hv->v[1];
   out->v_b = 2.0f * hv->v[1] + 0.5f * (hv->v[0] + hv->v[2]);
+}
+
+static inline clh_v3 clh_dual_through3(const clh_hair_dual* ds, float tau) {
+  return clh_v3_make(clh_dual_slab_through(tau, ds->a_f.x, ds->r2.x, ds->ln_l.x),
+                     clh_dual_slab_through(tau, ds->a_f.y, ds->r2.y, ds->ln_l.y),
+                     clh_dual_slab_through(tau, ds->a_f.z, ds->r2.z, ds->ln_l.z));
 }
 
 /* f cos(theta_i) of the whole light reaching the fibre from direction wi, for a light whose
@@ -94,8 +160,8 @@ static inline clh_v3 clh_hair_dual_eval_cos(const clh_hair_view* hv, const clh_h
                                             clh_v3 wi, clh_v3 single, float tau, float tau_b) {
   tau = fmax(tau, 0.0f);
   const float direct = tau > 0.0f ? clh_hair_exp(-tau) : 1.0f; /* exact where nothing is in front */
-  /* light arriving after any number of forward scatterings (direct included), per channel */
-  const clh_v3 arrive = clh_hair_exp3(clh_v3_scale(ds->one_m_af, -tau));
+  /* light arriving through the fibres in front (direct included), per channel */
+  const clh_v3 arrive = clh_dual_through3(ds, tau);
   const clh_v3 through = clh_v3_fmax(clh_v3_sub(arrive, clh_v3_splat(direct)), 0.0f);
   const float n = tau * ds->af_lum; /* mean crossings of the forward-scattered light */
 
@@ -114,14 +180,16 @@ static inline clh_v3 clh_hair_dual_eval_cos(const clh_hair_view* hv, const clh_h
     }
     out = clh_v3_add(out, clh_v3_scale(clh_v3_mul(through, g), CLH_DUAL_DF));
   }
-  const float behind = tau_b > 0.0f ? 1.0f - clh_hair_exp(-tau_b) : 0.0f;
-  if (cos_phi > 0.0f && behind > 0.0f) {
+  if (cos_phi > 0.0f && tau_b > 0.0f) {
     /* local back scattering of the light that reached the point (direct + global) */
     const float v = ds->v_b + n * ds->v_f;
     const float mb = clh_hair_mp(sin_i, cos_i, hv->sin_o, hv->cos_o, v, clh_hair_mnorm(v)) *
-                     (behind / CLH_HAIR_PI);
+                     (CLH_DUAL_DB / CLH_HAIR_PI);
+    const clh_v3 back = clh_v3_make(clh_dual_slab_back(tau_b, ds->a_b.x, ds->r2.x, ds->ln_l.x),
+                                    clh_dual_slab_back(tau_b, ds->a_b.y, ds->r2.y, ds->ln_l.y),
+                                    clh_dual_slab_back(tau_b, ds->a_b.z, ds->r2.z, ds->ln_l.z));
     const clh_v3 reach = clh_v3_add(clh_v3_splat(direct), clh_v3_scale(through, CLH_DUAL_DF));
-    out = clh_v3_add(out, clh_v3_scale(clh_v3_mul(reach, ds->back), mb));
+    out = clh_v3_add(out, clh_v3_scale(clh_v3_mul(reach, back), mb));
   }
   return out;
 }
@@ -132,7 +200,7 @@ static inline clh_v3 clh_hair_dual_eval_cos(const clh_hair_view* hv, const clh_h
 static inline clh_v3 clh_hair_dual_probe(const clh_hair_dual* ds, float ao) {
   ao = clamp(ao, 1e-4f, 1.0f);
   const float tau = -0.693147181f * clh_fast_log2(ao);
-  const clh_v3 arrive = clh_hair_exp3(clh_v3_scale(ds->one_m_af, -tau));
+  const clh_v3 arrive = clh_dual_through3(ds, tau);
   const clh_v3 through = clh_v3_fmax(clh_v3_sub(arrive, clh_v3_splat(ao)), 0.0f);
   const clh_v3 reach = clh_v3_add(clh_v3_splat(ao), clh_v3_scale(through, CLH_DUAL_DF));
   return clh_v3_add(clh_v3_scale(clh_v3_mul(through, ds->albedo), CLH_DUAL_DF),

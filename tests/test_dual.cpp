@@ -226,19 +226,17 @@ TEST(Dual, StackSumsMatchLayerByLayer) {
   const std::pair<float, float> fibres[] = {{0.2f, 0.1f},    {0.5f, 0.3f}, {0.69f, 0.3f},
                                             {0.75f, 0.245f}, {0.7f, 0.3f}, {0.05f, 0.02f}};
   for (const auto& [af, ab] : fibres) {
-    float r = 0.0f, l = 0.0f;
-    hb::clh_dual_slab(af, ab, &r, &l);
-    const float r2 = r * r, lnl = std::log(l);
+    const hb::clh_dual_stack ds = hb::clh_dual_stack_make(af, ab);
     const Stack st(af, ab);
     for (float tau : {0.0f, 0.2f, 0.5f, 1.0f, 2.0f, 3.0f, 10.0f, 30.0f}) {
-      const double t = st.through(tau), got = hb::clh_dual_slab_through(tau, af, r2, lnl);
+      const double t = st.through(tau), got = hb::clh_dual_stack_through(&ds, tau);
       // the first two terms exact, the rest as one geometric tail: within 3 % of the sums
       EXPECT_NEAR(got, t, 0.03 * t + 1e-6) << "a_f " << af << " a_b " << ab << " tau " << tau;
       EXPECT_GE(got, std::exp(-tau * (1.0 - af)) - 1e-6) << "never below forward scattering";
-      const double b = st.back(tau), gotB = hb::clh_dual_slab_back(tau, ab, r2, lnl);
+      const double b = st.back(tau), gotB = hb::clh_dual_stack_back(&ds, tau);
       EXPECT_NEAR(gotB, b, 0.05 * b + 1e-5) << "a_f " << af << " a_b " << ab << " tau_b " << tau;
     }
-    EXPECT_NEAR(hb::clh_dual_slab_back(0.0f, ab, r2, lnl), 0.0f, 1e-6f) << "nothing behind";
+    EXPECT_NEAR(hb::clh_dual_stack_back(&ds, 0.0f), 0.0f, 1e-6f) << "nothing behind";
   }
 }
 
@@ -247,12 +245,13 @@ TEST(Dual, StackBeginsWithZinkesTerms) {
     const double d = 1.0 - af * af;
     return ab * af * af / d + ab * ab * ab * af * af / (d * d * d);
   };
-  float r = 0.0f, l = 0.0f;
-  hb::clh_dual_slab(0.2f, 0.1f, &r, &l);  // brown: the higher terms are negligible
-  EXPECT_NEAR(r - 0.1f, zinke(0.2, 0.1), 1e-3 * zinke(0.2, 0.1) + 1e-6);
-  hb::clh_dual_slab(0.69f, 0.3f, &r, &l);  // nearly white: Zinke's two terms are 70 % of it
-  EXPECT_GT(r - 0.3f, 1.3 * zinke(0.69, 0.3));
-  EXPECT_LT(r - 0.3f, 0.69f);  // below a_F, its limit at a_F + a_B = 1
+  // brown: the higher terms are negligible
+  EXPECT_NEAR(hb::clh_dual_stack_make(0.2f, 0.1f).r_back, zinke(0.2, 0.1),
+              1e-3 * zinke(0.2, 0.1) + 1e-6);
+  // nearly white: Zinke's two terms are 70 % of it; below a_F, its limit at a_F + a_B = 1
+  const float white = hb::clh_dual_stack_make(0.69f, 0.3f).r_back;
+  EXPECT_GT(white, 1.3 * zinke(0.69, 0.3));
+  EXPECT_LT(white, 0.69f);
 }
 
 TEST(Dual, GlobalPartCarriesThePoissonShare) {

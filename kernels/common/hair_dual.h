@@ -15,9 +15,10 @@
  *   and the point (the map's transmittance is e^-tau): the expected number of fibres a ray
  *   from the light crosses. Taking that number as Poisson, the light arriving unscattered is
  *   e^-tau (the map's value: the single-fibre shading as before), and the light arriving
- *   after any number of forward scatterings is E[a_F^n] = e^{-tau (1 - a_F)} per channel.
- *   The difference is the global part. Among it, the mean number of fibres crossed is
- *   tau a_F, and each adds the TT lobe's variance v_TT to every lobe's longitudinal variance
+ *   after any number of forward scatterings is E[a_F^n] = e^{-tau (1 - a_F)} per channel
+ *   (Zinke's reading; clhair sums the whole stack, below). The difference is the global
+ *   part. Among it, the mean number of fibres crossed is tau a_F, and each adds the TT
+ *   lobe's variance v_TT to every lobe's longitudinal variance
  *   (Zinke's sigma_f^2 = n beta_F^2). Its azimuthal spread is taken as complete: each
  *   lobe's energy spread evenly over phi (Ñ_p -> Ā_p / 2 pi), which keeps its energy.
  * - The same map, read past the last layer, gives the depth tau_b of the hair behind the
@@ -27,21 +28,22 @@
  *   no backward event on the way in. That is right for dark hair and short for light hair:
  *   where a fibre absorbs little (a file colour of red 1, blonde in red), light crosses the
  *   groom back and forth many times, and the truncated sums return a third less from behind
- *   and, 10 fibres deep, a quarter of the light that arrives. clhair sums the same stack in
- *   closed form instead (the adding equations of identical layers, as Kubelka and Munk or
- *   Stokes's pile of plates):
+ *   and, 10 fibres deep, let through a quarter of what the whole stack does. clhair sums
+ *   the same stack in closed form instead (the adding equations of identical layers, as
+ *   Kubelka and Munk or Stokes's pile of plates):
  *     R_inf = 2 a_B / (s + sqrt(s^2 - 4 a_B^2)),  s = 1 + a_B^2 - a_F^2  (the infinite stack)
  *     lambda = a_F / (1 - a_B R_inf)                    (the decay per layer of its mode)
- *     T_n = (1 - R^2) lambda^n / (1 - R^2 lambda^2n),  R_n = R (1 - lambda^2n) / (1 - R^2
- * lambda^2n) (R = R_inf). Expanded in a_B, R_inf - a_B begins with Zinke's A_1 and A_3; for a_F +
- * a_B
- *   -> 1 it goes to a_F where A_1 + A_3 stays near half of it. With the number of fibres
- *   Poisson of mean tau, E[T_n] = (1 - R^2) sum_k R^2k e^{-tau (1 - lambda^(2k+1))}; clhair
+ *     T_n = (1 - R^2) lambda^n / (1 - R^2 lambda^2n)        (R = R_inf; n layers)
+ *     R_n = R (1 - lambda^2n) / (1 - R^2 lambda^2n)
+ *   Expanded in a_B, R_inf - a_B begins with Zinke's A_1 and A_3; for a_F + a_B -> 1 it goes
+ *   to a_F where A_1 + A_3 stays near half of it. With the number of fibres Poisson of mean
+ *   tau, E[T_n] = (1 - R^2) sum_k R^2k e^{-tau (1 - lambda^(2k+1))}; clhair
  *   takes the terms k = 0, 1 and the rest as a geometric tail with the ratio of terms 3 and
- *   2 (clh_dual_slab_through: within 3 % of the Poisson sum where a_F + a_B <= 0.995, never
- *   below the forward-only e^{-tau (1 - a_F)}). The hair behind, m fibres Poisson of mean
- *   tau_b, sends back E[R_{1+m}] - a_B (clh_dual_slab_back, summed the same way, within
- *   5 %; 0 with nothing behind, the shaded fibre's own back scattering being the
+ *   2 (clh_dual_stack_through: within 3 % of the Poisson sum where a_F + a_B <= 0.995,
+ *   never below the forward-only e^{-tau (1 - a_F)}; a dark channel, R_inf^2 < 0.01, takes
+ *   the first term alone, one exponential per light). The hair behind, m fibres Poisson of
+ *   mean tau_b, sends back E[R_{1+m}] - a_B (clh_dual_stack_back, summed the same way,
+ *   within 5 %; 0 with nothing behind, the shaded fibre's own back scattering being the
  *   single-fibre lobes).
  *   tests/test_dual.cpp checks both against the Poisson sums of the stack built layer by
  *   layer.
@@ -70,22 +72,25 @@
 #define CLH_DUAL_DF 0.7f /* Zinke et al. 2008 §5, forward density factor d_f */
 #define CLH_DUAL_DB 0.7f /* Zinke et al. 2008 §5, backward density factor d_b */
 
+/* The stack of fibres for one channel (see above), with the exponents of its sums ready:
+ * the shading evaluates them for every light. */
 typedef struct {
-  clh_v3 a_f;       /* forward-scattered energy of the fibre (per channel) */
-  clh_v3 albedo;    /* Ā_R + Ā_TT + Ā_TRT + Ā_3 */
-  clh_v3 back;      /* d_b (R_inf - a_B): what infinite hair behind sends back, per unit light */
-  clh_v3 a_b;       /* backward-scattered energy of the fibre (per channel) */
-  clh_v3 r2;        /* R_inf^2 of the stack of fibres (per channel) */
-  clh_v3 ln_l;      /* ln lambda, the stack's decay per fibre (per channel) */
-  clh_v3 lobe_e[3]; /* Ā_R, Ā_TT, Ā_TRT over 2 pi: the spread lobes' azimuthal value */
-  float af_lum;     /* luminance of a_f: fibres crossed per unit tau among transmitted light */
-  float v_f;        /* variance one forward crossing adds (the TT lobe's) */
-  float v_b;        /* the back lobe's variance */
-} clh_hair_dual;
+  float r;        /* R_inf */
+  float r2;       /* R_inf^2 */
+  float r_coef;   /* R_inf (1 - R_inf^2) lambda^2 */
+  float r_back;   /* R_inf - a_B: what infinite hair behind sends back */
+  float a_b;      /* the fibre's backward energy (held with a_F at 0.995 or less) */
+  float rl2;      /* R_inf^2 lambda^2 */
+  float one_m_af; /* 1 - a_F: the forward-only transmission's exponent */
+  float kt[4];    /* 1 - lambda, 1 - lambda^3, 1 - lambda^5, lambda^5 (1 - lambda^2) */
+  float kb[4];    /* 1 - lambda^2, 1 - lambda^4, 1 - lambda^6, lambda^6 (1 - lambda^2) */
+} clh_dual_stack;
 
-/* The stack's reflectance R_inf and decay per layer lambda for one channel (see above);
- * a_F + a_B is held at 0.995 or less so that R_inf < 1 and the sums stay finite. */
-static inline void clh_dual_slab(float a_f, float a_b, float* r_inf, float* lambda) {
+/* The stack of a fibre with energies a_f forward and a_b backward; a_F + a_B is held at
+ * 0.995 or less so that R_inf < 1 and the sums stay finite. */
+static inline clh_dual_stack clh_dual_stack_make(float a_f, float a_b) {
+  clh_dual_stack st;
+  st.one_m_af = fmax(1.0f - a_f, 0.0f);
   const float sum = a_f + a_b;
   if (sum > 0.995f) {
     a_f *= 0.995f / sum;
@@ -93,32 +98,66 @@ static inline void clh_dual_slab(float a_f, float a_b, float* r_inf, float* lamb
   }
   a_b = fmax(a_b, 1e-6f);
   const float s = 1.0f + a_b * a_b - a_f * a_f;
-  const float r = 2.0f * a_b / (s + sqrt(fmax(s * s - 4.0f * a_b * a_b, 0.0f)));
-  *r_inf = fmin(r, 0.999f);
-  *lambda = clamp(a_f / (1.0f - a_b * r), 1e-6f, 0.9999f);
+  const float r = fmin(2.0f * a_b / (s + sqrt(fmax(s * s - 4.0f * a_b * a_b, 0.0f))), 0.999f);
+  const float l = clamp(a_f / (1.0f - a_b * r), 1e-6f, 0.9999f);
+  const float l2 = l * l, l3 = l2 * l, l4 = l2 * l2, l5 = l4 * l, l6 = l4 * l2;
+  st.r = r;
+  st.r2 = r * r;
+  st.r_coef = r * (1.0f - st.r2) * l2;
+  st.r_back = fmax(r - a_b, 0.0f);
+  st.a_b = a_b;
+  st.rl2 = st.r2 * l2;
+  st.kt[0] = 1.0f - l;
+  st.kt[1] = 1.0f - l3;
+  st.kt[2] = 1.0f - l5;
+  st.kt[3] = l5 * (1.0f - l2);
+  st.kb[0] = 1.0f - l2;
+  st.kb[1] = 1.0f - l4;
+  st.kb[2] = 1.0f - l6;
+  st.kb[3] = l6 * (1.0f - l2);
+  return st;
 }
 
-/* E[T_n] for n Poisson of mean tau, per channel: light arriving through the stack after
- * any number of forward and backward events (the unscattered e^-tau included). */
-static inline float clh_dual_slab_through(float tau, float a_f, float r2, float ln_l) {
-  const float l = clh_hair_exp(ln_l), l2 = l * l, l3 = l2 * l, l5 = l3 * l2;
-  const float tail = clh_hair_exp(-tau * (1.0f - l5)) /
-                     fmax(1.0f - r2 * clh_hair_exp(-tau * l5 * (1.0f - l2)), 1e-6f);
-  const float t = (1.0f - r2) * (clh_hair_exp(-tau * (1.0f - l)) +
-                                 r2 * (clh_hair_exp(-tau * (1.0f - l3)) + r2 * tail));
-  return fmin(fmax(t, clh_hair_exp(-tau * (1.0f - a_f))), 1.0f);
+/* E[T_n] for n Poisson of mean tau: light arriving through the stack after any number of
+ * forward and backward events (the unscattered e^-tau included). A dark channel (R_inf^2
+ * below 0.01) takes e^{-tau (1 - lambda)} alone: 1 at tau = 0, at least the forward-only
+ * transmission (lambda >= a_F), and within R_inf^2 of the sum. */
+static inline float clh_dual_stack_through(const clh_dual_stack* st, float tau) {
+  const float r2 = st->r2;
+  if (r2 < 0.01f) return clh_hair_exp(-tau * st->kt[0]);
+  const float fwd = clh_hair_exp(-tau * st->one_m_af);
+  const float tail =
+      clh_hair_exp(-tau * st->kt[2]) / fmax(1.0f - r2 * clh_hair_exp(-tau * st->kt[3]), 1e-6f);
+  const float t = (1.0f - r2) * (clh_hair_exp(-tau * st->kt[0]) +
+                                 r2 * (clh_hair_exp(-tau * st->kt[1]) + r2 * tail));
+  return fmin(fmax(t, fwd), 1.0f);
 }
 
-/* E[R_{1+m}] - a_B for m Poisson of mean tau_b, per channel: what the hair behind the shaded
- * fibre sends back to it per unit light that reached it. */
-static inline float clh_dual_slab_back(float tau_b, float a_b, float r2, float ln_l) {
-  const float l = clh_hair_exp(ln_l), l2 = l * l, l6 = l2 * l2 * l2, rl2 = r2 * l2;
-  const float tail = clh_hair_exp(-tau_b * (1.0f - l6)) /
-                     fmax(1.0f - rl2 * clh_hair_exp(-tau_b * l6 * (1.0f - l2)), 1e-6f);
-  const float sum = clh_hair_exp(-tau_b * (1.0f - l2)) +
-                    rl2 * (clh_hair_exp(-tau_b * (1.0f - l2 * l2)) + rl2 * tail);
-  return fmax(sqrt(r2) * (1.0f - (1.0f - r2) * l2 * sum) - a_b, 0.0f);
+/* E[R_{1+m}] - a_B for m Poisson of mean tau_b: what the hair behind the shaded fibre sends
+ * back to it per unit light that reached it (a dark channel, R_inf^2 below 0.01: the first
+ * term of the sum). */
+static inline float clh_dual_stack_back(const clh_dual_stack* st, float tau_b) {
+  float sum = clh_hair_exp(-tau_b * st->kb[0]);
+  if (st->r2 >= 0.01f) {
+    const float rl2 = st->rl2;
+    const float tail = clh_hair_exp(-tau_b * st->kb[2]) /
+                       fmax(1.0f - rl2 * clh_hair_exp(-tau_b * st->kb[3]), 1e-6f);
+    sum += rl2 * (clh_hair_exp(-tau_b * st->kb[1]) + rl2 * tail);
+  }
+  return fmax(st->r - st->r_coef * sum - st->a_b, 0.0f);
 }
+
+typedef struct {
+  clh_v3 a_f;           /* forward-scattered energy of the fibre (per channel) */
+  clh_v3 a_b;           /* backward-scattered energy of the fibre (per channel) */
+  clh_v3 albedo;        /* Ā_R + Ā_TT + Ā_TRT + Ā_3 */
+  clh_v3 back;          /* d_b (R_inf - a_B): what infinite hair behind sends back */
+  clh_dual_stack st[3]; /* the stack of fibres per channel */
+  clh_v3 lobe_e[3];     /* Ā_R, Ā_TT, Ā_TRT over 2 pi: the spread lobes' azimuthal value */
+  float af_lum;         /* luminance of a_f: fibres crossed per unit tau among transmitted light */
+  float v_f;            /* variance one forward crossing adds (the TT lobe's) */
+  float v_b;            /* the back lobe's variance */
+} clh_hair_dual;
 
 static inline void clh_hair_dual_prepare_to(clh_hair_dual* out, const clh_hair_view* hv) {
   const clh_v3 half_d = clh_v3_scale(hv->mass[3], 0.5f);
@@ -128,17 +167,12 @@ static inline void clh_hair_dual_prepare_to(clh_hair_dual* out, const clh_hair_v
   out->albedo =
       clh_v3_add(clh_v3_add(hv->mass[0], hv->mass[1]), clh_v3_add(hv->mass[2], hv->mass[3]));
   out->a_b = a_b;
-  float r[3], l[3];
-  clh_dual_slab(a_f.x, a_b.x, &r[0], &l[0]);
-  clh_dual_slab(a_f.y, a_b.y, &r[1], &l[1]);
-  clh_dual_slab(a_f.z, a_b.z, &r[2], &l[2]);
-  out->r2 = clh_v3_make(r[0] * r[0], r[1] * r[1], r[2] * r[2]);
-  out->ln_l = clh_v3_make(0.693147181f * clh_fast_log2(l[0]), 0.693147181f * clh_fast_log2(l[1]),
-                          0.693147181f * clh_fast_log2(l[2]));
+  out->st[0] = clh_dual_stack_make(a_f.x, a_b.x);
+  out->st[1] = clh_dual_stack_make(a_f.y, a_b.y);
+  out->st[2] = clh_dual_stack_make(a_f.z, a_b.z);
   /* the infinite stack's back scattering past the shaded fibre (the probe's back part) */
-  out->back =
-      clh_v3_make(CLH_DUAL_DB * fmax(r[0] - a_b.x, 0.0f), CLH_DUAL_DB * fmax(r[1] - a_b.y, 0.0f),
-                  CLH_DUAL_DB * fmax(r[2] - a_b.z, 0.0f));
+  out->back = clh_v3_make(CLH_DUAL_DB * out->st[0].r_back, CLH_DUAL_DB * out->st[1].r_back,
+                          CLH_DUAL_DB * out->st[2].r_back);
   for (int p = 0; p < 3; ++p)
     out->lobe_e[p] = clh_v3_scale(hv->mass[p], 1.0f / (2.0f * CLH_HAIR_PI));
   out->af_lum = 0.2126f * a_f.x + 0.7152f * a_f.y + 0.0722f * a_f.z;
@@ -147,9 +181,9 @@ static inline void clh_hair_dual_prepare_to(clh_hair_dual* out, const clh_hair_v
 }
 
 static inline clh_v3 clh_dual_through3(const clh_hair_dual* ds, float tau) {
-  return clh_v3_make(clh_dual_slab_through(tau, ds->a_f.x, ds->r2.x, ds->ln_l.x),
-                     clh_dual_slab_through(tau, ds->a_f.y, ds->r2.y, ds->ln_l.y),
-                     clh_dual_slab_through(tau, ds->a_f.z, ds->r2.z, ds->ln_l.z));
+  return clh_v3_make(clh_dual_stack_through(&ds->st[0], tau),
+                     clh_dual_stack_through(&ds->st[1], tau),
+                     clh_dual_stack_through(&ds->st[2], tau));
 }
 
 /* f cos(theta_i) of the whole light reaching the fibre from direction wi, for a light whose
@@ -185,9 +219,9 @@ static inline clh_v3 clh_hair_dual_eval_cos(const clh_hair_view* hv, const clh_h
     const float v = ds->v_b + n * ds->v_f;
     const float mb = clh_hair_mp(sin_i, cos_i, hv->sin_o, hv->cos_o, v, clh_hair_mnorm(v)) *
                      (CLH_DUAL_DB / CLH_HAIR_PI);
-    const clh_v3 back = clh_v3_make(clh_dual_slab_back(tau_b, ds->a_b.x, ds->r2.x, ds->ln_l.x),
-                                    clh_dual_slab_back(tau_b, ds->a_b.y, ds->r2.y, ds->ln_l.y),
-                                    clh_dual_slab_back(tau_b, ds->a_b.z, ds->r2.z, ds->ln_l.z));
+    const clh_v3 back =
+        clh_v3_make(clh_dual_stack_back(&ds->st[0], tau_b), clh_dual_stack_back(&ds->st[1], tau_b),
+                    clh_dual_stack_back(&ds->st[2], tau_b));
     const clh_v3 reach = clh_v3_add(clh_v3_splat(direct), clh_v3_scale(through, CLH_DUAL_DF));
     out = clh_v3_add(out, clh_v3_scale(clh_v3_mul(reach, back), mb));
   }

@@ -11,20 +11,21 @@
  * light the light scattered between fibres is added (dual scattering, Zinke et al. 2008,
  * hair_dual.h): the map's optical depth in front of the fibre and behind it give the light
  * forward-scattered through the hair and the light the hair behind sends back; the baked AO
- * gives the same for the probe. A strand file's colour is its fibres' albedo
- * (clh_hair_sigma_a_from_albedo). Probe lighting: the environment's
- * prefiltered radiance along the mirror direction about the view-facing fibre normal,
- * with the GGX roughness and weight that stand for R + TRT, and its SH irradiance at
- * that normal (and at its opposite for TT) for the diffuse part; without an environment
- * the constant ambient lights the same energies. Probe light is darkened by the baked AO
- * (a strand file's: its AO field at the point, ao_field.h), the TT part by its cube (the
- * light from behind the fibre crosses the groom).
- * Lights without a deep opacity map are dimmed by the groom's baked spherical visibility
- * when it has one (Kulikov 2025; clhair/visibility_sh.h): exp(-absorption * events), events
- * the clamped L1 SH of the word's (u, v, w) cell toward the light, scaled by the share of
- * fibres LOD kept. Where LOD drew a strand for a cluster of 1/beta fibres, the lights are
- * shaded with the aggregated BCSDF of Huang et al. 2024 (hair_bsdf.h) instead of the
- * single-fibre one; probe lighting keeps the single fibre's energies.
+ * gives the same for the probe. A strand file with file colours whose AO field holds the
+ * light diffused through the groom (host/groom/diffusion_field.h: fibres that absorb little
+ * pass the light round the groom) takes that instead of dual scattering for its mapped
+ * lights: the map's unscattered light plus the field's. A strand file's colour is its fibres'
+ * albedo (clh_hair_sigma_a_from_albedo). Probe lighting: the environment's prefiltered radiance
+ * along the mirror direction about the view-facing fibre normal, with the GGX roughness and weight
+ * that stand for R + TRT, and its SH irradiance at that normal (and at its opposite for TT) for the
+ * diffuse part; without an environment the constant ambient lights the same energies. Probe light
+ * is darkened by the baked AO (a strand file's: its AO field at the point, ao_field.h), the TT part
+ * by its cube (the light from behind the fibre crosses the groom). Lights without a deep opacity
+ * map are dimmed by the groom's baked spherical visibility when it has one (Kulikov 2025;
+ * clhair/visibility_sh.h): exp(-absorption * events), events the clamped L1 SH of the word's (u, v,
+ * w) cell toward the light, scaled by the share of fibres LOD kept. Where LOD drew a strand for a
+ * cluster of 1/beta fibres, the lights are shaded with the aggregated BCSDF of Huang et al. 2024
+ * (hair_bsdf.h) instead of the single-fibre one; probe lighting keeps the single fibre's energies.
  * With CLH_MSAA samples per pixel every sample layer is shaded and averaged (the MSAA
  * resolve). Output: premultiplied RGBA, alpha = fraction of samples hit.
  * Built with CLH_RASTER_COVER (the coverage mode, clhair/coverage.h) the pixel's alpha is
@@ -151,6 +152,7 @@ static inline clh_v3 shade_at(__global const ClhGroomGpu* groom_g,
   }
 
   clh_v3 radiance = clh_v3_splat(0.0f);
+  const bool diffused = dual && (in->vis->ao_dims[3] & 2u) != 0u;
   const uint nl = min(scene_g->light_count, (uint)CLH_MAX_LIGHTS);
   for (uint i = 0; i < nl; ++i) {
     __global const ClhLightGpu* light = lights_g + i;
@@ -182,8 +184,12 @@ static inline clh_v3 shade_at(__global const ClhGroomGpu* groom_g,
      * a deep opacity map (drawn with the LOD's coverage) or a bake (of every fibre) */
     clh_v3 f =
         agg ? clh_hair_agg_eval_cos(&hv, &ag, L, !(mapped || use_vis)) : clh_hair_eval_cos(&hv, L);
-    /* a mapped light: what the map took away comes back through the fibres (dual scattering) */
-    if (mapped && dual) f = clh_hair_dual_eval_cos(&hv, &ds, L, f, tau, tau_b);
+    /* a mapped light: what the map took away comes back through the fibres (dual scattering),
+     * or, where the groom's field holds the light diffused through it, from the field */
+    if (mapped && dual && diffused)
+      f = clh_v3_scale(f, tau > 0.0f ? clh_hair_exp(-tau) : 1.0f);
+    else if (mapped && dual)
+      f = clh_hair_dual_eval_cos(&hv, &ds, L, f, tau, tau_b);
     radiance = clh_v3_add(radiance, clh_v3_scale(clh_v3_mul(lc, f), falloff));
   }
 
@@ -225,6 +231,7 @@ static inline clh_v3 shade_at(__global const ClhGroomGpu* groom_g,
     out = clh_v3_mul(out, clh_v3_make(fc.x / fmax(albedo.x, 1e-4f), fc.y / fmax(albedo.y, 1e-4f),
                                       fc.z / fmax(albedo.z, 1e-4f)));
   }
+  if (diffused) out = clh_v3_add(out, clh_diffused_at(in->vis, in->ao_field, pos.x, pos.y, pos.z));
   return out;
 }
 

@@ -33,11 +33,11 @@ void VisibilityGpu::prepare(std::size_t k, const GroomInstance& gi, bool enabled
       for (int col = 0; col < 4; ++col) v.world_to_obj[4 * row + col] = inv[col][row];
     for (int i = 0; i < 4; ++i) {
       v.ao_lo[i] = ao->lo.s[i];
-      v.ao_dims[i] = i < 3 ? ao->dims.s[i] : 1u;
+      v.ao_dims[i] = i < 3 ? ao->dims.s[i] : ao->flags;
     }
     fields_[k] = ao->values;
     in.aoField = &fields_[k];
-    in.aoFieldVoxels = ao->voxels();
+    in.aoFieldVoxels = ao->floats();
   }
   if (enabled && gi.visibility) {
     auto it = tables_.find(gi.visibility.get());

@@ -146,6 +146,7 @@ AoField bakeAoField(Device::Impl& dev, AoStage& stage, const AoDensity& density)
     }
   }
   f.values = makeBuffer<cl_float>(dev, "the AO field", cells, ao.data());
+  f.host = std::move(ao);
   return f;
 }
 

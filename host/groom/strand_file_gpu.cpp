@@ -10,6 +10,7 @@
 #include "cl/buffers.h"
 #include "clhair/lod_math.h"
 #include "groom/ao_field.h"
+#include "groom/diffusion_field.h"
 #include "groom/groom_data.h"
 #include "stages/view_math.h"
 
@@ -149,7 +150,8 @@ const AoField* StrandFileGpu::aoField(const Scene& scene, const glm::mat4& objTo
     placement.append(reinterpret_cast<const char*>(&mesh), sizeof(mesh));
     placement.append(reinterpret_cast<const char*>(&mi.transform), sizeof(mi.transform));
   }
-  if (lastField_ && placement == lastPlacement_) return lastField_;
+  if (lastField_ && placement == lastPlacement_)
+    return withDiffusedLight(scene, objToWorld, placement);
   const AoDensity d = withOccluders(aoDensity_, scene, objToWorld);
   std::uint64_t sum = 1469598103934665603ull;  // FNV-1a over the grid
   for (std::uint32_t v : d.density) sum = (sum ^ v) * 1099511628211ull;
@@ -164,7 +166,46 @@ const AoField* StrandFileGpu::aoField(const Scene& scene, const glm::mat4& objTo
   }
   lastPlacement_ = placement;
   lastField_ = f.get();
-  return lastField_;
+  return withDiffusedLight(scene, objToWorld, placement);
+}
+
+const AoField* StrandFileGpu::withDiffusedLight(const Scene& scene, const glm::mat4& objToWorld,
+                                                const std::string& placement) {
+  if (!data_.fileColor || !groom_ || groom_->colors.empty() || !lastField_ ||
+      lastField_->host.size() != lastField_->voxels())
+    return lastField_;
+  const glm::mat4 inv = glm::inverse(objToWorld);
+  std::vector<DiffusionLight> lights;
+  std::string key = placement;
+  for (const Light& l : scene.lights) {
+    if (!l.shadows) continue;
+    DiffusionLight dl;
+    dl.point = l.type == Light::Type::Point;
+    dl.at = dl.point ? glm::vec3(inv * glm::vec4(l.position, 1.0f))
+                     : glm::normalize(glm::vec3(inv * glm::vec4(l.direction, 0.0f)));
+    dl.radiance = l.color * l.intensity;
+    key.append(reinterpret_cast<const char*>(&dl), sizeof(dl));
+    lights.push_back(dl);
+  }
+  if (lights.empty()) return lastField_;
+  if (diffused_ && key == diffusedKey_) return diffused_.get();
+  glm::dvec3 sum(0.0);
+  for (const glm::vec3& c : groom_->colors) sum += glm::dvec3(c);
+  const glm::vec3 albedo = glm::vec3(sum / static_cast<double>(groom_->colors.size()));
+  const AoDensity d = withOccluders(aoDensity_, scene, objToWorld);
+  const float scale = std::cbrt(std::fabs(glm::determinant(glm::mat3(objToWorld))));
+  const std::vector<glm::vec3> rgb = diffuseGroomLight(d, albedo, lights, scale);
+  const std::size_t n = lastField_->voxels();
+  std::vector<float> planes(4 * n);
+  std::copy(lastField_->host.begin(), lastField_->host.end(), planes.begin());
+  for (std::size_t i = 0; i < n && i < rgb.size(); ++i)
+    for (int c = 0; c < 3; ++c) planes[(1 + c) * n + i] = rgb[i][c];
+  diffused_ = std::make_unique<AoField>(*lastField_);
+  diffused_->flags = 3u;
+  diffused_->values =
+      makeBuffer<cl_float>(dev_, "the AO field with diffused light", planes.size(), planes.data());
+  diffusedKey_ = key;
+  return diffused_.get();
 }
 
 void StrandFileGpu::lod(GroomInstanceGpu& inst, const cl::Buffer& view, Profiler* profiler) {

@@ -55,6 +55,8 @@ class StrandFileGpu final : public GroomGpu {
   std::unique_ptr<GroomInstanceGpu> makeInstance() override;
   std::uint64_t sharedBytes() const override;
   ExplicitStage::Inputs inputs(GroomInstanceGpu& inst) const;
+  const AoField* withDiffusedLight(const Scene& scene, const glm::mat4& objToWorld,
+                                   const std::string& placement);
 
   std::shared_ptr<const StrandGroom> groom_;
   GroomStages& stages_;
@@ -69,6 +71,10 @@ class StrandFileGpu final : public GroomGpu {
   std::map<std::uint64_t, std::unique_ptr<AoField>> aoFields_;
   std::string lastPlacement_;  // the last placement's bytes, and its field
   const AoField* lastField_ = nullptr;
+  // the field with the light diffused through the groom (diffusion_field.h), for the last
+  // placement and lights
+  std::string diffusedKey_;
+  std::unique_ptr<AoField> diffused_;
 };
 
 }  // namespace clhair

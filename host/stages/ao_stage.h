@@ -15,10 +15,14 @@ namespace clhair {
 
 // A groom's AO field on the device: visibility per voxel centre, x fastest.
 struct AoField {
-  cl::Buffer values;  // float per voxel
-  cl_float4 lo{};     // xyz: object-space corner of voxel (0, 0, 0), w: voxel size
-  cl_uint4 dims{};    // voxels per axis
+  cl::Buffer values;        // float per voxel; with light diffused through the groom (flags 3)
+                            // three more planes of a voxel's scattered radiance, r, g and b
+  cl_float4 lo{};           // xyz: object-space corner of voxel (0, 0, 0), w: voxel size
+  cl_uint4 dims{};          // voxels per axis
+  cl_uint flags = 1;        // 1: AO; 3: AO and diffused light (ClhVisibilityGpu.ao_dims[3])
+  std::vector<float> host;  // the AO per voxel, as on the device
   std::uint64_t voxels() const { return std::uint64_t(dims.s[0]) * dims.s[1] * dims.s[2]; }
+  std::uint64_t floats() const { return voxels() * ((flags & 2u) ? 4u : 1u); }
 };
 
 class AoStage {

@@ -252,7 +252,9 @@ typedef struct {
   float ao_lo[4];     /* the groom's AO field (kernels/ao.cl, ao_field): object-space corner
                          of voxel (0, 0, 0), w: voxel size */
   clh_u32 ao_dims[4]; /* voxels per axis (x fastest in the table), w: 1 to multiply the
-                         word's AO by the field at the shaded point, 0: no field */
+                         word's AO by the field at the shaded point, 3: also the light
+                         diffused through the groom (three more planes, r, g, b:
+                         host/groom/diffusion_field.h), 0: no field */
 } ClhVisibilityGpu;
 
 /* ---- LOD record: one per bundle of a hair mesh or chunk of a strand file, 16 bytes -----

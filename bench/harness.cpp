@@ -170,6 +170,15 @@ std::optional<int> parseOptions(int argc, char** argv, Options& o) {
   app.add_option("--look-final-passes", o.lookFinalPasses,
                  "look section: passes of the final level (16)")
       ->check(CLI::Range(1, 4096));
+  app.add_option("--look-light", o.lookLight,
+                 "look section: all (default), lights (the ambient light off) or ambient (the "
+                 "lights off): one kind of light at a time")
+      ->check(CLI::IsMember({"all", "lights", "ambient"}));
+  app.add_option("--look-path-events", o.lookPathEvents,
+                 "look section: scattering events per path of the reference (64; 1: the lights' "
+                 "single scattering, 2: the ambient light's, against --look-scattering both's "
+                 "single-scattering rows)")
+      ->check(CLI::Range(1, 1024));
   app.add_option("--temporal-ref-spp", temporalRefSpp,
                  "temporal section: samples per pixel of each frame's reference (default 4)")
       ->check(CLI::Range(1, 4096));

@@ -13,7 +13,10 @@
 // in CIELAB (D65) to the reference's mean colour, and the frame's time. --quality-grooms
 // picks the bench grooms (1, the default, with the strand file; 2; both). --look-scattering
 // both adds rows with the light between fibres left out, and the draft as it was before
-// (one scattering event, the bench scenes' lights without maps).
+// (one scattering event, the bench scenes' lights without maps). --look-light lights or
+// ambient keeps one kind of light; --look-path-events 1 (lights) or 2 (ambient) makes the
+// reference single scattering, for the single-scattering rows (DESIGN.md, "Hair the colour
+// of hair": the two errors measured apart).
 #include "harness.h"
 
 #include <algorithm>
@@ -96,6 +99,8 @@ void runLook(Run& r) {
       if (r.opt.qualityDistances.find(r.distNames[d]) == std::string::npos) continue;
       Scene s = framed(r.scenes[gr.scene], r.dists[d], qw, qh);
       for (Light& light : s.lights) light.shadows = true;
+      if (r.opt.lookLight == "ambient") s.lights.clear();
+      if (r.opt.lookLight == "lights") s.ambient = glm::vec3(0.0f);
       if (gr.eu >= 0.0f) {
         HairMesh m = *s.grooms[0].mesh;
         m.appearance.useMelanin = true;
@@ -111,9 +116,13 @@ void runLook(Run& r) {
         s.grooms[0] = gi;
       }
       const std::string cell = gr.tag + "_" + r.distNames[d];
+      // the light and the events in the name when they are not the defaults
+      std::string variant;
+      if (r.opt.lookLight != "all") variant += "_" + r.opt.lookLight;
+      if (r.opt.lookPathEvents != 64) variant += "_" + std::to_string(r.opt.lookPathEvents) + "ev";
       const std::string refPath = r.opt.refCache + "/look_" + cell + "_" + std::to_string(qw) +
                                   "x" + std::to_string(qh) + "_path_" +
-                                  std::to_string(r.opt.refSpp) + "spp.exr";
+                                  std::to_string(r.opt.refSpp) + "spp" + variant + ".exr";
       Frame ref;
       double refMs = 0.0;
       if (!r.opt.refCache.empty() && std::filesystem::exists(refPath) &&
@@ -125,7 +134,11 @@ void runLook(Run& r) {
                 static_cast<std::streamsize>(ref.depth.size() * sizeof(float)));
       } else {
         const auto t0 = std::chrono::steady_clock::now();
-        ref = r.b.renderer.renderReference(s, r.opt.refSpp, ReferenceMethod::Path);
+        ReferenceOptions ro;
+        ro.method = ReferenceMethod::Path;
+        ro.spp = r.opt.refSpp;
+        ro.pathEvents = r.opt.lookPathEvents;
+        ref = r.b.renderer.renderReference(s, ro);
         refMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                     .count();
         if (!r.opt.refCache.empty()) {

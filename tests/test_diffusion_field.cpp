@@ -17,7 +17,7 @@
 namespace clhair {
 namespace {
 
-constexpr int kN = 20;          // voxels per side
+constexpr int kN = 20;           // voxels per side
 constexpr float kVoxel = 0.01f;  // object units
 
 // A cube of hair in voxels [4, 16) on every axis, optical depth `perVoxel` per voxel.
@@ -68,8 +68,7 @@ TEST(DiffusionField, LightGoesRoundTheGroom) {
   EXPECT_GT(red, 0.2f) << "red far / near";
   EXPECT_LT(blue, 0.2f * red) << "blue far / near " << blue << ", red " << red;
   // the glow falls away from the light along the box's middle row
-  for (int x = 5; x < 16; ++x)
-    EXPECT_GT(f[at(x, 10, 10)].x, f[at(x - 1, 10, 10)].x) << "x " << x;
+  for (int x = 5; x < 16; ++x) EXPECT_GT(f[at(x, 10, 10)].x, f[at(x - 1, 10, 10)].x) << "x " << x;
   // beside the box (outside the hair) a lookup finds its neighbours' value, not zero
   EXPECT_GT(f[at(16, 10, 10)].x, 0.5f * f[at(15, 10, 10)].x);
   EXPECT_EQ(f[at(0, 0, 0)].x, 0.0f) << "far from the hair";
@@ -92,8 +91,7 @@ TEST(DiffusionField, OpaqueVoxelsBlockTheLight) {
   const auto solid = static_cast<std::uint32_t>(32.0f / kVoxel * 4096.0f);
   for (int z = 0; z < kN; ++z)
     for (int y = 0; y < kN; ++y) d.density[at(18, y, z)] = solid;  // a wall at x = 18
-  const std::vector<glm::vec3> blocked =
-      diffuseGroomLight(d, glm::vec3(0.9f), {fromPlusX()}, 1.0f);
+  const std::vector<glm::vec3> blocked = diffuseGroomLight(d, glm::vec3(0.9f), {fromPlusX()}, 1.0f);
   double sum = 0.0;
   for (const glm::vec3& v : blocked) sum += v.x;
   EXPECT_EQ(sum, 0.0);

@@ -68,7 +68,8 @@ std::vector<glm::vec3> diffuseGroomLight(const AoDensity& d, glm::vec3 albedo,
           bool blocked = false;
           for (float t = 0.25f * h; t < reach; t += 0.5f * h) {  // mid-points of half voxels
             const glm::vec3 q = (p + dir * t - lo) / h;
-            const int qx = static_cast<int>(std::floor(q.x)), qy = static_cast<int>(std::floor(q.y)),
+            const int qx = static_cast<int>(std::floor(q.x)),
+                      qy = static_cast<int>(std::floor(q.y)),
                       qz = static_cast<int>(std::floor(q.z));
             if (qx < 0 || qy < 0 || qz < 0 || qx >= nx || qy >= ny || qz >= nz) break;
             const std::size_t j = index(qx, qy, qz);
@@ -115,8 +116,8 @@ std::vector<glm::vec3> diffuseGroomLight(const AoDensity& d, glm::vec3 albedo,
                                                            {x, y, z - 1},
                                                            {x, y, z + 1}}};
             for (const auto& q : nb) {
-              const bool inside = q[0] >= 0 && q[1] >= 0 && q[2] >= 0 && q[0] < nx && q[1] < ny &&
-                                  q[2] < nz;
+              const bool inside =
+                  q[0] >= 0 && q[1] >= 0 && q[2] >= 0 && q[0] < nx && q[1] < ny && q[2] < nz;
               const std::size_t j = inside ? index(q[0], q[1], q[2]) : i;
               if (inside && hair[j]) {
                 const float df = 2.0f * D[i] * D[j] / (D[i] + D[j]);
@@ -136,8 +137,7 @@ std::vector<glm::vec3> diffuseGroomLight(const AoDensity& d, glm::vec3 albedo,
           }
       if (change <= kTolerance * level) break;
     }
-    for (std::size_t i = 0; i < n; ++i)
-      out[i][c] = static_cast<float>(a * phi[i] / (4.0 * kPi));
+    for (std::size_t i = 0; i < n; ++i) out[i][c] = static_cast<float>(a * phi[i] / (4.0 * kPi));
   }
   // voxels beside the hair take the mean of their hair neighbours, so that a fibre near the
   // groom's surface, looked up trilinearly, does not blend with the zero outside

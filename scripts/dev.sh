@@ -120,7 +120,7 @@ else
   host_tests+='|Reference|TracedReference'
   host_tests+='|BsdfReference|LodMath|FastMath|Environment(Sh|Errors|Mapping|Sky|Build)|Render'
   host_tests+='|BinaryCache|ExplicitMemory|ExplicitRender|Host|Keyframes|AnimatedScene|CageFile'
-  host_tests+='|FitSanitized)\.'
+  host_tests+='|FitSanitized|DiffusionField)\.'
   # Cli.GeneratedPresetGroomRenders (a written preset renders pixel for pixel as the preset
   # in memory) runs in the Release build: in the clang build one pixel of the two differs
   # (with LOD from the screen, and before it with a light's map), which is not a sanitizer

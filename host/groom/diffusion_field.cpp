@@ -35,7 +35,9 @@ std::vector<glm::vec3> diffuseGroomLight(const AoDensity& d, glm::vec3 albedo,
             nz = static_cast<int>(d.grid.dims.s[2]);
   const std::size_t n = static_cast<std::size_t>(nx) * ny * nz;
   std::vector<glm::vec3> out(n, glm::vec3(0.0f));
-  if (n == 0 || d.density.size() != n || lights.empty()) return out;
+  if (n == 0 || d.density.size() != n || lights.empty() || !(worldPerObject > 0.0f) ||
+      !(d.grid.lo.s[3] > 0.0f))
+    return out;
   const float h = d.grid.lo.s[3];  // object units
   const glm::vec3 lo(d.grid.lo.s[0], d.grid.lo.s[1], d.grid.lo.s[2]);
   // extinction per world unit; an opaque voxel is at least 16 optical depths per half voxel

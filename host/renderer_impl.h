@@ -28,6 +28,7 @@
 #include "stages/composite_stage.h"
 #include "stages/cryptomatte_stage.h"
 #include "stages/filter_stage.h"
+#include "stages/labels_stage.h"
 #include "stages/link_stage.h"
 #include "stages/point_stage.h"
 #include "stages/shade_stage.h"
@@ -66,6 +67,7 @@ struct Renderer::Impl {
   CompositeStage composite;
   AovStage aov;
   CryptomatteStage cryptomatte;
+  LabelsStage labels;
   RenderTarget target;
   ViewTargets views;  // the targets and slices of frames with several views
   SceneGpu scene;
@@ -98,6 +100,7 @@ struct Renderer::Impl {
         composite(dev),
         aov(dev),
         cryptomatte(dev),
+        labels(dev),
         target(dev),
         views(dev),
         scene(dev),

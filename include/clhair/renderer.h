@@ -16,6 +16,7 @@
 #include "clhair/device.h"
 #include "clhair/frame_types.h"
 #include "clhair/image.h"
+#include "clhair/labels.h"
 #include "clhair/scene.h"
 
 namespace clhair {
@@ -313,6 +314,11 @@ class Renderer {
   Frame renderReference(const Scene& scene, const ReferenceOptions& options);
   Frame renderReference(const Scene& scene, int spp,
                         ReferenceMethod method = ReferenceMethod::Embree);
+
+  // The labels hair models learn from (clhair/labels.h), computed on the device from
+  // `frame`'s tangent and hair alpha layers (render it with RenderOptions::aovs) and the
+  // camera it was drawn with. Throws clhair::Error when the frame has no such layers.
+  HairLabels labels(const Frame& frame, const Camera& camera);
 
   // Ambient occlusion of every layer vertex (layer-major, 1 = open), computed on the
   // device from the groom's own hair density and scalp (kernels/ao.cl).

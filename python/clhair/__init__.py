@@ -203,6 +203,8 @@ class Renderer:
 
         - ``rgba`` (H, W, 4) float32: linear colour composited over the background (alpha 1).
         - ``depth`` (H, W) float32: view depth (1e10 where nothing; without aovs +inf).
+        - with aovs, the labels computed on the device (``clhair.labels``): ``mask`` (H, W)
+          bool, ``orientation`` and ``confidence`` (H, W), ``strand_map`` (H, W, 3);
         - with aovs: ``alpha`` (H, W) the hair's coverage; ``tangent`` (H, W, 3) world unit
           tangent (0 where no strand); ``motion`` (H, W, 2) pixels to the previous frame
           (x right, y up); ``strand`` (H, W, 3) groom index, strand index, u (-1 where none;

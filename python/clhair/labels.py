@@ -10,7 +10,9 @@
 The direction is exact for the pinhole camera the frame was drawn with: the world tangent is
 turned into view space and differentiated through the projection at the pixel's own ray
 (x = cx + fx X / Z, y = cy - fy Y / Z). These are computed on the host with NumPy from the
-arrays ``Renderer.render`` returns (a few milliseconds at 512x512), not on the device.
+arrays ``Renderer.render`` returns (a few milliseconds at 512x512): the host reference of
+the device computation ``Renderer.render`` does for every frame with aovs
+(kernels/labels.cl, clhair/labels.h), which its tests compare with.
 """
 
 from __future__ import annotations
@@ -75,7 +77,11 @@ def strand_map(frame: Mapping[str, Any]) -> np.ndarray:
 
 def compute(frame: Dict[str, Any]) -> Dict[str, Any]:
     """Adds ``mask`` (H, W) bool, ``orientation``, ``confidence`` and ``strand_map`` to a
-    frame dict (rendered with aovs) and returns it."""
+    frame dict (rendered with aovs) and returns it. ``Renderer.render`` with aovs already
+    returns them, computed on the device (kernels/labels.cl); a frame that has them is
+    returned as it is, any other gets them from the NumPy functions above."""
+    if all(k in frame for k in ("mask", "orientation", "confidence", "strand_map")):
+        return frame
     angle, confidence = orientation(frame)
     frame["mask"] = np.asarray(frame["alpha"]) >= MASK_ALPHA
     frame["orientation"] = angle

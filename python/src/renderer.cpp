@@ -136,6 +136,16 @@ class PyRenderer {
     nb::dict out;
     out["rgba"] = toNumpy(std::move(f.color.rgba), {h, w, 4});
     if (p.aovs) {
+      // the labels hair models learn from, on the device (clhair/labels.h)
+      HairLabels l;
+      {
+        nb::gil_scoped_release unlocked;
+        l = renderer_.labels(f, p.camera);
+      }
+      out["mask"] = toNumpy(std::move(l.mask), {h, w}).attr("astype")("bool");
+      out["orientation"] = toNumpy(std::move(l.angle), {h, w});
+      out["confidence"] = toNumpy(std::move(l.confidence), {h, w});
+      out["strand_map"] = toNumpy(std::move(l.strandMap), {h, w, 3});
       out["depth"] = toNumpy(std::move(f.aovs.z), {h, w});
       out["alpha"] = toNumpy(std::move(f.aovs.hairAlpha), {h, w});
       out["tangent"] = toNumpy(std::move(f.aovs.tangent), {h, w, 3});

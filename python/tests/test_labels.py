@@ -80,3 +80,22 @@ def test_orientation_and_strand_map(renderer: clhair.Renderer, angle: float, til
     err = np.arccos(np.clip(np.sum(got * want[mask], axis=-1)
                             / np.linalg.norm(got, axis=-1), -1, 1))
     assert np.all(err <= bound), err.max()
+
+
+def test_device_labels_match_the_numpy_reference(renderer: clhair.Renderer) -> None:
+    """render() computes the labels on the device (kernels/labels.cl); labels.py's NumPy
+    functions compute them on the host from the same tangent and alpha layers."""
+    g = straight_groom(angle_deg=120.0, tilt_deg=50.0, strands=50)
+    f = renderer.render(base_scene({"groom": g}))
+    assert {"mask", "orientation", "confidence", "strand_map"} <= set(f)
+    angle, confidence = labels.orientation(f)
+    has = confidence > 0
+    assert has.sum() > 100
+    diff = np.abs(f["orientation"] - angle)
+    diff = np.minimum(diff, np.pi - diff)  # modulo pi: 0 and pi are one angle
+    assert diff[has].max() < 1e-4
+    assert np.abs(f["confidence"] - confidence).max() < 1e-5
+    assert np.array_equal(f["mask"], f["alpha"] >= labels.MASK_ALPHA)
+    assert np.abs(f["strand_map"] - labels.strand_map(f)).max() < 1e-5
+    # compute() keeps what the device gave
+    assert labels.compute(f)["orientation"] is f["orientation"]

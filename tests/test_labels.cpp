@@ -98,8 +98,8 @@ TEST(Labels, DeviceMatchesTheCpuFormulas) {
     const double rl = std::sqrt(a * a + b * b + 1.0);
     const double rx = a / rl, ry = b / rl, rz = 1.0 / rl;
     const double cx = vy * rz - vz * ry, cy = vz * rx - vx * rz, cz = vx * ry - vy * rx;
-    const double sine =
-        std::min(1.0, std::sqrt(cx * cx + cy * cy + cz * cz) / std::sqrt(vx * vx + vy * vy + vz * vz));
+    const double sine = std::min(
+        1.0, std::sqrt(cx * cx + cy * cy + cz * cz) / std::sqrt(vx * vx + vy * vy + vz * vz));
     const double alpha = std::clamp(double(f.aovs.hairAlpha[i]), 0.0, 1.0);
     EXPECT_NEAR(l.confidence[i], alpha * sine, 2e-5) << "pixel " << i;
     const bool hair = f.aovs.hairAlpha[i] >= kLabelMaskAlpha;
@@ -134,7 +134,7 @@ TEST(Labels, RadialStrandsGiveTheirOwnAngles) {
       const double phi = std::atan2(py, px);
       const int k = static_cast<int>(std::lround(phi / (kPi / 12.0)));
       const double strand = k * kPi / 12.0;
-      if (std::fabs(phi - strand) > 0.05) continue;  // between strands (their widths)
+      if (std::fabs(phi - strand) > 0.05) continue;        // between strands (their widths)
       if (((k % kStrands) + kStrands) % 8 == 3) continue;  // the bent ones
       errors.push_back(std::fabs(std::sin(l.angle[i] - strand)));
     }

@@ -8,8 +8,9 @@
 //   strandMap   HairStep's strand map, 3 per pixel: 1 where the mask holds a strand, then
 //               its unit image direction (root to tip, x right, y up) mapped from [-1, 1] to
 //               [0, 1]; 0 elsewhere
-// angle, confidence and strandMap are 0 where no strand is. Per pixel, row-major, top row first. python/clhair/labels.py
-// computes the same on the host with NumPy (the reference the tests compare with).
+// angle, confidence and strandMap are 0 where no strand is. Per pixel, row-major, top row first.
+// python/clhair/labels.py computes the same on the host with NumPy (the reference the tests compare
+// with).
 #pragma once
 
 #include <cstdint>

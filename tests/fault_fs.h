@@ -34,11 +34,6 @@ inline std::string shimEnv(const std::string& settings) {
          " ASAN_OPTIONS=verify_asan_link_order=0:detect_leaks=0 " + settings + " ";
 }
 
-inline void writeBytes(const std::string& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << bytes;
-}
-
 inline std::string readBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

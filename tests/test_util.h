@@ -1,11 +1,12 @@
 // test_util.h — shared helpers for the test suite: one OpenCL device per process, paths
 // to the source tree, the CLI and a scratch folder, running the CLI with its exit code and
-// output, and small image statistics.
+// output, writing input files and counting lines of output, and small image statistics.
 #pragma once
 
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <string>
 
@@ -126,6 +127,19 @@ std::string errorOf(F&& f) {
     return e.what();
   }
   return "";
+}
+
+// Writes `bytes` to `path` as they are (a test's input file).
+inline void writeBytes(const std::string& path, const std::string& bytes) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << bytes;
+}
+
+// How often `what` occurs in `text` (a command's output lines).
+inline std::size_t countOf(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t p = text.find(what); p != std::string::npos; p = text.find(what, p + 1)) ++n;
+  return n;
 }
 
 }  // namespace clhair::test

@@ -177,8 +177,10 @@ const AoField* StrandFileGpu::withDiffusedLight(const Scene& scene, const glm::m
   const glm::mat4 inv = glm::inverse(objToWorld);
   std::vector<DiffusionLight> lights;
   std::string key = placement;
+  int mapped = 0;  // the lights with a map: the first CLH_MAX_SHADOWS that ask for one
   for (const Light& l : scene.lights) {
-    if (!l.shadows) continue;
+    if (!l.shadows || mapped >= CLH_MAX_SHADOWS) continue;
+    ++mapped;
     DiffusionLight dl;
     dl.point = l.type == Light::Type::Point;
     dl.at = dl.point ? glm::vec3(inv * glm::vec4(l.position, 1.0f))

@@ -116,8 +116,11 @@ static inline clh_v3 shade_at(__global const ClhGroomGpu* groom_g,
   const float w = clh_unorm_value(clh_gbuf_w(word), 6u);
   const bool file_color = groom_g->look[2] > 0.5f; /* u, v, AO fields hold rgb (gpu_types.h) */
   /* baked vertex AO, or (strand files) the groom's AO field at the point */
+  /* the groom's AO field (and the light diffused through it) around the point, once */
+  clh_field_cell field_cell;
+  clh_field_cell_to(&field_cell, in->vis, pos.x, pos.y, pos.z);
   const float ao = (file_color ? 1.0f : clh_unorm_value(clh_gbuf_ao(word), 6u)) *
-                   clh_ao_field_at(in->vis, in->ao_field, pos.x, pos.y, pos.z);
+                   clh_ao_field_at(in->vis, in->ao_field, &field_cell);
   const clh_v3 to_eye =
       clh_v3_sub(clh_v3_make(view_g->eye[0], view_g->eye[1], view_g->eye[2]), pos);
   const clh_v3 V = clh_v3_unit(to_eye);
@@ -231,7 +234,7 @@ static inline clh_v3 shade_at(__global const ClhGroomGpu* groom_g,
     out = clh_v3_mul(out, clh_v3_make(fc.x / fmax(albedo.x, 1e-4f), fc.y / fmax(albedo.y, 1e-4f),
                                       fc.z / fmax(albedo.z, 1e-4f)));
   }
-  if (diffused) out = clh_v3_add(out, clh_diffused_at(in->vis, in->ao_field, pos.x, pos.y, pos.z));
+  if (diffused) out = clh_v3_add(out, clh_diffused_at(in->vis, in->ao_field, &field_cell));
   return out;
 }
 

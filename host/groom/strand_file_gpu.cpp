@@ -152,7 +152,8 @@ const AoField* StrandFileGpu::aoField(const Scene& scene, const glm::mat4& objTo
   }
   if (lastField_ && placement == lastPlacement_)
     return withDiffusedLight(scene, objToWorld, placement);
-  const AoDensity d = withOccluders(aoDensity_, scene, objToWorld);
+  placedDensity_ = withOccluders(aoDensity_, scene, objToWorld);
+  const AoDensity& d = placedDensity_;
   std::uint64_t sum = 1469598103934665603ull;  // FNV-1a over the grid
   for (std::uint32_t v : d.density) sum = (sum ^ v) * 1099511628211ull;
   std::unique_ptr<AoField>& f = aoFields_[sum];
@@ -194,9 +195,8 @@ const AoField* StrandFileGpu::withDiffusedLight(const Scene& scene, const glm::m
   glm::dvec3 sum(0.0);
   for (const glm::vec3& c : groom_->colors) sum += glm::dvec3(c);
   const glm::vec3 albedo = glm::vec3(sum / static_cast<double>(groom_->colors.size()));
-  const AoDensity d = withOccluders(aoDensity_, scene, objToWorld);
   const float scale = std::cbrt(std::fabs(glm::determinant(glm::mat3(objToWorld))));
-  const std::vector<glm::vec3> rgb = diffuseGroomLight(d, albedo, lights, scale);
+  const std::vector<glm::vec3> rgb = diffuseGroomLight(placedDensity_, albedo, lights, scale);
   const std::size_t n = lastField_->voxels();
   std::vector<float> planes(4 * n);
   std::copy(lastField_->host.begin(), lastField_->host.end(), planes.begin());

@@ -69,7 +69,8 @@ class StrandFileGpu final : public GroomGpu {
   AoDensity aoDensity_;  // the AO field's density grid of the hair alone
   // fields baked for placements among occluders, by their density grid's checksum
   std::map<std::uint64_t, std::unique_ptr<AoField>> aoFields_;
-  std::string lastPlacement_;  // the last placement's bytes, and its field
+  std::string lastPlacement_;  // the last placement's bytes, its grid with the occluders
+  AoDensity placedDensity_;    // marked, and its field
   const AoField* lastField_ = nullptr;
   // the field with the light diffused through the groom (diffusion_field.h), for the last
   // placement and lights

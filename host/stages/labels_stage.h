@@ -19,6 +19,8 @@ class LabelsStage {
  private:
   Device::Impl& dev_;
   cl::Kernel kernel_;
+  cl::Buffer view_, tangent_, alpha_, out_;
+  std::size_t viewCap_ = 0, tangentCap_ = 0, alphaCap_ = 0, outCap_ = 0;
 };
 
 }  // namespace clhair

@@ -170,9 +170,6 @@ static inline void clh_hair_dual_prepare_to(clh_hair_dual* out, const clh_hair_v
   out->st[0] = clh_dual_stack_make(a_f.x, a_b.x);
   out->st[1] = clh_dual_stack_make(a_f.y, a_b.y);
   out->st[2] = clh_dual_stack_make(a_f.z, a_b.z);
-  /* the infinite stack's back scattering past the shaded fibre (the probe's back part) */
-  out->back = clh_v3_make(CLH_DUAL_DB * out->st[0].r_back, CLH_DUAL_DB * out->st[1].r_back,
-                          CLH_DUAL_DB * out->st[2].r_back);
   for (int p = 0; p < 3; ++p)
     out->lobe_e[p] = clh_v3_scale(hv->mass[p], 1.0f / (2.0f * CLH_HAIR_PI));
   out->af_lum = 0.2126f * a_f.x + 0.7152f * a_f.y + 0.0722f * a_f.z;
@@ -237,8 +234,11 @@ static inline clh_v3 clh_hair_dual_probe(const clh_hair_dual* ds, float ao) {
   const clh_v3 arrive = clh_dual_through3(ds, tau);
   const clh_v3 through = clh_v3_fmax(clh_v3_sub(arrive, clh_v3_splat(ao)), 0.0f);
   const clh_v3 reach = clh_v3_add(clh_v3_splat(ao), clh_v3_scale(through, CLH_DUAL_DF));
+  /* what infinite hair behind sends back: d_b (R_inf - a_B) */
+  const clh_v3 back = clh_v3_make(CLH_DUAL_DB * ds->st[0].r_back, CLH_DUAL_DB * ds->st[1].r_back,
+                                  CLH_DUAL_DB * ds->st[2].r_back);
   return clh_v3_add(clh_v3_scale(clh_v3_mul(through, ds->albedo), CLH_DUAL_DF),
-                    clh_v3_scale(clh_v3_mul(reach, ds->back), 1.0f - ao));
+                    clh_v3_scale(clh_v3_mul(reach, back), 1.0f - ao));
 }
 
 #endif /* CLHAIR_HAIR_DUAL_H */

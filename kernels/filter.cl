@@ -36,6 +36,7 @@
  */
 #include "clhair/gpu_types.h"
 #include "clh_math.h"
+#include "faint_alpha.h"
 #include "clhair/fast_math.h"
 
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
@@ -191,10 +192,15 @@ __kernel void filter_reconstruct(__global const ClhGroomGpu* groom_g,
   const float counted = h_center + h_cons;
   float alpha = counted > 0.0f ? h_center / counted : (own_colour ? 1.0f : 0.0f);
   if (wsum <= 0.0f) alpha = own_colour ? alpha : 0.0f;
+  /* a faint groom's hits were widened past its fibres: they cover this share of a pixel */
+  alpha *= clh_faint_alpha(groom_g, z_ref);
   if (overlay) {
-    /* the nearer strand's reconstruction over the center hit, which stays opaque */
+    /* the nearer strand's reconstruction over the center hit, which stays opaque (a faint
+     * groom's covers its share) */
     const float3 under = hair_g[idx].xyz;
-    out_g[idx] = (float4)(alpha * colour + (1.0f - alpha) * under, 1.0f);
+    const float a_under = clh_faint_alpha(groom_g, z_center);
+    out_g[idx] = (float4)(alpha * colour + (1.0f - alpha) * a_under * under,
+                          a_under < 1.0f ? alpha + (1.0f - alpha) * a_under : 1.0f);
     return;
   }
   out_g[idx] = (float4)(colour * alpha, alpha);

@@ -80,6 +80,7 @@
  */
 #include "clhair/gpu_types.h"
 #include "clh_math.h"
+#include "faint_alpha.h"
 #include "clhair/fast_math.h"
 
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
@@ -298,10 +299,10 @@ __kernel void link_merge(__global const ClhViewGpu* view_g, __global const ClhLi
     link_count(link_g, flags_g, table_g, counters_g, over);
 }
 
-__kernel void link_alpha(__global const ClhViewGpu* view_g, __global const ClhLinkGpu* link_g,
-                         __global const ulong* gbuf_g, __global const uint* flags_g,
-                         __global uint* table_g, __global const float4* hair_g,
-                         __global float4* out_g, int4 box) {
+__kernel void link_alpha(__global const ClhGroomGpu* groom_g, __global const ClhViewGpu* view_g,
+                         __global const ClhLinkGpu* link_g, __global const ulong* gbuf_g,
+                         __global const uint* flags_g, __global uint* table_g,
+                         __global const float4* hair_g, __global float4* out_g, int4 box) {
   const int width = (int)view_g->width, height = (int)view_g->height;
   int x, y;
   if (!clh_box_pixel(box, width, height, &x, &y)) return;
@@ -325,6 +326,11 @@ __kernel void link_alpha(__global const ClhViewGpu* view_g, __global const ClhLi
       alpha = m + n > 0.0f ? m / (m + n) : 1.0f;
     }
   }
+  /* a faint groom's hits were widened past its fibres: they cover this share of a pixel */
+  const bool faint = groom_g->faint_width_px1 > 0.0f;
+  if (faint)
+    alpha *= clh_faint_alpha(groom_g, clh_depth_decode(clh_gbuf_depth(gbuf_g[idx]),
+                                                       groom_g->depth_near, groom_g->depth_far));
   if (!(alpha < 1.0f)) {
     out_g[idx] = (float4)(c, 1.0f);
     return;
@@ -343,8 +349,16 @@ __kernel void link_alpha(__global const ClhViewGpu* view_g, __global const ClhLi
       const size_t q = (size_t)qy * (size_t)width + (size_t)qx;
       const ulong qid = gbuf_g[(size_t)CLH_LAYER_ID * plane + q];
       if (qid != CLH_GBUF_EMPTY && clh_id_strand(qid) == strand) continue;
-      if (gbuf_g[q] != CLH_GBUF_EMPTY && (qid == CLH_GBUF_EMPTY || !clh_id_linked(qid)))
-        bg += (float4)(hair_g[q].xyz, 1.0f);
+      const ulong wq = gbuf_g[q];
+      if (wq != CLH_GBUF_EMPTY && (qid == CLH_GBUF_EMPTY || !clh_id_linked(qid))) {
+        /* a faint groom's neighbour covers its share of the pixel, like this one */
+        const float4 hq = (float4)(hair_g[q].xyz, 1.0f);
+        bg += faint ? clh_faint_alpha(groom_g,
+                                      clh_depth_decode(clh_gbuf_depth(wq), groom_g->depth_near,
+                                                       groom_g->depth_far)) *
+                          hq
+                    : hq;
+      }
       count += 1.0f;
     }
   }

@@ -1,7 +1,8 @@
 // test_view_notes.cpp — the notes a scene gets before it renders (host/io/view_notes.h):
-// a sparse groom of fibres far thinner than a pixel is named, with the key that makes it
-// visible ("min_hit_diameter_px"), and that key does make it cover at least 1 % of a
-// 640x480 frame; a dense groom gets no note; a scene without lights gets one line.
+// a sparse groom of fibres far thinner than a pixel is named where the render does not widen
+// it, with the key that makes it visible ("min_hit_diameter_px"); a dense groom gets no
+// note; a scene without lights gets one line. And the widening itself (io/faint_groom.h):
+// a faint groom shows by default with the light of its true width.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -54,40 +55,53 @@ std::size_t countWith(const std::vector<std::string>& notes, const std::string& 
   return n;
 }
 
+// The share of the frame shown as hair: pixels whose 8-bit sRGB level differs from the
+// background's by more than 2 in some channel (what the written PNG shows).
+double shownShare(const Image& im, const glm::vec3& background) {
+  auto level = [](float c) {
+    c = std::min(std::max(c, 0.0f), 1.0f);
+    const float e = c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+    return static_cast<int>(std::lround(255.0f * e));
+  };
+  std::size_t v = 0;
+  for (std::size_t i = 0; i < im.rgba.size(); i += 4) {
+    int d = 0;
+    for (int c = 0; c < 3; ++c)
+      d = std::max(d, std::abs(level(im.rgba[i + c]) - level(background[c])));
+    v += d > 2;
+  }
+  return static_cast<double>(v) / static_cast<double>(im.rgba.size() / 4);
+}
+
+// The hair's light over the background: |pixel - background| summed over the channels.
+double lightOver(const Image& im, const glm::vec3& background) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < im.rgba.size(); i += 4)
+    for (int c = 0; c < 3; ++c) sum += std::fabs(im.rgba[i + c] - background[c]);
+  return sum;
+}
+
 TEST(ViewNotes, ASparseThinGroomIsNamedWithTheKeyThatShowsIt) {
   const std::string dir = test::scratchDir();
   writeCap(dir + "/sparse.hair", 100);
   writeCap(dir + "/dense.hair", 20000);
   writeText(dir + "/s.json", sceneText("sparse.hair", "{}"));
   const Scene sparse = loadScene(dir + "/s.json");
-  const std::vector<std::string> n = viewNotes(sparse, "s.json");
+  const std::vector<std::string> n = viewNotes(sparse, "s.json", false);
   ASSERT_EQ(n.size(), 1u);
   EXPECT_NE(n[0].find("\"min_hit_diameter_px\""), std::string::npos) << n[0];
   EXPECT_NE(n[0].find("grooms[0]"), std::string::npos) << n[0];
   // a dense groom of the same fibres covers its box: no note
   writeText(dir + "/d.json", sceneText("dense.hair", "{}"));
-  EXPECT_EQ(countWith(viewNotes(loadScene(dir + "/d.json"), "d.json"), "min_hit"), 0u);
-  // the key set: no note, and the hair covers at least 1 % of the frame (pixels more than
-  // 2/255 away from the background)
+  EXPECT_EQ(countWith(viewNotes(loadScene(dir + "/d.json"), "d.json", false), "min_hit"), 0u);
+  // a render that filters its hair widens the groom itself: no note
+  EXPECT_TRUE(viewNotes(sparse, "s.json", true).empty());
+  // the key set: no note, and the hair covers at least 1 % of the frame
   writeText(dir + "/k.json", sceneText("sparse.hair", "{\"min_hit_diameter_px\": 1}"));
   const Scene keyed = loadScene(dir + "/k.json");
-  EXPECT_TRUE(viewNotes(keyed, "k.json").empty());
+  EXPECT_TRUE(viewNotes(keyed, "k.json", false).empty());
   Renderer r(test::sharedDevice());
-  const Image img = r.render(keyed, RenderOptions{}).color;
-  const Image bare = r.render(sparse, RenderOptions{}).color;
-  auto visible = [&](const Image& im) {
-    std::size_t v = 0;
-    for (std::size_t i = 0; i < im.rgba.size(); i += 4) {
-      float d = 0.0f;
-      for (int c = 0; c < 3; ++c) d = std::max(d, std::fabs(im.rgba[i + c] - keyed.background[c]));
-      v += d > 2.0f / 255.0f;
-    }
-    return static_cast<double>(v) / static_cast<double>(im.rgba.size() / 4);
-  };
-  const double withKey = visible(img), byDefault = visible(bare);
-  std::printf("visible hair: %.3f %% of the frame by default, %.3f %% with the key\n",
-              100.0 * byDefault, 100.0 * withKey);
-  EXPECT_GE(withKey, 0.01);
+  EXPECT_GE(shownShare(r.render(keyed, RenderOptions{}).color, keyed.background), 0.01);
   // the broken twin: a key out of its range is one error line
   writeText(dir + "/b.json", sceneText("sparse.hair", "{\"min_hit_diameter_px\": 5}"));
   const std::string e = test::errorOf([&] { loadScene(dir + "/b.json"); });
@@ -95,15 +109,56 @@ TEST(ViewNotes, ASparseThinGroomIsNamedWithTheKeyThatShowsIt) {
   EXPECT_EQ(e.find('\n'), std::string::npos) << e;
 }
 
+// A faint groom (io/faint_groom.h) is drawn a pixel wide by default, with the light of its
+// true width: it shows on at least 1 % of a 640x480 frame, and its light over the
+// background stays that of the coverage raster's exact overlap areas (the truth), where the
+// key's full-colour widening is many times brighter. A dense groom is drawn as before.
+TEST(FaintGroom, DrawnAPixelWideWithTheLightOfItsTrueWidth) {
+  const std::string dir = test::scratchDir();
+  writeCap(dir + "/sparse.hair", 100);
+  writeText(dir + "/s.json", sceneText("sparse.hair", "{}"));
+  writeText(dir + "/k.json", sceneText("sparse.hair", "{\"min_hit_diameter_px\": 1}"));
+  const Scene sparse = loadScene(dir + "/s.json"), keyed = loadScene(dir + "/k.json");
+  const glm::vec3 bg = sparse.background;
+  Renderer r(test::sharedDevice());
+  RenderOptions asBefore, cover, lipp;
+  asBefore.trueWidth = true;  // no widening: the true projected width only
+  cover.raster = 1;
+  lipp.filterMethod = 0;
+  const Image widened = r.render(sparse, RenderOptions{}).color;
+  const Image before = r.render(sparse, asBefore).color;
+  const Image exact = r.render(sparse, cover).color;
+  const Image full = r.render(keyed, RenderOptions{}).color;
+  const double shown = shownShare(widened, bg), shownBefore = shownShare(before, bg);
+  const double light = lightOver(widened, bg), truth = lightOver(exact, bg);
+  const double lightLipp = lightOver(r.render(sparse, lipp).color, bg);
+  std::printf(
+      "shown: %.3f %% of the frame (true width only %.3f %%, exact coverage %.3f %%, "
+      "the key %.3f %%); light over the background %.4g, Lipp's filter %.4g, exact "
+      "%.4g, the key %.4g\n",
+      100.0 * shown, 100.0 * shownBefore, 100.0 * shownShare(exact, bg),
+      100.0 * shownShare(full, bg), light, lightLipp, truth, lightOver(full, bg));
+  EXPECT_GE(shown, 0.01);
+  EXPECT_GT(shown, shownBefore);
+  EXPECT_NEAR(light / truth, 1.0, 0.2);         // Huang's filter (the default)
+  EXPECT_LE(lightLipp / truth, 1.2);            // Lipp's: never brighter than the coverage
+  EXPECT_GT(lightOver(full, bg), 5.0 * truth);  // what the honest alpha avoids
+  // a dense groom of the same fibres is not faint: drawn exactly as without the widening
+  writeCap(dir + "/dense.hair", 20000);
+  writeText(dir + "/d.json", sceneText("dense.hair", "{}"));
+  const Scene dense = loadScene(dir + "/d.json");
+  EXPECT_EQ(r.render(dense, RenderOptions{}).color.rgba, r.render(dense, asBefore).color.rgba);
+}
+
 TEST(ViewNotes, ASceneWithoutLightsGetsOneLine) {
   const std::string dir = test::scratchDir();
   writeCap(dir + "/dense.hair", 20000);
   writeText(dir + "/n.json", sceneText("dense.hair", "{}", false));
-  const std::vector<std::string> n = viewNotes(loadScene(dir + "/n.json"), "n.json");
+  const std::vector<std::string> n = viewNotes(loadScene(dir + "/n.json"), "n.json", false);
   ASSERT_EQ(n.size(), 1u);
   EXPECT_NE(n[0].find("no lights"), std::string::npos) << n[0];
   writeText(dir + "/l.json", sceneText("dense.hair", "{}"));
-  EXPECT_EQ(countWith(viewNotes(loadScene(dir + "/l.json"), "l.json"), "no lights"), 0u);
+  EXPECT_EQ(countWith(viewNotes(loadScene(dir + "/l.json"), "l.json", false), "no lights"), 0u);
 }
 
 }  // namespace

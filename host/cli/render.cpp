@@ -284,8 +284,13 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
         for (const std::string& w : viewWarnings(still, scenePath))
           std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
         // notes are for a person watching: -q (print nothing on success) leaves them out
+        // the filtered hair of a faint groom is widened by the renderer (faint_groom.h)
+        const bool filtered =
+            ro.msaa == 1 && (ro.filter < 0 ? still.filter.enabled : ro.filter == 1) &&
+            ro.pointShading <= 0 &&
+            (ro.raster < 0 ? still.raster != RasterMode::Coverage : ro.raster != 1);
         if (!quiet)
-          for (const std::string& n : viewNotes(still, scenePath))
+          for (const std::string& n : viewNotes(still, scenePath, filtered))
             std::fprintf(stderr, "clhair: note: %s\n", n.c_str());
       }
       // motion goes to the previous frame; frames 1 and before (a shot's first) have none, so

@@ -143,6 +143,7 @@ void planFrame(FramePlan& plan, const std::vector<GroomDraw>& draws, DispatchMod
   pass.lodStrandScale = options.lodLambdaScale;
   pass.trueWidth = options.trueWidth;
   pass.shadowLodCorrection = plan.lodCorrection;
+  pass.pixels = faintView(plan.view);
 
   const Scene* before = plan.aovs ? options.previous : nullptr;
   plan.grooms.assign(draws.size(), GroomPlan{});

@@ -20,6 +20,7 @@
 #include "cl/dispatch.h"
 #include "clhair/gpu_types.h"
 #include "clhair/scene.h"
+#include "io/faint_groom.h"
 #include "stages/explicit_stage.h"
 #include "stages/lod_stage.h"
 #include "stages/strand_stage.h"
@@ -61,6 +62,11 @@ struct ViewPass {
       1.0f;                // on every groom's strands per pixel (RenderOptions::lodLambdaScale)
   bool trueWidth = false;  // ignore the minimum hit diameter (reference passes)
   bool shadowLodCorrection = true;
+  // A camera's pixels (for a faint strand file's widening, io/faint_groom.h); widenFaint:
+  // the groom's hair is filtered here, so a faint one may be drawn kFaintHitDiameterPx wide
+  // with the alpha of its true width (the filters scale it)
+  FaintView pixels;
+  bool widenFaint = false;
 };
 
 // The per-instance part of a groom on the device.

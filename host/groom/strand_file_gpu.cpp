@@ -132,8 +132,26 @@ bool StrandFileGpu::prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld,
     p.look[3] = scale;
     p.strand_width = std::max(data_.meanThickness * scale, 1e-9f);  // LOD and shadow estimates
   }
+  // a faint groom's centre hits a pixel wide, with the alpha of its true width
+  p.faint_width_px1 = 0.0f;
+  if (pass.widenFaint && !pass.trueWidth && p.hit_diameter_px <= 0.0f && !data_.fileThickness &&
+      faint(o2v, pass.pixels)) {
+    p.hit_diameter_px = kFaintHitDiameterPx;
+    p.faint_width_px1 = pass.pixels.fy * p.strand_width;
+  }
   uploadChanged(dev_, inst.groom, inst.sent, &p, 1);
   return true;
+}
+
+bool StrandFileGpu::faint(const glm::mat4& objToView, const FaintView& view) {
+  // the estimate projects up to kFaintMaxSampled strands: once per placement and camera
+  std::string key(reinterpret_cast<const char*>(&objToView), sizeof(objToView));
+  key.append(reinterpret_cast<const char*>(&view), sizeof(view));
+  if (key != faintKey_) {
+    faintKey_ = key;
+    faint_ = estimateFaint(*groom_, objToView, view).faint();
+  }
+  return faint_;
 }
 
 const AoField* StrandFileGpu::aoField(const Scene& scene, const glm::mat4& objToWorld) {

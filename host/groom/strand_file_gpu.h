@@ -55,6 +55,8 @@ class StrandFileGpu final : public GroomGpu {
   std::unique_ptr<GroomInstanceGpu> makeInstance() override;
   std::uint64_t sharedBytes() const override;
   ExplicitStage::Inputs inputs(GroomInstanceGpu& inst) const;
+  // Whether the groom draws faint in this view (io/faint_groom.h), cached by the view.
+  bool faint(const glm::mat4& objToView, const FaintView& view);
   const AoField* withDiffusedLight(const Scene& scene, const glm::mat4& objToWorld,
                                    const std::string& placement);
 
@@ -76,6 +78,8 @@ class StrandFileGpu final : public GroomGpu {
   // placement and lights
   std::string diffusedKey_;
   std::unique_ptr<AoField> diffused_;
+  std::string faintKey_;  // the view of the last faint-groom estimate, and its answer
+  bool faint_ = false;
 };
 
 }  // namespace clhair

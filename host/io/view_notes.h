@@ -11,8 +11,10 @@ namespace clhair {
 
 // One line each, starting with `where` (the scene file): a strand-file groom (without
 // "min_hit_diameter_px" or file thicknesses) whose fibres are under a quarter of a pixel wide
-// and whose hair covers under 5 % of its screen box, so that it draws faint (the line names
-// "min_hit_diameter_px"); a scene with grooms and neither lights nor an environment.
-std::vector<std::string> viewNotes(const Scene& scene, const std::string& where);
+// and whose hair covers under 5 % of its screen box (faint_groom.h), so that it draws faint
+// (the line names "min_hit_diameter_px"), unless `widensFaint` (the render's filter runs and
+// draws it at least a pixel wide itself); a scene with grooms and neither lights nor an
+// environment.
+std::vector<std::string> viewNotes(const Scene& scene, const std::string& where, bool widensFaint);
 
 }  // namespace clhair

@@ -18,7 +18,10 @@ void addLodPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
         [&] {
           const GroomDraw& d = gp.draw;
           d.groom->useAo(plan.options.ambientOcclusion != 0);
-          if (!d.groom->prepare(*d.state, d.instance->transform, plan.cameraPass))
+          // a faint strand file is widened where its hair is filtered (io/faint_groom.h)
+          ViewPass pass = plan.cameraPass;
+          pass.widenFaint = gp.filtered;
+          if (!d.groom->prepare(*d.state, d.instance->transform, pass))
             throw Error("groom \"" + d.instance->name +
                         "\": in front of the camera when the frame was planned, behind it now");
           d.groom->lod(*d.state, plan.target->view, &r.profiler);

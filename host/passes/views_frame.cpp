@@ -48,6 +48,7 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
     passes[v].lodStrandScale = o.lodLambdaScale;
     passes[v].trueWidth = o.trueWidth;
     passes[v].shadowLodCorrection = plan.lodCorrection;
+    passes[v].pixels = faintView(records[v]);
   }
   uploadChanged(r.dev, vt.records, vt.recordsSent, records.data(), V);
   r.scene.upload(s);
@@ -117,6 +118,9 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
       throw Error("groom \"" + d.instance->name +
                   "\": Huang's filter takes one view at a time; render the views one by one "
                   "(--views NAME) or use Lipp's filter");
+    // a faint strand file is widened where its hair is filtered (io/faint_groom.h)
+    std::vector<ViewPass> groomPasses = passes;
+    for (ViewPass& vp : groomPasses) vp.widenFaint = filtered && !plan.cover && !gp.points;
     const std::size_t k = gp.index;
     const std::size_t totalsAt = plan.linkAt;  // the views' strand totals: V x D words
     const std::size_t D = plan.grooms.size();
@@ -131,14 +135,14 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
           st.kernel("strands_raster_views").kernel("copy_uints");
           if (plan.mode == DispatchMode::ReadBack) st.hostWait("the groom's strand total");
         },
-        [&, gv, passes, d, k, totalsAt, D, V, pixels, layers] {
+        [&, gv, groomPasses, d, k, totalsAt, D, V, pixels, layers] {
           // each view's record (transform, depth mapping); the LOD view's last, so that the
           // instance holds it for the LOD pass and the assembly
           GroomInstanceGpu& inst = *d.state;
           d.groom->useAo(plan.options.ambientOcclusion != 0);
           gv->records.assign(V, gpu::ClhGroomGpu{});
           for (std::size_t v = V; v-- > 0;) {
-            d.groom->prepare(inst, d.instance->transform, passes[v]);
+            d.groom->prepare(inst, d.instance->transform, groomPasses[v]);
             gv->records[v] = inst.params;
           }
           const std::size_t lv = gv->lodView;
@@ -150,7 +154,7 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
               rec.depth_near = gv->records[lv].depth_near;
               rec.depth_far = gv->records[lv].depth_far;
             }
-          if (lv != 0) d.groom->prepare(inst, d.instance->transform, passes[lv]);
+          if (lv != 0) d.groom->prepare(inst, d.instance->transform, groomPasses[lv]);
           d.groom->lod(inst, vt.target(lv).view, &r.profiler);
           r.target.clearWords(vt.gbuffers, V * vt.gbufferStride, &r.profiler);
           upload(r.dev, vt.grooms, gv->records.data(), V);
@@ -193,12 +197,12 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
                                                             : kernels.raster);
             if (plan.mode == DispatchMode::ReadBack) st.hostWait("the groom's strand total");
           },
-          [&, gv, passes, d, v, k, totalsAt, D, hair, pixels, layers] {
+          [&, gv, groomPasses, d, v, k, totalsAt, D, hair, pixels, layers] {
             RenderTarget& t = vt.target(v);
             GroomInstanceGpu& inst = *d.state;
             cl::Buffer& gbuffer = vt.gbufferSlices[v];
             if (!gv->together) {
-              d.groom->prepare(inst, d.instance->transform, passes[v]);
+              d.groom->prepare(inst, d.instance->transform, groomPasses[v]);
               d.groom->lod(inst, t.view, &r.profiler);
               r.target.clearWords(gbuffer, pixels * layers, &r.profiler);
               StrandRaster own = cameraRaster(r, plan, gp);

@@ -119,6 +119,7 @@ cl::Buffer* LinkStage::finish(const Params& p, bool aniso, cl::Buffer& hair, cl:
   // the alpha fix's output as far as the anisotropic filter reads it; the filter the box
   const PixelRect alphaBox = boxOf(p, CLH_LINK_MAX_RADIUS), box = boxOf(p, 0);
   KernelArgs(alpha_, "filter")
+      .buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
       .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
       .buffer("link parameters", params_, sizeof(gpu::ClhLinkGpu))
       .buffer("G-buffer", *p.gbuffer, gbufferBytes(p))

@@ -39,6 +39,17 @@ glm::mat4 worldToView(const Camera& cam) {
   return m;
 }
 
+FaintView faintView(const gpu::ClhViewGpu& v) {
+  FaintView f;
+  f.fx = v.fx;
+  f.fy = v.fy;
+  f.cx = v.cx;
+  f.cy = v.cy;
+  f.width = v.width;
+  f.height = v.height;
+  return f;
+}
+
 gpu::ClhViewGpu makeView(const Camera& cam, int width, int height) {
   gpu::ClhViewGpu v;
   std::memset(&v, 0, sizeof(v));

@@ -9,6 +9,7 @@
 
 #include "clhair/gpu_types.h"
 #include "clhair/scene.h"
+#include "io/faint_groom.h"
 #include "stages/stage_inputs.h"
 
 namespace clhair {
@@ -20,6 +21,8 @@ void storeMat34(float* dst, const glm::mat4& m);
 glm::mat4 worldToView(const Camera& cam);
 // The view record of `cam` over a width x height target, one sample per pixel.
 gpu::ClhViewGpu makeView(const Camera& cam, int width, int height);
+// The pixels of a view record, for the faint-groom estimate (io/faint_groom.h).
+FaintView faintView(const gpu::ClhViewGpu& v);
 
 // Depth range of the view-space box of object bounds [lo, hi]; false when all of it lies
 // behind the camera.

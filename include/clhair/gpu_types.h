@@ -134,7 +134,11 @@ typedef struct {
   /* LOD from the screen (lod_math.h clh_lod_strands_screen): strands per pixel of a bundle's
    * projected width (0: Lipp Eq. 1 from L instead); then padding */
   float lod_strands_px;
-  float lod_pad[3];
+  /* > 0: a faint groom (host/io/faint_groom.h) whose centre hits were widened to
+   * hit_diameter_px beyond its true width fy * strand_width / z = faint_width_px1 / z; the
+   * filters scale its alpha by true width / hit diameter */
+  float faint_width_px1;
+  float lod_pad[2];
 } ClhGroomGpu;
 
 /* ---- camera for one view, 128 bytes ------------------------------------------------

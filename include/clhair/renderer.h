@@ -90,7 +90,7 @@ struct RenderOptions {
   // (docs/hair-shading.md §8).
   int multipleScattering = 1;
   // Every strand at its true projected width: the grooms' minimum hit diameter is ignored
-  // (the passes of renderReference).
+  // and a faint strand file is not widened (the passes of renderReference).
   bool trueWidth = false;
   // Fill Frame::aovs (clhair/aov.h): depth, hair alpha, tangent and motion per pixel. Costs
   // a read-back of each groom's centre G-buffer layers and shaded hair.

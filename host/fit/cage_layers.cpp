@@ -113,8 +113,11 @@ void fullLengths(const FitStrands& s, const CageTopology& topo, StrandPlacement&
     if (m > 0.0f) ratio.push_back(s.length[i] / m);
   }
   const float top = ratio.empty() ? 1.0f : fullLength(ratio);
+  // never past the longest input strand: a generated strand of full length is as long as
+  // its layers (fit_mesh.cpp caps what the styling adds)
+  const float longest = n > 0 ? *std::max_element(s.length.begin(), s.length.end()) : 0.0f;
   pl.vertexLength.resize(V);
-  for (std::size_t v = 0; v < V; ++v) pl.vertexLength[v] = top * mean[v];
+  for (std::size_t v = 0; v < V; ++v) pl.vertexLength[v] = std::min(top * mean[v], longest);
   pl.fullLength.resize(n);
   for (std::size_t i = 0; i < n; ++i)
     pl.fullLength[i] = std::max(atStrand(i, pl.vertexLength), s.length[i]);

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 
 #include <glm/geometric.hpp>
@@ -93,6 +94,46 @@ void checkOptions(const FitOptions& o) {
   if (!(o.shapeWeight >= 0.0f) || !std::isfinite(o.shapeWeight) || !(o.shapeScale >= 0.0f) ||
       !std::isfinite(o.shapeScale))
     throw Error("shape weight and shape scale must be finite numbers >= 0");
+}
+
+// No generated strand is longer than kLengthCap times the longest input strand. The layers
+// never reach past the longest strand (cage_layers.cpp); what the styling adds to a full-
+// length strand (frizz, flyaways, curl on base curves that may hold some of it already,
+// clumping that pulls tips across the cage) is scaled down in steps until the longest
+// generated strand fits, and a report note says so.
+constexpr float kLengthCap = 1.1f;
+
+float longestOf(const fit::GeneratedStrands& g) {
+  const std::vector<float> l = fit::generatedLengths(g);
+  return l.empty() ? 0.0f : *std::max_element(l.begin(), l.end());
+}
+
+void capLengths(HairMesh& m, float longest, int threads, fit::GeneratedStrands& gen,
+                FitReport& rep) {
+  float out = longestOf(gen);
+  if (!(out > kLengthCap * longest)) return;
+  const float before = out;
+  const StyleParams fitted = m.style;
+  float k = 1.0f;
+  for (int step = 0; step < 8 && out > kLengthCap * longest; ++step) {
+    k *= 0.7f;
+    m.style.frizzAmplitude = fitted.frizzAmplitude * k;
+    m.style.flyawayAmplitude = fitted.flyawayAmplitude * k;
+    m.style.curlAmplitude = fitted.curlAmplitude * k;
+    m.style.clumpStrength = fitted.clumpStrength * k;
+    gen = fit::generateStrandsCpu(m, threads);
+    out = longestOf(gen);
+  }
+  char buf[300];
+  std::snprintf(buf, sizeof(buf),
+                "the styling's frizz, flyaway and curl amplitudes and its clumping are scaled by "
+                "%.3g: with the "
+                "fitted ones the longest generated strand was %.4g m, %.2fx the longest input "
+                "strand (%.4g m); now %.4g m (%.2fx)",
+                static_cast<double>(k), static_cast<double>(before),
+                static_cast<double>(before / longest), static_cast<double>(longest),
+                static_cast<double>(out), static_cast<double>(out / longest));
+  rep.notes.push_back(buf);
 }
 
 }  // namespace
@@ -289,7 +330,8 @@ FitResult fitHairMesh(const StrandGroom& groom, const FitOptions& opt) {
     b.rootDensityIn = area > 0.0 ? b.strandsIn / area : 0.0;
     b.rootDensityOut = area > 0.0 ? b.strandsOut / area : 0.0;
   }
-  const fit::GeneratedStrands gen = fit::generateStrandsCpu(m, threads);
+  fit::GeneratedStrands gen = fit::generateStrandsCpu(m, threads);
+  capLengths(m, *std::max_element(s.length.begin(), s.length.end()), threads, gen, rep);
   rep.strandsOut = gen.count();
   rep.lengthOut = fit::lengthStats(fit::generatedLengths(gen));
   phase("generate");

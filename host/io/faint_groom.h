@@ -30,9 +30,9 @@ struct FaintView {
 };
 
 struct FaintEstimate {
-  bool seen = false;        // some of the groom lies in front of the view and on screen
-  double widthPx = 0.0;     // the fibres' mean projected width, pixels
-  double share = 0.0;       // projected fibre area over the screen box's, at most 1
+  bool seen = false;               // some of the groom lies in front of the view and on screen
+  double widthPx = 0.0;            // the fibres' mean projected width, pixels
+  double share = 0.0;              // projected fibre area over the screen box's, at most 1
   float boxW = 0.0f, boxH = 0.0f;  // the groom's screen box clipped to the image, pixels
   bool faint() const { return seen && widthPx < kFaintThinPx && share < kFaintSparseShare; }
 };

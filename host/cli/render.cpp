@@ -287,7 +287,7 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
         // the filtered hair of a faint groom is widened by the renderer (faint_groom.h)
         const bool filtered =
             ro.msaa == 1 && (ro.filter < 0 ? still.filter.enabled : ro.filter == 1) &&
-            ro.pointShading <= 0 &&
+            ro.pointShading <= 0 && !ro.trueWidth &&
             (ro.raster < 0 ? still.raster != RasterMode::Coverage : ro.raster != 1);
         if (!quiet)
           for (const std::string& n : viewNotes(still, scenePath, filtered))

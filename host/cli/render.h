@@ -38,6 +38,7 @@ struct RenderFlags {
   std::string aov;            // --aov list; empty: the beauty alone through writeImage
   std::string views;          // --views: "all" or names; empty: all of the scene's "cameras"
   bool stats = false;         // --stats: strands and segments per groom instance
+  bool trueWidth = false;     // --true-width (RenderOptions::trueWidth)
   std::string segmentBudget;  // --segment-budget; empty: the scene's
   std::string budgetRule = "screen";  // --budget-rule screen|uniform
   std::string raster;                 // --raster lines|coverage; empty: the scene's

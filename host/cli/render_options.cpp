@@ -72,6 +72,9 @@ CLI::App* addRenderCommand(CLI::App& app, RenderFlags& f) {
                      "threads converting and writing images (0: one per core but one, at most 8)");
   render->add_flag("--passes", f.passes,
                    "print the first frame's graph: its passes, buffers and host waits");
+  render->add_flag("--true-width", f.trueWidth,
+                   "draw every strand at its true projected width: no minimum hit diameter and "
+                   "no widening of faint strand files");
   render->add_flag("--stats", f.stats,
                    "print the strands and segments each groom instance draws, and the totals");
   render->add_option("--temporal", f.temporal,

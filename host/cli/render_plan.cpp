@@ -137,6 +137,7 @@ RenderPlan planRender(const DeviceOptions& opts, const std::string& scenePath,
   if (f.screenBoxes != "on" && f.screenBoxes != "off")
     throw Error("--screen-boxes must be on or off, not \"" + f.screenBoxes + "\"");
   ro.screenBoxes = f.screenBoxes == "on";
+  ro.trueWidth = ro.trueWidth || f.trueWidth;
   if (f.raster == "lines" || f.raster == "coverage")
     ro.raster = f.raster == "coverage" ? 1 : 0;
   else if (!f.raster.empty())

@@ -150,6 +150,21 @@ TEST(FaintGroom, DrawnAPixelWideWithTheLightOfItsTrueWidth) {
   EXPECT_EQ(r.render(dense, RenderOptions{}).color.rgba, r.render(dense, asBefore).color.rgba);
 }
 
+// `clhair render` names a faint groom only where the render does not widen it.
+TEST(FaintGroom, TheCliNotesItWhereItIsNotWidened) {
+  const std::string dir = test::scratchDir();
+  writeCap(dir + "/sparse.hair", 100);
+  writeText(dir + "/s.json", sceneText("sparse.hair", "{}"));
+  for (const auto& [flags, noted] :
+       {std::pair<std::string, bool>{"", false}, {"--true-width", true}, {"--msaa 2", true}}) {
+    SCOPED_TRACE(flags);
+    const test::CommandResult r = test::runCli("render " + test::quote(dir + "/s.json") + " -o " +
+                                               test::quote(dir + "/a.png") + " " + flags);
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_EQ(r.output.find("draws faint") != std::string::npos, noted) << r.output;
+  }
+}
+
 TEST(ViewNotes, ASceneWithoutLightsGetsOneLine) {
   const std::string dir = test::scratchDir();
   writeCap(dir + "/dense.hair", 20000);

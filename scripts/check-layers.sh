@@ -3,7 +3,9 @@
 # "Layers"). Each folder of host/ belongs to one layer; a layer may include its own headers
 # and those of the layers it builds on, listed below (the same edges the CMake libraries
 # link, CMakeLists.txt "the layers"). The public headers (include/clhair/) are the API every
-# layer may name. Prints every offending #include as file:line and exits 1 if there is one
+# layer may name, and so are the layouts host and kernels share (kernels/include/clhair/).
+# The public headers name no header outside include/ (a user of the library sees only it).
+# Prints every offending #include as file:line and exits 1 if there is one
 # (CTest: Layers.NoHostFileIncludesALayerAbove).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -63,6 +65,17 @@ while IFS= read -r -d '' file; do
   done < <(grep -n -oE '^[[:space:]]*#[[:space:]]*include[[:space:]]+"[^"]+"' "$file" |
            sed -E 's/^([0-9]+):.*"([^"]+)"/\1:\2/')
 done < <(find host -type f \( -name '*.cpp' -o -name '*.h' \) -print0 | sort -z)
+
+# the public API stands alone: its headers include only each other (and system headers)
+while IFS= read -r -d '' file; do
+  while IFS=: read -r line inc; do
+    if [[ ! -f "include/$inc" ]]; then
+      echo "$file:$line: a public header includes \"$inc\", which is not in include/"
+      bad=1
+    fi
+  done < <(grep -n -oE '^[[:space:]]*#[[:space:]]*include[[:space:]]+"[^"]+"' "$file" |
+           sed -E 's/^([0-9]+):.*"([^"]+)"/\1:\2/')
+done < <(find include -type f -name '*.h' -print0 | sort -z)
 
 if [[ $bad -ne 0 ]]; then
   echo "check-layers.sh: host files include headers of layers above them (DESIGN.md, \"Layers\")"

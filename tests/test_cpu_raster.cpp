@@ -1,7 +1,7 @@
 // test_cpu_raster.cpp — the benchmark's CPU floor (host/groom/cpu_raster.h) against the
 // device's stored-strand raster, word for word.
 //
-// Both compile the same segment code (include/clhair/raster_core.h) without float
+// Both compile the same segment code (kernels/include/clhair/raster_core.h) without float
 // contraction, so on a device that rounds like the host's IEEE single precision (PoCL's
 // CPU device: correctly rounded division and sqrt) every G-buffer word must be equal.
 // The tests' synthetic groom (point counts across the kernel's round boundaries) partly

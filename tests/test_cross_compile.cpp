@@ -107,9 +107,9 @@ fs::path compileKernel(const std::string& file, const CrossRow& row, const std::
   // opencl-c.h, which declares every extension's builtins behind its -cl-ext macro.
   std::string cmd = "clang-15 -x cl -cl-no-stdinc -Xclang -finclude-default-header " +
                     std::string("-I") + quote(sourceDir() + "/kernels/common") + " -I" +
-                    quote(sourceDir() + "/include") + " -Wall -Werror -O2 -Xclang -cl-ext=" + ext +
-                    " " + row.flags + " " + defines + " " + row.output + " -o " +
-                    quote(out.string()) + " " + quote(src.string());
+                    quote(sourceDir() + "/kernels/include") +
+                    " -Wall -Werror -O2 -Xclang -cl-ext=" + ext + " " + row.flags + " " + defines +
+                    " " + row.output + " -o " + quote(out.string()) + " " + quote(src.string());
   CommandResult r = runCommand(cmd);
   EXPECT_EQ(r.exitCode, 0) << "command: " << cmd << "\n--- clang output ---\n" << r.output;
   EXPECT_TRUE(fs::exists(out)) << out << " was not written";

@@ -1,4 +1,4 @@
-// test_fast_math.cpp — the approximations of include/clhair/fast_math.h against the exact
+// test_fast_math.cpp — the approximations of kernels/include/clhair/fast_math.h against the exact
 // functions (double precision) over their whole input ranges, with the bounds their
 // comments state. The kernels compile the same code.
 #include <gtest/gtest.h>

@@ -408,9 +408,9 @@ TEST_P(Oclgrind, ExplicitStrandExportHasNoReports) {
   EXPECT_TRUE(kept.empty()) << "oclgrind reported:\n" << kept.substr(0, 20000);
 }
 
-// The line numbers of include/clhair/raster_core.h that hold `needle`.
+// The line numbers of kernels/include/clhair/raster_core.h that hold `needle`.
 std::set<int> rasterCoreLines(const std::string& needle) {
-  std::ifstream in(sourceDir() + "/include/clhair/raster_core.h");
+  std::ifstream in(sourceDir() + "/kernels/include/clhair/raster_core.h");
   std::set<int> lines;
   std::string line;
   for (int n = 1; std::getline(in, line); ++n)

@@ -4,7 +4,7 @@
 // It does exactly the work of strands_explicit_raster with LOD off and MSAA 1: every
 // stored strand, tangents by central differences with Bhokare's end rule, the same
 // projection, walk, hit rule, G-buffer word, depth test and load skip — by compiling the
-// same code (include/clhair/raster_core.h) — with a compare-and-swap loop for the 64-bit
+// same code (kernels/include/clhair/raster_core.h) — with a compare-and-swap loop for the 64-bit
 // atomic minimum. Threads take blocks of strands from a shared counter.
 #pragma once
 

@@ -10,7 +10,7 @@
 //   texels()  float4 texels of all prefiltered levels, one buffer
 //   levels()  ClhEnvLevel[levelCount()] (gpu_env.h), GGX alpha increasing
 //   sh()      27 floats: radiance SH coefficients L_lm, RGB interleaved
-// Conventions (direction <-> (u, v), SH order, rotation) are in include/clhair/gpu_env.h
+// Conventions (direction <-> (u, v), SH order, rotation) are in kernels/include/clhair/gpu_env.h
 // and docs/environment-lighting.md. Inputs are validated before anything is uploaded;
 // every failure is a one-line clhair::Error. The build is deterministic: the same input
 // gives bit-identical buffers on the same device.

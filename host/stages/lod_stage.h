@@ -1,7 +1,7 @@
 // lod_stage.h — binds and launches the LOD pre-pass and the scan (kernels/lod.cl) of a
 // hair mesh: one LOD record per bundle, the strand counts, and their exclusive scan with
 // the drawn and visible totals after the last bundle (the layout is in
-// include/clhair/gpu_types.h). GroomGpu::readTotal is the blocking 4-byte read that sizes
+// kernels/include/clhair/gpu_types.h). GroomGpu::readTotal is the blocking 4-byte read that sizes
 // a read-back strand dispatch (DESIGN.md, Atomics and dispatch sizing).
 #pragma once
 

@@ -1,7 +1,7 @@
 // visibility.h — a groom's baked spherical visibility (Kulikov 2025, "precomputed
 // self-shadowing"): per cell of the G-buffer's styling codes (u, v, w: root uv and position
 // along the strand), the mean number of scattering events toward every direction as four
-// real L1 SH coefficients (include/clhair/visibility_sh.h). Written by `clhair
+// real L1 SH coefficients (kernels/include/clhair/visibility_sh.h). Written by `clhair
 // bake-visibility`, referenced from a scene's groom entry ("visibility", docs/scene-format.md)
 // and looked up by shade.cl for every light without a deep opacity map.
 //

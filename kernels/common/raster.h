@@ -3,7 +3,7 @@
  * setup (and that of a light's deep-opacity pass), and the loop that draws a lane's run of
  * segments.
  * The segment walk itself (layers, hit rule, G-buffer word, atomics) is
- * include/clhair/raster_core.h, which the CPU floor of the benchmark compiles too.
+ * kernels/include/clhair/raster_core.h, which the CPU floor of the benchmark compiles too.
  */
 #ifndef CLHAIR_RASTER_H
 #define CLHAIR_RASTER_H

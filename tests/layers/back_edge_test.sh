@@ -7,7 +7,7 @@ set -euo pipefail
 cxx=$1 src=$2 layers=$3
 probe=$src/tests/layers/back_edge_probe.cpp
 flags=(-std=c++17 -fsyntax-only -DCL_HPP_ENABLE_EXCEPTIONS -DCL_HPP_MINIMUM_OPENCL_VERSION=120
-       -DCL_HPP_TARGET_OPENCL_VERSION=120 -I"$src/include")
+       -DCL_HPP_TARGET_OPENCL_VERSION=120 -I"$src/include" -I"$src/kernels/include")
 if ! "$cxx" "${flags[@]}" -I"$layers/frame" "$probe"; then
   echo "back_edge_test.sh: the probe does not compile in its own layer (frame)"
   exit 1

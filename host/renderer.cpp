@@ -122,7 +122,7 @@ static std::unique_ptr<PendingFrame> begin(Renderer::Impl& r, FramePlan& plan, s
   r.profiler.clear();
   r.profiler.enabled = p->timings;
   r.profiler.hostTiming = plan.options.stageCores;
-  r.shadows.reserve(plan.scene);  // before the grooms: see ShadowPass::reserve
+  r.shadows.reserve(plan.scene);  // before the grooms: see ShadowMaps::reserve
   r.grooms.beginFrame();
   draws = r.resolveGrooms(plan.scene);
   r.frameLod.bind(draws);  // every draw's LOD records in one buffer, for the segment budget

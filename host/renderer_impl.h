@@ -17,7 +17,7 @@
 #include "frame/pending_frame.h"
 #include "frame/render_target.h"
 #include "frame/scene_gpu.h"
-#include "frame/shadow_pass.h"
+#include "frame/shadow_maps.h"
 #include "frame/view_targets.h"
 #include "frame/visibility_gpu.h"
 #include "graph/frame_graph.h"
@@ -71,7 +71,7 @@ struct Renderer::Impl {
   RenderTarget target;
   ViewTargets views;  // the targets and slices of frames with several views
   SceneGpu scene;
-  ShadowPass shadows;
+  ShadowMaps shadows;
   FrameLod frameLod;
   VisibilityGpu visibility;
   BufferPool pool;

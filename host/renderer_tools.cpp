@@ -101,7 +101,7 @@ std::unique_ptr<StrandTracer> traceScene(Renderer::Impl& r, const Scene& s, cons
   auto tracer = std::make_unique<StrandTracer>(pathMode);
   r.grooms.beginFrame();
   const std::vector<GroomDraw> draws = r.resolveGrooms(s);
-  ViewPass pass;
+  ViewDraw pass;
   pass.worldToView = worldToView(s.camera);
   pass.lod = o.lod;
   pass.trueWidth = o.trueWidth;

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <sstream>
 
 #include "cl/device_impl.h"
@@ -60,6 +61,14 @@ std::vector<std::string> concat(std::vector<std::vector<std::string>> parts) {
   return out;
 }
 
+// The shadow passes of a frame that builds the maps of `lights` (indices into the scene's).
+std::vector<std::string> shadowPasses(std::initializer_list<int> lights) {
+  std::vector<std::string> out = {"shadow maps"};
+  for (int l : lights) out.push_back("shadow map: light " + std::to_string(l));
+  out.push_back("shadow maps: the lights' records");
+  return out;
+}
+
 struct Rendered {
   std::vector<std::string> first, second;  // the passes of two frames in a row
   std::uint64_t secondWaits = 0;
@@ -91,7 +100,8 @@ TEST(FramePasses, TheDefaultSceneRunsItsPassesAndWaitsOnceInASteadyFrame) {
   RenderOptions o;
   o.lod = 1;
   const Rendered d = twoFrames(smallScene("default.json"), o);
-  EXPECT_EQ(d.first, concat({{"shadow maps", "opaque", "lod 0", "segment budget"},
+  EXPECT_EQ(d.first, concat({shadowPasses({0, 1, 2}),
+                             {"opaque", "lod 0", "segment budget"},
                              groomPasses(0, true),
                              {"read-back"}}));
   // the maps are kept: the second frame has no shadow pass, and one host wait
@@ -102,7 +112,8 @@ TEST(FramePasses, TheDefaultSceneRunsItsPassesAndWaitsOnceInASteadyFrame) {
 
 TEST(FramePasses, MsaaNoFilterAndLippsFilterRunTheirPasses) {
   const Scene s = tinyScene();
-  const std::vector<std::string> head = {"shadow maps", "opaque", "lod 0", "segment budget"};
+  const std::vector<std::string> head =
+      concat({shadowPasses({0}), {"opaque", "lod 0", "segment budget"}});
   RenderOptions o;
   o.msaa = 4;
   EXPECT_EQ(twoFrames(s, o, {}, 1).first, concat({head, groomPasses(0, false), {"read-back"}}));
@@ -127,8 +138,10 @@ TEST(FramePasses, PointShadingReplacesTheShadePassAndWaitsOnce) {
   const Rendered d = twoFrames(s, o);
   const std::vector<std::string> groom = {"strands 0", "point marks 0", "point inputs 0",
                                           "shade points 0", "composite 0"};
-  EXPECT_EQ(d.first,
-            concat({{"shadow maps", "opaque", "lod 0", "segment budget"}, groom, {"read-back"}}));
+  EXPECT_EQ(
+      d.first,
+      concat(
+          {shadowPasses({0, 1, 2}), {"opaque", "lod 0", "segment budget"}, groom, {"read-back"}}));
   EXPECT_EQ(d.second, concat({{"opaque", "lod 0", "segment budget"}, groom, {"read-back"}}));
   EXPECT_EQ(d.secondWaits, 1u);
 }
@@ -140,7 +153,8 @@ TEST(FramePasses, AllAovsAddTheirPassesAndStillWaitOnce) {
   o.strandIds = true;
   o.previous = &s;
   const Rendered d = twoFrames(s, o);
-  EXPECT_EQ(d.first, concat({{"shadow maps", "opaque", "aov begin", "lod 0", "segment budget"},
+  EXPECT_EQ(d.first, concat({shadowPasses({0}),
+                             {"opaque", "aov begin", "lod 0", "segment budget"},
                              groomPasses(0, true),
                              {"aov 0", "read-back"}}));
   EXPECT_EQ(d.secondWaits, 1u);
@@ -151,8 +165,8 @@ TEST(FramePasses, TwoViewsShareOneStrandPassAndWaitOnce) {
   Camera side = s.camera;
   side.position.x += 0.01f;
   const Rendered d = twoFrames(s, RenderOptions{}, {s.camera, side});
-  std::vector<std::string> want = {"shadow maps", "opaque, view 0", "opaque, view 1",
-                                   "strands 0, all views"};
+  std::vector<std::string> want =
+      concat({shadowPasses({0}), {"opaque, view 0", "opaque, view 1", "strands 0, all views"}});
   for (const char* v : {"0", "1"})
     for (const char* p : {"shade 0, view ", "filter 0, view ", "composite 0, view "})
       want.push_back(std::string(p) + v);

@@ -12,7 +12,7 @@
 #include "clhair/lod_math.h"
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
-#include "frame/shadow_pass.h"
+#include "frame/shadow_maps.h"
 #include "groom/presets.h"
 #include "test_util.h"
 
@@ -146,11 +146,11 @@ TEST(ShadowReuse, MapIsBuiltOnceOverFinalPassesAndAgainWhenItsLightMoves) {
 }
 
 TEST(ShadowReuse, MapResolutionFollowsTheCamerasViewOfTheGrooms) {
-  EXPECT_EQ(ShadowPass::mapResolution(512, 10.0f), 64);
-  EXPECT_EQ(ShadowPass::mapResolution(512, 100.0f), 128);
-  EXPECT_EQ(ShadowPass::mapResolution(512, 129.0f), 256);
-  EXPECT_EQ(ShadowPass::mapResolution(512, 5000.0f), 512);  // never above the scene's
-  EXPECT_EQ(ShadowPass::mapResolution(48, 5000.0f), 48);
+  EXPECT_EQ(ShadowMaps::mapResolution(512, 10.0f), 64);
+  EXPECT_EQ(ShadowMaps::mapResolution(512, 100.0f), 128);
+  EXPECT_EQ(ShadowMaps::mapResolution(512, 129.0f), 256);
+  EXPECT_EQ(ShadowMaps::mapResolution(512, 5000.0f), 512);  // never above the scene's
+  EXPECT_EQ(ShadowMaps::mapResolution(48, 5000.0f), 48);
   Renderer r(test::sharedDevice());
   Scene s = mappedScene();
   s.shadows.resolution = 1024;

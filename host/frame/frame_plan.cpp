@@ -135,7 +135,7 @@ void planFrame(FramePlan& plan, const std::vector<GroomDraw>& draws, DispatchMod
   plan.view.cx += options.jitterX;
   plan.view.cy += options.jitterY;
   plan.pixels = static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height);
-  ViewPass& pass = plan.cameraPass;
+  ViewDraw& pass = plan.cameraPass;
   pass.view = &plan.target->view;
   pass.worldToView = worldToView(s.camera);
   pass.lod = options.lod;

@@ -80,7 +80,7 @@ struct FramePlan {
   std::uint64_t budget = 0;
   gpu::ClhViewGpu view{};
   std::size_t pixels = 0;
-  ViewPass cameraPass;
+  ViewDraw cameraPass;
   std::vector<GroomPlan> grooms;
   // the index of the last groom drawn (captureGBuffer keeps its layers), grooms.size(): none
   std::size_t lastDrawn = 0;

@@ -77,7 +77,7 @@ void SceneGpu::upload(const Scene& s) {
       store4(li[i].pos, l.direction, 0.0f);
     store4(li[i].color, l.color * l.intensity, -1.0f);  // w: shadow slot, -1 none
   }
-  // shadow slots in light order, as ShadowPass assigns them
+  // shadow slots in light order, as ShadowMaps assigns them
   int slot = 0;
   for (std::size_t i = 0; i < li.size(); ++i)
     if (s.lights[i].shadows && !s.grooms.empty() && slot < CLH_MAX_SHADOWS)
@@ -100,7 +100,7 @@ void SceneGpu::upload(const Scene& s) {
   uploadMeshes(s);
   if (meshTriangleCount_ > 0) {
     // The mesh pass's word buffer, sized now for the camera and the shadow maps: allocated
-    // before the grooms' temporaries come and go, as ShadowPass::reserve explains.
+    // before the grooms' temporaries come and go, as ShadowMaps::reserve explains.
     const std::size_t res = static_cast<std::size_t>(std::max(s.shadows.resolution, 0));
     const std::size_t pixels =
         std::max(static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height), res * res);

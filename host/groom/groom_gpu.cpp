@@ -45,7 +45,7 @@ bool GroomGpu::rasterViews(GroomInstanceGpu&, const StrandRaster&, const cl::Buf
   return false;
 }
 
-bool GroomGpu::motion(GroomInstanceGpu&, const GroomInstance&, const MotionPass&,
+bool GroomGpu::motion(GroomInstanceGpu&, const GroomInstance&, const MotionDraw&,
                       const StrandRaster&, Profiler*) {
   return false;
 }

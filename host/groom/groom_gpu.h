@@ -51,7 +51,7 @@ struct GroomKernels {
 };
 
 // One pass over the grooms: the camera's view or a light's.
-struct ViewPass {
+struct ViewDraw {
   const cl::Buffer* view = nullptr;  // ClhViewGpu
   glm::mat4 worldToView{1.0f};
   // > 0: one depth mapping for every groom (a light's G-buffer is shared by all grooms)
@@ -95,7 +95,7 @@ class GroomGpu {
   // Fills and uploads the view-dependent parameters of `inst` for an instance placed by
   // `objToWorld`; false when the groom lies entirely behind the view.
   virtual bool prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld,
-                       const ViewPass& pass) = 0;
+                       const ViewDraw& pass) = 0;
   // Whether prepare() would find some of the groom in front of the view (its bounds' depth
   // range), without preparing anything.
   bool inFront(const glm::mat4& objToWorld, const glm::mat4& worldToView) const;
@@ -117,7 +117,7 @@ class GroomGpu {
   // Stored strands (strand files): a record's segments depend on each strand's length.
   virtual bool storedStrands() const { return false; }
   virtual void raster(GroomInstanceGpu& inst, const StrandRaster& r, Profiler* profiler) = 0;
-  virtual void opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands,
+  virtual void opacity(GroomInstanceGpu& inst, const OpacityDraw& o, std::uint32_t strands,
                        Profiler* profiler) = 0;
   // The strands as the kernels generate or draw them at LOD value `lod` (1: full detail).
   virtual StrandSet exportStrands(float lod) = 0;
@@ -140,12 +140,12 @@ class GroomGpu {
   virtual bool rasterViews(GroomInstanceGpu& inst, const StrandRaster& r,
                            const cl::Buffer& viewGrooms, const cl::Buffer& views,
                            std::uint32_t count, Profiler* profiler);
-  // The motion pass (MotionPass, right after raster() with the same `r`): screen motion to
+  // The motion pass (MotionDraw, right after raster() with the same `r`): screen motion to
   // the previous frame of every pixel the groom's conservative layer won, the strands
   // evaluated a second time from `previous` (the previous frame's record of this groom
   // instance: its cage, or its per-frame strand file). False when the groom cannot give it
   // (nothing written; the caller keeps rigid motion).
-  virtual bool motion(GroomInstanceGpu& inst, const GroomInstance& previous, const MotionPass& m,
+  virtual bool motion(GroomInstanceGpu& inst, const GroomInstance& previous, const MotionDraw& m,
                       const StrandRaster& r, Profiler* profiler);
   // Bytes of the shared tables plus one instance's buffers.
   std::uint64_t deviceBytes();

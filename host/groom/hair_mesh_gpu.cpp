@@ -82,7 +82,7 @@ StrandStage::Inputs HairMeshGpu::inputs(const GroomInstanceGpu& inst) const {
 }
 
 bool HairMeshGpu::prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld,
-                          const ViewPass& pass) {
+                          const ViewDraw& pass) {
   gpu::ClhGroomGpu& p = inst.params;
   const glm::mat4 o2v = pass.worldToView * objToWorld;
   storeMat34(p.obj_to_view, o2v);
@@ -128,7 +128,7 @@ void HairMeshGpu::raster(GroomInstanceGpu& inst, const StrandRaster& r, Profiler
   stages_.strands.raster(inputs(inst), r, profiler);
 }
 
-void HairMeshGpu::opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands,
+void HairMeshGpu::opacity(GroomInstanceGpu& inst, const OpacityDraw& o, std::uint32_t strands,
                           Profiler* profiler) {
   stages_.strands.opacity(inputs(inst), o, strands, profiler);
 }
@@ -189,7 +189,7 @@ GroomData HairMeshGpu::movedRecords(const std::vector<glm::vec3>& cage) const {
   return prepareGroom(moved);
 }
 
-bool HairMeshGpu::motion(GroomInstanceGpu& inst, const GroomInstance& previous, const MotionPass& m,
+bool HairMeshGpu::motion(GroomInstanceGpu& inst, const GroomInstance& previous, const MotionDraw& m,
                          const StrandRaster& r, Profiler* profiler) {
   if (hasTangents_) return false;
   const std::shared_ptr<const std::vector<glm::vec3>>& cage = previous.deformed;

@@ -37,7 +37,7 @@ class HairMeshGpu final : public GroomGpu {
   // strand export do not need it).
   HairMeshGpu(std::shared_ptr<const HairMesh> mesh, GroomStages& stages, bool bakeAo);
 
-  bool prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld, const ViewPass& pass) override;
+  bool prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld, const ViewDraw& pass) override;
   void lod(GroomInstanceGpu& inst, const cl::Buffer& view, Profiler* profiler) override;
   std::uint32_t strandCount() const override {
     return static_cast<std::uint32_t>(data_.totalStrands);
@@ -46,7 +46,7 @@ class HairMeshGpu final : public GroomGpu {
     return std::uint64_t(data_.totalStrands) * CLH_MAX_CONTROL_POINTS;
   }
   void raster(GroomInstanceGpu& inst, const StrandRaster& r, Profiler* profiler) override;
-  void opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands,
+  void opacity(GroomInstanceGpu& inst, const OpacityDraw& o, std::uint32_t strands,
                Profiler* profiler) override;
   StrandSet exportStrands(float lod) override;
   bool lodEnabled() const override { return mesh_->lod.enabled; }
@@ -70,7 +70,7 @@ class HairMeshGpu final : public GroomGpu {
   // The previous frame's strands from previous.deformed (the rest pose when null); only
   // while this frame's layer vertices carry no file tangents (a deformed cage never does),
   // so both frames build their tangents alike.
-  bool motion(GroomInstanceGpu& inst, const GroomInstance& previous, const MotionPass& m,
+  bool motion(GroomInstanceGpu& inst, const GroomInstance& previous, const MotionDraw& m,
               const StrandRaster& r, Profiler* profiler) override;
 
   // AO per layer vertex of `mesh` (1 = open), computed on the device from a sample of its

@@ -110,7 +110,7 @@ ExplicitStage::Inputs StrandFileGpu::inputs(GroomInstanceGpu& inst) const {
 }
 
 bool StrandFileGpu::prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld,
-                            const ViewPass& pass) {
+                            const ViewDraw& pass) {
   gpu::ClhGroomGpu& p = inst.params;
   const glm::mat4 o2v = pass.worldToView * objToWorld;
   storeMat34(p.obj_to_view, o2v);
@@ -236,13 +236,13 @@ void StrandFileGpu::raster(GroomInstanceGpu& inst, const StrandRaster& r, Profil
   stages_.explicitStrands.raster(inputs(inst), r, profiler);
 }
 
-void StrandFileGpu::opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands,
+void StrandFileGpu::opacity(GroomInstanceGpu& inst, const OpacityDraw& o, std::uint32_t strands,
                             Profiler* profiler) {
   stages_.explicitStrands.opacity(inputs(inst), o, strands, profiler);
 }
 
 bool StrandFileGpu::motion(GroomInstanceGpu& inst, const GroomInstance& previous,
-                           const MotionPass& m, const StrandRaster& r, Profiler* profiler) {
+                           const MotionDraw& m, const StrandRaster& r, Profiler* profiler) {
   const std::shared_ptr<const StrandGroom>& prev = previous.strands;
   if (!prev) return false;
   if (prev != prevGroom_) {

@@ -19,7 +19,7 @@ class StrandFileGpu final : public GroomGpu {
  public:
   StrandFileGpu(std::shared_ptr<const StrandGroom> groom, GroomStages& stages);
 
-  bool prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld, const ViewPass& pass) override;
+  bool prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld, const ViewDraw& pass) override;
   void lod(GroomInstanceGpu& inst, const cl::Buffer& view, Profiler* profiler) override;
   bool storedStrands() const override { return true; }
   // Strands drawn at full detail: the stored ones and their children.
@@ -31,12 +31,12 @@ class StrandFileGpu final : public GroomGpu {
     return data_.totalPoints * (std::uint64_t(data_.kids.count) + 1);
   }
   void raster(GroomInstanceGpu& inst, const StrandRaster& r, Profiler* profiler) override;
-  void opacity(GroomInstanceGpu& inst, const OpacityPass& o, std::uint32_t strands,
+  void opacity(GroomInstanceGpu& inst, const OpacityDraw& o, std::uint32_t strands,
                Profiler* profiler) override;
   StrandSet exportStrands(float lod) override;
   // The previous frame's strands from previous.strands (a per-frame file): only when every
   // strand has as many points in both files (point k of strand s is the same point).
-  bool motion(GroomInstanceGpu& inst, const GroomInstance& previous, const MotionPass& m,
+  bool motion(GroomInstanceGpu& inst, const GroomInstance& previous, const MotionDraw& m,
               const StrandRaster& r, Profiler* profiler) override;
   bool lodEnabled() const override { return groom_->lod.enabled; }
   GroomKernels kernels() const override {

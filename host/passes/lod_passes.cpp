@@ -19,7 +19,7 @@ void addLodPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
           const GroomDraw& d = gp.draw;
           d.groom->useAo(plan.options.ambientOcclusion != 0);
           // a faint strand file is widened where its hair is filtered (io/faint_groom.h)
-          ViewPass pass = plan.cameraPass;
+          ViewDraw pass = plan.cameraPass;
           pass.widenFaint = gp.filtered;
           if (!d.groom->prepare(*d.state, d.instance->transform, pass))
             throw Error("groom \"" + d.instance->name +

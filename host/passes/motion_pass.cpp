@@ -37,7 +37,7 @@ void addMotionPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan&
         upload(r.dev, t.motionParams, &m, 1);
         cl::Buffer& plane = g.buffer(gp.motionPlane);
         t.clearWords(plane, plan.pixels, &r.profiler);
-        MotionPass mp;
+        MotionDraw mp;
         mp.params = &t.motionParams;
         mp.motion = &plane;
         // a groom that cannot give its motion leaves the plane empty: rigid motion is kept

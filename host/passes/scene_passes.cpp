@@ -72,31 +72,47 @@ void importFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
 
 void addShadowPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
   if (!plan.shadowsRebuilt) return;
+  // the grooms' passes from every light: their LOD, the light's (capped by the camera's) and
+  // their strands
+  auto groomKernels = [&plan](FrameGraph::Setup& s, bool light) {
+    for (const GroomPlan& gp : plan.grooms) {
+      s.read(gp.tables).write(gp.params).write(gp.lod);
+      const GroomKernels k = gp.draw.groom->kernels();
+      s.kernel(k.lod).kernel("scan_bundles");
+      if (light) s.kernel(k.raster).kernel(k.rasterPersistent).kernel(k.opacity);
+    }
+  };
   g.addPass(
       "shadow maps",
-      [&](FrameGraph::Setup& s) {
-        s.read(plan.scene_).write(plan.shadowMaps);
+      [&, groomKernels](FrameGraph::Setup& s) {
+        s.write(plan.shadowMaps);
         if (plan.viewRecord) s.read(plan.viewRecord);  // the camera's LOD caps the lights'
-        for (const GroomPlan& gp : plan.grooms) {
-          s.read(gp.tables).write(gp.params).write(gp.lod);
-          const GroomKernels k = gp.draw.groom->kernels();
-          s.kernel(k.lod).kernel(k.raster).kernel(k.rasterPersistent).kernel(k.opacity);
-        }
-        opaqueKernels(s);
-        s.kernel("scan_bundles").kernel("shadow_resolve_depth").kernel("shadow_clear");
-        s.kernel("lod_cap");
+        groomKernels(s, false);
         s.kernel("clear_uints").kernel("copy_uints");
-        if (plan.mode == DispatchMode::ReadBack)
-          s.hostWait("each groom's strand total from each light (--dispatch readback)");
       },
       [&] {
         std::vector<GroomDraw> draws;
         for (const GroomPlan& gp : plan.grooms) draws.push_back(gp.draw);
         // the camera's LOD caps the light passes (a frame of one view)
-        const ViewPass* camera = plan.cameraPass.view ? &plan.cameraPass : nullptr;
-        r.shadows.rebuild(plan.scene, plan.options, plan.lodCorrection, draws, r.scene, plan.mode,
-                          camera, &r.profiler);
+        const ViewDraw* camera = plan.cameraPass.view ? &plan.cameraPass : nullptr;
+        r.shadows.begin(plan.scene, plan.options, plan.lodCorrection, draws, camera, &r.profiler);
       });
+  for (const std::size_t light : ShadowMaps::mappedLights(plan.scene, plan.grooms.size()))
+    g.addPass(
+        "shadow map: light " + std::to_string(light),
+        [&, groomKernels](FrameGraph::Setup& s) {
+          s.read(plan.scene_).readWrite(plan.shadowMaps);
+          groomKernels(s, true);
+          opaqueKernels(s);
+          s.kernel("shadow_resolve_depth").kernel("shadow_clear").kernel("lod_cap");
+          s.kernel("copy_uints");
+          if (plan.mode == DispatchMode::ReadBack)
+            s.hostWait("each groom's strand total from the light (--dispatch readback)");
+        },
+        [&, light] { r.shadows.drawLight(plan.scene, light, r.scene, plan.mode, &r.profiler); });
+  g.addPass(
+      "shadow maps: the lights' records",
+      [&](FrameGraph::Setup& s) { s.readWrite(plan.shadowMaps); }, [&] { r.shadows.finish(); });
 }
 
 void addOpaquePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {

@@ -33,7 +33,7 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
   const std::size_t V = cameras.size();
   ViewTargets& vt = r.views;
   std::vector<gpu::ClhViewGpu> records(V);
-  std::vector<ViewPass> passes(V);
+  std::vector<ViewDraw> passes(V);
   for (std::size_t v = 0; v < V; ++v) {
     records[v] = makeView(cameras[v], s.width, s.height);
     records[v].samples = static_cast<gpu::clh_u32>(o.msaa);
@@ -119,8 +119,8 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
                   "\": Huang's filter takes one view at a time; render the views one by one "
                   "(--views NAME) or use Lipp's filter");
     // a faint strand file is widened where its hair is filtered (io/faint_groom.h)
-    std::vector<ViewPass> groomPasses = passes;
-    for (ViewPass& vp : groomPasses) vp.widenFaint = filtered && !plan.cover && !gp.points;
+    std::vector<ViewDraw> groomPasses = passes;
+    for (ViewDraw& vp : groomPasses) vp.widenFaint = filtered && !plan.cover && !gp.points;
     const std::size_t k = gp.index;
     const std::size_t totalsAt = plan.linkAt;  // the views' strand totals: V x D words
     const std::size_t D = plan.grooms.size();

@@ -64,7 +64,7 @@ void ExplicitStage::lod(const Inputs& in, const cl::Buffer& view, Profiler* prof
               in.chunkCount, profiler);
 }
 
-void ExplicitStage::motion(const Inputs& in, const cl::Buffer& previous, const MotionPass& m,
+void ExplicitStage::motion(const Inputs& in, const cl::Buffer& previous, const MotionDraw& m,
                            const StrandRaster& r, Profiler* profiler) {
   cl::Kernel& k = kernel("strands_explicit_motion", "strands_explicit.cl",
                          "-DCLH_MSAA=" + std::to_string(r.msaa) + " -DCLH_RASTER_MOTION=1");
@@ -101,7 +101,7 @@ void ExplicitStage::raster(const Inputs& in, const StrandRaster& r, Profiler* pr
     dispatchStrands(dev_, k, r.stage(), r.strands, last, profiler);
 }
 
-void ExplicitStage::opacity(const Inputs& in, const OpacityPass& o, std::uint32_t strands,
+void ExplicitStage::opacity(const Inputs& in, const OpacityDraw& o, std::uint32_t strands,
                             Profiler* profiler) {
   cl::Kernel& k =
       kernel("strands_explicit_opacity", "strands_explicit.cl", "-DCLH_RASTER_OPACITY=1");

@@ -42,10 +42,10 @@ class ExplicitStage {
   // LOD records of every chunk for `view` and their scan; the total stays on the device.
   void lod(const Inputs& in, const cl::Buffer& view, Profiler* profiler);
   void raster(const Inputs& in, const StrandRaster& r, Profiler* profiler);
-  void opacity(const Inputs& in, const OpacityPass& o, std::uint32_t strands, Profiler* profiler);
+  void opacity(const Inputs& in, const OpacityDraw& o, std::uint32_t strands, Profiler* profiler);
   // The motion pass: `previous` holds the previous frame's points (pointCount float4, this
   // groom's order); r is the raster pass just run.
-  void motion(const Inputs& in, const cl::Buffer& previous, const MotionPass& m,
+  void motion(const Inputs& in, const cl::Buffer& previous, const MotionDraw& m,
               const StrandRaster& r, Profiler* profiler);
   // outPoints/outTangents: float4[pointCount * (1 + children)]; outCounts:
   // uint[strandCount * (1 + children)] (0 = not drawn); child c of stored strand s at

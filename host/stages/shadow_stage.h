@@ -1,7 +1,7 @@
 // shadow_stage.h — binds the deep-opacity-map kernels of kernels/shadow.cl: the nearest
 // hair depth per texel from a light's 2-layer G-buffer, and the clear of the opacity
 // layers. The strand kernels' opacity variants are bound by StrandStage / ExplicitStage;
-// ShadowPass (host/frame/shadow_pass.h) drives the passes per shadowed light.
+// ShadowMaps (host/frame/shadow_maps.h) drives the passes per shadowed light.
 #pragma once
 
 #include <cstdint>

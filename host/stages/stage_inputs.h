@@ -72,7 +72,7 @@ inline cl::Event dispatchBox(Device::Impl& dev, cl::Kernel& kernel, const std::s
       cl::NDRange(8, 8), profiler);
 }
 
-// The deep opacity maps of every shadowed light (ShadowPass): one ClhShadowGpu per slot
+// The deep opacity maps of every shadowed light (ShadowMaps): one ClhShadowGpu per slot
 // and the texel planes of all CLH_MAX_SHADOWS slots, `texels` per slot.
 struct ShadowMapInputs {
   const cl::Buffer* params = nullptr;       // ClhShadowGpu[CLH_MAX_SHADOWS]

@@ -52,7 +52,7 @@ void StrandStage::raster(const Inputs& in, const StrandRaster& r, Profiler* prof
     dispatchStrands(dev_, k, r.stage(), r.strands, baseArg, profiler);
 }
 
-void StrandStage::opacity(const Inputs& in, const OpacityPass& o, std::uint32_t strands,
+void StrandStage::opacity(const Inputs& in, const OpacityDraw& o, std::uint32_t strands,
                           Profiler* profiler) {
   if (!opacity_())
     opacity_ = dev_.kernel("strands.cl", "strands_opacity", "-DCLH_RASTER_OPACITY=1");
@@ -107,7 +107,7 @@ void StrandStage::rasterViews(const Inputs& in, const StrandRaster& r, const cl:
   dispatchStrands(dev_, k, "strands", r.strands, baseArg, profiler);
 }
 
-void StrandStage::motion(const Inputs& in, const cl::Buffer& previous, const MotionPass& m,
+void StrandStage::motion(const Inputs& in, const cl::Buffer& previous, const MotionDraw& m,
                          const StrandRaster& r, Profiler* profiler) {
   auto it = motion_.find(r.msaa);
   if (it == motion_.end())

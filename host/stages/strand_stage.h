@@ -102,8 +102,8 @@ struct StrandRaster {
   }
 };
 
-// The deep-opacity accumulation of one light (ShadowPass): the light's view and maps.
-struct OpacityPass {
+// The deep-opacity accumulation of one light (ShadowMaps): the light's view and maps.
+struct OpacityDraw {
   const cl::Buffer* lightView = nullptr;    // ClhViewGpu
   const cl::Buffer* opaqueDepth = nullptr;  // float per texel (all slots)
   const cl::Buffer* shadow = nullptr;       // one ClhShadowGpu
@@ -114,7 +114,7 @@ struct OpacityPass {
 
 // The motion pass of a deforming groom (kernels/strands.cl, strands_explicit.cl built with
 // CLH_RASTER_MOTION), run right after its raster pass over the same G-buffer and depth.
-struct MotionPass {
+struct MotionDraw {
   const cl::Buffer* params = nullptr;  // one ClhMotionGpu: previous transform and camera
   cl::Buffer* motion = nullptr;        // ulong per pixel, cleared to all ones
 };
@@ -135,7 +135,7 @@ class StrandStage {
     std::size_t vertexTotal = 0, rootSetSize = 0;
   };
   void raster(const Inputs& in, const StrandRaster& r, Profiler* profiler);
-  void opacity(const Inputs& in, const OpacityPass& o, std::uint32_t strands, Profiler* profiler);
+  void opacity(const Inputs& in, const OpacityDraw& o, std::uint32_t strands, Profiler* profiler);
   // Several views of one assembly (strands_raster_views): r.view is the view the LOD was
   // chosen in (sizes every view), r.sceneDepth and r.gbuffer hold `count` slices in view
   // order, r.depthStride and r.gbufferStride apart, viewGrooms and views one record per
@@ -144,7 +144,7 @@ class StrandStage {
                    const cl::Buffer& views, std::uint32_t count, Profiler* profiler);
   // The motion pass: `previous` holds the layer vertices of the previous frame (as many as
   // in.vertices); r is the raster pass just run (read-back sizing: r.strands exact).
-  void motion(const Inputs& in, const cl::Buffer& previous, const MotionPass& m,
+  void motion(const Inputs& in, const cl::Buffer& previous, const MotionDraw& m,
               const StrandRaster& r, Profiler* profiler);
   // points/tangents: float4 * CLH_MAX_CONTROL_POINTS per strand; counts: uint per strand.
   void exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& points,

@@ -1,5 +1,5 @@
-// shadow_pass.cpp — see shadow_pass.h.
-#include "frame/shadow_pass.h"
+// shadow_maps.cpp — see shadow_maps.h.
+#include "frame/shadow_maps.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,19 +13,19 @@
 
 namespace clhair {
 
-ShadowPass::ShadowPass(Device::Impl& dev) : dev_(dev), stage_(dev), clear_(dev) {
+ShadowMaps::ShadowMaps(Device::Impl& dev) : dev_(dev), stage_(dev), clear_(dev) {
   lightView_ = makeBuffer<gpu::ClhViewGpu>(dev, "light view parameters", 1);
   all_ = makeBuffer<gpu::ClhShadowGpu>(dev, "shadow parameters", CLH_MAX_SHADOWS);
   for (auto& b : one_) b = makeBuffer<gpu::ClhShadowGpu>(dev, "shadow parameters", 1);
   counters_ = makeBuffer<cl_uint>(dev, "light raster counters", 4);
 }
 
-void ShadowPass::ensureBuffers(int res) {
+void ShadowMaps::ensureBuffers(int res) {
   allocate(res);
   res_ = res;
 }
 
-void ShadowPass::allocate(int res) {
+void ShadowMaps::allocate(int res) {
   if (res <= capacity_) return;  // a smaller map uses the front of the planes
   const std::size_t plane = static_cast<std::size_t>(res) * res;
   const std::string what = std::to_string(res) + "x" + std::to_string(res) + " deep opacity maps";
@@ -38,7 +38,7 @@ void ShadowPass::allocate(int res) {
   capacity_ = res;
 }
 
-void ShadowPass::reserve(const Scene& s) {
+void ShadowMaps::reserve(const Scene& s) {
   if (s.grooms.empty()) return;
   for (const Light& l : s.lights)
     if (l.shadows) {
@@ -47,11 +47,11 @@ void ShadowPass::reserve(const Scene& s) {
     }
 }
 
-std::vector<const cl::Buffer*> ShadowPass::mapBuffers() const {
+std::vector<const cl::Buffer*> ShadowMaps::mapBuffers() const {
   return {&all_, &opaque_, &hair_, &opacity_};
 }
 
-std::vector<const cl::Buffer*> ShadowPass::buffers() const {
+std::vector<const cl::Buffer*> ShadowMaps::buffers() const {
   std::vector<const cl::Buffer*> b = mapBuffers();
   b.insert(b.end(), {&lightView_, &lightColor_, &lightDepth_, &lightGBuffer_, &counters_, &totals_,
                      &cameraLod_});
@@ -59,7 +59,7 @@ std::vector<const cl::Buffer*> ShadowPass::buffers() const {
   return b;
 }
 
-ShadowMapInputs ShadowPass::maps() const {
+ShadowMapInputs ShadowMaps::maps() const {
   ShadowMapInputs m;
   m.params = &all_;
   m.opaqueDepth = &opaque_;
@@ -69,7 +69,7 @@ ShadowMapInputs ShadowPass::maps() const {
   return m;
 }
 
-ShadowPass::Key ShadowPass::keyOf(const Scene& s, const RenderOptions& o, bool lodCorrection) {
+ShadowMaps::Key ShadowMaps::keyOf(const Scene& s, const RenderOptions& o, bool lodCorrection) {
   Key k;
   auto put = [&k](const void* p, std::size_t n) {
     const auto* b = static_cast<const unsigned char*>(p);
@@ -123,7 +123,7 @@ ShadowPass::Key ShadowPass::keyOf(const Scene& s, const RenderOptions& o, bool l
   return k;
 }
 
-int ShadowPass::mapResolution(int sceneResolution, float across) {
+int ShadowMaps::mapResolution(int sceneResolution, float across) {
   // a texel per camera pixel across the grooms' bounding sphere, to the next power of two
   // (it changes an octave at a time, so a dolly rebuilds the maps seldom)
   int res = kMinResolution;
@@ -131,12 +131,12 @@ int ShadowPass::mapResolution(int sceneResolution, float across) {
   return std::min(res, sceneResolution);
 }
 
-bool ShadowPass::cameraCaps(const RenderOptions& options, bool cameraLod) {
+bool ShadowMaps::cameraCaps(const RenderOptions& options, bool cameraLod) {
   const bool lightLod = options.shadowLod >= 0 ? options.shadowLod != 0 : options.lod != 0;
   return cameraLod && lightLod && options.shadowLodCamera != 0;
 }
 
-bool ShadowPass::needsRebuild(const Scene& s, const RenderOptions& options, bool lodCorrection,
+bool ShadowMaps::needsRebuild(const Scene& s, const RenderOptions& options, bool lodCorrection,
                               const std::vector<GroomDraw>* draws) {
   Key key = keyOf(s, options, lodCorrection);
   // where the camera's LOD caps a groom's light passes, the groom's size on the camera's
@@ -175,16 +175,26 @@ bool ShadowPass::needsRebuild(const Scene& s, const RenderOptions& options, bool
   return true;
 }
 
-void ShadowPass::rebuild(const Scene& s, const RenderOptions& cameraOptions, bool lodCorrection,
-                         const std::vector<GroomDraw>& grooms, SceneGpu& scene, DispatchMode mode,
-                         const ViewPass* camera, Profiler* profiler) {
+std::vector<std::size_t> ShadowMaps::mappedLights(const Scene& s, std::size_t grooms) {
+  std::vector<std::size_t> out;
+  if (grooms == 0) return out;
+  for (std::size_t i = 0; i < s.lights.size() && out.size() < CLH_MAX_SHADOWS; ++i)
+    if (s.lights[i].shadows) out.push_back(i);
+  return out;
+}
+
+void ShadowMaps::begin(const Scene& s, const RenderOptions& cameraOptions, bool lodCorrection,
+                       const std::vector<GroomDraw>& grooms, const ViewDraw* camera,
+                       Profiler* profiler) {
+  grooms_ = grooms;
   totalSlots_ = grooms.size();
   ensureCapacity<cl_uint>(dev_, totals_, totalCap_, "shadow strand totals",
                           CLH_MAX_SHADOWS * std::max<std::size_t>(totalSlots_, 1));
   clear_.uints(totals_, CLH_MAX_SHADOWS * std::max<std::size_t>(totalSlots_, 1), 0u, "shadow",
                profiler);
   // the light's passes use LOD unless the caller turned it off explicitly
-  ViewPass pass;
+  ViewDraw& pass = lightDraw_;
+  pass = ViewDraw{};
   pass.view = &lightView_;
   pass.lod = cameraOptions.lod == 0 ? 0 : 1;
   if (cameraOptions.shadowLod >= 0) pass.lod = cameraOptions.shadowLod;
@@ -194,8 +204,8 @@ void ShadowPass::rebuild(const Scene& s, const RenderOptions& cameraOptions, boo
   pass.shadowLodCorrection = lodCorrection;
   // the camera's LOD records of the grooms it draws with LOD: the light passes draw no more
   // per bundle (lod.cl, lod_cap)
-  std::vector<char> capped(grooms.size(), 0);
-  std::vector<std::uint32_t> cameraAt(grooms.size(), 0);  // each draw's first record
+  capped_.assign(grooms.size(), 0);
+  cameraAt_.assign(grooms.size(), 0);  // each draw's first record
   const bool anyLight =
       std::any_of(s.lights.begin(), s.lights.end(), [](const Light& l) { return l.shadows; });
   std::size_t records = 0;
@@ -203,129 +213,139 @@ void ShadowPass::rebuild(const Scene& s, const RenderOptions& cameraOptions, boo
     const GroomDraw& d = grooms[k];
     const bool lodOn = cameraOptions.lod < 0 ? d.groom->lodEnabled() : cameraOptions.lod != 0;
     if (!cameraCaps(cameraOptions, lodOn) || d.state->records == 0) continue;
-    cameraAt[k] = static_cast<std::uint32_t>(records);
+    cameraAt_[k] = static_cast<std::uint32_t>(records);
     records += d.state->records;
-    capped[k] = 1;
+    capped_[k] = 1;
   }
   if (records > 0)
     ensureCapacity<gpu::ClhLodRecord>(dev_, cameraLod_, cameraLodCap_, "the camera's LOD records",
                                       records);
   for (std::size_t k = 0; k < grooms.size(); ++k) {
-    if (!capped[k]) continue;
+    if (!capped_[k]) continue;
     const GroomDraw& d = grooms[k];
     if (!d.groom->prepare(*d.state, d.instance->transform, *camera)) {
-      capped[k] = 0;
+      capped_[k] = 0;
       continue;
     }
     d.groom->lod(*d.state, *camera->view, profiler);
     // the camera's LOD records kept (16 bytes, four 32-bit words each)
     constexpr std::size_t recordWords = sizeof(gpu::ClhLodRecord) / 4;
-    clear_.copyUints(d.state->lod, 0, cameraLod_, cameraAt[k] * recordWords,
+    clear_.copyUints(d.state->lod, 0, cameraLod_, cameraAt_[k] * recordWords,
                      d.state->records * recordWords, "shadow", profiler);
   }
-  std::vector<gpu::ClhShadowGpu> params(CLH_MAX_SHADOWS);
-  int slot = 0;
-  for (const Light& light : s.lights) {
-    if (!light.shadows || grooms.empty() || slot >= CLH_MAX_SHADOWS) continue;
-    const int res = planned_ > 0 ? planned_ : s.shadows.resolution;
-    ensureBuffers(res);
-    const std::size_t plane = static_cast<std::size_t>(res) * res;
-    // the light's view: a pinhole at the light (directional: far away, narrow) framing all grooms
-    glm::vec3 lo(1e30f), hi(-1e30f);
-    for (const GroomDraw& d : grooms) {
-      const glm::vec3 blo = d.groom->boundsMin(), bhi = d.groom->boundsMax();
-      for (int c = 0; c < 8; ++c) {
-        glm::vec3 corner((c & 1) ? bhi.x : blo.x, (c & 2) ? bhi.y : blo.y, (c & 4) ? bhi.z : blo.z);
-        glm::vec3 w = glm::vec3(d.instance->transform * glm::vec4(corner, 1.0f));
-        lo = glm::min(lo, w);
-        hi = glm::max(hi, w);
-      }
-    }
-    const glm::vec3 center = 0.5f * (lo + hi);
-    const float radius = 0.5f * glm::length(hi - lo);
-    Camera cam;
-    cam.target = center;
-    if (light.type == Light::Type::Point)
-      cam.position = light.position;
-    else
-      cam.position = center + glm::normalize(light.direction) * (radius * 20.0f);
-    const float dist = glm::length(cam.position - center);
-    if (dist < 1e-6f) {  // a light at the grooms' center: no map, the slot stays unshadowed
-      ++slot;
-      continue;
-    }
-    const glm::vec3 dir = (center - cam.position) / dist;
-    cam.up = std::fabs(dir.y) > 0.95f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
-    cam.fovYDegrees = std::min(
-        150.0f,
-        2.0f * glm::degrees(std::atan(radius / std::max(dist - radius, radius * 0.05f))) * 1.05f);
-    const gpu::ClhViewGpu lv = makeView(cam, res, res);
-    upload(dev_, lightView_, &lv, 1);
-    pass.worldToView = worldToView(cam);
-    pass.nearZ = std::max(dist - radius, 1e-4f);
-    pass.farZ = dist + radius;
+  params_.assign(CLH_MAX_SHADOWS, gpu::ClhShadowGpu{});
+  slots_ = 0;
+}
 
-    gpu::ClhShadowGpu& sh = params[slot];
-    std::memcpy(sh.world_to_view, lv.world_to_view, sizeof(sh.world_to_view));
-    sh.fx = lv.fx;
-    sh.fy = lv.fy;
-    sh.cx = lv.cx;
-    sh.cy = lv.cy;
-    sh.width = sh.height = static_cast<gpu::clh_u32>(res);
-    sh.offset = static_cast<gpu::clh_u32>(plane * slot);
-    sh.density = s.shadows.density;
-    for (int k = 0; k < 3; ++k) sh.bound[k] = s.shadows.layers[k];
-    sh.bias = s.shadows.bias;
-    sh.pcf = s.shadows.pcf ? 1u : 0u;
-    sh.depth_near = pass.nearZ;
-    sh.depth_far = pass.farZ;
-    upload(dev_, one_[slot], &sh, 1);
-
-    // the opaque scene and meshes from the light: their depth only
-    const ViewTarget lightTarget{&lightView_, res, res};
-    scene.drawOpaque(lightTarget, maps(), lightColor_, lightDepth_, false, profiler);
-    clear_.copyUints(lightDepth_, 0, opaque_, plane * slot, plane, "shadow", profiler);
-    // hair depth: the strand pass of every groom from the light into the light's G-buffer
-    clear_.words(lightGBuffer_, plane * 2, ~std::uint64_t(0), "clear", profiler);
-    StrandRaster rs;
-    rs.view = &lightView_;
-    rs.sceneDepth = &lightDepth_;
-    rs.gbuffer = &lightGBuffer_;
-    rs.counters = &counters_;
-    rs.pixels = plane;
-    // sized without a read-back unless the frame's mode asks for one; the kernels stop at
-    // the scan's total either way
-    rs.mode = mode == DispatchMode::Auto ? DispatchMode::OverLaunch : mode;
-    std::vector<std::pair<const GroomDraw*, std::uint32_t>> drawn;
-    for (std::size_t k = 0; k < grooms.size(); ++k) {
-      const GroomDraw& d = grooms[k];
-      if (!d.groom->prepare(*d.state, d.instance->transform, pass)) continue;
-      d.groom->lod(*d.state, lightView_, profiler);
-      if (capped[k])
-        stage_.capLod(d.state->lod, d.state->counts, d.state->offsets, cameraLod_, cameraAt[k],
-                      d.state->records, d.groom->storedStrands(), profiler);
-      rs.strands =
-          mode == DispatchMode::ReadBack ? d.groom->readTotal(*d.state) : d.groom->strandCount();
-      drawn.push_back({&d, rs.strands});
-      if (d.state->records > 0)
-        clear_.copyUints(d.state->offsets, gpu::clh_lod_drawn_total_at(d.state->records), totals_,
-                         static_cast<std::size_t>(slot) * totalSlots_ + k, 1, "shadow", profiler);
-      d.groom->raster(*d.state, rs, profiler);
+Camera ShadowMaps::lightCamera(const Light& light, float& dist, float& radius) const {
+  // a pinhole at the light (directional: far away, narrow) framing all grooms
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (const GroomDraw& d : grooms_) {
+    const glm::vec3 blo = d.groom->boundsMin(), bhi = d.groom->boundsMax();
+    for (int c = 0; c < 8; ++c) {
+      glm::vec3 corner((c & 1) ? bhi.x : blo.x, (c & 2) ? bhi.y : blo.y, (c & 4) ? bhi.z : blo.z);
+      glm::vec3 w = glm::vec3(d.instance->transform * glm::vec4(corner, 1.0f));
+      lo = glm::min(lo, w);
+      hi = glm::max(hi, w);
     }
-    stage_.resolveDepth(one_[slot], lightGBuffer_, hair_, res, plane * CLH_MAX_SHADOWS, profiler);
-    stage_.clearOpacity(one_[slot], opacity_, plane, plane * CLH_MAX_SHADOWS, profiler);
-    // every instance keeps its own LOD records, so the opacity passes reuse them
-    OpacityPass op;
-    op.lightView = &lightView_;
-    op.opaqueDepth = &opaque_;
-    op.shadow = &one_[slot];
-    op.hairDepth = &hair_;
-    op.opacity = &opacity_;
-    op.texels = plane * CLH_MAX_SHADOWS;
-    for (const auto& [d, strands] : drawn) d->groom->opacity(*d->state, op, strands, profiler);
-    ++slot;
   }
-  if (slot > 0) upload(dev_, all_, params.data(), CLH_MAX_SHADOWS);
+  const glm::vec3 center = 0.5f * (lo + hi);
+  radius = 0.5f * glm::length(hi - lo);
+  Camera cam;
+  cam.target = center;
+  if (light.type == Light::Type::Point)
+    cam.position = light.position;
+  else
+    cam.position = center + glm::normalize(light.direction) * (radius * 20.0f);
+  dist = glm::length(cam.position - center);
+  if (dist < 1e-6f) return cam;
+  const glm::vec3 dir = (center - cam.position) / dist;
+  cam.up = std::fabs(dir.y) > 0.95f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+  cam.fovYDegrees = std::min(
+      150.0f,
+      2.0f * glm::degrees(std::atan(radius / std::max(dist - radius, radius * 0.05f))) * 1.05f);
+  return cam;
+}
+
+void ShadowMaps::drawLight(const Scene& s, std::size_t lightIndex, SceneGpu& scene,
+                           DispatchMode mode, Profiler* profiler) {
+  const Light& light = s.lights[lightIndex];
+  const int slot = slots_++;
+  const int res = planned_ > 0 ? planned_ : s.shadows.resolution;
+  ensureBuffers(res);
+  const std::size_t plane = static_cast<std::size_t>(res) * res;
+  float dist = 0.0f, radius = 0.0f;
+  const Camera cam = lightCamera(light, dist, radius);
+  if (dist < 1e-6f) return;  // a light at the grooms' center: no map, the slot stays unshadowed
+  const gpu::ClhViewGpu lv = makeView(cam, res, res);
+  upload(dev_, lightView_, &lv, 1);
+  ViewDraw& pass = lightDraw_;
+  pass.worldToView = worldToView(cam);
+  pass.nearZ = std::max(dist - radius, 1e-4f);
+  pass.farZ = dist + radius;
+
+  gpu::ClhShadowGpu& sh = params_[slot];
+  std::memcpy(sh.world_to_view, lv.world_to_view, sizeof(sh.world_to_view));
+  sh.fx = lv.fx;
+  sh.fy = lv.fy;
+  sh.cx = lv.cx;
+  sh.cy = lv.cy;
+  sh.width = sh.height = static_cast<gpu::clh_u32>(res);
+  sh.offset = static_cast<gpu::clh_u32>(plane * slot);
+  sh.density = s.shadows.density;
+  for (int k = 0; k < 3; ++k) sh.bound[k] = s.shadows.layers[k];
+  sh.bias = s.shadows.bias;
+  sh.pcf = s.shadows.pcf ? 1u : 0u;
+  sh.depth_near = pass.nearZ;
+  sh.depth_far = pass.farZ;
+  upload(dev_, one_[slot], &sh, 1);
+
+  // the opaque scene and meshes from the light: their depth only
+  const ViewTarget lightTarget{&lightView_, res, res};
+  scene.drawOpaque(lightTarget, maps(), lightColor_, lightDepth_, false, profiler);
+  clear_.copyUints(lightDepth_, 0, opaque_, plane * slot, plane, "shadow", profiler);
+  // hair depth: the strand pass of every groom from the light into the light's G-buffer
+  clear_.words(lightGBuffer_, plane * 2, ~std::uint64_t(0), "clear", profiler);
+  StrandRaster rs;
+  rs.view = &lightView_;
+  rs.sceneDepth = &lightDepth_;
+  rs.gbuffer = &lightGBuffer_;
+  rs.counters = &counters_;
+  rs.pixels = plane;
+  // sized without a read-back unless the frame's mode asks for one; the kernels stop at
+  // the scan's total either way
+  rs.mode = mode == DispatchMode::Auto ? DispatchMode::OverLaunch : mode;
+  std::vector<std::pair<const GroomDraw*, std::uint32_t>> drawn;
+  for (std::size_t k = 0; k < grooms_.size(); ++k) {
+    const GroomDraw& d = grooms_[k];
+    if (!d.groom->prepare(*d.state, d.instance->transform, pass)) continue;
+    d.groom->lod(*d.state, lightView_, profiler);
+    if (capped_[k])
+      stage_.capLod(d.state->lod, d.state->counts, d.state->offsets, cameraLod_, cameraAt_[k],
+                    d.state->records, d.groom->storedStrands(), profiler);
+    rs.strands =
+        mode == DispatchMode::ReadBack ? d.groom->readTotal(*d.state) : d.groom->strandCount();
+    drawn.push_back({&d, rs.strands});
+    if (d.state->records > 0)
+      clear_.copyUints(d.state->offsets, gpu::clh_lod_drawn_total_at(d.state->records), totals_,
+                       static_cast<std::size_t>(slot) * totalSlots_ + k, 1, "shadow", profiler);
+    d.groom->raster(*d.state, rs, profiler);
+  }
+  stage_.resolveDepth(one_[slot], lightGBuffer_, hair_, res, plane * CLH_MAX_SHADOWS, profiler);
+  stage_.clearOpacity(one_[slot], opacity_, plane, plane * CLH_MAX_SHADOWS, profiler);
+  // every instance keeps its own LOD records, so the opacity passes reuse them
+  OpacityDraw op;
+  op.lightView = &lightView_;
+  op.opaqueDepth = &opaque_;
+  op.shadow = &one_[slot];
+  op.hairDepth = &hair_;
+  op.opacity = &opacity_;
+  op.texels = plane * CLH_MAX_SHADOWS;
+  for (const auto& [d, strands] : drawn) d->groom->opacity(*d->state, op, strands, profiler);
+}
+
+void ShadowMaps::finish() {
+  if (slots_ > 0) upload(dev_, all_, params_.data(), CLH_MAX_SHADOWS);
   if (res_ == 0) ensureBuffers(1);
   valid_ = true;
 }

@@ -1,4 +1,4 @@
-// shadow_pass.h — deep opacity maps (Yuksel & Keyser 2008) of every shadowed light over
+// shadow_maps.h — deep opacity maps (Yuksel & Keyser 2008) of every shadowed light over
 // all grooms, built with the strand kernels from the light's view (with LOD when the
 // frame allows it). A pinhole at the light (a directional light: far away, narrow)
 // frames the grooms' bounds; the opaque scene and the meshes give the light's opaque
@@ -23,9 +23,9 @@
 
 namespace clhair {
 
-class ShadowPass {
+class ShadowMaps {
  public:
-  explicit ShadowPass(Device::Impl& dev);
+  explicit ShadowMaps(Device::Impl& dev);
   // Whether the maps must be built again for this frame: not when the previous ones still
   // hold (and reuse is allowed). Call once per frame, then rebuild() when it says so.
   // `draws`: the frame's grooms when the camera's LOD may cap their light passes (a frame
@@ -35,13 +35,23 @@ class ShadowPass {
   // Whether the light passes of a groom drawn by the camera with `cameraLod` (its LOD on)
   // are capped by the camera's LOD (RenderOptions::shadowLodCamera).
   static bool cameraCaps(const RenderOptions& options, bool cameraLod);
-  // Builds the maps (a pass of the frame graph). Must run before the camera's opaque pass,
-  // which receives hair shadows too. Strand passes are sized by `mode` (read-back waits).
-  // `camera`: the camera's pass (its view record on the device), whose LOD caps the light
-  // passes of the grooms it draws with LOD; null: the light's view alone.
-  void rebuild(const Scene& s, const RenderOptions& options, bool lodCorrection,
-               const std::vector<GroomDraw>& grooms, SceneGpu& scene, DispatchMode mode,
-               const ViewPass* camera, Profiler* profiler);
+  // Builds the maps in passes of the frame graph, before the camera's opaque pass (which
+  // receives hair shadows too): begin(), then drawLight() for each of mappedLights() in
+  // order, then finish().
+  // The lights that get a map, in slot order (indices into s.lights): the first
+  // CLH_MAX_SHADOWS with shadows, none without grooms.
+  static std::vector<std::size_t> mappedLights(const Scene& s, std::size_t grooms);
+  // Clears the strand totals and keeps the camera's LOD records of the grooms whose light
+  // passes it caps. `camera`: the camera's view (its record on the device), whose LOD caps
+  // the light passes of the grooms it draws with LOD; null: the light's view alone.
+  void begin(const Scene& s, const RenderOptions& options, bool lodCorrection,
+             const std::vector<GroomDraw>& grooms, const ViewDraw* camera, Profiler* profiler);
+  // The next slot's map, of light s.lights[light]: the opaque depth, the strands' depth and
+  // their deep opacity from the light. Strand passes are sized by `mode` (read-back waits).
+  void drawLight(const Scene& s, std::size_t light, SceneGpu& scene, DispatchMode mode,
+                 Profiler* profiler);
+  // The slots' records uploaded: the maps hold for this frame's key.
+  void finish();
   // Allocates the maps the scene's shadowed lights need, before anything of the frame is
   // released: Oclgrind 21.10 keeps a released buffer's uninitialised-memory shadow, its size
   // included, for the next buffer that gets its slot, so maps allocated after the AO bake's
@@ -74,6 +84,8 @@ class ShadowPass {
     bool operator==(const Key& o) const { return bytes == o.bytes && held == o.held; }
   };
   static Key keyOf(const Scene& s, const RenderOptions& o, bool lodCorrection);
+  // The light's view framing every groom, and its distance and radius from their centre.
+  Camera lightCamera(const Light& light, float& dist, float& radius) const;
   void ensureBuffers(int res);  // maps of res x res texels from now on
   void allocate(int res);       // planes that hold maps of up to res x res texels
 
@@ -93,6 +105,14 @@ class ShadowPass {
   std::size_t totalSlots_ = 0, totalCap_ = 0;
   Key lastKey_;
   bool valid_ = false;
+  // the rebuild under way: its grooms, the light passes' settings, which grooms the camera
+  // caps (and where their records start), the slots' records and how many are taken
+  std::vector<GroomDraw> grooms_;
+  ViewDraw lightDraw_;
+  std::vector<char> capped_;
+  std::vector<std::uint32_t> cameraAt_;
+  std::vector<gpu::ClhShadowGpu> params_;
+  int slots_ = 0;
 };
 
 }  // namespace clhair

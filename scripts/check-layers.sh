@@ -4,7 +4,8 @@
 # and those of the layers it builds on, listed below (the same edges the CMake libraries
 # link, CMakeLists.txt "the layers"). The public headers (include/clhair/) are the API every
 # layer may name, and so are the layouts host and kernels share (kernels/include/clhair/).
-# The public headers name no header outside include/ (a user of the library sees only it).
+# The public headers name no header outside include/ (a user of the library sees only it),
+# and only host/stages/ binds and launches kernels.
 # Prints every offending #include as file:line and exits 1 if there is one
 # (CTest: Layers.NoHostFileIncludesALayerAbove).
 set -euo pipefail
@@ -65,6 +66,13 @@ while IFS= read -r -d '' file; do
   done < <(grep -n -oE '^[[:space:]]*#[[:space:]]*include[[:space:]]+"[^"]+"' "$file" |
            sed -E 's/^([0-9]+):.*"([^"]+)"/\1:\2/')
 done < <(find host -type f \( -name '*.cpp' -o -name '*.h' \) -print0 | sort -z)
+
+# kernels are bound and launched by the stages only (host/stages/; host/cl/ has the helpers)
+while IFS= read -r hit; do
+  echo "$hit: a kernel is bound outside host/stages/ (give it a stage)"
+  bad=1
+done < <(grep -rn --include='*.cpp' --include='*.h' -E 'KernelArgs\(|dispatch(Box)?\(dev' host |
+         grep -v -E '^host/(stages|cl)/' || true)
 
 # the public API stands alone: its headers include only each other (and system headers)
 while IFS= read -r -d '' file; do

@@ -5,13 +5,11 @@
 #include <cstring>
 
 #include "cl/buffers.h"
-#include "stages/lod_stage.h"
 
 namespace clhair {
 
 namespace {
 std::size_t alignUp(std::size_t n, std::size_t a) { return (n + a - 1) / a * a; }
-const std::string kOptions = "-DSCAN_WG=" + std::to_string(LodStage::kScanWorkGroup);
 }  // namespace
 
 BudgetRule budgetRule(const RenderOptions& options, const gpu::ClhViewGpu& view) {
@@ -24,11 +22,7 @@ BudgetRule budgetRule(const RenderOptions& options, const gpu::ClhViewGpu& view)
   return r;
 }
 
-FrameLod::FrameLod(Device::Impl& dev)
-    : dev_(dev),
-      measure_(dev.kernel("budget.cl", "budget_measure", kOptions)),
-      plan_(dev.kernel("budget.cl", "budget_plan", kOptions)),
-      apply_(dev.kernel("budget.cl", "budget_apply", kOptions)) {
+FrameLod::FrameLod(Device::Impl& dev) : dev_(dev), stage_(dev) {
   const cl_uint bits = clCall("querying the sub-buffer alignment",
                               [&] { return dev.device.getInfo<CL_DEVICE_MEM_BASE_ADDR_ALIGN>(); });
   align_ = std::max<std::size_t>(bits / 8, 64);
@@ -108,33 +102,16 @@ void FrameLod::enqueue(const std::vector<GroomDraw>& draws, const std::vector<ch
   uploadChanged(dev_, rule_, ruleSent_, &r, 1);
   const std::size_t words = stateWords(D);
   ensureCapacity<cl_uint>(dev_, state_, stateCap_, "segment budget state", words);
-  const auto d32 = static_cast<cl_uint>(D);
-  const cl::NDRange wg(LodStage::kScanWorkGroup);
-  const cl::NDRange perDraw(D * LodStage::kScanWorkGroup);
-  KernelArgs(measure_, "lod")
-      .buffer("draws", table_, D * sizeof(gpu::ClhBudgetDraw))
-      .value("draw count", d32)
-      .buffer("LOD records", arena_, arenaBytes_)
-      .buffer("counts and offsets", arena_, arenaBytes_)
-      .buffer("state", state_, words * sizeof(cl_uint));
-  dispatch(dev_, measure_, "lod", perDraw, wg, profiler);
-  KernelArgs(plan_, "lod")
-      .buffer("draws", table_, D * sizeof(gpu::ClhBudgetDraw))
-      .value("draw count", d32)
-      .buffer("LOD records", arena_, arenaBytes_)
-      .buffer("counts and offsets", arena_, arenaBytes_)
-      .value("budget", static_cast<cl_ulong>(budget))
-      .buffer("rule", rule_, sizeof(gpu::ClhBudgetRule))
-      .buffer("state", state_, words * sizeof(cl_uint));
-  dispatch(dev_, plan_, "lod", wg, wg, profiler);
-  KernelArgs(apply_, "lod")
-      .buffer("draws", table_, D * sizeof(gpu::ClhBudgetDraw))
-      .value("draw count", d32)
-      .buffer("LOD records", arena_, arenaBytes_)
-      .buffer("counts and offsets", arena_, arenaBytes_)
-      .buffer("rule", rule_, sizeof(gpu::ClhBudgetRule))
-      .buffer("state", state_, words * sizeof(cl_uint));
-  dispatch(dev_, apply_, "lod", perDraw, wg, profiler);
+  BudgetStage::Params p;
+  p.table = &table_;
+  p.draws = static_cast<std::uint32_t>(D);
+  p.arena = &arena_;
+  p.arenaBytes = arenaBytes_;
+  p.budget = budget;
+  p.rule = &rule_;
+  p.state = &state_;
+  p.stateWords = words;
+  stage_.enqueue(p, profiler);
 }
 
 std::size_t FrameLod::stateWords(std::size_t draws) {

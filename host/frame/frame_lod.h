@@ -4,7 +4,8 @@
 //
 // bind() gives each draw's instance LOD records, counts and scan as sub-buffers of one
 // arena, laid out in draw order (ClhBudgetDraw in gpu_types.h), so that after every
-// groom's LOD pre-pass the budget's kernels (kernels/budget.cl) see all of them:
+// groom's LOD pre-pass the budget's kernels (kernels/budget.cl, launched by BudgetStage)
+// see all of them:
 // budget_measure (one work-group per draw) sums each draw's request, floor and screen box,
 // budget_plan (one work-group) shares the budget out by the rule (BudgetRule: one factor
 // for all, or each groom's share by its screen need), budget_apply (one work-group per
@@ -21,6 +22,7 @@
 #include "cl/dispatch.h"
 #include "clhair/renderer.h"
 #include "groom/groom_gpu.h"
+#include "stages/budget_stage.h"
 
 namespace clhair {
 
@@ -84,7 +86,7 @@ class FrameLod {
 
  private:
   Device::Impl& dev_;
-  cl::Kernel measure_, plan_, apply_;
+  BudgetStage stage_;
   std::size_t align_ = 128;  // sub-buffer origin alignment, bytes
   cl::Buffer arena_;
   std::size_t arenaBytes_ = 0;

@@ -61,6 +61,14 @@ struct StatsLayout {
   }
 };
 
+// The AOV planes (host/passes/aov_passes.cpp, AovStage::Planes in the same order).
+struct AovHandles {
+  FrameGraph::Handle lastDepth, owner, ownerMotion, alpha, hair, centreZ, tangent, strand;
+  std::vector<FrameGraph::Handle> all() const {
+    return {lastDepth, owner, ownerMotion, alpha, hair, centreZ, tangent, strand};
+  }
+};
+
 // The Cryptomatte layers' ranked lists (host/passes/cryptomatte_pass.cpp).
 struct CryptoHandles {
   FrameGraph::Handle groomKeys, groomCoverage, strandKeys, strandCoverage;
@@ -88,7 +96,8 @@ struct FramePlan {
   std::size_t rasterStatsAt = 0, budgetAt = 0, linkAt = 0, pointsAt = 0, shadowAt = 0;
   // handles of the frame's shared resources
   FrameGraph::Handle viewRecord, scene_, shadowMaps, color, depth, gbuffer, rasterCounters,
-      frameStats, lodArena, visibility, linkState, filterParams, motionParams, aovPlanes;
+      frameStats, lodArena, visibility, linkState, filterParams, motionParams;
+  AovHandles aov;
   CryptoHandles crypto;
 };
 

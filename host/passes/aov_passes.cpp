@@ -7,32 +7,32 @@ namespace clhair {
 
 namespace {
 
-// The planes' buffers (created resources of the graph, in AovStage::Planes order).
+// The planes' buffers (created resources of the graph).
 AovStage::Planes planesOf(FrameGraph& g, const FramePlan& plan) {
-  std::vector<FrameGraph::Handle> h(8);
-  for (std::uint32_t i = 0; i < 8; ++i) h[i] = FrameGraph::Handle{plan.aovPlanes.id + i};
-  return {&g.buffer(h[0]), &g.buffer(h[1]), &g.buffer(h[2]), &g.buffer(h[3]),
-          &g.buffer(h[4]), &g.buffer(h[5]), &g.buffer(h[6]), &g.buffer(h[7])};
+  const AovHandles& h = plan.aov;
+  return {&g.buffer(h.lastDepth), &g.buffer(h.owner), &g.buffer(h.ownerMotion),
+          &g.buffer(h.alpha),     &g.buffer(h.hair),  &g.buffer(h.centreZ),
+          &g.buffer(h.tangent),   &g.buffer(h.strand)};
 }
 
 }  // namespace
 
 void addAovBeginPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingFrame& out) {
   const std::size_t n = plan.pixels;
-  // eight planes, created one after the other: aovPlanes is the first handle
-  plan.aovPlanes = g.create("AOV last depth", n * 4);
-  g.create("AOV owner", n * 4);
-  g.create("AOV owner motion", n * 8);
-  g.create("AOV hair alpha", n * 4);
-  g.create("AOV hair", n * 16);
-  g.create("AOV centre depth", n * 4);
-  g.create("AOV tangent", n * 16);
-  g.create("AOV strand", n * 16);
+  AovHandles& h = plan.aov;
+  h.lastDepth = g.create("AOV last depth", n * 4);
+  h.owner = g.create("AOV owner", n * 4);
+  h.ownerMotion = g.create("AOV owner motion", n * 8);
+  h.alpha = g.create("AOV hair alpha", n * 4);
+  h.hair = g.create("AOV hair", n * 16);
+  h.centreZ = g.create("AOV centre depth", n * 4);
+  h.tangent = g.create("AOV tangent", n * 16);
+  h.strand = g.create("AOV strand", n * 16);
   g.addPass(
       "aov begin",
       [&](FrameGraph::Setup& s) {
         s.read(plan.depth).read(plan.color).sideEffect().kernel("aov_begin");
-        for (std::uint32_t i = 0; i < 8; ++i) s.write(FrameGraph::Handle{plan.aovPlanes.id + i});
+        for (const FrameGraph::Handle h : plan.aov.all()) s.write(h);
       },
       [&] {
         // the colour under the hair: temporal reprojection recomposes the frame on it
@@ -49,8 +49,7 @@ void addAovGroomPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPla
       [&](FrameGraph::Setup& s) {
         s.read(gp.params).read(plan.gbuffer).read(gp.result).read(plan.depth).kernel("aov_groom");
         if (gp.motion) s.read(gp.motionPlane);
-        for (std::uint32_t i = 0; i < 8; ++i)
-          s.readWrite(FrameGraph::Handle{plan.aovPlanes.id + i});
+        for (const FrameGraph::Handle h : plan.aov.all()) s.readWrite(h);
       },
       [&] {
         RenderTarget& t = *plan.target;

@@ -24,36 +24,47 @@ struct GroomViews {
   bool together = true;
 };
 
-}  // namespace
+// What every view's passes share: the views' settings and the graph's handles of their
+// records, targets and the slices' buffers.
+struct Views {
+  std::size_t count = 0, pixels = 0, layers = 0;
+  std::vector<ViewDraw> draws;  // how a groom is drawn in each view
+  FrameGraph::Handle depths, gbuffers, records;
+  std::vector<FrameGraph::Handle> record, colour;  // per view
+};
 
-void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
-                     const std::vector<Camera>& cameras, PendingFrame& out) {
+// The views' records uploaded, the frame's resources imported.
+std::shared_ptr<Views> importViews(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
+                                   const std::vector<Camera>& cameras) {
   const Scene& s = plan.scene;
   const RenderOptions& o = plan.options;
-  const std::size_t V = cameras.size();
   ViewTargets& vt = r.views;
-  std::vector<gpu::ClhViewGpu> records(V);
-  std::vector<ViewDraw> passes(V);
-  for (std::size_t v = 0; v < V; ++v) {
+  auto views = std::make_shared<Views>();
+  Views& w = *views;
+  w.count = cameras.size();
+  w.pixels = plan.pixels;
+  w.layers = static_cast<std::size_t>(o.msaa) + 1;
+  std::vector<gpu::ClhViewGpu> records(w.count);
+  w.draws.resize(w.count);
+  for (std::size_t v = 0; v < w.count; ++v) {
     records[v] = makeView(cameras[v], s.width, s.height);
     records[v].samples = static_cast<gpu::clh_u32>(o.msaa);
     records[v].cx += o.jitterX;
     records[v].cy += o.jitterY;
     RenderTarget& t = vt.target(v);
     uploadChanged(r.dev, t.view, t.viewSent, &records[v], 1);
-    passes[v].view = &t.view;
-    passes[v].worldToView = worldToView(cameras[v]);
-    passes[v].lod = o.lod;
-    passes[v].lodLambdaScale = o.lodLambdaScale * lodResolutionScale(s.height);
-    passes[v].lodStrandScale = o.lodLambdaScale;
-    passes[v].trueWidth = o.trueWidth;
-    passes[v].shadowLodCorrection = plan.lodCorrection;
-    passes[v].pixels = faintView(records[v]);
+    ViewDraw& d = w.draws[v];
+    d.view = &t.view;
+    d.worldToView = worldToView(cameras[v]);
+    d.lod = o.lod;
+    d.lodLambdaScale = o.lodLambdaScale * lodResolutionScale(s.height);
+    d.lodStrandScale = o.lodLambdaScale;
+    d.trueWidth = o.trueWidth;
+    d.shadowLodCorrection = plan.lodCorrection;
+    d.pixels = faintView(records[v]);
   }
-  uploadChanged(r.dev, vt.records, vt.recordsSent, records.data(), V);
+  uploadChanged(r.dev, vt.records, vt.recordsSent, records.data(), w.count);
   r.scene.upload(s);
-  const std::size_t pixels = plan.pixels;
-  const std::size_t layers = static_cast<std::size_t>(o.msaa) + 1;
 
   plan.scene_ = g.import("scene", r.scene.buffers(), true);
   plan.shadowMaps = g.import("shadow maps", r.shadows.buffers(), !plan.shadowsRebuilt, true);
@@ -62,18 +73,19 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
   plan.visibility = g.import("baked visibility", r.visibility.buffers(), true);
   plan.rasterCounters = g.import("raster counters", {&r.target.stats}, true);
   std::vector<const cl::Buffer*> depthBufs = {&vt.depths}, gbufferBufs = {&vt.gbuffers};
-  for (std::size_t v = 0; v < V; ++v) {
+  for (std::size_t v = 0; v < w.count; ++v) {
     depthBufs.push_back(&vt.depthSlices[v]);
     gbufferBufs.push_back(&vt.gbufferSlices[v]);
   }
-  const FrameGraph::Handle depths = g.import("depth of every view", depthBufs, false, true);
-  const FrameGraph::Handle gbuffers = g.import("G-buffers of every view", gbufferBufs, false);
-  const FrameGraph::Handle viewRecords = g.import("view records", {&vt.records, &vt.grooms}, true);
-  std::vector<FrameGraph::Handle> viewRecord(V), colour(V);
-  for (std::size_t v = 0; v < V; ++v) {
+  w.depths = g.import("depth of every view", depthBufs, false, true);
+  w.gbuffers = g.import("G-buffers of every view", gbufferBufs, false);
+  w.records = g.import("view records", {&vt.records, &vt.grooms}, true);
+  w.record.resize(w.count);
+  w.colour.resize(w.count);
+  for (std::size_t v = 0; v < w.count; ++v) {
     const std::string view = "view " + std::to_string(v);
-    viewRecord[v] = g.import(view + " record", {&vt.target(v).view}, true);
-    colour[v] = g.import(view + " colour", {&vt.target(v).color}, false, true);
+    w.record[v] = g.import(view + " record", {&vt.target(v).view}, true);
+    w.colour[v] = g.import(view + " colour", {&vt.target(v).color}, false, true);
   }
   for (GroomPlan& gp : plan.grooms) {
     const std::string label = "groom " + std::to_string(gp.index);
@@ -83,186 +95,223 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
         g.import(label + " LOD",
                  {&gp.draw.state->lod, &gp.draw.state->counts, &gp.draw.state->offsets}, false);
   }
-  addShadowPass(g, r, plan);
-  for (std::size_t v = 0; v < V; ++v)
+  return views;
+}
+
+void addOpaquePasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
+                     const std::shared_ptr<Views>& views) {
+  for (std::size_t v = 0; v < views->count; ++v)
     g.addPass(
         "opaque, view " + std::to_string(v),
-        [&, v](FrameGraph::Setup& st) {
-          st.read(viewRecord[v]).read(plan.scene_).read(plan.shadowMaps);
-          st.write(colour[v]).write(depths);
+        [&, views, v](FrameGraph::Setup& st) {
+          st.read(views->record[v]).read(plan.scene_).read(plan.shadowMaps);
+          st.write(views->colour[v]).write(views->depths);
           st.kernel("opaque_render").kernel("mesh_raster").kernel("mesh_resolve");
           st.kernel("clear_words");
         },
-        [&r, &vt, v] {
+        [&r, v] {
+          ViewTargets& vt = r.views;
           RenderTarget& t = vt.target(v);
           r.scene.drawOpaque(t.viewTarget(), r.shadows.maps(), t.color, vt.depthSlices[v], true,
                              &r.profiler);
         });
-  for (GroomPlan& gp : plan.grooms) {
-    const GroomDraw d = gp.draw;
-    auto gv = std::make_shared<GroomViews>();
-    gv->inFront.assign(V, false);
-    gv->lodView = V;
-    for (std::size_t v = V; v-- > 0;) {
-      gv->inFront[v] = d.groom->inFront(d.instance->transform, passes[v].worldToView);
-      if (gv->inFront[v]) gv->lodView = v;
-    }
-    if (gv->lodView == V) continue;
-    gp.active = 1;
-    const FilterParams& fp = *gp.filter;
-    const bool filtered = o.msaa == 1 && (o.filter < 0 ? fp.enabled : o.filter == 1);
-    // the shared strand pass writes no identity layer, so "auto" falls back to Lipp's
-    // filter here; Huang's asked for by name is refused
-    if (filtered &&
-        (o.filterMethod < 0 ? fp.method == FilterParams::Method::Huang : o.filterMethod == 1))
-      throw Error("groom \"" + d.instance->name +
-                  "\": Huang's filter takes one view at a time; render the views one by one "
-                  "(--views NAME) or use Lipp's filter");
-    // a faint strand file is widened where its hair is filtered (io/faint_groom.h)
-    std::vector<ViewDraw> groomPasses = passes;
-    for (ViewDraw& vp : groomPasses) vp.widenFaint = filtered && !plan.cover && !gp.points;
-    const std::size_t k = gp.index;
-    const std::size_t totalsAt = plan.linkAt;  // the views' strand totals: V x D words
-    const std::size_t D = plan.grooms.size();
-    const GroomKernels kernels = d.groom->kernels();
-    g.addPass(
-        "strands " + std::to_string(k) + ", all views",
-        [&, kernels](FrameGraph::Setup& st) {
-          st.read(viewRecord[gv->lodView]).read(viewRecords).read(gp.tables);
-          st.write(gp.params).write(gp.lod).read(depths).write(gbuffers);
-          st.readWrite(plan.rasterCounters).readWrite(plan.frameStats);
-          st.kernel(kernels.lod).kernel("scan_bundles").kernel("clear_words");
-          st.kernel("strands_raster_views").kernel("copy_uints");
-          if (plan.mode == DispatchMode::ReadBack) st.hostWait("the groom's strand total");
-        },
-        [&, gv, groomPasses, d, k, totalsAt, D, V, pixels, layers] {
-          // each view's record (transform, depth mapping); the LOD view's last, so that the
-          // instance holds it for the LOD pass and the assembly
-          GroomInstanceGpu& inst = *d.state;
-          d.groom->useAo(plan.options.ambientOcclusion != 0);
-          gv->records.assign(V, gpu::ClhGroomGpu{});
-          for (std::size_t v = V; v-- > 0;) {
-            d.groom->prepare(inst, d.instance->transform, groomPasses[v]);
-            gv->records[v] = inst.params;
+}
+
+// Each view's record of the groom (transform, depth mapping), its LOD from its first view in
+// front and its strands assembled once and drawn into every view (strands_raster_views).
+void addSharedStrandPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
+                         const std::shared_ptr<Views>& views, GroomPlan& gp,
+                         const std::shared_ptr<GroomViews>& gv,
+                         const std::vector<ViewDraw>& draws) {
+  const GroomDraw d = gp.draw;
+  const std::size_t k = gp.index, D = plan.grooms.size();
+  const std::size_t totalsAt = plan.linkAt;  // the views' strand totals: V x D words
+  const GroomKernels kernels = d.groom->kernels();
+  g.addPass(
+      "strands " + std::to_string(k) + ", all views",
+      [&, views, gv, kernels](FrameGraph::Setup& st) {
+        st.read(views->record[gv->lodView]).read(views->records).read(gp.tables);
+        st.write(gp.params).write(gp.lod).read(views->depths).write(views->gbuffers);
+        st.readWrite(plan.rasterCounters).readWrite(plan.frameStats);
+        st.kernel(kernels.lod).kernel("scan_bundles").kernel("clear_words");
+        st.kernel("strands_raster_views").kernel("copy_uints");
+        if (plan.mode == DispatchMode::ReadBack) st.hostWait("the groom's strand total");
+      },
+      [&, views, gv, draws, d, k, totalsAt, D] {
+        // each view's record; the LOD view's last, so that the instance holds it for the LOD
+        // pass and the assembly
+        ViewTargets& vt = r.views;
+        const std::size_t V = views->count;
+        GroomInstanceGpu& inst = *d.state;
+        d.groom->useAo(plan.options.ambientOcclusion != 0);
+        gv->records.assign(V, gpu::ClhGroomGpu{});
+        for (std::size_t v = V; v-- > 0;) {
+          d.groom->prepare(inst, d.instance->transform, draws[v]);
+          gv->records[v] = inst.params;
+        }
+        const std::size_t lv = gv->lodView;
+        for (std::size_t v = 0; v < V; ++v)
+          if (!gv->inFront[v]) {  // every point behind the eye: nothing is drawn in this view
+            gpu::ClhGroomGpu& rec = gv->records[v];
+            std::fill(std::begin(rec.obj_to_view), std::end(rec.obj_to_view), 0.0f);
+            rec.obj_to_view[11] = -1.0f;
+            rec.depth_near = gv->records[lv].depth_near;
+            rec.depth_far = gv->records[lv].depth_far;
           }
-          const std::size_t lv = gv->lodView;
-          for (std::size_t v = 0; v < V; ++v)
-            if (!gv->inFront[v]) {  // every point behind the eye: nothing is drawn in this view
-              gpu::ClhGroomGpu& rec = gv->records[v];
-              std::fill(std::begin(rec.obj_to_view), std::end(rec.obj_to_view), 0.0f);
-              rec.obj_to_view[11] = -1.0f;
-              rec.depth_near = gv->records[lv].depth_near;
-              rec.depth_far = gv->records[lv].depth_far;
-            }
-          if (lv != 0) d.groom->prepare(inst, d.instance->transform, groomPasses[lv]);
-          d.groom->lod(inst, vt.target(lv).view, &r.profiler);
-          r.target.clearWords(vt.gbuffers, V * vt.gbufferStride, &r.profiler);
-          upload(r.dev, vt.grooms, gv->records.data(), V);
-          StrandRaster raster = cameraRaster(r, plan, gp);
-          raster.view = &vt.target(lv).view;
-          raster.sceneDepth = &vt.depths;
-          raster.gbuffer = &vt.gbuffers;
-          raster.pixels = pixels;
-          raster.layers = static_cast<int>(layers);
-          raster.ids = false;
-          raster.depthStride = vt.depthStride;
-          raster.gbufferStride = vt.gbufferStride;
-          gv->together = d.groom->rasterViews(inst, raster, vt.grooms, vt.records,
-                                              static_cast<std::uint32_t>(V), &r.profiler);
-          if (!gv->together || inst.records == 0) return;
-          for (std::size_t v = 0; v < V; ++v)
-            if (gv->inFront[v])
-              r.target.copyUints(inst.offsets, gpu::clh_lod_drawn_total_at(inst.records),
-                                 r.frameStats, totalsAt + v * D + k, 1, &r.profiler);
-        });
-    for (std::size_t v = 0; v < V; ++v) {
-      if (!gv->inFront[v]) continue;
-      const std::string name = std::to_string(k) + ", view " + std::to_string(v);
-      const FrameGraph::Handle hair = g.create("groom " + name + " hair", pixels * 16);
-      const FrameGraph::Handle filteredHair =
-          filtered ? g.create("groom " + name + " filtered hair", pixels * 16) : hair;
-      g.addPass(
-          "shade " + name,
-          [&, v, hair, kernels](FrameGraph::Setup& st) {
-            st.read(viewRecord[v]).read(plan.scene_).read(plan.shadowMaps).read(gbuffers);
-            st.read(depths).read(gp.tables).readWrite(gp.params).readWrite(gp.lod);
-            st.read(plan.visibility).write(hair).readWrite(plan.frameStats);
-            st.readWrite(plan.rasterCounters).kernel("shade_deferred");
-            // a groom that draws each view on its own: its own LOD and strands per view
-            st.kernel(kernels.lod)
-                .kernel("scan_bundles")
-                .kernel("clear_words")
-                .kernel("copy_uints");
-            st.kernel(plan.mode == DispatchMode::Persistent ? kernels.rasterPersistent
-                                                            : kernels.raster);
-            if (plan.mode == DispatchMode::ReadBack) st.hostWait("the groom's strand total");
-          },
-          [&, gv, groomPasses, d, v, k, totalsAt, D, hair, pixels, layers] {
-            RenderTarget& t = vt.target(v);
-            GroomInstanceGpu& inst = *d.state;
-            cl::Buffer& gbuffer = vt.gbufferSlices[v];
-            if (!gv->together) {
-              d.groom->prepare(inst, d.instance->transform, groomPasses[v]);
-              d.groom->lod(inst, t.view, &r.profiler);
-              r.target.clearWords(gbuffer, pixels * layers, &r.profiler);
-              StrandRaster own = cameraRaster(r, plan, gp);
-              own.view = &t.view;
-              own.sceneDepth = &vt.depthSlices[v];
-              own.gbuffer = &gbuffer;
-              own.layers = static_cast<int>(layers);
-              own.ids = false;
-              d.groom->raster(inst, own, &r.profiler);
-              if (inst.records > 0)
-                r.target.copyUints(inst.offsets, gpu::clh_lod_drawn_total_at(inst.records),
-                                   r.frameStats, totalsAt + v * D + k, 1, &r.profiler);
-            } else {
-              uploadChanged(r.dev, inst.groom, inst.sent, &gv->records[v], 1);
-            }
-            r.shade.enqueue(shadeParams(r, t, gp, gbuffer, g.buffer(hair), plan.options.msaa),
-                            &r.profiler);
-          });
-      if (filtered)
-        g.addPass(
-            "filter " + name,
-            [&, v, hair, filteredHair](FrameGraph::Setup& st) {
-              st.read(viewRecord[v]).read(gp.params).read(gbuffers).read(hair);
-              st.write(plan.filterParams).write(filteredHair).kernel("filter_reconstruct");
-            },
-            [&, v, d, hair, filteredHair] {
-              RenderTarget& t = vt.target(v);
-              r.filter.enqueue(fp,
-                               {t.viewTarget(), &d.state->groom, &vt.gbufferSlices[v],
-                                &g.buffer(hair), &g.buffer(filteredHair)},
-                               &r.profiler);
-            });
-      g.addPass(
-          "composite " + name,
-          [&, v, filteredHair](FrameGraph::Setup& st) {
-            st.read(viewRecord[v]).read(gp.params).read(gbuffers).read(filteredHair);
-            st.readWrite(colour[v]).readWrite(depths).kernel("composite_over");
-          },
-          [&, v, d, filteredHair, filtered] {
-            RenderTarget& t = vt.target(v);
-            r.composite.enqueue({t.viewTarget(), &d.state->groom, &g.buffer(filteredHair),
-                                 &vt.gbufferSlices[v], &t.color, &vt.depthSlices[v],
-                                 plan.options.msaa, filtered ? 2 : plan.options.msaa, PixelRect{}},
-                                &r.profiler);
-          });
-    }
+        if (lv != 0) d.groom->prepare(inst, d.instance->transform, draws[lv]);
+        d.groom->lod(inst, vt.target(lv).view, &r.profiler);
+        r.target.clearWords(vt.gbuffers, V * vt.gbufferStride, &r.profiler);
+        upload(r.dev, vt.grooms, gv->records.data(), V);
+        StrandRaster raster = cameraRaster(r, plan, gp);
+        raster.view = &vt.target(lv).view;
+        raster.sceneDepth = &vt.depths;
+        raster.gbuffer = &vt.gbuffers;
+        raster.pixels = views->pixels;
+        raster.layers = static_cast<int>(views->layers);
+        raster.ids = false;
+        raster.depthStride = vt.depthStride;
+        raster.gbufferStride = vt.gbufferStride;
+        gv->together = d.groom->rasterViews(inst, raster, vt.grooms, vt.records,
+                                            static_cast<std::uint32_t>(V), &r.profiler);
+        if (!gv->together || inst.records == 0) return;
+        for (std::size_t v = 0; v < V; ++v)
+          if (gv->inFront[v])
+            r.target.copyUints(inst.offsets, gpu::clh_lod_drawn_total_at(inst.records),
+                               r.frameStats, totalsAt + v * D + k, 1, &r.profiler);
+      });
+}
+
+// View v of the groom: shaded (drawn on its own first when its strands could not be drawn
+// into every view at once), filtered, composited.
+void addViewPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
+                   const std::shared_ptr<Views>& views, GroomPlan& gp,
+                   const std::shared_ptr<GroomViews>& gv, const std::vector<ViewDraw>& draws,
+                   std::size_t v, bool filtered) {
+  const GroomDraw d = gp.draw;
+  const std::size_t k = gp.index, D = plan.grooms.size(), totalsAt = plan.linkAt;
+  const std::size_t pixels = views->pixels, layers = views->layers;
+  const GroomKernels kernels = d.groom->kernels();
+  const std::string name = std::to_string(k) + ", view " + std::to_string(v);
+  const FrameGraph::Handle hair = g.create("groom " + name + " hair", pixels * 16);
+  const FrameGraph::Handle filteredHair =
+      filtered ? g.create("groom " + name + " filtered hair", pixels * 16) : hair;
+  g.addPass(
+      "shade " + name,
+      [&, views, v, hair, kernels](FrameGraph::Setup& st) {
+        st.read(views->record[v]).read(plan.scene_).read(plan.shadowMaps).read(views->gbuffers);
+        st.read(views->depths).read(gp.tables).readWrite(gp.params).readWrite(gp.lod);
+        st.read(plan.visibility).write(hair).readWrite(plan.frameStats);
+        st.readWrite(plan.rasterCounters).kernel("shade_deferred");
+        // a groom that draws each view on its own: its own LOD and strands per view
+        st.kernel(kernels.lod).kernel("scan_bundles").kernel("clear_words").kernel("copy_uints");
+        st.kernel(plan.mode == DispatchMode::Persistent ? kernels.rasterPersistent
+                                                        : kernels.raster);
+        if (plan.mode == DispatchMode::ReadBack) st.hostWait("the groom's strand total");
+      },
+      [&, gv, draws, d, v, k, totalsAt, D, hair, pixels, layers] {
+        ViewTargets& vt = r.views;
+        RenderTarget& t = vt.target(v);
+        GroomInstanceGpu& inst = *d.state;
+        cl::Buffer& gbuffer = vt.gbufferSlices[v];
+        if (!gv->together) {
+          d.groom->prepare(inst, d.instance->transform, draws[v]);
+          d.groom->lod(inst, t.view, &r.profiler);
+          r.target.clearWords(gbuffer, pixels * layers, &r.profiler);
+          StrandRaster own = cameraRaster(r, plan, gp);
+          own.view = &t.view;
+          own.sceneDepth = &vt.depthSlices[v];
+          own.gbuffer = &gbuffer;
+          own.layers = static_cast<int>(layers);
+          own.ids = false;
+          d.groom->raster(inst, own, &r.profiler);
+          if (inst.records > 0)
+            r.target.copyUints(inst.offsets, gpu::clh_lod_drawn_total_at(inst.records),
+                               r.frameStats, totalsAt + v * D + k, 1, &r.profiler);
+        } else {
+          uploadChanged(r.dev, inst.groom, inst.sent, &gv->records[v], 1);
+        }
+        r.shade.enqueue(shadeParams(r, t, gp, gbuffer, g.buffer(hair), plan.options.msaa),
+                        &r.profiler);
+      });
+  if (filtered)
     g.addPass(
-        "record " + std::to_string(k),
-        [&](FrameGraph::Setup& st) { st.read(gp.params).sideEffect(); },
-        [gv, d] { d.state->params = gv->records[gv->lodView]; });
+        "filter " + name,
+        [&, views, v, hair, filteredHair](FrameGraph::Setup& st) {
+          st.read(views->record[v]).read(gp.params).read(views->gbuffers).read(hair);
+          st.write(plan.filterParams).write(filteredHair).kernel("filter_reconstruct");
+        },
+        [&, v, d, hair, filteredHair] {
+          RenderTarget& t = r.views.target(v);
+          r.filter.enqueue(*gp.filter,
+                           {t.viewTarget(), &d.state->groom, &r.views.gbufferSlices[v],
+                            &g.buffer(hair), &g.buffer(filteredHair)},
+                           &r.profiler);
+        });
+  g.addPass(
+      "composite " + name,
+      [&, views, v, filteredHair](FrameGraph::Setup& st) {
+        st.read(views->record[v]).read(gp.params).read(views->gbuffers).read(filteredHair);
+        st.readWrite(views->colour[v]).readWrite(views->depths).kernel("composite_over");
+      },
+      [&, v, d, filteredHair, filtered] {
+        RenderTarget& t = r.views.target(v);
+        r.composite.enqueue({t.viewTarget(), &d.state->groom, &g.buffer(filteredHair),
+                             &r.views.gbufferSlices[v], &t.color, &r.views.depthSlices[v],
+                             plan.options.msaa, filtered ? 2 : plan.options.msaa, PixelRect{}},
+                            &r.profiler);
+      });
+}
+
+// The groom's passes in every view it is in front of.
+void addGroomPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
+                    const std::shared_ptr<Views>& views, GroomPlan& gp) {
+  const RenderOptions& o = plan.options;
+  const GroomDraw d = gp.draw;
+  const std::size_t V = views->count;
+  auto gv = std::make_shared<GroomViews>();
+  gv->inFront.assign(V, false);
+  gv->lodView = V;
+  for (std::size_t v = V; v-- > 0;) {
+    gv->inFront[v] = d.groom->inFront(d.instance->transform, views->draws[v].worldToView);
+    if (gv->inFront[v]) gv->lodView = v;
   }
+  if (gv->lodView == V) return;
+  gp.active = 1;
+  const FilterParams& fp = *gp.filter;
+  const bool filtered = o.msaa == 1 && (o.filter < 0 ? fp.enabled : o.filter == 1);
+  // the shared strand pass writes no identity layer, so "auto" falls back to Lipp's filter
+  // here; Huang's asked for by name is refused
+  if (filtered &&
+      (o.filterMethod < 0 ? fp.method == FilterParams::Method::Huang : o.filterMethod == 1))
+    throw Error("groom \"" + d.instance->name +
+                "\": Huang's filter takes one view at a time; render the views one by one "
+                "(--views NAME) or use Lipp's filter");
+  // a faint strand file is widened where its hair is filtered (io/faint_groom.h)
+  std::vector<ViewDraw> draws = views->draws;
+  for (ViewDraw& vd : draws) vd.widenFaint = filtered && !plan.cover && !gp.points;
+  addSharedStrandPass(g, r, plan, views, gp, gv, draws);
+  for (std::size_t v = 0; v < V; ++v)
+    if (gv->inFront[v]) addViewPasses(g, r, plan, views, gp, gv, draws, v, filtered);
+  g.addPass(
+      "record " + std::to_string(gp.index),
+      [&](FrameGraph::Setup& st) { st.read(gp.params).sideEffect(); },
+      [gv, d] { d.state->params = gv->records[gv->lodView]; });
+}
+
+// Every view's colour (and depth) and the frame's statistics read back.
+void addReadBack(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
+                 const std::shared_ptr<Views>& views, PendingFrame& out) {
+  const std::size_t V = views->count;
   g.addPass(
       "read-back",
-      [&, V](FrameGraph::Setup& st) {
-        st.read(depths).readWrite(plan.frameStats).read(plan.shadowMaps).sideEffect();
+      [&, views](FrameGraph::Setup& st) {
+        st.read(views->depths).readWrite(plan.frameStats).read(plan.shadowMaps).sideEffect();
         st.kernel("copy_uints");
-        for (std::size_t v = 0; v < V; ++v) st.read(colour[v]);
+        for (std::size_t v = 0; v < views->count; ++v) st.read(views->colour[v]);
       },
-      [&r, &vt, &out, V, pixels, at = plan.shadowAt, words = plan.stats.words, w = s.width,
-       h = s.height, depth = o.readBackDepth] {
+      [&r, &out, V, pixels = views->pixels, at = plan.shadowAt, words = plan.stats.words,
+       w = plan.scene.width, h = plan.scene.height, depth = plan.options.readBackDepth] {
+        ViewTargets& vt = r.views;
         if (words != at && r.shadows.totals()())
           r.target.copyUints(r.shadows.totals(), 0, r.frameStats, at, words - at, &r.profiler);
         out.stats.assign(words, 0u);
@@ -288,6 +337,17 @@ void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
       st.shadowStrandsDrawn = shadow;
     }
   });
+}
+
+}  // namespace
+
+void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
+                     const std::vector<Camera>& cameras, PendingFrame& out) {
+  const std::shared_ptr<Views> views = importViews(g, r, plan, cameras);
+  addShadowPass(g, r, plan);
+  addOpaquePasses(g, r, plan, views);
+  for (GroomPlan& gp : plan.grooms) addGroomPasses(g, r, plan, views, gp);
+  addReadBack(g, r, plan, views, out);
 }
 
 }  // namespace clhair

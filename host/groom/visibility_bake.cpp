@@ -22,67 +22,13 @@
 
 #include "clhair/error.h"
 #include "clhair/visibility_sh.h"
+#include "groom/bake_scene.h"
 
 namespace clhair {
 
 namespace {
 
 constexpr float kPi = 3.14159265358979323846f;
-
-// A ray's context: Embree hands it to the curve filter, which counts the distinct strands
-// the ray passes (a tube can report its entry and exit, and a ray can cross a strand at a
-// joint of two segments). The ray is traced as an occlusion query: the filter rejects every
-// hit until `cap` strands are counted (so traversal goes on through every fibre) and then
-// accepts one, which ends the traversal. The count does not depend on the order Embree
-// visits the hits in, so this is the count of an intersection query that rejects every hit,
-// capped; `cap` is the count past which the ray's events are clamped anyway.
-constexpr unsigned kPacket = 16;  // rays per Embree packet (one point's rays go together)
-
-struct CountContext {
-  RTCIntersectContext base;  // first member: Embree passes &base
-  const std::uint32_t* strandOfSegment = nullptr;
-  std::uint32_t own = 0;  // the rays' own strand
-  // per ray of the packet (the ray's id): the cap, the count, the strands counted
-  std::uint32_t cap[kPacket];
-  std::uint32_t count[kPacket];
-  std::uint32_t seen[kPacket][kMaxEventsLimit];
-};
-
-void countStrands(const RTCFilterFunctionNArguments* args) {
-  auto* c = reinterpret_cast<CountContext*>(args->context);
-  for (unsigned i = 0; i < args->N; ++i) {
-    if (args->valid[i] == 0) continue;
-    const std::uint32_t lane = RTCRayN_id(args->ray, args->N, i) % kPacket;
-    const std::uint32_t strand = c->strandOfSegment[RTCHitN_primID(args->hit, args->N, i)];
-    std::uint32_t& count = c->count[lane];
-    if (strand != c->own && count >= c->cap[lane]) continue;  // accept: the count is final
-    args->valid[i] = 0;  // otherwise reject: every fibre along the ray is counted
-    if (strand == c->own) continue;
-    const std::uint32_t* seen = c->seen[lane];
-    bool found = false;
-    for (std::uint32_t k = 0; k < count && !found; ++k) found = seen[k] == strand;
-    if (found) continue;
-    c->seen[lane][count++] = strand;
-  }
-}
-
-struct EmbreeScene {
-  RTCDevice device = nullptr;
-  RTCScene hair = nullptr, head = nullptr;
-  float* vertices = nullptr;
-  ~EmbreeScene() {
-    if (hair) rtcReleaseScene(hair);
-    if (head) rtcReleaseScene(head);
-    if (device) rtcReleaseDevice(device);
-    std::free(vertices);
-  }
-  void check(const char* what) const {
-    const RTCError e = rtcGetDeviceError(device);
-    if (e != RTC_ERROR_NONE)
-      throw Error(std::string("visibility bake: Embree failed while ") + what + " (error " +
-                  std::to_string(static_cast<int>(e)) + ")");
-  }
-};
 
 double clockSeconds(clockid_t id) {
   timespec t{};
@@ -119,48 +65,6 @@ BakePhase& BakePhaseTimer::finish(const std::string& name) {
   return stats_->phases.back();
 }
 
-void sphereDirections(std::uint32_t count, std::uint32_t seed, float* out) {
-  // golden-angle spiral with equal-area z bands; the seed turns it about z and jitters z
-  // within each band, so neighbouring points see different directions
-  const float golden = kPi * (3.0f - std::sqrt(5.0f));
-  const std::uint32_t h = gpu::clh_hash(seed);
-  const float phi0 = 2.0f * kPi * gpu::clh_u01(h);
-  const float jitter = gpu::clh_u01(gpu::clh_hash(h)) - 0.5f;
-  for (std::uint32_t k = 0; k < count; ++k) {
-    const float z =
-        1.0f - (2.0f * (static_cast<float>(k) + 0.5f + 0.98f * jitter)) / static_cast<float>(count);
-    const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
-    const float phi = phi0 + golden * static_cast<float>(k);
-    out[3 * k] = r * std::cos(phi);
-    out[3 * k + 1] = r * std::sin(phi);
-    out[3 * k + 2] = z;
-  }
-}
-
-void fibonacciDirections(std::uint32_t count, float* out) {
-  const double golden = 3.14159265358979323846 * (3.0 - std::sqrt(5.0));
-  for (std::uint32_t k = 0; k < count; ++k) {
-    const double h = k + 0.5, z = 1.0 - 2.0 * h / count;
-    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    out[3 * k] = static_cast<float>(r * std::cos(golden * h));
-    out[3 * k + 1] = static_cast<float>(r * std::sin(golden * h));
-    out[3 * k + 2] = static_cast<float>(z);
-  }
-}
-
-void projectL1(const float* dirs, const float* values, std::uint32_t count, float out[4]) {
-  double c[4] = {0.0, 0.0, 0.0, 0.0};
-  for (std::uint32_t k = 0; k < count; ++k) {
-    const double f = values[k];
-    c[0] += f * CLH_SH_Y0;
-    c[1] += f * CLH_SH_Y1 * dirs[3 * k + 1];
-    c[2] += f * CLH_SH_Y1 * dirs[3 * k + 2];
-    c[3] += f * CLH_SH_Y1 * dirs[3 * k];
-  }
-  const double w = count > 0 ? 4.0 * 3.14159265358979323846 / count : 0.0;
-  for (int i = 0; i < 4; ++i) out[i] = static_cast<float>(c[i] * w);
-}
-
 VisibilityBake bakeVisibility(const StrandSet& s, float fibreRadius,
                               const std::vector<glm::vec3>& triPositions,
                               const std::vector<std::uint32_t>& triIndices,
@@ -189,111 +93,8 @@ VisibilityBake bakeVisibility(const StrandSet& s, float fibreRadius,
 
   BakePhaseTimer timer(stats);
   EmbreeScene es;
-  es.device = rtcNewDevice("hugepages=1");  // the BVH nodes on huge pages (fewer TLB misses)
-  if (!es.device) throw Error("visibility bake: Embree could not create a device");
-  es.hair = rtcNewScene(es.device);
-  es.head = rtcNewScene(es.device);
-  es.check("creating the scenes");
-  rtcSetSceneFlags(es.hair, RTC_SCENE_FLAG_ROBUST);
-
-  // Every segment is its own round linear curve (two vertices, no neighbour flags: the
-  // union of the cones and end spheres is the same tube, and a strand is counted once
-  // whichever of its segments a ray meets), and the segments are stored in Morton order of
-  // their midpoints, so the segments of a BVH leaf lie together in memory: a leaf's vertex
-  // gather, where most of the tracing time went, touches a few cache lines instead of one
-  // per strand. strandOf maps a segment (Embree's primID) to its strand.
-  std::vector<std::uint32_t> pointStrand(P), firstPoint(S);
-  std::size_t at = 0;
-  for (std::size_t st = 0; st < S; ++st) {
-    const std::uint32_t n = s.pointCounts[st];
-    if (at + n > P) throw Error("visibility bake: point counts exceed the exported points");
-    firstPoint[st] = static_cast<std::uint32_t>(at);
-    for (std::uint32_t k = 0; k < n; ++k) pointStrand[at + k] = static_cast<std::uint32_t>(st);
-    at += n;
-  }
-  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  for (std::size_t i = 0; i < P; ++i) {
-    const glm::vec3 p(s.points[3 * i], s.points[3 * i + 1], s.points[3 * i + 2]);
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;  // (Morton code, first point)
-  for (std::size_t st = 0; st < S; ++st) {
-    const std::uint32_t n = s.pointCounts[st];
-    for (std::uint32_t k = 0; k + 1 < n; ++k) {
-      const std::size_t i = firstPoint[st] + k;
-      std::uint32_t c[3];
-      for (int d = 0; d < 3; ++d) {
-        const float m = 0.5f * (s.points[3 * i + d] + s.points[3 * i + 3 + d]);
-        const float t = hi[d] > lo[d] ? (m - lo[d]) / (hi[d] - lo[d]) : 0.0f;
-        c[d] = static_cast<std::uint32_t>(std::clamp(t, 0.0f, 1.0f) * 1048575.0f);
-      }
-      std::uint64_t code = 0;
-      for (int bit = 19; bit >= 0; --bit)
-        for (int d = 0; d < 3; ++d) code = code << 1 | ((c[d] >> bit) & 1u);
-      keyed.emplace_back(code, static_cast<std::uint32_t>(i));
-    }
-  }
-  std::sort(keyed.begin(), keyed.end());
-  std::vector<std::uint32_t> strandOf(keyed.size());
-  for (std::size_t g = 0; g < keyed.size(); ++g) strandOf[g] = pointStrand[keyed[g].second];
-  if (!keyed.empty()) {
-    const std::size_t V = 2 * keyed.size();
-    RTCGeometry g = rtcNewGeometry(es.device, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
-    // the vertices in our own allocation, 2 MiB aligned and advised onto huge pages
-    constexpr std::size_t kHuge = std::size_t(2) << 20;
-    const std::size_t bytes = (16 * V + kHuge - 1) / kHuge * kHuge;
-    es.vertices = static_cast<float*>(std::aligned_alloc(kHuge, bytes));
-    if (!es.vertices) {
-      rtcReleaseGeometry(g);
-      throw Error("visibility bake: out of memory for " + std::to_string(V) + " vertices");
-    }
-    madvise(es.vertices, bytes, MADV_HUGEPAGE);  // a hint: without it only slower
-    float* vb = es.vertices;
-    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, vb, 0, 16, V);
-    auto* ib = static_cast<unsigned*>(
-        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, 4, keyed.size()));
-    if (!ib) {
-      rtcReleaseGeometry(g);
-      es.check("allocating the strands");
-      throw Error("visibility bake: Embree could not allocate the strands");
-    }
-    for (std::size_t q = 0; q < keyed.size(); ++q) {
-      const std::size_t i = keyed[q].second;
-      for (std::size_t e = 0; e < 2; ++e) {
-        float* v = vb + 4 * (2 * q + e);
-        v[0] = s.points[3 * (i + e)];
-        v[1] = s.points[3 * (i + e) + 1];
-        v[2] = s.points[3 * (i + e) + 2];
-        v[3] = fibreRadius;
-      }
-      ib[q] = static_cast<unsigned>(2 * q);
-    }
-    rtcSetGeometryOccludedFilterFunction(g, countStrands);
-    rtcCommitGeometry(g);
-    rtcAttachGeometry(es.hair, g);
-    rtcReleaseGeometry(g);
-  }
-  if (!triIndices.empty()) {
-    RTCGeometry g = rtcNewGeometry(es.device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
-        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, triPositions.size()));
-    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, triIndices.size() / 3));
-    if (!vb || !ib) {
-      rtcReleaseGeometry(g);
-      throw Error("visibility bake: Embree could not allocate the occluders");
-    }
-    for (std::size_t i = 0; i < triPositions.size(); ++i) {
-      vb[3 * i] = triPositions[i].x;
-      vb[3 * i + 1] = triPositions[i].y;
-      vb[3 * i + 2] = triPositions[i].z;
-    }
-    std::copy(triIndices.begin(), triIndices.end(), ib);
-    rtcCommitGeometry(g);
-    rtcAttachGeometry(es.head, g);
-    rtcReleaseGeometry(g);
-  }
+  std::vector<std::uint32_t> pointStrand, strandOf;
+  buildBakeScene(es, s, fibreRadius, triPositions, triIndices, pointStrand, strandOf);
   timer.finish("segments");
   rtcCommitScene(es.hair);
   rtcCommitScene(es.head);

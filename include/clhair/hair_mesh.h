@@ -120,6 +120,9 @@ std::vector<std::uint32_t> bundleStrandCounts(const HairMesh& mesh);
 // degenerate uv, and a bundle given more than kMaxBundleStrands strands.
 void validateHairMesh(const HairMesh& mesh, const std::string& where);
 
+// The version of the hair-mesh file format this build reads and writes.
+constexpr int kHairMeshFormatVersion = 1;
+
 HairMesh loadHairMesh(const std::string& path);
 // Writes atomically (temporary file, then rename).
 void saveHairMesh(const HairMesh& mesh, const std::string& path);

@@ -1,0 +1,109 @@
+// hair_mesh_ao.cpp — a hair mesh's ambient occlusion baked per layer vertex on the device
+// (HairMeshGpu::bakeAo, hair_mesh_gpu.h), cached on disk by everything it depends on, and the
+// sample the bake's tests compare with the CPU.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "cl/buffers.h"
+#include "groom/hair_mesh_gpu.h"
+#include "stages/ao_stage.h"
+
+namespace clhair {
+
+namespace {
+
+// Bump when the host side of the bake below changes what it computes.
+constexpr const char* kAoBakeVersion = "ao-bake-1";
+
+template <typename T>
+void appendBytes(std::string& out, const T* p, std::size_t n) {
+  out.append(reinterpret_cast<const char*>(p), n * sizeof(T));
+}
+
+}  // namespace
+
+// The bake's cache entry: the device, the two programs it runs (expanded sources and build
+// options), and every table and parameter of the sampled groom its strands come from.
+std::string HairMeshGpu::aoCacheKey(const HairMesh& mesh) const {
+  Device::Impl& dev = stages_.dev;
+  std::string in = kAoBakeVersion;
+  in += '|' + dev.buildOptions(dev.info.backend, "") + '|';
+  in += dev.sources.program("strands.cl");
+  in += dev.sources.program("ao.cl");
+  appendBytes(in, data_.vertices.data(), data_.vertices.size());
+  appendBytes(in, data_.bundles.data(), data_.bundles.size());
+  appendBytes(in, &base_, 1);
+  const std::int64_t counts[2] = {mesh.strandCount, mesh.controlPoints};
+  appendBytes(in, counts, 2);
+  appendBytes(in, &mesh.appearance.strandWidth, 1);
+  return BinaryCache::dataKey("ao", dev.info.platformName, dev.info.name, dev.info.driverVersion,
+                              in);
+}
+
+// AO per layer vertex (kernels/ao.cl): a sample of the groom's strands fills a density
+// grid of fibre extinction, then every vertex averages the visibility of 64 directions.
+// The result depends only on the device and the cache key's inputs, so it is kept with the
+// compiled programs: loading the same groom again skips the bake.
+std::vector<float> HairMeshGpu::bakeAo(const HairMesh& mesh, GroomStages& stages) {
+  constexpr std::int64_t kSampleStrands = 20000;
+  constexpr int kGrid = 64;
+  auto sample = std::make_shared<HairMesh>(mesh);
+  sample->strandCount = std::min<std::int64_t>(mesh.strandCount, kSampleStrands);
+  sample->controlPoints = std::min(mesh.controlPoints, 33);
+  HairMeshGpu g(sample, stages, false);
+  const std::size_t vertexTotal = g.data_.vertices.size();
+  std::vector<float> ao(vertexTotal, 1.0f);
+  if (sample->strandCount == 0) return ao;
+  const BinaryCache& cache = stages.dev.binaries;
+  const std::string key = cache.enabled() ? g.aoCacheKey(mesh) : std::string();
+  if (cache.enabled()) {
+    if (auto bytes = cache.load(key); bytes && bytes->size() == vertexTotal * sizeof(float)) {
+      std::memcpy(ao.data(), bytes->data(), bytes->size());
+      // an entry that is not a bake (damaged on disk) is baked again
+      if (std::all_of(ao.begin(), ao.end(), [](float a) { return a >= 0.0f && a <= 1.0f; }))
+        return ao;
+      std::fill(ao.begin(), ao.end(), 1.0f);
+    }
+  }
+  ao = g.bakeSample(mesh, kGrid);
+  if (cache.enabled() && ao.size() == vertexTotal) {
+    std::vector<unsigned char> bytes(ao.size() * sizeof(float));
+    std::memcpy(bytes.data(), ao.data(), bytes.size());
+    cache.store(key, bytes);
+  }
+  return ao;
+}
+
+// The bake itself, on this groom (the sample of `mesh`'s strands).
+std::vector<float> HairMeshGpu::bakeSample(const HairMesh& mesh, int gridCells) {
+  const std::size_t vertexTotal = data_.vertices.size();
+  std::vector<float> ao(vertexTotal, 1.0f);
+  std::unique_ptr<GroomInstanceGpu> inst = makeInstance();
+  Exported e = exportOnDevice(*inst, 1.0f);
+  if (e.total == 0) return ao;
+  const glm::vec3 lo = data_.boundsMin, hi = data_.boundsMax;
+  const float voxel = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}) / gridCells * 1.02f;
+  AoStage::Grid grid;
+  grid.dims = {{static_cast<cl_uint>(std::ceil((hi.x - lo.x) / voxel)) + 1,
+                static_cast<cl_uint>(std::ceil((hi.y - lo.y) / voxel)) + 1,
+                static_cast<cl_uint>(std::ceil((hi.z - lo.z) / voxel)) + 1, 0}};
+  grid.lo = {{lo.x, lo.y, lo.z, voxel}};
+  // each sampled strand stands for total / sampled strands of the real groom
+  const float represented =
+      static_cast<float>(mesh.strandCount) / static_cast<float>(mesh_->strandCount);
+  grid.scale = mesh.appearance.strandWidth * represented / (voxel * voxel * voxel);
+  AoStage::Strands strands;
+  strands.points = &e.points;
+  strands.counts = &e.counts;
+  strands.total = e.total;
+  AoStage::Mesh target;
+  target.vertices = &vertices_;
+  target.bundles = &bundles_;
+  target.vertexTotal = static_cast<std::uint32_t>(vertexTotal);
+  target.bundleCount = static_cast<std::uint32_t>(data_.bundles.size());
+  target.rootVertices = static_cast<std::uint32_t>(mesh.vertexCount);
+  return stages_.ao.bake(strands, grid, target);
+}
+
+}  // namespace clhair

@@ -170,6 +170,9 @@ std::optional<int> parseOptions(int argc, char** argv, Options& o) {
   app.add_option("--look-final-passes", o.lookFinalPasses,
                  "look section: passes of the final level (16)")
       ->check(CLI::Range(1, 4096));
+  app.add_option("--look-rows", o.lookRows,
+                 "look section: only these rows, comma-separated tags (groom1_eu0.3, "
+                 "groom2_eu8.0, blonde_file, dark_blonde_file, ...); default all");
   app.add_option("--look-light", o.lookLight,
                  "look section: all (default), lights (the ambient light off) or ambient (the "
                  "lights off): one kind of light at a time")

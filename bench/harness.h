@@ -86,7 +86,8 @@ struct Options {
   std::string lookScattering = "multiple";  // look: multiple, or both (single-scattering rows too)
   int lookFinalPasses = 16;                 // look: passes of the final level
   std::string lookLight = "all";            // look: all, lights (no ambient) or ambient (no lights)
-  int lookPathEvents = 64;                  // look: scattering events of the path reference
+  std::string lookRows;     // look: the rows (tags, comma-separated) to measure; empty: all
+  int lookPathEvents = 64;  // look: scattering events of the path reference
   ThroughputOptions tp;
   int tpWidth = 0, tpHeight = 0;
 };

@@ -11,7 +11,8 @@
 // with --look-final-passes passes): mean FLIP over the hair's pixels (where a sample of the
 // reference saw hair), the mean colour of those pixels (sRGB, 8 bit) and its CIE76 distance
 // in CIELAB (D65) to the reference's mean colour, and the frame's time. --quality-grooms
-// picks the bench grooms (1, the default, with the strand file; 2; both). --look-scattering
+// picks the bench grooms (1, the default, with the strand file; 2; both), --look-rows some of
+// their rows by tag. --look-scattering
 // both adds rows with the light between fibres left out, and the draft as it was before
 // (one scattering event, the bench scenes' lights without maps). --look-light lights or
 // ambient keeps one kind of light; --look-path-events 1 (lights) or 2 (ambient) makes the
@@ -94,6 +95,9 @@ void runLook(Run& r) {
     // --quality-grooms: 1 (default) groom1 and the strand file, 2 groom2, both
     if ((gr.scene == 0 && r.opt.qualityGrooms == "2") ||
         (gr.scene == 1 && r.opt.qualityGrooms == "1"))
+      continue;
+    if (!r.opt.lookRows.empty() &&
+        ("," + r.opt.lookRows + ",").find("," + gr.tag + ",") == std::string::npos)
       continue;
     for (int d = 0; d < 3; ++d) {
       if (r.opt.qualityDistances.find(r.distNames[d]) == std::string::npos) continue;

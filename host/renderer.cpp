@@ -149,7 +149,7 @@ std::unique_ptr<PendingFrame> Renderer::Impl::submitFrame(const Scene& s,
 
   FrameGraph g(dev, pool);
   importFrame(g, *this, plan);
-  addShadowPass(g, *this, plan);
+  addShadowPasses(g, *this, plan);
   addOpaquePass(g, *this, plan);
   if (plan.aovs) addAovBeginPass(g, *this, plan, *p);
   addLodPasses(g, *this, plan);

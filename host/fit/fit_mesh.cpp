@@ -331,7 +331,8 @@ FitResult fitHairMesh(const StrandGroom& groom, const FitOptions& opt) {
     b.rootDensityOut = area > 0.0 ? b.strandsOut / area : 0.0;
   }
   fit::GeneratedStrands gen = fit::generateStrandsCpu(m, threads);
-  capLengths(m, *std::max_element(s.length.begin(), s.length.end()), threads, gen, rep);
+  if (!s.length.empty())
+    capLengths(m, *std::max_element(s.length.begin(), s.length.end()), threads, gen, rep);
   rep.strandsOut = gen.count();
   rep.lengthOut = fit::lengthStats(fit::generatedLengths(gen));
   phase("generate");

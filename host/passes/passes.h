@@ -19,7 +19,9 @@ namespace clhair {
 void importFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan);
 // The frame's statistics buffer, zeroed (importFrame calls it; so does the views' frame).
 void importStats(FrameGraph& g, Renderer::Impl& r, FramePlan& plan);
-void addShadowPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan);
+// The deep opacity maps when they are rebuilt: a first pass (totals, the camera's LOD caps),
+// a pass per mapped light, a last pass for the slots' records (frame/shadow_maps.h).
+void addShadowPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan);
 void addOpaquePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan);
 
 // lod_passes.cpp: each drawn groom's LOD pre-pass from the camera, then the segment budget

@@ -70,7 +70,7 @@ void importFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
   }
 }
 
-void addShadowPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
+void addShadowPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
   if (!plan.shadowsRebuilt) return;
   // the grooms' passes from every light: their LOD, the light's (capped by the camera's) and
   // their strands

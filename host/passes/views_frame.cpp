@@ -344,7 +344,7 @@ void addReadBack(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
 void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
                      const std::vector<Camera>& cameras, PendingFrame& out) {
   const std::shared_ptr<Views> views = importViews(g, r, plan, cameras);
-  addShadowPass(g, r, plan);
+  addShadowPasses(g, r, plan);
   addOpaquePasses(g, r, plan, views);
   for (GroomPlan& gp : plan.grooms) addGroomPasses(g, r, plan, views, gp);
   addReadBack(g, r, plan, views, out);

@@ -170,6 +170,9 @@ std::optional<int> parseOptions(int argc, char** argv, Options& o) {
   app.add_option("--look-final-passes", o.lookFinalPasses,
                  "look section: passes of the final level (16)")
       ->check(CLI::Range(1, 4096));
+  app.add_option("--look-ref-seed", o.lookRefSeed,
+                 "look section: the path references' seed (1; another gives an independent "
+                 "reference, to measure the references' own noise)");
   app.add_option("--look-rows", o.lookRows,
                  "look section: only these rows, comma-separated tags (groom1_eu0.3, "
                  "groom2_eu8.0, blonde_file, dark_blonde_file, ...); default all");

@@ -86,8 +86,9 @@ struct Options {
   std::string lookScattering = "multiple";  // look: multiple, or both (single-scattering rows too)
   int lookFinalPasses = 16;                 // look: passes of the final level
   std::string lookLight = "all";            // look: all, lights (no ambient) or ambient (no lights)
-  std::string lookRows;     // look: the rows (tags, comma-separated) to measure; empty: all
-  int lookPathEvents = 64;  // look: scattering events of the path reference
+  std::string lookRows;           // look: the rows (tags, comma-separated) to measure; empty: all
+  std::uint32_t lookRefSeed = 1;  // look: the path references' seed (their own noise, apart)
+  int lookPathEvents = 64;        // look: scattering events of the path reference
   ThroughputOptions tp;
   int tpWidth = 0, tpHeight = 0;
 };

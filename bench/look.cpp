@@ -124,6 +124,7 @@ void runLook(Run& r) {
       std::string variant;
       if (r.opt.lookLight != "all") variant += "_" + r.opt.lookLight;
       if (r.opt.lookPathEvents != 64) variant += "_" + std::to_string(r.opt.lookPathEvents) + "ev";
+      if (r.opt.lookRefSeed != 1) variant += "_seed" + std::to_string(r.opt.lookRefSeed);
       const std::string refPath = r.opt.refCache + "/look_" + cell + "_" + std::to_string(qw) +
                                   "x" + std::to_string(qh) + "_path_" +
                                   std::to_string(r.opt.refSpp) + "spp" + variant + ".exr";
@@ -142,6 +143,7 @@ void runLook(Run& r) {
         ro.method = ReferenceMethod::Path;
         ro.spp = r.opt.refSpp;
         ro.pathEvents = r.opt.lookPathEvents;
+        ro.pathSeed = r.opt.lookRefSeed;
         ref = r.b.renderer.renderReference(s, ro);
         refMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                     .count();

@@ -145,10 +145,10 @@ bool StrandFileGpu::prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld,
 
 bool StrandFileGpu::faint(const glm::mat4& objToView, const FaintView& view) {
   // the estimate projects up to kFaintMaxSampled strands: once per placement and camera
-  std::string key(reinterpret_cast<const char*>(&objToView), sizeof(objToView));
-  key.append(reinterpret_cast<const char*>(&view), sizeof(view));
-  if (key != faintKey_) {
-    faintKey_ = key;
+  if (!(faintKnown_ && objToView == faintView_ && view == faintPixels_)) {
+    faintKnown_ = true;
+    faintView_ = objToView;
+    faintPixels_ = view;
     faint_ = estimateFaint(*groom_, objToView, view).faint();
   }
   return faint_;

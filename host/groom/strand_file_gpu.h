@@ -78,7 +78,10 @@ class StrandFileGpu final : public GroomGpu {
   // placement and lights
   std::string diffusedKey_;
   std::unique_ptr<AoField> diffused_;
-  std::string faintKey_;  // the view of the last faint-groom estimate, and its answer
+  // the view of the last faint-groom estimate, and its answer
+  bool faintKnown_ = false;
+  glm::mat4 faintView_{1.0f};
+  FaintView faintPixels_;
   bool faint_ = false;
 };
 

@@ -27,6 +27,10 @@ constexpr std::size_t kFaintMaxSampled = 20000;
 struct FaintView {
   float fx = 0.0f, fy = 0.0f, cx = 0.0f, cy = 0.0f;
   std::uint32_t width = 0, height = 0;
+  bool operator==(const FaintView& o) const {
+    return fx == o.fx && fy == o.fy && cx == o.cx && cy == o.cy && width == o.width &&
+           height == o.height;
+  }
 };
 
 struct FaintEstimate {

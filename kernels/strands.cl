@@ -31,7 +31,9 @@
  * total leave at once (read-back and over-launch sizing); in strands_raster_persistent
  * group g draws every strand_stride-th strand from g on (a persistent grid). The two are
  * separate kernels so the common one has no loop around its barriers. strands_export
- * writes points and tangents instead of drawing.
+ * writes points and tangents instead of drawing; strands_store keeps a still's strands
+ * (RenderOptions::reuseAssembly) and strands_raster_stored draws them in each of its passes,
+ * word for word what strands_raster draws from the same records.
  */
 #include "clhair/gpu_types.h"
 #include "subgroup.h"
@@ -44,178 +46,45 @@
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
 
-#define CLH_PTS_PER_LANE ((CLH_MAX_CONTROL_POINTS - 1 + SG_SIZE - 1) / SG_SIZE)
-#define CLH_PTS_CAP (CLH_PTS_PER_LANE + 1)
-#define CLH_LAYERS_PER_LANE ((CLH_MAX_LAYERS + SG_SIZE - 1) / SG_SIZE)
+#include "strand_assembly.h"
 
-/* The lane's share of the strand after assembly. */
-typedef struct {
-  uint C;        /* control points of the strand */
-  uint first;    /* index of the lane's first point */
-  uint count;    /* points the lane owns */
-  float4 next_p; /* point first+count (position, styling w), from the next lane */
-  float4 next_t; /* its final tangent (xyz, ambient occlusion in w) */
-  float2 uv;     /* the strand's root styling coordinates */
-} clh_lane_span;
-
-/* Tangent k of the fine level from raw points in local memory (central differences, the
- * reflection rule at the ends). */
-static inline float3 clh_fine_tangent(SG_SHARED const float4* pts_l, uint k, uint C) {
-  if (k > 0u && k + 1u < C) return clh_normalize_or(pts_l[k + 1u].xyz - pts_l[k - 1u].xyz, CLH_UP);
-  if (k == 0u) {
-    float3 q = clh_normalize_or(pts_l[1].xyz - pts_l[0].xyz, CLH_UP);
-    float3 t1 = C > 2u ? clh_normalize_or(pts_l[2].xyz - pts_l[0].xyz, q) : q;
-    return clh_normalize_or(clh_end_tangent(q, t1), q);
-  }
-  float3 q = clh_normalize_or(pts_l[C - 1u].xyz - pts_l[C - 2u].xyz, CLH_UP);
-  float3 tm = C > 2u ? clh_normalize_or(pts_l[C - 1u].xyz - pts_l[C - 3u].xyz, q) : q;
-  return clh_normalize_or(clh_end_tangent(q, tm), q);
+/* Whether this pass draws the strand with identity `id` and C points (the curve pass and
+ * the point pass draw only some); sets the strand's point base. Uniform per group. */
+static inline bool clh_strand_wanted(clh_raster_ctx* rc, uint id, uint C) {
+  (void)rc;
+  (void)id;
+  (void)C;
+#if CLH_RASTER_CURVE
+  if (!clh_raster_curve_wanted(rc, id)) return false;
+#endif
+#if CLH_POINT_ID || CLH_RASTER_POINTS
+  rc->point_base = id * (uint)CLH_MAX_CONTROL_POINTS; /* point k of the strand: base + k */
+#endif
+#if CLH_RASTER_POINTS
+  if (!clh_points_any(rc, rc->point_base, C)) return false;
+#endif
+  return true;
 }
 
-/* Tangent of the coarse level (the even points) at even index e. */
-static inline float3 clh_coarse_tangent(SG_SHARED const float4* pts_l, uint e, uint C) {
-  if (e > 0u && e + 1u < C) return clh_normalize_or(pts_l[e + 2u].xyz - pts_l[e - 2u].xyz, CLH_UP);
-  if (e == 0u) {
-    float3 q = clh_normalize_or(pts_l[2].xyz - pts_l[0].xyz, CLH_UP);
-    float3 t1 = C > 3u ? clh_normalize_or(pts_l[4].xyz - pts_l[0].xyz, q) : q;
-    return clh_normalize_or(clh_end_tangent(q, t1), q);
-  }
-  float3 q = clh_normalize_or(pts_l[C - 1u].xyz - pts_l[C - 3u].xyz, CLH_UP);
-  float3 tm = C > 3u ? clh_normalize_or(pts_l[C - 1u].xyz - pts_l[C - 5u].xyz, q) : q;
-  return clh_normalize_or(clh_end_tangent(q, tm), q);
+/* Draws the lane's share of an assembled (or loaded) strand. */
+static inline void clh_draw_span(clh_raster_ctx* rc, __global const float* scene_depth_g,
+                                 __global ulong* gbuf_g, __global uint* stats_g,
+                                 __global const ClhGroomGpu* g, const float4* P, const float4* T,
+                                 const clh_lane_span* span, uint id, float coverage) {
+  rc->u6 = clh_unorm_bits(span->uv.x, 6u);
+  rc->v6 = clh_unorm_bits(span->uv.y, 6u);
+  rc->coverage = coverage;
+  clh_raster_identity(rc, id, 0.0f, 1.0f / (float)(span->C - 1u));
+#if CLH_RASTER_POINTS
+  (void)scene_depth_g;
+  (void)gbuf_g;
+  (void)stats_g;
+  clh_points_lane(rc, g, P, T, span->first, span->count);
+#else
+  clh_raster_lane(rc, scene_depth_g, gbuf_g, stats_g, g, P, T, span->first, span->count, span->C,
+                  span->next_p, span->next_t);
+#endif
 }
-
-/* Cooperative assembly of one strand. Every lane must call it. */
-static inline void clh_assemble_strand(sg_ctx* sg, SG_SHARED clh_layer_pt* layers_l,
-                                       SG_SHARED clh_strand* strand_l, SG_SHARED float4* pts_l,
-                                       __global const ClhGroomGpu* g, __global const ClhBundle* b,
-                                       __global const ClhMeshVertex* verts_g,
-                                       __global const float2* roots_quad_g,
-                                       __global const float2* roots_tri_g, uint bundle,
-                                       uint local_index, uint C, float gamma, float4* P, float4* T,
-                                       clh_lane_span* span) {
-  const uint lane = sg_lane();
-  const uint layer_count = clamp(g->layer_count, 2u, (uint)CLH_MAX_LAYERS);
-  const int4 vtx = vload4(0, b->vtx);
-  const uint root = min(local_index, g->root_set_size - 1u);
-  const float2 st = b->triangle ? roots_tri_g[root] : roots_quad_g[root];
-  /* the strand's constants are the same for every lane: lane 0 computes them once */
-  if (lane == 0u) *strand_l = clh_strand_setup(g, b, bundle, local_index, st);
-
-  /* ---- pass 1: the strand's sample on every layer -------------------------------- */
-  const uint SL = (layer_count + SG_SIZE - 1u) / SG_SIZE;
-  const uint lfirst = lane * SL;
-  const uint lcount = lfirst < layer_count ? min(SL, layer_count - lfirst) : 0u;
-  clh_layer_pt lay[CLH_LAYERS_PER_LANE];
-  for (uint i = 0; i < CLH_LAYERS_PER_LANE; ++i) {
-    if (i < lcount) {
-      lay[i] = clh_bundle_layer(verts_g, vtx, lfirst + i, g->vertex_count, st);
-    } else {
-      lay[i].pos = lay[i].tan = lay[i].du = lay[i].dv = (float4)(0.0f);
-    }
-  }
-  const float4 lay_last = lay[lcount > 0u ? lcount - 1u : 0u].pos;
-  const float4 lay_prev = sg_shuffle_up1_f4(sg, lay_last, (float4)(0.0f));
-  const float4 lay_next = sg_shuffle_down1_f4(sg, lay[0].pos, (float4)(0.0f));
-  for (uint i = 0; i < CLH_LAYERS_PER_LANE; ++i) {
-    if (i < lcount) {
-      uint l = lfirst + i;
-      if (g->has_tangents == 0u) {
-        float3 prev = (i > 0u ? lay[i - 1u].pos : lay_prev).xyz;
-        float3 next = (i + 1u < lcount ? lay[i + 1u].pos : lay_next).xyz;
-        float3 cur = lay[i].pos.xyz;
-        float3 m = (l == 0u)                 ? next - cur
-                   : (l == layer_count - 1u) ? cur - prev
-                                             : 0.5f * (next - prev);
-        lay[i].tan.xyz = m;
-      }
-      layers_l[l] = lay[i];
-    }
-  }
-  sg_barrier();
-  const clh_strand s = *strand_l;
-
-  /* ---- pass 2: styled control points ---------------------------------------------- */
-  const uint S = (C - 1u + SG_SIZE - 1u) / SG_SIZE;
-  const uint first = lane * S;
-  const uint end = (lane == (uint)(SG_SIZE - 1)) ? C : min(first + S, C);
-  const uint count = end > first ? min(end - first, (uint)CLH_PTS_CAP) : 0u;
-  float ao[CLH_PTS_CAP];
-  clh_noise_knots knots;
-  clh_noise_knots_init(&knots);
-  for (uint i = 0; i < CLH_PTS_CAP; ++i) {
-    P[i] = (float4)(0.0f);
-    T[i] = (float4)(0.0f);
-    ao[i] = 1.0f;
-    if (i < count) {
-      float3 deriv, du, dv;
-      float4 base =
-          clh_base_point(layers_l, layer_count, first + i, C, s.length, &deriv, &du, &dv, &ao[i]);
-      P[i] = (float4)(base.xyz + clh_style_offset(g, &s, base.w, deriv, du, dv, &knots), base.w);
-    }
-  }
-
-  float4 next_p;
-  if (gamma > 0.0f) {
-    /* vertex-LOD transition: raw points through local memory, then the morphed positions
-     * (Eq. 11-12) and tangents blended between this level and the coarser one */
-    for (uint i = 0; i < CLH_PTS_CAP; ++i)
-      if (i < count) pts_l[first + i] = P[i];
-    sg_barrier();
-    for (uint i = 0; i < CLH_PTS_CAP; ++i) {
-      uint k = first + i;
-      if (i < count) {
-        float3 fine = clh_fine_tangent(pts_l, k, C);
-        float3 coarse;
-        if ((k & 1u) == 0u) {
-          coarse = clh_coarse_tangent(pts_l, k, C);
-        } else {
-          coarse = clh_normalize_or(
-              clh_coarse_tangent(pts_l, k - 1u, C) + clh_coarse_tangent(pts_l, k + 1u, C), fine);
-          float3 mid = 0.5f * (pts_l[k - 1u].xyz + pts_l[k + 1u].xyz);
-          P[i].xyz = mix(P[i].xyz, mid, gamma);
-        }
-        T[i] = (float4)(clh_normalize_or(mix(fine, coarse, gamma), fine), ao[i]);
-      }
-    }
-    next_p = sg_shuffle_down1_f4(sg, P[0], (float4)(0.0f));
-  } else {
-    /* exchange 1: neighbour points for the finite-difference tangents */
-    const float4 prev_p = sg_shuffle_up1_f4(sg, P[count > 0u ? count - 1u : 0u], (float4)(0.0f));
-    next_p = sg_shuffle_down1_f4(sg, P[0], (float4)(0.0f));
-    for (uint i = 0; i < CLH_PTS_CAP; ++i) T[i].w = ao[i];
-    clh_finish_tangents(sg, P, T, CLH_PTS_CAP, first, count, C, prev_p, next_p, CLH_TANGENT_RSQRT);
-  }
-
-  /* last exchange: the next lane's first tangent, now final */
-  span->next_t = sg_shuffle_down1_f4(sg, T[0], (float4)(0.0f));
-  span->next_p = next_p;
-  span->uv = s.uv;
-  span->C = C;
-  span->first = first;
-  span->count = count;
-}
-
-/* Which strand a work-group draws; false when there is none (uniform per group). */
-static inline bool clh_strand_job(__global const ClhGroomGpu* g, __global const ClhLodRecord* lod_g,
-                                  __global const uint* offsets_g,
-                                  __global const ClhBundle* bundles_g, uint strand, uint* bundle,
-                                  uint* local_index, uint* C, float* gamma, float* coverage) {
-  uint b = 0u;
-  if (!clh_lod_find_strand(offsets_g, g->bundle_count, strand, &b, local_index)) return false;
-  const ClhLodRecord lod = lod_g[b];
-  *bundle = b;
-  *C = clamp(lod.control_points, 2u, (uint)CLH_MAX_CONTROL_POINTS);
-  *gamma = clamp(lod.gamma, 0.0f, 1.0f);
-  *coverage = clh_lod_record_coverage(lod);
-  return *local_index < lod.strands;
-}
-
-typedef struct {
-  SG_SHARED clh_layer_pt* layers;
-  SG_SHARED clh_strand* strand;
-  SG_SHARED float4* pts;
-} clh_strand_scratch;
 
 /* Assembles strand `strand` (when it exists) and draws its segments. Uniform per group. */
 static inline void clh_draw_strand(
@@ -231,33 +100,13 @@ static inline void clh_draw_strand(
                       &coverage))
     return;
   const uint id = bundles_g[bundle].first_strand + local_index;
-#if CLH_RASTER_CURVE
-  if (!clh_raster_curve_wanted(rc, id)) return; /* uniform per group */
-#endif
-#if CLH_POINT_ID || CLH_RASTER_POINTS
-  rc->point_base = id * (uint)CLH_MAX_CONTROL_POINTS; /* point k of the strand: base + k */
-#endif
-#if CLH_RASTER_POINTS
-  if (!clh_points_any(rc, rc->point_base, C)) return; /* uniform per group */
-#endif
+  if (!clh_strand_wanted(rc, id, C)) return; /* uniform per group */
   float4 P[CLH_PTS_CAP], T[CLH_PTS_CAP];
   clh_lane_span span;
   clh_assemble_strand(sg, scratch.layers, scratch.strand, scratch.pts, g, bundles_g + bundle,
                       verts_g, roots_quad_g, roots_tri_g, bundle, local_index, C, gamma, P, T,
                       &span);
-  rc->u6 = clh_unorm_bits(span.uv.x, 6u);
-  rc->v6 = clh_unorm_bits(span.uv.y, 6u);
-  rc->coverage = coverage;
-  clh_raster_identity(rc, id, 0.0f, 1.0f / (float)(span.C - 1u));
-#if CLH_RASTER_POINTS
-  (void)scene_depth_g;
-  (void)gbuf_g;
-  (void)stats_g;
-  clh_points_lane(rc, g, P, T, span.first, span.count);
-#else
-  clh_raster_lane(rc, scene_depth_g, gbuf_g, stats_g, g, P, T, span.first, span.count, span.C,
-                  span.next_p, span.next_t);
-#endif
+  clh_draw_span(rc, scene_depth_g, gbuf_g, stats_g, g, P, T, &span, id, coverage);
 }
 
 #define CLH_RASTER_PARAMS                                                                  \
@@ -383,6 +232,67 @@ __kernel SG_KERNEL_ATTRS void strands_raster_views(CLH_RASTER_PARAMS,
 }
 #endif
 
+#if CLH_HAS_ENTRY(CLH_ENTRY_RASTER_STORED)
+/* A strand stored by strands_store (below: the layout), loaded as the lanes of
+ * its assembly held it: each lane's run of points and tangents and the next lane's first
+ * ones, exactly what the shuffles of clh_assemble_strand handed over. */
+static inline void clh_load_strand(__global const float4* points_g,
+                                   __global const float4* tangents_g, size_t base, uint C,
+                                   float4* P, float4* T, clh_lane_span* span) {
+  const uint lane = sg_lane();
+  const uint S = (C - 1u + SG_SIZE - 1u) / SG_SIZE;
+  const uint first = lane * S;
+  const uint end = (lane == (uint)(SG_SIZE - 1)) ? C : min(first + S, C);
+  const uint count = end > first ? min(end - first, (uint)CLH_PTS_CAP) : 0u;
+  for (uint i = 0; i < CLH_PTS_CAP; ++i) {
+    P[i] = i < count ? points_g[base + first + i] : (float4)(0.0f);
+    T[i] = i < count ? tangents_g[base + first + i] : (float4)(0.0f);
+  }
+  const uint next_first = first + S;
+  const uint next_end = (lane + 1u == (uint)(SG_SIZE - 1)) ? C : min(next_first + S, C);
+  const bool next = lane + 1u < (uint)SG_SIZE && next_end > next_first;
+  span->next_p = next ? points_g[base + next_first] : (float4)(0.0f);
+  span->next_t = next ? tangents_g[base + next_first] : (float4)(0.0f);
+  span->C = C;
+  span->first = first;
+  span->count = count;
+}
+
+/* The strands of a still drawn from their stored assembly (strands_store): the LOD records
+ * and scan they were stored with (lod_g, offsets_g), point_base_g the first stored point of
+ * each bundle's strands (C points per strand), uv_g the root coordinates per draw index.
+ * Draws exactly what strands_raster draws from the same records. One strand per group. */
+__kernel SG_KERNEL_ATTRS void strands_raster_stored(CLH_RASTER_PARAMS,
+                                                    __global const uint* point_base_g,
+                                                    __global const float4* points_g,
+                                                    __global const float4* tangents_g,
+                                                    __global const float2* uv_g,
+                                                    ulong point_capacity, uint strand_capacity) {
+  clh_raster_ctx rc;
+  clh_raster_setup(&rc, groom_g, view_g);
+  CLH_CURVE_SETUP(rc);
+  (void)verts_g;
+  (void)roots_quad_g;
+  (void)roots_tri_g;
+  (void)strand_stride;
+  const uint strand = sg_strand_index(strand_base);
+  uint bundle = 0u, local_index = 0u, C = 2u;
+  float gamma = 0.0f, coverage = 1.0f;
+  if (strand >= strand_capacity || !clh_strand_job(groom_g, lod_g, offsets_g, bundles_g, strand,
+                                                   &bundle, &local_index, &C, &gamma, &coverage))
+    return;
+  const size_t base = (size_t)point_base_g[bundle] + (size_t)local_index * C;
+  if (base + C > point_capacity) return; /* uniform per group */
+  const uint id = bundles_g[bundle].first_strand + local_index;
+  if (!clh_strand_wanted(&rc, id, C)) return;
+  float4 P[CLH_PTS_CAP], T[CLH_PTS_CAP];
+  clh_lane_span span;
+  clh_load_strand(points_g, tangents_g, base, C, P, T, &span);
+  span.uv = uv_g[strand];
+  clh_draw_span(&rc, scene_depth_g, gbuf_g, stats_g, groom_g, P, T, &span, id, coverage);
+}
+#endif
+
 #if CLH_HAS_ENTRY(CLH_ENTRY_RASTER_PERSISTENT)
 /* Persistent grid: group g draws strands g, g + stride, g + 2 stride, ... below the total. */
 __kernel SG_KERNEL_ATTRS void strands_raster_persistent(CLH_RASTER_PARAMS) {
@@ -455,5 +365,43 @@ __kernel SG_KERNEL_ATTRS void strands_export(
     }
   }
   if (sg_lane() == 0u) counts_g[strand] = span.C;
+}
+#endif
+
+#if !CLH_RASTER_OPACITY && !CLH_RASTER_MOTION && CLH_HAS_ENTRY(CLH_ENTRY_STORE)
+/* Stores the assembled strands of a still once, for strands_raster_stored to draw in every
+ * pass: strand `local_index` of bundle b keeps its C points and tangents (object space, w as
+ * in the raster) from point_base_g[b] + local_index * C on (the host's scan of the records'
+ * strands times their C), its root coordinates at uv_g[draw index]. */
+__kernel SG_KERNEL_ATTRS void strands_store(
+    __global const ClhGroomGpu* groom_g, __global const ClhBundle* bundles_g,
+    __global const ClhMeshVertex* verts_g, __global const ClhLodRecord* lod_g,
+    __global const uint* offsets_g, __global const float2* roots_quad_g,
+    __global const float2* roots_tri_g, __global const uint* point_base_g,
+    __global float4* points_g, __global float4* tangents_g, __global float2* uv_g,
+    ulong point_capacity, uint strand_base, uint strand_capacity) {
+  SG_DECLARE(sg);
+  SG_SHARED clh_layer_pt layers_l[CLH_MAX_LAYERS];
+  SG_SHARED clh_strand strand_l[1];
+  SG_SHARED float4 pts_l[CLH_MAX_CONTROL_POINTS];
+  const uint strand = sg_strand_index(strand_base);
+  uint bundle = 0u, local_index = 0u, C = 2u;
+  float gamma = 0.0f, coverage = 1.0f;
+  if (strand >= strand_capacity || !clh_strand_job(groom_g, lod_g, offsets_g, bundles_g, strand,
+                                                   &bundle, &local_index, &C, &gamma, &coverage))
+    return;
+  const size_t base = (size_t)point_base_g[bundle] + (size_t)local_index * C;
+  if (base + C > point_capacity) return; /* uniform per group */
+  float4 P[CLH_PTS_CAP], T[CLH_PTS_CAP];
+  clh_lane_span span;
+  clh_assemble_strand(&sg, layers_l, strand_l, pts_l, groom_g, bundles_g + bundle, verts_g,
+                      roots_quad_g, roots_tri_g, bundle, local_index, C, gamma, P, T, &span);
+  for (uint i = 0; i < CLH_PTS_CAP; ++i) {
+    if (i < span.count) {
+      points_g[base + span.first + i] = P[i];
+      tangents_g[base + span.first + i] = T[i];
+    }
+  }
+  if (sg_lane() == 0u) uv_g[strand] = span.uv;
 }
 #endif

@@ -48,6 +48,9 @@ struct GroomPlan {
   // handles: its parameter record, LOD records + scan, geometry tables, shaded hair, the
   // filter's output, the motion plane and the buffer its composite reads
   FrameGraph::Handle params, lod, tables, hair, filteredHair, motionPlane, result;
+  // a pass of a still (RenderOptions::still): the strands its first pass assembled and
+  // kept (GroomGpu::rasterStill), which later passes read
+  FrameGraph::Handle stored;
 };
 
 // Words of the frame's statistics buffer (counters gathered on the device, read back once

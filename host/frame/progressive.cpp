@@ -2,6 +2,7 @@
 #include "clhair/progressive.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <string>
 
@@ -84,6 +85,8 @@ ProgressiveStill::ProgressiveStill(Renderer& renderer, const Scene& scene,
   RenderOptions o = options;
   o.quality = 2;
   options_ = qualityOptions(scene, o);
+  static std::atomic<std::uint64_t> stills{0};
+  id_ = ++stills;
 }
 
 void ProgressiveStill::add(int first, int count) {
@@ -96,6 +99,7 @@ void ProgressiveStill::add(int first, int count) {
     finalJitter(i, jx, jy);
     o.jitterX += jx;
     o.jitterY += jy;
+    o.still = options_.reuseAssembly ? id_ : 0;
     Frame f = renderer_.render(scene_, o);
     const std::size_t n = f.color.rgba.size();
     if (passes_ == 0) {

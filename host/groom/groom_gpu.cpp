@@ -45,6 +45,10 @@ bool GroomGpu::rasterViews(GroomInstanceGpu&, const StrandRaster&, const cl::Buf
   return false;
 }
 
+bool GroomGpu::rasterStill(GroomInstanceGpu&, const StrandRaster&, std::uint64_t, Profiler*) {
+  return false;
+}
+
 bool GroomGpu::motion(GroomInstanceGpu&, const GroomInstance&, const MotionDraw&,
                       const StrandRaster&, Profiler*) {
   return false;

@@ -83,6 +83,7 @@ struct GroomInstanceGpu {
   // (host/frame/frame_lod.h): the arena's generation and this instance's byte offset.
   std::uint64_t arenaGeneration = 0;
   std::size_t arenaAt = 0;
+  StoredStrands stored;  // a still's strands, assembled in its first pass (rasterStill)
 };
 
 class GroomGpu {
@@ -140,6 +141,14 @@ class GroomGpu {
   virtual bool rasterViews(GroomInstanceGpu& inst, const StrandRaster& r,
                            const cl::Buffer& viewGrooms, const cl::Buffer& views,
                            std::uint32_t count, Profiler* profiler);
+  // A pass of still `still` (RenderOptions::still): the strands of the records its first
+  // pass drew are assembled once, kept in inst.stored and drawn from there in every pass
+  // (StrandStage::rasterStored); the first pass reads the records back (a host wait). False
+  // when this groom cannot (nothing drawn; the caller draws with raster()): strand files,
+  // which are stored already, the curve, point and coverage passes, and strands that do not
+  // fit the device's memory.
+  virtual bool rasterStill(GroomInstanceGpu& inst, const StrandRaster& r, std::uint64_t still,
+                           Profiler* profiler);
   // The motion pass (MotionDraw, right after raster() with the same `r`): screen motion to
   // the previous frame of every pixel the groom's conservative layer won, the strands
   // evaluated a second time from `previous` (the previous frame's record of this groom

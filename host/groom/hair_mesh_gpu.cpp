@@ -174,6 +174,70 @@ bool HairMeshGpu::rasterViews(GroomInstanceGpu& inst, const StrandRaster& r,
   return true;
 }
 
+bool HairMeshGpu::rasterStill(GroomInstanceGpu& inst, const StrandRaster& r, std::uint64_t still,
+                              Profiler* profiler) {
+  if (still == 0 || r.curve || r.points || r.cover) return false;
+  StoredStrands& s = inst.stored;
+  if (s.still != still) {
+    s.still = still;
+    s.fits = storeStill(inst, profiler);
+  }
+  if (!s.fits) return false;
+  StrandStage::Inputs in = inputs(inst);
+  in.lod = &s.lod;
+  in.offsets = &s.offsets;
+  stages_.strands.rasterStored(in, r, s, profiler);
+  return true;
+}
+
+bool HairMeshGpu::storeStill(GroomInstanceGpu& inst, Profiler* profiler) {
+  StoredStrands& s = inst.stored;
+  const std::uint32_t B = static_cast<std::uint32_t>(data_.bundles.size());
+  const std::uint32_t scanLength = gpu::clh_lod_offsets_length(B);
+  std::vector<gpu::ClhLodRecord> records(B);
+  std::vector<std::uint32_t> scan(scanLength);
+  readBack(dev_, "the still's LOD records", inst.lod, records.data(), B);
+  readBack(dev_, "the still's strand offsets", inst.offsets, scan.data(), scanLength);
+  // the first point of each bundle's strands: its drawn strands times their control points
+  const std::uint32_t total = scan[gpu::clh_lod_drawn_total_at(B)];
+  std::vector<std::uint32_t> base(std::max<std::uint32_t>(B, 1), 0);
+  std::uint64_t points = 0;
+  for (std::uint32_t b = 0; b < B; ++b) {
+    base[b] = static_cast<std::uint32_t>(std::min<std::uint64_t>(points, 0xffffffffu));
+    const std::uint32_t end = b + 1 < B ? scan[b + 1] : total;
+    const std::uint32_t drawn = std::min(records[b].strands, end > scan[b] ? end - scan[b] : 0u);
+    const std::uint32_t C =
+        std::clamp<std::uint32_t>(records[b].control_points, 2u, CLH_MAX_CONTROL_POINTS);
+    points += std::uint64_t(drawn) * C;
+  }
+  // where the device's memory allows: each plane within one allocation, all of them within
+  // a quarter of the device's memory
+  const std::uint64_t plane = points * 4 * sizeof(float);
+  const std::uint64_t all = 2 * plane + std::uint64_t(total) * 2 * sizeof(float);
+  if (points > 0xffffffffull || plane > dev_.info.maxAlloc || all > dev_.info.globalMem / 4)
+    return false;
+  s.pointCount = points;
+  s.strands = total;
+  ensureCapacity<gpu::ClhLodRecord>(dev_, s.lod, s.lodCap, "stored LOD records",
+                                    std::max<std::uint32_t>(B, 1));
+  ensureCapacity<cl_uint>(dev_, s.offsets, s.offsetsCap, "stored strand offsets", scanLength);
+  ensureCapacity<cl_uint>(dev_, s.pointBase, s.baseCap, "stored point bases", base.size());
+  ensureCapacity<cl_float4>(dev_, s.points, s.pointCap, "stored points",
+                            std::max<std::uint64_t>(points, 1));
+  ensureCapacity<cl_float4>(dev_, s.tangents, s.tangentCap, "stored tangents",
+                            std::max<std::uint64_t>(points, 1));
+  ensureCapacity<cl_float2>(dev_, s.uvs, s.uvCap, "stored root coordinates",
+                            std::max<std::uint32_t>(total, 1));
+  upload(dev_, s.lod, records.data(), B);
+  upload(dev_, s.offsets, scan.data(), scanLength);
+  upload(dev_, s.pointBase, base.data(), base.size());
+  StrandStage::Inputs in = inputs(inst);
+  in.lod = &s.lod;
+  in.offsets = &s.offsets;
+  stages_.strands.store(in, s, profiler);
+  return true;
+}
+
 GroomData HairMeshGpu::movedRecords(const std::vector<glm::vec3>& cage) const {
   const HairMesh& m = *mesh_;
   HairMesh moved;

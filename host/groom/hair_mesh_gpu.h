@@ -67,6 +67,8 @@ class HairMeshGpu final : public GroomGpu {
   void deform(const std::shared_ptr<const std::vector<glm::vec3>>& cage) override;
   bool rasterViews(GroomInstanceGpu& inst, const StrandRaster& r, const cl::Buffer& viewGrooms,
                    const cl::Buffer& views, std::uint32_t count, Profiler* profiler) override;
+  bool rasterStill(GroomInstanceGpu& inst, const StrandRaster& r, std::uint64_t still,
+                   Profiler* profiler) override;
   // The previous frame's strands from previous.deformed (the rest pose when null); only
   // while this frame's layer vertices carry no file tangents (a deformed cage never does),
   // so both frames build their tangents alike.
@@ -91,6 +93,9 @@ class HairMeshGpu final : public GroomGpu {
   std::unique_ptr<GroomInstanceGpu> makeInstance() override;
   std::uint64_t sharedBytes() const override;
   StrandStage::Inputs inputs(const GroomInstanceGpu& inst) const;
+  // Keeps the instance's current records and scan in inst.stored and assembles their strands
+  // there (false: they exceed the device's memory; nothing kept).
+  bool storeStill(GroomInstanceGpu& inst, Profiler* profiler);
   // Layer-vertex records of the mesh with its layer vertices at `cage` (file tangents
   // dropped: they follow from the moved layers).
   GroomData movedRecords(const std::vector<glm::vec3>& cage) const;

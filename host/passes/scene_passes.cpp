@@ -62,6 +62,12 @@ void importFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
     gp.tables = g.import(label + " tables", gp.draw.groom->tables(), true);
     gp.params = g.import(label + " record", {&inst.groom}, true);
     gp.lod = g.import(label + " LOD", {&inst.lod, &inst.counts, &inst.offsets}, false);
+    if (o.still != 0) {
+      const StoredStrands& st = inst.stored;
+      gp.stored = g.import(label + " stored strands",
+                           {&st.lod, &st.offsets, &st.pointBase, &st.points, &st.tangents, &st.uvs},
+                           true, true);
+    }
     if (!gp.active || o.rasterOnly) continue;
     const std::size_t colour = plan.pixels * 4 * sizeof(float);
     gp.hair = g.create(label + " hair", colour);

@@ -39,6 +39,10 @@ void addStrandPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan&
               s.kernel(plan.mode == DispatchMode::Persistent ? k.rasterPersistent : k.raster);
               if (plan.mode == DispatchMode::ReadBack)
                 s.hostWait("the groom's strand total (--dispatch readback)");
+              if (plan.options.still != 0) {  // a still's strands, assembled once
+                s.readWrite(gp.stored).kernel("strands_store").kernel("strands_raster_stored");
+                s.hostWait("the still's LOD records, in its first pass");
+              }
             },
             [&, given] {
               RenderTarget& t = *plan.target;
@@ -55,7 +59,10 @@ void addStrandPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan&
                 upload(r.dev, t.gbuffer, words.data(), plan.pixels);
                 return;
               }
-              d.groom->raster(*d.state, cameraRaster(r, plan, gp), &r.profiler);
+              const StrandRaster raster = cameraRaster(r, plan, gp);
+              if (plan.options.still == 0 ||
+                  !d.groom->rasterStill(*d.state, raster, plan.options.still, &r.profiler))
+                d.groom->raster(*d.state, raster, &r.profiler);
             });
 }
 

@@ -150,4 +150,50 @@ void StrandStage::exportStrands(const Inputs& in, std::uint32_t strands, cl::Buf
   dispatchStrands(dev_, export_, "strands", strands, baseArg, profiler);
 }
 
+void StrandStage::store(const Inputs& in, StoredStrands& s, Profiler* profiler) {
+  if (!store_()) store_ = dev_.kernel("strands.cl", "strands_store", entryOption(CLH_ENTRY_STORE));
+  KernelArgs a(store_, "strands");
+  a.buffer("groom", *in.groom, sizeof(gpu::ClhGroomGpu));
+  bindGroom(a, in);
+  a.buffer("stored point bases", s.pointBase, std::uint64_t(in.bundleCount) * sizeof(cl_uint))
+      .buffer("stored points", s.points, s.pointCount * 4 * sizeof(float))
+      .buffer("stored tangents", s.tangents, s.pointCount * 4 * sizeof(float))
+      .buffer("stored root coordinates", s.uvs, std::uint64_t(s.strands) * 2 * sizeof(float))
+      .value("stored points", static_cast<cl_ulong>(s.pointCount));
+  const cl_uint baseArg = a.next();
+  a.value("strand base", 0u).value("strand capacity", s.strands);
+  if (s.strands == 0) return;
+  dispatchStrands(dev_, store_, "strands", s.strands, baseArg, profiler);
+}
+
+void StrandStage::rasterStored(const Inputs& in, const StrandRaster& r, const StoredStrands& s,
+                               Profiler* profiler) {
+  r.check();
+  auto it = stored_.find(r.options());
+  if (it == stored_.end())
+    it = stored_
+             .emplace(r.options(), dev_.kernel("strands.cl", "strands_raster_stored",
+                                               r.options() + entryOption(CLH_ENTRY_RASTER_STORED)))
+             .first;
+  cl::Kernel& k = it->second;
+  KernelArgs a(k, r.stage());
+  a.buffer("groom", *in.groom, sizeof(gpu::ClhGroomGpu))
+      .buffer("view", *r.view, sizeof(gpu::ClhViewGpu));
+  bindGroom(a, in);
+  a.buffer("scene depth", *r.sceneDepth, r.pixels * sizeof(float))
+      .buffer("G-buffer", *r.gbuffer, r.gbufferBytes())
+      .buffer("raster counters", *r.counters, 4 * sizeof(cl_uint));
+  const cl_uint baseArg = a.next();
+  a.value("strand base", 0u).value("strand stride", 0u);
+  r.bindExtras(a);
+  a.buffer("stored point bases", s.pointBase, std::uint64_t(in.bundleCount) * sizeof(cl_uint))
+      .buffer("stored points", s.points, s.pointCount * 4 * sizeof(float))
+      .buffer("stored tangents", s.tangents, s.pointCount * 4 * sizeof(float))
+      .buffer("stored root coordinates", s.uvs, std::uint64_t(s.strands) * 2 * sizeof(float))
+      .value("stored points", static_cast<cl_ulong>(s.pointCount))
+      .value("stored strands", s.strands);
+  if (s.strands == 0) return;
+  dispatchStrands(dev_, k, r.stage(), s.strands, baseArg, profiler);
+}
+
 }  // namespace clhair

@@ -119,6 +119,20 @@ struct MotionDraw {
   cl::Buffer* motion = nullptr;        // ulong per pixel, cleared to all ones
 };
 
+// A still's strands assembled once and kept (strands_store), then drawn in each of its
+// passes (strands_raster_stored): the LOD records and scan they were assembled with, the
+// first stored point of each bundle's strands (C points per strand), the points and
+// tangents, and the root coordinates per draw index. The owner (a groom instance) fills
+// the records, scan and bases; StrandStage::store and rasterStored bind them.
+struct StoredStrands {
+  cl::Buffer lod, offsets, pointBase, points, tangents, uvs;
+  std::size_t lodCap = 0, offsetsCap = 0, baseCap = 0, pointCap = 0, tangentCap = 0, uvCap = 0;
+  std::uint64_t pointCount = 0;  // points stored
+  std::uint32_t strands = 0;     // strands stored: the records' drawn total
+  std::uint64_t still = 0;       // the still whose strands these are (0: none)
+  bool fits = false;             // false: that still's strands exceed the device's memory
+};
+
 class StrandStage {
  public:
   explicit StrandStage(Device::Impl& dev);
@@ -146,6 +160,12 @@ class StrandStage {
   // in.vertices); r is the raster pass just run (read-back sizing: r.strands exact).
   void motion(const Inputs& in, const cl::Buffer& previous, const MotionDraw& m,
               const StrandRaster& r, Profiler* profiler);
+  // Assembles the strands of in.lod / in.offsets (a StoredStrands' copies) into `s`.
+  void store(const Inputs& in, StoredStrands& s, Profiler* profiler);
+  // Draws the strands `s` holds (in.lod / in.offsets: its copies) as raster() draws them
+  // from the same records: the plain or identity raster, sized by s.strands.
+  void rasterStored(const Inputs& in, const StrandRaster& r, const StoredStrands& s,
+                    Profiler* profiler);
   // points/tangents: float4 * CLH_MAX_CONTROL_POINTS per strand; counts: uint per strand.
   void exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& points,
                      cl::Buffer& tangents, cl::Buffer& counts, Profiler* profiler);
@@ -155,7 +175,8 @@ class StrandStage {
   Device::Impl& dev_;
   std::map<std::string, cl::Kernel> raster_;
   std::map<int, cl::Kernel> motion_, views_;
-  cl::Kernel export_, opacity_;
+  std::map<std::string, cl::Kernel> stored_;
+  cl::Kernel export_, opacity_, store_;
 };
 
 }  // namespace clhair

@@ -38,7 +38,9 @@ void finalJitter(int pass, float& x, float& y);
 
 class ProgressiveStill {
  public:
-  // `options` as for Renderer::render (the level is not read: the passes are final's).
+  // `options` as for Renderer::render (the level is not read: the passes are final's). The
+  // scene is held by reference and must not change between passes: with
+  // RenderOptions::reuseAssembly the passes draw the strands the first one assembled.
   ProgressiveStill(Renderer& renderer, const Scene& scene, const RenderOptions& options);
   // Renders passes [first, first + count) and adds them; `progress` after each, if set.
   void add(int first, int count);
@@ -56,6 +58,7 @@ class ProgressiveStill {
   Renderer& renderer_;
   const Scene& scene_;
   RenderOptions options_;
+  std::uint64_t id_ = 0;  // RenderOptions::still of its passes (unique per still)
   int passes_ = 0;
   int width_ = 0, height_ = 0;
   std::vector<std::int64_t> sums_;  // per pixel and channel, fixed point

@@ -75,6 +75,13 @@ struct RenderOptions {
   // camera enters only through the grooms' size on its screen, to half an octave, and the
   // maps' resolution: not the jitter of final's passes). false: rebuild them every frame.
   bool reuseShadows = true;
+  // A still of quality final (ProgressiveStill) assembles each hair mesh's strands once, in
+  // its first pass, and draws them from there in every pass where the device's memory allows
+  // (LOD chosen once per still; the jitter never changes it for a groom inside the frame).
+  // false: every pass assembles its strands again.
+  bool reuseAssembly = true;
+  // The still this frame is a pass of, set by ProgressiveStill (0: a frame of its own).
+  std::uint64_t still = 0;
   int ambientOcclusion = 1;  // 1: baked AO (baked on first use when the mesh has none), 0: off
   // 1: grooms with a baked visibility (GroomInstance::visibility) use it for the lights
   // without a deep opacity map; 0: ignore it (the frame is then bit-identical to one without)

@@ -64,8 +64,7 @@ void expectReuseIsExact(Device& device) {
       RenderOptions again = o;
       again.reuseAssembly = false;
       const Frame kept = r.render(s, o), assembled = r.render(s, again);
-      EXPECT_TRUE(sameBytes(kept, assembled))
-          << "mean difference " << meanAbsDiff(kept, assembled);
+      EXPECT_TRUE(sameBytes(kept, assembled)) << "mean difference " << meanAbsDiff(kept, assembled);
     }
   }
 }

@@ -261,13 +261,14 @@ static inline void clh_load_strand(__global const float4* points_g,
 /* The strands of a still drawn from their stored assembly (strands_store): the LOD records
  * and scan they were stored with (lod_g, offsets_g), point_base_g the first stored point of
  * each bundle's strands (C points per strand), uv_g the root coordinates per draw index.
- * Draws exactly what strands_raster draws from the same records. One strand per group. */
-__kernel SG_KERNEL_ATTRS void strands_raster_stored(CLH_RASTER_PARAMS,
-                                                    __global const uint* point_base_g,
-                                                    __global const float4* points_g,
-                                                    __global const float4* tangents_g,
-                                                    __global const float2* uv_g,
-                                                    ulong point_capacity, uint strand_capacity) {
+ * Draws exactly what strands_raster draws from the same records when subset is 1. With
+ * subset N > 1 (RenderOptions::finalSubset) the pass draws the strands whose hash plus
+ * `pass` is a multiple of N, widened N-fold: N passes in a row draw every strand once, at
+ * the coverage of all of them. One strand per group. */
+__kernel SG_KERNEL_ATTRS void strands_raster_stored(
+    CLH_RASTER_PARAMS, __global const uint* point_base_g, __global const float4* points_g,
+    __global const float4* tangents_g, __global const float2* uv_g, ulong point_capacity,
+    uint strand_capacity, uint subset, uint pass) {
   clh_raster_ctx rc;
   clh_raster_setup(&rc, groom_g, view_g);
   CLH_CURVE_SETUP(rc);
@@ -284,6 +285,10 @@ __kernel SG_KERNEL_ATTRS void strands_raster_stored(CLH_RASTER_PARAMS,
   const size_t base = (size_t)point_base_g[bundle] + (size_t)local_index * C;
   if (base + C > point_capacity) return; /* uniform per group */
   const uint id = bundles_g[bundle].first_strand + local_index;
+  if (subset > 1u) {
+    if ((clh_hash(id) + pass) % subset != 0u) return; /* uniform per group */
+    coverage *= (float)subset;
+  }
   if (!clh_strand_wanted(&rc, id, C)) return;
   float4 P[CLH_PTS_CAP], T[CLH_PTS_CAP];
   clh_lane_span span;

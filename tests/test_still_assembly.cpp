@@ -2,14 +2,17 @@
 // (RenderOptions::reuseAssembly, GroomGpu::rasterStill, strands_store and
 // strands_raster_stored in kernels/strands.cl): its passes draw byte for byte what passes
 // that assemble their strands again draw, with LOD (fewer strands, fewer control points, the
-// vertex-LOD morph), with MSAA, on one lane per strand and on 32-lane sub-groups; and a
-// pass of a still really draws the strands of that still's first pass.
+// vertex-LOD morph), with MSAA, on one lane per strand and on 32-lane sub-groups; a pass of a
+// still really draws the strands of that still's first pass; and passes of one strand in N
+// (RenderOptions::finalSubset) draw disjoint subsets at the coverage of all strands.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include <set>
 
+#include "clhair/gpu_types.h"
 #include "clhair/progressive.h"
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
@@ -129,6 +132,61 @@ TEST(StillAssembly, APassDrawsTheStrandsItsStillsFirstPassKept) {
   RenderOptions fresh = o;
   fresh.still = 0x5eee;
   EXPECT_TRUE(sameBytes(r.render(small, fresh), smallOwn)) << "a new still keeps its own strands";
+}
+
+// Passes of one strand in 3: each draws only strands whose hash plus the pass index is a
+// multiple of 3 (read from the identity layer), three passes in a row draw disjoint sets,
+// and each covers about as many pixel centres as every strand does (widened threefold).
+TEST(StillAssembly, SubsetPassesDrawDisjointThirdsAtTheCoverageOfAll) {
+  Renderer r(sharedDevice());
+  Scene s = stillScene(CameraPreset::Close);
+  s.width = 160;
+  s.height = 120;
+  s.camera = framePreset(s, CameraPreset::Close, 30.0f, 15.0f);
+  RenderOptions o;
+  o.rasterOnly = true;
+  o.captureGBuffer = true;
+  o.strandIds = true;
+  o.still = 0x3b;
+  const std::size_t pixels = std::size_t(s.width) * s.height;
+  auto centres = [&](const Frame& f) {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < pixels; ++i) n += f.gbuffer[i] != ~0ull;
+    return n;
+  };
+  const Frame all = r.render(s, o);
+  ASSERT_GE(all.gbuffer.size(), 3 * pixels);
+  const std::size_t full = centres(all);
+  ASSERT_GT(full, 500u);
+  std::vector<std::set<std::uint32_t>> seen(3);
+  for (int pass = 0; pass < 3; ++pass) {
+    SCOPED_TRACE("pass " + std::to_string(pass));
+    RenderOptions p = o;
+    p.finalSubset = 3;
+    p.stillPass = pass;
+    const Frame f = r.render(s, p);
+    ASSERT_GE(f.gbuffer.size(), 3 * pixels);
+    for (std::size_t i = 0; i < pixels; ++i) {
+      const std::uint64_t id = f.gbuffer[2 * pixels + i];
+      if (id == ~0ull) continue;
+      const std::uint32_t strand = gpu::clh_id_strand(id);
+      EXPECT_EQ((gpu::clh_hash(strand) + static_cast<std::uint32_t>(pass)) % 3u, 0u) << strand;
+      seen[pass].insert(strand);
+    }
+    EXPECT_GT(seen[pass].size(), 20u);
+    const double ratio = static_cast<double>(centres(f)) / static_cast<double>(full);
+    EXPECT_GT(ratio, 0.75) << "a third of the strands, widened, covers " << ratio << " of all";
+    EXPECT_LT(ratio, 1.25) << "a third of the strands, widened, covers " << ratio << " of all";
+  }
+  for (int a = 0; a < 3; ++a)
+    for (std::uint32_t id : seen[a])
+      for (int b = a + 1; b < 3; ++b) EXPECT_EQ(seen[b].count(id), 0u) << id;
+  RenderOptions bad;
+  bad.quality = 2;
+  bad.finalSubset = 0;
+  EXPECT_NE(errorOf([&] { r.render(s, bad); }).find("expected 1..16"), std::string::npos);
+  bad.finalSubset = 17;
+  EXPECT_NE(errorOf([&] { r.render(s, bad); }).find("expected 1..16"), std::string::npos);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 
 #include "clhair/error.h"
 #include "clhair/fit.h"
+#include "clhair/progressive.h"
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
 #include "groom/visibility_bake.h"
@@ -33,6 +34,7 @@ const FlagRule kFlagRules[] = {
     {"render", "--msaa", 1, 8},
     {"render", "--path-events", 1, 1024},
     {"render", "--spp", 1, 65536},
+    {"render", "--final-subset", 1, kMaxFinalSubset},
     {"render", "--frames-in-flight", 1, kMaxFramesInFlight},
     {"render", "--encode-threads", 0, 64},
     {"render", "--png-compression", 0, 9},

@@ -52,6 +52,8 @@ struct RenderFlags {
   std::string shadowLod;              // --shadow-lod camera|light|off; empty: camera
   std::string shading;                // --shading sample|point; empty: the level's
   bool sppGiven = false;              // --spp given (final's passes; else the level's default)
+  int finalSubset = 1;                // --final-subset (RenderOptions::finalSubset)
+  bool finalSubsetGiven = false;
 };
 
 // Adds `render` and its options to the command; noteRenderFlagsGiven records, after parsing,

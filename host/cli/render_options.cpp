@@ -72,6 +72,10 @@ CLI::App* addRenderCommand(CLI::App& app, RenderFlags& f) {
                      "threads converting and writing images (0: one per core but one, at most 8)");
   render->add_flag("--passes", f.passes,
                    "print the first frame's graph: its passes, buffers and host waits");
+  render->add_option("--final-subset", f.finalSubset,
+                     "--quality final: each pass draws one hair-mesh strand in N, a different "
+                     "subset per pass, widened to keep the hair's coverage (1..16, default 1: "
+                     "every strand)");
   render->add_flag("--true-width", f.trueWidth,
                    "draw every strand at its true projected width: no minimum hit diameter and "
                    "no widening of faint strand files");
@@ -108,6 +112,7 @@ void noteRenderFlagsGiven(const CLI::App& render, RenderFlags& f) {
   f.widthGiven = render.count("--width") > 0;
   f.reference = render.count("--reference") > 0;
   f.sppGiven = render.count("--spp") > 0;
+  f.finalSubsetGiven = render.count("--final-subset") > 0;
   f.heightGiven = render.count("--height") > 0;
 }
 

@@ -175,6 +175,14 @@ RenderPlan planRender(const DeviceOptions& opts, const std::string& scenePath,
                   " passes with --quality final, not " + std::to_string(f.spp));
     ro.spp = f.spp;
   }
+  if (f.finalSubsetGiven && !final)
+    throw Error("--final-subset chooses the strands of --quality final's passes");
+  if (f.finalSubsetGiven) {
+    if (f.finalSubset < 1 || f.finalSubset > kMaxFinalSubset)
+      throw Error("--final-subset must be 1.." + std::to_string(kMaxFinalSubset) + ", not " +
+                  std::to_string(f.finalSubset));
+    ro.finalSubset = f.finalSubset;
+  }
   if (final && (several || temporal))
     throw Error(std::string("--quality final renders one view without temporal reprojection (") +
                 (several ? "choose one with --views NAME" : "--temporal 0 turns it off") + ")");

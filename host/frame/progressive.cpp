@@ -85,6 +85,9 @@ ProgressiveStill::ProgressiveStill(Renderer& renderer, const Scene& scene,
   RenderOptions o = options;
   o.quality = 2;
   options_ = qualityOptions(scene, o);
+  if (options_.finalSubset < 1 || options_.finalSubset > kMaxFinalSubset)
+    throw Error("quality final: a subset of one strand in " + std::to_string(options_.finalSubset) +
+                "; expected 1.." + std::to_string(kMaxFinalSubset));
   static std::atomic<std::uint64_t> stills{0};
   id_ = ++stills;
 }
@@ -100,6 +103,7 @@ void ProgressiveStill::add(int first, int count) {
     o.jitterX += jx;
     o.jitterY += jy;
     o.still = options_.reuseAssembly ? id_ : 0;
+    o.stillPass = i;
     Frame f = renderer_.render(scene_, o);
     const std::size_t n = f.color.rgba.size();
     if (passes_ == 0) {

@@ -45,7 +45,8 @@ bool GroomGpu::rasterViews(GroomInstanceGpu&, const StrandRaster&, const cl::Buf
   return false;
 }
 
-bool GroomGpu::rasterStill(GroomInstanceGpu&, const StrandRaster&, std::uint64_t, Profiler*) {
+bool GroomGpu::rasterStill(GroomInstanceGpu&, const StrandRaster&, std::uint64_t, std::uint32_t,
+                           std::uint32_t, Profiler*) {
   return false;
 }
 

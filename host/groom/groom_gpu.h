@@ -147,8 +147,10 @@ class GroomGpu {
   // when this groom cannot (nothing drawn; the caller draws with raster()): strand files,
   // which are stored already, the curve, point and coverage passes, and strands that do not
   // fit the device's memory.
+  // subset > 1: the pass draws one strand in `subset` (RenderOptions::finalSubset), chosen
+  // by `pass`.
   virtual bool rasterStill(GroomInstanceGpu& inst, const StrandRaster& r, std::uint64_t still,
-                           Profiler* profiler);
+                           std::uint32_t subset, std::uint32_t pass, Profiler* profiler);
   // The motion pass (MotionDraw, right after raster() with the same `r`): screen motion to
   // the previous frame of every pixel the groom's conservative layer won, the strands
   // evaluated a second time from `previous` (the previous frame's record of this groom

@@ -175,7 +175,7 @@ bool HairMeshGpu::rasterViews(GroomInstanceGpu& inst, const StrandRaster& r,
 }
 
 bool HairMeshGpu::rasterStill(GroomInstanceGpu& inst, const StrandRaster& r, std::uint64_t still,
-                              Profiler* profiler) {
+                              std::uint32_t subset, std::uint32_t pass, Profiler* profiler) {
   if (still == 0 || r.curve || r.points || r.cover) return false;
   StoredStrands& s = inst.stored;
   if (s.still != still) {
@@ -186,7 +186,7 @@ bool HairMeshGpu::rasterStill(GroomInstanceGpu& inst, const StrandRaster& r, std
   StrandStage::Inputs in = inputs(inst);
   in.lod = &s.lod;
   in.offsets = &s.offsets;
-  stages_.strands.rasterStored(in, r, s, profiler);
+  stages_.strands.rasterStored(in, r, s, profiler, subset, pass);
   return true;
 }
 

@@ -68,7 +68,7 @@ class HairMeshGpu final : public GroomGpu {
   bool rasterViews(GroomInstanceGpu& inst, const StrandRaster& r, const cl::Buffer& viewGrooms,
                    const cl::Buffer& views, std::uint32_t count, Profiler* profiler) override;
   bool rasterStill(GroomInstanceGpu& inst, const StrandRaster& r, std::uint64_t still,
-                   Profiler* profiler) override;
+                   std::uint32_t subset, std::uint32_t pass, Profiler* profiler) override;
   // The previous frame's strands from previous.deformed (the rest pose when null); only
   // while this frame's layer vertices carry no file tangents (a deformed cage never does),
   // so both frames build their tangents alike.

@@ -167,7 +167,7 @@ void StrandStage::store(const Inputs& in, StoredStrands& s, Profiler* profiler) 
 }
 
 void StrandStage::rasterStored(const Inputs& in, const StrandRaster& r, const StoredStrands& s,
-                               Profiler* profiler) {
+                               Profiler* profiler, std::uint32_t subset, std::uint32_t pass) {
   r.check();
   auto it = stored_.find(r.options());
   if (it == stored_.end())
@@ -191,7 +191,9 @@ void StrandStage::rasterStored(const Inputs& in, const StrandRaster& r, const St
       .buffer("stored tangents", s.tangents, s.pointCount * 4 * sizeof(float))
       .buffer("stored root coordinates", s.uvs, std::uint64_t(s.strands) * 2 * sizeof(float))
       .value("stored points", static_cast<cl_ulong>(s.pointCount))
-      .value("stored strands", s.strands);
+      .value("stored strands", s.strands)
+      .value("subset", static_cast<cl_uint>(std::max<std::uint32_t>(subset, 1)))
+      .value("subset pass", static_cast<cl_uint>(pass));
   if (s.strands == 0) return;
   dispatchStrands(dev_, k, r.stage(), s.strands, baseArg, profiler);
 }

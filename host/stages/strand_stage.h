@@ -164,8 +164,10 @@ class StrandStage {
   void store(const Inputs& in, StoredStrands& s, Profiler* profiler);
   // Draws the strands `s` holds (in.lod / in.offsets: its copies) as raster() draws them
   // from the same records: the plain or identity raster, sized by s.strands.
+  // subset > 1: the pass draws one strand in `subset`, widened (strands_raster_stored),
+  // the subset chosen by `pass`.
   void rasterStored(const Inputs& in, const StrandRaster& r, const StoredStrands& s,
-                    Profiler* profiler);
+                    Profiler* profiler, std::uint32_t subset = 1, std::uint32_t pass = 0);
   // points/tangents: float4 * CLH_MAX_CONTROL_POINTS per strand; counts: uint per strand.
   void exportStrands(const Inputs& in, std::uint32_t strands, cl::Buffer& points,
                      cl::Buffer& tangents, cl::Buffer& counts, Profiler* profiler);

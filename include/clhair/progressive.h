@@ -33,6 +33,8 @@ RenderOptions qualityOptions(const Scene& scene, const RenderOptions& options);
 // against 0.0111 for 64 good passes (groom1 close, 960x540), at 0.5-0.6 of their time a pass
 // (DESIGN.md, "Quality levels").
 constexpr bool kFinalPassGood = false;
+// The most RenderOptions::finalSubset may be.
+constexpr int kMaxFinalSubset = 16;
 // The image-plane offset of pass `pass` of final, pixels in x and y (-0.5..0.5).
 void finalJitter(int pass, float& x, float& y);
 

@@ -80,8 +80,14 @@ struct RenderOptions {
   // (LOD chosen once per still; the jitter never changes it for a groom inside the frame).
   // false: every pass assembles its strands again.
   bool reuseAssembly = true;
-  // The still this frame is a pass of, set by ProgressiveStill (0: a frame of its own).
+  // The still this frame is a pass of, and the pass's index in it, set by ProgressiveStill
+  // (still 0: a frame of its own).
   std::uint64_t still = 0;
+  int stillPass = 0;
+  // Quality final with reuseAssembly: each pass draws one hair-mesh strand in N (a different
+  // subset per pass, every strand once in N passes in a row), widened N-fold to keep the
+  // hair's coverage; 1 (default) draws every strand in every pass. 1..16.
+  int finalSubset = 1;
   int ambientOcclusion = 1;  // 1: baked AO (baked on first use when the mesh has none), 0: off
   // 1: grooms with a baked visibility (GroomInstance::visibility) use it for the lights
   // without a deep opacity map; 0: ignore it (the frame is then bit-identical to one without)

@@ -279,11 +279,10 @@ __kernel SG_KERNEL_ATTRS void strands_raster_stored(
   const uint strand = sg_strand_index(strand_base);
   uint bundle = 0u, local_index = 0u, C = 2u;
   float gamma = 0.0f, coverage = 1.0f;
-  if (strand >= strand_capacity || !clh_strand_job(groom_g, lod_g, offsets_g, bundles_g, strand,
-                                                   &bundle, &local_index, &C, &gamma, &coverage))
+  size_t base = 0;
+  if (!clh_stored_job(groom_g, lod_g, offsets_g, bundles_g, point_base_g, point_capacity,
+                      strand_capacity, strand, &bundle, &local_index, &C, &gamma, &coverage, &base))
     return;
-  const size_t base = (size_t)point_base_g[bundle] + (size_t)local_index * C;
-  if (base + C > point_capacity) return; /* uniform per group */
   const uint id = bundles_g[bundle].first_strand + local_index;
   if (subset > 1u) {
     if ((clh_hash(id) + pass) % subset != 0u) return; /* uniform per group */
@@ -362,13 +361,7 @@ __kernel SG_KERNEL_ATTRS void strands_export(
   clh_lane_span span;
   clh_assemble_strand(&sg, layers_l, strand_l, pts_l, groom_g, bundles_g + bundle, verts_g,
                       roots_quad_g, roots_tri_g, bundle, local_index, C, gamma, P, T, &span);
-  size_t base = (size_t)strand * CLH_MAX_CONTROL_POINTS;
-  for (uint i = 0; i < CLH_PTS_CAP; ++i) {
-    if (i < span.count) {
-      points_g[base + span.first + i] = P[i];
-      tangents_g[base + span.first + i] = T[i];
-    }
-  }
+  clh_write_lane(points_g, tangents_g, (size_t)strand * CLH_MAX_CONTROL_POINTS, P, T, &span);
   if (sg_lane() == 0u) counts_g[strand] = span.C;
 }
 #endif
@@ -392,21 +385,15 @@ __kernel SG_KERNEL_ATTRS void strands_store(
   const uint strand = sg_strand_index(strand_base);
   uint bundle = 0u, local_index = 0u, C = 2u;
   float gamma = 0.0f, coverage = 1.0f;
-  if (strand >= strand_capacity || !clh_strand_job(groom_g, lod_g, offsets_g, bundles_g, strand,
-                                                   &bundle, &local_index, &C, &gamma, &coverage))
+  size_t base = 0;
+  if (!clh_stored_job(groom_g, lod_g, offsets_g, bundles_g, point_base_g, point_capacity,
+                      strand_capacity, strand, &bundle, &local_index, &C, &gamma, &coverage, &base))
     return;
-  const size_t base = (size_t)point_base_g[bundle] + (size_t)local_index * C;
-  if (base + C > point_capacity) return; /* uniform per group */
   float4 P[CLH_PTS_CAP], T[CLH_PTS_CAP];
   clh_lane_span span;
   clh_assemble_strand(&sg, layers_l, strand_l, pts_l, groom_g, bundles_g + bundle, verts_g,
                       roots_quad_g, roots_tri_g, bundle, local_index, C, gamma, P, T, &span);
-  for (uint i = 0; i < CLH_PTS_CAP; ++i) {
-    if (i < span.count) {
-      points_g[base + span.first + i] = P[i];
-      tangents_g[base + span.first + i] = T[i];
-    }
-  }
+  clh_write_lane(points_g, tangents_g, base, P, T, &span);
   if (sg_lane() == 0u) uv_g[strand] = span.uv;
 }
 #endif

@@ -176,7 +176,7 @@ bool HairMeshGpu::rasterViews(GroomInstanceGpu& inst, const StrandRaster& r,
 
 bool HairMeshGpu::rasterStill(GroomInstanceGpu& inst, const StrandRaster& r, std::uint64_t still,
                               std::uint32_t subset, std::uint32_t pass, Profiler* profiler) {
-  if (still == 0 || r.curve || r.points || r.cover) return false;
+  if (r.curve || r.points || r.cover) return false;
   StoredStrands& s = inst.stored;
   if (s.still != still) {
     s.still = still;
@@ -196,7 +196,8 @@ bool HairMeshGpu::storeStill(GroomInstanceGpu& inst, Profiler* profiler) {
   const std::uint32_t scanLength = gpu::clh_lod_offsets_length(B);
   std::vector<gpu::ClhLodRecord> records(B);
   std::vector<std::uint32_t> scan(scanLength);
-  readBack(dev_, "the still's LOD records", inst.lod, records.data(), B);
+  // one host wait: the queue is in order, so the scan's blocking read finds the records read
+  readBackAsync(dev_, "the still's LOD records", inst.lod, records.data(), B);
   readBack(dev_, "the still's strand offsets", inst.offsets, scan.data(), scanLength);
   // the first point of each bundle's strands: its drawn strands times their control points
   const std::uint32_t total = scan[gpu::clh_lod_drawn_total_at(B)];

@@ -28,45 +28,45 @@ StrandRaster cameraRaster(Renderer::Impl&, const FramePlan& plan, const GroomPla
 
 void addStrandPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp) {
   const bool given = plan.source != nullptr;
-  g.addPass(
-      (given ? "given G-buffer " : "strands ") + std::to_string(gp.index),
-      [&, given](FrameGraph::Setup& s) {
-        s.readWrite(plan.gbuffer).kernel("clear_words").kernel("clear_box");
-        if (plan.options.rasterOnly) s.sideEffect();  // what the benchmark times
-        if (given) return;
-        s.read(plan.viewRecord).read(plan.depth).read(gp.tables).read(gp.params).read(gp.lod);
-        s.readWrite(plan.rasterCounters);
-        const GroomKernels k = gp.draw.groom->kernels();
-        s.kernel(plan.mode == DispatchMode::Persistent ? k.rasterPersistent : k.raster);
-        if (plan.mode == DispatchMode::ReadBack)
-          s.hostWait("the groom's strand total (--dispatch readback)");
-        if (plan.options.still != 0) {  // a still's strands, assembled once
-          s.readWrite(gp.stored).kernel("strands_store").kernel("strands_raster_stored");
-          s.hostWait("the still's LOD records, in its first pass");
-        }
-      },
-      [&, given] {
-        RenderTarget& t = *plan.target;
-        const GroomDraw& d = gp.draw;
-        t.useLayers(gp.layers);
-        t.clearGBuffer(gp.box, &r.profiler);
-        if (given) {
-          std::vector<std::uint64_t> words;
-          plan.source->centreLayer(static_cast<std::uint32_t>(gp.index), d.state->params, words);
-          if (words.size() != plan.pixels)
-            throw Error("a given G-buffer layer has " + std::to_string(words.size()) +
-                        " words for " + std::to_string(plan.pixels) + " pixels");
-          upload(r.dev, t.gbuffer, words.data(), plan.pixels);
-          return;
-        }
-        const StrandRaster raster = cameraRaster(r, plan, gp);
-        const RenderOptions& o = plan.options;
-        if (o.still == 0 ||
-            !d.groom->rasterStill(
-                *d.state, raster, o.still, static_cast<std::uint32_t>(std::max(o.finalSubset, 1)),
-                static_cast<std::uint32_t>(std::max(o.stillPass, 0)), &r.profiler))
-          d.groom->raster(*d.state, raster, &r.profiler);
-      });
+  g.addPass((given ? "given G-buffer " : "strands ") + std::to_string(gp.index),
+            [&, given](FrameGraph::Setup& s) {
+              s.readWrite(plan.gbuffer).kernel("clear_words").kernel("clear_box");
+              if (plan.options.rasterOnly) s.sideEffect();  // what the benchmark times
+              if (given) return;
+              s.read(plan.viewRecord).read(plan.depth).read(gp.tables).read(gp.params).read(gp.lod);
+              s.readWrite(plan.rasterCounters);
+              const GroomKernels k = gp.draw.groom->kernels();
+              s.kernel(plan.mode == DispatchMode::Persistent ? k.rasterPersistent : k.raster);
+              if (plan.mode == DispatchMode::ReadBack)
+                s.hostWait("the groom's strand total (--dispatch readback)");
+              if (plan.options.still != 0) {  // a still's strands, assembled once
+                s.readWrite(gp.stored).kernel("strands_store").kernel("strands_raster_stored");
+                s.hostWait("the still's LOD records, in its first pass");
+              }
+            },
+            [&, given] {
+              RenderTarget& t = *plan.target;
+              const GroomDraw& d = gp.draw;
+              t.useLayers(gp.layers);
+              t.clearGBuffer(gp.box, &r.profiler);
+              if (given) {
+                std::vector<std::uint64_t> words;
+                plan.source->centreLayer(static_cast<std::uint32_t>(gp.index), d.state->params,
+                                         words);
+                if (words.size() != plan.pixels)
+                  throw Error("a given G-buffer layer has " + std::to_string(words.size()) +
+                              " words for " + std::to_string(plan.pixels) + " pixels");
+                upload(r.dev, t.gbuffer, words.data(), plan.pixels);
+                return;
+              }
+              const StrandRaster raster = cameraRaster(r, plan, gp);
+              const RenderOptions& o = plan.options;
+              if (o.still == 0 ||
+                  !d.groom->rasterStill(*d.state, raster, o.still,
+                                        static_cast<std::uint32_t>(std::max(o.finalSubset, 1)),
+                                        static_cast<std::uint32_t>(o.stillPass), &r.profiler))
+                d.groom->raster(*d.state, raster, &r.profiler);
+            });
 }
 
 void addCapturePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp,

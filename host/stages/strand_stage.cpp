@@ -23,6 +23,28 @@ void StrandStage::bindGroom(KernelArgs& a, const Inputs& in) {
       .buffer("triangle root set", *in.rootsTri, in.rootSetSize * 2 * sizeof(float));
 }
 
+cl_uint StrandStage::bindRaster(KernelArgs& a, const Inputs& in, const StrandRaster& r) {
+  a.buffer("groom", *in.groom, sizeof(gpu::ClhGroomGpu))
+      .buffer("view", *r.view, sizeof(gpu::ClhViewGpu));
+  bindGroom(a, in);
+  a.buffer("scene depth", *r.sceneDepth, r.pixels * sizeof(float))
+      .buffer("G-buffer", *r.gbuffer, r.gbufferBytes())
+      .buffer("raster counters", *r.counters, 4 * sizeof(cl_uint));
+  const cl_uint baseArg = a.next();
+  a.value("strand base", 0u).value("strand stride", 0u);
+  r.bindExtras(a);
+  return baseArg;
+}
+
+// the point bases, points, tangents and root coordinates of s, and its point count
+void StrandStage::bindStored(KernelArgs& a, const Inputs& in, const StoredStrands& s) {
+  a.buffer("stored point bases", s.pointBase, std::uint64_t(in.bundleCount) * sizeof(cl_uint))
+      .buffer("stored points", s.points, s.pointCount * 4 * sizeof(float))
+      .buffer("stored tangents", s.tangents, s.pointCount * 4 * sizeof(float))
+      .buffer("stored root coordinates", s.uvs, std::uint64_t(s.strands) * 2 * sizeof(float))
+      .value("stored points", static_cast<cl_ulong>(s.pointCount));
+}
+
 void StrandStage::raster(const Inputs& in, const StrandRaster& r, Profiler* profiler) {
   r.check();
   const bool persistent = r.mode == DispatchMode::Persistent && !r.curve && !r.points;
@@ -36,15 +58,7 @@ void StrandStage::raster(const Inputs& in, const StrandRaster& r, Profiler* prof
              .first;
   cl::Kernel& k = it->second;
   KernelArgs a(k, r.stage());
-  a.buffer("groom", *in.groom, sizeof(gpu::ClhGroomGpu))
-      .buffer("view", *r.view, sizeof(gpu::ClhViewGpu));
-  bindGroom(a, in);
-  a.buffer("scene depth", *r.sceneDepth, r.pixels * sizeof(float))
-      .buffer("G-buffer", *r.gbuffer, r.gbufferBytes())
-      .buffer("raster counters", *r.counters, 4 * sizeof(cl_uint));
-  const cl_uint baseArg = a.next();
-  a.value("strand base", 0u).value("strand stride", 0u);
-  r.bindExtras(a);
+  const cl_uint baseArg = bindRaster(a, in, r);
   if (r.strands == 0) return;
   if (persistent)
     dispatchStrandsPersistent(dev_, k, r.stage(), r.strands, baseArg + 1, profiler);
@@ -155,11 +169,7 @@ void StrandStage::store(const Inputs& in, StoredStrands& s, Profiler* profiler) 
   KernelArgs a(store_, "strands");
   a.buffer("groom", *in.groom, sizeof(gpu::ClhGroomGpu));
   bindGroom(a, in);
-  a.buffer("stored point bases", s.pointBase, std::uint64_t(in.bundleCount) * sizeof(cl_uint))
-      .buffer("stored points", s.points, s.pointCount * 4 * sizeof(float))
-      .buffer("stored tangents", s.tangents, s.pointCount * 4 * sizeof(float))
-      .buffer("stored root coordinates", s.uvs, std::uint64_t(s.strands) * 2 * sizeof(float))
-      .value("stored points", static_cast<cl_ulong>(s.pointCount));
+  bindStored(a, in, s);
   const cl_uint baseArg = a.next();
   a.value("strand base", 0u).value("strand capacity", s.strands);
   if (s.strands == 0) return;
@@ -177,22 +187,10 @@ void StrandStage::rasterStored(const Inputs& in, const StrandRaster& r, const St
              .first;
   cl::Kernel& k = it->second;
   KernelArgs a(k, r.stage());
-  a.buffer("groom", *in.groom, sizeof(gpu::ClhGroomGpu))
-      .buffer("view", *r.view, sizeof(gpu::ClhViewGpu));
-  bindGroom(a, in);
-  a.buffer("scene depth", *r.sceneDepth, r.pixels * sizeof(float))
-      .buffer("G-buffer", *r.gbuffer, r.gbufferBytes())
-      .buffer("raster counters", *r.counters, 4 * sizeof(cl_uint));
-  const cl_uint baseArg = a.next();
-  a.value("strand base", 0u).value("strand stride", 0u);
-  r.bindExtras(a);
-  a.buffer("stored point bases", s.pointBase, std::uint64_t(in.bundleCount) * sizeof(cl_uint))
-      .buffer("stored points", s.points, s.pointCount * 4 * sizeof(float))
-      .buffer("stored tangents", s.tangents, s.pointCount * 4 * sizeof(float))
-      .buffer("stored root coordinates", s.uvs, std::uint64_t(s.strands) * 2 * sizeof(float))
-      .value("stored points", static_cast<cl_ulong>(s.pointCount))
-      .value("stored strands", s.strands)
-      .value("subset", static_cast<cl_uint>(std::max<std::uint32_t>(subset, 1)))
+  const cl_uint baseArg = bindRaster(a, in, r);
+  bindStored(a, in, s);
+  a.value("stored strands", s.strands)
+      .value("subset", static_cast<cl_uint>(subset))
       .value("subset pass", static_cast<cl_uint>(pass));
   if (s.strands == 0) return;
   dispatchStrands(dev_, k, r.stage(), s.strands, baseArg, profiler);

@@ -174,6 +174,11 @@ class StrandStage {
 
  private:
   void bindGroom(KernelArgs& a, const Inputs& in);
+  // groom, view, geometry, scene depth, G-buffer, counters, strand base and stride, and the
+  // curve or point pass's extras (strands_raster and strands_raster_stored); returns the
+  // strand base's index
+  cl_uint bindRaster(KernelArgs& a, const Inputs& in, const StrandRaster& r);
+  void bindStored(KernelArgs& a, const Inputs& in, const StoredStrands& s);
   Device::Impl& dev_;
   std::map<std::string, cl::Kernel> raster_;
   std::map<int, cl::Kernel> motion_, views_;

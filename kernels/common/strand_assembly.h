@@ -1,8 +1,9 @@
-/* strand_assembly.h — one hair-mesh strand assembled by its work-group (strands.cl's kernels
- * and strands_stored.cl's store): the lane's share of the strand after assembly
+/* strand_assembly.h — one hair-mesh strand assembled by its work-group (strands.cl's kernels,
+ * strands_store among them): the lane's share of the strand after assembly
  * (clh_lane_span), the cooperative assembly itself (clh_assemble_strand: layers sampled at
- * the root, styled control points, tangents; strands.cl's header describes it) and the
- * lookup of the strand a work-group draws (clh_strand_job).
+ * the root, styled control points, tangents; strands.cl's header describes it), the
+ * lookup of the strand a work-group draws (clh_strand_job, and clh_stored_job for a still's
+ * stored strands) and the write of a lane's run (clh_write_lane).
  *
  * Include after gpu_types.h, subgroup.h, clh_math.h, fast_math.h, hair_style.h, raster.h and
  * strand_common.h. Every lane must call clh_assemble_strand (it exchanges with its
@@ -183,5 +184,36 @@ typedef struct {
   SG_SHARED clh_strand* strand;
   SG_SHARED float4* pts;
 } clh_strand_scratch;
+
+/* Writes the lane's run of an assembled strand from stored point `base` on (its points at
+ * base + span->first + i): strands_export and strands_store. */
+static inline void clh_write_lane(__global float4* points_g, __global float4* tangents_g,
+                                  size_t base, const float4* P, const float4* T,
+                                  const clh_lane_span* span) {
+  for (uint i = 0; i < CLH_PTS_CAP; ++i) {
+    if (i < span->count) {
+      points_g[base + span->first + i] = P[i];
+      tangents_g[base + span->first + i] = T[i];
+    }
+  }
+}
+
+/* The job of a stored strand (strands_store's layout: bundle b's strands of C points each
+ * from point_base_g[b] on): clh_strand_job within strand_capacity, and the strand's first
+ * stored point through *base; false when there is none or it lies past point_capacity
+ * (uniform per group). */
+static inline bool clh_stored_job(__global const ClhGroomGpu* g, __global const ClhLodRecord* lod_g,
+                                  __global const uint* offsets_g,
+                                  __global const ClhBundle* bundles_g,
+                                  __global const uint* point_base_g, ulong point_capacity,
+                                  uint strand_capacity, uint strand, uint* bundle,
+                                  uint* local_index, uint* C, float* gamma, float* coverage,
+                                  size_t* base) {
+  if (strand >= strand_capacity || !clh_strand_job(g, lod_g, offsets_g, bundles_g, strand, bundle,
+                                                   local_index, C, gamma, coverage))
+    return false;
+  *base = (size_t)point_base_g[*bundle] + (size_t)(*local_index) * (*C);
+  return *base + *C <= point_capacity;
+}
 
 #endif /* CLHAIR_STRAND_ASSEMBLY_H */

@@ -2,9 +2,11 @@
 // scene and options, runs it without waiting, and hands frames out when they complete.
 //
 // A frame: the scene and view records are uploaded, the deep opacity maps rebuilt when their
-// inputs changed, the opaque scene drawn, every groom's LOD pre-pass and the segment budget
-// run, then every groom in turn is rasterized, linked, shaded, filtered and composited over
-// the same target; the result is read back without blocking. What each step needs is
+// inputs changed, each view's opaque scene drawn, every groom's LOD pre-pass and the segment
+// budget run, then every groom in turn is rasterized, linked, and in each view shaded,
+// filtered and composited over the view's target; the result is read back without blocking.
+// A frame of several views is built by the same code: the passes of a view are added once per
+// view, and each groom's strands are drawn into every view by one pass. What each step needs is
 // decided once by planFrame (host/frame/frame_plan.h); each feature is a pass file in
 // host/passes/. submit() returns as soon as the frame is enqueued; wait() blocks for it.
 #include "renderer_impl.h"
@@ -38,7 +40,7 @@ FrameTicket Renderer::submit(const Scene& s, const RenderOptions& options) {
   if (qualityLevel(s, options) == Quality::Final)
     throw Error("quality final accumulates passes: render() renders it, submit() does not");
   const RenderOptions o = qualityOptions(s, options);
-  return impl_->enqueue(impl_->submitFrame(s, o, nullptr));
+  return impl_->enqueue(impl_->submitFrame(s, {s.camera}, o, nullptr));
 }
 
 Frame Renderer::wait(FrameTicket ticket) { return std::move(impl_->waitFor(ticket).at(0)); }
@@ -59,7 +61,7 @@ FrameTicket Renderer::submitViews(const Scene& s, const std::vector<Camera>& cam
   }
   if (qualityLevel(s, options) == Quality::Final)
     throw Error("quality final renders one view at a time");
-  return impl_->enqueue(impl_->submitViews(s, cameras, qualityOptions(s, options)));
+  return impl_->enqueue(impl_->submitFrame(s, cameras, qualityOptions(s, options), nullptr));
 }
 
 std::vector<Frame> Renderer::waitViews(FrameTicket ticket) { return impl_->waitFor(ticket); }
@@ -129,69 +131,80 @@ static std::unique_ptr<PendingFrame> begin(Renderer::Impl& r, FramePlan& plan, s
   return p;
 }
 
+// The targets of a frame of `V` views: the renderer's own for one view, else a target per
+// view whose depth and G-buffer are slices of the views' shared buffers.
+static void viewTargets(Renderer::Impl& r, const Scene& s, const RenderOptions& o, std::size_t V,
+                        std::vector<RenderTarget*>& targets, std::vector<cl::Buffer*>& depths,
+                        std::vector<cl::Buffer*>& gbuffers) {
+  if (V == 1) {
+    r.target.ensure(s.width, s.height, o.msaa);
+    targets = {&r.target};
+    depths = {&r.target.depth};
+    gbuffers = {&r.target.gbuffer};
+    return;
+  }
+  r.views.ensure(r.target, V, s.width, s.height, o.msaa);
+  for (std::size_t v = 0; v < V; ++v) {
+    targets.push_back(&r.views.target(v));
+    depths.push_back(&r.views.depthSlices[v]);
+    gbuffers.push_back(&r.views.gbufferSlices[v]);
+  }
+}
+
+// The groom's passes in each view it is in front of: in a frame of several views, its
+// strands are drawn into every view at once (then each view's record is handed back).
+static void addGroomPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp,
+                           PendingFrame& p) {
+  const RenderOptions& o = plan.options;
+  plan.severalViews() ? addViewsStrandPass(g, r, plan, gp) : addStrandPass(g, r, plan, gp);
+  if (gp.huang) addLinkPass(g, r, plan, gp);
+  if (gp.motion) addMotionPass(g, r, plan, gp);
+  if (o.captureGBuffer && gp.index == plan.lastDrawn) addCapturePass(g, r, plan, gp, p);
+  if (o.rasterOnly) return;
+  for (ViewPlan& vp : plan.views) {
+    if (!gp.views[vp.index].inFront) continue;
+    gp.points ? addPointShadePass(g, r, plan, gp) : addShadePass(g, r, plan, gp, vp);
+    if (gp.filtered) addFilterPass(g, r, plan, gp, vp);
+    addCompositePass(g, r, plan, gp, vp);
+  }
+  if (plan.aovs) addAovGroomPass(g, r, plan, gp);
+  if (plan.aovs && o.cryptomatte) addCryptomattePass(g, r, plan, gp, p);
+  if (plan.severalViews()) addViewsRecordPass(g, gp);
+}
+
 std::unique_ptr<PendingFrame> Renderer::Impl::submitFrame(const Scene& s,
+                                                          const std::vector<Camera>& cameras,
                                                           const RenderOptions& options,
                                                           GBufferSource* source) {
   const std::uint64_t waits0 = dev.transfers.hostWaits();
-  target.ensure(s.width, s.height, options.msaa);
+  const std::size_t V = cameras.size();
+  std::vector<RenderTarget*> targets;
+  std::vector<cl::Buffer*> depths, gbuffers;
+  viewTargets(*this, s, options, V, targets, depths, gbuffers);
   FramePlan plan(s, options);
   plan.source = source;
-  plan.target = &target;
   std::vector<GroomDraw> draws;
-  std::unique_ptr<PendingFrame> p = begin(*this, plan, 1, draws);
-  planFrame(plan, draws, resolveMode(options.dispatch));
-  int layers = options.msaa + 1;  // allocated once, before any groom is drawn
-  for (const GroomPlan& gp : plan.grooms) layers = std::max(layers, gp.layers);
-  target.useLayers(layers);
-  plan.shadowsRebuilt = shadows.needsRebuild(s, options, plan.lodCorrection, &draws);
-  layoutStats(plan, 1, plan.shadowsRebuilt ? draws.size() : shadows.totalSlots());
+  std::unique_ptr<PendingFrame> p = begin(*this, plan, V, draws);
+  planFrame(plan, draws, resolveMode(options.dispatch), cameras, targets, depths, gbuffers);
+  if (V == 1) {
+    int layers = options.msaa + 1;  // allocated once, before any groom is drawn
+    for (const GroomPlan& gp : plan.grooms) layers = std::max(layers, gp.layers);
+    target.useLayers(layers);
+  }
+  plan.shadowsRebuilt =
+      shadows.needsRebuild(s, options, plan.lodCorrection, V == 1 ? &draws : nullptr);
+  layoutStats(plan, V, plan.shadowsRebuilt ? draws.size() : shadows.totalSlots());
   statsBuffer(plan.stats.words);
 
   FrameGraph g(dev, pool);
   importFrame(g, *this, plan);
   addShadowPasses(g, *this, plan);
-  addOpaquePass(g, *this, plan);
+  for (ViewPlan& vp : plan.views) addOpaquePass(g, *this, plan, vp);
   if (plan.aovs) addAovBeginPass(g, *this, plan, *p);
-  addLodPasses(g, *this, plan);
-  for (GroomPlan& gp : plan.grooms) {
-    if (!gp.active) continue;
-    addStrandPass(g, *this, plan, gp);
-    if (gp.huang) addLinkPass(g, *this, plan, gp);
-    if (gp.motion) addMotionPass(g, *this, plan, gp);
-    if (options.captureGBuffer && gp.index == plan.lastDrawn)
-      addCapturePass(g, *this, plan, gp, *p);
-    if (options.rasterOnly) continue;
-    gp.points ? addPointShadePass(g, *this, plan, gp) : addShadePass(g, *this, plan, gp);
-    if (gp.filtered) addFilterPass(g, *this, plan, gp);
-    addCompositePass(g, *this, plan, gp);
-    if (plan.aovs) addAovGroomPass(g, *this, plan, gp);
-    if (plan.aovs && options.cryptomatte) addCryptomattePass(g, *this, plan, gp, *p);
-  }
+  if (V == 1) addLodPasses(g, *this, plan);
+  for (GroomPlan& gp : plan.grooms)
+    if (gp.active) addGroomPasses(g, *this, plan, gp, *p);
   addReadBackPass(g, *this, plan, *p);
-  return run(*this, g, plan, std::move(p), waits0);
-}
-
-std::unique_ptr<PendingFrame> Renderer::Impl::submitViews(const Scene& s,
-                                                          const std::vector<Camera>& cameras,
-                                                          const RenderOptions& options) {
-  const std::uint64_t waits0 = dev.transfers.hostWaits();
-  views.ensure(target, cameras.size(), s.width, s.height, options.msaa);
-  FramePlan plan(s, options);
-  plan.target = &target;
-  std::vector<GroomDraw> draws;
-  std::unique_ptr<PendingFrame> p = begin(*this, plan, cameras.size(), draws);
-  planViews(plan, draws, resolveMode(options.dispatch));
-  plan.shadowsRebuilt = shadows.needsRebuild(s, options, plan.lodCorrection, nullptr);
-  layoutStats(plan, cameras.size(), plan.shadowsRebuilt ? draws.size() : shadows.totalSlots());
-  statsBuffer(plan.stats.words);
-  for (const GroomPlan& gp : plan.grooms)
-    visibility.prepare(gp.index, *gp.draw.instance, options.bakedVisibility != 0,
-                       options.lodAggregate != 0, options.multipleScattering != 0,
-                       options.ambientOcclusion != 0
-                           ? gp.draw.groom->aoField(s, gp.draw.instance->transform)
-                           : nullptr);
-  FrameGraph g(dev, pool);
-  buildViewsFrame(g, *this, plan, cameras, *p);
   return run(*this, g, plan, std::move(p), waits0);
 }
 

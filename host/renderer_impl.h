@@ -124,13 +124,10 @@ struct Renderer::Impl {
   // must share its cage too.
   std::vector<GroomDraw> resolveGrooms(const Scene& s);
 
-  // Builds, compiles and runs the graph of one frame of one view (with `source`, its centre
-  // layers replace the strand pass) and returns it in flight.
-  std::unique_ptr<PendingFrame> submitFrame(const Scene& s, const RenderOptions& options,
-                                            GBufferSource* source);
-  // The same for several views of one assembly.
-  std::unique_ptr<PendingFrame> submitViews(const Scene& s, const std::vector<Camera>& cameras,
-                                            const RenderOptions& options);
+  // Builds, compiles and runs the graph of one frame seen by `cameras` (one or more; with
+  // `source`, one view whose centre layers replace the strand pass) and returns it in flight.
+  std::unique_ptr<PendingFrame> submitFrame(const Scene& s, const std::vector<Camera>& cameras,
+                                            const RenderOptions& options, GBufferSource* source);
   // Waits for the oldest frames until fewer than `limit` are in flight.
   void drainTo(std::size_t limit);
   std::vector<Frame> waitFor(std::uint64_t ticket);

@@ -227,7 +227,8 @@ Frame Renderer::renderReference(const Scene& s, const ReferenceOptions& ro) {
     const double g = 1.32471795724474602596;
     o.jitterX = static_cast<float>(std::fmod(0.5 + i / g, 1.0) - 0.5);
     o.jitterY = static_cast<float>(std::fmod(0.5 + i / (g * g), 1.0) - 0.5);
-    Frame f = layers ? wait(impl_->enqueue(impl_->submitFrame(s, o, layers.get()))) : render(s, o);
+    Frame f = layers ? wait(impl_->enqueue(impl_->submitFrame(s, {s.camera}, o, layers.get())))
+                     : render(s, o);
     if (i == 0) {
       sum = f;
       acc.assign(f.color.rgba.begin(), f.color.rgba.end());

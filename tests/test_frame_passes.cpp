@@ -4,6 +4,7 @@
 // frames rendered one at a time, through the library and through `clhair render --frames`.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
@@ -174,6 +175,40 @@ TEST(FramePasses, TwoViewsShareOneStrandPassAndWaitOnce) {
   want.push_back("read-back");
   EXPECT_EQ(d.first, want);
   EXPECT_EQ(d.secondWaits, 1u);
+}
+
+// The passes of view `v` in a frame of several views, without their ", view v".
+std::vector<std::string> passesOfView(const std::vector<std::string>& all, std::size_t v) {
+  const std::string suffix = ", view " + std::to_string(v);
+  std::vector<std::string> out;
+  for (const std::string& p : all)
+    if (p.size() > suffix.size() && p.compare(p.size() - suffix.size(), suffix.size(), suffix) == 0)
+      out.push_back(p.substr(0, p.size() - suffix.size()));
+  return out;
+}
+
+// One graph builder for any number of views: each view of a frame of several gets the passes
+// a frame of that view alone gets, less those of the frame (shadow maps, read-back) and the
+// groom's LOD, segment budget and strands, which several views draw once for all of them.
+TEST(FramePasses, SeveralViewsAndOneViewBuildTheSamePassesPerView) {
+  const Scene s = tinyScene();
+  Camera side = s.camera;
+  side.position.x += 0.01f;
+  const std::vector<std::string> once = {"lod 0", "segment budget", "strands 0", "read-back"};
+  for (const int msaa : {1, 4}) {
+    RenderOptions o;
+    o.msaa = msaa;
+    o.filterMethod = 0;  // Lipp's (several views refuse Huang's)
+    std::vector<std::string> alone;
+    for (const std::string& p : twoFrames(s, o, {}, 1).first)
+      if (p.rfind("shadow map", 0) != 0 && std::find(once.begin(), once.end(), p) == once.end())
+        alone.push_back(p);
+    ASSERT_FALSE(alone.empty());
+    const std::vector<std::string> both = twoFrames(s, o, {s.camera, side}, 1).first;
+    for (std::size_t v = 0; v < 2; ++v)
+      EXPECT_EQ(passesOfView(both, v), alone) << "MSAA " << msaa << ", view " << v;
+    EXPECT_EQ(passesOfView(both, 2), std::vector<std::string>{});
+  }
 }
 
 TEST(FramePasses, TheCrowdRunsEveryDrawnGroomsPassesAndWaitsOnce) {

@@ -93,31 +93,121 @@ void layoutStats(FramePlan& plan, std::size_t views, std::size_t shadowSlots) {
   plan.shadowAt = plan.stats.take(CLH_MAX_SHADOWS * shadowSlots);
 }
 
-void planViews(FramePlan& plan, const std::vector<GroomDraw>& draws, DispatchMode mode) {
+namespace {
+
+// The view of `camera` drawn into `t` (its depth and G-buffer `depth`, `gbuffer`).
+ViewPlan viewPlan(const FramePlan& plan, std::size_t v, const Camera& camera, RenderTarget& t,
+                  cl::Buffer* depth, cl::Buffer* gbuffer, bool several) {
   const Scene& s = plan.scene;
   const RenderOptions& o = plan.options;
+  ViewPlan vp;
+  vp.index = v;
+  vp.suffix = several ? ", view " + std::to_string(v) : "";
+  vp.target = &t;
+  vp.depthBuffer = depth;
+  vp.gbufferBuffer = gbuffer;
+  vp.view = makeView(camera, s.width, s.height);
+  vp.view.samples = static_cast<gpu::clh_u32>(o.msaa);
+  vp.view.cx += o.jitterX;
+  vp.view.cy += o.jitterY;
+  ViewDraw& d = vp.draw;
+  d.view = &t.view;
+  d.worldToView = worldToView(camera);
+  d.lod = o.lod;
+  d.lodLambdaScale = o.lodLambdaScale * lodResolutionScale(s.height);
+  d.lodStrandScale = o.lodLambdaScale;
+  d.trueWidth = o.trueWidth;
+  d.shadowLodCorrection = plan.lodCorrection;
+  d.pixels = faintView(vp.view);
+  return vp;
+}
+
+// The options a frame of several views refuses.
+void checkSeveralViews(const Scene& s, const RenderOptions& o) {
   if (o.aovs || o.captureGBuffer || o.rasterOnly)
     throw Error("several views render the beauty only (no --aov, G-buffer capture or raster-only)");
   if (coverMode(s, o))
     throw Error("the coverage raster renders one view at a time (choose one with --views NAME)");
-  plan.mode = mode;
-  plan.lodCorrection =
-      o.shadowLodCorrection < 0 ? s.shadows.lodCorrection : o.shadowLodCorrection == 1;
-  plan.pixels = static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height);
-  plan.grooms.assign(draws.size(), GroomPlan{});
-  for (std::size_t k = 0; k < draws.size(); ++k) {
-    GroomPlan& g = plan.grooms[k];
-    g.index = k;
-    g.draw = draws[k];
-    g.filter = draws[k].instance->hasFilter ? &draws[k].instance->filter : &s.filter;
-    g.layers = o.msaa + 1;
-  }
 }
 
-void planFrame(FramePlan& plan, const std::vector<GroomDraw>& draws, DispatchMode mode) {
+// Groom `g` in a frame of several views: the views it is in front of, the first of them (its
+// LOD and culling), and its filter (Lipp's: the shared strand pass writes no identity layer,
+// so "auto" falls back to it; Huang's asked for by name is refused).
+void planInViews(const FramePlan& plan, GroomPlan& g) {
+  const RenderOptions& o = plan.options;
+  const GroomDraw& d = g.draw;
+  const std::size_t V = plan.views.size();
+  g.layers = o.msaa + 1;
+  g.lodView = V;
+  for (std::size_t v = V; v-- > 0;) {
+    g.views[v].inFront = d.groom->inFront(d.instance->transform, plan.views[v].draw.worldToView);
+    if (g.views[v].inFront) g.lodView = v;
+  }
+  if (g.lodView == V) return;
+  g.active = static_cast<char>(CLH_BUDGET_DRAW_FIXED);
+  const FilterParams& fp = *g.filter;
+  g.filtered = o.msaa == 1 && (o.filter < 0 ? fp.enabled : o.filter == 1);
+  if (g.filtered &&
+      (o.filterMethod < 0 ? fp.method == FilterParams::Method::Huang : o.filterMethod == 1))
+    throw Error("groom \"" + d.instance->name +
+                "\": Huang's filter takes one view at a time; render the views one by one "
+                "(--views NAME) or use Lipp's filter");
+  g.depthLayers = static_cast<std::uint32_t>(g.filtered ? 2 : o.msaa);
+}
+
+// Groom `g` in a frame of one view: whether it is in front of the camera, its budget role,
+// filter, layers, screen box and motion pass.
+void planInView(FramePlan& plan, GroomPlan& g) {
+  const RenderOptions& options = plan.options;
+  const GroomDraw& d = g.draw;
+  const ViewPlan& camera = plan.camera();
+  const bool given = plan.source != nullptr;
+  const FilterParams& fp = *g.filter;
+  g.layers = gbufferLayers(fp, options, given, plan.cover);
+  if (!d.groom->inFront(d.instance->transform, camera.draw.worldToView)) return;
+  g.views[0].inFront = true;
+  // the budget is a stage of LOD: a groom drawn without LOD keeps every strand
+  const bool lodOn = options.lod < 0 ? d.groom->lodEnabled() : options.lod != 0;
+  g.active = static_cast<char>(lodOn ? CLH_BUDGET_DRAW_BUDGETED : CLH_BUDGET_DRAW_FIXED);
+  g.far = farGroom(*d.groom, d.instance->transform, camera.draw.worldToView, camera.view) ? 1 : 0;
+  plan.lastDrawn = g.index;
+  // the coverage mode has no filter: its alpha comes from the coverage layer
+  g.points = pointShading(options, given, plan.cover);
+  g.filtered = !plan.cover && !g.points && options.msaa == 1 &&
+               (options.filter < 0 ? fp.enabled : options.filter == 1);
+  g.huang = g.filtered && !options.rasterOnly && huangMethod(fp, options);
+  g.linking = g.huang && fp.link && !given;
+  g.ids = g.huang || options.strandIds || options.cryptomatte;
+  // the composite takes the hair's depth from the samples, plus the conservative layer
+  // after Lipp's filter (the centre layer holds the linked pixels after Huang's)
+  g.depthLayers = static_cast<std::uint32_t>(g.filtered && !g.huang ? 2 : options.msaa);
+  // the pixels it can draw into: the G-buffer clear before it and the passes that concern
+  // only its pixels run there (a given G-buffer may hold words anywhere)
+  if (options.screenBoxes && !given)
+    g.box =
+        screenBox(d.groom->boundsMin(), d.groom->boundsMax(),
+                  camera.draw.worldToView * d.instance->transform, camera.view, kScreenBoxMargin);
+  // Huang's filter leaves its result right inside the box only; the AOVs read all of it
+  g.hairBox = plan.aovs ? PixelRect{} : g.box;
+  const Scene* before = plan.aovs ? options.previous : nullptr;
+  g.motion = before && !given && g.index < before->grooms.size() &&
+             deformsBetween(*d.instance, before->grooms[g.index]);
+  if (g.motion && plan.cover)
+    throw Error("groom \"" + d.instance->name +
+                "\" deforms: the coverage raster has no motion pass for its motion layer "
+                "(use the lines raster)");
+}
+
+}  // namespace
+
+void planFrame(FramePlan& plan, const std::vector<GroomDraw>& draws, DispatchMode mode,
+               const std::vector<Camera>& cameras, const std::vector<RenderTarget*>& targets,
+               const std::vector<cl::Buffer*>& depths, const std::vector<cl::Buffer*>& gbuffers) {
   const Scene& s = plan.scene;
   const RenderOptions& options = plan.options;
   const bool given = plan.source != nullptr;
+  const bool several = cameras.size() > 1;
+  if (several) checkSeveralViews(s, options);
   if (given && options.msaa != 1)
     throw Error("a given G-buffer has one sample per pixel, not MSAA " +
                 std::to_string(options.msaa));
@@ -130,22 +220,12 @@ void planFrame(FramePlan& plan, const std::vector<GroomDraw>& draws, DispatchMod
   plan.budget = options.segmentBudget >= 0
                     ? static_cast<std::uint64_t>(options.segmentBudget)
                     : s.segmentBudget.value_or(defaultSegmentBudget(s.width, s.height));
-  plan.view = makeView(s.camera, s.width, s.height);
-  plan.view.samples = static_cast<gpu::clh_u32>(options.msaa);
-  plan.view.cx += options.jitterX;
-  plan.view.cy += options.jitterY;
   plan.pixels = static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height);
-  ViewDraw& pass = plan.cameraPass;
-  pass.view = &plan.target->view;
-  pass.worldToView = worldToView(s.camera);
-  pass.lod = options.lod;
-  pass.lodLambdaScale = options.lodLambdaScale * lodResolutionScale(s.height);
-  pass.lodStrandScale = options.lodLambdaScale;
-  pass.trueWidth = options.trueWidth;
-  pass.shadowLodCorrection = plan.lodCorrection;
-  pass.pixels = faintView(plan.view);
+  plan.views.clear();
+  for (std::size_t v = 0; v < cameras.size(); ++v)
+    plan.views.push_back(
+        viewPlan(plan, v, cameras[v], *targets.at(v), depths.at(v), gbuffers.at(v), several));
 
-  const Scene* before = plan.aovs ? options.previous : nullptr;
   plan.grooms.assign(draws.size(), GroomPlan{});
   plan.lastDrawn = draws.size();
   for (std::size_t k = 0; k < draws.size(); ++k) {
@@ -153,38 +233,12 @@ void planFrame(FramePlan& plan, const std::vector<GroomDraw>& draws, DispatchMod
     const GroomDraw& d = draws[k];
     g.index = k;
     g.draw = d;
-    const FilterParams& fp = d.instance->hasFilter ? d.instance->filter : s.filter;
-    g.filter = &fp;
-    g.layers = gbufferLayers(fp, options, given, plan.cover);
-    if (!d.groom->inFront(d.instance->transform, pass.worldToView)) continue;
-    // the budget is a stage of LOD: a groom drawn without LOD keeps every strand
-    const bool lodOn = options.lod < 0 ? d.groom->lodEnabled() : options.lod != 0;
-    g.active = static_cast<char>(lodOn ? CLH_BUDGET_DRAW_BUDGETED : CLH_BUDGET_DRAW_FIXED);
-    g.far = farGroom(*d.groom, d.instance->transform, pass.worldToView, plan.view) ? 1 : 0;
-    plan.lastDrawn = k;
-    // the coverage mode has no filter: its alpha comes from the coverage layer
-    g.points = pointShading(options, given, plan.cover);
-    g.filtered = !plan.cover && !g.points && options.msaa == 1 &&
-                 (options.filter < 0 ? fp.enabled : options.filter == 1);
-    g.huang = g.filtered && !options.rasterOnly && huangMethod(fp, options);
-    g.linking = g.huang && fp.link && !given;
-    g.ids = g.huang || options.strandIds || options.cryptomatte;
-    // the composite takes the hair's depth from the samples, plus the conservative layer
-    // after Lipp's filter (the centre layer holds the linked pixels after Huang's)
-    g.depthLayers = static_cast<std::uint32_t>(g.filtered && !g.huang ? 2 : options.msaa);
-    // the pixels it can draw into: the G-buffer clear before it and the passes that concern
-    // only its pixels run there (a given G-buffer may hold words anywhere)
-    if (options.screenBoxes && !given)
-      g.box = screenBox(d.groom->boundsMin(), d.groom->boundsMax(),
-                        pass.worldToView * d.instance->transform, plan.view, kScreenBoxMargin);
-    // Huang's filter leaves its result right inside the box only; the AOVs read all of it
-    g.hairBox = plan.aovs ? PixelRect{} : g.box;
-    g.motion = before && !given && k < before->grooms.size() &&
-               deformsBetween(*d.instance, before->grooms[k]);
-    if (g.motion && plan.cover)
-      throw Error("groom \"" + d.instance->name +
-                  "\" deforms: the coverage raster has no motion pass for its motion layer "
-                  "(use the lines raster)");
+    g.filter = d.instance->hasFilter ? &d.instance->filter : &s.filter;
+    g.views.assign(cameras.size(), GroomView{});
+    if (several)
+      planInViews(plan, g);
+    else
+      planInView(plan, g);
   }
 }
 

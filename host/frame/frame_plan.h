@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "clhair/renderer.h"
@@ -22,6 +23,31 @@ namespace clhair {
 
 class GBufferSource;
 class RenderTarget;
+
+// One view of the frame: the target it draws into and the buffers its passes use. A frame of
+// one view draws into the renderer's target; a frame of several into a target per view, whose
+// scene depth and G-buffer are slices of buffers the views share (frame/view_targets.h), so
+// that one strand pass can draw every view. The passes of a view (opaque, shade, filter,
+// composite) are added once per view from these; the features of one view alone (LOD and
+// the segment budget, linking, motion, per-point shading, AOVs, capture) use the first.
+struct ViewPlan {
+  std::size_t index = 0;
+  std::string suffix;  // after the name of each of its passes: "" in a frame of one view
+  RenderTarget* target = nullptr;
+  cl::Buffer* depthBuffer = nullptr;  // the target's own, or its slice
+  cl::Buffer* gbufferBuffer = nullptr;
+  gpu::ClhViewGpu view{};
+  ViewDraw draw;  // how the grooms are drawn in it
+  // handles: its record, colour, scene depth and G-buffer
+  FrameGraph::Handle record, color, depth, gbuffer;
+};
+
+// A groom instance in one view: whether it is in front of the view's camera, and its
+// shaded hair, the filter's output and the buffer its composite reads.
+struct GroomView {
+  bool inFront = false;
+  FrameGraph::Handle hair, filteredHair, result;
+};
 
 // One groom instance of the frame.
 struct GroomPlan {
@@ -45,9 +71,15 @@ struct GroomPlan {
   int layers = 2;  // G-buffer layers the groom uses
   // its screen box (the default: the whole target) and where its filtered hair is right
   PixelRect box, hairBox;
-  // handles: its parameter record, LOD records + scan, geometry tables, shaded hair, the
-  // filter's output, the motion plane and the buffer its composite reads
-  FrameGraph::Handle params, lod, tables, hair, filteredHair, motionPlane, result;
+  // handles: its parameter record, LOD records + scan, geometry tables and motion plane
+  FrameGraph::Handle params, lod, tables, motionPlane;
+  std::vector<GroomView> views;  // per view of the frame
+  // A frame of several views: the view whose LOD and culling its strands follow (the first
+  // it is in front of), its record in each view, and whether one strand pass drew it into
+  // every view (GroomGpu::rasterViews; else each view draws it on its own before shading).
+  std::size_t lodView = 0;
+  std::vector<gpu::ClhGroomGpu> viewRecords;
+  bool together = true;
   // a pass of a still (RenderOptions::still): the strands its first pass assembled and
   // kept (GroomGpu::rasterStill), which later passes read
   FrameGraph::Handle stored;
@@ -82,24 +114,26 @@ struct FramePlan {
   const Scene& scene;
   const RenderOptions& options;
   GBufferSource* source = nullptr;  // the traced reference's centre layers
-  RenderTarget* target = nullptr;
-  bool cover = false;  // the coverage raster
+  bool cover = false;               // the coverage raster
   bool aovs = false;
   bool lodCorrection = true;
   bool shadowsRebuilt = false;
   DispatchMode mode = DispatchMode::OverLaunch;
   std::uint64_t budget = 0;
-  gpu::ClhViewGpu view{};
-  std::size_t pixels = 0;
-  ViewDraw cameraPass;
+  std::size_t pixels = 0;  // of each view
+  std::vector<ViewPlan> views;
+  ViewPlan& camera() { return views.front(); }
+  const ViewPlan& camera() const { return views.front(); }
+  bool severalViews() const { return views.size() > 1; }
   std::vector<GroomPlan> grooms;
   // the index of the last groom drawn (captureGBuffer keeps its layers), grooms.size(): none
   std::size_t lastDrawn = 0;
   StatsLayout stats;
   std::size_t rasterStatsAt = 0, budgetAt = 0, linkAt = 0, pointsAt = 0, shadowAt = 0;
-  // handles of the frame's shared resources
-  FrameGraph::Handle viewRecord, scene_, shadowMaps, color, depth, gbuffer, rasterCounters,
-      frameStats, lodArena, visibility, linkState, filterParams, motionParams;
+  // handles of the frame's shared resources (viewRecords: the records of every view, for the
+  // strand pass of several views)
+  FrameGraph::Handle scene_, shadowMaps, rasterCounters, frameStats, lodArena, visibility,
+      linkState, filterParams, motionParams, viewRecords;
   AovHandles aov;
   CryptoHandles crypto;
 };
@@ -117,11 +151,12 @@ bool pointShading(const RenderOptions& options, bool given, bool cover);
 // G-buffer layers a groom with filter settings `fp` uses (gpu_types.h).
 int gbufferLayers(const FilterParams& fp, const RenderOptions& options, bool given, bool cover);
 
-// The decisions of a one-view frame; `draws` are the scene's groom instances in order.
-void planFrame(FramePlan& plan, const std::vector<GroomDraw>& draws, DispatchMode mode);
-// What a frame of several views decides before its graph is built (each groom's views are
-// chosen by buildViewsFrame).
-void planViews(FramePlan& plan, const std::vector<GroomDraw>& draws, DispatchMode mode);
+// The decisions of a frame seen by `cameras` (one or more), drawn into `targets` (one per
+// camera, with `depths` and `gbuffers` the buffers of each view's passes); `draws` are the
+// scene's groom instances in order.
+void planFrame(FramePlan& plan, const std::vector<GroomDraw>& draws, DispatchMode mode,
+               const std::vector<Camera>& cameras, const std::vector<RenderTarget*>& targets,
+               const std::vector<cl::Buffer*>& depths, const std::vector<cl::Buffer*>& gbuffers);
 // The statistics words of a frame of `views` views: raster counters, the budget's outcome,
 // 4 linking counters per groom (one view) or a strand total per view and groom (several),
 // the points shaded per groom (one view), and the shadow passes' strand totals for

@@ -31,15 +31,15 @@ void addAovBeginPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingF
   g.addPass(
       "aov begin",
       [&](FrameGraph::Setup& s) {
-        s.read(plan.depth).read(plan.color).sideEffect().kernel("aov_begin");
+        s.read(plan.camera().depth).read(plan.camera().color).sideEffect().kernel("aov_begin");
         for (const FrameGraph::Handle h : plan.aov.all()) s.write(h);
       },
       [&] {
         // the colour under the hair: temporal reprojection recomposes the frame on it
         std::vector<float>& opaque = out.frames[0].aovs.opaque;
         opaque.resize(plan.pixels * 4);
-        out.read(r.dev, r.pinned, plan.target->color, 0, opaque.data(), opaque.size() * 4);
-        r.aov.begin(plan.target->depth, plan.pixels, planesOf(g, plan), &r.profiler);
+        out.read(r.dev, r.pinned, plan.camera().target->color, 0, opaque.data(), opaque.size() * 4);
+        r.aov.begin(plan.camera().target->depth, plan.pixels, planesOf(g, plan), &r.profiler);
       });
 }
 
@@ -47,12 +47,16 @@ void addAovGroomPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPla
   g.addPass(
       "aov " + std::to_string(gp.index),
       [&](FrameGraph::Setup& s) {
-        s.read(gp.params).read(plan.gbuffer).read(gp.result).read(plan.depth).kernel("aov_groom");
+        s.read(gp.params)
+            .read(plan.camera().gbuffer)
+            .read(gp.views[0].result)
+            .read(plan.camera().depth)
+            .kernel("aov_groom");
         if (gp.motion) s.read(gp.motionPlane);
         for (const FrameGraph::Handle h : plan.aov.all()) s.readWrite(h);
       },
       [&] {
-        RenderTarget& t = *plan.target;
+        RenderTarget& t = *plan.camera().target;
         AovStage::Groom a;
         a.groom = &gp.draw.state->groom;
         a.index = static_cast<std::uint32_t>(gp.index);
@@ -60,7 +64,7 @@ void addAovGroomPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPla
         a.samples = plan.options.msaa;
         a.ids = plan.options.strandIds;
         a.layers = static_cast<std::size_t>(t.usedLayers());
-        a.result = &g.buffer(gp.result);
+        a.result = &g.buffer(gp.views[0].result);
         a.depth = &t.depth;
         a.motion = gp.motion ? &g.buffer(gp.motionPlane) : nullptr;
         r.aov.groom(a, plan.pixels, planesOf(g, plan), &r.profiler);

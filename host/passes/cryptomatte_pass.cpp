@@ -84,7 +84,7 @@ void addCryptomattePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, Groom
   g.addPass(
       "cryptomatte " + std::to_string(gp.index),
       [&, first, last](FrameGraph::Setup& s) {
-        s.read(gp.result).read(plan.gbuffer).kernel("cryptomatte_groom");
+        s.read(gp.views[0].result).read(plan.camera().gbuffer).kernel("cryptomatte_groom");
         for (FrameGraph::Handle list :
              {h.groomKeys, h.groomCoverage, h.strandKeys, h.strandCoverage})
           first ? s.write(list) : s.readWrite(list);
@@ -97,9 +97,9 @@ void addCryptomattePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, Groom
         p.height = static_cast<std::uint32_t>(plan.scene.height);
         p.first = first;
         p.groomKey = groomKey(names, gp.index);
-        p.result = &g.buffer(gp.result);
-        p.gbuffer = &plan.target->gbuffer;
-        p.layers = static_cast<std::size_t>(plan.target->usedLayers());
+        p.result = &g.buffer(gp.views[0].result);
+        p.gbuffer = &plan.camera().target->gbuffer;
+        p.layers = static_cast<std::size_t>(plan.camera().target->usedLayers());
         p.groomKeys = &g.buffer(h.groomKeys);
         p.groomCoverage = &g.buffer(h.groomCoverage);
         p.strandKeys = &g.buffer(h.strandKeys);

@@ -8,7 +8,7 @@
 namespace clhair {
 
 LinkStage::Params linkParams(const FramePlan& plan, const GroomPlan& gp) {
-  RenderTarget& t = *plan.target;
+  RenderTarget& t = *plan.camera().target;
   return {t.viewTarget(), &gp.draw.state->groom,
           &t.gbuffer,     gp.draw.groom->strandCount(),
           gp.layers,      gp.hairBox};
@@ -18,10 +18,13 @@ void addLinkPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& g
   g.addPass(
       "link " + std::to_string(gp.index),
       [&](FrameGraph::Setup& s) {
-        s.read(plan.viewRecord).read(gp.params).readWrite(plan.gbuffer).write(plan.linkState);
+        s.read(plan.camera().record)
+            .read(gp.params)
+            .readWrite(plan.camera().gbuffer)
+            .write(plan.linkState);
         s.kernel("clear_uints").kernel("link_select").kernel("link_merge");
         if (!gp.linking) return;
-        s.read(plan.depth).read(gp.tables).read(gp.lod).readWrite(plan.rasterCounters);
+        s.read(plan.camera().depth).read(gp.tables).read(gp.lod).readWrite(plan.rasterCounters);
         s.kernel(gp.draw.groom->kernels().raster).kernel("link_propagate");
         if (plan.mode == DispatchMode::ReadBack)
           s.hostWait("the groom's strand total for the curve pass (--dispatch readback)");

@@ -12,19 +12,19 @@ void addLodPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
     g.addPass(
         "lod " + std::to_string(gp.index),
         [&](FrameGraph::Setup& s) {
-          s.read(plan.viewRecord).read(gp.tables).write(gp.params).write(gp.lod);
+          s.read(plan.camera().record).read(gp.tables).write(gp.params).write(gp.lod);
           s.kernel(gp.draw.groom->kernels().lod).kernel("scan_bundles");
         },
         [&] {
           const GroomDraw& d = gp.draw;
           d.groom->useAo(plan.options.ambientOcclusion != 0);
           // a faint strand file is widened where its hair is filtered (io/faint_groom.h)
-          ViewDraw pass = plan.cameraPass;
+          ViewDraw pass = plan.camera().draw;
           pass.widenFaint = gp.filtered;
           if (!d.groom->prepare(*d.state, d.instance->transform, pass))
             throw Error("groom \"" + d.instance->name +
                         "\": in front of the camera when the frame was planned, behind it now");
-          d.groom->lod(*d.state, plan.target->view, &r.profiler);
+          d.groom->lod(*d.state, plan.camera().target->view, &r.profiler);
         });
   }
   g.addPass(
@@ -44,7 +44,7 @@ void addLodPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
           far.push_back(gp.far);
         }
         r.frameLod.enqueue(draws, active, far, plan.budget, &r.profiler,
-                           budgetRule(plan.options, plan.view));
+                           budgetRule(plan.options, plan.camera().view));
       });
 }
 

@@ -13,7 +13,10 @@ void addMotionPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan&
   g.addPass(
       "motion " + std::to_string(gp.index),
       [&](FrameGraph::Setup& s) {
-        s.read(plan.viewRecord).read(plan.depth).read(plan.gbuffer).read(gp.tables);
+        s.read(plan.camera().record)
+            .read(plan.camera().depth)
+            .read(plan.camera().gbuffer)
+            .read(gp.tables);
         s.read(gp.params).read(gp.lod).readWrite(plan.rasterCounters);
         s.write(plan.motionParams).write(gp.motionPlane);
         s.kernel("clear_words").kernel(gp.draw.groom->kernels().motion);
@@ -21,7 +24,7 @@ void addMotionPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan&
           s.hostWait("the groom's strand total for the motion pass (--dispatch readback)");
       },
       [&] {
-        RenderTarget& t = *plan.target;
+        RenderTarget& t = *plan.camera().target;
         const Scene& before = *plan.options.previous;
         const gpu::ClhViewGpu pv = makeView(before.camera, plan.scene.width, plan.scene.height);
         const gpu::ClhViewGpu still =
@@ -29,8 +32,8 @@ void addMotionPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan&
         gpu::ClhMotionGpu m{};
         m.fx = pv.fx;
         m.fy = pv.fy;
-        m.cx = pv.cx + (plan.view.cx - still.cx);
-        m.cy = pv.cy + (plan.view.cy - still.cy);
+        m.cx = pv.cx + (plan.camera().view.cx - still.cx);
+        m.cy = pv.cy + (plan.camera().view.cy - still.cy);
         storeMat34(m.prev_obj_to_view,
                    worldToView(before.camera) * before.grooms[gp.index].transform);
         m.depth_layers = gp.depthLayers;

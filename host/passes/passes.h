@@ -2,7 +2,8 @@
 // its pass (or one pass per groom) to the frame's graph: a setup that declares what it reads
 // and writes and the kernels it launches, and an execute callback that enqueues the work
 // with the renderer's stages. The handles of what a pass produces go into the FramePlan for
-// the passes after it. renderer.cpp calls these in frame order.
+// the passes after it. renderer.cpp calls these in frame order, for a frame of one view or
+// of several: a pass of one view (a ViewPlan argument) is added once per view it draws.
 #pragma once
 
 #include "frame/frame_plan.h"
@@ -12,17 +13,15 @@
 
 namespace clhair {
 
-// scene_passes.cpp: the frame's shared resources and every groom's own, imported into the
-// graph (the view and scene records are uploaded here, before any pass); the deep opacity
-// maps when they must be built again; the opaque scene (and, for a given G-buffer, its depth
-// read back to the source).
+// scene_passes.cpp: the frame's shared resources, every view's and every groom's own,
+// imported into the graph (the view and scene records are uploaded here, before any pass);
+// the deep opacity maps when they must be built again; a view's opaque scene (and, for a
+// given G-buffer, its depth read back to the source).
 void importFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan);
-// The frame's statistics buffer, zeroed (importFrame calls it; so does the views' frame).
-void importStats(FrameGraph& g, Renderer::Impl& r, FramePlan& plan);
 // The deep opacity maps when they are rebuilt: a first pass (totals, the camera's LOD caps),
 // a pass per mapped light, a last pass for the slots' records (frame/shadow_maps.h).
 void addShadowPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan);
-void addOpaquePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan);
+void addOpaquePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, ViewPlan& vp);
 
 // lod_passes.cpp: each drawn groom's LOD pre-pass from the camera, then the segment budget
 // over all of them.
@@ -37,6 +36,19 @@ StrandRaster cameraRaster(Renderer::Impl& r, const FramePlan& plan, const GroomP
 void addCapturePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp,
                     PendingFrame& out);
 
+// view_strand_passes.cpp (a frame of several views): the groom's record in each view, its
+// LOD from its first view in front, and its strands assembled once and drawn into every
+// view's G-buffer (strands_raster_views; a strand file draws each view on its own, before
+// that view's shading); after its last view, the record of its LOD view handed back to the
+// instance.
+void addViewsStrandPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
+void addViewsRecordPass(FrameGraph& g, GroomPlan& gp);
+// Before groom `gp` is shaded in view `vp`: its record for the view, or (when its strands
+// could not be drawn into every view at once) its LOD and strands drawn in this view alone.
+void declareViewDraw(FrameGraph::Setup& s, const FramePlan& plan, const GroomPlan& gp,
+                     const ViewPlan& vp);
+void drawInView(Renderer::Impl& r, const FramePlan& plan, GroomPlan& gp, const ViewPlan& vp);
+
 // link_passes.cpp: Huang's hair linking over the groom's G-buffer (select, the sources'
 // curve pass, propagate, merge).
 void addLinkPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
@@ -44,14 +56,15 @@ void addLinkPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& g
 // motion_pass.cpp: a deforming groom's strands at the previous frame, into its motion plane.
 void addMotionPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
 
-// shade_passes.cpp: deferred shading of the groom's centre layer, its filter (Lipp's, or
-// Huang's alpha fix and anisotropic filter), and its composite over the target.
-void addShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
+// shade_passes.cpp: deferred shading of the groom's centre layer in view `vp`, its filter
+// (Lipp's, or Huang's alpha fix and anisotropic filter), and its composite over the view.
+void addShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp, ViewPlan& vp);
 // The shading pass's inputs for groom `gp` drawn into target `t` (its G-buffer `gbuffer`).
 ShadeStage::Params shadeParams(Renderer::Impl& r, const RenderTarget& t, const GroomPlan& gp,
                                const cl::Buffer& gbuffer, cl::Buffer& hair, int msaa);
-void addFilterPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
-void addCompositePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
+void addFilterPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp, ViewPlan& vp);
+void addCompositePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp,
+                      ViewPlan& vp);
 
 // point_passes.cpp: the groom shaded once per visible strand point (GroomPlan::points), in
 // place of addShadePass: the points marked and ranked, their inputs written by the strand
@@ -68,12 +81,8 @@ void addAovGroomPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPla
 void addCryptomattePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp,
                         PendingFrame& out);
 
-// readback_pass.cpp: the frame's result, statistics and AOV planes read back without
-// blocking into `out`, which completes with the marker after them.
+// readback_pass.cpp: every view's result, the frame's statistics and AOV planes read back
+// without blocking into `out`, which completes with the marker after them.
 void addReadBackPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingFrame& out);
-
-// views_frame.cpp: the whole graph of a frame with several views of one assembly.
-void buildViewsFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
-                     const std::vector<Camera>& cameras, PendingFrame& out);
 
 }  // namespace clhair

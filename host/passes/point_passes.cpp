@@ -36,7 +36,7 @@ struct PointHandles {
 }  // namespace
 
 void addPointShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp) {
-  RenderTarget& t = *plan.target;
+  RenderTarget& t = *plan.camera().target;
   const PixelRect box = gp.box.clipped(t.viewTarget().width, t.viewTarget().height);
   const std::string label = "groom " + std::to_string(gp.index);
   // the lists live while the frame's graph does (the passes below capture them by value)
@@ -47,13 +47,17 @@ void addPointShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomP
   h.ranks = g.create(label + " point ranks", h.sizes.offsetsBytes());
   h.records = g.create(label + " point records", h.sizes.recordsBytes());
   h.colors = g.create(label + " point colours", h.sizes.colorsBytes());
-  gp.result = gp.hair;
+  gp.views[0].result = gp.views[0].hair;
   const std::string n = std::to_string(gp.index);
 
   g.addPass(
       "point marks " + n,
       [&, h](FrameGraph::Setup& s) {
-        s.read(plan.gbuffer).write(h.bits).write(h.blocks).write(h.ranks).write(plan.frameStats);
+        s.read(plan.camera().gbuffer)
+            .write(h.bits)
+            .write(h.blocks)
+            .write(h.ranks)
+            .write(plan.frameStats);
         s.kernel("points_mark").kernel("points_count").kernel("points_scan");
         s.kernel("points_offsets").kernel("clear_uints").kernel("copy_uints");
       },
@@ -69,8 +73,12 @@ void addPointShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomP
   g.addPass(
       "point inputs " + n,
       [&, h](FrameGraph::Setup& s) {
-        s.read(plan.viewRecord).read(plan.depth).read(gp.tables).read(gp.params).read(gp.lod);
-        s.read(plan.gbuffer).readWrite(plan.rasterCounters);
+        s.read(plan.camera().record)
+            .read(plan.camera().depth)
+            .read(gp.tables)
+            .read(gp.params)
+            .read(gp.lod);
+        s.read(plan.camera().gbuffer).readWrite(plan.rasterCounters);
         s.read(h.bits).read(h.ranks).write(h.records);
         s.kernel(gp.draw.groom->kernels().raster);
         if (plan.mode == DispatchMode::ReadBack)
@@ -90,19 +98,22 @@ void addPointShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomP
   g.addPass(
       "shade points " + n,
       [&, h](FrameGraph::Setup& s) {
-        s.read(plan.viewRecord).read(plan.scene_).read(plan.shadowMaps).read(plan.gbuffer);
+        s.read(plan.camera().record)
+            .read(plan.scene_)
+            .read(plan.shadowMaps)
+            .read(plan.camera().gbuffer);
         s.read(gp.params).read(gp.lod).read(plan.visibility);
-        s.read(h.records).read(h.bits).read(h.ranks).write(h.colors).write(gp.hair);
+        s.read(h.records).read(h.bits).read(h.ranks).write(h.colors).write(gp.views[0].hair);
         s.kernel("shade_points").kernel("points_resolve");
       },
       [&, h] {
         const PointStage::Lists l = h.lists(g);
         // the inputs of per-sample shading (its G-buffer and hair are not read)
         const ShadeStage::Params sp =
-            shadeParams(r, t, gp, t.gbuffer, g.buffer(gp.hair), plan.options.msaa);
+            shadeParams(r, t, gp, t.gbuffer, g.buffer(gp.views[0].hair), plan.options.msaa);
         r.shade.enqueuePoints(sp, l, &r.profiler);
         r.points.resolve(t.viewTarget(), t.gbuffer, gp.layers, plan.options.msaa, gp.hairBox, l,
-                         g.buffer(gp.hair), &r.profiler);
+                         g.buffer(gp.views[0].hair), &r.profiler);
       });
 }
 

@@ -2,6 +2,7 @@
 // depth, the statistics the passes gathered on the device (the budget's outcome, the shadow
 // passes' strand totals, the raster counters, the linking counters) in one buffer, the AOV
 // planes and the captured G-buffer. Finishers decode them when the frame completes.
+#include <functional>
 #include <memory>
 
 #include "frame/aov_builder.h"
@@ -16,24 +17,29 @@ void copyWords(Renderer::Impl& r, const cl::Buffer& from, std::size_t words, std
   r.target.copyUints(from, 0, r.frameStats, at, words, &r.profiler);
 }
 
-// The colour, depth, statistics words and captured G-buffer into the frame (non-blocking
-// reads, done when the frame completes).
+// The statistics words, every view's colour and depth and the captured G-buffer into the
+// frame (non-blocking reads, done when the frame completes).
 void readImages(Renderer::Impl& r, FramePlan& plan, PendingFrame& out, std::size_t shadowWords) {
   const std::size_t D = plan.grooms.size();
-  RenderTarget& t = *plan.target;
-  Frame& f = out.frames[0];
-  f.color.width = plan.scene.width;
-  f.color.height = plan.scene.height;
-  f.color.rgba.resize(plan.pixels * 4);
-  if (plan.options.readBackDepth || plan.aovs) f.depth.resize(plan.pixels);
-  copyWords(r, r.frameLod.state(), FrameLod::stateWords(D), plan.budgetAt);
+  const bool one = !plan.severalViews();
+  RenderTarget& t = *plan.camera().target;
+  if (one) copyWords(r, r.frameLod.state(), FrameLod::stateWords(D), plan.budgetAt);
   copyWords(r, r.shadows.totals(), shadowWords, plan.shadowAt);
-  if (plan.options.rasterStats) copyWords(r, t.stats, 4, plan.rasterStatsAt);
+  if (one && plan.options.rasterStats) copyWords(r, t.stats, 4, plan.rasterStatsAt);
   out.stats.assign(plan.stats.words, 0u);
   out.read(r.dev, r.pinned, r.frameStats, 0, out.stats.data(), out.stats.size() * 4);
-  out.read(r.dev, r.pinned, t.color, 0, f.color.rgba.data(), f.color.rgba.size() * 4);
-  if (!f.depth.empty()) out.read(r.dev, r.pinned, t.depth, 0, f.depth.data(), f.depth.size() * 4);
+  for (const ViewPlan& vp : plan.views) {
+    Frame& f = out.frames[vp.index];
+    f.color.width = plan.scene.width;
+    f.color.height = plan.scene.height;
+    f.color.rgba.resize(plan.pixels * 4);
+    if (plan.options.readBackDepth || plan.aovs) f.depth.resize(plan.pixels);
+    out.read(r.dev, r.pinned, vp.target->color, 0, f.color.rgba.data(), f.color.rgba.size() * 4);
+    if (!f.depth.empty())
+      out.read(r.dev, r.pinned, *vp.depthBuffer, 0, f.depth.data(), f.depth.size() * 4);
+  }
   if (plan.options.captureGBuffer) {
+    Frame& f = out.frames[0];
     f.gbufferLayers = t.usedLayers();
     f.gbuffer.assign(plan.pixels * static_cast<std::size_t>(t.usedLayers()), ~std::uint64_t(0));
     if (plan.lastDrawn < D)
@@ -59,7 +65,8 @@ void readAovs(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingFrame& o
   out.read(r.dev, r.pinned, g.buffer(h.hair), 0, planes->hair.data(), n * 16);
   out.read(r.dev, r.pinned, g.buffer(h.tangent), 0, planes->tangent.data(), n * 16);
   out.read(r.dev, r.pinned, g.buffer(h.strand), 0, planes->strand.data(), n * 16);
-  const AovMotionInputs in = AovMotionInputs::of(plan.view, plan.scene, plan.options.previous);
+  const AovMotionInputs in =
+      AovMotionInputs::of(plan.camera().view, plan.scene, plan.options.previous);
   out.finishers.push_back([planes, in](PendingFrame& p) {
     Frame& frame = p.frames[0];
     std::vector<float> opaque = std::move(frame.aovs.opaque);
@@ -161,6 +168,20 @@ void decodeStats(const StatsSource& at, const std::vector<std::uint32_t>& w, Fra
   st.segmentsDrawn = rs[3];
 }
 
+// A frame of several views: each view's strands drawn and the lights' strand totals.
+std::function<void(PendingFrame&)> viewsStats(const FramePlan& plan) {
+  return [V = plan.views.size(), D = plan.grooms.size(), totalsAt = plan.linkAt,
+          shadowAt = plan.shadowAt](PendingFrame& p) {
+    std::uint64_t shadow = 0;
+    for (std::size_t i = shadowAt; i < p.stats.size(); ++i) shadow += p.stats[i];
+    for (std::size_t v = 0; v < V; ++v) {
+      FrameStats& st = p.frames[v].stats;
+      for (std::size_t k = 0; k < D; ++k) st.strandsDrawn += p.stats[totalsAt + v * D + k];
+      st.shadowStrandsDrawn = shadow;
+    }
+  };
+}
+
 }  // namespace
 
 void addReadBackPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingFrame& out) {
@@ -168,17 +189,22 @@ void addReadBackPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingF
   g.addPass(
       "read-back",
       [&](FrameGraph::Setup& s) {
-        s.read(plan.color).read(plan.depth).readWrite(plan.frameStats).read(plan.lodArena);
-        s.read(plan.shadowMaps).read(plan.rasterCounters).sideEffect().kernel("copy_uints");
+        for (const ViewPlan& vp : plan.views) s.read(vp.color).read(vp.depth);
+        s.readWrite(plan.frameStats).read(plan.lodArena).read(plan.shadowMaps);
+        s.read(plan.rasterCounters).sideEffect().kernel("copy_uints");
         if (plan.aovs)
           for (const FrameGraph::Handle h : plan.aov.all()) s.read(h);
-        if (plan.options.captureGBuffer) s.read(plan.gbuffer);
+        if (plan.options.captureGBuffer) s.read(plan.camera().gbuffer);
       },
       [&, shadowWords] {
         readImages(r, plan, out, shadowWords);
         if (plan.aovs) readAovs(g, r, plan, out);
       });
   // the statistics, decoded once the words are on the host
+  if (plan.severalViews()) {
+    out.finishers.insert(out.finishers.begin(), viewsStats(plan));
+    return;
+  }
   out.finishers.insert(out.finishers.begin(),
                        [at = statsSource(r, plan, shadowWords)](PendingFrame& p) {
                          decodeStats(at, p.stats, p.frames[0].stats);

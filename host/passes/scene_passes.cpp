@@ -16,24 +16,44 @@ void opaqueKernels(FrameGraph::Setup& s) {
   s.kernel("opaque_render").kernel("mesh_raster").kernel("mesh_resolve").kernel("clear_words");
 }
 
-}  // namespace
-
+// The frame's statistics buffer, zeroed ahead of the frame: the counters of passes that do
+// not run read as 0.
 void importStats(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
-  // zeroed ahead of the frame: the counters of passes that do not run read as 0
   r.target.clearUints(r.frameStats, std::max<std::size_t>(plan.stats.words, 1), &r.profiler);
   plan.frameStats = g.import("frame statistics", {&r.frameStats}, true, true);
 }
 
+// Each view's record uploaded and its target's buffers imported (in a frame of several
+// views, every view's record in one table too, which their strand pass reads).
+void importViews(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
+  std::vector<gpu::ClhViewGpu> records;
+  for (ViewPlan& vp : plan.views) {
+    RenderTarget& t = *vp.target;
+    uploadChanged(r.dev, t.view, t.viewSent, &vp.view, 1);
+    records.push_back(vp.view);
+    const std::string suffix = vp.suffix.empty() ? "" : " " + vp.suffix.substr(2);
+    vp.record = g.import("view" + suffix, {&t.view}, true);
+    vp.color = g.import("colour" + vp.suffix, {&t.color}, false, true);
+    vp.depth = g.import("depth" + vp.suffix, {vp.depthBuffer}, false, true);
+    vp.gbuffer = g.import("G-buffer" + vp.suffix, {vp.gbufferBuffer}, true);
+  }
+  if (!plan.severalViews()) return;
+  ViewTargets& vt = r.views;
+  uploadChanged(r.dev, vt.records, vt.recordsSent, records.data(), records.size());
+  plan.viewRecords = g.import("view records", {&vt.records, &vt.grooms}, true);
+}
+
+}  // namespace
+
 void importFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
-  RenderTarget& t = *plan.target;
   const Scene& s = plan.scene;
   const RenderOptions& o = plan.options;
   // host records first (staged uploads ahead of every pass of the frame)
+  importViews(g, r, plan);
   r.scene.upload(s);
-  uploadChanged(r.dev, t.view, t.viewSent, &plan.view, 1);
   if (o.rasterStats) {
     const cl_uint zero[4] = {0, 0, 0, 0};
-    upload(r.dev, t.stats, zero, 4);
+    upload(r.dev, r.target.stats, zero, 4);
   }
   for (const GroomPlan& gp : plan.grooms)
     if (gp.active)
@@ -43,19 +63,15 @@ void importFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
                                ? gp.draw.groom->aoField(s, gp.draw.instance->transform)
                                : nullptr);
 
-  plan.viewRecord = g.import("view", {&t.view}, true);
   plan.scene_ = g.import("scene", r.scene.buffers(), true);
   plan.shadowMaps = g.import("shadow maps", r.shadows.buffers(), !plan.shadowsRebuilt, true);
-  plan.color = g.import("colour", {&t.color}, false, true);
-  plan.depth = g.import("depth", {&t.depth}, false, true);
-  plan.gbuffer = g.import("G-buffer", {&t.gbuffer}, true);
-  plan.rasterCounters = g.import("raster counters", {&t.stats}, true);
+  plan.rasterCounters = g.import("raster counters", {&r.target.stats}, true);
   importStats(g, r, plan);
   plan.lodArena = g.import("LOD arena", r.frameLod.buffers(), true);
   plan.visibility = g.import("baked visibility", r.visibility.buffers(), true);
   plan.linkState = g.import("hair linking state", r.link.buffers(), false);
   plan.filterParams = g.import("filter parameters", {&r.filter.params()}, false);
-  plan.motionParams = g.import("motion parameters", {&t.motionParams}, false);
+  plan.motionParams = g.import("motion parameters", {&r.target.motionParams}, false);
   for (GroomPlan& gp : plan.grooms) {
     const std::string label = groomLabel(gp);
     GroomInstanceGpu& inst = *gp.draw.state;
@@ -70,8 +86,12 @@ void importFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
     }
     if (!gp.active || o.rasterOnly) continue;
     const std::size_t colour = plan.pixels * 4 * sizeof(float);
-    gp.hair = g.create(label + " hair", colour);
-    if (gp.filtered) gp.filteredHair = g.create(label + " filtered hair", colour);
+    for (const ViewPlan& vp : plan.views) {
+      GroomView& gv = gp.views[vp.index];
+      if (!gv.inFront) continue;
+      gv.hair = g.create(label + " hair" + vp.suffix, colour);
+      if (gp.filtered) gv.filteredHair = g.create(label + " filtered hair" + vp.suffix, colour);
+    }
     if (gp.motion) gp.motionPlane = g.create(label + " motion", plan.pixels * 8);
   }
 }
@@ -92,7 +112,8 @@ void addShadowPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
       "shadow maps",
       [&, groomKernels](FrameGraph::Setup& s) {
         s.write(plan.shadowMaps);
-        if (plan.viewRecord) s.read(plan.viewRecord);  // the camera's LOD caps the lights'
+        // the camera's LOD caps the lights' (a frame of one view)
+        if (!plan.severalViews()) s.read(plan.camera().record);
         groomKernels(s, false);
         s.kernel("clear_uints").kernel("copy_uints");
       },
@@ -100,7 +121,7 @@ void addShadowPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
         std::vector<GroomDraw> draws;
         for (const GroomPlan& gp : plan.grooms) draws.push_back(gp.draw);
         // the camera's LOD caps the light passes (a frame of one view)
-        const ViewDraw* camera = plan.cameraPass.view ? &plan.cameraPass : nullptr;
+        const ViewDraw* camera = plan.severalViews() ? nullptr : &plan.camera().draw;
         r.shadows.begin(plan.scene, plan.options, plan.lodCorrection, draws, camera, &r.profiler);
       });
   for (const std::size_t light : ShadowMaps::mappedLights(plan.scene, plan.grooms.size()))
@@ -121,29 +142,30 @@ void addShadowPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
       [&](FrameGraph::Setup& s) { s.readWrite(plan.shadowMaps); }, [&] { r.shadows.finish(); });
 }
 
-void addOpaquePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
+void addOpaquePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, ViewPlan& vp) {
   g.addPass(
-      "opaque",
+      "opaque" + vp.suffix,
       [&](FrameGraph::Setup& s) {
-        s.read(plan.viewRecord).read(plan.scene_).read(plan.shadowMaps);
-        s.write(plan.color).write(plan.depth);
+        s.read(vp.record).read(plan.scene_).read(plan.shadowMaps);
+        s.write(vp.color).write(vp.depth);
         opaqueKernels(s);
       },
       [&] {
-        RenderTarget& t = *plan.target;
-        r.scene.drawOpaque(t.viewTarget(), r.shadows.maps(), t.color, t.depth, true, &r.profiler);
+        RenderTarget& t = *vp.target;
+        r.scene.drawOpaque(t.viewTarget(), r.shadows.maps(), t.color, g.buffer(vp.depth), true,
+                           &r.profiler);
       });
   if (!plan.source) return;
   // the traced reference's source needs the opaque depth on the host to trace against it
   g.addPass(
       "opaque depth to the reference",
       [&](FrameGraph::Setup& s) {
-        s.read(plan.depth).sideEffect().hostWait("the opaque depth, for the traced reference");
+        s.read(vp.depth).sideEffect().hostWait("the opaque depth, for the traced reference");
       },
       [&] {
         std::vector<float> depth(plan.pixels);
-        readBack(r.dev, "the opaque scene's depth", plan.target->depth, depth.data(), plan.pixels);
-        plan.source->opaqueDrawn(plan.view, depth);
+        readBack(r.dev, "the opaque scene's depth", g.buffer(vp.depth), depth.data(), plan.pixels);
+        plan.source->opaqueDrawn(vp.view, depth);
       });
 }
 

@@ -6,7 +6,7 @@
 namespace clhair {
 
 StrandRaster cameraRaster(Renderer::Impl&, const FramePlan& plan, const GroomPlan& gp) {
-  RenderTarget& t = *plan.target;
+  RenderTarget& t = *plan.camera().target;
   const GroomDraw& d = gp.draw;
   StrandRaster raster;
   raster.view = &t.view;
@@ -30,10 +30,14 @@ void addStrandPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan&
   const bool given = plan.source != nullptr;
   g.addPass((given ? "given G-buffer " : "strands ") + std::to_string(gp.index),
             [&, given](FrameGraph::Setup& s) {
-              s.readWrite(plan.gbuffer).kernel("clear_words").kernel("clear_box");
+              s.readWrite(plan.camera().gbuffer).kernel("clear_words").kernel("clear_box");
               if (plan.options.rasterOnly) s.sideEffect();  // what the benchmark times
               if (given) return;
-              s.read(plan.viewRecord).read(plan.depth).read(gp.tables).read(gp.params).read(gp.lod);
+              s.read(plan.camera().record)
+                  .read(plan.camera().depth)
+                  .read(gp.tables)
+                  .read(gp.params)
+                  .read(gp.lod);
               s.readWrite(plan.rasterCounters);
               const GroomKernels k = gp.draw.groom->kernels();
               s.kernel(plan.mode == DispatchMode::Persistent ? k.rasterPersistent : k.raster);
@@ -45,7 +49,7 @@ void addStrandPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan&
               }
             },
             [&, given] {
-              RenderTarget& t = *plan.target;
+              RenderTarget& t = *plan.camera().target;
               const GroomDraw& d = gp.draw;
               t.useLayers(gp.layers);
               t.clearGBuffer(gp.box, &r.profiler);
@@ -73,16 +77,16 @@ void addCapturePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan
                     PendingFrame& out) {
   g.addPass(
       "capture " + std::to_string(gp.index),
-      [&](FrameGraph::Setup& s) { s.read(plan.depth).read(gp.params).sideEffect(); },
+      [&](FrameGraph::Setup& s) { s.read(plan.camera().depth).read(gp.params).sideEffect(); },
       [&] {
         // the raster's inputs, before compositing changes the depth
         Frame& frame = out.frames[0];
         const auto* gb = reinterpret_cast<const std::uint8_t*>(&gp.draw.state->params);
-        const auto* vb = reinterpret_cast<const std::uint8_t*>(&plan.view);
+        const auto* vb = reinterpret_cast<const std::uint8_t*>(&plan.camera().view);
         frame.rasterGroom.assign(gb, gb + sizeof(gpu::ClhGroomGpu));
         frame.rasterView.assign(vb, vb + sizeof(gpu::ClhViewGpu));
         frame.rasterDepth.resize(plan.pixels);
-        out.read(r.dev, r.pinned, plan.target->depth, 0, frame.rasterDepth.data(),
+        out.read(r.dev, r.pinned, plan.camera().target->depth, 0, frame.rasterDepth.data(),
                  plan.pixels * sizeof(float));
       });
 }

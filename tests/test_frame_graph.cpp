@@ -33,9 +33,10 @@ TEST(FrameGraph, AReadOfWhatNoEarlierPassWroteIsRefused) {
   const auto a = g.create("a", 64);
   const auto b = g.create("b", 64);
   g.addPass(
-      "writes a", [&](FrameGraph::Setup& s) { s.write(a); }, [] {});
+      "writes a", [&](FrameGraph::Setup& s) { s.write(a); }, [](const FrameGraph::Resources&) {});
   g.addPass(
-      "reads b", [&](FrameGraph::Setup& s) { s.read(b).sideEffect(); }, [] {});
+      "reads b", [&](FrameGraph::Setup& s) { s.reads({b}).sideEffect(); },
+      [](const FrameGraph::Resources&) {});
   const std::string err = errorOf([&] { g.compile(); });
   EXPECT_NE(err.find("pass \"reads b\" reads \"b\""), std::string::npos) << err;
   // an import holding data may be read first; one without may not
@@ -43,12 +44,14 @@ TEST(FrameGraph, AReadOfWhatNoEarlierPassWroteIsRefused) {
   cl::Buffer buf = makeBuffer<cl_uint>(devImpl(), "test buffer", 4);
   const auto held = h.import("held", {&buf}, true), empty = h.import("empty", {&buf}, false);
   h.addPass(
-      "reads held", [&](FrameGraph::Setup& s) { s.read(held).sideEffect(); }, [] {});
+      "reads held", [&](FrameGraph::Setup& s) { s.reads({held}).sideEffect(); },
+      [](const FrameGraph::Resources&) {});
   EXPECT_EQ(errorOf([&] { h.compile(); }), "");
   FrameGraph k(devImpl(), pool);
   const auto e2 = k.import("empty", {&buf}, false);
   k.addPass(
-      "reads empty", [&](FrameGraph::Setup& s) { s.read(e2).sideEffect(); }, [] {});
+      "reads empty", [&](FrameGraph::Setup& s) { s.reads({e2}).sideEffect(); },
+      [](const FrameGraph::Resources&) {});
   EXPECT_NE(errorOf([&] { k.compile(); }).find("reads \"empty\""), std::string::npos);
   (void)empty;
 }
@@ -61,13 +64,13 @@ TEST(FrameGraph, PassesNobodyNeedsAreCulledAndTheRestRunInOrder) {
   const auto kept = g.import("kept", {&out}, false, true);
   std::vector<std::string> ran;
   auto pass = [&](const std::string& name, std::function<void(FrameGraph::Setup&)> setup) {
-    g.addPass(name, setup, [&ran, name] { ran.push_back(name); });
+    g.addPass(name, setup, [&ran, name](const FrameGraph::Resources&) { ran.push_back(name); });
   };
   pass("make x", [&](FrameGraph::Setup& s) { s.write(x); });
-  pass("make unused", [&](FrameGraph::Setup& s) { s.read(x).write(unused); });
-  pass("make y", [&](FrameGraph::Setup& s) { s.read(x).write(y); });
-  pass("keep", [&](FrameGraph::Setup& s) { s.read(y).write(kept); });
-  pass("report", [&](FrameGraph::Setup& s) { s.read(x).sideEffect(); });
+  pass("make unused", [&](FrameGraph::Setup& s) { s.reads({x}).writes({unused}); });
+  pass("make y", [&](FrameGraph::Setup& s) { s.reads({x}).writes({y}); });
+  pass("keep", [&](FrameGraph::Setup& s) { s.reads({y}).writes({kept}); });
+  pass("report", [&](FrameGraph::Setup& s) { s.reads({x}).sideEffect(); });
   g.execute();
   EXPECT_EQ(ran, (std::vector<std::string>{"make x", "make y", "keep", "report"}));
   EXPECT_EQ(g.culledCount(), 1u);
@@ -80,13 +83,16 @@ TEST(FrameGraph, CreatedBuffersShareMemoryOnlyWhenTheirLifetimesDoNotOverlap) {
   const auto a = g.create("a", 256), b = g.create("b", 256), c = g.create("c", 128);
   // a: passes 1-2, b: passes 2-3 (overlaps a), c: pass 4 (after a and b)
   g.addPass(
-      "1", [&](FrameGraph::Setup& s) { s.write(a); }, [] {});
+      "1", [&](FrameGraph::Setup& s) { s.write(a); }, [](const FrameGraph::Resources&) {});
   g.addPass(
-      "2", [&](FrameGraph::Setup& s) { s.read(a).write(b); }, [] {});
+      "2", [&](FrameGraph::Setup& s) { s.reads({a}).writes({b}); },
+      [](const FrameGraph::Resources&) {});
   g.addPass(
-      "3", [&](FrameGraph::Setup& s) { s.read(b).sideEffect(); }, [] {});
+      "3", [&](FrameGraph::Setup& s) { s.reads({b}).sideEffect(); },
+      [](const FrameGraph::Resources&) {});
   g.addPass(
-      "4", [&](FrameGraph::Setup& s) { s.write(c).sideEffect(); }, [] {});
+      "4", [&](FrameGraph::Setup& s) { s.writes({c}).sideEffect(); },
+      [](const FrameGraph::Resources&) {});
   g.compile();
   EXPECT_NE(g.buffer(a)(), g.buffer(b)());
   EXPECT_TRUE(g.buffer(c)() == g.buffer(a)() || g.buffer(c)() == g.buffer(b)());
@@ -96,7 +102,8 @@ TEST(FrameGraph, CreatedBuffersShareMemoryOnlyWhenTheirLifetimesDoNotOverlap) {
   FrameGraph next(devImpl(), pool);
   const auto d = next.create("d", 200);
   next.addPass(
-      "5", [&](FrameGraph::Setup& s) { s.write(d).sideEffect(); }, [] {});
+      "5", [&](FrameGraph::Setup& s) { s.writes({d}).sideEffect(); },
+      [](const FrameGraph::Resources&) {});
   next.compile();
   EXPECT_EQ(pool.size(), 2u);
 }
@@ -117,7 +124,7 @@ TEST(FrameGraph, APassBindsLaunchesAndWaitsOnlyAsDeclared) {
           if (declareKernel) s.kernel("clear_words");
           if (declareWait) s.hostWait("a test read");
         },
-        [&] {
+        [&](const FrameGraph::Resources&) {
           clear.words(bound, 16, 0, "test", nullptr);
           cl_ulong value = 0;
           if (wait) readBack(devImpl(), "a word", declared, &value, 1);
@@ -131,6 +138,46 @@ TEST(FrameGraph, APassBindsLaunchesAndWaitsOnlyAsDeclared) {
   EXPECT_NE(run(declared, true, true, false).find("made the host wait 1 time(s)"),
             std::string::npos);
   EXPECT_EQ(run(declared, true, true, true), "");
+}
+
+// A pass in the shape of addPass<Data>: its setup keeps the handles it declared in its Data,
+// which later passes take as its outputs; its execute gets their buffers from its Resources,
+// and asking for a resource it did not declare throws.
+TEST(FrameGraph, APassGetsOnlyTheBuffersOfWhatItsDataDeclared) {
+  BufferPool pool(devImpl());
+  FrameGraph g(devImpl(), pool);
+  cl::Buffer out = makeBuffer<cl_uint>(devImpl(), "test output", 4);
+  const auto made = g.create("made", 64);
+  const auto kept = g.import("kept", {&out}, false, true);
+  const auto other = g.create("other", 16);  // declared by no pass
+  struct Make {
+    FrameGraph::Handle made;
+  };
+  const cl::Buffer* seen = nullptr;
+  const Make& m = g.addPass<Make>(
+      "make", [&](FrameGraph::Setup& s, Make& d) { d.made = s.write(made); },
+      [&](const Make& d, const FrameGraph::Resources& res) { seen = &res[d.made]; });
+  EXPECT_EQ(m.made.id, made.id);
+  struct Copy {
+    FrameGraph::Handle from, to;
+  };
+  std::string asked;
+  g.addPass<Copy>(
+      "copy",
+      [&](FrameGraph::Setup& s, Copy& d) {
+        d.from = s.read(m.made);  // the first pass's output, by its Data
+        d.to = s.write(kept);
+      },
+      [&](const Copy& d, const FrameGraph::Resources& res) {
+        EXPECT_EQ(res[d.to](), out());
+        EXPECT_TRUE(res.declared(d.from));
+        EXPECT_FALSE(res.declared(FrameGraph::Handle{}));
+        asked = errorOf([&] { (void)res[other]; });
+      });
+  g.execute();
+  ASSERT_NE(seen, nullptr);
+  EXPECT_EQ((*seen)(), g.buffer(made)());
+  EXPECT_NE(asked.find("asks for \"other\", which it did not declare"), std::string::npos) << asked;
 }
 
 }  // namespace

@@ -130,10 +130,10 @@ struct FramePlan {
   std::size_t lastDrawn = 0;
   StatsLayout stats;
   std::size_t rasterStatsAt = 0, budgetAt = 0, linkAt = 0, pointsAt = 0, shadowAt = 0;
-  // handles of the frame's shared resources (viewRecords: the records of every view, for the
-  // strand pass of several views)
+  // handles of the frame's shared resources (viewRecords, viewGrooms: every view's record and a
+  // groom's record in every view, for the strand pass of several views)
   FrameGraph::Handle scene_, shadowMaps, rasterCounters, frameStats, lodArena, visibility,
-      linkState, filterParams, motionParams, viewRecords;
+      linkState, filterParams, motionParams, viewRecords, viewGrooms;
   AovHandles aov;
   CryptoHandles crypto;
 };

@@ -74,16 +74,51 @@ cl::Buffer& FrameGraph::buffer(Handle h) {
   return const_cast<cl::Buffer&>(*r.imported[0]);
 }
 
-FrameGraph::Setup& FrameGraph::Setup::read(Handle h) {
+FrameGraph::Handle FrameGraph::Setup::read(Handle h) {
   if (!h) throw Error("frame graph: pass \"" + g_.passes_[pass_].name + "\" reads no resource");
   g_.passes_[pass_].reads.push_back(h.id);
+  return h;
+}
+
+FrameGraph::Handle FrameGraph::Setup::write(Handle h) {
+  if (!h) throw Error("frame graph: pass \"" + g_.passes_[pass_].name + "\" writes no resource");
+  g_.passes_[pass_].writes.push_back(h.id);
+  return h;
+}
+
+FrameGraph::Handle FrameGraph::Setup::readWrite(Handle h) {
+  read(h);
+  return write(h);
+}
+
+FrameGraph::Setup& FrameGraph::Setup::reads(std::initializer_list<Handle> hs) {
+  for (const Handle h : hs) read(h);
   return *this;
 }
 
-FrameGraph::Setup& FrameGraph::Setup::write(Handle h) {
-  if (!h) throw Error("frame graph: pass \"" + g_.passes_[pass_].name + "\" writes no resource");
-  g_.passes_[pass_].writes.push_back(h.id);
+FrameGraph::Setup& FrameGraph::Setup::writes(std::initializer_list<Handle> hs) {
+  for (const Handle h : hs) write(h);
   return *this;
+}
+
+FrameGraph::Setup& FrameGraph::Setup::readsWrites(std::initializer_list<Handle> hs) {
+  for (const Handle h : hs) readWrite(h);
+  return *this;
+}
+
+bool FrameGraph::Resources::declared(Handle h) const {
+  const Pass& p = g_.passes_.at(pass_);
+  const auto in = [&](const std::vector<std::uint32_t>& ids) {
+    return std::find(ids.begin(), ids.end(), h.id) != ids.end();
+  };
+  return h && (in(p.reads) || in(p.writes));
+}
+
+cl::Buffer& FrameGraph::Resources::operator[](Handle h) const {
+  if (!declared(h))
+    throw Error("frame graph: pass \"" + g_.passes_.at(pass_).name + "\" asks for " +
+                (h ? "\"" + g_.name(h) + "\", which it did not declare" : "no resource"));
+  return g_.buffer(h);
 }
 
 FrameGraph::Setup& FrameGraph::Setup::kernel(const std::string& name) {
@@ -103,7 +138,7 @@ FrameGraph::Setup& FrameGraph::Setup::sideEffect() {
 }
 
 void FrameGraph::addPass(const std::string& name, const std::function<void(Setup&)>& setup,
-                         std::function<void()> run) {
+                         std::function<void(const Resources&)> run) {
   if (compiled_) throw Error("frame graph: pass \"" + name + "\" added after compile");
   Pass p;
   p.name = name;
@@ -225,7 +260,8 @@ class FrameGraph::Audit : public LaunchAudit {
 
 void FrameGraph::execute() {
   if (!compiled_) compile();
-  for (Pass& p : passes_) {
+  for (std::size_t i = 0; i < passes_.size(); ++i) {
+    Pass& p = passes_[i];
     if (p.culled) continue;
     const std::uint64_t before = dev_.transfers.hostWaits();
     if (dev_.graphChecks) {
@@ -234,14 +270,14 @@ void FrameGraph::execute() {
       LaunchAudit* outer = current;
       current = &audit;
       try {
-        p.run();
+        p.run(Resources(*this, i));
       } catch (...) {
         current = outer;
         throw;
       }
       current = outer;
     } else {
-      p.run();
+      p.run(Resources(*this, i));
     }
     p.waitsMade = dev_.transfers.hostWaits() - before;
     waits_ += p.waitsMade;

@@ -21,7 +21,9 @@
 
 #include <cstdint>
 #include <functional>
+#include <initializer_list>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -72,15 +74,21 @@ class FrameGraph {
                 bool keep = false);
   // A buffer of `bytes` bytes the executor allocates; no contents until a pass writes it.
   Handle create(std::string name, std::size_t bytes);
-  // The buffer of a created resource (after compile()) or the first of an imported one.
+  // The buffer of a created resource (after compile()) or the first of an imported one (a
+  // pass's execute asks its Resources instead, which check that the pass declared it).
   cl::Buffer& buffer(Handle h);
   const std::string& name(Handle h) const { return resources_.at(h.id).name; }
 
   class Setup {
    public:
-    Setup& read(Handle h);
-    Setup& write(Handle h);
-    Setup& readWrite(Handle h) { return read(h).write(h); }
+    // The pass reads / writes / reads and writes `h`; returns it, for the pass's Data.
+    Handle read(Handle h);
+    Handle write(Handle h);
+    Handle readWrite(Handle h);
+    // The same for resources the pass's execute does not name (bound by their owners).
+    Setup& reads(std::initializer_list<Handle> hs);
+    Setup& writes(std::initializer_list<Handle> hs);
+    Setup& readsWrites(std::initializer_list<Handle> hs);
     Setup& kernel(const std::string& name);
     // The pass makes the host wait for the device, and why (each wait it makes is counted).
     Setup& hostWait(const std::string& why);
@@ -93,9 +101,40 @@ class FrameGraph {
     FrameGraph& g_;
     std::size_t pass_;
   };
-  // Adds a pass; `setup` runs now, `run` at execute().
+
+  // What a pass's execute reaches of the graph: the buffers of the resources its setup
+  // declared.
+  class Resources {
+   public:
+    // The buffer of `h` (a created resource's, or the first of an imported one's); throws
+    // when the pass did not declare `h`.
+    cl::Buffer& operator[](Handle h) const;
+    // Whether the pass declared `h`.
+    bool declared(Handle h) const;
+
+   private:
+    friend class FrameGraph;
+    Resources(FrameGraph& g, std::size_t pass) : g_(g), pass_(pass) {}
+    FrameGraph& g_;
+    std::size_t pass_;
+  };
+
+  // A pass in the shape of Filament's addPass<Data>: `setup` declares what the pass reads,
+  // writes, launches and waits for and keeps in its Data the handles its execute uses; `run`
+  // enqueues the work with the buffers of those handles (Resources). Returns the Data, whose
+  // handles later passes take as the pass's outputs; it lives as long as the graph.
+  template <class Data>
+  const Data& addPass(const std::string& name, const std::function<void(Setup&, Data&)>& setup,
+                      std::function<void(const Data&, const Resources&)> run) {
+    auto data = std::make_shared<Data>();
+    addPass(
+        name, [&](Setup& s) { setup(s, *data); },
+        [data, run = std::move(run)](const Resources& res) { run(*data, res); });
+    return *data;
+  }
+  // A pass whose execute uses no buffer of the graph by name.
   void addPass(const std::string& name, const std::function<void(Setup&)>& setup,
-               std::function<void()> run);
+               std::function<void(const Resources&)> run);
 
   void compile();
   void execute();
@@ -122,7 +161,7 @@ class FrameGraph {
     std::vector<std::uint32_t> reads, writes;
     std::vector<std::string> kernels, waits;
     bool sideEffect = false, culled = false;
-    std::function<void()> run;
+    std::function<void(const Resources&)> run;
     std::uint64_t waitsMade = 0;
   };
   class Audit;

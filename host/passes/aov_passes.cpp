@@ -7,12 +7,11 @@ namespace clhair {
 
 namespace {
 
-// The planes' buffers (created resources of the graph).
-AovStage::Planes planesOf(FrameGraph& g, const FramePlan& plan) {
+// The planes' buffers in a pass that declared them.
+AovStage::Planes planesOf(const FrameGraph::Resources& res, const FramePlan& plan) {
   const AovHandles& h = plan.aov;
-  return {&g.buffer(h.lastDepth), &g.buffer(h.owner), &g.buffer(h.ownerMotion),
-          &g.buffer(h.alpha),     &g.buffer(h.hair),  &g.buffer(h.centreZ),
-          &g.buffer(h.tangent),   &g.buffer(h.strand)};
+  return {&res[h.lastDepth], &res[h.owner],   &res[h.ownerMotion], &res[h.alpha],
+          &res[h.hair],      &res[h.centreZ], &res[h.tangent],     &res[h.strand]};
 }
 
 }  // namespace
@@ -28,46 +27,53 @@ void addAovBeginPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingF
   h.centreZ = g.create("AOV centre depth", n * 4);
   h.tangent = g.create("AOV tangent", n * 16);
   h.strand = g.create("AOV strand", n * 16);
-  g.addPass(
+  struct Data {
+    FrameGraph::Handle depth, color;
+  };
+  g.addPass<Data>(
       "aov begin",
-      [&](FrameGraph::Setup& s) {
-        s.read(plan.camera().depth).read(plan.camera().color).sideEffect().kernel("aov_begin");
-        for (const FrameGraph::Handle h : plan.aov.all()) s.write(h);
+      [&](FrameGraph::Setup& s, Data& d) {
+        d.depth = s.read(plan.camera().depth);
+        d.color = s.read(plan.camera().color);
+        s.sideEffect().kernel("aov_begin");
+        for (const FrameGraph::Handle p : plan.aov.all()) s.write(p);
       },
-      [&] {
+      [&](const Data& d, const FrameGraph::Resources& res) {
         // the colour under the hair: temporal reprojection recomposes the frame on it
         std::vector<float>& opaque = out.frames[0].aovs.opaque;
         opaque.resize(plan.pixels * 4);
-        out.read(r.dev, r.pinned, plan.camera().target->color, 0, opaque.data(), opaque.size() * 4);
-        r.aov.begin(plan.camera().target->depth, plan.pixels, planesOf(g, plan), &r.profiler);
+        out.read(r.dev, r.pinned, res[d.color], 0, opaque.data(), opaque.size() * 4);
+        r.aov.begin(res[d.depth], plan.pixels, planesOf(res, plan), &r.profiler);
       });
 }
 
 void addAovGroomPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp) {
-  g.addPass(
+  struct Data {
+    FrameGraph::Handle groom, gbuffer, result, depth, motion;
+  };
+  g.addPass<Data>(
       "aov " + std::to_string(gp.index),
-      [&](FrameGraph::Setup& s) {
-        s.read(gp.params)
-            .read(plan.camera().gbuffer)
-            .read(gp.views[0].result)
-            .read(plan.camera().depth)
-            .kernel("aov_groom");
-        if (gp.motion) s.read(gp.motionPlane);
-        for (const FrameGraph::Handle h : plan.aov.all()) s.readWrite(h);
+      [&](FrameGraph::Setup& s, Data& d) {
+        d.groom = s.read(gp.params);
+        d.gbuffer = s.read(plan.camera().gbuffer);
+        d.result = s.read(gp.views[0].result);
+        d.depth = s.read(plan.camera().depth);
+        s.kernel("aov_groom");
+        if (gp.motion) d.motion = s.read(gp.motionPlane);
+        for (const FrameGraph::Handle p : plan.aov.all()) s.readWrite(p);
       },
-      [&] {
-        RenderTarget& t = *plan.camera().target;
+      [&](const Data& d, const FrameGraph::Resources& res) {
         AovStage::Groom a;
-        a.groom = &gp.draw.state->groom;
+        a.groom = &res[d.groom];
         a.index = static_cast<std::uint32_t>(gp.index);
-        a.gbuffer = &t.gbuffer;
+        a.gbuffer = &res[d.gbuffer];
         a.samples = plan.options.msaa;
         a.ids = plan.options.strandIds;
-        a.layers = static_cast<std::size_t>(t.usedLayers());
-        a.result = &g.buffer(gp.views[0].result);
-        a.depth = &t.depth;
-        a.motion = gp.motion ? &g.buffer(gp.motionPlane) : nullptr;
-        r.aov.groom(a, plan.pixels, planesOf(g, plan), &r.profiler);
+        a.layers = static_cast<std::size_t>(plan.camera().target->usedLayers());
+        a.result = &res[d.result];
+        a.depth = &res[d.depth];
+        a.motion = d.motion ? &res[d.motion] : nullptr;
+        r.aov.groom(a, plan.pixels, planesOf(res, plan), &r.profiler);
       });
 }
 

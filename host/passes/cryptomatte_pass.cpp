@@ -37,7 +37,8 @@ std::uint32_t groomKey(const std::vector<std::string>& names, std::size_t k) {
 }
 
 // Reads the lists into `host` and names them in `out`'s frame once it completes.
-void readBack(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingFrame& out) {
+void readBack(const FrameGraph::Resources& res, Renderer::Impl& r, FramePlan& plan,
+              PendingFrame& out) {
   auto host = std::make_shared<CryptoHost>();
   const std::size_t n = plan.pixels, ranks = kCryptomatteRanks;
   host->pixels = n;
@@ -46,12 +47,10 @@ void readBack(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingFrame& o
   host->groomCoverage.resize(n * ranks);
   host->strandCoverage.resize(n * ranks);
   const CryptoHandles& h = plan.crypto;
-  out.read(r.dev, r.pinned, g.buffer(h.groomKeys), 0, host->groomKeys.data(), n * ranks * 8);
-  out.read(r.dev, r.pinned, g.buffer(h.groomCoverage), 0, host->groomCoverage.data(),
-           n * ranks * 4);
-  out.read(r.dev, r.pinned, g.buffer(h.strandKeys), 0, host->strandKeys.data(), n * ranks * 8);
-  out.read(r.dev, r.pinned, g.buffer(h.strandCoverage), 0, host->strandCoverage.data(),
-           n * ranks * 4);
+  out.read(r.dev, r.pinned, res[h.groomKeys], 0, host->groomKeys.data(), n * ranks * 8);
+  out.read(r.dev, r.pinned, res[h.groomCoverage], 0, host->groomCoverage.data(), n * ranks * 4);
+  out.read(r.dev, r.pinned, res[h.strandKeys], 0, host->strandKeys.data(), n * ranks * 8);
+  out.read(r.dev, r.pinned, res[h.strandCoverage], 0, host->strandCoverage.data(), n * ranks * 4);
   out.finishers.push_back([host, names = groomNames(plan)](PendingFrame& p) {
     const auto groom = [&](std::uint64_t key) { return names.at(key); };
     const auto strand = [&](std::uint64_t key) {
@@ -81,31 +80,36 @@ void addCryptomattePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, Groom
         g.create("cryptomatte strand coverage", CryptomatteStage::coverageBytes(plan.pixels));
   }
   const bool last = gp.index == plan.lastDrawn;
-  g.addPass(
+  struct Data {
+    FrameGraph::Handle result, gbuffer;
+  };
+  g.addPass<Data>(
       "cryptomatte " + std::to_string(gp.index),
-      [&, first, last](FrameGraph::Setup& s) {
-        s.read(gp.views[0].result).read(plan.camera().gbuffer).kernel("cryptomatte_groom");
+      [&, first, last](FrameGraph::Setup& s, Data& d) {
+        d.result = s.read(gp.views[0].result);
+        d.gbuffer = s.read(plan.camera().gbuffer);
+        s.kernel("cryptomatte_groom");
         for (FrameGraph::Handle list :
              {h.groomKeys, h.groomCoverage, h.strandKeys, h.strandCoverage})
           first ? s.write(list) : s.readWrite(list);
         if (last) s.sideEffect();  // the read-back
       },
-      [&, first, last] {
+      [&, first, last](const Data& d, const FrameGraph::Resources& res) {
         const std::vector<std::string> names = groomNames(plan);
         CryptomatteStage::Params p;
         p.width = static_cast<std::uint32_t>(plan.scene.width);
         p.height = static_cast<std::uint32_t>(plan.scene.height);
         p.first = first;
         p.groomKey = groomKey(names, gp.index);
-        p.result = &g.buffer(gp.views[0].result);
-        p.gbuffer = &plan.camera().target->gbuffer;
+        p.result = &res[d.result];
+        p.gbuffer = &res[d.gbuffer];
         p.layers = static_cast<std::size_t>(plan.camera().target->usedLayers());
-        p.groomKeys = &g.buffer(h.groomKeys);
-        p.groomCoverage = &g.buffer(h.groomCoverage);
-        p.strandKeys = &g.buffer(h.strandKeys);
-        p.strandCoverage = &g.buffer(h.strandCoverage);
+        p.groomKeys = &res[h.groomKeys];
+        p.groomCoverage = &res[h.groomCoverage];
+        p.strandKeys = &res[h.strandKeys];
+        p.strandCoverage = &res[h.strandCoverage];
         r.cryptomatte.enqueue(p, &r.profiler);
-        if (last) readBack(g, r, plan, out);
+        if (last) readBack(res, r, plan, out);
       });
 }
 

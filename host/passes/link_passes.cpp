@@ -7,33 +7,31 @@
 
 namespace clhair {
 
-LinkStage::Params linkParams(const FramePlan& plan, const GroomPlan& gp) {
-  RenderTarget& t = *plan.camera().target;
-  return {t.viewTarget(), &gp.draw.state->groom,
-          &t.gbuffer,     gp.draw.groom->strandCount(),
-          gp.layers,      gp.hairBox};
+LinkStage::Params linkParams(const FramePlan& plan, const GroomPlan& gp,
+                             const FrameGraph::Resources& res) {
+  const ViewPlan& camera = plan.camera();
+  return {viewTarget(plan, res[camera.record]), &res[gp.params], &res[camera.gbuffer],
+          gp.draw.groom->strandCount(),         gp.layers,       gp.hairBox};
 }
 
 void addLinkPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp) {
   g.addPass(
       "link " + std::to_string(gp.index),
       [&](FrameGraph::Setup& s) {
-        s.read(plan.camera().record)
-            .read(gp.params)
-            .readWrite(plan.camera().gbuffer)
-            .write(plan.linkState);
+        const ViewPlan& camera = plan.camera();
+        s.reads({camera.record, gp.params}).readsWrites({camera.gbuffer}).writes({plan.linkState});
         s.kernel("clear_uints").kernel("link_select").kernel("link_merge");
         if (!gp.linking) return;
-        s.read(plan.camera().depth).read(gp.tables).read(gp.lod).readWrite(plan.rasterCounters);
+        s.reads({camera.depth, gp.tables, gp.lod}).readsWrites({plan.rasterCounters});
         s.kernel(gp.draw.groom->kernels().raster).kernel("link_propagate");
         if (plan.mode == DispatchMode::ReadBack)
           s.hostWait("the groom's strand total for the curve pass (--dispatch readback)");
       },
-      [&] {
-        const LinkStage::Params lp = linkParams(plan, gp);
+      [&](const FrameGraph::Resources& res) {
+        const LinkStage::Params lp = linkParams(plan, gp, res);
         r.link.select(*gp.filter, lp, &r.profiler);
         if (gp.linking) {
-          StrandRaster curve = cameraRaster(r, plan, gp);
+          StrandRaster curve = cameraRaster(r, plan, gp, plan.camera(), res);
           curve.ids = false;
           curve.curve = true;
           curve.stats = false;

@@ -9,13 +9,17 @@ namespace clhair {
 void addLodPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
   for (GroomPlan& gp : plan.grooms) {
     if (!gp.active) continue;
-    g.addPass(
+    struct Data {
+      FrameGraph::Handle view;
+    };
+    g.addPass<Data>(
         "lod " + std::to_string(gp.index),
-        [&](FrameGraph::Setup& s) {
-          s.read(plan.camera().record).read(gp.tables).write(gp.params).write(gp.lod);
+        [&](FrameGraph::Setup& s, Data& d) {
+          d.view = s.read(plan.camera().record);
+          s.reads({gp.tables}).writes({gp.params, gp.lod});
           s.kernel(gp.draw.groom->kernels().lod).kernel("scan_bundles");
         },
-        [&] {
+        [&](const Data& data, const FrameGraph::Resources& res) {
           const GroomDraw& d = gp.draw;
           d.groom->useAo(plan.options.ambientOcclusion != 0);
           // a faint strand file is widened where its hair is filtered (io/faint_groom.h)
@@ -24,18 +28,18 @@ void addLodPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
           if (!d.groom->prepare(*d.state, d.instance->transform, pass))
             throw Error("groom \"" + d.instance->name +
                         "\": in front of the camera when the frame was planned, behind it now");
-          d.groom->lod(*d.state, plan.camera().target->view, &r.profiler);
+          d.groom->lod(*d.state, res[data.view], &r.profiler);
         });
   }
   g.addPass(
       "segment budget",
       [&](FrameGraph::Setup& s) {
         for (GroomPlan& gp : plan.grooms)
-          if (gp.active) s.readWrite(gp.lod);
-        s.readWrite(plan.lodArena);
+          if (gp.active) s.readsWrites({gp.lod});
+        s.readsWrites({plan.lodArena});
         s.kernel("budget_measure").kernel("budget_plan").kernel("budget_apply");
       },
-      [&] {
+      [&](const FrameGraph::Resources&) {
         std::vector<GroomDraw> draws;
         std::vector<char> active, far;
         for (const GroomPlan& gp : plan.grooms) {

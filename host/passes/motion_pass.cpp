@@ -10,21 +10,22 @@
 namespace clhair {
 
 void addMotionPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp) {
-  g.addPass(
+  struct Data {
+    FrameGraph::Handle params, plane;
+  };
+  g.addPass<Data>(
       "motion " + std::to_string(gp.index),
-      [&](FrameGraph::Setup& s) {
-        s.read(plan.camera().record)
-            .read(plan.camera().depth)
-            .read(plan.camera().gbuffer)
-            .read(gp.tables);
-        s.read(gp.params).read(gp.lod).readWrite(plan.rasterCounters);
-        s.write(plan.motionParams).write(gp.motionPlane);
+      [&](FrameGraph::Setup& s, Data& d) {
+        const ViewPlan& camera = plan.camera();
+        s.reads({camera.record, camera.depth, camera.gbuffer, gp.tables, gp.params, gp.lod});
+        s.readsWrites({plan.rasterCounters});
+        d.params = s.write(plan.motionParams);
+        d.plane = s.write(gp.motionPlane);
         s.kernel("clear_words").kernel(gp.draw.groom->kernels().motion);
         if (plan.mode == DispatchMode::ReadBack)
           s.hostWait("the groom's strand total for the motion pass (--dispatch readback)");
       },
-      [&] {
-        RenderTarget& t = *plan.camera().target;
+      [&](const Data& d, const FrameGraph::Resources& res) {
         const Scene& before = *plan.options.previous;
         const gpu::ClhViewGpu pv = makeView(before.camera, plan.scene.width, plan.scene.height);
         const gpu::ClhViewGpu still =
@@ -37,15 +38,16 @@ void addMotionPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan&
         storeMat34(m.prev_obj_to_view,
                    worldToView(before.camera) * before.grooms[gp.index].transform);
         m.depth_layers = gp.depthLayers;
-        upload(r.dev, t.motionParams, &m, 1);
-        cl::Buffer& plane = g.buffer(gp.motionPlane);
-        t.clearWords(plane, plan.pixels, &r.profiler);
+        cl::Buffer& params = res[d.params];
+        upload(r.dev, params, &m, 1);
+        cl::Buffer& plane = res[d.plane];
+        r.target.clearWords(plane, plan.pixels, &r.profiler);
         MotionDraw mp;
-        mp.params = &t.motionParams;
+        mp.params = &params;
         mp.motion = &plane;
         // a groom that cannot give its motion leaves the plane empty: rigid motion is kept
         gp.draw.groom->motion(*gp.draw.state, before.grooms[gp.index], mp,
-                              cameraRaster(r, plan, gp), &r.profiler);
+                              cameraRaster(r, plan, gp, plan.camera(), res), &r.profiler);
       });
 }
 

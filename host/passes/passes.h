@@ -13,6 +13,12 @@
 
 namespace clhair {
 
+// A view's target as the stages take it: its record (the buffer of a pass's handle) and the
+// frame's size.
+inline ViewTarget viewTarget(const FramePlan& plan, const cl::Buffer& record) {
+  return {&record, plan.scene.width, plan.scene.height};
+}
+
 // scene_passes.cpp: the frame's shared resources, every view's and every groom's own,
 // imported into the graph (the view and scene records are uploaded here, before any pass);
 // the deep opacity maps when they must be built again; a view's opaque scene (and, for a
@@ -30,9 +36,11 @@ void addLodPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan);
 // strand_passes.cpp: a groom's G-buffer clear and strand raster (or its given centre layer),
 // and the capture of its raster inputs and layers (RenderOptions::captureGBuffer).
 void addStrandPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
-// The camera's raster of groom `gp` into the plan's target (sized as the plan's mode says:
-// read-back mode reads the strand total here).
-StrandRaster cameraRaster(Renderer::Impl& r, const FramePlan& plan, const GroomPlan& gp);
+// The raster of groom `gp` into view `vp` (its record, depth and G-buffer and the raster
+// counters from the pass's resources), sized as the plan's mode says: read-back mode reads
+// the strand total here.
+StrandRaster cameraRaster(Renderer::Impl& r, const FramePlan& plan, const GroomPlan& gp,
+                          const ViewPlan& vp, const FrameGraph::Resources& res);
 void addCapturePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp,
                     PendingFrame& out);
 
@@ -47,11 +55,16 @@ void addViewsRecordPass(FrameGraph& g, GroomPlan& gp);
 // could not be drawn into every view at once) its LOD and strands drawn in this view alone.
 void declareViewDraw(FrameGraph::Setup& s, const FramePlan& plan, const GroomPlan& gp,
                      const ViewPlan& vp);
-void drawInView(Renderer::Impl& r, const FramePlan& plan, GroomPlan& gp, const ViewPlan& vp);
+void drawInView(Renderer::Impl& r, const FramePlan& plan, GroomPlan& gp, const ViewPlan& vp,
+                const FrameGraph::Resources& res);
 
 // link_passes.cpp: Huang's hair linking over the groom's G-buffer (select, the sources'
 // curve pass, propagate, merge).
 void addLinkPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
+// The linking stage's inputs for groom `gp` in the camera's view (a pass that declared the
+// view's record and G-buffer and the groom's record).
+LinkStage::Params linkParams(const FramePlan& plan, const GroomPlan& gp,
+                             const FrameGraph::Resources& res);
 
 // motion_pass.cpp: a deforming groom's strands at the previous frame, into its motion plane.
 void addMotionPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
@@ -59,9 +72,12 @@ void addMotionPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan&
 // shade_passes.cpp: deferred shading of the groom's centre layer in view `vp`, its filter
 // (Lipp's, or Huang's alpha fix and anisotropic filter), and its composite over the view.
 void addShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp, ViewPlan& vp);
-// The shading pass's inputs for groom `gp` drawn into target `t` (its G-buffer `gbuffer`).
-ShadeStage::Params shadeParams(Renderer::Impl& r, const RenderTarget& t, const GroomPlan& gp,
-                               const cl::Buffer& gbuffer, cl::Buffer& hair, int msaa);
+// The shading pass's inputs for groom `gp`: the view's record, the groom's record, the
+// G-buffer and the shaded hair are buffers of the pass's resources; the lights and maps, the
+// groom's strand scan and its baked inputs come from their owners.
+ShadeStage::Params shadeParams(Renderer::Impl& r, const FramePlan& plan, const GroomPlan& gp,
+                               const cl::Buffer& view, const cl::Buffer& groom,
+                               const cl::Buffer& gbuffer, cl::Buffer& hair);
 void addFilterPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp, ViewPlan& vp);
 void addCompositePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp,
                       ViewPlan& vp);

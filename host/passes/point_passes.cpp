@@ -17,29 +17,28 @@ namespace clhair {
 
 namespace {
 
-// The buffers of a groom's lists once the graph has allocated them.
+// The handles of a groom's lists, and their buffers in a pass (those the pass declared; the
+// others are left null).
 struct PointHandles {
   PointStage::Sizes sizes;
   FrameGraph::Handle bits, blocks, ranks, records, colors;
-  PointStage::Lists lists(FrameGraph& g) const {
+  PointStage::Lists lists(const FrameGraph::Resources& res) const {
+    const auto of = [&](FrameGraph::Handle h) { return res.declared(h) ? &res[h] : nullptr; };
     PointStage::Lists l;
     l.sizes = sizes;
-    l.bits = &g.buffer(bits);
-    l.blocks = &g.buffer(blocks);
-    l.offsets = &g.buffer(ranks);
-    l.records = &g.buffer(records);
-    l.colors = &g.buffer(colors);
+    l.bits = of(bits);
+    l.blocks = of(blocks);
+    l.offsets = of(ranks);
+    l.records = of(records);
+    l.colors = of(colors);
     return l;
   }
 };
 
-}  // namespace
-
-void addPointShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp) {
-  RenderTarget& t = *plan.camera().target;
-  const PixelRect box = gp.box.clipped(t.viewTarget().width, t.viewTarget().height);
+// The groom's lists, created in the graph for its screen box `box`.
+PointHandles createLists(FrameGraph& g, const FramePlan& plan, const GroomPlan& gp,
+                         const PixelRect& box) {
   const std::string label = "groom " + std::to_string(gp.index);
-  // the lists live while the frame's graph does (the passes below capture them by value)
   PointHandles h;
   h.sizes = PointStage::sizes(gp.draw.groom->pointSpace(), box.pixels(), plan.options.msaa);
   h.bits = g.create(label + " marked points", h.sizes.bitsBytes());
@@ -47,47 +46,55 @@ void addPointShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomP
   h.ranks = g.create(label + " point ranks", h.sizes.offsetsBytes());
   h.records = g.create(label + " point records", h.sizes.recordsBytes());
   h.colors = g.create(label + " point colours", h.sizes.colorsBytes());
+  return h;
+}
+
+}  // namespace
+
+void addPointShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp) {
+  const PixelRect box = gp.box.clipped(plan.scene.width, plan.scene.height);
+  // the lists live while the frame's graph does (the passes below capture them by value)
+  const PointHandles h = createLists(g, plan, gp, box);
   gp.views[0].result = gp.views[0].hair;
   const std::string n = std::to_string(gp.index);
 
-  g.addPass(
+  struct Data {
+    FrameGraph::Handle view, gbuffer, stats;
+  };
+  g.addPass<Data>(
       "point marks " + n,
-      [&, h](FrameGraph::Setup& s) {
-        s.read(plan.camera().gbuffer)
-            .write(h.bits)
-            .write(h.blocks)
-            .write(h.ranks)
-            .write(plan.frameStats);
+      [&, h](FrameGraph::Setup& s, Data& d) {
+        d.view = s.read(plan.camera().record);
+        d.gbuffer = s.read(plan.camera().gbuffer);
+        s.writes({h.bits, h.blocks, h.ranks});
+        d.stats = s.write(plan.frameStats);
         s.kernel("points_mark").kernel("points_count").kernel("points_scan");
         s.kernel("points_offsets").kernel("clear_uints").kernel("copy_uints");
       },
-      [&, h, box] {
-        const PointStage::Lists l = h.lists(g);
-        r.points.mark(t.viewTarget(), t.gbuffer, gp.layers, plan.options.msaa, box, l, &r.profiler);
+      [&, h, box](const Data& d, const FrameGraph::Resources& res) {
+        const PointStage::Lists l = h.lists(res);
+        r.points.mark(viewTarget(plan, res[d.view]), res[d.gbuffer], gp.layers, plan.options.msaa,
+                      box, l, &r.profiler);
         r.points.rank(l, &r.profiler);
         // the groom's marked points, for the frame's statistics
-        r.target.copyUints(*l.offsets, l.sizes.words, r.frameStats, plan.pointsAt + gp.index, 1,
+        r.target.copyUints(*l.offsets, l.sizes.words, res[d.stats], plan.pointsAt + gp.index, 1,
                            &r.profiler);
       });
 
   g.addPass(
       "point inputs " + n,
       [&, h](FrameGraph::Setup& s) {
-        s.read(plan.camera().record)
-            .read(plan.camera().depth)
-            .read(gp.tables)
-            .read(gp.params)
-            .read(gp.lod);
-        s.read(plan.camera().gbuffer).readWrite(plan.rasterCounters);
-        s.read(h.bits).read(h.ranks).write(h.records);
+        const ViewPlan& camera = plan.camera();
+        s.reads({camera.record, camera.depth, gp.tables, gp.params, gp.lod, camera.gbuffer});
+        s.readsWrites({plan.rasterCounters}).reads({h.bits, h.ranks}).writes({h.records});
         s.kernel(gp.draw.groom->kernels().raster);
         if (plan.mode == DispatchMode::ReadBack)
           s.hostWait("the groom's strand total for the point pass (--dispatch readback)");
       },
-      [&, h] {
-        const PointStage::Lists l = h.lists(g);
+      [&, h](const FrameGraph::Resources& res) {
+        const PointStage::Lists l = h.lists(res);
         const PointLists pass = l.pass();
-        StrandRaster inputs = cameraRaster(r, plan, gp);
+        StrandRaster inputs = cameraRaster(r, plan, gp, plan.camera(), res);
         inputs.pointIds = false;
         inputs.points = &pass;
         inputs.stats = false;
@@ -95,25 +102,28 @@ void addPointShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomP
         gp.draw.groom->raster(*gp.draw.state, inputs, &r.profiler);
       });
 
-  g.addPass(
+  struct Shade {
+    FrameGraph::Handle view, groom, gbuffer, hair;
+  };
+  g.addPass<Shade>(
       "shade points " + n,
-      [&, h](FrameGraph::Setup& s) {
-        s.read(plan.camera().record)
-            .read(plan.scene_)
-            .read(plan.shadowMaps)
-            .read(plan.camera().gbuffer);
-        s.read(gp.params).read(gp.lod).read(plan.visibility);
-        s.read(h.records).read(h.bits).read(h.ranks).write(h.colors).write(gp.views[0].hair);
+      [&, h](FrameGraph::Setup& s, Shade& d) {
+        d.view = s.read(plan.camera().record);
+        d.gbuffer = s.read(plan.camera().gbuffer);
+        d.groom = s.read(gp.params);
+        s.reads({plan.scene_, plan.shadowMaps, gp.lod, plan.visibility});
+        s.reads({h.records, h.bits, h.ranks}).writes({h.colors});
+        d.hair = s.write(gp.views[0].hair);
         s.kernel("shade_points").kernel("points_resolve");
       },
-      [&, h] {
-        const PointStage::Lists l = h.lists(g);
+      [&, h](const Shade& d, const FrameGraph::Resources& res) {
+        const PointStage::Lists l = h.lists(res);
         // the inputs of per-sample shading (its G-buffer and hair are not read)
         const ShadeStage::Params sp =
-            shadeParams(r, t, gp, t.gbuffer, g.buffer(gp.views[0].hair), plan.options.msaa);
+            shadeParams(r, plan, gp, res[d.view], res[d.groom], res[d.gbuffer], res[d.hair]);
         r.shade.enqueuePoints(sp, l, &r.profiler);
-        r.points.resolve(t.viewTarget(), t.gbuffer, gp.layers, plan.options.msaa, gp.hairBox, l,
-                         g.buffer(gp.views[0].hair), &r.profiler);
+        r.points.resolve(viewTarget(plan, res[d.view]), res[d.gbuffer], gp.layers,
+                         plan.options.msaa, gp.hairBox, l, res[d.hair], &r.profiler);
       });
 }
 

@@ -12,43 +12,49 @@ namespace clhair {
 
 namespace {
 
-void copyWords(Renderer::Impl& r, const cl::Buffer& from, std::size_t words, std::size_t at) {
+void copyWords(Renderer::Impl& r, const cl::Buffer& from, cl::Buffer& stats, std::size_t words,
+               std::size_t at) {
   if (words == 0 || !from()) return;
-  r.target.copyUints(from, 0, r.frameStats, at, words, &r.profiler);
+  r.target.copyUints(from, 0, stats, at, words, &r.profiler);
 }
 
 // The statistics words, every view's colour and depth and the captured G-buffer into the
 // frame (non-blocking reads, done when the frame completes).
-void readImages(Renderer::Impl& r, FramePlan& plan, PendingFrame& out, std::size_t shadowWords) {
+void readImages(const FrameGraph::Resources& res, Renderer::Impl& r, FramePlan& plan,
+                PendingFrame& out, std::size_t shadowWords) {
   const std::size_t D = plan.grooms.size();
   const bool one = !plan.severalViews();
-  RenderTarget& t = *plan.camera().target;
-  if (one) copyWords(r, r.frameLod.state(), FrameLod::stateWords(D), plan.budgetAt);
-  copyWords(r, r.shadows.totals(), shadowWords, plan.shadowAt);
-  if (one && plan.options.rasterStats) copyWords(r, t.stats, 4, plan.rasterStatsAt);
+  cl::Buffer& stats = res[plan.frameStats];
+  if (one) copyWords(r, r.frameLod.state(), stats, FrameLod::stateWords(D), plan.budgetAt);
+  copyWords(r, r.shadows.totals(), stats, shadowWords, plan.shadowAt);
+  if (one && plan.options.rasterStats)
+    copyWords(r, res[plan.rasterCounters], stats, 4, plan.rasterStatsAt);
   out.stats.assign(plan.stats.words, 0u);
-  out.read(r.dev, r.pinned, r.frameStats, 0, out.stats.data(), out.stats.size() * 4);
+  out.read(r.dev, r.pinned, stats, 0, out.stats.data(), out.stats.size() * 4);
   for (const ViewPlan& vp : plan.views) {
     Frame& f = out.frames[vp.index];
     f.color.width = plan.scene.width;
     f.color.height = plan.scene.height;
     f.color.rgba.resize(plan.pixels * 4);
     if (plan.options.readBackDepth || plan.aovs) f.depth.resize(plan.pixels);
-    out.read(r.dev, r.pinned, vp.target->color, 0, f.color.rgba.data(), f.color.rgba.size() * 4);
+    out.read(r.dev, r.pinned, res[vp.color], 0, f.color.rgba.data(), f.color.rgba.size() * 4);
     if (!f.depth.empty())
-      out.read(r.dev, r.pinned, *vp.depthBuffer, 0, f.depth.data(), f.depth.size() * 4);
+      out.read(r.dev, r.pinned, res[vp.depth], 0, f.depth.data(), f.depth.size() * 4);
   }
   if (plan.options.captureGBuffer) {
+    const RenderTarget& t = *plan.camera().target;
     Frame& f = out.frames[0];
     f.gbufferLayers = t.usedLayers();
     f.gbuffer.assign(plan.pixels * static_cast<std::size_t>(t.usedLayers()), ~std::uint64_t(0));
     if (plan.lastDrawn < D)
-      out.read(r.dev, r.pinned, t.gbuffer, 0, f.gbuffer.data(), f.gbuffer.size() * 8);
+      out.read(r.dev, r.pinned, res[plan.camera().gbuffer], 0, f.gbuffer.data(),
+               f.gbuffer.size() * 8);
   }
 }
 
 // The AOV planes, and the finisher that turns them into the frame's AOVs.
-void readAovs(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingFrame& out) {
+void readAovs(const FrameGraph::Resources& res, Renderer::Impl& r, FramePlan& plan,
+              PendingFrame& out) {
   auto planes = std::make_shared<AovPlanesHost>();
   const std::size_t n = plan.pixels;
   planes->owner.resize(n);
@@ -59,12 +65,12 @@ void readAovs(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingFrame& o
   planes->strand.resize(n * 4);
   planes->ids = plan.options.strandIds;
   const AovHandles& h = plan.aov;
-  out.read(r.dev, r.pinned, g.buffer(h.owner), 0, planes->owner.data(), n * 4);
-  out.read(r.dev, r.pinned, g.buffer(h.ownerMotion), 0, planes->ownerMotion.data(), n * 8);
-  out.read(r.dev, r.pinned, g.buffer(h.alpha), 0, planes->alpha.data(), n * 4);
-  out.read(r.dev, r.pinned, g.buffer(h.hair), 0, planes->hair.data(), n * 16);
-  out.read(r.dev, r.pinned, g.buffer(h.tangent), 0, planes->tangent.data(), n * 16);
-  out.read(r.dev, r.pinned, g.buffer(h.strand), 0, planes->strand.data(), n * 16);
+  out.read(r.dev, r.pinned, res[h.owner], 0, planes->owner.data(), n * 4);
+  out.read(r.dev, r.pinned, res[h.ownerMotion], 0, planes->ownerMotion.data(), n * 8);
+  out.read(r.dev, r.pinned, res[h.alpha], 0, planes->alpha.data(), n * 4);
+  out.read(r.dev, r.pinned, res[h.hair], 0, planes->hair.data(), n * 16);
+  out.read(r.dev, r.pinned, res[h.tangent], 0, planes->tangent.data(), n * 16);
+  out.read(r.dev, r.pinned, res[h.strand], 0, planes->strand.data(), n * 16);
   const AovMotionInputs in =
       AovMotionInputs::of(plan.camera().view, plan.scene, plan.options.previous);
   out.finishers.push_back([planes, in](PendingFrame& p) {
@@ -189,16 +195,16 @@ void addReadBackPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingF
   g.addPass(
       "read-back",
       [&](FrameGraph::Setup& s) {
-        for (const ViewPlan& vp : plan.views) s.read(vp.color).read(vp.depth);
-        s.readWrite(plan.frameStats).read(plan.lodArena).read(plan.shadowMaps);
-        s.read(plan.rasterCounters).sideEffect().kernel("copy_uints");
+        for (const ViewPlan& vp : plan.views) s.reads({vp.color, vp.depth});
+        s.readsWrites({plan.frameStats}).reads({plan.lodArena, plan.shadowMaps});
+        s.reads({plan.rasterCounters}).sideEffect().kernel("copy_uints");
         if (plan.aovs)
           for (const FrameGraph::Handle h : plan.aov.all()) s.read(h);
         if (plan.options.captureGBuffer) s.read(plan.camera().gbuffer);
       },
-      [&, shadowWords] {
-        readImages(r, plan, out, shadowWords);
-        if (plan.aovs) readAovs(g, r, plan, out);
+      [&, shadowWords](const FrameGraph::Resources& res) {
+        readImages(res, r, plan, out, shadowWords);
+        if (plan.aovs) readAovs(res, r, plan, out);
       });
   // the statistics, decoded once the words are on the host
   if (plan.severalViews()) {

@@ -40,7 +40,8 @@ void importViews(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
   if (!plan.severalViews()) return;
   ViewTargets& vt = r.views;
   uploadChanged(r.dev, vt.records, vt.recordsSent, records.data(), records.size());
-  plan.viewRecords = g.import("view records", {&vt.records, &vt.grooms}, true);
+  plan.viewRecords = g.import("view records", {&vt.records}, true);
+  plan.viewGrooms = g.import("groom records of the views", {&vt.grooms}, false);
 }
 
 }  // namespace
@@ -102,7 +103,7 @@ void addShadowPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
   // their strands
   auto groomKernels = [&plan](FrameGraph::Setup& s, bool light) {
     for (const GroomPlan& gp : plan.grooms) {
-      s.read(gp.tables).write(gp.params).write(gp.lod);
+      s.reads({gp.tables}).writes({gp.params, gp.lod});
       const GroomKernels k = gp.draw.groom->kernels();
       s.kernel(k.lod).kernel("scan_bundles");
       if (light) s.kernel(k.raster).kernel(k.rasterPersistent).kernel(k.opacity);
@@ -111,13 +112,13 @@ void addShadowPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
   g.addPass(
       "shadow maps",
       [&, groomKernels](FrameGraph::Setup& s) {
-        s.write(plan.shadowMaps);
+        s.writes({plan.shadowMaps});
         // the camera's LOD caps the lights' (a frame of one view)
-        if (!plan.severalViews()) s.read(plan.camera().record);
+        if (!plan.severalViews()) s.reads({plan.camera().record});
         groomKernels(s, false);
         s.kernel("clear_uints").kernel("copy_uints");
       },
-      [&] {
+      [&](const FrameGraph::Resources&) {
         std::vector<GroomDraw> draws;
         for (const GroomPlan& gp : plan.grooms) draws.push_back(gp.draw);
         // the camera's LOD caps the light passes (a frame of one view)
@@ -128,7 +129,7 @@ void addShadowPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
     g.addPass(
         "shadow map: light " + std::to_string(light),
         [&, groomKernels](FrameGraph::Setup& s) {
-          s.read(plan.scene_).readWrite(plan.shadowMaps);
+          s.reads({plan.scene_}).readsWrites({plan.shadowMaps});
           groomKernels(s, true);
           opaqueKernels(s);
           s.kernel("shadow_resolve_depth").kernel("shadow_clear").kernel("lod_cap");
@@ -136,35 +137,46 @@ void addShadowPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
           if (plan.mode == DispatchMode::ReadBack)
             s.hostWait("each groom's strand total from the light (--dispatch readback)");
         },
-        [&, light] { r.shadows.drawLight(plan.scene, light, r.scene, plan.mode, &r.profiler); });
+        [&, light](const FrameGraph::Resources&) {
+          r.shadows.drawLight(plan.scene, light, r.scene, plan.mode, &r.profiler);
+        });
   g.addPass(
       "shadow maps: the lights' records",
-      [&](FrameGraph::Setup& s) { s.readWrite(plan.shadowMaps); }, [&] { r.shadows.finish(); });
+      [&](FrameGraph::Setup& s) { s.readsWrites({plan.shadowMaps}); },
+      [&](const FrameGraph::Resources&) { r.shadows.finish(); });
 }
 
 void addOpaquePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, ViewPlan& vp) {
-  g.addPass(
+  struct Data {
+    FrameGraph::Handle view, color, depth;
+  };
+  g.addPass<Data>(
       "opaque" + vp.suffix,
-      [&](FrameGraph::Setup& s) {
-        s.read(vp.record).read(plan.scene_).read(plan.shadowMaps);
-        s.write(vp.color).write(vp.depth);
+      [&](FrameGraph::Setup& s, Data& d) {
+        d.view = s.read(vp.record);
+        s.reads({plan.scene_, plan.shadowMaps});
+        d.color = s.write(vp.color);
+        d.depth = s.write(vp.depth);
         opaqueKernels(s);
       },
-      [&] {
-        RenderTarget& t = *vp.target;
-        r.scene.drawOpaque(t.viewTarget(), r.shadows.maps(), t.color, g.buffer(vp.depth), true,
-                           &r.profiler);
+      [&](const Data& d, const FrameGraph::Resources& res) {
+        r.scene.drawOpaque(viewTarget(plan, res[d.view]), r.shadows.maps(), res[d.color],
+                           res[d.depth], true, &r.profiler);
       });
   if (!plan.source) return;
   // the traced reference's source needs the opaque depth on the host to trace against it
-  g.addPass(
+  struct Depth {
+    FrameGraph::Handle depth;
+  };
+  g.addPass<Depth>(
       "opaque depth to the reference",
-      [&](FrameGraph::Setup& s) {
-        s.read(vp.depth).sideEffect().hostWait("the opaque depth, for the traced reference");
+      [&](FrameGraph::Setup& s, Depth& d) {
+        d.depth = s.read(vp.depth);
+        s.sideEffect().hostWait("the opaque depth, for the traced reference");
       },
-      [&] {
+      [&](const Depth& d, const FrameGraph::Resources& res) {
         std::vector<float> depth(plan.pixels);
-        readBack(r.dev, "the opaque scene's depth", g.buffer(vp.depth), depth.data(), plan.pixels);
+        readBack(r.dev, "the opaque scene's depth", res[d.depth], depth.data(), plan.pixels);
         plan.source->opaqueDrawn(vp.view, depth);
       });
 }

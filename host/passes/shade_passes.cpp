@@ -3,63 +3,76 @@
 
 namespace clhair {
 
-LinkStage::Params linkParams(const FramePlan& plan, const GroomPlan& gp);
-
-ShadeStage::Params shadeParams(Renderer::Impl& r, const RenderTarget& t, const GroomPlan& gp,
-                               const cl::Buffer& gbuffer, cl::Buffer& hair, int msaa) {
+ShadeStage::Params shadeParams(Renderer::Impl& r, const FramePlan& plan, const GroomPlan& gp,
+                               const cl::Buffer& view, const cl::Buffer& groom,
+                               const cl::Buffer& gbuffer, cl::Buffer& hair) {
   GroomInstanceGpu& inst = *gp.draw.state;
   ShadeStage::Params sp;
-  sp.target = t.viewTarget();
+  sp.target = viewTarget(plan, view);
   sp.lighting = r.scene.lighting(r.shadows.maps());
-  sp.groom = &inst.groom;
+  sp.groom = &groom;
   sp.offsets = &inst.offsets;
   sp.records = inst.records;
   sp.gbuffer = &gbuffer;
   sp.hair = &hair;
-  sp.msaa = msaa;
+  sp.msaa = plan.options.msaa;
   const VisibilityGpu::Inputs v = r.visibility.inputs(gp.index);
   sp.visibility = v.record;
   sp.visibilityTable = v.table;
   sp.visibilityCells = v.cells;
   sp.aoField = v.aoField;
   sp.aoFieldVoxels = v.aoFieldVoxels;
+  sp.cover = plan.cover;
   return sp;
 }
 
 void addShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp, ViewPlan& vp) {
   GroomView& gv = gp.views[vp.index];
   gv.result = gv.hair;
-  g.addPass(
+  struct Data {
+    FrameGraph::Handle view, groom, gbuffer, hair;
+  };
+  g.addPass<Data>(
       "shade " + std::to_string(gp.index) + vp.suffix,
-      [&](FrameGraph::Setup& s) {
-        s.read(vp.record).read(plan.scene_).read(plan.shadowMaps).read(vp.gbuffer);
-        s.read(gp.params).read(gp.lod).read(plan.visibility).write(gv.hair);
+      [&](FrameGraph::Setup& s, Data& d) {
+        d.view = s.read(vp.record);
+        d.gbuffer = s.read(vp.gbuffer);
+        d.groom = s.read(gp.params);
+        s.reads({plan.scene_, plan.shadowMaps, gp.lod, plan.visibility});
+        d.hair = s.write(gv.hair);
         s.kernel("shade_deferred");
         if (plan.severalViews()) declareViewDraw(s, plan, gp, vp);
       },
-      [&] {
-        if (plan.severalViews()) drawInView(r, plan, gp, vp);
-        ShadeStage::Params sp = shadeParams(r, *vp.target, gp, g.buffer(vp.gbuffer),
-                                            g.buffer(gv.hair), plan.options.msaa);
-        sp.cover = plan.cover;
-        r.shade.enqueue(sp, &r.profiler);
+      [&](const Data& d, const FrameGraph::Resources& res) {
+        if (plan.severalViews()) drawInView(r, plan, gp, vp, res);
+        r.shade.enqueue(
+            shadeParams(r, plan, gp, res[d.view], res[d.groom], res[d.gbuffer], res[d.hair]),
+            &r.profiler);
       });
 }
 
 void addFilterPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp, ViewPlan& vp) {
   GroomView& gv = gp.views[vp.index];
+  struct Data {
+    FrameGraph::Handle view, groom, gbuffer, hair, filtered;
+  };
   if (!gp.huang) {
     gv.result = gv.filteredHair;
-    g.addPass(
+    g.addPass<Data>(
         "filter " + std::to_string(gp.index) + vp.suffix,
-        [&](FrameGraph::Setup& s) {
-          s.read(vp.record).read(gp.params).read(vp.gbuffer).read(gv.hair);
-          s.write(plan.filterParams).write(gv.filteredHair).kernel("filter_reconstruct");
+        [&](FrameGraph::Setup& s, Data& d) {
+          d.view = s.read(vp.record);
+          d.groom = s.read(gp.params);
+          d.gbuffer = s.read(vp.gbuffer);
+          d.hair = s.read(gv.hair);
+          s.writes({plan.filterParams});
+          d.filtered = s.write(gv.filteredHair);
+          s.kernel("filter_reconstruct");
         },
-        [&] {
+        [&](const Data& d, const FrameGraph::Resources& res) {
           r.filter.enqueue(*gp.filter,
-                           {vp.target->viewTarget(), &gp.draw.state->groom, &g.buffer(vp.gbuffer),
-                            &g.buffer(gv.hair), &g.buffer(gv.filteredHair)},
+                           {viewTarget(plan, res[d.view]), &res[d.groom], &res[d.gbuffer],
+                            &res[d.hair], &res[d.filtered]},
                            &r.profiler);
         });
     return;
@@ -67,19 +80,24 @@ void addFilterPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan&
   // Huang's alpha fix into the filter's buffer, then (aniso) the anisotropic filter back (one
   // view)
   gv.result = gp.filter->aniso ? gv.hair : gv.filteredHair;
-  g.addPass(
+  struct Fix {
+    FrameGraph::Handle hair, filtered, stats;
+  };
+  g.addPass<Fix>(
       "alpha fix " + std::to_string(gp.index),
-      [&](FrameGraph::Setup& s) {
-        s.read(vp.record).read(gp.params).read(vp.gbuffer).read(plan.linkState);
-        s.readWrite(gv.hair).write(gv.filteredHair).write(plan.frameStats);
+      [&](FrameGraph::Setup& s, Fix& d) {
+        s.reads({vp.record, gp.params, vp.gbuffer, plan.linkState});
+        d.hair = s.readWrite(gv.hair);
+        d.filtered = s.write(gv.filteredHair);
+        d.stats = s.write(plan.frameStats);
         s.kernel("link_alpha").kernel("copy_uints");
         if (gp.filter->aniso) s.kernel("link_aniso");
       },
-      [&] {
-        r.link.finish(linkParams(plan, gp), gp.filter->aniso, g.buffer(gv.hair),
-                      g.buffer(gv.filteredHair), &r.profiler);
+      [&](const Fix& d, const FrameGraph::Resources& res) {
+        r.link.finish(linkParams(plan, gp, res), gp.filter->aniso, res[d.hair], res[d.filtered],
+                      &r.profiler);
         // the groom's linking counters, for the frame's statistics
-        r.target.copyUints(r.link.counterBuffer(), 0, r.frameStats, plan.linkAt + 4 * gp.index, 4,
+        r.target.copyUints(r.link.counterBuffer(), 0, res[d.stats], plan.linkAt + 4 * gp.index, 4,
                            &r.profiler);
       });
 }
@@ -87,18 +105,25 @@ void addFilterPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan&
 void addCompositePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp,
                       ViewPlan& vp) {
   const GroomView& gv = gp.views[vp.index];
-  g.addPass(
+  struct Data {
+    FrameGraph::Handle view, groom, gbuffer, hair, color, depth;
+  };
+  g.addPass<Data>(
       "composite " + std::to_string(gp.index) + vp.suffix,
-      [&](FrameGraph::Setup& s) {
-        s.read(vp.record).read(gp.params).read(vp.gbuffer).read(gv.result);
-        s.readWrite(vp.color).readWrite(vp.depth).kernel("composite_over");
+      [&](FrameGraph::Setup& s, Data& d) {
+        d.view = s.read(vp.record);
+        d.groom = s.read(gp.params);
+        d.gbuffer = s.read(vp.gbuffer);
+        d.hair = s.read(gv.result);
+        d.color = s.readWrite(vp.color);
+        d.depth = s.readWrite(vp.depth);
+        s.kernel("composite_over");
       },
-      [&] {
-        RenderTarget& t = *vp.target;
+      [&](const Data& d, const FrameGraph::Resources& res) {
         r.composite.enqueue(
-            {t.viewTarget(), &gp.draw.state->groom, &g.buffer(gv.result), &g.buffer(vp.gbuffer),
-             &g.buffer(vp.color), &g.buffer(vp.depth), plan.options.msaa,
-             static_cast<int>(gp.depthLayers), gp.huang || gp.points ? gp.hairBox : PixelRect{}},
+            {viewTarget(plan, res[d.view]), &res[d.groom], &res[d.hair], &res[d.gbuffer],
+             &res[d.color], &res[d.depth], plan.options.msaa, static_cast<int>(gp.depthLayers),
+             gp.huang || gp.points ? gp.hairBox : PixelRect{}},
             &r.profiler);
       });
 }

@@ -19,10 +19,11 @@ ViewDraw drawOf(const FramePlan& plan, const GroomPlan& gp, std::size_t v) {
 }
 
 // The groom's total of strands drawn, into view v's statistics word.
-void copyTotal(Renderer::Impl& r, const FramePlan& plan, const GroomPlan& gp, std::size_t v) {
+void copyTotal(Renderer::Impl& r, const FramePlan& plan, const GroomPlan& gp, std::size_t v,
+               cl::Buffer& stats) {
   const GroomInstanceGpu& inst = *gp.draw.state;
   if (inst.records == 0) return;
-  r.target.copyUints(inst.offsets, gpu::clh_lod_drawn_total_at(inst.records), r.frameStats,
+  r.target.copyUints(inst.offsets, gpu::clh_lod_drawn_total_at(inst.records), stats,
                      plan.linkAt + v * plan.grooms.size() + gp.index, 1, &r.profiler);
 }
 
@@ -30,18 +31,23 @@ void copyTotal(Renderer::Impl& r, const FramePlan& plan, const GroomPlan& gp, st
 
 void addViewsStrandPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp) {
   const GroomKernels kernels = gp.draw.groom->kernels();
-  g.addPass(
+  struct Data {
+    FrameGraph::Handle grooms;  // the groom's record in each view
+  };
+  g.addPass<Data>(
       "strands " + std::to_string(gp.index) + ", all views",
-      [&, kernels](FrameGraph::Setup& s) {
-        s.read(plan.views[gp.lodView].record).read(plan.viewRecords).read(gp.tables);
-        s.write(gp.params).write(gp.lod);
-        for (const ViewPlan& vp : plan.views) s.read(vp.depth).write(vp.gbuffer);
-        s.readWrite(plan.rasterCounters).readWrite(plan.frameStats);
+      [&, kernels](FrameGraph::Setup& s, Data& data) {
+        s.reads({plan.views[gp.lodView].record, gp.tables});
+        s.reads({plan.viewRecords});
+        data.grooms = s.write(plan.viewGrooms);
+        s.writes({gp.params, gp.lod});
+        for (const ViewPlan& vp : plan.views) s.reads({vp.depth}).writes({vp.gbuffer});
+        s.readsWrites({plan.rasterCounters, plan.frameStats});
         s.kernel(kernels.lod).kernel("scan_bundles").kernel("clear_words");
         s.kernel("strands_raster_views").kernel("copy_uints");
         if (plan.mode == DispatchMode::ReadBack) s.hostWait("the groom's strand total");
       },
-      [&] {
+      [&](const Data& data, const FrameGraph::Resources& res) {
         // each view's record; the LOD view's last, so that the instance holds it for the LOD
         // pass and the assembly
         ViewTargets& vt = r.views;
@@ -63,11 +69,10 @@ void addViewsStrandPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, Groom
             rec.depth_far = gp.viewRecords[lv].depth_far;
           }
         if (lv != 0) d.groom->prepare(inst, d.instance->transform, drawOf(plan, gp, lv));
-        d.groom->lod(inst, plan.views[lv].target->view, &r.profiler);
+        d.groom->lod(inst, res[plan.views[lv].record], &r.profiler);
         r.target.clearWords(vt.gbuffers, V * vt.gbufferStride, &r.profiler);
-        upload(r.dev, vt.grooms, gp.viewRecords.data(), V);
-        StrandRaster raster = cameraRaster(r, plan, gp);
-        raster.view = &plan.views[lv].target->view;
+        upload(r.dev, res[data.grooms], gp.viewRecords.data(), V);
+        StrandRaster raster = cameraRaster(r, plan, gp, plan.views[lv], res);
         raster.sceneDepth = &vt.depths;
         raster.gbuffer = &vt.gbuffers;
         raster.pixels = plan.pixels;
@@ -79,49 +84,45 @@ void addViewsStrandPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, Groom
                                            static_cast<std::uint32_t>(V), &r.profiler);
         if (!gp.together) return;
         for (std::size_t v = 0; v < V; ++v)
-          if (gp.views[v].inFront) copyTotal(r, plan, gp, v);
+          if (gp.views[v].inFront) copyTotal(r, plan, gp, v, res[plan.frameStats]);
       });
 }
 
 void declareViewDraw(FrameGraph::Setup& s, const FramePlan& plan, const GroomPlan& gp,
                      const ViewPlan& vp) {
   // a groom that draws each view on its own: its own LOD and strands per view
-  s.read(vp.depth).readWrite(vp.gbuffer).read(gp.tables).readWrite(gp.params).readWrite(gp.lod);
-  s.readWrite(plan.frameStats).readWrite(plan.rasterCounters);
+  s.reads({vp.depth, gp.tables}).readsWrites({vp.gbuffer, gp.params, gp.lod});
+  s.readsWrites({plan.frameStats, plan.rasterCounters});
   const GroomKernels k = gp.draw.groom->kernels();
   s.kernel(k.lod).kernel("scan_bundles").kernel("clear_words").kernel("copy_uints");
   s.kernel(plan.mode == DispatchMode::Persistent ? k.rasterPersistent : k.raster);
   if (plan.mode == DispatchMode::ReadBack) s.hostWait("the groom's strand total");
 }
 
-void drawInView(Renderer::Impl& r, const FramePlan& plan, GroomPlan& gp, const ViewPlan& vp) {
+void drawInView(Renderer::Impl& r, const FramePlan& plan, GroomPlan& gp, const ViewPlan& vp,
+                const FrameGraph::Resources& res) {
   GroomInstanceGpu& inst = *gp.draw.state;
   if (gp.together) {
     uploadChanged(r.dev, inst.groom, inst.sent, &gp.viewRecords[vp.index], 1);
     return;
   }
-  RenderTarget& t = *vp.target;
   const GroomDraw& d = gp.draw;
   const int layers = plan.options.msaa + 1;
   d.groom->prepare(inst, d.instance->transform, drawOf(plan, gp, vp.index));
-  d.groom->lod(inst, t.view, &r.profiler);
-  r.target.clearWords(*vp.gbufferBuffer, plan.pixels * static_cast<std::size_t>(layers),
-                      &r.profiler);
-  StrandRaster own = cameraRaster(r, plan, gp);
-  own.view = &t.view;
-  own.sceneDepth = vp.depthBuffer;
-  own.gbuffer = vp.gbufferBuffer;
+  d.groom->lod(inst, res[vp.record], &r.profiler);
+  r.target.clearWords(res[vp.gbuffer], plan.pixels * static_cast<std::size_t>(layers), &r.profiler);
+  StrandRaster own = cameraRaster(r, plan, gp, vp, res);
   own.layers = layers;
   own.ids = false;
   d.groom->raster(inst, own, &r.profiler);
-  copyTotal(r, plan, gp, vp.index);
+  copyTotal(r, plan, gp, vp.index, res[plan.frameStats]);
 }
 
 void addViewsRecordPass(FrameGraph& g, GroomPlan& gp) {
   g.addPass(
       "record " + std::to_string(gp.index),
-      [&](FrameGraph::Setup& s) { s.read(gp.params).sideEffect(); },
-      [&] { gp.draw.state->params = gp.viewRecords[gp.lodView]; });
+      [&](FrameGraph::Setup& s) { s.reads({gp.params}).sideEffect(); },
+      [&](const FrameGraph::Resources&) { gp.draw.state->params = gp.viewRecords[gp.lodView]; });
 }
 
 }  // namespace clhair

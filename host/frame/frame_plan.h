@@ -1,5 +1,5 @@
-// frame_plan.h — what a frame decides before any of its passes runs, and the blackboard
-// its passes hand resources through.
+// frame_plan.h — what a frame decides before any of its passes runs, and the handles of
+// the frame's resources its passes hand on (a feature's own go on the graph's Blackboard).
 //
 // planFrame() reads the scene and the options once: the raster mode, the dispatch sizing,
 // the view record, and per groom instance whether it is drawn (in front of the camera),
@@ -96,19 +96,6 @@ struct StatsLayout {
   }
 };
 
-// The AOV planes (host/passes/aov_passes.cpp, AovStage::Planes in the same order).
-struct AovHandles {
-  FrameGraph::Handle lastDepth, owner, ownerMotion, alpha, hair, centreZ, tangent, strand;
-  std::vector<FrameGraph::Handle> all() const {
-    return {lastDepth, owner, ownerMotion, alpha, hair, centreZ, tangent, strand};
-  }
-};
-
-// The Cryptomatte layers' ranked lists (host/passes/cryptomatte_pass.cpp).
-struct CryptoHandles {
-  FrameGraph::Handle groomKeys, groomCoverage, strandKeys, strandCoverage;
-};
-
 struct FramePlan {
   FramePlan(const Scene& s, const RenderOptions& o) : scene(s), options(o) {}
   const Scene& scene;
@@ -134,8 +121,6 @@ struct FramePlan {
   // groom's record in every view, for the strand pass of several views)
   FrameGraph::Handle scene_, shadowMaps, rasterCounters, frameStats, lodArena, visibility,
       linkState, filterParams, motionParams, viewRecords, viewGrooms;
-  AovHandles aov;
-  CryptoHandles crypto;
 };
 
 // Whether a frame draws in the coverage mode (clhair/coverage.h), and the option checks

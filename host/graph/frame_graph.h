@@ -19,6 +19,7 @@
 // valid order by construction: a pass can only name resources that already exist.
 #pragma once
 
+#include <any>
 #include <cstdint>
 #include <functional>
 #include <initializer_list>
@@ -52,6 +53,25 @@ class BufferPool {
   };
   Device::Impl& dev_;
   std::vector<Entry> entries_;
+};
+
+// What passes leave by name for the passes after them (Filament's Blackboard): a feature's
+// handles travel here, so that the frame's plan does not have to know the feature.
+class Blackboard {
+ public:
+  template <class T>
+  void put(const std::string& name, T value) {
+    entries_[name] = std::move(value);
+  }
+  // The entry `name` as a T; null when there is none (or it is not a T).
+  template <class T>
+  T* get(const std::string& name) {
+    auto it = entries_.find(name);
+    return it == entries_.end() ? nullptr : std::any_cast<T>(&it->second);
+  }
+
+ private:
+  std::map<std::string, std::any> entries_;
 };
 
 class FrameGraph {
@@ -142,6 +162,8 @@ class FrameGraph {
   // writes and declared host waits, then the created buffers and what they share.
   std::string describe() const;
 
+  Blackboard& blackboard() { return blackboard_; }
+
   // After execute(): the passes that ran, and the host waits they made.
   std::vector<std::string> executedPasses() const;
   std::uint64_t hostWaits() const { return waits_; }
@@ -173,6 +195,7 @@ class FrameGraph {
   std::vector<Pass> passes_;
   bool compiled_ = false;
   std::uint64_t waits_ = 0;
+  Blackboard blackboard_;
 };
 
 }  // namespace clhair

@@ -8,8 +8,7 @@ namespace clhair {
 namespace {
 
 // The planes' buffers in a pass that declared them.
-AovStage::Planes planesOf(const FrameGraph::Resources& res, const FramePlan& plan) {
-  const AovHandles& h = plan.aov;
+AovStage::Planes planesOf(const FrameGraph::Resources& res, const AovHandles& h) {
   return {&res[h.lastDepth], &res[h.owner],   &res[h.ownerMotion], &res[h.alpha],
           &res[h.hair],      &res[h.centreZ], &res[h.tangent],     &res[h.strand]};
 }
@@ -18,7 +17,7 @@ AovStage::Planes planesOf(const FrameGraph::Resources& res, const FramePlan& pla
 
 void addAovBeginPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingFrame& out) {
   const std::size_t n = plan.pixels;
-  AovHandles& h = plan.aov;
+  AovHandles h;
   h.lastDepth = g.create("AOV last depth", n * 4);
   h.owner = g.create("AOV owner", n * 4);
   h.ownerMotion = g.create("AOV owner motion", n * 8);
@@ -27,6 +26,7 @@ void addAovBeginPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingF
   h.centreZ = g.create("AOV centre depth", n * 4);
   h.tangent = g.create("AOV tangent", n * 16);
   h.strand = g.create("AOV strand", n * 16);
+  g.blackboard().put(kAovPlanes, h);
   struct Data {
     FrameGraph::Handle depth, color;
   };
@@ -36,18 +36,19 @@ void addAovBeginPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingF
         d.depth = s.read(plan.camera().depth);
         d.color = s.read(plan.camera().color);
         s.sideEffect().kernel("aov_begin");
-        for (const FrameGraph::Handle p : plan.aov.all()) s.write(p);
+        for (const FrameGraph::Handle p : h.all()) s.write(p);
       },
-      [&](const Data& d, const FrameGraph::Resources& res) {
+      [&, h](const Data& d, const FrameGraph::Resources& res) {
         // the colour under the hair: temporal reprojection recomposes the frame on it
         std::vector<float>& opaque = out.frames[0].aovs.opaque;
         opaque.resize(plan.pixels * 4);
         out.read(r.dev, r.pinned, res[d.color], 0, opaque.data(), opaque.size() * 4);
-        r.aov.begin(res[d.depth], plan.pixels, planesOf(res, plan), &r.profiler);
+        r.aov.begin(res[d.depth], plan.pixels, planesOf(res, h), &r.profiler);
       });
 }
 
 void addAovGroomPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp) {
+  const AovHandles h = *g.blackboard().get<AovHandles>(kAovPlanes);
   struct Data {
     FrameGraph::Handle groom, gbuffer, result, depth, motion;
   };
@@ -60,9 +61,9 @@ void addAovGroomPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPla
         d.depth = s.read(plan.camera().depth);
         s.kernel("aov_groom");
         if (gp.motion) d.motion = s.read(gp.motionPlane);
-        for (const FrameGraph::Handle p : plan.aov.all()) s.readWrite(p);
+        for (const FrameGraph::Handle p : h.all()) s.readWrite(p);
       },
-      [&](const Data& d, const FrameGraph::Resources& res) {
+      [&, h](const Data& d, const FrameGraph::Resources& res) {
         AovStage::Groom a;
         a.groom = &res[d.groom];
         a.index = static_cast<std::uint32_t>(gp.index);
@@ -73,7 +74,7 @@ void addAovGroomPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPla
         a.result = &res[d.result];
         a.depth = &res[d.depth];
         a.motion = d.motion ? &res[d.motion] : nullptr;
-        r.aov.groom(a, plan.pixels, planesOf(res, plan), &r.profiler);
+        r.aov.groom(a, plan.pixels, planesOf(res, h), &r.profiler);
       });
 }
 

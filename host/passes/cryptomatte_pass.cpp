@@ -12,6 +12,13 @@ namespace clhair {
 
 namespace {
 
+// The ranked lists of both layers on the device, on the graph's blackboard once the first
+// groom's pass has created them.
+struct CryptoHandles {
+  FrameGraph::Handle groomKeys, groomCoverage, strandKeys, strandCoverage;
+};
+constexpr const char* kCryptoLists = "cryptomatte lists";
+
 // The lists on the host until the frame completes.
 struct CryptoHost {
   std::size_t pixels = 0;
@@ -37,8 +44,8 @@ std::uint32_t groomKey(const std::vector<std::string>& names, std::size_t k) {
 }
 
 // Reads the lists into `host` and names them in `out`'s frame once it completes.
-void readBack(const FrameGraph::Resources& res, Renderer::Impl& r, FramePlan& plan,
-              PendingFrame& out) {
+void readBack(const FrameGraph::Resources& res, const CryptoHandles& h, Renderer::Impl& r,
+              FramePlan& plan, PendingFrame& out) {
   auto host = std::make_shared<CryptoHost>();
   const std::size_t n = plan.pixels, ranks = kCryptomatteRanks;
   host->pixels = n;
@@ -46,7 +53,6 @@ void readBack(const FrameGraph::Resources& res, Renderer::Impl& r, FramePlan& pl
   host->strandKeys.resize(n * ranks);
   host->groomCoverage.resize(n * ranks);
   host->strandCoverage.resize(n * ranks);
-  const CryptoHandles& h = plan.crypto;
   out.read(r.dev, r.pinned, res[h.groomKeys], 0, host->groomKeys.data(), n * ranks * 8);
   out.read(r.dev, r.pinned, res[h.groomCoverage], 0, host->groomCoverage.data(), n * ranks * 4);
   out.read(r.dev, r.pinned, res[h.strandKeys], 0, host->strandKeys.data(), n * ranks * 8);
@@ -69,8 +75,9 @@ void readBack(const FrameGraph::Resources& res, Renderer::Impl& r, FramePlan& pl
 
 void addCryptomattePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp,
                         PendingFrame& out) {
-  CryptoHandles& h = plan.crypto;
-  const bool first = !h.groomKeys;
+  const CryptoHandles* made = g.blackboard().get<CryptoHandles>(kCryptoLists);
+  const bool first = made == nullptr;
+  CryptoHandles h = first ? CryptoHandles{} : *made;
   if (first) {
     h.groomKeys = g.create("cryptomatte groom keys", CryptomatteStage::keyBytes(plan.pixels));
     h.groomCoverage =
@@ -78,6 +85,7 @@ void addCryptomattePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, Groom
     h.strandKeys = g.create("cryptomatte strand keys", CryptomatteStage::keyBytes(plan.pixels));
     h.strandCoverage =
         g.create("cryptomatte strand coverage", CryptomatteStage::coverageBytes(plan.pixels));
+    g.blackboard().put(kCryptoLists, h);
   }
   const bool last = gp.index == plan.lastDrawn;
   struct Data {
@@ -94,7 +102,7 @@ void addCryptomattePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, Groom
           first ? s.write(list) : s.readWrite(list);
         if (last) s.sideEffect();  // the read-back
       },
-      [&, first, last](const Data& d, const FrameGraph::Resources& res) {
+      [&, h, first, last](const Data& d, const FrameGraph::Resources& res) {
         const std::vector<std::string> names = groomNames(plan);
         CryptomatteStage::Params p;
         p.width = static_cast<std::uint32_t>(plan.scene.width);
@@ -109,7 +117,7 @@ void addCryptomattePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, Groom
         p.strandKeys = &res[h.strandKeys];
         p.strandCoverage = &res[h.strandCoverage];
         r.cryptomatte.enqueue(p, &r.profiler);
-        if (last) readBack(res, r, plan, out);
+        if (last) readBack(res, h, r, plan, out);
       });
 }
 

@@ -87,6 +87,16 @@ void addCompositePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPl
 // kernels' point pass, each shaded once, every sample resolved along its segment.
 void addPointShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp);
 
+// The AOV planes (AovStage::Planes in the same order), on the graph's blackboard under
+// kAovPlanes once the AOV begin pass has created them.
+struct AovHandles {
+  FrameGraph::Handle lastDepth, owner, ownerMotion, alpha, hair, centreZ, tangent, strand;
+  std::vector<FrameGraph::Handle> all() const {
+    return {lastDepth, owner, ownerMotion, alpha, hair, centreZ, tangent, strand};
+  }
+};
+inline constexpr const char* kAovPlanes = "AOV planes";
+
 // aov_passes.cpp: the layers for compositing, started after the opaque scene and folded in
 // after each groom's composite, on the device.
 void addAovBeginPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingFrame& out);

@@ -53,8 +53,8 @@ void readImages(const FrameGraph::Resources& res, Renderer::Impl& r, FramePlan& 
 }
 
 // The AOV planes, and the finisher that turns them into the frame's AOVs.
-void readAovs(const FrameGraph::Resources& res, Renderer::Impl& r, FramePlan& plan,
-              PendingFrame& out) {
+void readAovs(const FrameGraph::Resources& res, const AovHandles& h, Renderer::Impl& r,
+              FramePlan& plan, PendingFrame& out) {
   auto planes = std::make_shared<AovPlanesHost>();
   const std::size_t n = plan.pixels;
   planes->owner.resize(n);
@@ -64,7 +64,6 @@ void readAovs(const FrameGraph::Resources& res, Renderer::Impl& r, FramePlan& pl
   planes->tangent.resize(n * 4);
   planes->strand.resize(n * 4);
   planes->ids = plan.options.strandIds;
-  const AovHandles& h = plan.aov;
   out.read(r.dev, r.pinned, res[h.owner], 0, planes->owner.data(), n * 4);
   out.read(r.dev, r.pinned, res[h.ownerMotion], 0, planes->ownerMotion.data(), n * 8);
   out.read(r.dev, r.pinned, res[h.alpha], 0, planes->alpha.data(), n * 4);
@@ -192,19 +191,20 @@ std::function<void(PendingFrame&)> viewsStats(const FramePlan& plan) {
 
 void addReadBackPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, PendingFrame& out) {
   const std::size_t shadowWords = plan.stats.words - plan.shadowAt;
+  const AovHandles* aovs = g.blackboard().get<AovHandles>(kAovPlanes);
   g.addPass(
       "read-back",
       [&](FrameGraph::Setup& s) {
         for (const ViewPlan& vp : plan.views) s.reads({vp.color, vp.depth});
         s.readsWrites({plan.frameStats}).reads({plan.lodArena, plan.shadowMaps});
         s.reads({plan.rasterCounters}).sideEffect().kernel("copy_uints");
-        if (plan.aovs)
-          for (const FrameGraph::Handle h : plan.aov.all()) s.read(h);
+        if (aovs)
+          for (const FrameGraph::Handle h : aovs->all()) s.read(h);
         if (plan.options.captureGBuffer) s.read(plan.camera().gbuffer);
       },
-      [&, shadowWords](const FrameGraph::Resources& res) {
+      [&, shadowWords, aovs](const FrameGraph::Resources& res) {
         readImages(res, r, plan, out, shadowWords);
-        if (plan.aovs) readAovs(res, r, plan, out);
+        if (aovs) readAovs(res, *aovs, r, plan, out);
       });
   // the statistics, decoded once the words are on the host
   if (plan.severalViews()) {

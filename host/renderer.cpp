@@ -185,9 +185,9 @@ std::unique_ptr<PendingFrame> Renderer::Impl::submitViews(const Scene& s,
   layoutStats(plan, cameras.size(), plan.shadowsRebuilt ? draws.size() : shadows.totalSlots());
   statsBuffer(plan.stats.words);
   for (const GroomPlan& gp : plan.grooms)
-    visibility.prepare(gp.index, *gp.draw.instance, options.bakedVisibility != 0,
-                       options.lodAggregate != 0, options.multipleScattering != 0,
-                       options.ambientOcclusion != 0
+    visibility.prepare(gp.index, *gp.draw.instance, options.bakedVisibility, options.lodAggregate,
+                       options.multipleScattering,
+                       options.ambientOcclusion
                            ? gp.draw.groom->aoField(s, gp.draw.instance->transform)
                            : nullptr);
   FrameGraph g(dev, pool);

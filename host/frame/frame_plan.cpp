@@ -45,7 +45,7 @@ bool deformsBetween(const GroomInstance& now, const GroomInstance& before) {
 }  // namespace
 
 bool coverMode(const Scene& s, const RenderOptions& options) {
-  const bool cover = options.raster < 0 ? s.raster == RasterMode::Coverage : options.raster == 1;
+  const bool cover = options.raster.value_or(s.raster) == RasterMode::Coverage;
   if (cover && options.msaa != 1)
     throw Error(
         "the coverage raster takes one sample per pixel (its coverage is analytic), not "
@@ -59,20 +59,19 @@ bool coverMode(const Scene& s, const RenderOptions& options) {
 }
 
 bool huangMethod(const FilterParams& fp, const RenderOptions& options) {
-  if (options.filterMethod >= 0) return options.filterMethod == 1;
-  return fp.method != FilterParams::Method::Lipp;
+  // Auto: Huang's in one view
+  return options.filterMethod.value_or(fp.method) != FilterParams::Method::Lipp;
 }
 
 bool pointShading(const RenderOptions& options, bool given, bool cover) {
-  return options.pointShading > 0 && !given && !cover && !options.rasterOnly;
+  return options.pointShading == Toggle::On && !given && !cover && !options.rasterOnly;
 }
 
 int gbufferLayers(const FilterParams& fp, const RenderOptions& options, bool given, bool cover) {
   if (cover) return static_cast<int>(CLH_LAYER_COVERAGE) + 1;
   // the samples, the conservative layer, then one identity layer per sample
   if (pointShading(options, given, cover)) return 2 * options.msaa + 1;
-  const bool filtered =
-      options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
+  const bool filtered = options.msaa == 1 && isOn(options.filter, fp.enabled);
   const bool huang = filtered && !options.rasterOnly && huangMethod(fp, options);
   const bool ids = huang || options.strandIds || options.cryptomatte;
   if (ids && options.msaa != 1)
@@ -101,8 +100,7 @@ void planViews(FramePlan& plan, const std::vector<GroomDraw>& draws, DispatchMod
   if (coverMode(s, o))
     throw Error("the coverage raster renders one view at a time (choose one with --views NAME)");
   plan.mode = mode;
-  plan.lodCorrection =
-      o.shadowLodCorrection < 0 ? s.shadows.lodCorrection : o.shadowLodCorrection == 1;
+  plan.lodCorrection = isOn(o.shadowLodCorrection, s.shadows.lodCorrection);
   plan.pixels = static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height);
   plan.grooms.assign(draws.size(), GroomPlan{});
   for (std::size_t k = 0; k < draws.size(); ++k) {
@@ -125,8 +123,7 @@ void planFrame(FramePlan& plan, const std::vector<GroomDraw>& draws, DispatchMod
   if (given && plan.cover) throw Error("a given G-buffer has no coverage layers");
   plan.mode = mode;
   plan.aovs = options.aovs && !options.rasterOnly;
-  plan.lodCorrection =
-      options.shadowLodCorrection < 0 ? s.shadows.lodCorrection : options.shadowLodCorrection == 1;
+  plan.lodCorrection = isOn(options.shadowLodCorrection, s.shadows.lodCorrection);
   plan.budget = options.segmentBudget >= 0
                     ? static_cast<std::uint64_t>(options.segmentBudget)
                     : s.segmentBudget.value_or(defaultSegmentBudget(s.width, s.height));
@@ -158,14 +155,13 @@ void planFrame(FramePlan& plan, const std::vector<GroomDraw>& draws, DispatchMod
     g.layers = gbufferLayers(fp, options, given, plan.cover);
     if (!d.groom->inFront(d.instance->transform, pass.worldToView)) continue;
     // the budget is a stage of LOD: a groom drawn without LOD keeps every strand
-    const bool lodOn = options.lod < 0 ? d.groom->lodEnabled() : options.lod != 0;
+    const bool lodOn = isOn(options.lod, d.groom->lodEnabled());
     g.active = static_cast<char>(lodOn ? CLH_BUDGET_DRAW_BUDGETED : CLH_BUDGET_DRAW_FIXED);
     g.far = farGroom(*d.groom, d.instance->transform, pass.worldToView, plan.view) ? 1 : 0;
     plan.lastDrawn = k;
     // the coverage mode has no filter: its alpha comes from the coverage layer
     g.points = pointShading(options, given, plan.cover);
-    g.filtered = !plan.cover && !g.points && options.msaa == 1 &&
-                 (options.filter < 0 ? fp.enabled : options.filter == 1);
+    g.filtered = !plan.cover && !g.points && options.msaa == 1 && isOn(options.filter, fp.enabled);
     g.huang = g.filtered && !options.rasterOnly && huangMethod(fp, options);
     g.linking = g.huang && fp.link && !given;
     g.ids = g.huang || options.strandIds || options.cryptomatte;

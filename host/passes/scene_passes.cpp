@@ -37,11 +37,9 @@ void importFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
   }
   for (const GroomPlan& gp : plan.grooms)
     if (gp.active)
-      r.visibility.prepare(gp.index, *gp.draw.instance, o.bakedVisibility != 0, o.lodAggregate != 0,
-                           o.multipleScattering != 0,
-                           o.ambientOcclusion != 0
-                               ? gp.draw.groom->aoField(s, gp.draw.instance->transform)
-                               : nullptr);
+      r.visibility.prepare(
+          gp.index, *gp.draw.instance, o.bakedVisibility, o.lodAggregate, o.multipleScattering,
+          o.ambientOcclusion ? gp.draw.groom->aoField(s, gp.draw.instance->transform) : nullptr);
 
   plan.viewRecord = g.import("view", {&t.view}, true);
   plan.scene_ = g.import("scene", r.scene.buffers(), true);

@@ -143,7 +143,7 @@ void addSharedStrandPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
         ViewTargets& vt = r.views;
         const std::size_t V = views->count;
         GroomInstanceGpu& inst = *d.state;
-        d.groom->useAo(plan.options.ambientOcclusion != 0);
+        d.groom->useAo(plan.options.ambientOcclusion);
         gv->records.assign(V, gpu::ClhGroomGpu{});
         for (std::size_t v = V; v-- > 0;) {
           d.groom->prepare(inst, d.instance->transform, draws[v]);
@@ -278,11 +278,10 @@ void addGroomPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan,
   if (gv->lodView == V) return;
   gp.active = 1;
   const FilterParams& fp = *gp.filter;
-  const bool filtered = o.msaa == 1 && (o.filter < 0 ? fp.enabled : o.filter == 1);
+  const bool filtered = o.msaa == 1 && isOn(o.filter, fp.enabled);
   // the shared strand pass writes no identity layer, so "auto" falls back to Lipp's filter
   // here; Huang's asked for by name is refused
-  if (filtered &&
-      (o.filterMethod < 0 ? fp.method == FilterParams::Method::Huang : o.filterMethod == 1))
+  if (filtered && o.filterMethod.value_or(fp.method) == FilterParams::Method::Huang)
     throw Error("groom \"" + d.instance->name +
                 "\": Huang's filter takes one view at a time; render the views one by one "
                 "(--views NAME) or use Lipp's filter");

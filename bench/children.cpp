@@ -57,7 +57,7 @@ void runChildren(Run& r) {
   for (int lod = 0; lod < 2; ++lod)
     for (int d = 0; d < 3; ++d) {
       RenderOptions o;
-      o.lod = lod;
+      o.lod = lod ? Toggle::On : Toggle::Off;
       Scene s = r.scenes[0];
       s.grooms[0] = GroomInstance("children", stored, s.grooms[0].transform);
       s = framed(s, dists[d], r.opt.width, r.opt.height);  // one camera for both

@@ -92,6 +92,8 @@ Image cachedRender(Renderer& r, const Scene& s, const RenderOptions& o, const st
 double flip(const Image& ref, const Image& test) { return compareImages(ref, test).flip.mean; }
 
 const char* ruleName(int rule) { return rule == 0 ? "uniform" : "screen"; }
+// rule 0 or 1 (the index the tables below use) as RenderOptions::budgetRule
+BudgetRule budgetRule(int rule) { return rule == 0 ? BudgetRule::Uniform : BudgetRule::Screen; }
 
 std::string millions(std::uint64_t b) { return fmt(static_cast<double>(b) * 1e-6, 0) + " M"; }
 
@@ -128,12 +130,12 @@ void crowdSection(Renderer& renderer, const CrowdOptions& opt, std::ostringstrea
     s.height = h;
     const std::string tag = std::to_string(w) + "x" + std::to_string(h);
     RenderOptions full;
-    full.lod = 0;
+    full.lod = Toggle::Off;
     full.segmentBudget = 0;
     double fullMs = 0.0, lodMs = 0.0;
     const Image ref = cachedRender(renderer, s, full, opt.refCache, "crowd_full_" + tag, &fullMs);
     RenderOptions lodOnly;
-    lodOnly.lod = 1;
+    lodOnly.lod = Toggle::On;
     lodOnly.segmentBudget = 0;
     const Image lodImage =
         cachedRender(renderer, s, lodOnly, opt.refCache, "crowd_lod_" + tag, &lodMs);
@@ -158,9 +160,9 @@ void crowdSection(Renderer& renderer, const CrowdOptions& opt, std::ostringstrea
     for (int run = 0; run < opt.runs; ++run)
       for (Variant& v : vs) {
         RenderOptions o;
-        o.lod = 1;
+        o.lod = Toggle::On;
         o.segmentBudget = static_cast<std::int64_t>(v.budget);
-        o.budgetRule = v.rule;
+        o.budgetRule = budgetRule(v.rule);
         Timed t = renderTimed(renderer, s, o);
         v.wall.push_back(t.wallMs);
         v.stats = t.frame.stats;
@@ -208,9 +210,9 @@ void crowdSection(Renderer& renderer, const CrowdOptions& opt, std::ostringstrea
       for (int j = 0; j < 2; ++j) {
         const int rule = (pr % 2 == 0) ? j : 1 - j;
         RenderOptions o;
-        o.lod = 1;
+        o.lod = Toggle::On;
         o.segmentBudget = static_cast<std::int64_t>(defaultBudget);
-        o.budgetRule = rule;
+        o.budgetRule = budgetRule(rule);
         const Timed t = renderTimed(renderer, s, o);
         wall[rule] = t.wallMs;
         device[rule] = t.frame.totalMs();
@@ -266,7 +268,7 @@ void crowdSection(Renderer& renderer, const CrowdOptions& opt, std::ostringstrea
     for (const auto& [name, cap] : std::vector<std::pair<std::string, float>>{
              {"widened (default)", 0.0f}, {"widening capped at 2x", 2.0f}, {"width kept", 1.0f}}) {
       RenderOptions o;
-      o.lod = 1;
+      o.lod = Toggle::On;
       o.segmentBudget = static_cast<std::int64_t>(defaultBudget);
       o.budgetWidenCap = cap;
       std::vector<double> wall;
@@ -322,7 +324,7 @@ void crowdSection(Renderer& renderer, const CrowdOptions& opt, std::ostringstrea
     s.height = dh;
     s.camera.position = start.position + dir * (6.0f * static_cast<float>(k) / (frames - 1));
     RenderOptions lodOnly;
-    lodOnly.lod = 1;
+    lodOnly.lod = Toggle::On;
     lodOnly.segmentBudget = 0;
     char name[64];
     std::snprintf(name, sizeof name, "crowd_dolly_lod_%s_%d_%02d", dtag.c_str(), frames, k);
@@ -331,9 +333,9 @@ void crowdSection(Renderer& renderer, const CrowdOptions& opt, std::ostringstrea
     prevLod = std::move(lodImage);
     for (int rule : {0, 1}) {
       RenderOptions o;
-      o.lod = 1;
+      o.lod = Toggle::On;
       o.segmentBudget = static_cast<std::int64_t>(defaultBudget);
-      o.budgetRule = rule;
+      o.budgetRule = budgetRule(rule);
       o.rasterStats = rule == 1;
       Frame f = renderer.render(s, o);
       if (rule == 1) {

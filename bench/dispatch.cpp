@@ -16,7 +16,7 @@ void runDispatch(Run& r) {
     for (int d = 0; d < 3; ++d) {
       Scene s = framed(r.scenes[0], r.dists[d], r.opt.width, r.opt.height);
       RenderOptions o;
-      o.lod = 1;
+      o.lod = Toggle::On;
       o.dispatch = mode;
       Measured m = r.b.measure(s, o, false);
       r.md << " " << fmt(m.wall.median) << " (" << fmt(m.total.median) << "; "

@@ -22,10 +22,10 @@ void runExplicit(Run& r) {
       s.grooms[0] = GroomInstance(s.grooms[0].name, strands, s.grooms[0].transform);
     std::uint64_t bytes = r.b.renderer.groomDeviceBytes(s.grooms[0]);
     RenderOptions o;
-    o.lod = 0;
+    o.lod = Toggle::Off;
     Measured close =
         r.b.measure(framed(s, CameraPreset::Close, r.opt.width, r.opt.height), o, false);
-    o.lod = 1;
+    o.lod = Toggle::On;
     Measured far = r.b.measure(framed(s, CameraPreset::Far, r.opt.width, r.opt.height), o, false);
     const char* name = explicitStrands ? "cyHair strands" : "hair mesh";
     r.md << "| " << name << " | " << bytes << " | " << fmt(close.total.median) << " | "

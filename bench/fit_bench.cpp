@@ -193,7 +193,7 @@ int run(const Args& a) {
                                roundTrip ? sceneGroom.transform : glm::mat4(1.0f));
   RenderOptions ro;
   ro.aovs = true;
-  ro.ambientOcclusion = a.ao == "off" ? 0 : 1;
+  ro.ambientOcclusion = a.ao != "off";
   Frame f0;
   const std::string cache = a.out + "/original_ao" + a.ao + ".exr";
   const std::string alphaCache = a.out + "/original_ao" + a.ao + "_alpha.raw";

@@ -50,8 +50,8 @@ void runFloor(Run& r) {
     sx.height = r.opt.height;
     sx.camera = sg.camera;  // the same view for both
     RenderOptions o;
-    o.lod = 0;
-    o.filter = 0;
+    o.lod = Toggle::Off;
+    o.filter = Toggle::Off;
     o.rasterOnly = true;
     Measured mx = r.b.measure(sx, o, false);
     Measured mg = r.b.measure(sg, o, false);

@@ -16,9 +16,9 @@ namespace {
 
 struct Row {
   const char* name;
-  int lod;         // RenderOptions::lod
-  int shadowLod;   // RenderOptions::shadowLod
-  int fromCamera;  // RenderOptions::shadowLodCamera
+  Toggle lod;         // RenderOptions::lod
+  Toggle shadowLod;   // RenderOptions::shadowLod
+  Toggle fromCamera;  // RenderOptions::shadowLodCamera
   DispatchMode mode = DispatchMode::Auto;
 };
 
@@ -98,10 +98,12 @@ void lodFarSection(Renderer& renderer, const LodFarOptions& o, std::ostringstrea
   s.width = o.width;
   s.height = o.height;
   s.camera = reframeCamera(s, CameraPreset::Far);
-  const Row rows[] = {{"LOD off", 0, 0, 0},
-                      {"LOD, lights' passes capped by the camera's LOD (default)", 1, -1, -1},
-                      {"LOD, lights' passes in the light's view alone", 1, -1, 0},
-                      {"LOD, full-detail maps", 1, 0, 0}};
+  constexpr Toggle kOn = Toggle::On, kOff = Toggle::Off, kDefault = Toggle::Default;
+  const Row rows[] = {
+      {"LOD off", kOff, kOff, kOff},
+      {"LOD, lights' passes capped by the camera's LOD (default)", kOn, kDefault, kDefault},
+      {"LOD, lights' passes in the light's view alone", kOn, kDefault, kOff},
+      {"LOD, full-detail maps", kOn, kOff, kOff}};
   std::vector<Timed> timed;
   for (const Row& r : rows) {
     timed.push_back(timeRow(renderer, s, r, o.runs, o.warmup));

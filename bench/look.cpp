@@ -72,14 +72,17 @@ void runLook(Run& r) {
                     glm::vec3(0.8f, 0.62f, 0.36f)});
   struct Level {
     const char* name;
-    int quality, scattering;
+    Quality quality;
+    bool multipleScattering;
     bool plain = false;  // the bench scenes' lights without maps (the defaults before)
   };
-  std::vector<Level> levels = {{"draft", 0, 1}, {"good", 1, 1}, {"final", 2, 1}};
+  std::vector<Level> levels = {{"draft", Quality::Draft, true},
+                               {"good", Quality::Good, true},
+                               {"final", Quality::Final, true}};
   if (r.opt.lookScattering == "both") {
-    levels.push_back({"draft, single scattering", 0, 0});
-    levels.push_back({"good, single scattering", 1, 0});
-    levels.push_back({"draft before: single scattering, no maps", 0, 0, true});
+    levels.push_back({"draft, single scattering", Quality::Draft, false});
+    levels.push_back({"good, single scattering", Quality::Good, false});
+    levels.push_back({"draft before: single scattering, no maps", Quality::Draft, false, true});
   }
   json q;
   r.md << "\n## The look against the path-traced reference (" << qw << "x" << qh << ", path "
@@ -177,13 +180,13 @@ void runLook(Run& r) {
       for (const Level& l : levels) {
         RenderOptions o;
         o.quality = l.quality;
-        o.multipleScattering = l.scattering;
+        o.multipleScattering = l.multipleScattering;
         Scene sl = s;
         if (l.plain)
           for (Light& light : sl.lights) light.shadows = false;
         Frame f;
         const auto t0 = std::chrono::steady_clock::now();
-        if (l.quality == 2) {
+        if (l.quality == Quality::Final) {
           ProgressiveStill still(r.b.renderer, sl, o);
           still.add(0, r.opt.lookFinalPasses);
           f = still.frame();

@@ -58,11 +58,11 @@ double wallMs(const std::function<void()>& fn) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-RenderOptions optionsOf(int lod) {
+RenderOptions optionsOf(Toggle lod) {
   RenderOptions o;
   o.lod = lod;
   o.reuseShadows = false;  // every frame builds its maps, as a still does
-  if (lod == 0) o.shadowResFromCamera = false;
+  if (lod == Toggle::Off) o.shadowResFromCamera = false;
   return o;
 }
 
@@ -100,7 +100,7 @@ Frame reference(Run& r, const Scene& s, const std::string& tag, int spp) {
 std::vector<char> hairMask(Run& r, const Scene& s, const Frame& ref) {
   Scene bare = s;
   bare.grooms.clear();
-  const Frame empty = r.b.renderer.render(bare, optionsOf(0));
+  const Frame empty = r.b.renderer.render(bare, optionsOf(Toggle::Off));
   std::vector<char> mask(static_cast<std::size_t>(s.width) * s.height, 0);
   for (std::size_t i = 0; i < mask.size(); ++i)
     for (int c = 0; c < 3; ++c)
@@ -137,7 +137,7 @@ void costTable(Run& r, const std::vector<Size>& sizes) {
     s.width = z.w;
     s.height = z.h;
     for (int row = 0; row < 2; ++row) {
-      RenderOptions o = optionsOf(-1);
+      RenderOptions o = optionsOf(Toggle::Default);
       if (row == 0) o.shadowResFromCamera = false;
       const Scene& rs = row == 0 ? before(s) : s;
       const Frame f = r.b.renderer.render(rs, o);  // warm-up and the counts
@@ -180,7 +180,7 @@ void costTable(Run& r, const std::vector<Size>& sizes) {
 // of strands per pixel (k > 0) or with the maps at the scene's resolution.
 struct Column {
   std::string name;
-  int lod = -1;
+  Toggle lod = Toggle::Default;
   float k = 0.0f;  // > 0: every groom's strands per pixel
   bool sceneMaps = false;
   bool fullPoints = false;  // L = 1 (λ 1000): every control point
@@ -198,13 +198,13 @@ Scene withStrandsPerPixel(Scene s, float k, bool fullPoints) {
 }
 
 void flipTable(Run& r, const std::vector<Size>& sizes) {
-  std::vector<Column> cols = {{"LOD off", 0}, {"default", -1}};
+  std::vector<Column> cols = {{"LOD off", Toggle::Off}, {"default", Toggle::Default}};
   std::stringstream ks(r.opt.pixelK);
   for (std::string k; std::getline(ks, k, ',');)
     if (!k.empty())  // "16" or "16f" (every control point)
-      cols.push_back({"k " + k, -1, std::stof(k), false, k.back() == 'f'});
+      cols.push_back({"k " + k, Toggle::Default, std::stof(k), false, k.back() == 'f'});
   if (r.opt.pixelParts.find("scenemaps") != std::string::npos)
-    cols.push_back({"default, maps at the scene's resolution", -1, 0.0f, true});
+    cols.push_back({"default, maps at the scene's resolution", Toggle::Default, 0.0f, true});
   r.md << "\n## LOD from the screen against LOD off (Embree reference " << r.opt.refSpp
        << " spp, mean FLIP over the hair's pixels / segments drawn; in brackets the FLIP over "
           "LOD off's)\n\n| groom | distance | size |";
@@ -234,9 +234,9 @@ void flipTable(Run& r, const std::vector<Size>& sizes) {
           const Frame f = r.b.renderer.render(
               c.k > 0.0f || c.fullPoints ? withStrandsPerPixel(s, c.k, c.fullPoints) : s, o);
           const double flip = hairFlip(ref, f, mask);
-          if (c.lod == 0) off = flip;
+          if (c.lod == Toggle::Off) off = flip;
           r.md << " " << fmt(flip, 4) << " / " << f.stats.segmentsPlanned;
-          if (c.lod != 0) r.md << " (" << fmt(flip / std::max(off, 1e-9), 3) << ")";
+          if (c.lod != Toggle::Off) r.md << " (" << fmt(flip / std::max(off, 1e-9), 3) << ")";
           r.md << " |";
           j.push_back({{"groom", g + 1},
                        {"distance", r.distNames[d]},
@@ -266,7 +266,7 @@ void finalTable(Run& r, const Size& z) {
   const std::vector<char> mask = hairMask(r, s, ref);
   const int spp = finalPasses(s, RenderOptions{});
   RenderOptions fo;
-  fo.quality = 2;
+  fo.quality = Quality::Final;
   // Every still and frame timed builds its own maps (a frame of the far camera before it
   // changes what they depend on) after a warm-up that built every kernel.
   Scene far = s;
@@ -299,7 +299,7 @@ void finalTable(Run& r, const Size& z) {
     subsetMs.push_back(timed(so, subsets.back().second));
   }
   RenderOptions go;
-  go.quality = 1;
+  go.quality = Quality::Good;
   const double goodMs = timed(go, good);
   const double tracedMs =
       wallMs([&] { traced = r.b.renderer.renderReference(s, spp, ReferenceMethod::Embree); });

@@ -46,41 +46,45 @@ void runQuality(Run& r) {
     bool promote;          // the filter's strand connection (Lipp §3.3.2)
     int huang;             // 0: Lipp's filter; else Huang's: 1 linking, 2 + alpha fix, 3 + filter
     int lodAggregate = 0;  // LOD strands: single fibre or aggregated BCSDF (Huang 2024)
-    int raster = 0;        // 0 lines, 1 coverage (Kulikov 2025, clhair/coverage.h)
+    RasterMode raster = RasterMode::Lines;  // or coverage (Kulikov 2025, clhair/coverage.h)
     // segment budget: -1 the scene's (2 M segments by default), 0 none; with LOD a
     // groom over the budget keeps fewer, wider strands (docs/scene-format.md)
     std::int64_t budget = -1;
-    int points = 0;       // 1: shaded once per visible strand point (RenderOptions::pointShading)
-    int quality = 0;      // RenderOptions::quality: 0 draft (the fields above), 1 good, 2 final
+    int points = 0;  // 1: shaded once per visible strand point (RenderOptions::pointShading)
+    Quality quality = Quality::Draft;  // RenderOptions::quality (draft: the fields above)
     int finalPasses = 0;  // final: passes (the first N of one progressive run per cell)
-    int finalPath = -1;   // final: RenderOptions::finalPath
+    FinalPath finalPath = FinalPath::Default;  // final: RenderOptions::finalPath
   };
-  const Config configs[] = {{"SWR1", 1, 0, 0, true, 0},
-                            {"SWR1+F", 1, 1, 0, true, 0},
-                            {"SWR1+F+L", 1, 1, 1, true, 0},
-                            {"SWR1+F+L aggregated", 1, 1, 1, true, 0, 1},
-                            {"SWR1+L", 1, 0, 1, true, 0},
-                            {"SWR1+L aggregated", 1, 0, 1, true, 0, 1},
-                            {"SWR1+F, no promotion", 1, 1, 0, false, 0},
-                            {"SWR1+H linking", 1, 1, 0, true, 1},
-                            {"SWR1+H linking+alpha fix", 1, 1, 0, true, 2},
-                            {"SWR1+H (linking+alpha fix+anisotropic)", 1, 1, 0, true, 3},
-                            {"SWR1+H+L", 1, 1, 1, true, 3},
-                            {"SWR1+H+L no budget", 1, 1, 1, true, 3, 0, 0, 0},
-                            {"SWR MSAA 2", 2, 0, 0, true, 0},
-                            {"SWR MSAA 4", 4, 0, 0, true, 0},
-                            {"SWR MSAA 8", 8, 0, 0, true, 0},
-                            {"SWR MSAA 4 per point", 4, 0, 0, true, 0, 0, 0, -1, 1},
-                            {"SWR MSAA 8 per point", 8, 0, 0, true, 0, 0, 0, -1, 1},
-                            {"SWR1 per point", 1, 0, 0, true, 0, 0, 0, -1, 1},
-                            {"good", 1, 0, 0, true, 0, 0, 0, -1, 0, 1},
-                            {"final 4", 1, 0, 0, true, 0, 0, 0, -1, 0, 2, 4},
-                            {"final 16", 1, 0, 0, true, 0, 0, 0, -1, 0, 2, 16},
-                            {"final 64", 1, 0, 0, true, 0, 0, 0, -1, 0, 2, 64},
-                            {"final SWR1 4", 1, 0, 0, true, 0, 0, 0, -1, 0, 2, 4, 0},
-                            {"final SWR1 16", 1, 0, 0, true, 0, 0, 0, -1, 0, 2, 16, 0},
-                            {"final SWR1 64", 1, 0, 0, true, 0, 0, 0, -1, 0, 2, 64, 0},
-                            {"SWR coverage", 1, 0, 0, true, 0, 0, 1}};
+  const Config configs[] = {
+      {"SWR1", 1, 0, 0, true, 0},
+      {"SWR1+F", 1, 1, 0, true, 0},
+      {"SWR1+F+L", 1, 1, 1, true, 0},
+      {"SWR1+F+L aggregated", 1, 1, 1, true, 0, 1},
+      {"SWR1+L", 1, 0, 1, true, 0},
+      {"SWR1+L aggregated", 1, 0, 1, true, 0, 1},
+      {"SWR1+F, no promotion", 1, 1, 0, false, 0},
+      {"SWR1+H linking", 1, 1, 0, true, 1},
+      {"SWR1+H linking+alpha fix", 1, 1, 0, true, 2},
+      {"SWR1+H (linking+alpha fix+anisotropic)", 1, 1, 0, true, 3},
+      {"SWR1+H+L", 1, 1, 1, true, 3},
+      {"SWR1+H+L no budget", 1, 1, 1, true, 3, 0, RasterMode::Lines, 0},
+      {"SWR MSAA 2", 2, 0, 0, true, 0},
+      {"SWR MSAA 4", 4, 0, 0, true, 0},
+      {"SWR MSAA 8", 8, 0, 0, true, 0},
+      {"SWR MSAA 4 per point", 4, 0, 0, true, 0, 0, RasterMode::Lines, -1, 1},
+      {"SWR MSAA 8 per point", 8, 0, 0, true, 0, 0, RasterMode::Lines, -1, 1},
+      {"SWR1 per point", 1, 0, 0, true, 0, 0, RasterMode::Lines, -1, 1},
+      {"good", 1, 0, 0, true, 0, 0, RasterMode::Lines, -1, 0, Quality::Good},
+      {"final 4", 1, 0, 0, true, 0, 0, RasterMode::Lines, -1, 0, Quality::Final, 4},
+      {"final 16", 1, 0, 0, true, 0, 0, RasterMode::Lines, -1, 0, Quality::Final, 16},
+      {"final 64", 1, 0, 0, true, 0, 0, RasterMode::Lines, -1, 0, Quality::Final, 64},
+      {"final SWR1 4", 1, 0, 0, true, 0, 0, RasterMode::Lines, -1, 0, Quality::Final, 4,
+       FinalPath::OneSample},
+      {"final SWR1 16", 1, 0, 0, true, 0, 0, RasterMode::Lines, -1, 0, Quality::Final, 16,
+       FinalPath::OneSample},
+      {"final SWR1 64", 1, 0, 0, true, 0, 0, RasterMode::Lines, -1, 0, Quality::Final, 64,
+       FinalPath::OneSample},
+      {"SWR coverage", 1, 0, 0, true, 0, 0, RasterMode::Coverage}};
   auto splitList = [](const std::string& list) {
     std::set<std::string> items;
     for (std::size_t at = 0; !list.empty() && at <= list.size();) {
@@ -225,18 +229,18 @@ void runQuality(Run& r) {
                  r.opt.out + "/quality/" + gtag + r.distNames[d] + "_background.png");
       // quality final: one progressive run per pass path and cell, whose first N passes
       // give the row of N passes (the rows of fewer passes are its prefixes)
-      std::map<int, std::unique_ptr<ProgressiveStill>> finals;
+      std::map<FinalPath, std::unique_ptr<ProgressiveStill>> finals;
       for (const Config& c : configs) {
         if (!chosen.empty() && !chosen.count(c.name)) continue;
         RenderOptions o;
         o.msaa = c.msaa;
-        o.filter = c.filter;
-        o.lod = c.lod;
-        o.lodAggregate = c.lodAggregate;
+        o.filter = c.filter ? Toggle::On : Toggle::Off;
+        o.lod = c.lod ? Toggle::On : Toggle::Off;
+        o.lodAggregate = c.lodAggregate != 0;
         o.raster = c.raster;
         o.segmentBudget = c.budget;
         // draft rows say whether they shade per point; good and final leave it to the level
-        if (c.quality == 0) o.pointShading = c.points;
+        if (c.quality == Quality::Draft) o.pointShading = c.points ? Toggle::On : Toggle::Off;
         o.quality = c.quality;
         o.finalPath = c.finalPath;
         Scene sc = s;
@@ -295,7 +299,7 @@ void runQuality(Run& r) {
                      ltag.c_str(), r.groomNames[g], c.name, r.distNames[d], flipHair, psnrHair,
                      cmp.flip.mean, m.total.median, filterMs);
         if (!maps && g == 0 && d == 1 && c.msaa == 1 && c.filter == 0 && c.lod == 0 &&
-            c.raster == 0 && c.quality == 0 && c.points == 0) {
+            c.raster == RasterMode::Lines && c.quality == Quality::Draft && c.points == 0) {
           // SWR1 at mid against the other reference too, over the same hair pixels
           Frame other;
           const double otherMs = wallMs([&] { other = reference(s, g, d, otherMethod, ltag); });

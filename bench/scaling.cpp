@@ -25,7 +25,7 @@ void runScaling(Run& r) {
     m.strandCount = n;
     s.grooms[0].mesh = std::make_shared<const HairMesh>(m);
     RenderOptions o;
-    o.lod = 0;
+    o.lod = Toggle::Off;
     Measured res = r.b.measure(s, o);
     double strandsMs = stageMedian(res, "strands");
     double perSeg = res.counts.segmentsDrawn ? strandsMs / (res.counts.segmentsDrawn * 1e-6) : 0.0;

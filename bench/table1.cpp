@@ -44,9 +44,9 @@ void runTable1(Run& r) {
           if (r.opt.only == "atomics" && (msaa != 1 || rowSpec.filter)) continue;
           Scene s = framed(r.scenes[g], r.dists[d], r.opt.width, r.opt.height);
           RenderOptions o;
-          o.lod = lod;
+          o.lod = lod ? Toggle::On : Toggle::Off;
           o.msaa = msaa;
-          o.filter = rowSpec.filter ? 1 : 0;
+          o.filter = rowSpec.filter ? Toggle::On : Toggle::Off;
           Measured m = r.b.measure(s, o);
           r.md << " " << fmt(m.wall.median) << " (" << fmt(m.total.median) << "; "
                << fmt(stageMedian(m, "strands")) << ") |";

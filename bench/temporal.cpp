@@ -40,13 +40,13 @@ void runTemporal(Run& r) {
   struct Config {
     const char* name;
     int msaa, filter;
-    int history;      // temporal reprojection: frames of history, 0 off
-    bool protect;     // the depth rule and the neighbourhood clamp
-    int huang = 0;    // 0: Lipp's filter; else Huang's: 1 linking, 2 + alpha fix, 3 + filter
-    int quality = 0;  // RenderOptions::quality (1: good)
+    int history;    // temporal reprojection: frames of history, 0 off
+    bool protect;   // the depth rule and the neighbourhood clamp
+    int huang = 0;  // 0: Lipp's filter; else Huang's: 1 linking, 2 + alpha fix, 3 + filter
+    Quality quality = Quality::Draft;  // RenderOptions::quality
   };
   const Config configs[] = {{"SWR1", 1, 0, 0, true},
-                            {"good", 1, 0, 0, true, 0, 1},
+                            {"good", 1, 0, 0, true, 0, Quality::Good},
                             {"SWR1+F", 1, 1, 0, true},
                             {"SWR1+H linking", 1, 1, 0, true, 1},
                             {"SWR1+H linking+alpha fix", 1, 1, 0, true, 2},
@@ -96,8 +96,8 @@ void runTemporal(Run& r) {
   auto optionsOf = [](const Config& c) {
     RenderOptions o;
     o.msaa = c.msaa;
-    o.filter = c.filter;
-    o.lod = 0;
+    o.filter = c.filter ? Toggle::On : Toggle::Off;
+    o.lod = Toggle::Off;
     o.temporal = c.history;
     o.quality = c.quality;
     return o;
@@ -223,8 +223,8 @@ void runTemporal(Run& r) {
   std::vector<std::vector<float>> ownAlpha;
   {
     RenderOptions o;
-    o.lod = 0;
-    o.filter = 1;
+    o.lod = Toggle::Off;
+    o.filter = Toggle::On;
     o.aovs = true;
     FrameSequence own(r.b.renderer, fastAt, o, 0);
     for (int f = 0; f < fastFrames; ++f) ownAlpha.push_back(own.render(f).aovs.hairAlpha);

@@ -29,7 +29,7 @@ void runCrowd(Run& r) {
   const int cw = r.opt.quick ? 480 : 960, ch = r.opt.quick ? 270 : 540;
   Scene single = framed(r.scenes[0], CameraPreset::Close, cw, ch);
   RenderOptions so;
-  so.lod = -1;
+  so.lod = Toggle::Default;
   so.segmentBudget = 0;
   std::vector<double> wall;
   for (int i = 0; i < r.opt.warmup; ++i) r.b.renderer.render(single, so);

@@ -108,7 +108,7 @@ std::unique_ptr<StrandTracer> traceScene(Renderer::Impl& r, const Scene& s, cons
   std::map<const GroomGpu*, StrandSet> exported;
   for (std::size_t k = 0; k < draws.size(); ++k) {
     const GroomDraw& d = draws[k];
-    d.groom->useAo(o.ambientOcclusion != 0);  // the exported AO is what the frame draws
+    d.groom->useAo(o.ambientOcclusion);  // the exported AO is what the frame draws
     if (!d.groom->prepare(*d.state, d.instance->transform, pass)) continue;
     auto it = exported.find(d.groom);
     auto t0 = std::chrono::steady_clock::now();
@@ -203,13 +203,14 @@ Frame Renderer::renderReference(const Scene& s, const ReferenceOptions& ro) {
   if (spp < 1 || spp > 65536)
     throw Error("reference: --spp " + std::to_string(spp) + " is outside 1..65536");
   RenderOptions o;
-  o.quality = 0;  // one sample per pixel per pass, shaded per sample, whatever the scene says
-  o.pointShading = 0;
-  o.lod = 0;
+  // one sample per pixel per pass, shaded per sample, whatever the scene says
+  o.quality = Quality::Draft;
+  o.pointShading = Toggle::Off;
+  o.lod = Toggle::Off;
   o.msaa = 1;
-  o.filter = 0;
+  o.filter = Toggle::Off;
   o.trueWidth = true;             // no minimum hit diameter
-  o.raster = 0;                   // point samples of the strands, whatever the scene's raster
+  o.raster = RasterMode::Lines;   // point samples of the strands, whatever the scene's raster
   o.segmentBudget = 0;            // every strand of every groom
   o.shadowResFromCamera = false;  // maps at the scene's resolution, whatever the camera sees
   if (ro.method == ReferenceMethod::Path) return pathReference(*impl_, s, o, ro);

@@ -98,7 +98,7 @@ TEST(AoField, AmbientLightOnAStrandFileFollowsItsField) {
   s.camera.fovYDegrees = 40.0f;
   Renderer r(test::sharedDevice());
   RenderOptions on, off;
-  off.ambientOcclusion = 0;
+  off.ambientOcclusion = false;
   const Image a = r.render(s, on).color, b = r.render(s, off).color;
   double sa = 0.0, sb = 0.0, alpha = 0.0;
   for (int y = 0; y < a.height; ++y)

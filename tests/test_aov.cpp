@@ -221,7 +221,7 @@ TEST(Aov, DepthIsTheHairsGBufferDepthAndTheSpheresAnalyticDepth) {
   RenderOptions o;
   o.aovs = true;
   o.captureGBuffer = true;
-  o.filter = 0;  // the composite takes the hair's depth from the centre layer alone
+  o.filter = Toggle::Off;  // the composite takes the hair's depth from the centre layer alone
   const Frame f = r.render(s, o);
   const std::size_t pixels = 64 * 48;
   ASSERT_EQ(f.aovs.z.size(), pixels);

@@ -75,7 +75,7 @@ TEST(Budget, ProportionalReductionIsExactAndHolds) {
   auto tiny = tinyMesh();
   const Scene s = smallScene(tiny, 3, true);
   RenderOptions o;
-  o.budgetRule = 0;  // the uniform rule (the screen rule: test_budget_screen.cpp)
+  o.budgetRule = BudgetRule::Uniform;  // the uniform rule (the screen rule: test_budget_screen.cpp)
   o.segmentBudget = 0;
   const Frame full = r.render(s, o);
   const std::uint64_t perTiny = tiny->strandCount * (tiny->controlPoints - 1);
@@ -113,7 +113,7 @@ TEST(Budget, ProportionalReductionIsExactAndHolds) {
   EXPECT_EQ(starved.stats.grooms[3].strands, 2u);
 
   // grooms drawn without LOD keep every strand and do not count
-  o.lod = 0;
+  o.lod = Toggle::Off;
   o.segmentBudget = static_cast<std::int64_t>(total / 2);
   const Frame lodOff = r.render(s, o);
   EXPECT_FALSE(lodOff.stats.overBudget);
@@ -130,7 +130,7 @@ TEST(Budget, FarGroomsDropEveryOtherControlPoint) {
   const Frame full = r.render(s, o);
   ASSERT_TRUE(full.stats.grooms[0].drawn);
   for (int rule : {0, 1}) {  // both rules halve far grooms first (Kulikov 2025)
-    o.budgetRule = rule;
+    o.budgetRule = rule ? BudgetRule::Screen : BudgetRule::Uniform;
     o.segmentBudget = static_cast<std::int64_t>(full.stats.segmentsPlanned - 1);
     const GroomDrawStats g = r.render(s, o).stats.grooms[0];
     EXPECT_TRUE(g.halved) << rule;

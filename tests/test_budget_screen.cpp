@@ -308,7 +308,7 @@ TEST(BudgetScreen, AGroomFillingTheFrameKeepsItsCountBesideNinetyNineTiny) {
   EXPECT_LT(tinyDrawn, tinyRequest);
   EXPECT_LE(screen.stats.segmentsPlanned, budget);
   // the uniform rule under the same budget cuts the big groom with the others
-  o.budgetRule = 0;
+  o.budgetRule = BudgetRule::Uniform;
   const Frame uniform = r.render(s, o);
   EXPECT_LT(uniform.stats.grooms[0].strands, big.strands);
   std::printf("big groom: %u strands of %u under the screen rule, %u under the uniform rule\n",

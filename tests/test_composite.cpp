@@ -51,7 +51,7 @@ TEST(Composite, OpaqueHairHidesTheBackground) {
   Renderer r(test::sharedDevice());
   for (int filter : {0, 1}) {
     RenderOptions o;
-    o.filter = filter;
+    o.filter = filter ? Toggle::On : Toggle::Off;
     o.captureGBuffer = true;
     Frame a = r.render(s, o), b = r.render(other, o);
     const std::size_t n = static_cast<std::size_t>(s.width) * s.height;

@@ -326,10 +326,10 @@ TEST(Coverage, FrontoParallelStrandHasTheStripsCoverageAndAlphaProfile) {
   const float y0 = 0.0123f, width = 0.6f * 0.3f / float(kFy);
   Renderer r(sharedDevice());
   RenderOptions ro;
-  ro.raster = 1;
+  ro.raster = RasterMode::Coverage;
   ro.aovs = true;
   ro.captureGBuffer = true;
-  ro.ambientOcclusion = 0;
+  ro.ambientOcclusion = false;
   const Frame f = r.render(horizontalStrands({y0}, width), ro);
   ASSERT_EQ(f.gbufferLayers, int(CLH_LAYER_COVERAGE) + 1);
   EXPECT_EQ(f.stats.linkSelecting, 0u) << "the default filter (Huang's) ran in coverage mode";
@@ -381,7 +381,7 @@ TEST(Coverage, DenseSlabOfStrandsReachesOpaqueAlpha) {
     ys.push_back((std::uniform_real_distribution<float>(-4.0f, 4.0f)(rng)) * pxToWorld);
   Renderer r(sharedDevice());
   RenderOptions ro;
-  ro.raster = 1;
+  ro.raster = RasterMode::Coverage;
   ro.aovs = true;
   const Frame f = r.render(horizontalStrands(ys, 0.5f * pxToWorld), ro);
   const std::size_t W = 64;
@@ -392,7 +392,7 @@ TEST(Coverage, DenseSlabOfStrandsReachesOpaqueAlpha) {
       EXPECT_EQ(f.aovs.hairAlpha[y * W + x], 0.0f) << "pixel " << x << ", " << y;
   }
   // the lines raster of the same slab: more than three strands per pixel, still opaque
-  ro.raster = 0;
+  ro.raster = RasterMode::Lines;
   const Frame lines = r.render(horizontalStrands(ys, 0.5f * pxToWorld), ro);
   EXPECT_GT(lines.aovs.hairAlpha[24 * W + 32], 0.5f);
 }

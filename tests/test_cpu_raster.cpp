@@ -35,8 +35,8 @@ TEST(CpuRaster, FloorEqualsDeviceGBufferWordForWord) {
   s.grooms.push_back(GroomInstance("waves", groom));
   s.camera = framePreset(s, CameraPreset::Close, 30.0f);
   RenderOptions o;
-  o.lod = 0;
-  o.filter = 0;
+  o.lod = Toggle::Off;
+  o.filter = Toggle::Off;
   o.msaa = 1;
   o.captureGBuffer = true;
   const Frame f = r.render(s, o);

@@ -296,8 +296,8 @@ RoundTrip renderRoundTrip(bool shadows) {
   b.grooms[0] = GroomInstance("strands", std::make_shared<const StrandGroom>(std::move(g)));
 
   RenderOptions o;
-  o.lod = 0;
-  o.ambientOcclusion = 0;  // explicit strands carry AO 1
+  o.lod = Toggle::Off;
+  o.ambientOcclusion = false;  // explicit strands carry AO 1
   rt.mesh = r.render(a, o);
   rt.strands = r.render(b, o);
   EXPECT_EQ(rt.mesh.stats.strandsDrawn + 2, rt.strands.stats.strandsDrawn);
@@ -387,7 +387,7 @@ TEST(ExplicitRoundTrip, TressFxExportReadsBackAsTheResampledStrandsAndRendersLik
   Scene b = a;
   b.grooms[0] = placed(loadStrandGroom(file, maxAlloc));
   RenderOptions o;
-  o.lod = 0;
+  o.lod = Toggle::Off;
   RoundTrip rt;
   rt.dir = dir;
   rt.mesh = r.render(a, o);
@@ -413,7 +413,7 @@ TEST(ExplicitLod, FarDrawsFewerStrandsAndPointsAndKeepsCoverage) {
   s.height = 270;
   s.grooms.push_back(GroomInstance("g", std::make_shared<const StrandGroom>(std::move(g))));
   s.camera = framePreset(s, CameraPreset::Far, 30.0f);
-  auto coverage = [&](int lod, FrameStats* stats) {
+  auto coverage = [&](Toggle lod, FrameStats* stats) {
     RenderOptions o;
     o.lod = lod;
     o.msaa = 4;  // coverage per pixel = fraction of samples hit
@@ -431,7 +431,7 @@ TEST(ExplicitLod, FarDrawsFewerStrandsAndPointsAndKeepsCoverage) {
     return sum;
   };
   FrameStats off, on;
-  const double cOff = coverage(0, &off), cOn = coverage(1, &on);
+  const double cOff = coverage(Toggle::Off, &off), cOn = coverage(Toggle::On, &on);
   RecordProperty("coverage_lod_off", std::to_string(cOff));
   RecordProperty("coverage_lod_on", std::to_string(cOn));
   RecordProperty("strands_lod_on", std::to_string(on.strandsDrawn));
@@ -460,7 +460,7 @@ TEST(ExplicitLod, ChunksOffScreenAreCulled) {
   s.camera.target = glm::vec3(0.0f, 0.15f, 0.0f);
   Renderer r(test::sharedDevice());
   RenderOptions o;
-  o.lod = 0;
+  o.lod = Toggle::Off;
   EXPECT_EQ(r.render(s, o).stats.strandsDrawn, 640u);
   s.camera.target = glm::vec3(0.0f, 0.15f, 1.2f);  // looking away
   EXPECT_EQ(r.render(s, o).stats.strandsDrawn, 0u);
@@ -479,7 +479,7 @@ TEST(ExplicitRender, FramesAreBitIdenticalAcrossRunsRenderersAndDispatchModes) {
       sceneAround(GroomInstance("g", std::make_shared<const StrandGroom>(std::move(g))), 120, 90);
   s.camera = framePreset(s, CameraPreset::Close, 20.0f, 10.0f);
   RenderOptions o;
-  o.lod = 1;
+  o.lod = Toggle::On;
   Renderer a(test::sharedDevice()), b(test::sharedDevice());
   Frame f1 = a.render(s, o), f2 = a.render(s, o), f3 = b.render(s, o);
   ASSERT_EQ(f1.color.rgba.size(), f3.color.rgba.size());

@@ -77,7 +77,7 @@ TEST(FitRenders, FittedMeshPassesValidationAndRendersThroughEveryPath) {
   EXPECT_EQ(plain.stats.strandsDrawn, 3000u);
   EXPECT_GT(hairPixels(plain), 200u);
   // LOD at a distance: fewer strands, still hair
-  o.lod = 1;
+  o.lod = Toggle::On;
   o.lodLambdaScale = 0.05f;
   const Frame lod = renderer.render(scene, o);
   EXPECT_LT(lod.stats.strandsDrawn, 3000u);

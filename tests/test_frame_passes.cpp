@@ -99,7 +99,7 @@ Scene tinyScene() { return loadScene(windScene(scratchDir(), false)); }
 
 TEST(FramePasses, TheDefaultSceneRunsItsPassesAndWaitsOnceInASteadyFrame) {
   RenderOptions o;
-  o.lod = 1;
+  o.lod = Toggle::On;
   const Rendered d = twoFrames(smallScene("default.json"), o);
   EXPECT_EQ(d.first, concat({shadowPasses({0, 1, 2}),
                              {"opaque", "lod 0", "segment budget"},
@@ -119,10 +119,10 @@ TEST(FramePasses, MsaaNoFilterAndLippsFilterRunTheirPasses) {
   o.msaa = 4;
   EXPECT_EQ(twoFrames(s, o, {}, 1).first, concat({head, groomPasses(0, false), {"read-back"}}));
   o.msaa = 1;
-  o.filter = 0;
+  o.filter = Toggle::Off;
   EXPECT_EQ(twoFrames(s, o, {}, 1).first, concat({head, groomPasses(0, false), {"read-back"}}));
-  o.filter = 1;
-  o.filterMethod = 0;  // Lipp's
+  o.filter = Toggle::On;
+  o.filterMethod = FilterParams::Method::Lipp;  // Lipp's
   EXPECT_EQ(twoFrames(s, o, {}, 1).first,
             concat({head, {"strands 0", "shade 0", "filter 0", "composite 0", "read-back"}}));
 }
@@ -133,9 +133,9 @@ TEST(FramePasses, MsaaNoFilterAndLippsFilterRunTheirPasses) {
 TEST(FramePasses, PointShadingReplacesTheShadePassAndWaitsOnce) {
   const Scene s = smallScene("default.json");
   RenderOptions o;
-  o.lod = 1;
-  o.quality = 1;
-  o.pointShading = 1;
+  o.lod = Toggle::On;
+  o.quality = Quality::Good;
+  o.pointShading = Toggle::On;
   const Rendered d = twoFrames(s, o);
   const std::vector<std::string> groom = {"strands 0", "point marks 0", "point inputs 0",
                                           "shade points 0", "composite 0"};
@@ -198,7 +198,7 @@ TEST(FramePasses, SeveralViewsAndOneViewBuildTheSamePassesPerView) {
   for (const int msaa : {1, 4}) {
     RenderOptions o;
     o.msaa = msaa;
-    o.filterMethod = 0;  // Lipp's (several views refuse Huang's)
+    o.filterMethod = FilterParams::Method::Lipp;  // several views refuse Huang's
     std::vector<std::string> alone;
     for (const std::string& p : twoFrames(s, o, {}, 1).first)
       if (p.rfind("shadow map", 0) != 0 && std::find(once.begin(), once.end(), p) == once.end())

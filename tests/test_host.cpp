@@ -42,7 +42,7 @@ GroomInstance smallCopy(const GroomInstance& g) {
 void expectOwnCounts(Scene s) {
   Renderer r(test::sharedDevice());
   RenderOptions o;
-  o.lod = 1;
+  o.lod = Toggle::On;
   const GroomInstance big = s.grooms[0], small = smallCopy(big);
   const std::uint64_t nBig = r.render(s, o).stats.strandsDrawn;
   s.grooms = {small};

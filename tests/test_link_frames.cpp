@@ -74,7 +74,7 @@ TEST(StrandId, IdentityLayerLeavesTheCentreLayerAndNamesItsStrands) {
       s.camera.target = glm::vec3(0.0f, 0.025f, 0.0f);
     }
     RenderOptions o;
-    o.filter = 0;
+    o.filter = Toggle::Off;
     o.captureGBuffer = true;
     const Frame plain = r.render(s, o);
     o.aovs = true;
@@ -161,7 +161,7 @@ TEST(Link, DefaultFilterIsHuangsInAFrameOfOneViewAndLippsWhenNamed) {
   EXPECT_EQ(lipps.stats.linkSelecting, 0u);
   EXPECT_NE(byDefault.color.rgba, lipps.color.rgba);
   RenderOptions lippOption = o;  // --filter lipp over the scene's "auto"
-  lippOption.filterMethod = 0;
+  lippOption.filterMethod = FilterParams::Method::Lipp;
   EXPECT_EQ(r.render(s, lippOption).color.rgba, lipps.color.rgba);
   // a crowd: "auto" stays Huang's however many groom instances (each one's linking runs over
   // its screen box); by name Lipp's stays Lipp's
@@ -193,8 +193,8 @@ TEST(Link, SourceStrandsCentreLinesRunThroughTheirDrawnPixels) {
     s.filter.method = FilterParams::Method::Huang;
     s.filter.aniso = false;
     RenderOptions o;
-    o.filter = 1;
-    o.lod = 0;
+    o.filter = Toggle::On;
+    o.lod = Toggle::Off;
     o.captureGBuffer = true;
     o.trueWidth = true;  // not widened as a faint groom (faint_groom.h): linking has gaps
     const Frame f = r.render(s, o);

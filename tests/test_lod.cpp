@@ -283,7 +283,7 @@ TEST(LodKernel, CullsBundlesOffScreenAndKeepsVisibleOnes) {
   s.camera.fovYDegrees = 30.0f;
   Renderer r(test::sharedDevice());
   RenderOptions o;
-  o.lod = 0;
+  o.lod = Toggle::Off;
   o.captureGBuffer = true;                              // records the view the LOD pass used
   EXPECT_EQ(r.render(s, o).stats.strandsDrawn, 3000u);  // fully in view: nothing culled
   s.camera.target = glm::vec3(0.0f, 0.0f, 0.8f);        // looking away: everything culled
@@ -295,7 +295,7 @@ TEST(LodKernel, CullsBundlesOffScreenAndKeepsVisibleOnes) {
   for (int lod : {0, 1})
     for (float x : {0.12f, 0.16f, 0.2f, 0.24f}) {
       s.camera.target = glm::vec3(x, 0.0f, 0.0f);
-      o.lod = lod;
+      o.lod = lod ? Toggle::On : Toggle::Off;
       const Frame f = r.render(s, o);
       const StrandRange want = expectedStrands(mesh, f, lod == 1);
       const std::uint64_t drawn = f.stats.strandsDrawn;
@@ -372,7 +372,7 @@ TEST(LodCoverage, FarCoverageStaysWithinTenPercent) {
   s.grooms.push_back({"g", std::make_shared<const HairMesh>(mesh), glm::mat4(1.0f)});
   s.camera = framePreset(s, CameraPreset::Far, 30.0f);
   Renderer r(test::sharedDevice());
-  auto coverage = [&](int lod, std::uint64_t* strands) {
+  auto coverage = [&](Toggle lod, std::uint64_t* strands) {
     RenderOptions o;
     o.lod = lod;
     o.msaa = 4;  // coverage per pixel = fraction of samples hit
@@ -389,7 +389,7 @@ TEST(LodCoverage, FarCoverageStaysWithinTenPercent) {
     return sum;
   };
   std::uint64_t nOff = 0, nOn = 0;
-  double off = coverage(0, &nOff), on = coverage(1, &nOn);
+  double off = coverage(Toggle::Off, &nOff), on = coverage(Toggle::On, &nOn);
   RecordProperty("coverage_lod_off", std::to_string(off));
   RecordProperty("coverage_lod_on", std::to_string(on));
   RecordProperty("strands_lod_on", std::to_string(nOn));
@@ -415,10 +415,10 @@ double aggregateOverSingleAtFar(const std::function<std::vector<Light>(const Sce
   s.lights = lights(s);
   Renderer r(test::sharedDevice());
   RenderOptions o;
-  o.lod = 1;
-  o.filter = 0;
+  o.lod = Toggle::On;
+  o.filter = Toggle::Off;
   const Frame single = r.render(s, o);
-  o.lodAggregate = 1;
+  o.lodAggregate = true;
   const Frame agg = r.render(s, o);
   EXPECT_EQ(agg.stats.grooms.size(), 1u);
   if (agg.stats.grooms.size() == 1) {

@@ -91,7 +91,7 @@ TEST(LodScreen, KeepingEveryStrandDrawsTheLodOffImage) {
   l.shadows = true;
   s.lights.push_back(l);
   RenderOptions on, off;
-  off.lod = 0;
+  off.lod = Toggle::Off;
   const Frame a = r.render(s, on), b = r.render(s, off);
   EXPECT_EQ(a.stats.strandsDrawn, 4000u);
   ASSERT_EQ(a.color.rgba.size(), b.color.rgba.size());
@@ -134,7 +134,7 @@ TEST(ShadowReuse, MapIsBuiltOnceOverFinalPassesAndAgainWhenItsLightMoves) {
   Renderer r(test::sharedDevice());
   Scene s = mappedScene();
   RenderOptions o;
-  o.quality = 2;
+  o.quality = Quality::Final;
   o.spp = 4;
   // the passes differ only by their jitter, which the map does not depend on
   EXPECT_EQ(r.render(s, o).stats.shadowMapsBuilt, 1u);

@@ -84,7 +84,7 @@ Scene hairScene() {
 
 RenderOptions gbufferOptions() {
   RenderOptions o;
-  o.filter = 0;
+  o.filter = Toggle::Off;
   o.captureGBuffer = true;
   return o;
 }

@@ -102,7 +102,7 @@ double meanTranslationError(const Frame& f, const Scene& shot, const glm::vec3& 
 // Lipp's filter (filterMethod 0).
 RenderOptions lippsFilter() {
   RenderOptions o;
-  o.filterMethod = 0;
+  o.filterMethod = FilterParams::Method::Lipp;
   return o;
 }
 
@@ -132,7 +132,7 @@ TEST(Motion, CageTranslatedByACageFileGivesTheProjectedTranslation) {
   const Scene shot = loadScene(writeScene(dir, moving, 64, 48));
   Renderer r(sharedDevice());
   RenderOptions unfiltered;
-  unfiltered.filter = 0;
+  unfiltered.filter = Toggle::Off;
   const RenderOptions configs[] = {RenderOptions(), lippsFilter(), unfiltered};
   const char* names[] = {"default filter", "Lipp's filter", "no filter"};
   for (int c = 0; c < 3; ++c) {
@@ -318,7 +318,7 @@ void expectEachViewIsItsSingleRender(int msaa) {
   EXPECT_NEAR(cams[0].position.x, -0.01f, 1e-6f);  // the offset is along the camera's right
   Renderer r(sharedDevice());
   RenderOptions o;
-  o.lod = 0;
+  o.lod = Toggle::Off;
   o.msaa = msaa;
   // the maps at the scene's resolution, as a frame of several views builds them (a single
   // view's follow its camera: RenderOptions::shadowResFromCamera)
@@ -329,7 +329,7 @@ void expectEachViewIsItsSingleRender(int msaa) {
     Scene one = scene;
     one.camera = cams[v];
     RenderOptions lipp = o;
-    lipp.filterMethod = 0;
+    lipp.filterMethod = FilterParams::Method::Lipp;
     const Frame alone = r.render(one, msaa == 1 ? lipp : o);  // MSAA 4: no filter at all
     if (msaa > 1) {
       EXPECT_EQ(alone.stats.linkSelecting, 0u) << "view " << v;

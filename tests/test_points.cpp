@@ -68,7 +68,7 @@ Scene straightStrand(int points, const Light& light, float betaM, glm::vec3 root
   return s;
 }
 
-Frame render4(const Scene& s, int points) {
+Frame render4(const Scene& s, Toggle points) {
   GraphChecks checks;
   Renderer r(sharedDevice());
   RenderOptions o;
@@ -95,7 +95,7 @@ TEST(PointShading, StraightStrandMatchesPerSampleShadingWhereShadingIsSmooth) {
   l.intensity = 60.0f;
   const Scene s = straightStrand(41, l, 0.3f, glm::vec3(0.3f, 0.2f, 0.1f),
                                  glm::vec3(0.3f, 0.2f, 0.1f));  // 40 segments of 2 pixels
-  const Frame perSample = render4(s, 0), perPoint = render4(s, 1);
+  const Frame perSample = render4(s, Toggle::Off), perPoint = render4(s, Toggle::On);
   EXPECT_EQ(perSample.stats.pointsShaded, 0u);
   EXPECT_EQ(perPoint.stats.pointsShaded, 41u) << "every point of the strand owns a sample";
   std::size_t hair = 0;
@@ -126,7 +126,7 @@ TEST(PointShading, SharpHighlightInsideASegmentIsBoundedByTheSegmentsRange) {
   l.position = glm::vec3(1.2f, 0.0f, 1.0f);  // the R lobe peaks near x = 1.2, inside segment 1
   l.intensity = 8.0f;
   const Scene s = straightStrand(3, l, 0.1f, glm::vec3(0.05f), glm::vec3(0.6f, 0.3f, 0.1f));
-  const Frame perSample = render4(s, 0), perPoint = render4(s, 1);
+  const Frame perSample = render4(s, Toggle::Off), perPoint = render4(s, Toggle::On);
   EXPECT_EQ(perPoint.stats.pointsShaded, 3u);
   // the columns of each segment: x < 0 (segment 0) and x >= 0 (segment 1), the point x = 0
   // at the image's middle column
@@ -180,7 +180,7 @@ void expectMarkedPointsMatch(const Scene& s, int msaa) {
   Renderer r(sharedDevice());
   RenderOptions o;
   o.msaa = msaa;
-  o.pointShading = 1;
+  o.pointShading = Toggle::On;
   o.captureGBuffer = true;
   const Frame f = r.render(s, o);
   const std::size_t pixels = static_cast<std::size_t>(s.width) * s.height;
@@ -243,7 +243,7 @@ TEST(PointShading, EveryPointOfUnoccludedStrandsIsMarked) {
   Renderer r(sharedDevice());
   RenderOptions o;
   o.msaa = 4;
-  o.pointShading = 1;
+  o.pointShading = Toggle::On;
   EXPECT_EQ(r.render(s, o).stats.pointsShaded, total);
 }
 

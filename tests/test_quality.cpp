@@ -52,24 +52,24 @@ TEST(Quality, LevelsResolveToTheirOptions) {
   EXPECT_EQ(qualityLevel(s, o), Quality::Draft);
   RenderOptions d = qualityOptions(s, o);
   EXPECT_EQ(d.msaa, 1);
-  EXPECT_EQ(d.pointShading, 0);
-  EXPECT_EQ(d.filter, -1) << "draft keeps the scene's filter";
+  EXPECT_EQ(d.pointShading, Toggle::Off);
+  EXPECT_EQ(d.filter, Toggle::Default) << "draft keeps the scene's filter";
   s.quality.level = Quality::Good;
   const RenderOptions g = qualityOptions(s, o);
   EXPECT_EQ(g.msaa, kGoodMsaa);
-  EXPECT_EQ(g.pointShading, kGoodPointShading ? 1 : 0);
-  EXPECT_EQ(g.filter, 0);
+  EXPECT_EQ(g.pointShading, kGoodPointShading ? Toggle::On : Toggle::Off);
+  EXPECT_EQ(g.filter, Toggle::Off);
   RenderOptions pointOption;  // --shading point
-  pointOption.pointShading = 1;
-  EXPECT_EQ(qualityOptions(s, pointOption).pointShading, 1);
+  pointOption.pointShading = Toggle::On;
+  EXPECT_EQ(qualityOptions(s, pointOption).pointShading, Toggle::On);
   EXPECT_EQ(qualityOptions(s, pointOption).msaa, kGoodMsaa);
-  o.quality = 0;  // the option wins over the scene
+  o.quality = Quality::Draft;  // the option wins over the scene
   EXPECT_EQ(qualityOptions(s, o).msaa, 1);
-  o.quality = 2;
+  o.quality = Quality::Final;
   EXPECT_EQ(finalPasses(s, o), kDefaultFinalPasses);
   const RenderOptions pass = qualityOptions(s, o);  // final's pass path
   EXPECT_EQ(pass.msaa, kFinalPassGood ? kGoodMsaa : 1);
-  EXPECT_EQ(pass.filter, 0);
+  EXPECT_EQ(pass.filter, Toggle::Off);
   s.quality.spp = 8;
   EXPECT_EQ(finalPasses(s, o), 8);
   o.spp = 3;
@@ -85,18 +85,18 @@ TEST(Quality, GoodIsMsaa4UnfilteredShadedAsAsked) {
   Scene s = smallGroom();
   Renderer r(sharedDevice());
   RenderOptions o;
-  o.quality = 1;
+  o.quality = Quality::Good;
   const Frame good = r.render(s, o);
   EXPECT_EQ(good.stats.pointsShaded > 0u, kGoodPointShading);
   RenderOptions explicitGood;
   explicitGood.msaa = kGoodMsaa;
-  explicitGood.pointShading = kGoodPointShading ? 1 : 0;
-  explicitGood.filter = 0;
+  explicitGood.pointShading = kGoodPointShading ? Toggle::On : Toggle::Off;
+  explicitGood.filter = Toggle::Off;
   EXPECT_TRUE(sameBytes(good, r.render(s, explicitGood)));
-  o.pointShading = 1;
+  o.pointShading = Toggle::On;
   const Frame points = r.render(s, o);
   EXPECT_GT(points.stats.pointsShaded, 0u);
-  explicitGood.pointShading = 1;
+  explicitGood.pointShading = Toggle::On;
   EXPECT_TRUE(sameBytes(points, r.render(s, explicitGood)));
 }
 
@@ -106,7 +106,7 @@ TEST(Quality, OneFinalPassIsOneJitteredFrame) {
   Scene s = smallGroom();
   Renderer r(sharedDevice());
   RenderOptions o;
-  o.quality = 2;
+  o.quality = Quality::Final;
   o.spp = 1;
   const Frame final1 = r.render(s, o);
   RenderOptions pass = qualityOptions(s, o);
@@ -128,7 +128,7 @@ TEST(Quality, FinalHalvesMergeIntoTheWholeRun) {
   Scene s = smallGroom();
   Renderer r(sharedDevice());
   RenderOptions o;
-  o.quality = 2;
+  o.quality = Quality::Final;
   const int k = 2;
   ProgressiveStill first(r, s, o), second(r, s, o), whole(r, s, o);
   first.add(0, k);

@@ -38,7 +38,8 @@ TEST(Raster, ConservativeContainsEveryCenterHit) {
     Renderer r(test::sharedDevice());
     RenderOptions o;
     o.captureGBuffer = true;
-    o.filterMethod = 0;  // Lipp's filter: the raster's centre and conservative layers as drawn
+    o.filterMethod = FilterParams::Method::Lipp;  // Lipp's filter: the raster's centre and
+                                                  // conservative layers as drawn
     Frame f = r.render(s, o);
     ASSERT_EQ(f.gbufferLayers, 2);
     const std::size_t n = static_cast<std::size_t>(s.width) * s.height;
@@ -75,7 +76,8 @@ TEST(Raster, EachMsaaLayerEqualsAShiftedSingleSampleRender) {
   for (int k = 0; k < 4; ++k) {
     RenderOptions o1;
     o1.captureGBuffer = true;
-    o1.filterMethod = 0;  // Huang's (the default) would add linked pixels to the centre layer
+    o1.filterMethod = FilterParams::Method::Lipp;  // Huang's (the default) would add linked pixels
+                                                   // to the centre layer
     // moving the image plane by (0.5 - offset) puts this pixel's center where the sample was
     o1.jitterX = 0.5f - pos4[k][0];
     o1.jitterY = 0.5f - pos4[k][1];
@@ -113,7 +115,7 @@ TEST(Raster, NearerGroomWinsWhateverTheOrder) {
   s.camera.fovYDegrees = 30.0f;
   Renderer r(test::sharedDevice());
   RenderOptions o;
-  o.filter = 0;  // opaque 1-sample hair: the visibility test itself, without blending
+  o.filter = Toggle::Off;  // opaque 1-sample hair: the visibility test itself, without blending
   s.grooms = {{"a", ma, glm::mat4(1.0f)}, {"b", mb, behind}};
   Frame ab = r.render(s, o);
   s.grooms = {{"b", mb, behind}, {"a", ma, glm::mat4(1.0f)}};
@@ -135,7 +137,7 @@ TEST(Raster, DeterministicWithLodAndMsaa) {
   Scene s = groomScene("long_wavy", 20000, 240, 135, CameraPreset::Mid);
   Renderer r(test::sharedDevice());
   RenderOptions o;
-  o.lod = 1;
+  o.lod = Toggle::On;
   o.msaa = 4;
   o.captureGBuffer = true;
   Frame f1 = r.render(s, o);
@@ -161,7 +163,7 @@ TEST(Raster, StatisticsCountWritesAndAtomics) {
   Renderer r(test::sharedDevice());
   RenderOptions o;
   o.rasterStats = true;
-  o.lod = 0;
+  o.lod = Toggle::Off;
   o.captureGBuffer = true;
   const Frame f = r.render(s, o);
   ASSERT_EQ(f.stats.strandsDrawn, 5000u);

@@ -166,8 +166,8 @@ TEST(TracedReference, WideStrandsKeepTheirWidthWhereTheRasterReferenceCapsThem) 
 void expectSameWords(const Scene& s, double uvShare) {
   Renderer r(test::sharedDevice());
   RenderOptions o;
-  o.lod = 0;
-  o.filter = 0;
+  o.lod = Toggle::Off;
+  o.filter = Toggle::Off;
   o.trueWidth = true;
   o.captureGBuffer = true;
   const Frame f = r.render(s, o);

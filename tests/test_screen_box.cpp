@@ -101,8 +101,8 @@ TEST(LinkScreenBox, BoundedPassesGiveTheWholeFramePassesImage) {
     Scene t = s;
     t.filter.aniso = aniso;
     RenderOptions o;
-    o.filter = 1;
-    o.lod = 0;
+    o.filter = Toggle::On;
+    o.lod = Toggle::Off;
     expectBoundedEqualsWhole(t, o);
   }
 }
@@ -118,8 +118,8 @@ TEST(LinkScreenBox, GroomsCutByTheImageBorderAreFilteredAsOnTheWholeFrame) {
   // hair in the border columns, not only the box's margin
   Renderer r(test::sharedDevice());
   RenderOptions o;
-  o.filter = 1;
-  o.lod = 0;
+  o.filter = Toggle::On;
+  o.lod = Toggle::Off;
   o.captureGBuffer = true;  // the last groom's layers: the right one
   const Frame f = r.render(s, o);
   const std::size_t plane = std::size_t(s.width) * s.height;
@@ -152,8 +152,8 @@ TEST(LinkScreenBox, EveryLayerAGroomWritesLiesInItsBox) {
     SCOPED_TRACE(lod ? "LOD" : "no LOD");
     Renderer r(test::sharedDevice());
     RenderOptions o;
-    o.filter = 1;
-    o.lod = lod;
+    o.filter = Toggle::On;
+    o.lod = lod ? Toggle::On : Toggle::Off;
     o.captureGBuffer = true;
     const Frame f = r.render(s, o);
     ASSERT_EQ(f.gbufferLayers, int(CLH_LAYER_LINKED) + 1);

@@ -64,10 +64,10 @@ std::pair<double, double> halves(const Frame& f, int width) {
 TEST(Shadows, HairBehindHairIsDarker) {
   Renderer r(test::sharedDevice());
   RenderOptions o;
-  o.filter = 0;
+  o.filter = Toggle::Off;
   // the map's attenuation alone: the light scattered through the front patch (dual
   // scattering, tests/test_dual.cpp) gives some of it back and is measured apart
-  o.multipleScattering = 0;
+  o.multipleScattering = false;
   Scene lit = twoPatches(false), shadowed = twoPatches(true);
   // the camera at +x looking at -x: image left is +z (the front patch, nearer the light)
   auto [frontLit, backLit] = halves(r.render(lit, o), lit.width);
@@ -92,8 +92,8 @@ TEST(Shadows, LightScatteredThroughTheFrontPatchReachesTheBackOne) {
   // than unshadowed
   Renderer r(test::sharedDevice());
   RenderOptions single, dual;
-  single.filter = dual.filter = 0;
-  single.multipleScattering = 0;
+  single.filter = dual.filter = Toggle::Off;
+  single.multipleScattering = false;
   const Scene lit = twoPatches(false), shadowed = twoPatches(true);
   const double backLit = halves(r.render(lit, single), lit.width).second;
   const double backSingle = halves(r.render(shadowed, single), shadowed.width).second;
@@ -108,7 +108,7 @@ TEST(Shadows, InstancesOfOneMeshCastTheirOwnShadows) {
   // opacity to the deep opacity map, at its own place
   Renderer r(test::sharedDevice());
   RenderOptions o;
-  o.filter = 0;
+  o.filter = Toggle::Off;
   Scene shared = twoPatches(true), copies = twoPatches(true);
   copies.grooms[1].mesh = std::make_shared<const HairMesh>(*copies.grooms[1].mesh);
   ASSERT_EQ(shared.grooms[0].mesh, shared.grooms[1].mesh);
@@ -129,9 +129,9 @@ TEST(Shadows, LightPassLodFollowsTheLightsViewNotTheCameras) {
   // asks for, while a strand file of the same groom drew all of them.)
   Renderer r(test::sharedDevice());
   RenderOptions o;
-  o.filter = 0;
-  o.lod = 1;
-  o.shadowLodCamera = 0;
+  o.filter = Toggle::Off;
+  o.lod = Toggle::On;
+  o.shadowLodCamera = Toggle::Off;
   o.shadowResFromCamera = false;  // the maps at the scene's resolution, not the camera's
   o.lodLambdaScale = 0.25f;       // small enough that LOD drops strands in the light's view
   auto drawn = [&](float fov, int camW, int camH) {
@@ -170,16 +170,18 @@ TEST(Shadows, LightPassLodDrawsNoMoreThanTheCameraNeeds) {
   s.lights.push_back(l);
   s.grooms.emplace_back("tiny", std::make_shared<const HairMesh>(m));
   Renderer r(test::sharedDevice());
-  auto run = [&](CameraPreset p, int cap) {
+  auto run = [&](CameraPreset p, Toggle cap) {
     Scene at = s;
     at.camera = framePreset(s, p, 30.0f, 15.0f);
     RenderOptions o;
-    o.filter = 0;
+    o.filter = Toggle::Off;
     o.shadowLodCamera = cap;
     return r.render(at, o).stats;
   };
-  const FrameStats far = run(CameraPreset::Far, -1), farLight = run(CameraPreset::Far, 0);
-  const FrameStats close = run(CameraPreset::Close, -1), again = run(CameraPreset::Far, -1);
+  const FrameStats far = run(CameraPreset::Far, Toggle::Default),
+                   farLight = run(CameraPreset::Far, Toggle::Off);
+  const FrameStats close = run(CameraPreset::Close, Toggle::Default),
+                   again = run(CameraPreset::Far, Toggle::Default);
   RecordProperty("far_camera_strands", std::to_string(far.strandsDrawn));
   RecordProperty("far_map_strands", std::to_string(far.shadowStrandsDrawn));
   RecordProperty("far_map_strands_light_view", std::to_string(farLight.shadowStrandsDrawn));
@@ -201,8 +203,8 @@ TEST(Shadows, LightPassLodDrawsNoMoreThanTheCameraNeeds) {
 TEST(Shadows, TracedReferenceMapsHoldTheFullGroomWhileLodFramesUseTheirLod) {
   Renderer r(test::sharedDevice());
   RenderOptions o;
-  o.filter = 0;
-  o.lod = 1;
+  o.filter = Toggle::Off;
+  o.lod = Toggle::On;
   Scene s = twoPatches(true);
   s.shadows.lodScale = 0.25f;  // LOD in the lights' passes drops strands (lod_scale)
   const Frame lod = r.render(s, o);
@@ -224,8 +226,8 @@ TEST(Shadows, TracedReferenceMapsHoldTheFullGroomWhileLodFramesUseTheirLod) {
 TEST(Shadows, LodScaleThinsOnlyTheLightsPasses) {
   Renderer r(test::sharedDevice());
   RenderOptions o;
-  o.filter = 0;
-  o.lod = 1;
+  o.filter = Toggle::Off;
+  o.lod = Toggle::On;
   auto run = [&](float lodScale) {
     Scene s = twoPatches(true);
     s.shadows.lodScale = lodScale;
@@ -250,7 +252,7 @@ TEST(Shadows, MapsAreReusedWhileTheirInputsStayAndRebuiltWhenOneChanges) {
   // renderer's.
   Renderer r(test::sharedDevice());
   RenderOptions o;
-  o.filter = 0;
+  o.filter = Toggle::Off;
   auto hasShadowStage = [](const Frame& f) {
     for (const StageTime& t : f.timings)
       if (t.stage == "shadow") return true;

@@ -58,7 +58,7 @@ GroundShadow groundUnderFurBall(int controlPoints, int mapResolution) {
   s.camera.fovYDegrees = 30.0f;
   Renderer r(test::sharedDevice());
   RenderOptions o;
-  o.shadowLod = 0;  // every strand into the map, as counted below
+  o.shadowLod = Toggle::Off;  // every strand into the map, as counted below
   const Frame lit = r.render(s, o);
   s.lights[0].shadows = true;
   const Frame shadowed = r.render(s, o);
@@ -184,13 +184,13 @@ TEST(Shadows, LodCorrectionIsInertWithoutLodAndUndoesPartOfLodsDarkening) {
   s.camera.fovYDegrees = 35.0f;
   Renderer r(test::sharedDevice());
   // mean r + g + b of the pixels with a centre hit
-  auto render = [&](int lod, int correction) {
+  auto render = [&](Toggle lod, Toggle correction) {
     RenderOptions o;
     o.lod = lod;
     o.lodLambdaScale = 0.03f;
-    o.shadowLod = 0;  // the maps hold every strand; only the camera's LOD differs
+    o.shadowLod = Toggle::Off;  // the maps hold every strand; only the camera's LOD differs
     o.shadowLodCorrection = correction;
-    o.filter = 0;
+    o.filter = Toggle::Off;
     o.captureGBuffer = true;
     Frame f = r.render(s, o);
     double sum = 0;
@@ -203,12 +203,12 @@ TEST(Shadows, LodCorrectionIsInertWithoutLodAndUndoesPartOfLodsDarkening) {
     EXPECT_GT(n, 500);
     return std::make_pair(sum / std::max(n, 1), f);
   };
-  auto [full, fOn] = render(0, 1);
-  auto [fullOff, fOff] = render(0, 0);
+  auto [full, fOn] = render(Toggle::Off, Toggle::On);
+  auto [fullOff, fOff] = render(Toggle::Off, Toggle::Off);
   EXPECT_TRUE(fOn.color.rgba == fOff.color.rgba)
       << "without LOD the correction must change nothing";
-  auto [lod, fLod] = render(1, 0);
-  auto [corrected, fCorrected] = render(1, 1);
+  auto [lod, fLod] = render(Toggle::On, Toggle::Off);
+  auto [corrected, fCorrected] = render(Toggle::On, Toggle::On);
   EXPECT_LT(fLod.stats.strandsDrawn, 20000u / 6)
       << "LOD should keep under a sixth: the widening stops at 3 px";
   RecordProperty("luminance_no_lod", std::to_string(full));

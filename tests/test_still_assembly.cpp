@@ -61,9 +61,9 @@ void expectReuseIsExact(Device& device) {
       SCOPED_TRACE("camera preset " + std::to_string(static_cast<int>(preset)) + ", final path " +
                    std::to_string(path));
       RenderOptions o;
-      o.quality = 2;
+      o.quality = Quality::Final;
       o.spp = 3;
-      o.finalPath = path;
+      o.finalPath = path == 1 ? FinalPath::Good : FinalPath::OneSample;
       RenderOptions again = o;
       again.reuseAssembly = false;
       const Frame kept = r.render(s, o), assembled = r.render(s, again);
@@ -182,7 +182,7 @@ TEST(StillAssembly, SubsetPassesDrawDisjointThirdsAtTheCoverageOfAll) {
     for (std::uint32_t id : seen[a])
       for (int b = a + 1; b < 3; ++b) EXPECT_EQ(seen[b].count(id), 0u) << id;
   RenderOptions bad;
-  bad.quality = 2;
+  bad.quality = Quality::Final;
   bad.finalSubset = 0;
   EXPECT_NE(errorOf([&] { r.render(s, bad); }).find("expected 1..16"), std::string::npos);
   bad.finalSubset = 17;

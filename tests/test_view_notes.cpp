@@ -123,8 +123,8 @@ TEST(FaintGroom, DrawnAPixelWideWithTheLightOfItsTrueWidth) {
   Renderer r(test::sharedDevice());
   RenderOptions asBefore, cover, lipp;
   asBefore.trueWidth = true;  // no widening: the true projected width only
-  cover.raster = 1;
-  lipp.filterMethod = 0;
+  cover.raster = RasterMode::Coverage;
+  lipp.filterMethod = FilterParams::Method::Lipp;
   const Image widened = r.render(sparse, RenderOptions{}).color;
   const Image before = r.render(sparse, asBefore).color;
   const Image exact = r.render(sparse, cover).color;

@@ -606,8 +606,8 @@ TEST(VisibilityRender, DeepStrandsDarkerThanLitSide) {
   Renderer r(test::sharedDevice());
   const auto bake = bakeSlab(r);
   RenderOptions o;
-  o.lod = 0;
-  o.filter = 0;
+  o.lod = Toggle::Off;
+  o.filter = Toggle::Off;
   const Frame litNo = r.render(slabScene(nullptr, 0.12f), o);
   const Frame farNo = r.render(slabScene(nullptr, -0.12f), o);
   const double lit =
@@ -624,10 +624,10 @@ TEST(VisibilityRender, OffIsBitIdenticalToNoBake) {
   Renderer r(test::sharedDevice());
   const auto bake = bakeSlab(r);
   RenderOptions o;
-  o.lod = 0;
+  o.lod = Toggle::Off;
   const Frame none = r.render(slabScene(nullptr), o);
   RenderOptions off = o;
-  off.bakedVisibility = 0;
+  off.bakedVisibility = false;
   const Frame a = r.render(slabScene(bake), off);
   ASSERT_EQ(none.color.rgba.size(), a.color.rgba.size());
   EXPECT_EQ(std::memcmp(none.color.rgba.data(), a.color.rgba.data(),

@@ -48,11 +48,11 @@ void addQualityOptions(CLI::App* cmd, int& spp, std::string& shadowLod, std::str
                   "along the segment)");
 }
 
-int parseQualityFlag(const std::string& v) {
-  if (v.empty()) return -1;
-  if (v == "draft") return 0;
-  if (v == "good") return 1;
-  if (v == "final") return 2;
+std::optional<Quality> parseQualityFlag(const std::string& v) {
+  if (v.empty()) return std::nullopt;
+  if (v == "draft") return Quality::Draft;
+  if (v == "good") return Quality::Good;
+  if (v == "final") return Quality::Final;
   throw Error("--quality must be draft, good or final, not \"" + v + "\"");
 }
 

@@ -5,11 +5,13 @@
 // Each adds its options in the order `clhair ... --help` lists them.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
 
 #include "clhair/device.h"
+#include "clhair/scene.h"
 
 namespace clhair::cli {
 
@@ -31,7 +33,7 @@ void addQualityOptions(CLI::App* cmd, int& spp, std::string& shadowLod, std::str
 // the numbers that size work within their documented range; throws the first failure.
 void checkFlagRules(const CLI::App& app);
 
-// --quality's value as RenderOptions::quality (0 draft, 1 good, 2 final); -1 when not given.
-int parseQualityFlag(const std::string& v);
+// --quality's value as RenderOptions::quality; nullopt when not given.
+std::optional<Quality> parseQualityFlag(const std::string& v);
 
 }  // namespace clhair::cli

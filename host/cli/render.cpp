@@ -285,10 +285,9 @@ int cmdRender(const DeviceOptions& opts, const std::string& scenePath, const std
           std::fprintf(stderr, "clhair: warning: %s\n", w.c_str());
         // notes are for a person watching: -q (print nothing on success) leaves them out
         // the filtered hair of a faint groom is widened by the renderer (faint_groom.h)
-        const bool filtered =
-            ro.msaa == 1 && (ro.filter < 0 ? still.filter.enabled : ro.filter == 1) &&
-            ro.pointShading <= 0 && !ro.trueWidth &&
-            (ro.raster < 0 ? still.raster != RasterMode::Coverage : ro.raster != 1);
+        const bool filtered = ro.msaa == 1 && isOn(ro.filter, still.filter.enabled) &&
+                              ro.pointShading != Toggle::On && !ro.trueWidth &&
+                              ro.raster.value_or(still.raster) != RasterMode::Coverage;
         if (!quiet)
           for (const std::string& n : viewNotes(still, scenePath, filtered))
             std::fprintf(stderr, "clhair: note: %s\n", n.c_str());

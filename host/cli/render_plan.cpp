@@ -97,9 +97,9 @@ RenderPlan planRender(const DeviceOptions& opts, const std::string& scenePath,
   }
   RenderOptions ro;
   if (lod == "on")
-    ro.lod = 1;
+    ro.lod = Toggle::On;
   else if (lod == "off")
-    ro.lod = 0;
+    ro.lod = Toggle::Off;
   else if (!lod.empty() && lod != "auto")
     throw Error("--lod must be on, off or auto, not \"" + lod + "\"");
   if (f.msaa != 1 && f.msaa != 2 && f.msaa != 4 && f.msaa != 8)
@@ -107,39 +107,40 @@ RenderPlan planRender(const DeviceOptions& opts, const std::string& scenePath,
   ro.msaa = f.msaa;
   ro.dispatch = parseDispatchMode(f.dispatch);
   if (f.ao != "on" && f.ao != "off") throw Error("--ao must be on or off, not \"" + f.ao + "\"");
-  ro.ambientOcclusion = f.ao == "on" ? 1 : 0;
+  ro.ambientOcclusion = f.ao == "on";
   if (f.visibility != "on" && f.visibility != "off")
     throw Error("--visibility must be on or off, not \"" + f.visibility + "\"");
-  ro.bakedVisibility = f.visibility == "on" ? 1 : 0;
+  ro.bakedVisibility = f.visibility == "on";
   if (f.lodBsdf != "aggregated" && f.lodBsdf != "single")
     throw Error("--lod-bsdf must be aggregated or single, not \"" + f.lodBsdf + "\"");
-  ro.lodAggregate = f.lodBsdf == "aggregated" ? 1 : 0;
+  ro.lodAggregate = f.lodBsdf == "aggregated";
   if (f.scattering != "multiple" && f.scattering != "single")
     throw Error("--scattering must be multiple or single, not \"" + f.scattering + "\"");
-  ro.multipleScattering = f.scattering == "multiple" ? 1 : 0;
+  ro.multipleScattering = f.scattering == "multiple";
   ro.aovs = std::any_of(aovs.begin(), aovs.end(), [](Aov a) { return a != Aov::Rgba; });
   ro.strandIds = std::find(aovs.begin(), aovs.end(), Aov::Strand) != aovs.end();
   ro.cryptomatte = std::find(aovs.begin(), aovs.end(), Aov::Cryptomatte) != aovs.end();
   if (f.filter == "on") {
-    ro.filter = 1;
+    ro.filter = Toggle::On;
   } else if (f.filter == "off") {
-    ro.filter = 0;
+    ro.filter = Toggle::Off;
   } else if (f.filter == "lipp" || f.filter == "huang") {
-    ro.filter = 1;
-    ro.filterMethod = f.filter == "huang" ? 1 : 0;
+    ro.filter = Toggle::On;
+    ro.filterMethod =
+        f.filter == "huang" ? FilterParams::Method::Huang : FilterParams::Method::Lipp;
   } else if (f.filter != "auto") {
     throw Error("--filter must be on, off, auto, lipp or huang, not \"" + f.filter + "\"");
   }
   if (!f.segmentBudget.empty()) ro.segmentBudget = parseSegmentBudget(f.segmentBudget);
   if (f.budgetRule != "screen" && f.budgetRule != "uniform")
     throw Error("--budget-rule must be screen or uniform, not \"" + f.budgetRule + "\"");
-  ro.budgetRule = f.budgetRule == "screen" ? 1 : 0;
+  ro.budgetRule = f.budgetRule == "screen" ? BudgetRule::Screen : BudgetRule::Uniform;
   if (f.screenBoxes != "on" && f.screenBoxes != "off")
     throw Error("--screen-boxes must be on or off, not \"" + f.screenBoxes + "\"");
   ro.screenBoxes = f.screenBoxes == "on";
   ro.trueWidth = ro.trueWidth || f.trueWidth;
   if (f.raster == "lines" || f.raster == "coverage")
-    ro.raster = f.raster == "coverage" ? 1 : 0;
+    ro.raster = f.raster == "coverage" ? RasterMode::Coverage : RasterMode::Lines;
   else if (!f.raster.empty())
     throw Error("--raster must be lines or coverage, not \"" + f.raster + "\"");
   if (!f.temporal.empty()) ro.temporal = parseTemporal(f.temporal);
@@ -153,16 +154,16 @@ RenderPlan planRender(const DeviceOptions& opts, const std::string& scenePath,
     throw Error("--spp must be 1..65536, not " + std::to_string(f.spp));
   ro.quality = parseQualityFlag(f.quality);
   if (f.shading == "point") {
-    ro.pointShading = 1;
+    ro.pointShading = Toggle::On;
   } else if (f.shading == "sample") {
-    ro.pointShading = 0;
+    ro.pointShading = Toggle::Off;
   } else if (!f.shading.empty()) {
     throw Error("--shading must be sample or point, not \"" + f.shading + "\"");
   }
   if (f.shadowLod == "light") {
-    ro.shadowLodCamera = 0;
+    ro.shadowLodCamera = Toggle::Off;
   } else if (f.shadowLod == "off") {
-    ro.shadowLod = 0;
+    ro.shadowLod = Toggle::Off;
   } else if (!f.shadowLod.empty() && f.shadowLod != "camera") {
     throw Error("--shadow-lod must be camera, light or off, not \"" + f.shadowLod + "\"");
   }

@@ -12,9 +12,9 @@ namespace {
 std::size_t alignUp(std::size_t n, std::size_t a) { return (n + a - 1) / a * a; }
 }  // namespace
 
-BudgetRule budgetRule(const RenderOptions& options, const gpu::ClhViewGpu& view) {
-  BudgetRule r;
-  r.screen = options.budgetRule != 0;
+BudgetRuleParams budgetRuleParams(const RenderOptions& options, const gpu::ClhViewGpu& view) {
+  BudgetRuleParams r;
+  r.screen = options.budgetRule != BudgetRule::Uniform;
   r.keepLow = options.budgetKeepLow;
   r.keepHigh = options.budgetKeepHigh;
   r.widenCap = options.budgetWidenCap;
@@ -77,7 +77,7 @@ void FrameLod::bind(const std::vector<GroomDraw>& draws) {
 
 void FrameLod::enqueue(const std::vector<GroomDraw>& draws, const std::vector<char>& active,
                        const std::vector<char>& far, std::uint64_t budget, Profiler* profiler,
-                       const BudgetRule& rule) {
+                       const BudgetRuleParams& rule) {
   const std::size_t D = draws.size();
   if (D == 0) return;
   for (std::size_t k = 0; k < D; ++k) {

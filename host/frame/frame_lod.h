@@ -7,7 +7,7 @@
 // groom's LOD pre-pass the budget's kernels (kernels/budget.cl, launched by BudgetStage)
 // see all of them:
 // budget_measure (one work-group per draw) sums each draw's request, floor and screen box,
-// budget_plan (one work-group) shares the budget out by the rule (BudgetRule: one factor
+// budget_plan (one work-group) shares the budget out by the rule (BudgetRuleParams: one factor
 // for all, or each groom's share by its screen need), budget_apply (one work-group per
 // draw) rewrites the records, counts and scans and writes each draw's strands and segments
 // to a small state buffer. No host round trip happens between the pre-passes and the
@@ -28,7 +28,7 @@ namespace clhair {
 
 // How the segment budget shares the segments out (ClhBudgetRule, DESIGN.md "The segment
 // budget").
-struct BudgetRule {
+struct BudgetRuleParams {
   bool screen = true;  // false: the uniform rule (one factor for every groom)
   // A groom whose screen box covers more than keepHigh of the image keeps its LOD count
   // while the other grooms' cuts down to their floors pay for it; the claim ramps in from
@@ -40,7 +40,7 @@ struct BudgetRule {
 };
 
 // The rule RenderOptions::budgetRule asks for, in a view of `view`'s size.
-BudgetRule budgetRule(const RenderOptions& options, const gpu::ClhViewGpu& view);
+BudgetRuleParams budgetRuleParams(const RenderOptions& options, const gpu::ClhViewGpu& view);
 
 class FrameLod {
  public:
@@ -55,7 +55,7 @@ class FrameLod {
   // drops every other control point when over budget.
   void enqueue(const std::vector<GroomDraw>& draws, const std::vector<char>& active,
                const std::vector<char>& far, std::uint64_t budget, Profiler* profiler,
-               const BudgetRule& rule = {});
+               const BudgetRuleParams& rule = {});
 
   // What the budget measured and decided for one draw (state words 4.., gpu_types.h).
   struct DrawPlan {

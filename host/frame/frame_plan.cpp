@@ -45,7 +45,7 @@ bool deformsBetween(const GroomInstance& now, const GroomInstance& before) {
 }  // namespace
 
 bool coverMode(const Scene& s, const RenderOptions& options) {
-  const bool cover = options.raster < 0 ? s.raster == RasterMode::Coverage : options.raster == 1;
+  const bool cover = options.raster.value_or(s.raster) == RasterMode::Coverage;
   if (cover && options.msaa != 1)
     throw Error(
         "the coverage raster takes one sample per pixel (its coverage is analytic), not "
@@ -59,20 +59,19 @@ bool coverMode(const Scene& s, const RenderOptions& options) {
 }
 
 bool huangMethod(const FilterParams& fp, const RenderOptions& options) {
-  if (options.filterMethod >= 0) return options.filterMethod == 1;
-  return fp.method != FilterParams::Method::Lipp;
+  // Auto: Huang's in one view
+  return options.filterMethod.value_or(fp.method) != FilterParams::Method::Lipp;
 }
 
 bool pointShading(const RenderOptions& options, bool given, bool cover) {
-  return options.pointShading > 0 && !given && !cover && !options.rasterOnly;
+  return options.pointShading == Toggle::On && !given && !cover && !options.rasterOnly;
 }
 
 int gbufferLayers(const FilterParams& fp, const RenderOptions& options, bool given, bool cover) {
   if (cover) return static_cast<int>(CLH_LAYER_COVERAGE) + 1;
   // the samples, the conservative layer, then one identity layer per sample
   if (pointShading(options, given, cover)) return 2 * options.msaa + 1;
-  const bool filtered =
-      options.msaa == 1 && (options.filter < 0 ? fp.enabled : options.filter == 1);
+  const bool filtered = options.msaa == 1 && isOn(options.filter, fp.enabled);
   const bool huang = filtered && !options.rasterOnly && huangMethod(fp, options);
   const bool ids = huang || options.strandIds || options.cryptomatte;
   if (ids && options.msaa != 1)
@@ -146,9 +145,8 @@ void planInViews(const FramePlan& plan, GroomPlan& g) {
   if (g.lodView == V) return;
   g.active = static_cast<char>(CLH_BUDGET_DRAW_FIXED);
   const FilterParams& fp = *g.filter;
-  g.filtered = o.msaa == 1 && (o.filter < 0 ? fp.enabled : o.filter == 1);
-  if (g.filtered &&
-      (o.filterMethod < 0 ? fp.method == FilterParams::Method::Huang : o.filterMethod == 1))
+  g.filtered = o.msaa == 1 && isOn(o.filter, fp.enabled);
+  if (g.filtered && o.filterMethod.value_or(fp.method) == FilterParams::Method::Huang)
     throw Error("groom \"" + d.instance->name +
                 "\": Huang's filter takes one view at a time; render the views one by one "
                 "(--views NAME) or use Lipp's filter");
@@ -167,14 +165,13 @@ void planInView(FramePlan& plan, GroomPlan& g) {
   if (!d.groom->inFront(d.instance->transform, camera.draw.worldToView)) return;
   g.views[0].inFront = true;
   // the budget is a stage of LOD: a groom drawn without LOD keeps every strand
-  const bool lodOn = options.lod < 0 ? d.groom->lodEnabled() : options.lod != 0;
+  const bool lodOn = isOn(options.lod, d.groom->lodEnabled());
   g.active = static_cast<char>(lodOn ? CLH_BUDGET_DRAW_BUDGETED : CLH_BUDGET_DRAW_FIXED);
   g.far = farGroom(*d.groom, d.instance->transform, camera.draw.worldToView, camera.view) ? 1 : 0;
   plan.lastDrawn = g.index;
   // the coverage mode has no filter: its alpha comes from the coverage layer
   g.points = pointShading(options, given, plan.cover);
-  g.filtered = !plan.cover && !g.points && options.msaa == 1 &&
-               (options.filter < 0 ? fp.enabled : options.filter == 1);
+  g.filtered = !plan.cover && !g.points && options.msaa == 1 && isOn(options.filter, fp.enabled);
   g.huang = g.filtered && !options.rasterOnly && huangMethod(fp, options);
   g.linking = g.huang && fp.link && !given;
   g.ids = g.huang || options.strandIds || options.cryptomatte;
@@ -215,8 +212,7 @@ void planFrame(FramePlan& plan, const std::vector<GroomDraw>& draws, DispatchMod
   if (given && plan.cover) throw Error("a given G-buffer has no coverage layers");
   plan.mode = mode;
   plan.aovs = options.aovs && !options.rasterOnly;
-  plan.lodCorrection =
-      options.shadowLodCorrection < 0 ? s.shadows.lodCorrection : options.shadowLodCorrection == 1;
+  plan.lodCorrection = isOn(options.shadowLodCorrection, s.shadows.lodCorrection);
   plan.budget = options.segmentBudget >= 0
                     ? static_cast<std::uint64_t>(options.segmentBudget)
                     : s.segmentBudget.value_or(defaultSegmentBudget(s.width, s.height));

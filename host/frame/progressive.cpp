@@ -33,11 +33,7 @@ void addTimings(std::vector<StageTime>& sum, const std::vector<StageTime>& more)
 }  // namespace
 
 Quality qualityLevel(const Scene& scene, const RenderOptions& options) {
-  if (options.quality < 0) return scene.quality.level;
-  if (options.quality > 2)
-    throw Error("quality level " + std::to_string(options.quality) +
-                ": expected 0 (draft), 1 (good) or 2 (final)");
-  return static_cast<Quality>(options.quality);
+  return options.quality.value_or(scene.quality.level);
 }
 
 int finalPasses(const Scene& scene, const RenderOptions& options) {
@@ -52,22 +48,24 @@ int finalPasses(const Scene& scene, const RenderOptions& options) {
 RenderOptions qualityOptions(const Scene& scene, const RenderOptions& options) {
   RenderOptions o = options;
   const Quality q = qualityLevel(scene, options);
-  o.quality = 0;
+  o.quality = Quality::Draft;
   if (q == Quality::Draft) {
-    if (o.pointShading < 0) o.pointShading = 0;
+    if (o.pointShading == Toggle::Default) o.pointShading = Toggle::Off;
     return o;
   }
-  const bool good =
-      q == Quality::Good || (options.finalPath < 0 ? kFinalPassGood : options.finalPath == 1);
-  o.quality = q == Quality::Good ? 1 : 0;
+  const bool good = q == Quality::Good || (options.finalPath == FinalPath::Default
+                                               ? kFinalPassGood
+                                               : options.finalPath == FinalPath::Good);
+  o.quality = q == Quality::Good ? Quality::Good : Quality::Draft;
   if (good) {
     if (o.msaa <= 1) o.msaa = kGoodMsaa;
-    if (o.pointShading < 0) o.pointShading = kGoodPointShading ? 1 : 0;
+    if (o.pointShading == Toggle::Default)
+      o.pointShading = kGoodPointShading ? Toggle::On : Toggle::Off;
   } else {
     o.msaa = 1;
-    o.pointShading = 0;
+    o.pointShading = Toggle::Off;
   }
-  o.filter = 0;
+  o.filter = Toggle::Off;
   return o;
 }
 
@@ -83,7 +81,7 @@ ProgressiveStill::ProgressiveStill(Renderer& renderer, const Scene& scene,
                                    const RenderOptions& options)
     : renderer_(renderer), scene_(scene) {
   RenderOptions o = options;
-  o.quality = 2;
+  o.quality = Quality::Final;
   options_ = qualityOptions(scene, o);
   if (options_.finalSubset < 1 || options_.finalSubset > kMaxFinalSubset)
     throw Error("quality final: a subset of one strand in " + std::to_string(options_.finalSubset) +

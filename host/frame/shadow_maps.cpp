@@ -132,8 +132,8 @@ int ShadowMaps::mapResolution(int sceneResolution, float across) {
 }
 
 bool ShadowMaps::cameraCaps(const RenderOptions& options, bool cameraLod) {
-  const bool lightLod = options.shadowLod >= 0 ? options.shadowLod != 0 : options.lod != 0;
-  return cameraLod && lightLod && options.shadowLodCamera != 0;
+  const bool lightLod = isOn(options.shadowLod, options.lod != Toggle::Off);
+  return cameraLod && lightLod && options.shadowLodCamera != Toggle::Off;
 }
 
 bool ShadowMaps::needsRebuild(const Scene& s, const RenderOptions& options, bool lodCorrection,
@@ -148,7 +148,7 @@ bool ShadowMaps::needsRebuild(const Scene& s, const RenderOptions& options, bool
   float across = draws && options.shadowResFromCamera ? 0.0f : float(s.shadows.resolution);
   for (std::size_t k = 0; draws && k < draws->size(); ++k) {
     const GroomDraw& d = (*draws)[k];
-    const bool lodOn = options.lod < 0 ? d.groom->lodEnabled() : options.lod != 0;
+    const bool lodOn = isOn(options.lod, d.groom->lodEnabled());
     const glm::vec3 lo = d.groom->boundsMin(), hi = d.groom->boundsMax();
     const glm::mat4& t = d.instance->transform;
     const glm::vec3 c = glm::vec3(t * glm::vec4(0.5f * (lo + hi), 1.0f));
@@ -196,8 +196,8 @@ void ShadowMaps::begin(const Scene& s, const RenderOptions& cameraOptions, bool 
   ViewDraw& pass = lightDraw_;
   pass = ViewDraw{};
   pass.view = &lightView_;
-  pass.lod = cameraOptions.lod == 0 ? 0 : 1;
-  if (cameraOptions.shadowLod >= 0) pass.lod = cameraOptions.shadowLod;
+  pass.lod =
+      isOn(cameraOptions.shadowLod, cameraOptions.lod != Toggle::Off) ? Toggle::On : Toggle::Off;
   pass.lodLambdaScale = cameraOptions.lodLambdaScale * s.shadows.lodScale;
   pass.lodStrandScale = pass.lodLambdaScale;
   pass.trueWidth = cameraOptions.trueWidth;
@@ -211,7 +211,7 @@ void ShadowMaps::begin(const Scene& s, const RenderOptions& cameraOptions, bool 
   std::size_t records = 0;
   for (std::size_t k = 0; k < grooms.size() && camera && camera->view && anyLight; ++k) {
     const GroomDraw& d = grooms[k];
-    const bool lodOn = cameraOptions.lod < 0 ? d.groom->lodEnabled() : cameraOptions.lod != 0;
+    const bool lodOn = isOn(cameraOptions.lod, d.groom->lodEnabled());
     if (!cameraCaps(cameraOptions, lodOn) || d.state->records == 0) continue;
     cameraAt_[k] = static_cast<std::uint32_t>(records);
     records += d.state->records;

@@ -18,6 +18,7 @@
 #include <glm/vec3.hpp>
 
 #include "cl/dispatch.h"
+#include "clhair/frame_types.h"
 #include "clhair/gpu_types.h"
 #include "clhair/scene.h"
 #include "io/faint_groom.h"
@@ -56,7 +57,7 @@ struct ViewDraw {
   glm::mat4 worldToView{1.0f};
   // > 0: one depth mapping for every groom (a light's G-buffer is shared by all grooms)
   float nearZ = -1.0f, farZ = -1.0f;
-  int lod = -1;  // RenderOptions::lod semantics
+  Toggle lod = Toggle::Default;  // RenderOptions::lod semantics
   float lodLambdaScale = 1.0f;
   float lodStrandScale =
       1.0f;                // on every groom's strands per pixel (RenderOptions::lodLambdaScale)

@@ -93,7 +93,7 @@ bool HairMeshGpu::prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld,
     p.depth_far = pass.farZ;
   }
   const HairMesh& mesh = *mesh_;
-  p.lod_enabled = pass.lod < 0 ? (mesh.lod.enabled ? 1u : 0u) : static_cast<gpu::clh_u32>(pass.lod);
+  p.lod_enabled = isOn(pass.lod, mesh.lod.enabled) ? 1u : 0u;
   p.lod_lambda = mesh.lod.lambda * pass.lodLambdaScale;
   p.lod_strands_px = mesh.lod.strandsPerPixel * pass.lodStrandScale;
   p.total_strands = static_cast<gpu::clh_u32>(data_.totalStrands);

@@ -121,7 +121,7 @@ bool StrandFileGpu::prepare(GroomInstanceGpu& inst, const glm::mat4& objToWorld,
     p.depth_far = pass.farZ;
   }
   const StrandGroom& sg = *groom_;
-  p.lod_enabled = pass.lod < 0 ? (sg.lod.enabled ? 1u : 0u) : static_cast<gpu::clh_u32>(pass.lod);
+  p.lod_enabled = isOn(pass.lod, sg.lod.enabled) ? 1u : 0u;
   p.lod_lambda = sg.lod.lambda * pass.lodLambdaScale;
   p.lod_strands_px = sg.lod.strandsPerPixel * pass.lodStrandScale;
   p.hit_diameter_px = pass.trueWidth ? 0.0f : sg.appearance.minHitDiameterPx;

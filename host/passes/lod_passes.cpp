@@ -21,7 +21,7 @@ void addLodPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
         },
         [&](const Data& data, const FrameGraph::Resources& res) {
           const GroomDraw& d = gp.draw;
-          d.groom->useAo(plan.options.ambientOcclusion != 0);
+          d.groom->useAo(plan.options.ambientOcclusion);
           // a faint strand file is widened where its hair is filtered (io/faint_groom.h)
           ViewDraw pass = plan.camera().draw;
           pass.widenFaint = gp.filtered;
@@ -48,7 +48,7 @@ void addLodPasses(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
           far.push_back(gp.far);
         }
         r.frameLod.enqueue(draws, active, far, plan.budget, &r.profiler,
-                           budgetRule(plan.options, plan.camera().view));
+                           budgetRuleParams(plan.options, plan.camera().view));
       });
 }
 

@@ -102,7 +102,7 @@ StatsSource statsSource(Renderer::Impl& r, const FramePlan& plan, std::size_t sh
                          gp.huang && !plan.options.rasterOnly, gp.active != 0 && gp.points,
                          gp.active == CLH_BUDGET_DRAW_BUDGETED});
   src.budget = plan.budget;
-  src.screenRule = plan.options.budgetRule != 0;
+  src.screenRule = plan.options.budgetRule != BudgetRule::Uniform;
   if (plan.shadowsRebuilt)
     src.mapsBuilt =
         static_cast<std::uint32_t>(ShadowMaps::mappedLights(plan.scene, plan.grooms.size()).size());

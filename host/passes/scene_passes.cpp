@@ -58,11 +58,9 @@ void importFrame(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
   }
   for (const GroomPlan& gp : plan.grooms)
     if (gp.active)
-      r.visibility.prepare(gp.index, *gp.draw.instance, o.bakedVisibility != 0, o.lodAggregate != 0,
-                           o.multipleScattering != 0,
-                           o.ambientOcclusion != 0
-                               ? gp.draw.groom->aoField(s, gp.draw.instance->transform)
-                               : nullptr);
+      r.visibility.prepare(
+          gp.index, *gp.draw.instance, o.bakedVisibility, o.lodAggregate, o.multipleScattering,
+          o.ambientOcclusion ? gp.draw.groom->aoField(s, gp.draw.instance->transform) : nullptr);
 
   plan.scene_ = g.import("scene", r.scene.buffers(), true);
   plan.shadowMaps = g.import("shadow maps", r.shadows.buffers(), !plan.shadowsRebuilt, true);

@@ -54,7 +54,7 @@ void addViewsStrandPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, Groom
         const GroomDraw& d = gp.draw;
         const std::size_t V = plan.views.size(), lv = gp.lodView;
         GroomInstanceGpu& inst = *d.state;
-        d.groom->useAo(plan.options.ambientOcclusion != 0);
+        d.groom->useAo(plan.options.ambientOcclusion);
         gp.viewRecords.assign(V, gpu::ClhGroomGpu{});
         for (std::size_t v = V; v-- > 0;) {
           d.groom->prepare(inst, d.instance->transform, drawOf(plan, gp, v));

@@ -1,9 +1,11 @@
 // frame_types.h — the small value types the renderer's stages and its public API share:
-// how a strand dispatch is sized and what one stage cost in a frame. It depends on nothing
+// how a strand dispatch is sized, what one stage cost in a frame, and the kinds of the
+// RenderOptions (clhair/renderer.h) that may be left to the scene. It depends on nothing
 // else in clhair, so the launch layer (host/cl/dispatch.h) can use it without reaching up
 // to the renderer.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 namespace clhair {
@@ -15,6 +17,24 @@ namespace clhair {
 enum class DispatchMode { Auto, ReadBack, OverLaunch, Persistent };
 const char* dispatchModeName(DispatchMode m);
 DispatchMode parseDispatchMode(const std::string& name);  // auto, readback, overlaunch, persistent
+
+// An on/off option that may be left open. Default: as the scene, the groom or the quality
+// level says (each RenderOptions field's comment says which).
+enum class Toggle : std::int8_t { Default = -1, Off = 0, On = 1 };
+// Whether `t` is on, where Default takes `otherwise` (what the scene, groom or level says).
+constexpr bool isOn(Toggle t, bool otherwise) {
+  return t == Toggle::Default ? otherwise : t == Toggle::On;
+}
+
+// The path of quality final's passes (RenderOptions::finalPath): Default, the measured
+// default (kFinalPassGood in clhair/progressive.h); OneSample, one sample per pixel without a
+// filter; Good, the good level's path.
+enum class FinalPath { Default, OneSample, Good };
+
+// How the segment budget shares the segments out (RenderOptions::budgetRule; DESIGN.md "The
+// segment budget"): Uniform, one factor for every groom; Screen, each groom's share by its
+// screen need; Default, the screen rule.
+enum class BudgetRule { Default, Uniform, Screen };
 
 struct StageTime {
   std::string stage;

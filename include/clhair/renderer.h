@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,38 +23,41 @@
 namespace clhair {
 
 struct RenderOptions {
-  int lod = -1;  // -1: as each groom says; 0: off; 1: on
+  Toggle lod = Toggle::Default;  // Default: as each groom says
   float lodLambdaScale = 1.0f;
   int msaa = 1;  // samples per pixel: 1, 2, 4 or 8 (software MSAA, averaged)
   // Shading once per visible strand point (DESIGN.md): the points whose segments own a
   // visible sample are shaded once each and every sample takes the colour interpolated
-  // along its segment; -1 as the quality level says (kGoodPointShading for good and final's
-  // good passes, else off), 0 off (every sample shaded), 1 on. No filter runs on such a frame;
+  // along its segment; Default as the quality level says (kGoodPointShading for good and
+  // final's good passes, else off), Off: every sample shaded. No filter runs on such a frame;
   // frames of several views, the coverage raster and references shade every sample.
-  int pointShading = -1;
-  // The quality level (clhair/scene.h, Quality; README "Quality"): -1 as the scene says, 0
-  // draft (the options as given), 1 good (msaa kGoodMsaa unless more than 1 is given,
-  // kGoodPointShading, no filter), 2 final (render() accumulates jittered passes: ProgressiveStill
-  // in clhair/progressive.h; submit() refuses it).
-  int quality = -1;
+  Toggle pointShading = Toggle::Default;
+  // The quality level (clhair/scene.h, Quality; README "Quality"), nullopt: as the scene says.
+  // Draft: the options as given; Good: msaa kGoodMsaa unless more than 1 is given,
+  // kGoodPointShading, no filter; Final: render() accumulates jittered passes
+  // (ProgressiveStill in clhair/progressive.h; submit() refuses it).
+  std::optional<Quality> quality;
   int spp = 0;  // final: jittered passes, 0 as the scene says (kDefaultFinalPasses by default)
-  // final's passes: -1 the measured default (kFinalPassGood in clhair/progressive.h), 0 one
-  // sample per pixel without a filter, 1 the good path
-  int finalPath = -1;
-  int filter = -1;  // reconstruction filter with MSAA 1: -1 as the scene says, 0 off, 1 on
-  // which filter: -1 as the scene says (FilterParams::method; "auto", the default, is Huang's
-  // in one view and Lipp's in several), 0 Lipp, 1 Huang (linking, alpha fix, anisotropic
-  // filter)
-  int filterMethod = -1;
-  // The strand raster (Scene::raster): -1 as the scene says, 0 lines, 1 coverage (MSAA 1,
-  // one view; no filter, strand identities, or motion layer of deforming grooms)
-  int raster = -1;
-  int shadowLod = -1;            // LOD in the lights' passes: -1 on unless lod == 0, 0 off, 1 on
-  int shadowLodCorrection = -1;  // Lipp §3.2.3 depth shift: -1 as the scene says, 0 off, 1 on
+  // final's passes (FinalPath): the measured default, one sample per pixel without a filter,
+  // or the good path
+  FinalPath finalPath = FinalPath::Default;
+  Toggle filter = Toggle::Default;  // reconstruction filter with MSAA 1; Default: as the scene says
+  // Which filter, nullopt: as the scene says (FilterParams::method). Lipp; Huang (linking,
+  // alpha fix, anisotropic filter); Auto, here as in the scene (its default): Huang's in one
+  // view and Lipp's in several.
+  std::optional<FilterParams::Method> filterMethod;
+  // The strand raster (Scene::raster), nullopt: as the scene says. Coverage: MSAA 1, one view;
+  // no filter, strand identities, or motion layer of deforming grooms.
+  std::optional<RasterMode> raster;
+  // LOD in the lights' passes; Default: on unless lod is Off
+  Toggle shadowLod = Toggle::Default;
+  // Lipp §3.2.3 depth shift; Default: as the scene says (ShadowParams::lodCorrection)
+  Toggle shadowLodCorrection = Toggle::Default;
   // The lights' passes draw no more strands and control points per bundle than the camera's
   // LOD does for a groom the camera draws with LOD (DESIGN.md, "Light-pass LOD from the
-  // camera"): -1 / 1 on (with LOD in the lights' passes), 0 off (the light's view alone).
-  int shadowLodCamera = -1;
+  // camera") unless Off (the light's view alone). It acts where the lights' passes draw
+  // with LOD (shadowLod).
+  Toggle shadowLodCamera = Toggle::Default;
   // The deep opacity maps' resolution follows the camera's view of the grooms (a texel per
   // pixel of their bounding sphere on screen, to a power of two, at most the scene's
   // ShadowParams::resolution: ShadowPass::mapResolution); false: the scene's resolution.
@@ -88,20 +92,21 @@ struct RenderOptions {
   // subset per pass, every strand once in N passes in a row), widened N-fold to keep the
   // hair's coverage; 1 (default) draws every strand in every pass. 1..16.
   int finalSubset = 1;
-  int ambientOcclusion = 1;  // 1: baked AO (baked on first use when the mesh has none), 0: off
-  // 1: grooms with a baked visibility (GroomInstance::visibility) use it for the lights
-  // without a deep opacity map; 0: ignore it (the frame is then bit-identical to one without)
-  int bakedVisibility = 1;
-  // 1: strands LOD widened to stand for a cluster are shaded with the aggregated BCSDF
-  // (Huang et al. 2024); 0 (default): with the single-fibre BSDF like full-detail strands.
-  // Off by default: against the traced full-groom reference it raises the LOD frame's FLIP
-  // (docs/hair-shading.md §6, `clhair_bench --only quality`).
-  int lodAggregate = 0;
-  // 1 (default): hair is lit with the light scattered between fibres too (dual scattering,
-  // Zinke et al. 2008: kernels/common/hair_dual.h) for the lights with a deep opacity map
-  // and the probe light; 0: every fibre scatters the light that reaches it once
-  // (docs/hair-shading.md §8).
-  int multipleScattering = 1;
+  bool ambientOcclusion = true;  // baked AO (baked on first use when the mesh has none)
+  // true: grooms with a baked visibility (GroomInstance::visibility) use it for the lights
+  // without a deep opacity map; false: ignore it (the frame is then bit-identical to one
+  // without)
+  bool bakedVisibility = true;
+  // true: strands LOD widened to stand for a cluster are shaded with the aggregated BCSDF
+  // (Huang et al. 2024); false (default): with the single-fibre BSDF like full-detail
+  // strands. Off by default: against the traced full-groom reference it raises the LOD
+  // frame's FLIP (docs/hair-shading.md §6, `clhair_bench --only quality`).
+  bool lodAggregate = false;
+  // true (default): hair is lit with the light scattered between fibres too (dual
+  // scattering, Zinke et al. 2008: kernels/common/hair_dual.h) for the lights with a deep
+  // opacity map and the probe light; false: every fibre scatters the light that reaches it
+  // once (docs/hair-shading.md §8).
+  bool multipleScattering = true;
   // Every strand at its true projected width: the grooms' minimum hit diameter is ignored
   // and a faint strand file is not widened (the passes of renderReference).
   bool trueWidth = false;
@@ -111,10 +116,8 @@ struct RenderOptions {
   // Segment budget (Scene::segmentBudget): -1 as the scene says, 0 none, > 0 at most this
   // many segments per frame over all grooms drawn with LOD.
   std::int64_t segmentBudget = -1;
-  // How the segment budget shares the segments out: -1 the default (1), 0 one factor for
-  // every groom (the uniform rule), 1 each groom's share by its screen need (DESIGN.md
-  // "The segment budget").
-  int budgetRule = -1;
+  // How the segment budget shares the segments out (BudgetRule; Default: the screen rule)
+  BudgetRule budgetRule = BudgetRule::Default;
   // The screen rule's claim: a groom whose screen box covers more than budgetKeepHigh of
   // the image keeps its LOD count while the other grooms' cuts down to their floors pay for
   // it; the claim ramps in from budgetKeepLow (smoothstep; equal values: a hard threshold).

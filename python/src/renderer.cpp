@@ -32,32 +32,33 @@ struct Request {
 RenderOptions renderOptions(const Request& q) {
   RenderOptions ro;
   if (q.lod == "on")
-    ro.lod = 1;
+    ro.lod = Toggle::On;
   else if (q.lod == "off")
-    ro.lod = 0;
+    ro.lod = Toggle::Off;
   else if (q.lod != "auto")
     throw Error("lod must be \"on\", \"off\" or \"auto\", not \"" + q.lod + "\"");
   if (q.msaa != 1 && q.msaa != 2 && q.msaa != 4 && q.msaa != 8)
     throw Error("msaa must be 1, 2, 4 or 8, not " + std::to_string(q.msaa));
   ro.msaa = q.msaa;
-  ro.ambientOcclusion = q.ao ? 1 : 0;
+  ro.ambientOcclusion = q.ao;
   ro.aovs = q.aovs;
   ro.strandIds = q.aovs && q.msaa == 1;  // one strand per pixel: MSAA 1 only (as --aov all)
   if (q.filter == "on") {
-    ro.filter = 1;
+    ro.filter = Toggle::On;
   } else if (q.filter == "off") {
-    ro.filter = 0;
+    ro.filter = Toggle::Off;
   } else if (q.filter == "lipp" || q.filter == "huang") {
-    ro.filter = 1;
-    ro.filterMethod = q.filter == "huang" ? 1 : 0;
+    ro.filter = Toggle::On;
+    ro.filterMethod =
+        q.filter == "huang" ? FilterParams::Method::Huang : FilterParams::Method::Lipp;
   } else if (q.filter != "auto") {
     throw Error("filter must be \"on\", \"off\", \"auto\", \"lipp\" or \"huang\", not \"" +
                 q.filter + "\"");
   }
   if (q.quality == "draft")
-    ro.quality = 0;
+    ro.quality = Quality::Draft;
   else if (q.quality == "good")
-    ro.quality = 1;
+    ro.quality = Quality::Good;
   else if (!q.quality.empty())
     throw Error(
         "quality must be \"draft\" or \"good\" (final accumulates passes: use the "

@@ -9,6 +9,7 @@
 #include <deque>
 #include <map>
 #include <memory>
+#include <typeindex>
 #include <vector>
 
 #include "cl/device_impl.h"
@@ -26,7 +27,6 @@
 #include "stages/ao_stage.h"
 #include "stages/aov_stage.h"
 #include "stages/composite_stage.h"
-#include "stages/cryptomatte_stage.h"
 #include "stages/filter_stage.h"
 #include "stages/labels_stage.h"
 #include "stages/link_stage.h"
@@ -66,7 +66,6 @@ struct Renderer::Impl {
   LinkStage link;
   CompositeStage composite;
   AovStage aov;
-  CryptomatteStage cryptomatte;
   LabelsStage labels;
   RenderTarget target;
   ViewTargets views;  // the targets and slices of frames with several views
@@ -99,7 +98,6 @@ struct Renderer::Impl {
         link(dev),
         composite(dev),
         aov(dev),
-        cryptomatte(dev),
         labels(dev),
         target(dev),
         views(dev),
@@ -109,6 +107,16 @@ struct Renderer::Impl {
         visibility(dev),
         pool(dev),
         pinned(dev) {}
+
+  // The stage of type S a feature's pass launches its kernels with, made on first use and
+  // kept with the renderer: a feature's stage needs no member here (S(Device::Impl&)).
+  template <class S>
+  S& stage() {
+    std::shared_ptr<void>& held = featureStages[std::type_index(typeid(S))];
+    if (!held) held = std::make_shared<S>(dev);
+    return *static_cast<S*>(held.get());
+  }
+  std::map<std::type_index, std::shared_ptr<void>> featureStages;
 
   // Dispatch sizing per device type. No mode reads the strand total back unless asked:
   // over-launch sizes the strand pass by the groom's strand count and surplus work-groups

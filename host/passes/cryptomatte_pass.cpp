@@ -7,6 +7,7 @@
 
 #include "io/cryptomatte_io.h"
 #include "passes/passes.h"
+#include "stages/cryptomatte_stage.h"
 
 namespace clhair {
 
@@ -116,7 +117,7 @@ void addCryptomattePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, Groom
         p.groomCoverage = &res[h.groomCoverage];
         p.strandKeys = &res[h.strandKeys];
         p.strandCoverage = &res[h.strandCoverage];
-        r.cryptomatte.enqueue(p, &r.profiler);
+        r.stage<CryptomatteStage>().enqueue(p, &r.profiler);
         if (last) readBack(res, h, r, plan, out);
       });
 }

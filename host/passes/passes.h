@@ -19,6 +19,15 @@ inline ViewTarget viewTarget(const FramePlan& plan, const cl::Buffer& record) {
   return {&record, plan.scene.width, plan.scene.height};
 }
 
+// What a pass over groom `gp` in view `vp` reads of both: the view's record, the groom's
+// record and the view's G-buffer (declared by readGroomInView, fetched by Resources).
+struct GroomInView {
+  FrameGraph::Handle view, groom, gbuffer;
+};
+inline GroomInView readGroomInView(FrameGraph::Setup& s, const ViewPlan& vp, const GroomPlan& gp) {
+  return {s.read(vp.record), s.read(gp.params), s.read(vp.gbuffer)};
+}
+
 // scene_passes.cpp: the frame's shared resources, every view's and every groom's own,
 // imported into the graph (the view and scene records are uploaded here, before any pass);
 // the deep opacity maps when they must be built again; a view's opaque scene (and, for a

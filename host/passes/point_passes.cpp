@@ -103,14 +103,13 @@ void addPointShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomP
       });
 
   struct Shade {
-    FrameGraph::Handle view, groom, gbuffer, hair;
+    GroomInView in;
+    FrameGraph::Handle hair;
   };
   g.addPass<Shade>(
       "shade points " + n,
       [&, h](FrameGraph::Setup& s, Shade& d) {
-        d.view = s.read(plan.camera().record);
-        d.gbuffer = s.read(plan.camera().gbuffer);
-        d.groom = s.read(gp.params);
+        d.in = readGroomInView(s, plan.camera(), gp);
         s.reads({plan.scene_, plan.shadowMaps, gp.lod, plan.visibility});
         s.reads({h.records, h.bits, h.ranks}).writes({h.colors});
         d.hair = s.write(gp.views[0].hair);
@@ -119,10 +118,10 @@ void addPointShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomP
       [&, h](const Shade& d, const FrameGraph::Resources& res) {
         const PointStage::Lists l = h.lists(res);
         // the inputs of per-sample shading (its G-buffer and hair are not read)
-        const ShadeStage::Params sp =
-            shadeParams(r, plan, gp, res[d.view], res[d.groom], res[d.gbuffer], res[d.hair]);
+        const ShadeStage::Params sp = shadeParams(r, plan, gp, res[d.in.view], res[d.in.groom],
+                                                  res[d.in.gbuffer], res[d.hair]);
         r.shade.enqueuePoints(sp, l, &r.profiler);
-        r.points.resolve(viewTarget(plan, res[d.view]), res[d.gbuffer], gp.layers,
+        r.points.resolve(viewTarget(plan, res[d.in.view]), res[d.in.gbuffer], gp.layers,
                          plan.options.msaa, gp.hairBox, l, res[d.hair], &r.profiler);
       });
 }

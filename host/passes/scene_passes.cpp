@@ -31,8 +31,7 @@ void importViews(FrameGraph& g, Renderer::Impl& r, FramePlan& plan) {
     RenderTarget& t = *vp.target;
     uploadChanged(r.dev, t.view, t.viewSent, &vp.view, 1);
     records.push_back(vp.view);
-    const std::string suffix = vp.suffix.empty() ? "" : " " + vp.suffix.substr(2);
-    vp.record = g.import("view" + suffix, {&t.view}, true);
+    vp.record = g.import("view record" + vp.suffix, {&t.view}, true);
     vp.color = g.import("colour" + vp.suffix, {&t.color}, false, true);
     vp.depth = g.import("depth" + vp.suffix, {vp.depthBuffer}, false, true);
     vp.gbuffer = g.import("G-buffer" + vp.suffix, {vp.gbufferBuffer}, true);

@@ -30,14 +30,13 @@ void addShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& 
   GroomView& gv = gp.views[vp.index];
   gv.result = gv.hair;
   struct Data {
-    FrameGraph::Handle view, groom, gbuffer, hair;
+    GroomInView in;
+    FrameGraph::Handle hair;
   };
   g.addPass<Data>(
       "shade " + std::to_string(gp.index) + vp.suffix,
       [&](FrameGraph::Setup& s, Data& d) {
-        d.view = s.read(vp.record);
-        d.gbuffer = s.read(vp.gbuffer);
-        d.groom = s.read(gp.params);
+        d.in = readGroomInView(s, vp, gp);
         s.reads({plan.scene_, plan.shadowMaps, gp.lod, plan.visibility});
         d.hair = s.write(gv.hair);
         s.kernel("shade_deferred");
@@ -45,25 +44,24 @@ void addShadePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& 
       },
       [&](const Data& d, const FrameGraph::Resources& res) {
         if (plan.severalViews()) drawInView(r, plan, gp, vp, res);
-        r.shade.enqueue(
-            shadeParams(r, plan, gp, res[d.view], res[d.groom], res[d.gbuffer], res[d.hair]),
-            &r.profiler);
+        r.shade.enqueue(shadeParams(r, plan, gp, res[d.in.view], res[d.in.groom], res[d.in.gbuffer],
+                                    res[d.hair]),
+                        &r.profiler);
       });
 }
 
 void addFilterPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan& gp, ViewPlan& vp) {
   GroomView& gv = gp.views[vp.index];
   struct Data {
-    FrameGraph::Handle view, groom, gbuffer, hair, filtered;
+    GroomInView in;
+    FrameGraph::Handle hair, filtered;
   };
   if (!gp.huang) {
     gv.result = gv.filteredHair;
     g.addPass<Data>(
         "filter " + std::to_string(gp.index) + vp.suffix,
         [&](FrameGraph::Setup& s, Data& d) {
-          d.view = s.read(vp.record);
-          d.groom = s.read(gp.params);
-          d.gbuffer = s.read(vp.gbuffer);
+          d.in = readGroomInView(s, vp, gp);
           d.hair = s.read(gv.hair);
           s.writes({plan.filterParams});
           d.filtered = s.write(gv.filteredHair);
@@ -71,7 +69,7 @@ void addFilterPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan&
         },
         [&](const Data& d, const FrameGraph::Resources& res) {
           r.filter.enqueue(*gp.filter,
-                           {viewTarget(plan, res[d.view]), &res[d.groom], &res[d.gbuffer],
+                           {viewTarget(plan, res[d.in.view]), &res[d.in.groom], &res[d.in.gbuffer],
                             &res[d.hair], &res[d.filtered]},
                            &r.profiler);
         });
@@ -86,7 +84,8 @@ void addFilterPass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPlan&
   g.addPass<Fix>(
       "alpha fix " + std::to_string(gp.index),
       [&](FrameGraph::Setup& s, Fix& d) {
-        s.reads({vp.record, gp.params, vp.gbuffer, plan.linkState});
+        readGroomInView(s, vp, gp);  // linkParams fetches them
+        s.reads({plan.linkState});
         d.hair = s.readWrite(gv.hair);
         d.filtered = s.write(gv.filteredHair);
         d.stats = s.write(plan.frameStats);
@@ -106,14 +105,13 @@ void addCompositePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPl
                       ViewPlan& vp) {
   const GroomView& gv = gp.views[vp.index];
   struct Data {
-    FrameGraph::Handle view, groom, gbuffer, hair, color, depth;
+    GroomInView in;
+    FrameGraph::Handle hair, color, depth;
   };
   g.addPass<Data>(
       "composite " + std::to_string(gp.index) + vp.suffix,
       [&](FrameGraph::Setup& s, Data& d) {
-        d.view = s.read(vp.record);
-        d.groom = s.read(gp.params);
-        d.gbuffer = s.read(vp.gbuffer);
+        d.in = readGroomInView(s, vp, gp);
         d.hair = s.read(gv.result);
         d.color = s.readWrite(vp.color);
         d.depth = s.readWrite(vp.depth);
@@ -121,7 +119,7 @@ void addCompositePass(FrameGraph& g, Renderer::Impl& r, FramePlan& plan, GroomPl
       },
       [&](const Data& d, const FrameGraph::Resources& res) {
         r.composite.enqueue(
-            {viewTarget(plan, res[d.view]), &res[d.groom], &res[d.hair], &res[d.gbuffer],
+            {viewTarget(plan, res[d.in.view]), &res[d.in.groom], &res[d.hair], &res[d.in.gbuffer],
              &res[d.color], &res[d.depth], plan.options.msaa, static_cast<int>(gp.depthLayers),
              gp.huang || gp.points ? gp.hairBox : PixelRect{}},
             &r.profiler);

@@ -39,10 +39,14 @@
 #define CLH_HAIR_PI 3.14159265358979323846f
 
 /* Everything here is scalar arithmetic on clh_v3 (clh_math.h: directions and RGB triples)
- * with fixed-trip, unrolled loops and no library calls besides sqrt, so a CPU compiler can
- * vectorize the shading kernel across pixels (DESIGN.md, "Vectorizable kernels"). The
- * elementary functions are the straight-line ones of clhair/fast_math.h (relative errors
- * below 1e-6, far under the model's own errors in docs/hair-shading.md). */
+ * with fixed-trip, unrolled loops and no library calls besides sqrt (DESIGN.md,
+ * "Vectorizable kernels"). The elementary functions are the straight-line ones of
+ * clhair/fast_math.h (relative errors below 1e-6, far under the model's own errors in
+ * docs/hair-shading.md). A few early returns skip work whose result is known to the bit:
+ * a logistic term whose exponential rounds away next to 1, a TT tap without a root; they
+ * return exactly what the full evaluation would (PoCL runs the shading kernel one pixel
+ * at a time, where skipped work is time saved; DESIGN.md, "Shading: work skipped to the
+ * bit"). */
 static inline float clh_hair_exp(float x) { return clh_fast_exp(x); }
 static inline clh_v3 clh_hair_exp3(clh_v3 x) {
   return clh_v3_make(clh_fast_exp(x.x), clh_fast_exp(x.y), clh_fast_exp(x.z));
@@ -93,20 +97,24 @@ static inline float clh_hair_fresnel(float cos_i, float eta) {
 }
 
 /* e^{-x} I0(x) for x >= 0 times e^{e} (one exponential for both), Abramowitz & Stegun
- * 9.8.1 / 9.8.2 (relative error < 2e-7). Both branches are computed (no divergence). */
+ * 9.8.1 / 9.8.2 (relative error < 2e-7). Only the polynomial of x's range is evaluated. */
 static inline float clh_hair_i0e_exp(float x, float e) {
   /* the polynomials wrapped as the handbook prints them */
+  if (x < 3.75f) {
+    /* clang-format off */
+    const float y = (x / 3.75f) * (x / 3.75f);
+    const float i0 = 1.0f + y * (3.5156229f + y * (3.0899424f + y * (1.2067492f +
+                     y * (0.2659732f + y * (0.0360768f + y * 0.0045813f)))));
+    /* clang-format on */
+    return i0 * clh_hair_exp(e - x);
+  }
   /* clang-format off */
-  float y = (x / 3.75f) * (x / 3.75f);
-  float i0 = 1.0f + y * (3.5156229f + y * (3.0899424f + y * (1.2067492f +
-             y * (0.2659732f + y * (0.0360768f + y * 0.0045813f)))));
-  float yl = 3.75f / fmax(x, 3.75f);
-  float p = 0.39894228f + yl * (0.01328592f + yl * (0.00225319f + yl * (-0.00157565f +
-            yl * (0.00916281f + yl * (-0.02057706f + yl * (0.02635537f + yl * (-0.01647633f +
-            yl * 0.00392377f)))))));
+  const float yl = 3.75f / x;
+  const float p = 0.39894228f + yl * (0.01328592f + yl * (0.00225319f + yl * (-0.00157565f +
+                  yl * (0.00916281f + yl * (-0.02057706f + yl * (0.02635537f + yl * (-0.01647633f +
+                  yl * 0.00392377f)))))));
   /* clang-format on */
-  const bool small = x < 3.75f;
-  return (small ? i0 : p / sqrt(fmax(x, 3.75f))) * clh_hair_exp(small ? e - x : e);
+  return p / sqrt(x) * clh_hair_exp(e);
 }
 
 /* Longitudinal lobe M_p (d'Eon et al. 2011; Chiang Eq. 3), normalised over cos(theta_i):
@@ -122,18 +130,30 @@ static inline float clh_hair_mp(float sin_i, float cos_i, float sin_o, float cos
 
 /* 1 / (v (1 - e^{-2/v})): the normalisation of M_p for variance v. */
 static inline float clh_hair_mnorm(float v) {
-  return 1.0f / (v * (1.0f - clh_hair_exp(-2.0f / v)));
+  const float y = 2.0f / v;
+  /* from 2/v = 18 on, e^{-2/v} < 1.6e-8 is less than half the spacing of floats below 1
+   * (3e-8): 1 - e^{-2/v} rounds to 1 and the result is 1/v exactly */
+  if (!(y < 18.0f)) return 1.0f / v;
+  return 1.0f / (v * (1.0f - clh_hair_exp(-y)));
 }
 
 /* Logistic CDF with scale 1 / inv_s. */
 static inline float clh_hair_lcdf(float x, float inv_s) {
-  return 1.0f / (1.0f + clh_hair_exp(-x * inv_s));
+  const float y = x * inv_s;
+  /* from y = 17 on, 1 + e^{-y} rounds to 1 (e^{-y} < 4.2e-8 is less than half the spacing
+   * of floats above 1, 6e-8) and the result is 1 exactly */
+  if (!(y < 17.0f)) return 1.0f;
+  return 1.0f / (1.0f + clh_hair_exp(-y));
 }
 
 /* |x| smoothed over a logistic of scale k: E|x + X| = |x| + 2k ln(1 + e^{-|x|/k}). */
 static inline float clh_hair_softabs(float x, float k) {
-  float ax = fabs(x);
-  return ax + 2.0f * k * 0.693147181f * clh_fast_log2(1.0f + clh_hair_exp(-ax / k));
+  const float ax = fabs(x);
+  const float y = ax / k;
+  /* from y = 17 on, 1 + e^{-y} rounds to 1 (as in clh_hair_lcdf), whose log2 is 0: the sum
+   * below is ax exactly */
+  if (!(y < 17.0f)) return ax;
+  return ax + 2.0f * k * 0.693147181f * clh_fast_log2(1.0f + clh_hair_exp(-y));
 }
 
 /* Wraps an angle to [0, pi] for the even, 2pi-periodic azimuthal functions. */
@@ -192,9 +212,8 @@ static inline clh_v3 clh_hair_tt_delta(const clh_hair_view* hv, float phi) {
   float x = 0.5f * (CLH_HAIR_PI - phi); /* gamma_o - gamma_t */
   float sin_x, cos_x;
   clh_fast_sincos(x, &sin_x, &cos_x);
-  float den = cos_x - hv->inv_eta_p;
-  const bool root = den > 1e-6f;
-  den = root ? den : 1.0f;
+  const float den = cos_x - hv->inv_eta_p;
+  if (!(den > 1e-6f)) return clh_v3_splat(0.0f); /* no root: the lobe is 0 */
   /* gamma_o = atan2(sin x, den): its cosine and sine directly */
   float inv_len = 1.0f / sqrt(sin_x * sin_x + den * den);
   float cos_go = den * inv_len;
@@ -204,7 +223,7 @@ static inline clh_v3 clh_hair_tt_delta(const clh_hair_view* hv, float phi) {
   /* 1 / |dPhi/dh| = 1 / (2/cos_go - 2/(eta' cos_gt)), written without the 1/cos_go pole */
   float eta_p_cgt = cos_gt / hv->inv_eta_p;
   float jac = cos_go * eta_p_cgt / (2.0f * fmax(eta_p_cgt - cos_go, 1e-6f));
-  const float w = root ? 0.5f * (1.0f - f) * (1.0f - f) * jac : 0.0f;
+  const float w = 0.5f * (1.0f - f) * (1.0f - f) * jac;
   return clh_v3_scale(clh_hair_exp3(clh_v3_scale(hv->sigma_path, -2.0f * cos_gt)), w);
 }
 
@@ -314,7 +333,7 @@ static inline void clh_hair_prepare_to(clh_hair_view* out, const clh_hair_materi
     out->cos_shift[p] = cs;
     out->sin_o_tilt[p] = sin_o * cs + cos_o * sn;
     out->cos_o_tilt[p] = fabs(cos_o * cs - sin_o * sn);
-    out->m_norm[p] = 1.0f / (out->v[p] * (1.0f - clh_hair_exp(-2.0f / out->v[p])));
+    out->m_norm[p] = clh_hair_mnorm(out->v[p]);
   }
 
   /* azimuthal terms */
@@ -372,8 +391,6 @@ static inline clh_v3 clh_hair_diffuse(const clh_hair_view* hv) {
   return clh_v3_scale(hv->mass[3], 1.0f / (CLH_HAIR_PI * CLH_HAIR_PI));
 }
 
-/* The three specular lobes times cos(theta_i), i.e. M_p Ñ_p (what a light loop needs; no
- * division, so it stays exact as wi approaches the fibre axis). Returns cos(theta_i). */
 /* sin(theta_i), cos(theta_i) and cos(phi) of wi about the prepared fibre. */
 static inline void clh_hair_angles_to(const clh_hair_view* hv, clh_v3 wi, float* sin_i,
                                       float* cos_i, float* cos_phi) {
@@ -385,10 +402,11 @@ static inline void clh_hair_angles_to(const clh_hair_view* hv, clh_v3 wi, float*
       l2 > 1e-12f ? clamp(clh_v3_dot(wp, hv->n) / sqrt(fmax(l2, 1e-12f)), -1.0f, 1.0f) : 1.0f;
 }
 
-static inline float clh_hair_lobes_cos(const clh_hair_view* hv, clh_v3 wi, clh_v3* r, clh_v3* tt,
-                                       clh_v3* trt) {
-  float sin_i, cos_i, cos_phi;
-  clh_hair_angles_to(hv, wi, &sin_i, &cos_i, &cos_phi);
+/* The three specular lobes times cos(theta_i), i.e. M_p Ñ_p (what a light loop needs; no
+ * division, so it stays exact as wi approaches the fibre axis), at the angles of
+ * clh_hair_angles_to (a light loop that needs them elsewhere too finds them once). */
+static inline void clh_hair_lobes_at(const clh_hair_view* hv, float sin_i, float cos_i,
+                                     float cos_phi, clh_v3* r, clh_v3* tt, clh_v3* trt) {
   float phi = clh_fast_acos(cos_phi); /* the h-averaged lobes are even in phi */
   float m0 =
       clh_hair_mp(sin_i, cos_i, hv->sin_o_tilt[0], hv->cos_o_tilt[0], hv->v[0], hv->m_norm[0]);
@@ -399,6 +417,14 @@ static inline float clh_hair_lobes_cos(const clh_hair_view* hv, clh_v3 wi, clh_v
   *r = clh_v3_splat(m0 * clh_hair_n_r(hv, phi));
   *tt = clh_v3_scale(clh_hair_n_tt(hv, phi), m1);
   *trt = clh_v3_scale(clh_hair_n_trt(hv, phi), m2);
+}
+
+/* The same for direction wi. Returns cos(theta_i). */
+static inline float clh_hair_lobes_cos(const clh_hair_view* hv, clh_v3 wi, clh_v3* r, clh_v3* tt,
+                                       clh_v3* trt) {
+  float sin_i, cos_i, cos_phi;
+  clh_hair_angles_to(hv, wi, &sin_i, &cos_i, &cos_phi);
+  clh_hair_lobes_at(hv, sin_i, cos_i, cos_phi, r, tt, trt);
   return cos_i;
 }
 
@@ -420,10 +446,17 @@ static inline clh_v3 clh_hair_eval_specular(const clh_hair_view* hv, clh_v3 wi) 
 
 /* f cos(theta_i) for a light: the preferred call in a shading loop,
  *   L += clh_hair_eval_cos(&hv, wi) * E_light. */
-static inline clh_v3 clh_hair_eval_cos(const clh_hair_view* hv, clh_v3 wi) {
+static inline clh_v3 clh_hair_eval_cos_at(const clh_hair_view* hv, float sin_i, float cos_i,
+                                          float cos_phi) {
   clh_v3 r, tt, trt;
-  float cos_i = clh_hair_lobes_cos(hv, wi, &r, &tt, &trt);
+  clh_hair_lobes_at(hv, sin_i, cos_i, cos_phi, &r, &tt, &trt);
   return clh_v3_add(clh_v3_add(clh_v3_add(r, tt), trt), clh_v3_scale(clh_hair_diffuse(hv), cos_i));
+}
+
+static inline clh_v3 clh_hair_eval_cos(const clh_hair_view* hv, clh_v3 wi) {
+  float sin_i, cos_i, cos_phi;
+  clh_hair_angles_to(hv, wi, &sin_i, &cos_i, &cos_phi);
+  return clh_hair_eval_cos_at(hv, sin_i, cos_i, cos_phi);
 }
 
 /* Full f: R + TT + TRT + diffuse. */

@@ -183,21 +183,20 @@ static inline clh_v3 clh_dual_through3(const clh_hair_dual* ds, float tau) {
                      clh_dual_stack_through(&ds->st[2], tau));
 }
 
-/* f cos(theta_i) of the whole light reaching the fibre from direction wi, for a light whose
- * way to the point crosses tau fibres on average and finds tau_b fibres behind it.
+/* f cos(theta_i) of the whole light reaching the fibre from direction wi, whose angles about
+ * the fibre (clh_hair_angles_to) are sin_i, cos_i and cos_phi, for a light whose way to the
+ * point crosses tau fibres on average and finds tau_b fibres behind it.
  * `single` is clh_hair_eval_cos(hv, wi) (the caller has it). The map's own transmittance
  * e^-tau is applied here: the caller passes the light's unshadowed radiance. */
-static inline clh_v3 clh_hair_dual_eval_cos(const clh_hair_view* hv, const clh_hair_dual* ds,
-                                            clh_v3 wi, clh_v3 single, float tau, float tau_b) {
+static inline clh_v3 clh_hair_dual_eval_cos_at(const clh_hair_view* hv, const clh_hair_dual* ds,
+                                               float sin_i, float cos_i, float cos_phi,
+                                               clh_v3 single, float tau, float tau_b) {
   tau = fmax(tau, 0.0f);
   const float direct = tau > 0.0f ? clh_hair_exp(-tau) : 1.0f; /* exact where nothing is in front */
   /* light arriving through the fibres in front (direct included), per channel */
   const clh_v3 arrive = clh_dual_through3(ds, tau);
   const clh_v3 through = clh_v3_fmax(clh_v3_sub(arrive, clh_v3_splat(direct)), 0.0f);
   const float n = tau * ds->af_lum; /* mean crossings of the forward-scattered light */
-
-  float sin_i, cos_i, cos_phi;
-  clh_hair_angles_to(hv, wi, &sin_i, &cos_i, &cos_phi);
 
   clh_v3 out = clh_v3_scale(single, direct);
   if (n > 1e-4f) {
@@ -223,6 +222,15 @@ static inline clh_v3 clh_hair_dual_eval_cos(const clh_hair_view* hv, const clh_h
     out = clh_v3_add(out, clh_v3_scale(clh_v3_mul(reach, back), mb));
   }
   return out;
+}
+
+/* The same for direction wi (a light loop that has the angles for the single-fibre lobes
+ * already passes them to clh_hair_dual_eval_cos_at). */
+static inline clh_v3 clh_hair_dual_eval_cos(const clh_hair_view* hv, const clh_hair_dual* ds,
+                                            clh_v3 wi, clh_v3 single, float tau, float tau_b) {
+  float sin_i, cos_i, cos_phi;
+  clh_hair_angles_to(hv, wi, &sin_i, &cos_i, &cos_phi);
+  return clh_hair_dual_eval_cos_at(hv, ds, sin_i, cos_i, cos_phi, single, tau, tau_b);
 }
 
 /* The probe light's multiple scattering: radiance per unit probe radiance that the AO took

@@ -60,8 +60,10 @@ static inline float clh_dom_texel_at(__global const ClhShadowGpu* sh,
     }
     lo = hi;
   }
-  if (total) *total = clh_fast_exp(-sh->density * all);
-  return clh_fast_exp(-sh->density * acc);
+  const float tr = clh_fast_exp(-sh->density * acc);
+  /* a point past the texel's last layer has crossed all of it: the same exponential */
+  if (total) *total = all == acc ? tr : clh_fast_exp(-sh->density * all);
+  return tr;
 }
 
 static inline float clh_dom_texel(__global const ClhShadowGpu* sh, __global const float* opaque_g,
@@ -129,8 +131,10 @@ static inline void clh_shadow_depths_v3(__global const ClhShadowGpu* sh,
   const float atop = a00 + (a10 - a00) * ax, abottom = a01 + (a11 - a01) * ax;
   const float all = fmin(atop + (abottom - atop) * ay, t);
   const float d = t > 1e-35f ? fmin(-0.693147181f * clh_fast_log2(t), 80.0f) : 80.0f;
-  const float d_all = all > 1e-35f ? fmin(-0.693147181f * clh_fast_log2(all), 80.0f) : 80.0f;
   *tau = d;
+  /* nothing behind p (all == t, the common case) leaves tau_behind 0 without a logarithm */
+  if (all == t) return;
+  const float d_all = all > 1e-35f ? fmin(-0.693147181f * clh_fast_log2(all), 80.0f) : 80.0f;
   *tau_behind = fmax(d_all - d, 0.0f);
 }
 

@@ -90,21 +90,26 @@ static inline bool clh_v3_any_greater(clh_v3 x, float t) {
 static inline clh_v3 clh_v3_fabs(clh_v3 a) { return fabs(a); }
 static inline clh_v3 clh_v3_from(float3 a) { return a; }
 static inline float3 clh_v3_f3(clh_v3 a) { return a; }
-/* clh_fast_exp (clhair/fast_math.h) of each component, the same operations lane by lane */
-static inline clh_v3 clh_v3_exp(clh_v3 v) {
-  float3 x = v * 1.44269504f;
-  x = x < -126.0f ? -126.0f : (x > 126.0f ? 126.0f : x);
-  const float3 t = convert_float3(convert_int3(x));
-  const float3 fl = t - select((float3)(0.0f), (float3)(1.0f), t > x); /* floor */
-  const float3 f = x - fl;
-  float3 p = (float3)(1.8724892e-3f);
-  p = p * f + 8.9845192e-3f;
-  p = p * f + 5.5848695e-2f;
-  p = p * f + 2.4013717e-1f;
-  p = p * f + 6.9315684e-1f;
-  p = p * f + 9.9999970e-1f;
-  return as_float3(as_uint3(convert_int3(fl) + 127) << 23) * p;
-}
+/* clh_fast_exp (clhair/fast_math.h) of each lane of a float3 or a float4 (clh_lanes_exp3,
+ * clh_lanes_exp4), the same operations lane by lane. */
+#define CLH_LANES_EXP(N)                                                       \
+  static inline float##N clh_lanes_exp##N(float##N v) {                        \
+    float##N x = v * 1.44269504f;                                              \
+    x = x < -126.0f ? -126.0f : (x > 126.0f ? 126.0f : x);                     \
+    const float##N t = convert_float##N(convert_int##N(x));                    \
+    const float##N fl = t - select((float##N)(0.0f), (float##N)(1.0f), t > x); \
+    const float##N f = x - fl;                                                 \
+    float##N p = (float##N)(1.8724892e-3f);                                    \
+    p = p * f + 8.9845192e-3f;                                                 \
+    p = p * f + 5.5848695e-2f;                                                 \
+    p = p * f + 2.4013717e-1f;                                                 \
+    p = p * f + 6.9315684e-1f;                                                 \
+    p = p * f + 9.9999970e-1f;                                                 \
+    return as_float##N(as_uint##N(convert_int##N(fl) + 127) << 23) * p;        \
+  }
+CLH_LANES_EXP(3)
+CLH_LANES_EXP(4)
+static inline clh_v3 clh_v3_exp(clh_v3 v) { return clh_lanes_exp3(v); }
 /* clh_fast_log2 of each component, the same operations lane by lane */
 static inline clh_v3 clh_v3_log2(clh_v3 x) {
   const uint3 bits = as_uint3(x);

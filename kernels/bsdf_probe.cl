@@ -20,6 +20,10 @@
  * tau toward the light in slot 7, the depth behind tau_b in slot 11 and the AO in slot 15.
  * Output 2 float4 per record:
  *    0 (clh_hair_dual_eval_cos rgb, luminance)   1 (clh_hair_dual_probe rgb, 0)
+ * bsdf_probe_lanes: the lane-wise elementary functions of clh_math.h (clh_v3_exp, clh_v3_log2,
+ * clh_v3_sincos) against clhair/fast_math.h's scalar ones on the same device: input i sits
+ * in the middle lane, inputs i + 1 and i + 2 in the others; output 8 floats per input: the
+ * lane's exp, log2, sin, cos, then the scalar exp, log2, sin, cos.
  * bsdf_probe_visibility: the baked-visibility lookup (kernels/common/visibility.h); record i
  * is 8 floats: SH c0..c3, light direction xyz (world), unused; output float4 per record:
  *    (transmittance, clamped events, unclamped SH value in the object-space direction, 0)
@@ -137,4 +141,24 @@ __kernel void bsdf_probe_dual(__global const float* rec_g, uint count, __global 
   const clh_v3 lum = clh_v3_make(0.2126f, 0.7152f, 0.0722f);
   out_g[2 * (size_t)i] = (float4)(clh_v3_f3(f), clh_v3_dot(f, lum));
   out_g[2 * (size_t)i + 1] = (float4)(clh_v3_f3(clh_hair_dual_probe(&ds, r[15])), 0.0f);
+}
+
+__kernel void bsdf_probe_lanes(__global const float* in_g, uint count, __global float* out_g) {
+  const uint i = (uint)get_global_id(0);
+  if (i >= count) return;
+  const float x = in_g[i];
+  const clh_v3 v = clh_v3_make(in_g[(i + 1u) % count], x, in_g[(i + 2u) % count]);
+  clh_v3 s, c;
+  clh_v3_sincos(v, &s, &c);
+  float ss, cc;
+  clh_fast_sincos(x, &ss, &cc);
+  __global float* o = out_g + (size_t)i * 8u;
+  o[0] = clh_v3_exp(v).y;
+  o[1] = clh_v3_log2(v).y;
+  o[2] = s.y;
+  o[3] = c.y;
+  o[4] = clh_fast_exp(x);
+  o[5] = clh_fast_log2(x);
+  o[6] = ss;
+  o[7] = cc;
 }

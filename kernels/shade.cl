@@ -185,14 +185,16 @@ static inline clh_v3 shade_at(__global const ClhGroomGpu* groom_g,
     if (!(falloff > 0.0f) || tau >= 80.0f) continue;
     /* the aggregate: the cluster's fibres between the light and the shaded one are already in
      * a deep opacity map (drawn with the LOD's coverage) or a bake (of every fibre) */
-    clh_v3 f =
-        agg ? clh_hair_agg_eval_cos(&hv, &ag, L, !(mapped || use_vis)) : clh_hair_eval_cos(&hv, L);
+    float sin_i, cos_i, cos_phi; /* the light's angles, for the single lobes and the dual term */
+    clh_hair_angles_to(&hv, L, &sin_i, &cos_i, &cos_phi);
+    clh_v3 f = agg ? clh_hair_agg_eval_cos(&hv, &ag, L, !(mapped || use_vis))
+                   : clh_hair_eval_cos_at(&hv, sin_i, cos_i, cos_phi);
     /* a mapped light: what the map took away comes back through the fibres (dual scattering),
      * or, where the groom's field holds the light diffused through it, from the field */
     if (mapped && dual && diffused)
       f = clh_v3_scale(f, tau > 0.0f ? clh_hair_exp(-tau) : 1.0f);
     else if (mapped && dual)
-      f = clh_hair_dual_eval_cos(&hv, &ds, L, f, tau, tau_b);
+      f = clh_hair_dual_eval_cos_at(&hv, &ds, sin_i, cos_i, cos_phi, f, tau, tau_b);
     radiance = clh_v3_add(radiance, clh_v3_scale(clh_v3_mul(lc, f), falloff));
   }
 

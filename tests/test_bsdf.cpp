@@ -9,7 +9,9 @@
 //                   for many wo and six materials; errors are measured on reflected energy
 //                   (f cos(theta_i) dw), per lobe and over solid-angle bins.
 //  BsdfFurnace.*    energy of the device model including its diffuse term is <= 1.
-//  BsdfDevice.*     sigma_a helpers and the one-call API agree with the host.
+//  BsdfDevice.*     sigma_a helpers and the one-call API agree with the host; the lane-wise
+//                   exp, log2 and sincos the shading evaluates three at a time (clh_math.h)
+//                   equal fast_math.h's scalar functions bit for bit.
 //  BsdfAggregate.*  the aggregated BCSDF of a LOD strand (Huang et al. 2024, hair_bsdf.h):
 //                   against a double-precision reference composed from the paper's Eq. 7-15
 //                   on the Chiang reference's lobes, k = 1 equal to the single fibre, and
@@ -20,7 +22,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <random>
 #include <string>
 #include <vector>
@@ -577,6 +581,45 @@ TEST(BsdfDevice, SigmaAHelpersMatchReference) {
       EXPECT_NEAR(out[2 * i + 1].s[c], col[c], 1e-5 + 1e-4 * col[c]);
     }
   }
+}
+
+TEST(BsdfDevice, LaneMathEqualsScalarBitForBit) {
+  // the shading's lane-wise functions must return the scalar functions' bits, lane by lane:
+  // the image does not change with how many values are evaluated at once
+  auto& d = *test::sharedDevice().impl();
+  std::mt19937 gen(11);
+  std::uniform_real_distribution<float> wide(-130.0f, 130.0f), angle(-1e4f, 1e4f);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::vector<float> in = {0.0f,    -0.0f, 1.0f,   -1.0f,  0.5f,   2.0f,       1e-38f,
+                           1e-45f,  3.75f, 17.0f,  -17.0f, 126.5f, -126.5f,    3.14159265f,
+                           1.5708f, 1e30f, -1e30f, 87.0f,  -87.0f, 1.41421356f};
+  for (int i = 0; i < 997; ++i) in.push_back(wide(gen));  // not a multiple of the group size
+  for (int i = 0; i < 500; ++i) in.push_back(angle(gen));
+  for (int i = 0; i < 500; ++i) in.push_back(std::ldexp(unit(gen), -int(unit(gen) * 120.0f)));
+  const cl_uint n = static_cast<cl_uint>(in.size());
+  cl::Kernel k(d.program("bsdf_probe.cl"), "bsdf_probe_lanes");
+  cl::Buffer ib(d.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, in.size() * sizeof(float),
+                in.data());
+  const float canary = -12345.0f;
+  std::vector<float> out(static_cast<std::size_t>(n) * 8 + 4, canary);
+  cl::Buffer ob(d.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, out.size() * sizeof(float),
+                out.data());
+  k.setArg(0, ib);
+  k.setArg(1, n);
+  k.setArg(2, ob);
+  const std::size_t wg = 64, global = (n + wg - 1) / wg * wg;
+  d.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NDRange(wg));
+  d.queue.enqueueReadBuffer(ob, CL_TRUE, 0, out.size() * sizeof(float), out.data());
+  for (std::size_t i = out.size() - 4; i < out.size(); ++i) EXPECT_EQ(out[i], canary) << i;
+  const char* names[4] = {"exp", "log2", "sin", "cos"};
+  for (cl_uint i = 0; i < n; ++i)
+    for (int f = 0; f < 4; ++f) {
+      const float lane = out[8 * i + f], scalar = out[8 * i + 4 + f];
+      std::uint32_t a, b;
+      std::memcpy(&a, &lane, 4);
+      std::memcpy(&b, &scalar, 4);
+      EXPECT_EQ(a, b) << names[f] << "(" << in[i] << "): lane " << lane << ", scalar " << scalar;
+    }
 }
 
 TEST(BsdfDevice, OneCallEqualsPartsAndIsFinite) {

@@ -38,20 +38,21 @@
 
 #define CLH_HAIR_PI 3.14159265358979323846f
 
-/* Everything here is scalar arithmetic on clh_v3 (clh_math.h: directions and RGB triples)
- * with fixed-trip, unrolled loops and no library calls besides sqrt, so a CPU compiler can
- * vectorize the shading kernel across pixels (DESIGN.md, "Vectorizable kernels"). The
- * elementary functions are the straight-line ones of clhair/fast_math.h (relative errors
- * below 1e-6, far under the model's own errors in docs/hair-shading.md). */
+/* Everything here is arithmetic on floats and clh_v3 (clh_math.h) with fixed-trip loops and
+ * no library calls besides sqrt (DESIGN.md, "Vectorizable kernels"). A clh_v3 holds a
+ * direction, an RGB triple, or three values of one kind evaluated together: the three taps
+ * of a lobe's blur, the three lobes' M_p. On the device it is a float3, which a CPU
+ * evaluates in one SIMD instruction; each component gets the same operations as a scalar
+ * evaluation, so the results are the same bits (DESIGN.md, "Shading three values at a
+ * time"). The elementary functions are the straight-line ones of clhair/fast_math.h
+ * (relative errors below 1e-6, far under the model's own errors in docs/hair-shading.md),
+ * lane by lane through clh_math.h's clh_v3_exp, clh_v3_log2 and clh_v3_sincos. A few early
+ * returns skip work whose result is known to the bit: a logistic term whose exponential
+ * rounds away next to 1, a TT lobe none of whose taps has a root; they return exactly what
+ * the full evaluation would (PoCL runs the shading kernel one pixel at a time, where skipped
+ * work is time saved; DESIGN.md, "Shading: work skipped to the bit"). */
 static inline float clh_hair_exp(float x) { return clh_fast_exp(x); }
-static inline clh_v3 clh_hair_exp3(clh_v3 x) {
-  return clh_v3_make(clh_fast_exp(x.x), clh_fast_exp(x.y), clh_fast_exp(x.z));
-}
-static inline float clh_hair_sin(float x) {
-  float s, c;
-  clh_fast_sincos(x, &s, &c);
-  return s;
-}
+static inline clh_v3 clh_hair_exp3(clh_v3 x) { return clh_v3_exp(x); }
 
 typedef struct {
   clh_v3 sigma_a; /* absorption per unit fibre radius, per RGB channel */
@@ -74,6 +75,8 @@ typedef struct {
   float sin_o_tilt[3], cos_o_tilt[3]; /* theta_o shifted by -2a, a, 4a for R, TT, TRT */
   float v[3];                         /* longitudinal variances of R, TT, TRT */
   float m_norm[3];                    /* 1 / (v (1 - e^{-2/v})) of each M_p */
+  clh_v3 lobe_sin_o, lobe_cos_o;      /* sin_o_tilt, cos_o_tilt as one vector (R, TT, TRT) */
+  clh_v3 lobe_v, lobe_norm;           /* v, m_norm as one vector (clh_hair_mp3) */
   float cos_shift[3];                 /* cos of the tilt shifts */
   float eta, inv_eta_p, s, inv_s, blur, trim;
 } clh_hair_view;
@@ -92,21 +95,38 @@ static inline float clh_hair_fresnel(float cos_i, float eta) {
   return 0.5f * (r_par * r_par + r_perp * r_perp);
 }
 
+/* clh_hair_fresnel of each component of cos_i, the same operations. */
+static inline clh_v3 clh_hair_fresnel3(clh_v3 cos_i, float eta) {
+  cos_i = clh_v3_clamp(cos_i, 0.0f, 1.0f);
+  const clh_v3 sin_t2 = (1.0f - cos_i * cos_i) / (eta * eta);
+  const clh_v3 cos_t = clh_v3_sqrt(clh_v3_fmax(1.0f - sin_t2, 0.0f));
+  const clh_v3 r_par = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+  const clh_v3 r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+  return 0.5f * (r_par * r_par + r_perp * r_perp);
+}
+
+/* The polynomials of Abramowitz & Stegun 9.8.1 (I0(x) for x < 3.75, in y = (x / 3.75)^2) and
+ * 9.8.2 (sqrt(x) e^{-x} I0(x) for x >= 3.75, in yl = 3.75 / x), as the handbook prints
+ * them; written for a float or a clh_v3 alike. */
+/* clang-format off */
+#define CLH_HAIR_I0_SMALL(y) \
+  (1.0f + (y) * (3.5156229f + (y) * (3.0899424f + (y) * (1.2067492f + \
+   (y) * (0.2659732f + (y) * (0.0360768f + (y) * 0.0045813f))))))
+#define CLH_HAIR_I0E_LARGE(yl) \
+  (0.39894228f + (yl) * (0.01328592f + (yl) * (0.00225319f + (yl) * (-0.00157565f + \
+   (yl) * (0.00916281f + (yl) * (-0.02057706f + (yl) * (0.02635537f + (yl) * (-0.01647633f + \
+   (yl) * 0.00392377f))))))))
+/* clang-format on */
+
 /* e^{-x} I0(x) for x >= 0 times e^{e} (one exponential for both), Abramowitz & Stegun
- * 9.8.1 / 9.8.2 (relative error < 2e-7). Both branches are computed (no divergence). */
+ * 9.8.1 / 9.8.2 (relative error < 2e-7). Only the polynomial of x's range is evaluated. */
 static inline float clh_hair_i0e_exp(float x, float e) {
-  /* the polynomials wrapped as the handbook prints them */
-  /* clang-format off */
-  float y = (x / 3.75f) * (x / 3.75f);
-  float i0 = 1.0f + y * (3.5156229f + y * (3.0899424f + y * (1.2067492f +
-             y * (0.2659732f + y * (0.0360768f + y * 0.0045813f)))));
-  float yl = 3.75f / fmax(x, 3.75f);
-  float p = 0.39894228f + yl * (0.01328592f + yl * (0.00225319f + yl * (-0.00157565f +
-            yl * (0.00916281f + yl * (-0.02057706f + yl * (0.02635537f + yl * (-0.01647633f +
-            yl * 0.00392377f)))))));
-  /* clang-format on */
-  const bool small = x < 3.75f;
-  return (small ? i0 : p / sqrt(fmax(x, 3.75f))) * clh_hair_exp(small ? e - x : e);
+  if (x < 3.75f) {
+    const float y = (x / 3.75f) * (x / 3.75f);
+    return CLH_HAIR_I0_SMALL(y) * clh_hair_exp(e - x);
+  }
+  const float yl = 3.75f / x;
+  return CLH_HAIR_I0E_LARGE(yl) / sqrt(x) * clh_hair_exp(e);
 }
 
 /* Longitudinal lobe M_p (d'Eon et al. 2011; Chiang Eq. 3), normalised over cos(theta_i):
@@ -122,25 +142,54 @@ static inline float clh_hair_mp(float sin_i, float cos_i, float sin_o, float cos
 
 /* 1 / (v (1 - e^{-2/v})): the normalisation of M_p for variance v. */
 static inline float clh_hair_mnorm(float v) {
-  return 1.0f / (v * (1.0f - clh_hair_exp(-2.0f / v)));
+  const float y = 2.0f / v;
+  /* from 2/v = 18 on, e^{-2/v} < 1.6e-8 is less than half the spacing of floats below 1
+   * (3e-8): 1 - e^{-2/v} rounds to 1 and the result is 1/v exactly */
+  if (!(y < 18.0f)) return 1.0f / v;
+  return 1.0f / (v * (1.0f - clh_hair_exp(-y)));
+}
+
+/* The three lobes' M_p at once (R, TT, TRT as the components; sin_o, cos_o, v and norm per
+ * lobe): clh_hair_mp and clh_hair_mnorm component by component, the same operations (both
+ * polynomials are evaluated, each component keeps the one of its range). */
+static inline clh_v3 clh_hair_mnorm3(clh_v3 v) {
+  const clh_v3 y = 2.0f / v;
+  return clh_v3_if_less(y, 18.0f, 1.0f / (v * (1.0f - clh_v3_exp(-y))), 1.0f / v);
+}
+
+static inline clh_v3 clh_hair_mp3(float sin_i, float cos_i, clh_v3 sin_o, clh_v3 cos_o, clh_v3 v,
+                                  clh_v3 norm) {
+  const clh_v3 x = cos_i * cos_o / v;
+  const clh_v3 e = (cos_i * cos_o - sin_i * sin_o - 1.0f) / v;
+  const clh_v3 y = (x / 3.75f) * (x / 3.75f), xl = clh_v3_fmax(x, 3.75f), yl = 3.75f / xl;
+  const clh_v3 i0e =
+      clh_v3_if_less(x, 3.75f, CLH_HAIR_I0_SMALL(y), CLH_HAIR_I0E_LARGE(yl) / clh_v3_sqrt(xl));
+  return i0e * clh_v3_exp(clh_v3_if_less(x, 3.75f, e - x, e)) * norm;
 }
 
 /* Logistic CDF with scale 1 / inv_s. */
 static inline float clh_hair_lcdf(float x, float inv_s) {
-  return 1.0f / (1.0f + clh_hair_exp(-x * inv_s));
+  const float y = x * inv_s;
+  /* from y = 17 on, 1 + e^{-y} rounds to 1 (e^{-y} < 4.2e-8 is less than half the spacing
+   * of floats above 1, 6e-8) and the result is 1 exactly */
+  if (!(y < 17.0f)) return 1.0f;
+  return 1.0f / (1.0f + clh_hair_exp(-y));
 }
 
-/* |x| smoothed over a logistic of scale k: E|x + X| = |x| + 2k ln(1 + e^{-|x|/k}). */
-static inline float clh_hair_softabs(float x, float k) {
-  float ax = fabs(x);
-  return ax + 2.0f * k * 0.693147181f * clh_fast_log2(1.0f + clh_hair_exp(-ax / k));
+/* |x| smoothed over a logistic of scale k: E|x + X| = |x| + 2k ln(1 + e^{-|x|/k}), for each
+ * component. From |x|/k = 17 on, 1 + e^{-|x|/k} rounds to 1 (as in clh_hair_lcdf), whose
+ * log2 is 0: the sum is |x| exactly there, which is what those components take. */
+static inline clh_v3 clh_hair_softabs3(clh_v3 x, float k) {
+  const clh_v3 ax = clh_v3_fabs(x), y = ax / k;
+  const clh_v3 smooth = ax + (2.0f * k * 0.693147181f) * clh_v3_log2(1.0f + clh_v3_exp(-y));
+  return clh_v3_if_less(y, 17.0f, smooth, ax);
 }
 
-/* Wraps an angle to [0, pi] for the even, 2pi-periodic azimuthal functions. */
-static inline float clh_hair_fold(float phi) {
-  phi = fabs(phi);
-  phi = phi > CLH_HAIR_PI ? 2.0f * CLH_HAIR_PI - phi : phi;
-  return clamp(phi, 0.0f, CLH_HAIR_PI);
+/* Wraps angles to [0, pi] for the even, 2pi-periodic azimuthal functions. */
+static inline clh_v3 clh_hair_fold3(clh_v3 phi) {
+  phi = clh_v3_fabs(phi);
+  phi = clh_v3_if_greater(phi, CLH_HAIR_PI, 2.0f * CLH_HAIR_PI - phi, phi);
+  return clh_v3_clamp(phi, 0.0f, CLH_HAIR_PI);
 }
 
 /* ---- roughness mappings (Chiang Eq. 7-8) ----------------------------------------------- */
@@ -177,49 +226,66 @@ static inline clh_v3 clh_hair_sigma_a_from_color(clh_v3 c, float bn) {
 
 /* ---- the azimuthal lobes -------------------------------------------------------------- */
 
-/* R in the zero-roughness limit at |phi| in [0, pi]; the kink at phi = pi is pre-smoothed
- * over 0.3 s (fitted, docs/hair-shading.md). */
-static inline float clh_hair_r_delta(const clh_hair_view* hv, float phi) {
-  float u = clh_hair_softabs(CLH_HAIR_PI - phi, 0.3f * hv->s);
-  float c = clh_hair_sin(0.5f * fmin(u, CLH_HAIR_PI));
-  return 0.25f * c * clh_hair_fresnel(hv->cos_o * c, hv->eta);
+/* The three taps of the blur below at phi: phi itself and phi +- sqrt(3) sigma folded back
+ * into [0, pi], as the components of one vector (each lobe evaluates its taps together). */
+static inline clh_v3 clh_hair_taps(const clh_hair_view* hv, float phi) {
+  clh_v3 taps = clh_hair_fold3(clh_v3_make(phi, phi + hv->blur, phi - hv->blur));
+  taps.x = phi;
+  return taps;
 }
 
-/* TT in the zero-roughness limit at |phi| in [0, pi]: ½ A_1(h) / |dPhi_1/dh| at the single
- * root h of Phi_1(h) = phi (h >= 0 branch; the h < 0 branch gives -phi). Zero where
- * cos x <= 1/eta' (no root). */
-static inline clh_v3 clh_hair_tt_delta(const clh_hair_view* hv, float phi) {
-  float x = 0.5f * (CLH_HAIR_PI - phi); /* gamma_o - gamma_t */
-  float sin_x, cos_x;
-  clh_fast_sincos(x, &sin_x, &cos_x);
-  float den = cos_x - hv->inv_eta_p;
-  const bool root = den > 1e-6f;
-  den = root ? den : 1.0f;
+/* R in the zero-roughness limit at |phi| in [0, pi] (each component a tap); the kink at
+ * phi = pi is pre-smoothed over 0.3 s (fitted, docs/hair-shading.md). */
+static inline clh_v3 clh_hair_r_delta3(const clh_hair_view* hv, clh_v3 phi) {
+  const clh_v3 u = clh_hair_softabs3(CLH_HAIR_PI - phi, 0.3f * hv->s);
+  clh_v3 c, unused;
+  clh_v3_sincos(0.5f * clh_v3_fmin(u, CLH_HAIR_PI), &c, &unused);
+  return 0.25f * c * clh_hair_fresnel3(hv->cos_o * c, hv->eta);
+}
+
+/* TT in the zero-roughness limit at |phi| in [0, pi] (each component of phi a tap): ½ A_1(h)
+ * / |dPhi_1/dh| at the single root h of Phi_1(h) = phi (h >= 0 branch; the h < 0 branch gives
+ * -phi). Zero where cos x <= 1/eta' (no root). Tap k's RGB is (out[0].k, out[1].k, out[2].k);
+ * returns false, out untouched, when no tap has a root. */
+static inline bool clh_hair_tt_delta3(const clh_hair_view* hv, clh_v3 phi, clh_v3 out[3]) {
+  const clh_v3 x = 0.5f * (CLH_HAIR_PI - phi); /* gamma_o - gamma_t */
+  clh_v3 sin_x, cos_x;
+  clh_v3_sincos(x, &sin_x, &cos_x);
+  const clh_v3 den0 = cos_x - hv->inv_eta_p;
+  if (!clh_v3_any_greater(den0, 1e-6f)) return false;
+  const clh_v3 one = clh_v3_splat(1.0f);
+  const clh_v3 den = clh_v3_if_greater(den0, 1e-6f, den0, one); /* taps without a root: any */
   /* gamma_o = atan2(sin x, den): its cosine and sine directly */
-  float inv_len = 1.0f / sqrt(sin_x * sin_x + den * den);
-  float cos_go = den * inv_len;
-  float sin_gt = sin_x * inv_len * hv->inv_eta_p;
-  float cos_gt = clh_hair_sqrt0(1.0f - sin_gt * sin_gt);
-  float f = clh_hair_fresnel(hv->cos_o * cos_go, hv->eta);
+  const clh_v3 inv_len = 1.0f / clh_v3_sqrt(sin_x * sin_x + den * den);
+  const clh_v3 cos_go = den * inv_len;
+  const clh_v3 sin_gt = sin_x * inv_len * hv->inv_eta_p;
+  const clh_v3 cos_gt = clh_v3_sqrt(clh_v3_fmax(1.0f - sin_gt * sin_gt, 0.0f));
+  const clh_v3 f = clh_hair_fresnel3(hv->cos_o * cos_go, hv->eta);
   /* 1 / |dPhi/dh| = 1 / (2/cos_go - 2/(eta' cos_gt)), written without the 1/cos_go pole */
-  float eta_p_cgt = cos_gt / hv->inv_eta_p;
-  float jac = cos_go * eta_p_cgt / (2.0f * fmax(eta_p_cgt - cos_go, 1e-6f));
-  const float w = root ? 0.5f * (1.0f - f) * (1.0f - f) * jac : 0.0f;
-  return clh_v3_scale(clh_hair_exp3(clh_v3_scale(hv->sigma_path, -2.0f * cos_gt)), w);
+  const clh_v3 eta_p_cgt = cos_gt / hv->inv_eta_p;
+  const clh_v3 jac = cos_go * eta_p_cgt / (2.0f * clh_v3_fmax(eta_p_cgt - cos_go, 1e-6f));
+  const clh_v3 w =
+      clh_v3_if_greater(den0, 1e-6f, 0.5f * (1.0f - f) * (1.0f - f) * jac, clh_v3_splat(0.0f));
+  const clh_v3 depth = -2.0f * cos_gt; /* times sigma_path: the optical depth, per channel */
+  out[0] = clh_v3_exp(depth * hv->sigma_path.x) * w;
+  out[1] = clh_v3_exp(depth * hv->sigma_path.y) * w;
+  out[2] = clh_v3_exp(depth * hv->sigma_path.z) * w;
+  return true;
 }
 
 /* 3-tap blur with the logistic: nodes 0, ±sqrt(3) sigma, weights 2/3, 1/6 (exact for a
  * Gaussian kernel up to degree 5; the logistic's variance is pi² s² / 3). */
 static inline float clh_hair_n_r(const clh_hair_view* hv, float phi) {
-  return (2.0f / 3.0f) * clh_hair_r_delta(hv, phi) +
-         (1.0f / 6.0f) * (clh_hair_r_delta(hv, clh_hair_fold(phi + hv->blur)) +
-                          clh_hair_r_delta(hv, clh_hair_fold(phi - hv->blur)));
+  const clh_v3 r = clh_hair_r_delta3(hv, clh_hair_taps(hv, phi));
+  return (2.0f / 3.0f) * r.x + (1.0f / 6.0f) * (r.y + r.z);
 }
 
 static inline clh_v3 clh_hair_n_tt(const clh_hair_view* hv, float phi) {
-  return clh_v3_add(clh_v3_scale(clh_hair_tt_delta(hv, phi), 2.0f / 3.0f),
-                    clh_v3_scale(clh_v3_add(clh_hair_tt_delta(hv, clh_hair_fold(phi + hv->blur)),
-                                            clh_hair_tt_delta(hv, clh_hair_fold(phi - hv->blur))),
+  clh_v3 t[3];
+  if (!clh_hair_tt_delta3(hv, clh_hair_taps(hv, phi), t)) return clh_v3_splat(0.0f);
+  return clh_v3_add(clh_v3_scale(clh_v3_make(t[0].x, t[1].x, t[2].x), 2.0f / 3.0f),
+                    clh_v3_scale(clh_v3_add(clh_v3_make(t[0].y, t[1].y, t[2].y),
+                                            clh_v3_make(t[0].z, t[1].z, t[2].z)),
                                  1.0f / 6.0f));
 }
 
@@ -314,8 +380,12 @@ static inline void clh_hair_prepare_to(clh_hair_view* out, const clh_hair_materi
     out->cos_shift[p] = cs;
     out->sin_o_tilt[p] = sin_o * cs + cos_o * sn;
     out->cos_o_tilt[p] = fabs(cos_o * cs - sin_o * sn);
-    out->m_norm[p] = 1.0f / (out->v[p] * (1.0f - clh_hair_exp(-2.0f / out->v[p])));
+    out->m_norm[p] = clh_hair_mnorm(out->v[p]);
   }
+  out->lobe_sin_o = clh_v3_make(out->sin_o_tilt[0], out->sin_o_tilt[1], out->sin_o_tilt[2]);
+  out->lobe_cos_o = clh_v3_make(out->cos_o_tilt[0], out->cos_o_tilt[1], out->cos_o_tilt[2]);
+  out->lobe_v = clh_v3_make(out->v[0], out->v[1], out->v[2]);
+  out->lobe_norm = clh_v3_make(out->m_norm[0], out->m_norm[1], out->m_norm[2]);
 
   /* azimuthal terms */
   out->s = clh_hair_logistic_s(clamp(m->beta_n, 0.1f, 1.0f));
@@ -335,18 +405,23 @@ static inline void clh_hair_prepare_to(clh_hair_view* out, const clh_hair_materi
     out->trt_phi[k] = 4.0f * clh_fast_asin(h * out->inv_eta_p) - 2.0f * clh_fast_asin(h);
   }
   for (int p = 0; p < 4; ++p) out->mass[p] = clh_v3_splat(0.0f);
+  /* the panels' Fresnel factors, three of them as one vector */
+  const clh_v3 f012 = clh_hair_fresnel3(
+      cos_o * clh_v3_make(CLH_HAIR_PANEL_CM(0), CLH_HAIR_PANEL_CM(1), CLH_HAIR_PANEL_CM(2)),
+      m->eta);
+  const float fk[4] = {f012.x, f012.y, f012.z,
+                       clh_hair_fresnel(cos_o * CLH_HAIR_PANEL_CM(3), m->eta)};
   for (int k = 0; k < 4; ++k) {
     out->trt_width[k] = fmax(fabs(out->trt_phi[k + 1] - out->trt_phi[k]), 1e-4f);
     float hm = CLH_HAIR_PANEL_HM(k);
     float dh = CLH_HAIR_PANEL_H(k + 1) - CLH_HAIR_PANEL_H(k);
     float sin_gt = hm * out->inv_eta_p;
     float cos_gt = clh_hair_sqrt0(1.0f - sin_gt * sin_gt);
-    float f = clh_hair_fresnel(cos_o * CLH_HAIR_PANEL_CM(k), m->eta);
+    const float f = fk[k];
     clh_v3 T = clh_hair_exp3(clh_v3_scale(out->sigma_path, -2.0f * cos_gt));
     clh_v3 a1 = clh_v3_scale(T, (1.0f - f) * (1.0f - f));
     clh_v3 a2 = clh_v3_scale(clh_v3_mul(a1, T), f);
-    clh_v3 a3 = clh_v3_make(a2.x * f * T.x / (1.0f - f * T.x), a2.y * f * T.y / (1.0f - f * T.y),
-                            a2.z * f * T.z / (1.0f - f * T.z));
+    clh_v3 a3 = a2 * f * T / (1.0f - f * T);
     out->trt_w[k] = clh_v3_scale(a2, 0.5f * dh);
     out->mass[0] = clh_v3_add(out->mass[0], clh_v3_splat(dh * f));
     out->mass[1] = clh_v3_add(out->mass[1], clh_v3_scale(a1, dh));
@@ -372,8 +447,6 @@ static inline clh_v3 clh_hair_diffuse(const clh_hair_view* hv) {
   return clh_v3_scale(hv->mass[3], 1.0f / (CLH_HAIR_PI * CLH_HAIR_PI));
 }
 
-/* The three specular lobes times cos(theta_i), i.e. M_p Ñ_p (what a light loop needs; no
- * division, so it stays exact as wi approaches the fibre axis). Returns cos(theta_i). */
 /* sin(theta_i), cos(theta_i) and cos(phi) of wi about the prepared fibre. */
 static inline void clh_hair_angles_to(const clh_hair_view* hv, clh_v3 wi, float* sin_i,
                                       float* cos_i, float* cos_phi) {
@@ -385,20 +458,25 @@ static inline void clh_hair_angles_to(const clh_hair_view* hv, clh_v3 wi, float*
       l2 > 1e-12f ? clamp(clh_v3_dot(wp, hv->n) / sqrt(fmax(l2, 1e-12f)), -1.0f, 1.0f) : 1.0f;
 }
 
+/* The three specular lobes times cos(theta_i), i.e. M_p Ñ_p (what a light loop needs; no
+ * division, so it stays exact as wi approaches the fibre axis), at the angles of
+ * clh_hair_angles_to (a light loop that needs them elsewhere too finds them once). */
+static inline void clh_hair_lobes_at(const clh_hair_view* hv, float sin_i, float cos_i,
+                                     float cos_phi, clh_v3* r, clh_v3* tt, clh_v3* trt) {
+  float phi = clh_fast_acos(cos_phi); /* the h-averaged lobes are even in phi */
+  const clh_v3 m =
+      clh_hair_mp3(sin_i, cos_i, hv->lobe_sin_o, hv->lobe_cos_o, hv->lobe_v, hv->lobe_norm);
+  *r = clh_v3_splat(m.x * clh_hair_n_r(hv, phi));
+  *tt = clh_v3_scale(clh_hair_n_tt(hv, phi), m.y);
+  *trt = clh_v3_scale(clh_hair_n_trt(hv, phi), m.z);
+}
+
+/* The same for direction wi. Returns cos(theta_i). */
 static inline float clh_hair_lobes_cos(const clh_hair_view* hv, clh_v3 wi, clh_v3* r, clh_v3* tt,
                                        clh_v3* trt) {
   float sin_i, cos_i, cos_phi;
   clh_hair_angles_to(hv, wi, &sin_i, &cos_i, &cos_phi);
-  float phi = clh_fast_acos(cos_phi); /* the h-averaged lobes are even in phi */
-  float m0 =
-      clh_hair_mp(sin_i, cos_i, hv->sin_o_tilt[0], hv->cos_o_tilt[0], hv->v[0], hv->m_norm[0]);
-  float m1 =
-      clh_hair_mp(sin_i, cos_i, hv->sin_o_tilt[1], hv->cos_o_tilt[1], hv->v[1], hv->m_norm[1]);
-  float m2 =
-      clh_hair_mp(sin_i, cos_i, hv->sin_o_tilt[2], hv->cos_o_tilt[2], hv->v[2], hv->m_norm[2]);
-  *r = clh_v3_splat(m0 * clh_hair_n_r(hv, phi));
-  *tt = clh_v3_scale(clh_hair_n_tt(hv, phi), m1);
-  *trt = clh_v3_scale(clh_hair_n_trt(hv, phi), m2);
+  clh_hair_lobes_at(hv, sin_i, cos_i, cos_phi, r, tt, trt);
   return cos_i;
 }
 
@@ -420,10 +498,17 @@ static inline clh_v3 clh_hair_eval_specular(const clh_hair_view* hv, clh_v3 wi) 
 
 /* f cos(theta_i) for a light: the preferred call in a shading loop,
  *   L += clh_hair_eval_cos(&hv, wi) * E_light. */
-static inline clh_v3 clh_hair_eval_cos(const clh_hair_view* hv, clh_v3 wi) {
+static inline clh_v3 clh_hair_eval_cos_at(const clh_hair_view* hv, float sin_i, float cos_i,
+                                          float cos_phi) {
   clh_v3 r, tt, trt;
-  float cos_i = clh_hair_lobes_cos(hv, wi, &r, &tt, &trt);
+  clh_hair_lobes_at(hv, sin_i, cos_i, cos_phi, &r, &tt, &trt);
   return clh_v3_add(clh_v3_add(clh_v3_add(r, tt), trt), clh_v3_scale(clh_hair_diffuse(hv), cos_i));
+}
+
+static inline clh_v3 clh_hair_eval_cos(const clh_hair_view* hv, clh_v3 wi) {
+  float sin_i, cos_i, cos_phi;
+  clh_hair_angles_to(hv, wi, &sin_i, &cos_i, &cos_phi);
+  return clh_hair_eval_cos_at(hv, sin_i, cos_i, cos_phi);
 }
 
 /* Full f: R + TT + TRT + diffuse. */

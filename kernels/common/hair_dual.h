@@ -72,39 +72,38 @@
 #define CLH_DUAL_DF 0.7f /* Zinke et al. 2008 §5, forward density factor d_f */
 #define CLH_DUAL_DB 0.7f /* Zinke et al. 2008 §5, backward density factor d_b */
 
-/* The stack of fibres for one channel (see above), with the exponents of its sums ready:
- * the shading evaluates them for every light. */
+/* The stack of fibres of the three channels (see above; each field per channel), with the
+ * exponents of its sums ready: the shading evaluates them for every light. */
 typedef struct {
-  float r;        /* R_inf */
-  float r2;       /* R_inf^2 */
-  float r_coef;   /* R_inf (1 - R_inf^2) lambda^2 */
-  float r_back;   /* R_inf - a_B: what infinite hair behind sends back */
-  float a_b;      /* the fibre's backward energy (held with a_F at 0.995 or less) */
-  float rl2;      /* R_inf^2 lambda^2 */
-  float one_m_af; /* 1 - a_F: the forward-only transmission's exponent */
-  float kt[4];    /* 1 - lambda, 1 - lambda^3, 1 - lambda^5, lambda^5 (1 - lambda^2) */
-  float kb[4];    /* 1 - lambda^2, 1 - lambda^4, 1 - lambda^6, lambda^6 (1 - lambda^2) */
+  clh_v3 r;        /* R_inf */
+  clh_v3 r2;       /* R_inf^2 */
+  clh_v3 r_coef;   /* R_inf (1 - R_inf^2) lambda^2 */
+  clh_v3 r_back;   /* R_inf - a_B: what infinite hair behind sends back */
+  clh_v3 a_b;      /* the fibre's backward energy (held with a_F at 0.995 or less) */
+  clh_v3 rl2;      /* R_inf^2 lambda^2 */
+  clh_v3 one_m_af; /* 1 - a_F: the forward-only transmission's exponent */
+  clh_v3 kt[4];    /* 1 - lambda, 1 - lambda^3, 1 - lambda^5, lambda^5 (1 - lambda^2) */
+  clh_v3 kb[4];    /* 1 - lambda^2, 1 - lambda^4, 1 - lambda^6, lambda^6 (1 - lambda^2) */
 } clh_dual_stack;
 
-/* The stack of a fibre with energies a_f forward and a_b backward; a_F + a_B is held at
- * 0.995 or less so that R_inf < 1 and the sums stay finite. */
-static inline clh_dual_stack clh_dual_stack_make(float a_f, float a_b) {
+/* The stack of a fibre with energies a_f forward and a_b backward per channel; a_F + a_B is
+ * held at 0.995 or less so that R_inf < 1 and the sums stay finite. */
+static inline clh_dual_stack clh_dual_stack_make(clh_v3 a_f, clh_v3 a_b) {
   clh_dual_stack st;
-  st.one_m_af = fmax(1.0f - a_f, 0.0f);
-  const float sum = a_f + a_b;
-  if (sum > 0.995f) {
-    a_f *= 0.995f / sum;
-    a_b *= 0.995f / sum;
-  }
-  a_b = fmax(a_b, 1e-6f);
-  const float s = 1.0f + a_b * a_b - a_f * a_f;
-  const float r = fmin(2.0f * a_b / (s + sqrt(fmax(s * s - 4.0f * a_b * a_b, 0.0f))), 0.999f);
-  const float l = clamp(a_f / (1.0f - a_b * r), 1e-6f, 0.9999f);
-  const float l2 = l * l, l3 = l2 * l, l4 = l2 * l2, l5 = l4 * l, l6 = l4 * l2;
+  st.one_m_af = clh_v3_fmax(1.0f - a_f, 0.0f);
+  const clh_v3 sum = a_f + a_b;
+  a_f = clh_v3_if_greater(sum, 0.995f, a_f * (0.995f / sum), a_f);
+  a_b = clh_v3_if_greater(sum, 0.995f, a_b * (0.995f / sum), a_b);
+  a_b = clh_v3_fmax(a_b, 1e-6f);
+  const clh_v3 s = 1.0f + a_b * a_b - a_f * a_f;
+  const clh_v3 r = clh_v3_fmin(
+      2.0f * a_b / (s + clh_v3_sqrt(clh_v3_fmax(s * s - 4.0f * a_b * a_b, 0.0f))), 0.999f);
+  const clh_v3 l = clh_v3_clamp(a_f / (1.0f - a_b * r), 1e-6f, 0.9999f);
+  const clh_v3 l2 = l * l, l3 = l2 * l, l4 = l2 * l2, l5 = l4 * l, l6 = l4 * l2;
   st.r = r;
   st.r2 = r * r;
   st.r_coef = r * (1.0f - st.r2) * l2;
-  st.r_back = fmax(r - a_b, 0.0f);
+  st.r_back = clh_v3_fmax(r - a_b, 0.0f);
   st.a_b = a_b;
   st.rl2 = st.r2 * l2;
   st.kt[0] = 1.0f - l;
@@ -119,44 +118,46 @@ static inline clh_dual_stack clh_dual_stack_make(float a_f, float a_b) {
 }
 
 /* E[T_n] for n Poisson of mean tau: light arriving through the stack after any number of
- * forward and backward events (the unscattered e^-tau included). A dark channel (R_inf^2
- * below 0.01) takes e^{-tau (1 - lambda)} alone: 1 at tau = 0, at least the forward-only
- * transmission (lambda >= a_F), and within R_inf^2 of the sum. */
-static inline float clh_dual_stack_through(const clh_dual_stack* st, float tau) {
-  const float r2 = st->r2;
-  if (r2 < 0.01f) return clh_hair_exp(-tau * st->kt[0]);
-  const float fwd = clh_hair_exp(-tau * st->one_m_af);
-  const float tail =
-      clh_hair_exp(-tau * st->kt[2]) / fmax(1.0f - r2 * clh_hair_exp(-tau * st->kt[3]), 1e-6f);
-  const float t = (1.0f - r2) * (clh_hair_exp(-tau * st->kt[0]) +
-                                 r2 * (clh_hair_exp(-tau * st->kt[1]) + r2 * tail));
-  return fmin(fmax(t, fwd), 1.0f);
+ * forward and backward events (the unscattered e^-tau included), per channel. A dark
+ * channel (R_inf^2 below 0.01) takes e^{-tau (1 - lambda)} alone: 1 at tau = 0, at least the
+ * forward-only transmission (lambda >= a_F), and within R_inf^2 of the sum; when all three
+ * are dark, that is all there is to evaluate. */
+static inline clh_v3 clh_dual_stack_through(const clh_dual_stack* st, float tau) {
+  const clh_v3 first = clh_v3_exp(-tau * st->kt[0]);
+  if (clh_v3_all_less(st->r2, 0.01f)) return first;
+  const clh_v3 r2 = st->r2;
+  const clh_v3 fwd = clh_v3_exp(-tau * st->one_m_af);
+  const clh_v3 tail =
+      clh_v3_exp(-tau * st->kt[2]) / clh_v3_fmax(1.0f - r2 * clh_v3_exp(-tau * st->kt[3]), 1e-6f);
+  const clh_v3 t = (1.0f - r2) * (first + r2 * (clh_v3_exp(-tau * st->kt[1]) + r2 * tail));
+  return clh_v3_if_less(r2, 0.01f, first, clh_v3_fmin(clh_v3_max(t, fwd), 1.0f));
 }
 
-/* E[R_{1+m}] - a_B for m Poisson of mean tau_b: what the hair behind the shaded fibre sends
- * back to it per unit light that reached it (a dark channel, R_inf^2 below 0.01: the first
- * term of the sum). */
-static inline float clh_dual_stack_back(const clh_dual_stack* st, float tau_b) {
-  float sum = clh_hair_exp(-tau_b * st->kb[0]);
-  if (st->r2 >= 0.01f) {
-    const float rl2 = st->rl2;
-    const float tail = clh_hair_exp(-tau_b * st->kb[2]) /
-                       fmax(1.0f - rl2 * clh_hair_exp(-tau_b * st->kb[3]), 1e-6f);
-    sum += rl2 * (clh_hair_exp(-tau_b * st->kb[1]) + rl2 * tail);
+/* E[R_{1+m}] - a_B for m Poisson of mean tau_b, per channel: what the hair behind the shaded
+ * fibre sends back to it per unit light that reached it (a dark channel, R_inf^2 below 0.01:
+ * the first term of the sum). */
+static inline clh_v3 clh_dual_stack_back(const clh_dual_stack* st, float tau_b) {
+  clh_v3 sum = clh_v3_exp(-tau_b * st->kb[0]);
+  if (!clh_v3_all_less(st->r2, 0.01f)) {
+    const clh_v3 rl2 = st->rl2;
+    const clh_v3 tail = clh_v3_exp(-tau_b * st->kb[2]) /
+                        clh_v3_fmax(1.0f - rl2 * clh_v3_exp(-tau_b * st->kb[3]), 1e-6f);
+    const clh_v3 more = rl2 * (clh_v3_exp(-tau_b * st->kb[1]) + rl2 * tail);
+    sum = clh_v3_if_not_less(st->r2, 0.01f, sum + more, sum);
   }
-  return fmax(st->r - st->r_coef * sum - st->a_b, 0.0f);
+  return clh_v3_fmax(st->r - st->r_coef * sum - st->a_b, 0.0f);
 }
 
 typedef struct {
-  clh_v3 a_f;           /* forward-scattered energy of the fibre (per channel) */
-  clh_v3 a_b;           /* backward-scattered energy of the fibre (per channel) */
-  clh_v3 albedo;        /* Ā_R + Ā_TT + Ā_TRT + Ā_3 */
-  clh_v3 back;          /* d_b (R_inf - a_B): what infinite hair behind sends back */
-  clh_dual_stack st[3]; /* the stack of fibres per channel */
-  clh_v3 lobe_e[3];     /* Ā_R, Ā_TT, Ā_TRT over 2 pi: the spread lobes' azimuthal value */
-  float af_lum;         /* luminance of a_f: fibres crossed per unit tau among transmitted light */
-  float v_f;            /* variance one forward crossing adds (the TT lobe's) */
-  float v_b;            /* the back lobe's variance */
+  clh_v3 a_f;        /* forward-scattered energy of the fibre (per channel) */
+  clh_v3 a_b;        /* backward-scattered energy of the fibre (per channel) */
+  clh_v3 albedo;     /* Ā_R + Ā_TT + Ā_TRT + Ā_3 */
+  clh_v3 back;       /* d_b (R_inf - a_B): what infinite hair behind sends back */
+  clh_dual_stack st; /* the stack of fibres, per channel */
+  clh_v3 lobe_e[3];  /* Ā_R, Ā_TT, Ā_TRT over 2 pi: the spread lobes' azimuthal value */
+  float af_lum;      /* luminance of a_f: fibres crossed per unit tau among transmitted light */
+  float v_f;         /* variance one forward crossing adds (the TT lobe's) */
+  float v_b;         /* the back lobe's variance */
 } clh_hair_dual;
 
 static inline void clh_hair_dual_prepare_to(clh_hair_dual* out, const clh_hair_view* hv) {
@@ -167,9 +168,7 @@ static inline void clh_hair_dual_prepare_to(clh_hair_dual* out, const clh_hair_v
   out->albedo =
       clh_v3_add(clh_v3_add(hv->mass[0], hv->mass[1]), clh_v3_add(hv->mass[2], hv->mass[3]));
   out->a_b = a_b;
-  out->st[0] = clh_dual_stack_make(a_f.x, a_b.x);
-  out->st[1] = clh_dual_stack_make(a_f.y, a_b.y);
-  out->st[2] = clh_dual_stack_make(a_f.z, a_b.z);
+  out->st = clh_dual_stack_make(a_f, a_b);
   for (int p = 0; p < 3; ++p)
     out->lobe_e[p] = clh_v3_scale(hv->mass[p], 1.0f / (2.0f * CLH_HAIR_PI));
   out->af_lum = 0.2126f * a_f.x + 0.7152f * a_f.y + 0.0722f * a_f.z;
@@ -178,17 +177,17 @@ static inline void clh_hair_dual_prepare_to(clh_hair_dual* out, const clh_hair_v
 }
 
 static inline clh_v3 clh_dual_through3(const clh_hair_dual* ds, float tau) {
-  return clh_v3_make(clh_dual_stack_through(&ds->st[0], tau),
-                     clh_dual_stack_through(&ds->st[1], tau),
-                     clh_dual_stack_through(&ds->st[2], tau));
+  return clh_dual_stack_through(&ds->st, tau);
 }
 
-/* f cos(theta_i) of the whole light reaching the fibre from direction wi, for a light whose
- * way to the point crosses tau fibres on average and finds tau_b fibres behind it.
+/* f cos(theta_i) of the whole light reaching the fibre from direction wi, whose angles about
+ * the fibre (clh_hair_angles_to) are sin_i, cos_i and cos_phi, for a light whose way to the
+ * point crosses tau fibres on average and finds tau_b fibres behind it.
  * `single` is clh_hair_eval_cos(hv, wi) (the caller has it). The map's own transmittance
  * e^-tau is applied here: the caller passes the light's unshadowed radiance. */
-static inline clh_v3 clh_hair_dual_eval_cos(const clh_hair_view* hv, const clh_hair_dual* ds,
-                                            clh_v3 wi, clh_v3 single, float tau, float tau_b) {
+static inline clh_v3 clh_hair_dual_eval_cos_at(const clh_hair_view* hv, const clh_hair_dual* ds,
+                                               float sin_i, float cos_i, float cos_phi,
+                                               clh_v3 single, float tau, float tau_b) {
   tau = fmax(tau, 0.0f);
   const float direct = tau > 0.0f ? clh_hair_exp(-tau) : 1.0f; /* exact where nothing is in front */
   /* light arriving through the fibres in front (direct included), per channel */
@@ -196,19 +195,16 @@ static inline clh_v3 clh_hair_dual_eval_cos(const clh_hair_view* hv, const clh_h
   const clh_v3 through = clh_v3_fmax(clh_v3_sub(arrive, clh_v3_splat(direct)), 0.0f);
   const float n = tau * ds->af_lum; /* mean crossings of the forward-scattered light */
 
-  float sin_i, cos_i, cos_phi;
-  clh_hair_angles_to(hv, wi, &sin_i, &cos_i, &cos_phi);
-
   clh_v3 out = clh_v3_scale(single, direct);
   if (n > 1e-4f) {
     /* global part: the lobes widened by n crossings, spread evenly in phi */
+    const clh_v3 v = clh_v3_add(hv->lobe_v, clh_v3_splat(n * ds->v_f));
+    const clh_v3 m =
+        clh_hair_mp3(sin_i, cos_i, hv->lobe_sin_o, hv->lobe_cos_o, v, clh_hair_mnorm3(v));
     clh_v3 g = clh_v3_scale(clh_hair_diffuse(hv), cos_i);
-    for (int p = 0; p < 3; ++p) {
-      const float v = hv->v[p] + n * ds->v_f;
-      const float m =
-          clh_hair_mp(sin_i, cos_i, hv->sin_o_tilt[p], hv->cos_o_tilt[p], v, clh_hair_mnorm(v));
-      g = clh_v3_add(g, clh_v3_scale(ds->lobe_e[p], m));
-    }
+    g = clh_v3_add(g, clh_v3_scale(ds->lobe_e[0], m.x));
+    g = clh_v3_add(g, clh_v3_scale(ds->lobe_e[1], m.y));
+    g = clh_v3_add(g, clh_v3_scale(ds->lobe_e[2], m.z));
     out = clh_v3_add(out, clh_v3_scale(clh_v3_mul(through, g), CLH_DUAL_DF));
   }
   if (cos_phi > 0.0f && tau_b > 0.0f) {
@@ -216,13 +212,20 @@ static inline clh_v3 clh_hair_dual_eval_cos(const clh_hair_view* hv, const clh_h
     const float v = ds->v_b + n * ds->v_f;
     const float mb = clh_hair_mp(sin_i, cos_i, hv->sin_o, hv->cos_o, v, clh_hair_mnorm(v)) *
                      (CLH_DUAL_DB / CLH_HAIR_PI);
-    const clh_v3 back =
-        clh_v3_make(clh_dual_stack_back(&ds->st[0], tau_b), clh_dual_stack_back(&ds->st[1], tau_b),
-                    clh_dual_stack_back(&ds->st[2], tau_b));
+    const clh_v3 back = clh_dual_stack_back(&ds->st, tau_b);
     const clh_v3 reach = clh_v3_add(clh_v3_splat(direct), clh_v3_scale(through, CLH_DUAL_DF));
     out = clh_v3_add(out, clh_v3_scale(clh_v3_mul(reach, back), mb));
   }
   return out;
+}
+
+/* The same for direction wi (a light loop that has the angles for the single-fibre lobes
+ * already passes them to clh_hair_dual_eval_cos_at). */
+static inline clh_v3 clh_hair_dual_eval_cos(const clh_hair_view* hv, const clh_hair_dual* ds,
+                                            clh_v3 wi, clh_v3 single, float tau, float tau_b) {
+  float sin_i, cos_i, cos_phi;
+  clh_hair_angles_to(hv, wi, &sin_i, &cos_i, &cos_phi);
+  return clh_hair_dual_eval_cos_at(hv, ds, sin_i, cos_i, cos_phi, single, tau, tau_b);
 }
 
 /* The probe light's multiple scattering: radiance per unit probe radiance that the AO took
@@ -235,8 +238,7 @@ static inline clh_v3 clh_hair_dual_probe(const clh_hair_dual* ds, float ao) {
   const clh_v3 through = clh_v3_fmax(clh_v3_sub(arrive, clh_v3_splat(ao)), 0.0f);
   const clh_v3 reach = clh_v3_add(clh_v3_splat(ao), clh_v3_scale(through, CLH_DUAL_DF));
   /* what infinite hair behind sends back: d_b (R_inf - a_B) */
-  const clh_v3 back = clh_v3_make(CLH_DUAL_DB * ds->st[0].r_back, CLH_DUAL_DB * ds->st[1].r_back,
-                                  CLH_DUAL_DB * ds->st[2].r_back);
+  const clh_v3 back = clh_v3_scale(ds->st.r_back, CLH_DUAL_DB);
   return clh_v3_add(clh_v3_scale(clh_v3_mul(through, ds->albedo), CLH_DUAL_DF),
                     clh_v3_scale(clh_v3_mul(reach, back), 1.0f - ao));
 }

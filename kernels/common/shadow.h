@@ -10,6 +10,8 @@
  * hair that was removed in front of them. The four texels are blended bilinearly.
  * Opaque surfaces (clh_shadow_transmittance_opaque) filter wider when the map asks for it
  * (ClhShadowGpu.pcf): percentage-closer filtering over the 4x4 texels around the point.
+ * Four texels are looked up together (clh_dom_texels4: a 2x2 block, or a row of the 4x4),
+ * one per lane of a float4, each lane with the operations of a lookup of its own.
  */
 #ifndef CLHAIR_SHADOW_H
 #define CLHAIR_SHADOW_H
@@ -17,57 +19,56 @@
 #include "clh_math.h"
 #include "clhair/fast_math.h"
 
-/* One texel's transmittance for a point at light-view depth z; the opaque test compares
- * z_opaque (clh_shadow_transmittance_opaque: the receiver's plane at the texel), the hair
- * layers z. With `total` non-null also the transmittance through every layer of the texel
- * (all the hair the map holds there, past the point too). */
-static inline float clh_dom_texel_at(__global const ClhShadowGpu* sh,
+/* Four texels' transmittances (one per lane: texel (tx.sK, ty.sK)) for a point at
+ * light-view depth z; the opaque test compares z_opaque (clh_shadow_transmittance_opaque:
+ * the receiver's plane at each texel), the hair layers z. With `total` non-null also each
+ * texel's transmittance through all of its layers (all the hair the map holds there, past
+ * the point too); without it a texel whose first hair is not in front of the point is 1.
+ * Every lane takes the operations a one-texel lookup would, in the same order: the layers'
+ * coverage is summed up to d's layer and its linear share, and nothing after. */
+static inline float4 clh_dom_texels4(__global const ClhShadowGpu* sh,
                                      __global const float* opaque_g, __global const float* hair_g,
-                                     __global const uint* opacity_g, int tx, int ty, float z_opaque,
-                                     float z, float shift, float* total) {
+                                     __global const uint* opacity_g, int4 tx, int4 ty,
+                                     float4 z_opaque, float z, float shift, float4* total) {
   const int w = (int)sh->width, h = (int)sh->height;
-  tx = clamp(tx, 0, w - 1);
-  ty = clamp(ty, 0, h - 1);
   const size_t plane = (size_t)w * (size_t)h;
-  const size_t t = (size_t)sh->offset + (size_t)ty * (size_t)w + (size_t)tx;
-  const float zo = opaque_g[t];
-  if (z_opaque > zo + sh->bias * zo / sh->fx) {
-    if (total) *total = 0.0f;
-    return 0.0f;
+  const int xs[4] = {tx.s0, tx.s1, tx.s2, tx.s3}, ys[4] = {ty.s0, ty.s1, ty.s2, ty.s3};
+  float zo[4], z0[4], v[CLH_DOM_LAYERS][4];
+  for (int i = 0; i < 4; ++i) {
+    /* clamped lane by lane: under Oclgrind (tests/test_oclgrind.cpp) clamp() of an int4 with
+     * scalar bounds let reads past the map through, on PoCL it did not */
+    const size_t at = (size_t)clamp(ys[i], 0, h - 1) * (size_t)w + (size_t)clamp(xs[i], 0, w - 1);
+    zo[i] = opaque_g[(size_t)sh->offset + at];
+    z0[i] = hair_g[(size_t)sh->offset + at];
+    const size_t layers = (size_t)sh->offset * CLH_DOM_LAYERS + at;
+    for (int k = 0; k < CLH_DOM_LAYERS; ++k)
+      v[k][i] = (float)opacity_g[layers + (size_t)k * plane] * (1.0f / CLH_DOM_FIXED);
   }
-  const float z0 = hair_g[t];
-  if (!(z0 < INFINITY)) {
-    if (total) *total = 1.0f;
-    return 1.0f;
-  }
-  const float d = z - z0 - shift * sh->bound[0];
-  const size_t layers = (size_t)sh->offset * CLH_DOM_LAYERS + (size_t)ty * (size_t)w + (size_t)tx;
-  if (!total && !(d > 0.0f)) return 1.0f;
-  float acc = 0.0f, all = 0.0f, lo = 0.0f;
-  bool inside = d > 0.0f;
+  const float4 opaque = (float4)(zo[0], zo[1], zo[2], zo[3]);
+  const float4 first = (float4)(z0[0], z0[1], z0[2], z0[3]);
+  const int4 blocked = z_opaque > opaque + sh->bias * opaque / sh->fx;
+  const int4 no_hair = !(first < INFINITY);
+  const float4 d = z - first - shift * sh->bound[0];
+  /* coverage up to d: whole layers before d's layer, the linear share of that layer */
+  float4 acc = (float4)(0.0f), all = (float4)(0.0f);
+  float lo = 0.0f;
+  int4 inside = d > 0.0f;
   for (int k = 0; k < CLH_DOM_LAYERS; ++k) {
-    const float v = (float)opacity_g[layers + (size_t)k * plane] * (1.0f / CLH_DOM_FIXED);
+    const float4 vk = (float4)(v[k][0], v[k][1], v[k][2], v[k][3]);
     const float hi = sh->bound[k];
-    all += v;
-    if (inside) {
-      if (d < hi) {
-        acc += v * (d - lo) / fmax(hi - lo, 1e-12f);
-        inside = false;
-        if (!total) break;
-      } else {
-        acc += v;
-      }
-    }
+    all += vk;
+    const int4 ends = d < hi;
+    acc = select(acc, acc + vk * (d - lo) / fmax(hi - lo, 1e-12f), inside & ends);
+    acc = select(acc, acc + vk, inside & ~ends);
+    inside &= ~ends;
     lo = hi;
   }
-  if (total) *total = clh_fast_exp(-sh->density * all);
-  return clh_fast_exp(-sh->density * acc);
-}
-
-static inline float clh_dom_texel(__global const ClhShadowGpu* sh, __global const float* opaque_g,
-                                  __global const float* hair_g, __global const uint* opacity_g,
-                                  int tx, int ty, float z, float shift) {
-  return clh_dom_texel_at(sh, opaque_g, hair_g, opacity_g, tx, ty, z, z, shift, 0);
+  const float4 zero = (float4)(0.0f), one = (float4)(1.0f);
+  const float4 t = clh_lanes_exp4(-sh->density * acc);
+  if (total)
+    *total = select(select(clh_lanes_exp4(-sh->density * all), one, no_hair), zero, blocked);
+  const float4 lit = total ? t : select(one, t, d > 0.0f);
+  return select(select(lit, one, no_hair), zero, blocked);
 }
 
 /* Fraction of the light reaching world point p (1 = unshadowed). Scalar arithmetic only
@@ -86,10 +87,9 @@ static inline float clh_shadow_transmittance_v3(__global const ClhShadowGpu* sh,
   const float fu = floor(u), fv = floor(v);
   const int x0 = (int)fu, y0 = (int)fv;
   const float ax = u - fu, ay = v - fv;
-  const float t00 = clh_dom_texel(sh, opaque_g, hair_g, opacity_g, x0, y0, pv.z, shift);
-  const float t10 = clh_dom_texel(sh, opaque_g, hair_g, opacity_g, x0 + 1, y0, pv.z, shift);
-  const float t01 = clh_dom_texel(sh, opaque_g, hair_g, opacity_g, x0, y0 + 1, pv.z, shift);
-  const float t11 = clh_dom_texel(sh, opaque_g, hair_g, opacity_g, x0 + 1, y0 + 1, pv.z, shift);
+  const float4 tr = clh_dom_texels4(sh, opaque_g, hair_g, opacity_g, (int4)(x0, x0 + 1, x0, x0 + 1),
+                                    (int4)(y0, y0, y0 + 1, y0 + 1), (float4)(pv.z), pv.z, shift, 0);
+  const float t00 = tr.s0, t10 = tr.s1, t01 = tr.s2, t11 = tr.s3;
   const float top = t00 + (t10 - t00) * ax, bottom = t01 + (t11 - t01) * ax;
   return top + (bottom - top) * ay;
 }
@@ -115,22 +115,21 @@ static inline void clh_shadow_depths_v3(__global const ClhShadowGpu* sh,
   const float fu = floor(u), fv = floor(v);
   const int x0 = (int)fu, y0 = (int)fv;
   const float ax = u - fu, ay = v - fv;
-  float a00, a10, a01, a11;
-  const float t00 =
-      clh_dom_texel_at(sh, opaque_g, hair_g, opacity_g, x0, y0, pv.z, pv.z, shift, &a00);
-  const float t10 =
-      clh_dom_texel_at(sh, opaque_g, hair_g, opacity_g, x0 + 1, y0, pv.z, pv.z, shift, &a10);
-  const float t01 =
-      clh_dom_texel_at(sh, opaque_g, hair_g, opacity_g, x0, y0 + 1, pv.z, pv.z, shift, &a01);
-  const float t11 =
-      clh_dom_texel_at(sh, opaque_g, hair_g, opacity_g, x0 + 1, y0 + 1, pv.z, pv.z, shift, &a11);
+  float4 alls;
+  const float4 tr =
+      clh_dom_texels4(sh, opaque_g, hair_g, opacity_g, (int4)(x0, x0 + 1, x0, x0 + 1),
+                      (int4)(y0, y0, y0 + 1, y0 + 1), (float4)(pv.z), pv.z, shift, &alls);
+  const float t00 = tr.s0, t10 = tr.s1, t01 = tr.s2, t11 = tr.s3;
+  const float a00 = alls.s0, a10 = alls.s1, a01 = alls.s2, a11 = alls.s3;
   const float top = t00 + (t10 - t00) * ax, bottom = t01 + (t11 - t01) * ax;
   const float t = top + (bottom - top) * ay;
   const float atop = a00 + (a10 - a00) * ax, abottom = a01 + (a11 - a01) * ax;
   const float all = fmin(atop + (abottom - atop) * ay, t);
   const float d = t > 1e-35f ? fmin(-0.693147181f * clh_fast_log2(t), 80.0f) : 80.0f;
-  const float d_all = all > 1e-35f ? fmin(-0.693147181f * clh_fast_log2(all), 80.0f) : 80.0f;
   *tau = d;
+  /* nothing behind p (all == t, the common case) leaves tau_behind 0 without a logarithm */
+  if (all == t) return;
+  const float d_all = all > 1e-35f ? fmin(-0.693147181f * clh_fast_log2(all), 80.0f) : 80.0f;
   *tau_behind = fmax(d_all - d, 0.0f);
 }
 
@@ -191,14 +190,17 @@ static inline float clh_shadow_transmittance_opaque(__global const ClhShadowGpu*
   float sum = 0.0f;
   for (int j = 0; j < 4; ++j) {
     if (wy[j] == 0.0f) continue;
+    /* texel (x0 + i, y0 + j)'s centre sits i - 1 - ax, j - 1 - ay texels from p */
+    float zr[4];
+    for (int i = 0; i < 4; ++i)
+      zr[i] = pv.z + dzdu * ((float)i - 1.0f - ax) + dzdv * ((float)j - 1.0f - ay);
+    const float4 t4 =
+        clh_dom_texels4(sh, opaque_g, hair_g, opacity_g, (int4)(x0, x0 + 1, x0 + 2, x0 + 3),
+                        (int4)(y0 + j), (float4)(zr[0], zr[1], zr[2], zr[3]), pv.z, 0.0f, 0);
+    const float t[4] = {t4.s0, t4.s1, t4.s2, t4.s3};
     float row = 0.0f;
-    for (int i = 0; i < 4; ++i) {
-      if (wx[i] == 0.0f) continue;
-      /* texel (x0 + i, y0 + j)'s centre sits i - 1 - ax, j - 1 - ay texels from p */
-      const float zr = pv.z + dzdu * ((float)i - 1.0f - ax) + dzdv * ((float)j - 1.0f - ay);
-      row += wx[i] *
-             clh_dom_texel_at(sh, opaque_g, hair_g, opacity_g, x0 + i, y0 + j, zr, pv.z, 0.0f, 0);
-    }
+    for (int i = 0; i < 4; ++i)
+      if (wx[i] != 0.0f) row += wx[i] * t[i];
     sum += wy[j] * row;
   }
   return sum;

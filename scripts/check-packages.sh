@@ -25,6 +25,10 @@ fi
 collect() {
   local build="$1" trace_dir="$1/package-trace"
   rm -rf "$trace_dir" && mkdir -p "$trace_dir"
+  # not searched: this trace, and what the tests write at run time (PoCL's compiled kernels,
+  # thousands of shared objects the build did not make; the program cache; test output)
+  local -a skip=(\( -path "$trace_dir" -o -path "$build/pocl-cache" -o -path "$build/clhair-cache"
+    -o -path "$build/test-output" \) -prune)
   cmake -S . -B "$trace_dir/build" --trace-expand --trace-redirect="$trace_dir/trace.txt" \
     -DCLHAIR_BUILD_TESTS=ON -DCLHAIR_BUILD_BENCH=ON >/dev/null 2>&1 || {
     echo "check-packages: cmake configure failed (see $trace_dir/trace.txt)" >&2
@@ -33,10 +37,10 @@ collect() {
   {
     grep -oE '/usr/[A-Za-z0-9_+./-]+' "$trace_dir/trace.txt" || true
     # headers the compiler read (make-style dependency files)
-    find "$build" -path "$trace_dir" -prune -o \( -name '*.d' -o -name compiler_depend.make \) \
+    find "$build" "${skip[@]}" -o \( -name '*.d' -o -name compiler_depend.make \) \
       -print0 2>/dev/null | xargs -0 -r cat | grep -oE '/usr/[A-Za-z0-9_+./-]+' || true
     # shared libraries of the built executables
-    find "$build" -path "$trace_dir" -prune -o -type f -perm -u+x -print 2>/dev/null |
+    find "$build" "${skip[@]}" -o -type f -perm -u+x -print 2>/dev/null |
       while read -r exe; do
         head -c 4 "$exe" 2>/dev/null | grep -q ELF || continue
         ldd "$exe" 2>/dev/null | grep -oE '/[A-Za-z0-9_+./-]+\.so[.0-9]*' || true

@@ -34,11 +34,6 @@ inline std::string shimEnv(const std::string& settings) {
          " ASAN_OPTIONS=verify_asan_link_order=0:detect_leaks=0 " + settings + " ";
 }
 
-inline std::string readBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
 // The names in `dir` (hidden ones too).
 inline std::vector<std::string> listFolder(const std::string& dir) {
   std::vector<std::string> out;

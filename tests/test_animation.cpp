@@ -106,11 +106,6 @@ void writeText(const std::string& path, const std::string& text) {
   out << text;
 }
 
-std::string readBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 // A 64x48 scene of the tiny groom (4 layers of 7 vertices); `groom` adds to its groom entry,
 // `camera` to its camera.
 json tinyScene(const json& groom = json::object(), const json& camera = json::object()) {

@@ -119,11 +119,6 @@ void writeFile(const std::string& path, const std::string& text) {
   out << text;
 }
 
-std::string readBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 // The tiny groom seen along -z from 0.2 away at width x height; `groom` adds to its entry and
 // `extra` to the scene.
 std::string writeScene(const std::string& dir, int width, int height,

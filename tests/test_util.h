@@ -129,6 +129,12 @@ std::string errorOf(F&& f) {
   return "";
 }
 
+// The bytes of the file at `path` (empty when it cannot be read).
+inline std::string readBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
 // Writes `bytes` to `path` as they are (a test's input file).
 inline void writeBytes(const std::string& path, const std::string& bytes) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);

@@ -9,7 +9,7 @@
 // colour is not one flat value (hair was drawn on the background), holding every CHANNEL
 // listed in brackets. The README must mark the four examples the users' guide promises:
 // render, sequence, aov and own-groom.
-// Links: every relative link and image in README.md, docs/*.md and bench/README.md (inline
+// Links: every relative link and image in README.md, docs/*.md and bench/*.md (inline
 // `[text](target)`, reference definitions `[name]: target`, and HTML `src`/`href`), outside
 // code, must name a file or folder that exists relative to the document, and a `#anchor` into
 // a Markdown file must match one of its headings as GitHub turns headings into anchors.
@@ -234,9 +234,10 @@ std::vector<std::string> linkTargets(const std::string& text) {
 
 TEST(Readme, RelativeLinksInReadmeAndDocsPointToFilesThatExist) {
   const fs::path root = sourceDir();
-  std::vector<fs::path> docs = {root / "README.md", root / "bench" / "README.md"};
-  for (const auto& e : fs::directory_iterator(root / "docs"))
-    if (e.path().extension() == ".md") docs.push_back(e.path());
+  std::vector<fs::path> docs = {root / "README.md"};
+  for (const char* folder : {"docs", "bench"})
+    for (const auto& e : fs::directory_iterator(root / folder))
+      if (e.path().extension() == ".md") docs.push_back(e.path());
   ASSERT_TRUE(fs::exists(root / "docs" / "README.md")) << "docs/README.md, the index, is missing";
 
   std::size_t checked = 0, readmeLinks = 0;

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "cl/device_impl.h"
+#include "probe_kernel.h"
 #include "reference/chiang_reference.h"
 #include "test_util.h"
 
@@ -124,26 +125,11 @@ void putRecord(float* r, const ChiangMaterial& m, Vec3 t, Vec3 wo, Vec3 wi) {
 }
 
 // Runs bsdf_probe_eval over `records` (kIn floats each); returns kOut float4 per record.
+const cl_float4 kCanary = {{-123.0f, -456.0f, -789.0f, -1.0f}};
+
 std::vector<cl_float4> runProbe(const std::vector<float>& records) {
-  auto& d = *test::sharedDevice().impl();
-  const cl_uint n = static_cast<cl_uint>(records.size() / kIn);
-  cl::Kernel k(d.program("bsdf_probe.cl"), "bsdf_probe_eval");
-  cl::Buffer in(d.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, records.size() * sizeof(float),
-                const_cast<float*>(records.data()));
-  const cl_float4 canary = {{-123.0f, -456.0f, -789.0f, -1.0f}};
-  std::vector<cl_float4> out(static_cast<size_t>(n) * kOut + 2, canary);
-  cl::Buffer ob(d.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, out.size() * sizeof(cl_float4),
-                out.data());
-  k.setArg(0, in);
-  k.setArg(1, n);
-  k.setArg(2, ob);
-  const size_t wg = 64, global = (n + wg - 1) / wg * wg;
-  d.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NDRange(wg));
-  d.queue.enqueueReadBuffer(ob, CL_TRUE, 0, out.size() * sizeof(cl_float4), out.data());
-  for (size_t i = out.size() - 2; i < out.size(); ++i)
-    EXPECT_EQ(out[i].s[0], canary.s[0]) << "canary " << i << " overwritten";
-  out.resize(static_cast<size_t>(n) * kOut);
-  return out;
+  return test::runProbeKernel("bsdf_probe_eval", records,
+                              static_cast<cl_uint>(records.size() / kIn), kOut, kCanary);
 }
 
 double lum(const Rgb& c) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; }
@@ -586,7 +572,6 @@ TEST(BsdfDevice, SigmaAHelpersMatchReference) {
 TEST(BsdfDevice, LaneMathEqualsScalarBitForBit) {
   // the shading's lane-wise functions must return the scalar functions' bits, lane by lane:
   // the image does not change with how many values are evaluated at once
-  auto& d = *test::sharedDevice().impl();
   std::mt19937 gen(11);
   std::uniform_real_distribution<float> wide(-130.0f, 130.0f), angle(-1e4f, 1e4f);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
@@ -597,20 +582,7 @@ TEST(BsdfDevice, LaneMathEqualsScalarBitForBit) {
   for (int i = 0; i < 500; ++i) in.push_back(angle(gen));
   for (int i = 0; i < 500; ++i) in.push_back(std::ldexp(unit(gen), -int(unit(gen) * 120.0f)));
   const cl_uint n = static_cast<cl_uint>(in.size());
-  cl::Kernel k(d.program("bsdf_probe.cl"), "bsdf_probe_lanes");
-  cl::Buffer ib(d.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, in.size() * sizeof(float),
-                in.data());
-  const float canary = -12345.0f;
-  std::vector<float> out(static_cast<std::size_t>(n) * 8 + 4, canary);
-  cl::Buffer ob(d.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, out.size() * sizeof(float),
-                out.data());
-  k.setArg(0, ib);
-  k.setArg(1, n);
-  k.setArg(2, ob);
-  const std::size_t wg = 64, global = (n + wg - 1) / wg * wg;
-  d.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NDRange(wg));
-  d.queue.enqueueReadBuffer(ob, CL_TRUE, 0, out.size() * sizeof(float), out.data());
-  for (std::size_t i = out.size() - 4; i < out.size(); ++i) EXPECT_EQ(out[i], canary) << i;
+  const std::vector<float> out = test::runProbeKernel("bsdf_probe_lanes", in, n, 8, -12345.0f, 4);
   const char* names[4] = {"exp", "log2", "sin", "cos"};
   for (cl_uint i = 0; i < n; ++i)
     for (int f = 0; f < 4; ++f) {
@@ -663,25 +635,8 @@ TEST(BsdfDevice, OneCallEqualsPartsAndIsFinite) {
 // slot 15; returns two float4 per record (aggregated f cos, single-fibre f cos; luminance in
 // .w).
 std::vector<cl_float4> runAggProbe(const std::vector<float>& records) {
-  auto& d = *test::sharedDevice().impl();
-  const cl_uint n = static_cast<cl_uint>(records.size() / kIn);
-  cl::Kernel k(d.program("bsdf_probe.cl"), "bsdf_probe_agg");
-  cl::Buffer in(d.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, records.size() * sizeof(float),
-                const_cast<float*>(records.data()));
-  const cl_float4 canary = {{-123.0f, -456.0f, -789.0f, -1.0f}};
-  std::vector<cl_float4> out(static_cast<size_t>(n) * 2 + 2, canary);
-  cl::Buffer ob(d.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, out.size() * sizeof(cl_float4),
-                out.data());
-  k.setArg(0, in);
-  k.setArg(1, n);
-  k.setArg(2, ob);
-  const size_t wg = 64, global = (n + wg - 1) / wg * wg;
-  d.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NDRange(wg));
-  d.queue.enqueueReadBuffer(ob, CL_TRUE, 0, out.size() * sizeof(cl_float4), out.data());
-  for (size_t i = out.size() - 2; i < out.size(); ++i)
-    for (int c = 0; c < 4; ++c) EXPECT_EQ(out[i].s[c], canary.s[c]) << "canary " << i;
-  out.resize(static_cast<size_t>(n) * 2);
-  return out;
+  return test::runProbeKernel("bsdf_probe_agg", records, static_cast<cl_uint>(records.size() / kIn),
+                              2, kCanary);
 }
 
 // Huang et al. 2024's aggregated BCSDF times cos(theta_i), per channel, in double, written

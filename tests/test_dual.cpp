@@ -28,6 +28,7 @@
 
 #include "cl/device_impl.h"
 #include "groom/hair_bsdf_cpu.h"
+#include "probe_kernel.h"
 #include "test_util.h"
 
 namespace clhair {
@@ -135,7 +136,6 @@ std::array<double, 3> sphereIntegral(G g, int nz = 180, int nphi = 360) {
 }
 
 TEST(Dual, DeviceMatchesCpuCompile) {
-  auto& d = *test::sharedDevice().impl();
   std::mt19937 gen(7);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const hb::clh_v3 sigmas[] = {
@@ -172,21 +172,8 @@ TEST(Dual, DeviceMatchesCpuCompile) {
     expectP.push_back(hb::clh_hair_dual_probe(&s.ds, ao));
   }
   const cl_uint n = static_cast<cl_uint>(expectF.size());
-  cl::Kernel k(d.program("bsdf_probe.cl"), "bsdf_probe_dual");
-  cl::Buffer in(d.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, rec.size() * sizeof(float),
-                rec.data());
   const cl_float4 canary = {{-123.0f, -456.0f, -789.0f, -1.0f}};
-  std::vector<cl_float4> out(static_cast<std::size_t>(n) * 2 + 2, canary);
-  cl::Buffer ob(d.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, out.size() * sizeof(cl_float4),
-                out.data());
-  k.setArg(0, in);
-  k.setArg(1, n);
-  k.setArg(2, ob);
-  const std::size_t wg = 64, global = (n + wg - 1) / wg * wg;
-  d.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NDRange(wg));
-  d.queue.enqueueReadBuffer(ob, CL_TRUE, 0, out.size() * sizeof(cl_float4), out.data());
-  for (std::size_t i = out.size() - 2; i < out.size(); ++i)
-    for (int c = 0; c < 4; ++c) EXPECT_EQ(out[i].s[c], canary.s[c]) << "canary " << i;
+  const std::vector<cl_float4> out = test::runProbeKernel("bsdf_probe_dual", rec, n, 2, canary);
   auto near = [](float got, float want) {
     return std::isfinite(got) && std::fabs(got - want) <= 1e-6f + 2e-4f * std::fabs(want);
   };

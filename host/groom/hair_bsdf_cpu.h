@@ -54,7 +54,10 @@ inline clh_v3 clh_v3_unit(clh_v3 v) { return clh_v3_scale(v, 1.0f / sqrt(clh_v3_
 inline clh_v3 operator+(clh_v3 a, clh_v3 b) { return clh_v3_add(a, b); }
 inline clh_v3 operator-(clh_v3 a, clh_v3 b) { return clh_v3_sub(a, b); }
 inline clh_v3 operator*(clh_v3 a, clh_v3 b) { return clh_v3_mul(a, b); }
-inline clh_v3 operator/(clh_v3 a, clh_v3 b) { return clh_v3_make(a.x / b.x, a.y / b.y, a.z / b.z); }
+inline clh_v3 clh_v3_div(clh_v3 a, clh_v3 b) {
+  return clh_v3_make(a.x / b.x, a.y / b.y, a.z / b.z);
+}
+inline clh_v3 operator/(clh_v3 a, clh_v3 b) { return clh_v3_div(a, b); }
 inline clh_v3 operator-(clh_v3 a) { return clh_v3_make(-a.x, -a.y, -a.z); }
 inline clh_v3 operator+(clh_v3 a, float s) { return a + clh_v3_splat(s); }
 inline clh_v3 operator+(float s, clh_v3 a) { return clh_v3_splat(s) + a; }
@@ -64,9 +67,6 @@ inline clh_v3 operator*(clh_v3 a, float s) { return a * clh_v3_splat(s); }
 inline clh_v3 operator*(float s, clh_v3 a) { return clh_v3_splat(s) * a; }
 inline clh_v3 operator/(clh_v3 a, float s) { return a / clh_v3_splat(s); }
 inline clh_v3 operator/(float s, clh_v3 a) { return clh_v3_splat(s) / a; }
-inline clh_v3 clh_v3_div(clh_v3 a, clh_v3 b) {
-  return clh_v3_make(a.x / b.x, a.y / b.y, a.z / b.z);
-}
 inline clh_v3 clh_v3_sqrt(clh_v3 a) { return clh_v3_make(sqrt(a.x), sqrt(a.y), sqrt(a.z)); }
 inline clh_v3 clh_v3_fmin(clh_v3 a, float m) {
   return clh_v3_make(fmin(a.x, m), fmin(a.y, m), fmin(a.z, m));
@@ -82,9 +82,6 @@ inline clh_v3 clh_v3_if_less(clh_v3 x, float t, clh_v3 a, clh_v3 b) {
 }
 inline clh_v3 clh_v3_if_greater(clh_v3 x, float t, clh_v3 a, clh_v3 b) {
   return clh_v3_make(x.x > t ? a.x : b.x, x.y > t ? a.y : b.y, x.z > t ? a.z : b.z);
-}
-inline clh_v3 clh_v3_if_not_less(clh_v3 x, float t, clh_v3 a, clh_v3 b) {
-  return clh_v3_make(x.x < t ? b.x : a.x, x.y < t ? b.y : a.y, x.z < t ? b.z : a.z);
 }
 inline bool clh_v3_all_less(clh_v3 x, float t) { return x.x < t && x.y < t && x.z < t; }
 inline bool clh_v3_any_greater(clh_v3 x, float t) { return x.x > t || x.y > t || x.z > t; }

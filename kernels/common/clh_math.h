@@ -73,15 +73,12 @@ static inline clh_v3 clh_v3_sqrt(clh_v3 a) { return sqrt(a); }
 static inline clh_v3 clh_v3_fmin(clh_v3 a, float m) { return fmin(a, m); }
 static inline clh_v3 clh_v3_max(clh_v3 a, clh_v3 b) { return fmax(a, b); }
 static inline clh_v3 clh_v3_clamp(clh_v3 a, float lo, float hi) { return clamp(a, lo, hi); }
-/* per component: x < t ? a : b, x > t ? a : b, x >= t ? a : b */
+/* per component: x < t ? a : b, x > t ? a : b */
 static inline clh_v3 clh_v3_if_less(clh_v3 x, float t, clh_v3 a, clh_v3 b) {
   return select(b, a, isless(x, (float3)(t)));
 }
 static inline clh_v3 clh_v3_if_greater(clh_v3 x, float t, clh_v3 a, clh_v3 b) {
   return select(b, a, isgreater(x, (float3)(t)));
-}
-static inline clh_v3 clh_v3_if_not_less(clh_v3 x, float t, clh_v3 a, clh_v3 b) {
-  return select(a, b, isless(x, (float3)(t)));
 }
 static inline bool clh_v3_all_less(clh_v3 x, float t) { return all(isless(x, (float3)(t))) != 0; }
 static inline bool clh_v3_any_greater(clh_v3 x, float t) {

@@ -143,7 +143,7 @@ static inline clh_v3 clh_dual_stack_back(const clh_dual_stack* st, float tau_b) 
     const clh_v3 tail = clh_v3_exp(-tau_b * st->kb[2]) /
                         clh_v3_fmax(1.0f - rl2 * clh_v3_exp(-tau_b * st->kb[3]), 1e-6f);
     const clh_v3 more = rl2 * (clh_v3_exp(-tau_b * st->kb[1]) + rl2 * tail);
-    sum = clh_v3_if_not_less(st->r2, 0.01f, sum + more, sum);
+    sum = clh_v3_if_less(st->r2, 0.01f, sum, sum + more);
   }
   return clh_v3_fmax(st->r - st->r_coef * sum - st->a_b, 0.0f);
 }

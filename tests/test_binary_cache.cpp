@@ -6,9 +6,10 @@
 // driver; the entry reader refuses every truncation and every flipped byte; a cache on a full
 // or read-only file system means no cache, and the render still succeeds. A binary written
 // wrong under a valid checksum is caught in a child process and rebuilt; baked data is keyed
-// by the host build.
+// by the host build. A driver that keeps its own compiled programs (PoCL) has none stored here.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -136,17 +137,18 @@ TEST(BinaryCache, AFullOrReadOnlyCacheIsNoCache) {
                               R"("}]})");
   // a warm cache of this build's programs, to copy the names of
   const std::string warm = dir + "/warm";
-  const test::CommandResult w = test::runCommand(
-      "env CLHAIR_CACHE_DIR=" + test::quote(warm) + " " + test::quote(test::cliPath()) +
-      " render " + test::quote(scene) + " -q -o " + test::quote(dir + "/warm.png"));
+  const test::CommandResult w =
+      test::runCommand("env CLHAIR_CACHE_PROGRAMS=1 CLHAIR_CACHE_DIR=" + test::quote(warm) + " " +
+                       test::quote(test::cliPath()) + " render " + test::quote(scene) + " -q -o " +
+                       test::quote(dir + "/warm.png"));
   ASSERT_EQ(w.exitCode, 0) << w.output;
   const std::string expected = test::readBytes(dir + "/warm.png");
   {
     test::FullFolder full(dir + "/full");
-    const test::CommandResult r =
-        test::runCommand(full.env() + "CLHAIR_CACHE_DIR=" + test::quote(dir + "/full/c") + " " +
-                         test::quote(test::cliPath()) + " render " + test::quote(scene) +
-                         " -q -o " + test::quote(dir + "/full.png"));
+    const test::CommandResult r = test::runCommand(
+        full.env() + "CLHAIR_CACHE_PROGRAMS=1 CLHAIR_CACHE_DIR=" + test::quote(dir + "/full/c") +
+        " " + test::quote(test::cliPath()) + " render " + test::quote(scene) + " -q -o " +
+        test::quote(dir + "/full.png"));
     EXPECT_EQ(r.exitCode, 0) << r.output;
     EXPECT_EQ(r.output, "");
     EXPECT_EQ(test::readBytes(dir + "/full.png"), expected);
@@ -155,8 +157,9 @@ TEST(BinaryCache, AFullOrReadOnlyCacheIsNoCache) {
   {
     test::ReadOnlyFolder ro(dir + "/ro");
     const test::CommandResult r = test::runCommand(
-        "env CLHAIR_CACHE_DIR=" + test::quote(dir + "/ro") + " " + test::quote(test::cliPath()) +
-        " render " + test::quote(scene) + " -q -o " + test::quote(dir + "/ro.png"));
+        "env CLHAIR_CACHE_PROGRAMS=1 CLHAIR_CACHE_DIR=" + test::quote(dir + "/ro") + " " +
+        test::quote(test::cliPath()) + " render " + test::quote(scene) + " -q -o " +
+        test::quote(dir + "/ro.png"));
     EXPECT_EQ(r.exitCode, 0) << r.output;
     EXPECT_EQ(test::readBytes(dir + "/ro.png"), expected);
   }
@@ -164,10 +167,10 @@ TEST(BinaryCache, AFullOrReadOnlyCacheIsNoCache) {
   fs::create_directories(dir + "/fifo/v2");
   for (const auto& e : fs::directory_iterator(warm + "/v2"))
     ASSERT_EQ(::mkfifo((dir + "/fifo/v2/" + e.path().filename().string()).c_str(), 0644), 0);
-  const test::CommandResult r =
-      test::runCommand("timeout -s KILL 60 env CLHAIR_CACHE_DIR=" + test::quote(dir + "/fifo") +
-                       " " + test::quote(test::cliPath()) + " render " + test::quote(scene) +
-                       " -q -o " + test::quote(dir + "/fifo.png"));
+  const test::CommandResult r = test::runCommand(
+      "timeout -s KILL 60 env CLHAIR_CACHE_PROGRAMS=1 CLHAIR_CACHE_DIR=" +
+      test::quote(dir + "/fifo") + " " + test::quote(test::cliPath()) + " render " +
+      test::quote(scene) + " -q -o " + test::quote(dir + "/fifo.png"));
   EXPECT_EQ(r.exitCode, 0) << r.output;
   EXPECT_EQ(test::readBytes(dir + "/fifo.png"), expected);
   for (const auto& e : fs::directory_iterator(dir + "/fifo/v2"))
@@ -217,8 +220,9 @@ TEST(BinaryCache, ABinaryWrittenWrongIsCaughtInAChildAndRebuilt) {
   std::ofstream(entry, std::ios::binary | std::ios::trunc) << encodeCacheEntry(key, damaged);
   ASSERT_TRUE(decodeCacheEntry(readAll(entry), key).has_value()) << "the checksum is valid";
   // through the command, whose device builds this program on every start (the self-test)
-  const test::CommandResult r = test::runCommand("CLHAIR_CACHE_DIR=" + test::quote(dir) + " " +
-                                                 test::quote(test::cliPath()) + " devices");
+  const test::CommandResult r =
+      test::runCommand("CLHAIR_CACHE_PROGRAMS=1 CLHAIR_CACHE_DIR=" + test::quote(dir) + " " +
+                       test::quote(test::cliPath()) + " devices");
   EXPECT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("clhair: note: the cached program of selftest.cl"), std::string::npos)
       << r.output;
@@ -255,6 +259,43 @@ TEST(BinaryCache, OffMeansNoFiles) {
   EXPECT_FALSE(off.enabled());
   off.store("x.clbin", {1, 2, 3});
   EXPECT_FALSE(off.load("x.clbin").has_value());
+}
+
+// PoCL keeps what it compiles in its own kernel cache, so its programs are not stored here
+// again (reading a binary back from PoCL compiles every kernel of the program once more);
+// other drivers' programs are, and so are PoCL's when its own cache is off.
+TEST(BinaryCache, ProgramsAreLeftToADriverThatKeepsItsOwn) {
+  const char* before = std::getenv("POCL_KERNEL_CACHE");
+  const std::string saved = before ? before : "";
+  ::unsetenv("POCL_KERNEL_CACHE");
+  EXPECT_TRUE(BinaryCache::driverKeepsPrograms("Portable Computing Language"));
+  EXPECT_FALSE(BinaryCache::driverKeepsPrograms("Intel(R) OpenCL"));
+  EXPECT_FALSE(BinaryCache::driverKeepsPrograms("NVIDIA CUDA"));
+  ::setenv("POCL_KERNEL_CACHE", "0", 1);
+  EXPECT_FALSE(BinaryCache::driverKeepsPrograms("Portable Computing Language"));
+  if (before)
+    ::setenv("POCL_KERNEL_CACHE", saved.c_str(), 1);
+  else
+    ::unsetenv("POCL_KERNEL_CACHE");
+
+  // the test device without cacheProgramsAlways: an entry only where the driver keeps none
+  const std::string dir = test::scratchDir() + "/cache";
+  const DeviceInfo& shared = test::sharedDevice().info();
+  DeviceOptions o;
+  o.selector = std::to_string(shared.platformIndex) + ":" + std::to_string(shared.deviceIndex);
+  o.cacheDir = dir;
+  std::vector<cl_ulong> words;
+  {
+    Device dev = Device::open(o);
+    words = packWords(dev);
+  }
+  const bool driverKeeps = BinaryCache::driverKeepsPrograms(shared.platformName);
+  RecordProperty("driver_keeps_programs", driverKeeps ? "yes" : "no");
+  EXPECT_EQ(entries(dir).size(), driverKeeps ? 0u : 1u) << shared.platformName;
+  {
+    Device again = Device::open(o);
+    EXPECT_EQ(packWords(again), words);
+  }
 }
 
 }  // namespace

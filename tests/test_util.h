@@ -73,6 +73,7 @@ inline Device openWithCache(const std::string& dir) {
   DeviceOptions o;
   o.selector = std::to_string(shared.platformIndex) + ":" + std::to_string(shared.deviceIndex);
   o.cacheDir = dir;
+  o.cacheProgramsAlways = true;  // the program cache's own tests: PoCL's programs are kept too
   o.kernelWarningsAsErrors = true;
   return Device::open(o);
 }

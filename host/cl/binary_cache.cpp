@@ -101,6 +101,12 @@ bool BinaryCache::cacheablePlatform(const std::string& platformName) {
   return platformName.find("Oclgrind") == std::string::npos;
 }
 
+bool BinaryCache::driverKeepsPrograms(const std::string& platformName) {
+  if (platformName.find("Portable Computing Language") == std::string::npos) return false;
+  const char* v = std::getenv("POCL_KERNEL_CACHE");
+  return !(v && std::string(v) == "0");
+}
+
 std::string BinaryCache::entryPath(const std::string& key) const {
   return (fs::path(folder_) / kEntryFolder / key).string();
 }

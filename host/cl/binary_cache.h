@@ -1,7 +1,8 @@
 // binary_cache.h — compiled OpenCL programs kept on disk between runs.
 //
 // Some drivers compile for a long time and keep nothing (Intel's CPU runtime: 40-90 s for
-// clhair's kernels on every start). After a build the program's binary is stored under a
+// clhair's kernels on every start); drivers that keep their own (PoCL) are left to it
+// (driverKeepsPrograms). After a build the program's binary is stored under a
 // key that names everything it depends on — platform, device, driver version, build
 // options and the full expanded source text — so any change makes a new entry and a stale
 // binary is never used. A binary the driver refuses is ignored (and rebuilt from source), and
@@ -50,6 +51,11 @@ class BinaryCache {
   std::string entryPath(const std::string& key) const;
   // False for platforms whose builds depend on more than the key holds.
   static bool cacheablePlatform(const std::string& platformName);
+  // True for drivers that keep the programs they compile in a cache of their own: PoCL (its
+  // kernel cache, unless POCL_KERNEL_CACHE=0). Their programs are not stored here: reading a
+  // binary back from PoCL compiles every kernel of the program once more (for any local size)
+  // and proving it costs a child process, while a build from source finds PoCL's own entry.
+  static bool driverKeepsPrograms(const std::string& platformName);
   // Best effort: a cache that cannot be written only costs the next run a compile.
   void store(const std::string& key, const std::vector<unsigned char>& binary) const;
   // Whether the entry `key` holding `payload` was proven (host/cl/cache_proof.h): a stamp

@@ -132,6 +132,7 @@ DeviceOptions DeviceOptions::fromEnvironment(DeviceOptions given) {
   given.subgroup = envOr("CLHAIR_SUBGROUP", given.subgroup);
   given.kernelDir = envOr("CLHAIR_KERNEL_DIR", given.kernelDir);
   if (envOr("CLHAIR_KERNEL_WERROR", "") == "1") given.kernelWarningsAsErrors = true;
+  if (envOr("CLHAIR_CACHE_PROGRAMS", "") == "1") given.cacheProgramsAlways = true;
   if (given.strandsPerGroup == 0) {
     std::string spg = envOr("CLHAIR_STRANDS_PER_GROUP", "");
     if (!spg.empty()) {
@@ -199,6 +200,9 @@ Device Device::open(const DeviceOptions& options) {
   impl->strandsPerGroupOverride = options.strandsPerGroup;
   impl->binaries = BinaryCache(
       BinaryCache::cacheablePlatform(impl->info.platformName) ? options.cacheDir : "off");
+  impl->keepPrograms =
+      impl->binaries.enabled() &&
+      (options.cacheProgramsAlways || !BinaryCache::driverKeepsPrograms(impl->info.platformName));
   const char* dbg = std::getenv("CLHAIR_DEBUG_SYNC");
   impl->debugFinish = dbg && std::string(dbg) == "1";
   const char* checks = std::getenv("CLHAIR_GRAPH_CHECK");
@@ -248,6 +252,7 @@ Device Device::withBackend(SubgroupBackend b) const {
   impl->kernelWarningsAsErrors = impl_->kernelWarningsAsErrors;
   impl->strandsPerGroupOverride = impl_->strandsPerGroupOverride;
   impl->binaries = impl_->binaries;
+  impl->keepPrograms = impl_->keepPrograms;
   impl->useBackend(b, "selected");
   impl->debugFinish = impl_->debugFinish;
   impl->graphChecks = impl_->graphChecks;

@@ -29,8 +29,11 @@ struct Device::Impl {
   bool kernelWarningsAsErrors = false;
   bool debugFinish = false;                   // finish() after every dispatch (CLHAIR_DEBUG_SYNC=1)
   std::uint32_t strandsPerGroupOverride = 0;  // DeviceOptions::strandsPerGroup
-  BinaryCache binaries;                       // compiled programs between runs
-  Transfers transfers;                        // staged uploads, counted host waits
+  BinaryCache binaries;                       // compiled programs and baked data between runs
+  // Programs go into `binaries` (else only the baked data does): where the driver keeps no
+  // compiled programs of its own, or DeviceOptions::cacheProgramsAlways.
+  bool keepPrograms = false;
+  Transfers transfers;  // staged uploads, counted host waits
   // Checks of the frame graph (host/graph/frame_graph.h) that cost a driver query per kernel
   // argument: every buffer a pass binds and every kernel it launches was declared
   // (CLHAIR_GRAPH_CHECK=1; the tests turn it on).

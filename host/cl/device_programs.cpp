@@ -89,7 +89,7 @@ cl::Program Device::Impl::programFor(SubgroupBackend backend, const std::string&
   std::string text = sources.program(file);
   const std::string cacheKey =
       BinaryCache::key(info.platformName, info.name, info.driverVersion, options, text);
-  auto binary = binaries.load(cacheKey);
+  auto binary = keepPrograms ? binaries.load(cacheKey) : std::nullopt;
   if (binary && !binaries.proven(cacheKey, *binary)) {
     // a binary the driver wrote wrong (or a disk stored wrong) under a valid checksum can
     // crash the driver: built in a child process first, once per entry
@@ -139,7 +139,7 @@ cl::Program Device::Impl::programFor(SubgroupBackend backend, const std::string&
   }
   // Only for the cache: reading a binary back can cost a compile of its own (PoCL compiles
   // every kernel of the program for any local size to write one).
-  if (binaries.enabled()) try {
+  if (keepPrograms) try {
       const std::vector<std::vector<unsigned char>> bins = program.getInfo<CL_PROGRAM_BINARIES>();
       if (bins.size() == 1) {
         binaries.store(cacheKey, bins[0]);

@@ -27,8 +27,12 @@ struct DeviceOptions {
   bool kernelWarningsAsErrors = false;
   std::uint32_t strandsPerGroup = 0;  // 0: the tuning table; else strands per work-group
   std::string cacheDir;  // compiled programs ("" default, "off": none; host/cl/binary_cache.h)
+  // Compiled programs go into cacheDir only where the driver keeps none of its own (PoCL
+  // does: BinaryCache::driverKeepsPrograms); true stores them there too.
+  bool cacheProgramsAlways = false;
   // Values not given here are taken from CLHAIR_DEVICE, CLHAIR_SUBGROUP, CLHAIR_KERNEL_DIR,
-  // CLHAIR_STRANDS_PER_GROUP; CLHAIR_KERNEL_WERROR=1 sets kernelWarningsAsErrors.
+  // CLHAIR_STRANDS_PER_GROUP; CLHAIR_KERNEL_WERROR=1 sets kernelWarningsAsErrors and
+  // CLHAIR_CACHE_PROGRAMS=1 cacheProgramsAlways.
   static DeviceOptions fromEnvironment(DeviceOptions given);
 };
 

@@ -25,7 +25,7 @@ namespace {
 
 TEST(AmbientOcclusion, RootsAreDarkerThanTips) {
   HairMesh m = makeGroomPreset("long_wavy");
-  Renderer r(test::openWithCache("off"));  // every bake computed, none read back
+  Renderer r(test::openWithCache("off", false));  // every bake computed, none read back
   std::vector<float> ao = r.bakeAmbientOcclusion(m);
   ASSERT_EQ(ao.size(), static_cast<std::size_t>(m.layerCount) * m.vertexCount);
   for (float a : ao) {
@@ -219,7 +219,7 @@ std::vector<float> entryFloats(const std::filesystem::path& p) {
 // make), a damaged entry baked again, and another groom never served a stored bake.
 TEST(AmbientOcclusion, BakeIsKeptInTheCacheFolderPerGroom) {
   const std::string dir = test::scratchDir() + "/ao-cache";
-  Renderer r(test::openWithCache(dir));
+  Renderer r(test::openWithCache(dir, false));  // the bakes' entries, not the programs'
   HairMesh m = hairSlab(2000);
   const std::vector<float> baked = r.bakeAmbientOcclusion(m);
   ASSERT_FALSE(baked.empty());

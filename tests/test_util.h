@@ -67,13 +67,15 @@ inline Device& sharedDevice() {
   return *dev;
 }
 
-// The shared device's platform and device opened again with its own program cache folder.
-inline Device openWithCache(const std::string& dir) {
+// The shared device's platform and device opened again with its own cache folder. `programs`:
+// its compiled programs are kept there even on a driver that keeps its own (PoCL), for the
+// program cache's own tests; baked data (AO) goes there either way.
+inline Device openWithCache(const std::string& dir, bool programs = true) {
   const DeviceInfo& shared = sharedDevice().info();
   DeviceOptions o;
   o.selector = std::to_string(shared.platformIndex) + ":" + std::to_string(shared.deviceIndex);
   o.cacheDir = dir;
-  o.cacheProgramsAlways = true;  // the program cache's own tests: PoCL's programs are kept too
+  o.cacheProgramsAlways = programs;
   o.kernelWarningsAsErrors = true;
   return Device::open(o);
 }

@@ -33,8 +33,8 @@
 #include "clhair/scene.h"
 #include "groom/groom_cache.h"
 #include "groom/hair_mesh_gpu.h"
+#include "groom_stages.h"
 #include "io/cyhair.h"
-#include "stages/ao_stage.h"
 #include "test_util.h"
 
 namespace clhair::test {
@@ -329,17 +329,6 @@ TEST(AnimatedScene, WindMovesTipsByTheDocumentedAmountAndKeepsRoots) {
   }
 }
 
-// The groom stages of the shared device, as a Renderer holds them.
-struct Stages {
-  Device::Impl& dev = *sharedDevice().impl();
-  LodStage lod{dev};
-  StrandStage strands{dev};
-  ExplicitStage explicitStrands{dev};
-  AoStage ao{dev};
-  RootSetsGpu roots;
-  GroomStages stages{dev, lod, strands, explicitStrands, ao, roots};
-};
-
 TEST(AnimatedScene, CageUpdatesReuseTheDeviceGroomAndMatchARebuild) {
   const std::string dir = scratchDir();
   HairMesh mesh = loadHairMesh(assetPath("grooms/tiny.hairmesh.json"));
@@ -350,7 +339,7 @@ TEST(AnimatedScene, CageUpdatesReuseTheDeviceGroomAndMatchARebuild) {
       dir,
       tinyScene({{"file", meshPath},
                  {"wind", {{"strength", 0.02}, {"direction", {1, 0, 0}}, {"frequency", 3}}}})));
-  Stages st;
+  GroomStagesOnDevice st;
   GroomCache cache(st.stages);
   GroomGpu* first = nullptr;
   std::uint64_t bytes = 0;

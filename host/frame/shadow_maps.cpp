@@ -238,10 +238,11 @@ void ShadowMaps::begin(const Scene& s, const RenderOptions& cameraOptions, bool 
 }
 
 Camera ShadowMaps::lightCamera(const Light& light, float& dist, float& radius) const {
-  // a pinhole at the light (directional: far away, narrow) framing all grooms
+  // a pinhole at the light (directional: far away, narrow) framing all grooms' hair (its
+  // measured box: a map's texels and layers spread over the hair, not the styling reach)
   glm::vec3 lo(1e30f), hi(-1e30f);
   for (const GroomDraw& d : grooms_) {
-    const glm::vec3 blo = d.groom->boundsMin(), bhi = d.groom->boundsMax();
+    const glm::vec3 blo = d.groom->hairMin(), bhi = d.groom->hairMax();
     for (int c = 0; c < 8; ++c) {
       glm::vec3 corner((c & 1) ? bhi.x : blo.x, (c & 2) ? bhi.y : blo.y, (c & 4) ? bhi.z : blo.z);
       glm::vec3 w = glm::vec3(d.instance->transform * glm::vec4(corner, 1.0f));

@@ -126,6 +126,12 @@ class GroomGpu {
   // Object-space bounds of the drawn geometry, styling included.
   virtual glm::vec3 boundsMin() const = 0;
   virtual glm::vec3 boundsMax() const = 0;
+  // Object-space box of the hair as drawn, within the bounds above: what the light maps frame
+  // (their texels and depth layers spread over it). Strand files: the bounds (their points').
+  // Hair meshes at rest: measured on a sample of their strands (the bounds add every styling
+  // offset's largest reach to the cage, about twice the hair's size for long_wavy).
+  virtual glm::vec3 hairMin() const { return boundsMin(); }
+  virtual glm::vec3 hairMax() const { return boundsMax(); }
   // Baked AO on or off for the next passes (hair meshes; strand files carry none).
   virtual void useAo(bool) {}
   // The groom's AO field for an instance placed by `objToWorld` in `scene` (strand files,

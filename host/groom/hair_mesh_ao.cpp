@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "cl/buffers.h"
 #include "groom/hair_mesh_gpu.h"
@@ -23,9 +24,10 @@ void appendBytes(std::string& out, const T* p, std::size_t n) {
 
 }  // namespace
 
-// The bake's cache entry: the device, the two programs it runs (expanded sources and build
-// options), and every table and parameter of the sampled groom its strands come from.
-std::string HairMeshGpu::aoCacheKey(const HairMesh& mesh) const {
+// A cache entry of the bake or the extent: the device, the two programs the bake runs
+// (expanded sources and build options), and every table and parameter of the sampled groom
+// its strands come from.
+std::string HairMeshGpu::aoCacheKey(const HairMesh& mesh, const char* what) const {
   Device::Impl& dev = stages_.dev;
   std::string in = kAoBakeVersion;
   in += '|' + dev.buildOptions(dev.info.backend, "") + '|';
@@ -37,7 +39,7 @@ std::string HairMeshGpu::aoCacheKey(const HairMesh& mesh) const {
   const std::int64_t counts[2] = {mesh.strandCount, mesh.controlPoints};
   appendBytes(in, counts, 2);
   appendBytes(in, &mesh.appearance.strandWidth, 1);
-  return BinaryCache::dataKey("ao", dev.info.platformName, dev.info.name, dev.info.driverVersion,
+  return BinaryCache::dataKey(what, dev.info.platformName, dev.info.name, dev.info.driverVersion,
                               in);
 }
 
@@ -56,7 +58,7 @@ std::vector<float> HairMeshGpu::bakeAo(const HairMesh& mesh, GroomStages& stages
   std::vector<float> ao(vertexTotal, 1.0f);
   if (sample->strandCount == 0) return ao;
   const BinaryCache& cache = stages.dev.binaries;
-  const std::string key = cache.enabled() ? g.aoCacheKey(mesh) : std::string();
+  const std::string key = cache.enabled() ? g.aoCacheKey(mesh, "ao") : std::string();
   if (cache.enabled()) {
     if (auto bytes = cache.load(key); bytes && bytes->size() == vertexTotal * sizeof(float)) {
       std::memcpy(ao.data(), bytes->data(), bytes->size());
@@ -104,6 +106,46 @@ std::vector<float> HairMeshGpu::bakeSample(const HairMesh& mesh, int gridCells) 
   target.bundleCount = static_cast<std::uint32_t>(data_.bundles.size());
   target.rootVertices = static_cast<std::uint32_t>(mesh.vertexCount);
   return stages_.ao.bake(strands, grid, target);
+}
+
+std::pair<glm::vec3, glm::vec3> HairMeshGpu::hairExtent(const HairMesh& mesh, GroomStages& stages) {
+  constexpr std::int64_t kSampleStrands = 20000;
+  constexpr float kWiden = 0.02f;  // of the sample's diagonal, on every side
+  std::pair<glm::vec3, glm::vec3> box{glm::vec3(1.0f), glm::vec3(-1.0f)};
+  auto sample = std::make_shared<HairMesh>(mesh);
+  sample->strandCount = std::min<std::int64_t>(mesh.strandCount, kSampleStrands);
+  if (sample->strandCount <= 0) return box;
+  HairMeshGpu g(sample, stages, false);
+  const BinaryCache& cache = stages.dev.binaries;
+  const std::string key = cache.enabled() ? g.aoCacheKey(mesh, "extent") : std::string();
+  float v[6];
+  if (cache.enabled())
+    if (auto bytes = cache.load(key); bytes && bytes->size() == sizeof(v)) {
+      std::memcpy(v, bytes->data(), sizeof(v));
+      // an entry that is not a box (damaged on disk) is measured again
+      if (std::all_of(v, v + 6, [](float x) { return std::isfinite(x); }) && v[0] <= v[3] &&
+          v[1] <= v[4] && v[2] <= v[5])
+        return {glm::vec3(v[0], v[1], v[2]), glm::vec3(v[3], v[4], v[5])};
+    }
+  const StrandSet set = g.exportStrands(1.0f);
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (std::size_t i = 0; i + 2 < set.points.size(); i += 3) {
+    const glm::vec3 p(set.points[i], set.points[i + 1], set.points[i + 2]);
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) continue;
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  if (!(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z)) return box;
+  const glm::vec3 widen(kWiden * glm::length(hi - lo));
+  box = {lo - widen, hi + widen};
+  if (cache.enabled()) {
+    const float out[6] = {box.first.x,  box.first.y,  box.first.z,
+                          box.second.x, box.second.y, box.second.z};
+    std::vector<unsigned char> bytes(sizeof(out));
+    std::memcpy(bytes.data(), out, sizeof(out));
+    cache.store(key, bytes);
+  }
+  return box;
 }
 
 }  // namespace clhair

@@ -45,6 +45,17 @@ HairMeshGpu::HairMeshGpu(std::shared_ptr<const HairMesh> mesh, GroomStages& stag
     for (std::size_t i = 0; i < ao.size() && i < data_.vertices.size(); ++i)
       data_.vertices[i].tan[3] = ao[i];
   }
+  // the light maps frame the hair, not the bounds' styling reach (a groom built for a bake
+  // or an export draws no maps and measures nothing)
+  hairMin_ = data_.boundsMin;
+  hairMax_ = data_.boundsMax;
+  if (bakeAo) {
+    const auto [lo, hi] = hairExtent(m, stages_);
+    if (lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z) {
+      hairMin_ = glm::max(lo, data_.boundsMin);
+      hairMax_ = glm::min(hi, data_.boundsMax);
+    }
+  }
   ao_.resize(data_.vertices.size());
   for (std::size_t i = 0; i < ao_.size(); ++i) ao_[i] = data_.vertices[i].tan[3];
   std::memset(&base_, 0, sizeof(base_));

@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "clhair/hair_mesh.h"
 #include "groom/blue_noise.h"
@@ -59,6 +60,9 @@ class HairMeshGpu final : public GroomGpu {
   }
   glm::vec3 boundsMin() const override { return data_.boundsMin; }
   glm::vec3 boundsMax() const override { return data_.boundsMax; }
+  // At rest: the measured box (hairExtent); drawn with a deformed cage: the bounds.
+  glm::vec3 hairMin() const override { return cage_ ? data_.boundsMin : hairMin_; }
+  glm::vec3 hairMax() const override { return cage_ ? data_.boundsMax : hairMax_; }
   void useAo(bool on) override;
   // Rebuilds the layer-vertex records (positions, styling frames, bounds) from `cage` and
   // uploads them into the same buffer; the bundles and their strand counts stay those of the
@@ -79,11 +83,17 @@ class HairMeshGpu final : public GroomGpu {
   // own strands (kernels/ao.cl), or taken from the device's cache folder when the same
   // bake was made before (BinaryCache::dataKey).
   static std::vector<float> bakeAo(const HairMesh& mesh, GroomStages& stages);
+  // The box of `mesh`'s strands at rest, within its bounds: the extent of a sample of its
+  // strands (up to 20,000, every control point, generated on the device), widened by 2 % of
+  // its diagonal on every side. Cached in the device's folder like the bake; min > max when
+  // the groom has no strands.
+  static std::pair<glm::vec3, glm::vec3> hairExtent(const HairMesh& mesh, GroomStages& stages);
 
  private:
   // On the groom of the sampled strands: the bake, and the name of its cache entry.
   std::vector<float> bakeSample(const HairMesh& mesh, int gridCells);
-  std::string aoCacheKey(const HairMesh& mesh) const;
+  // The cache entry of the bake (`what` "ao") or of the hair's extent ("extent").
+  std::string aoCacheKey(const HairMesh& mesh, const char* what) const;
   // The exported strands of one instance: CLH_MAX_CONTROL_POINTS slots per strand.
   struct Exported {
     std::uint32_t total = 0;
@@ -103,9 +113,10 @@ class HairMeshGpu final : public GroomGpu {
   std::shared_ptr<const HairMesh> mesh_;
   GroomStages& stages_;
   GroomData data_;
-  std::vector<float> ao_;    // baked or given AO per layer vertex
-  bool aoUploaded_ = true;   // the vertex buffer holds ao_ (else AO = 1)
-  gpu::ClhGroomGpu base_{};  // the view-independent parameter fields
+  std::vector<float> ao_;                    // baked or given AO per layer vertex
+  glm::vec3 hairMin_{0.0f}, hairMax_{0.0f};  // the rest pose's hairExtent (else the bounds)
+  bool aoUploaded_ = true;                   // the vertex buffer holds ao_ (else AO = 1)
+  gpu::ClhGroomGpu base_{};                  // the view-independent parameter fields
   cl::Buffer vertices_, bundles_;
   cl::Buffer exportView_;  // ClhViewGpu of strand export passes
   const RootSetsGpu::Set* roots_ = nullptr;

@@ -1,5 +1,5 @@
-// groom_stages.h — the groom stages of a test device (the shared one unless given), as a Renderer holds them, for
-// tests that build a groom's device form (HairMeshGpu) without a renderer.
+// groom_stages.h — the groom stages of a test device (the shared one unless given), as a Renderer
+// holds them, for tests that build a groom's device form (HairMeshGpu) without a renderer.
 #pragma once
 
 #include "groom/groom_gpu.h"

@@ -254,10 +254,10 @@ TEST(ExplicitKernel, PointSkippingAndMorphMatchTheReference) {
 // scene; `shadows`: the light casts deep opacity maps.
 //
 // The two grooms differ in one more thing than their source: their bounds, which set the
-// G-buffer's depth mapping and the light's view. A hair mesh's bounds include its styling
-// reach; a strand file's are its points'. So the file gets two strands of two equal points
-// at the mesh's bounds' corners: zero-length segments draw nothing (raster_core.h skips
-// segments shorter than 1e-6 px), and both grooms have the same bounds.
+// G-buffer's depth mapping. A hair mesh's bounds include its styling reach; a strand file's
+// are its points'. So the file gets two strands of two equal points at the mesh's bounds'
+// corners: zero-length segments draw nothing (raster_core.h skips segments shorter than
+// 1e-6 px), and both grooms have the same bounds.
 struct RoundTrip {
   Frame mesh, strands;
   std::string dir;
@@ -327,9 +327,10 @@ TEST(ExplicitRoundTrip, CyHairFileRendersLikeTheHairMesh) {
   reportRoundTrip(rt, d, "unshadowed");
 }
 
-// The light's view frames the grooms' bounds, equal here, and the opacity of every strand
-// goes into the deep opacity maps by integer atomic additions, whose order does not matter:
-// the same frame, bit for bit.
+// The light's view frames the grooms' hair (a hair mesh's measured box, a strand file's
+// strands that draw something: the corner strands draw nothing), equal here, and the opacity
+// of every strand goes into the deep opacity maps by integer atomic additions, whose order
+// does not matter: the same frame, bit for bit.
 TEST(ExplicitRoundTrip, ShadowsOfTheStrandFileMatchTheHairMesh) {
   RoundTrip rt = renderRoundTrip(true);
   ImageDiff d = diffImages(rt.mesh.color, rt.strands.color);

@@ -198,7 +198,8 @@ void ShadowMaps::begin(const Scene& s, const RenderOptions& cameraOptions, bool 
   pass.view = &lightView_;
   pass.lod =
       isOn(cameraOptions.shadowLod, cameraOptions.lod != Toggle::Off) ? Toggle::On : Toggle::Off;
-  pass.lodLambdaScale = cameraOptions.lodLambdaScale * s.shadows.lodScale;
+  lightLambdaScale_ = cameraOptions.lodLambdaScale * s.shadows.lodScale;
+  pass.lodLambdaScale = lightLambdaScale_;
   pass.lodStrandScale = pass.lodLambdaScale;
   pass.trueWidth = cameraOptions.trueWidth;
   pass.shadowLodCorrection = lodCorrection;
@@ -237,12 +238,12 @@ void ShadowMaps::begin(const Scene& s, const RenderOptions& cameraOptions, bool 
   slots_ = 0;
 }
 
-Camera ShadowMaps::lightCamera(const Light& light, float& dist, float& radius) const {
-  // a pinhole at the light (directional: far away, narrow) framing all grooms' hair (its
-  // measured box: a map's texels and layers spread over the hair, not the styling reach)
-  glm::vec3 lo(1e30f), hi(-1e30f);
+float ShadowMaps::worldBox(bool hair, glm::vec3& lo, glm::vec3& hi) const {
+  lo = glm::vec3(1e30f);
+  hi = glm::vec3(-1e30f);
   for (const GroomDraw& d : grooms_) {
-    const glm::vec3 blo = d.groom->hairMin(), bhi = d.groom->hairMax();
+    const glm::vec3 blo = hair ? d.groom->hairMin() : d.groom->boundsMin();
+    const glm::vec3 bhi = hair ? d.groom->hairMax() : d.groom->boundsMax();
     for (int c = 0; c < 8; ++c) {
       glm::vec3 corner((c & 1) ? bhi.x : blo.x, (c & 2) ? bhi.y : blo.y, (c & 4) ? bhi.z : blo.z);
       glm::vec3 w = glm::vec3(d.instance->transform * glm::vec4(corner, 1.0f));
@@ -250,8 +251,15 @@ Camera ShadowMaps::lightCamera(const Light& light, float& dist, float& radius) c
       hi = glm::max(hi, w);
     }
   }
+  return 0.5f * glm::length(hi - lo);
+}
+
+Camera ShadowMaps::lightCamera(const Light& light, float& dist, float& radius) const {
+  // a pinhole at the light (directional: far away, narrow) framing all grooms' hair (its
+  // measured box: a map's texels and layers spread over the hair, not the styling reach)
+  glm::vec3 lo, hi;
+  radius = worldBox(true, lo, hi);
   const glm::vec3 center = 0.5f * (lo + hi);
-  radius = 0.5f * glm::length(hi - lo);
   Camera cam;
   cam.target = center;
   if (light.type == Light::Type::Point)
@@ -281,6 +289,14 @@ void ShadowMaps::drawLight(const Scene& s, std::size_t lightIndex, SceneGpu& sce
   const gpu::ClhViewGpu lv = makeView(cam, res, res);
   upload(dev_, lightView_, &lv, 1);
   ViewDraw& pass = lightDraw_;
+  // The map frames the hair, so a strand is wider in texels than across the bounds' sphere;
+  // the light's LOD keeps the strands it drew across that sphere (the map's opacity comes from
+  // its resolution, not from its strand count: DESIGN.md, "The maps frame the hair").
+  glm::vec3 blo, bhi;
+  const float boundsRadius = worldBox(false, blo, bhi);
+  const float framing = boundsRadius > radius && radius > 0.0f ? radius / boundsRadius : 1.0f;
+  pass.lodLambdaScale = lightLambdaScale_ * framing;
+  pass.lodStrandScale = pass.lodLambdaScale;
   pass.worldToView = worldToView(cam);
   pass.nearZ = std::max(dist - radius, 1e-4f);
   pass.farZ = dist + radius;

@@ -86,6 +86,8 @@ class ShadowMaps {
   static Key keyOf(const Scene& s, const RenderOptions& o, bool lodCorrection);
   // The light's view framing every groom, and its distance and radius from their centre.
   Camera lightCamera(const Light& light, float& dist, float& radius) const;
+  // The world box around the grooms' hair boxes (`hair`) or bounds, and its half diagonal.
+  float worldBox(bool hair, glm::vec3& lo, glm::vec3& hi) const;
   void ensureBuffers(int res);  // maps of res x res texels from now on
   void allocate(int res);       // planes that hold maps of up to res x res texels
 
@@ -109,6 +111,7 @@ class ShadowMaps {
   // caps (and where their records start), the slots' records and how many are taken
   std::vector<GroomDraw> grooms_;
   ViewDraw lightDraw_;
+  float lightLambdaScale_ = 1.0f;  // the light passes' LOD lambda scale before the framing
   std::vector<char> capped_;
   std::vector<std::uint32_t> cameraAt_;
   std::vector<gpu::ClhShadowGpu> params_;

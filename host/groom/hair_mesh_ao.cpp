@@ -27,9 +27,11 @@ void appendBytes(std::string& out, const T* p, std::size_t n) {
 // A cache entry of the bake or the extent: the device, the two programs the bake runs
 // (expanded sources and build options), and every table and parameter of the sampled groom
 // its strands come from.
-std::string HairMeshGpu::aoCacheKey(const HairMesh& mesh, const char* what) const {
+std::string HairMeshGpu::aoCacheKey(const HairMesh& mesh, const char* what,
+                                    const std::string& version) const {
   Device::Impl& dev = stages_.dev;
   std::string in = kAoBakeVersion;
+  in += '|' + version;
   in += '|' + dev.buildOptions(dev.info.backend, "") + '|';
   in += dev.sources.program("strands.cl");
   in += dev.sources.program("ao.cl");
@@ -109,15 +111,17 @@ std::vector<float> HairMeshGpu::bakeSample(const HairMesh& mesh, int gridCells) 
 }
 
 std::pair<glm::vec3, glm::vec3> HairMeshGpu::hairExtent(const HairMesh& mesh, GroomStages& stages) {
-  constexpr std::int64_t kSampleStrands = 20000;
-  constexpr float kWiden = 0.02f;  // of the sample's diagonal, on every side
+  constexpr std::int64_t kSampleStrands = 200000;
+  constexpr float kWiden = 0.02f;  // of a sample's diagonal, on every side
   std::pair<glm::vec3, glm::vec3> box{glm::vec3(1.0f), glm::vec3(-1.0f)};
   auto sample = std::make_shared<HairMesh>(mesh);
   sample->strandCount = std::min<std::int64_t>(mesh.strandCount, kSampleStrands);
   if (sample->strandCount <= 0) return box;
   HairMeshGpu g(sample, stages, false);
   const BinaryCache& cache = stages.dev.binaries;
-  const std::string key = cache.enabled() ? g.aoCacheKey(mesh, "extent") : std::string();
+  // (the version names what the box is: bump it when the measure changes)
+  const std::string key =
+      cache.enabled() ? g.aoCacheKey(mesh, "extent", "extent-2|200000|0.02") : std::string();
   float v[6];
   if (cache.enabled())
     if (auto bytes = cache.load(key); bytes && bytes->size() == sizeof(v)) {
@@ -136,7 +140,8 @@ std::pair<glm::vec3, glm::vec3> HairMeshGpu::hairExtent(const HairMesh& mesh, Gr
     hi = glm::max(hi, p);
   }
   if (!(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z)) return box;
-  const glm::vec3 widen(kWiden * glm::length(hi - lo));
+  const bool sampled = sample->strandCount < mesh.strandCount;
+  const glm::vec3 widen(sampled ? kWiden * glm::length(hi - lo) : 0.0f);
   box = {lo - widen, hi + widen};
   if (cache.enabled()) {
     const float out[6] = {box.first.x,  box.first.y,  box.first.z,

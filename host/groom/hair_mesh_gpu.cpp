@@ -52,8 +52,8 @@ HairMeshGpu::HairMeshGpu(std::shared_ptr<const HairMesh> mesh, GroomStages& stag
   if (bakeAo) {
     const auto [lo, hi] = hairExtent(m, stages_);
     if (lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z) {
-      hairMin_ = glm::max(lo, data_.boundsMin);
-      hairMax_ = glm::min(hi, data_.boundsMax);
+      hairMin_ = lo;
+      hairMax_ = hi;
     }
   }
   ao_.resize(data_.vertices.size());
@@ -175,6 +175,7 @@ void HairMeshGpu::deform(const std::shared_ptr<const std::vector<glm::vec3>>& ca
   data_.boundsMax = d.boundsMax;
   data_.styleMargin = d.styleMargin;
   hasTangents_ = !cage && !m.tangents.empty();
+  moved_ = cage && *cage != m.positions;
   cage_ = cage;
 }
 

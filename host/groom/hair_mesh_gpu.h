@@ -60,9 +60,10 @@ class HairMeshGpu final : public GroomGpu {
   }
   glm::vec3 boundsMin() const override { return data_.boundsMin; }
   glm::vec3 boundsMax() const override { return data_.boundsMax; }
-  // At rest: the measured box (hairExtent); drawn with a deformed cage: the bounds.
-  glm::vec3 hairMin() const override { return cage_ ? data_.boundsMin : hairMin_; }
-  glm::vec3 hairMax() const override { return cage_ ? data_.boundsMax : hairMax_; }
+  // At rest (a cage equal to the mesh's layers included): the measured box (hairExtent);
+  // drawn with a deformed cage: the bounds.
+  glm::vec3 hairMin() const override { return moved_ ? data_.boundsMin : hairMin_; }
+  glm::vec3 hairMax() const override { return moved_ ? data_.boundsMax : hairMax_; }
   void useAo(bool on) override;
   // Rebuilds the layer-vertex records (positions, styling frames, bounds) from `cage` and
   // uploads them into the same buffer; the bundles and their strand counts stay those of the
@@ -83,17 +84,19 @@ class HairMeshGpu final : public GroomGpu {
   // own strands (kernels/ao.cl), or taken from the device's cache folder when the same
   // bake was made before (BinaryCache::dataKey).
   static std::vector<float> bakeAo(const HairMesh& mesh, GroomStages& stages);
-  // The box of `mesh`'s strands at rest, within its bounds: the extent of a sample of its
-  // strands (up to 20,000, every control point, generated on the device), widened by 2 % of
-  // its diagonal on every side. Cached in the device's folder like the bake; min > max when
-  // the groom has no strands.
+  // The box of `mesh`'s strands at rest: the extent of every point of its strands at full
+  // detail, generated on the device (a groom of more than 200,000 strands: of a sample of
+  // 200,000, widened by 2 % of its diagonal on every side). Cached in the device's folder like
+  // the bake; min > max when the groom has no strands.
   static std::pair<glm::vec3, glm::vec3> hairExtent(const HairMesh& mesh, GroomStages& stages);
 
  private:
   // On the groom of the sampled strands: the bake, and the name of its cache entry.
   std::vector<float> bakeSample(const HairMesh& mesh, int gridCells);
-  // The cache entry of the bake (`what` "ao") or of the hair's extent ("extent").
-  std::string aoCacheKey(const HairMesh& mesh, const char* what) const;
+  // The cache entry of the bake (`what` "ao") or of the hair's extent ("extent"), with
+  // `version` naming what the entry holds.
+  std::string aoCacheKey(const HairMesh& mesh, const char* what,
+                         const std::string& version = {}) const;
   // The exported strands of one instance: CLH_MAX_CONTROL_POINTS slots per strand.
   struct Exported {
     std::uint32_t total = 0;
@@ -115,6 +118,7 @@ class HairMeshGpu final : public GroomGpu {
   GroomData data_;
   std::vector<float> ao_;                    // baked or given AO per layer vertex
   glm::vec3 hairMin_{0.0f}, hairMax_{0.0f};  // the rest pose's hairExtent (else the bounds)
+  bool moved_ = false;                       // drawn with a cage other than the rest pose
   bool aoUploaded_ = true;                   // the vertex buffer holds ao_ (else AO = 1)
   gpu::ClhGroomGpu base_{};                  // the view-independent parameter fields
   cl::Buffer vertices_, bundles_;

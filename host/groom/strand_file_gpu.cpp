@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include <glm/matrix.hpp>
 
@@ -23,6 +24,25 @@ StrandFileGpu::StrandFileGpu(std::shared_ptr<const StrandGroom> groom, GroomStag
   validateStrandGroom(sg, what);
   data_ = prepareExplicit(sg);
   ExplicitData& d = data_;
+  hairMin_ = d.boundsMin;
+  hairMax_ = d.boundsMax;
+  if (d.kids.count == 0) {
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (std::size_t s = 0; s + 1 < d.strandOffsets.size(); ++s) {
+      const std::uint32_t a = d.strandOffsets[s], b = d.strandOffsets[s + 1];
+      bool draws = false;
+      for (std::uint32_t k = a + 1; k < b && !draws; ++k)
+        draws = glm::vec3(d.points[k]) != glm::vec3(d.points[a]);
+      for (std::uint32_t k = a; draws && k < b; ++k) {
+        lo = glm::min(lo, glm::vec3(d.points[k]));
+        hi = glm::max(hi, glm::vec3(d.points[k]));
+      }
+    }
+    if (lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z) {
+      hairMin_ = lo;
+      hairMax_ = hi;
+    }
+  }
   gpu::ClhGroomGpu& p = base_;
   std::memset(&p, 0, sizeof(p));
   {

@@ -50,6 +50,10 @@ class StrandFileGpu final : public GroomGpu {
   const AoField* aoField(const Scene& scene, const glm::mat4& objToWorld) override;
   glm::vec3 boundsMin() const override { return data_.boundsMin; }
   glm::vec3 boundsMax() const override { return data_.boundsMax; }
+  // The points of the strands that draw something (a strand whose points all coincide draws
+  // nothing); with children, the bounds (they spread around their guides).
+  glm::vec3 hairMin() const override { return hairMin_; }
+  glm::vec3 hairMax() const override { return hairMax_; }
 
  private:
   std::unique_ptr<GroomInstanceGpu> makeInstance() override;
@@ -68,7 +72,8 @@ class StrandFileGpu final : public GroomGpu {
   cl::Buffer points_, strandOffsets_, uv_, chunks_, chunkBounds_, kids_, neighbours_;
   cl::Buffer prevPoints_;  // the motion pass: previous frame's points in this order
   std::shared_ptr<const StrandGroom> prevGroom_;
-  AoDensity aoDensity_;  // the AO field's density grid of the hair alone
+  glm::vec3 hairMin_{0.0f}, hairMax_{0.0f};  // hairMin/hairMax
+  AoDensity aoDensity_;                      // the AO field's density grid of the hair alone
   // fields baked for placements among occluders, by their density grid's checksum
   std::map<std::uint64_t, std::unique_ptr<AoField>> aoFields_;
   std::string lastPlacement_;  // the last placement's bytes, its grid with the occluders

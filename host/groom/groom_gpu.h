@@ -127,9 +127,10 @@ class GroomGpu {
   virtual glm::vec3 boundsMin() const = 0;
   virtual glm::vec3 boundsMax() const = 0;
   // Object-space box of the hair as drawn, within the bounds above: what the light maps frame
-  // (their texels and depth layers spread over it). Strand files: the bounds (their points').
-  // Hair meshes at rest: measured on a sample of their strands (the bounds add every styling
-  // offset's largest reach to the cage, about twice the hair's size for long_wavy).
+  // (their texels and depth layers spread over it). Strand files: the points of the strands
+  // that draw something. Hair meshes at rest: the extent of their strands, measured once
+  // (HairMeshGpu::hairExtent; the bounds add every styling offset's largest reach to the
+  // cage, about twice the hair's size for long_wavy).
   virtual glm::vec3 hairMin() const { return boundsMin(); }
   virtual glm::vec3 hairMax() const { return boundsMax(); }
   // Baked AO on or off for the next passes (hair meshes; strand files carry none).

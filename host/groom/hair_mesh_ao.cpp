@@ -131,14 +131,25 @@ std::pair<glm::vec3, glm::vec3> HairMeshGpu::hairExtent(const HairMesh& mesh, Gr
           v[1] <= v[4] && v[2] <= v[5])
         return {glm::vec3(v[0], v[1], v[2]), glm::vec3(v[3], v[4], v[5])};
     }
-  const StrandSet set = g.exportStrands(1.0f);
-  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  for (std::size_t i = 0; i + 2 < set.points.size(); i += 3) {
-    const glm::vec3 p(set.points[i], set.points[i + 1], set.points[i + 2]);
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) continue;
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
+  // the points alone (export's tangents, uv and bundles are not needed for a box)
+  std::unique_ptr<GroomInstanceGpu> inst = g.makeInstance();
+  const Exported e = g.exportOnDevice(*inst, 1.0f);
+  const std::size_t slots = static_cast<std::size_t>(e.total) * CLH_MAX_CONTROL_POINTS;
+  std::vector<cl_float4> points(slots);
+  std::vector<cl_uint> counts(e.total);
+  if (e.total > 0) {
+    readBack(g.dev_, "exported strands", e.points, points.data(), slots);
+    readBack(g.dev_, "exported strands", e.counts, counts.data(), e.total);
   }
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (std::size_t s = 0; s < counts.size(); ++s)
+    for (cl_uint k = 0; k < counts[s] && k < CLH_MAX_CONTROL_POINTS; ++k) {
+      const cl_float4& q = points[s * CLH_MAX_CONTROL_POINTS + k];
+      const glm::vec3 p(q.s[0], q.s[1], q.s[2]);
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) continue;
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
   if (!(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z)) return box;
   const bool sampled = sample->strandCount < mesh.strandCount;
   const glm::vec3 widen(sampled ? kWiden * glm::length(hi - lo) : 0.0f);

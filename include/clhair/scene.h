@@ -216,7 +216,7 @@ enum class RasterMode { Lines, Coverage };
 //   Good   kGoodMsaa samples per pixel, each sample shaded (kGoodPointShading), no filter;
 //   Final  jittered passes accumulated (`spp` of them, kDefaultFinalPasses when 0), each the
 //          path kFinalPassGood says (ProgressiveStill, clhair/progressive.h).
-// The choices are measured in bench/README.md ("Quality levels").
+// The choices are measured in bench/cpu-results.md ("Quality levels").
 enum class Quality { Draft, Good, Final };
 constexpr int kGoodMsaa = 4;
 // Whether good shades once per visible strand point rather than every sample. Per sample:

@@ -1,7 +1,7 @@
 // chiang_reference.cpp — the double-precision Chiang et al. 2016 hair BSDF declared in
 // chiang_reference.h. Every function maps to one equation of the paper (or of d'Eon et al.
-// 2011 for M_p); see the header for conventions. Not compiled on its own: tests/CMakeLists.txt
-// globs tests/test_*.cpp only, so test_bsdf.cpp includes this file.
+// 2011 for M_p); see the header for conventions. Compiled into clhair_tests
+// (tests/CMakeLists.txt).
 #include "reference/chiang_reference.h"
 
 #include <algorithm>

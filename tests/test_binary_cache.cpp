@@ -177,6 +177,29 @@ TEST(BinaryCache, AFullOrReadOnlyCacheIsNoCache) {
     EXPECT_TRUE(fs::is_regular_file(e.path())) << e.path() << " was not rebuilt as an entry";
 }
 
+// A cache folder that cannot take an entry says so before the driver is asked for a binary
+// (reading one back from PoCL compiles the program's kernels again); the probe leaves nothing.
+TEST(BinaryCache, AReadOnlyOrFullFolderIsNotWritable) {
+  const std::string dir = test::scratchDir();
+  EXPECT_TRUE(BinaryCache(dir + "/ok").writable());
+  EXPECT_TRUE(test::listFolder(dir + "/ok/v2").empty());
+  EXPECT_FALSE(BinaryCache("off").writable());
+  {
+    test::ReadOnlyFolder ro(dir + "/ro");
+    // as root without a tmpfs, mode 0555 does not stop a write
+    if (ro.tmpfs() || ::geteuid() != 0) {
+      EXPECT_FALSE(BinaryCache(dir + "/ro").writable());
+    }
+  }
+  {
+    test::FullFolder full(dir + "/full");
+    // without a tmpfs the folder is full only for child processes with the shim
+    if (full.tmpfs()) {
+      EXPECT_FALSE(BinaryCache(dir + "/full/c").writable());
+    }
+  }
+}
+
 TEST(BinaryCache, KeyChangesWithEveryInput) {
   const std::string base = BinaryCache::key("p", "d", "1.0", "-DX=1", "kernel");
   EXPECT_NE(base, BinaryCache::key("q", "d", "1.0", "-DX=1", "kernel"));

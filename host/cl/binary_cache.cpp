@@ -135,6 +135,23 @@ std::optional<std::vector<unsigned char>> BinaryCache::load(const std::string& k
   return std::nullopt;
 }
 
+bool BinaryCache::writable() const {
+  if (!enabled()) return false;
+  std::error_code ec;
+  fs::create_directories(fs::path(folder_) / kEntryFolder, ec);
+  if (ec) return false;
+  const std::string probe = (fs::path(folder_) / kEntryFolder /
+                             (".probe-" + std::to_string(static_cast<long>(::getpid()))))
+                                .string();
+  try {
+    writeFileAtomically(probe, std::string(4096, '\0'));
+  } catch (const Error&) {
+    return false;
+  }
+  ::unlink(probe.c_str());
+  return true;
+}
+
 void BinaryCache::store(const std::string& key, const std::vector<unsigned char>& binary) const {
   if (!enabled() || binary.empty() || binary.size() > kMaxEntryBytes - 4096) return;
   std::error_code ec;

@@ -56,6 +56,10 @@ class BinaryCache {
   // binary back from PoCL compiles every kernel of the program once more (for any local size)
   // and proving it costs a child process, while a build from source finds PoCL's own entry.
   static bool driverKeepsPrograms(const std::string& platformName);
+  // Whether an entry can be written now: a 4 KiB probe file written and removed in the
+  // entries' folder (false for a read-only or full file system). A caller that pays to make
+  // an entry's bytes (a driver's binary) asks first.
+  bool writable() const;
   // Best effort: a cache that cannot be written only costs the next run a compile.
   void store(const std::string& key, const std::vector<unsigned char>& binary) const;
   // Whether the entry `key` holding `payload` was proven (host/cl/cache_proof.h): a stamp

@@ -138,8 +138,9 @@ cl::Program Device::Impl::programFor(SubgroupBackend backend, const std::string&
     }
   }
   // Only for the cache: reading a binary back can cost a compile of its own (PoCL compiles
-  // every kernel of the program for any local size to write one).
-  if (keepPrograms) try {
+  // every kernel of the program for any local size to write one), so not for a cache folder
+  // that cannot take it (read-only, full).
+  if (keepPrograms && binaries.writable()) try {
       const std::vector<std::vector<unsigned char>> bins = program.getInfo<CL_PROGRAM_BINARIES>();
       if (bins.size() == 1) {
         binaries.store(cacheKey, bins[0]);

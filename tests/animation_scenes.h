@@ -30,19 +30,19 @@ inline void writeText(const std::string& path, const std::string& text) {
 // A 64x48 scene of the tiny groom (4 layers of 7 vertices); `groom` adds to its groom entry,
 // `camera` to its camera.
 inline nlohmann::json tinyScene(const nlohmann::json& groom = nlohmann::json::object(),
-                                  const nlohmann::json& camera = nlohmann::json::object()) {
+                                const nlohmann::json& camera = nlohmann::json::object()) {
   nlohmann::json g = {{"file", assetPath("grooms/tiny.hairmesh.json")}};
   g.update(groom);
   nlohmann::json c = {{"position", {0.0, 0.03, 0.2}}, {"target", {0.0, 0.025, 0.0}}, {"fov", 35}};
   c.update(camera);
   return nlohmann::json{{"resolution", {64, 48}},
-              {"camera", c},
-              {"lights", {{{"type", "directional"}, {"direction", {0.3, 0.8, 0.5}}}}},
-              {"grooms", {g}}};
+                        {"camera", c},
+                        {"lights", {{{"type", "directional"}, {"direction", {0.3, 0.8, 0.5}}}}},
+                        {"grooms", {g}}};
 }
 
 inline std::string writeScene(const std::string& dir, const nlohmann::json& scene,
-                       const std::string& name = "scene.json") {
+                              const std::string& name = "scene.json") {
   const std::string path = dir + "/" + name;
   writeText(path, scene.dump(2));
   return path;
@@ -79,7 +79,7 @@ inline void writeStrandFrame(const std::string& path, float dx) {
 
 // A refused CLI render: non-zero exit, one error line with every fragment, no output.
 inline void expectCliRefused(const CommandResult& r, const std::vector<std::string>& fragments,
-                      const std::string& dir) {
+                             const std::string& dir) {
   SCOPED_TRACE(r.output);
   EXPECT_NE(r.exitCode, 0);
   const std::string line = onlyErrorLine(r.output);

@@ -70,7 +70,8 @@ struct Case {
   ChiangMaterial m;
 };
 
-inline ChiangMaterial material(double eumelanin, double betaM, double betaN = 0.3, double alphaDeg = 2.0) {
+inline ChiangMaterial material(double eumelanin, double betaM, double betaN = 0.3,
+                               double alphaDeg = 2.0) {
   ChiangMaterial m;
   m.sigmaA = ref::sigmaAFromMelanin(eumelanin, 0.0);
   m.betaM = betaM;
@@ -113,7 +114,9 @@ inline std::vector<cl_float4> runProbe(const std::vector<float>& records) {
 }
 
 inline double lum(const Rgb& c) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; }
-inline double lum(const cl_float4& c) { return 0.2126 * c.s[0] + 0.7152 * c.s[1] + 0.0722 * c.s[2]; }
+inline double lum(const cl_float4& c) {
+  return 0.2126 * c.s[0] + 0.7152 * c.s[1] + 0.0722 * c.s[2];
+}
 
 // A jittered (theta_i, phi) grid over the sphere, uniform in theta_i so the narrow
 // longitudinal lobes near grazing angles are resolved; phi in [0, pi] only because every
@@ -143,7 +146,7 @@ inline Grid makeGrid(int nTheta, int nPhi, Rng& rng) {
 // products ref::evalAveragedLobes forms, with Ñ_p (a function of theta_o and phi only)
 // computed once per phi column.
 inline std::vector<std::array<Rgb, 4>> referenceOnGrid(const ChiangMaterial& m, double sinO,
-                                                const Grid& g) {
+                                                       const Grid& g) {
   std::vector<std::array<Rgb, 4>> nbar(g.nPhi);
   for (int j = 0; j < g.nPhi; ++j) nbar[j] = ref::averagedAzimuthal(m, sinO, g.phiCol[j], 32);
   std::vector<std::array<Rgb, 4>> out(g.sinT.size());

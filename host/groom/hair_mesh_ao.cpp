@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <string>
 
 #include "cl/buffers.h"
 #include "groom/hair_mesh_gpu.h"
@@ -119,9 +120,11 @@ std::pair<glm::vec3, glm::vec3> HairMeshGpu::hairExtent(const HairMesh& mesh, Gr
   if (sample->strandCount <= 0) return box;
   HairMeshGpu g(sample, stages, false);
   const BinaryCache& cache = stages.dev.binaries;
-  // (the version names what the box is: bump it when the measure changes)
-  const std::string key =
-      cache.enabled() ? g.aoCacheKey(mesh, "extent", "extent-2|200000|0.02") : std::string();
+  // (the version names what the box is, from the constants above: bump "extent-2" when the
+  // measure itself changes)
+  const std::string version = "extent-2|" + std::to_string(kSampleStrands) + "|" +
+                              std::to_string(static_cast<int>(std::lround(kWiden * 1000.0f)));
+  const std::string key = cache.enabled() ? g.aoCacheKey(mesh, "extent", version) : std::string();
   float v[6];
   if (cache.enabled())
     if (auto bytes = cache.load(key); bytes && bytes->size() == sizeof(v)) {

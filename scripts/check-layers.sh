@@ -14,6 +14,7 @@ cd "$(dirname "$0")/.."
 # the layer of each folder of host/ ("." : the files directly in host/)
 declare -A layer_of=(
   [io]=io [animation]=io [metrics]=io
+  [codec]=codec
   [cl]=cl
   [stages]=stages [lighting]=stages [graph]=stages
   [groom]=groom
@@ -25,6 +26,7 @@ declare -A layer_of=(
 # the layers each layer builds on (closed: every layer below, not only the next)
 declare -A below=(
   [io]=""
+  [codec]="io"
   [cl]="io"
   [stages]="cl io"
   [groom]="stages cl io"

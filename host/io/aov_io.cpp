@@ -1,15 +1,12 @@
-// aov_io.cpp — the --aov list, a frame's layers as named channels and writing them as one
-// multi-channel OpenEXR file through OpenImageIO (see clhair/aov.h, docs/aovs.md).
+// aov_io.cpp — the --aov list and a frame's layers as named channels (see clhair/aov.h,
+// docs/aovs.md); io/aov_write.cpp writes them as one multi-channel OpenEXR file.
 #include <algorithm>
 #include <cmath>
-
-#include <OpenImageIO/imageio.h>
 
 #include "clhair/aov.h"
 #include "clhair/error.h"
 #include "clhair/renderer.h"
 #include "io/cryptomatte_io.h"
-#include "io/image_file.h"
 #include "io/json_util.h"
 
 namespace clhair {
@@ -215,42 +212,6 @@ std::vector<ImageChannel> aovChannels(const Frame& frame, const std::vector<Aov>
 std::vector<ImageAttribute> aovAttributes(const Frame& frame, const std::vector<Aov>& layers) {
   if (std::find(layers.begin(), layers.end(), Aov::Cryptomatte) == layers.end()) return {};
   return cryptomatteAttributes(cryptomatteOf(frame));
-}
-
-void writeChannels(const std::vector<ImageChannel>& channels, int width, int height,
-                   const std::string& path, const ImageWriteOptions& options,
-                   const std::vector<ImageAttribute>& attributes) {
-  const std::string ext = lowerExtension(path);
-  if (ext != ".exr")
-    throw Error(path + ": layers for compositing (--aov) need an OpenEXR file (.exr), not \"" +
-                ext + "\"");
-  const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-  if (width <= 0 || height <= 0 || channels.empty())
-    throw Error(path + ": refusing to write an empty image");
-  for (const ImageChannel& c : channels)
-    if (c.values.size() != pixels)
-      throw Error(path + ": channel " + c.name + " has " + std::to_string(c.values.size()) +
-                  " values for " + std::to_string(pixels) + " pixels");
-  const int n = static_cast<int>(channels.size());
-  OIIO::ImageSpec spec(width, height, n, OIIO::TypeDesc::FLOAT);
-  spec.channelnames.clear();
-  spec.channelformats.clear();
-  for (const ImageChannel& c : channels) {
-    spec.channelnames.push_back(c.name);
-    spec.channelformats.push_back(c.half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
-  }
-  spec.alpha_channel = -1;
-  spec.z_channel = -1;
-  for (int c = 0; c < n; ++c) {
-    if (channels[c].name == "A") spec.alpha_channel = c;
-    if (channels[c].name == "Z") spec.z_channel = c;
-  }
-  spec.attribute("oiio:ColorSpace", "Linear");
-  for (const ImageAttribute& a : attributes) spec.attribute(a.name, a.value);
-  std::vector<float> interleaved(pixels * n);
-  for (std::size_t p = 0; p < pixels; ++p)
-    for (int c = 0; c < n; ++c) interleaved[p * n + c] = channels[c].values[p];
-  writeImageFile(path, spec, OIIO::TypeDesc::FLOAT, interleaved.data(), options);
 }
 
 }  // namespace clhair

@@ -1,30 +1,26 @@
-// image_file.h — the one way clhair writes an image file: OpenImageIO encodes into memory
-// (its IOProxy), the bytes go through writeFileAtomically (io/safe_write.h). No time stamp, so
-// a file depends on its pixels and options only. The codec's messages end up in the one
-// clhair::Error line, never on stderr; safe from several threads on different paths.
+// image_file.h — image files as clhair writes and reads them: the formats written (a fixed
+// table, io/image_formats.cpp, checked before any work) and the codec's reader. The codec
+// itself (host/codec/: OpenImageIO) is reached through the functions declared here and in
+// clhair/image.h and clhair/aov.h only, so a program that links the codec's loader instead
+// (the command, io/image_codec.h) loads OpenImageIO on its first image, not at start.
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include <OpenImageIO/imageio.h>
-
 #include "clhair/image.h"
 
 namespace clhair {
-
-// Writes `pixels` (interleaved, of type `format`, laid out as `spec` says) to `path`, with
-// `options`' compression for PNG and OpenEXR.
-void writeImageFile(const std::string& path, OIIO::ImageSpec spec, OIIO::TypeDesc format,
-                    const void* pixels, const ImageWriteOptions& options);
 
 // Whether the path's extension is one of the formats written (a fixed table, ".png", ".exr",
 // ...), and whether that format stores an alpha channel; the table's extensions.
 bool imageFormatWritable(const std::string& path);
 bool imageFormatHasAlpha(const std::string& path);
+// Whether the format stores floating-point pixels (OpenEXR, Radiance HDR): written linear.
+bool imageFormatIsFloat(const std::string& path);
 std::vector<std::string> imageFormatExtensions();
 
-// readImage's work (io/image_read.cpp); readImage (io/image_io.cpp) calls it.
+// readImage's work (codec/image_read.cpp); readImage (io/image_io.cpp) calls it.
 Image readImageFile(const std::string& path);
 
 }  // namespace clhair

@@ -2,8 +2,10 @@
 // them a band of rows at a time straight into an io/safe_write.h AtomicFile (through an I/O
 // proxy), so the memory a write takes beyond the float image is one band and the codec's own
 // state, not the whole encoded file nor an 8-bit copy of the frame. The formats written are a
-// fixed table, so a name is checked before any work without asking the codec library
-// (tests/test_image_io.cpp checks that OpenImageIO writes each of them).
+// fixed table (io/image_formats.cpp), so a name is checked before any work without asking the
+// codec library (tests/test_image_io.cpp checks that OpenImageIO writes each of them). This
+// file, aov_write.cpp and image_read.cpp are the image codec: the command loads them as a
+// module on first use (io/image_codec.h).
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
@@ -13,6 +15,7 @@
 
 #include "clhair/error.h"
 #include "clhair/image.h"
+#include "codec/image_encode.h"
 #include "io/image_file.h"
 #include "io/json_util.h"
 #include "io/safe_write.h"
@@ -21,27 +24,6 @@
 namespace clhair {
 
 namespace {
-
-constexpr const char* kExrCompressions[] = {"none",  "rle", "zips", "zip",  "piz",
-                                            "pxr24", "b44", "b44a", "dwaa", "dwab"};
-
-struct ImageFormat {
-  const char* extension;
-  bool alpha;  // whether the format stores an alpha channel (else RGB is written)
-};
-constexpr ImageFormat kImageFormats[] = {{".png", true},  {".exr", true},  {".tif", true},
-                                         {".tiff", true}, {".tga", true},  {".bmp", true},
-                                         {".webp", true}, {".jpg", false}, {".jpeg", false},
-                                         {".hdr", false}, {".ppm", false}, {".pnm", false}};
-
-const ImageFormat* imageFormat(const std::string& path) {
-  const std::string ext = lowerExtension(path);
-  for (const ImageFormat& f : kImageFormats)
-    if (ext == f.extension) return &f;
-  return nullptr;
-}
-
-bool isFloatFormat(const std::string& ext) { return ext == ".exr" || ext == ".hdr"; }
 
 // A codec's message on one line.
 std::string oneLine(std::string text) {
@@ -141,47 +123,6 @@ void encodeToFile(const std::string& path, OIIO::ImageSpec spec, const ImageWrit
 
 }  // namespace
 
-void checkImageWriteOptions(const ImageWriteOptions& o) {
-  if (o.pngCompression < 0 || o.pngCompression > 9)
-    throw Error("PNG compression " + std::to_string(o.pngCompression) +
-                " is outside 0..9 (zlib levels: 0 none, 1 fast, 9 smallest)");
-  if (std::find_if(std::begin(kExrCompressions), std::end(kExrCompressions), [&](const char* n) {
-        return o.exrCompression == n;
-      }) == std::end(kExrCompressions)) {
-    std::string known;
-    for (const char* n : kExrCompressions) known += std::string(known.empty() ? "" : ", ") + n;
-    throw Error("EXR compression \"" + o.exrCompression + "\" is not one of " + known);
-  }
-}
-
-std::vector<std::string> imageFormatExtensions() {
-  std::vector<std::string> out;
-  for (const ImageFormat& f : kImageFormats) out.push_back(f.extension);
-  return out;
-}
-
-bool imageFormatWritable(const std::string& path) { return imageFormat(path) != nullptr; }
-
-bool imageFormatHasAlpha(const std::string& path) {
-  const ImageFormat* f = imageFormat(path);
-  return f && f->alpha;
-}
-
-void checkImageOutput(const std::string& path) {
-  checkOutputPath(path);
-  checkImageFormat(path);
-}
-
-void checkImageFormat(const std::string& path) {
-  if (!imageFormatWritable(path)) {
-    const std::string ext = lowerExtension(path);
-    throw Error(path + ": " +
-                (ext.empty() ? std::string("has no extension to choose an image format by")
-                             : "no image writer for extension \"" + ext + "\"") +
-                " (use .png, .exr, .jpg, .tif, .hdr, .tga, .bmp, .webp or .ppm)");
-  }
-}
-
 void writeImageFile(const std::string& path, OIIO::ImageSpec spec, OIIO::TypeDesc format,
                     const void* pixels, const ImageWriteOptions& options) {
   encodeToFile(path, std::move(spec), options,
@@ -193,8 +134,7 @@ void writeImage(const Image& image, const std::string& path, const ImageWriteOpt
       image.rgba.size() != static_cast<std::size_t>(image.width) * image.height * 4)
     throw Error(path + ": refusing to write an empty or inconsistent image");
   checkImageOutput(path);
-  const std::string ext = lowerExtension(path);
-  const bool floating = isFloatFormat(ext);
+  const bool floating = imageFormatIsFloat(path);
   const int channels = imageFormatHasAlpha(path) ? 4 : 3;
   const std::size_t width = static_cast<std::size_t>(image.width);
   OIIO::ImageSpec spec(image.width, image.height, channels,

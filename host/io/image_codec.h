@@ -1,0 +1,44 @@
+// image_codec.h — the image codec (host/codec/: OpenImageIO and the many libraries it brings)
+// as a table of three functions, so a program can load it on first use instead of at start.
+//
+// The codec writes images (writeImage with options, clhair/image.h), multi-channel OpenEXR files
+// (writeChannels, clhair/aov.h) and reads images (readImageFile, io/image_file.h). Everything
+// else about images (the formats written, the checks of names and options) lives in io/ and
+// needs no codec. clhair_core links the codec itself: the tests, the benchmark and the Python
+// module call it directly. The command links every layer but the codec and defines the three
+// functions in cli/image_codec_loader.cpp, which loads the codec module (the codec's objects
+// built as libclhair_image_codec.so beside the command) on the first image it reads or writes
+// and calls through this table. OpenImageIO's 260 libraries cost about 0.2 s of dynamic
+// linking at every start (bench/suite.md); a command that writes no image no longer pays it.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "clhair/aov.h"
+#include "clhair/image.h"
+
+namespace clhair {
+
+struct ImageCodec {
+  std::uint64_t abi;  // kImageCodecAbi of the build that made the module
+  void (*writeImage)(const Image& image, const std::string& path, const ImageWriteOptions& options);
+  void (*writeChannels)(const std::vector<ImageChannel>& channels, int width, int height,
+                        const std::string& path, const ImageWriteOptions& options,
+                        const std::vector<ImageAttribute>& attributes);
+  Image (*readImageFile)(const std::string& path);
+};
+
+// Changes with the table and with the layout of what it passes: a module of another build is
+// refused, not called.
+constexpr std::uint64_t kImageCodecAbi =
+    (std::uint64_t(1) << 48) ^ (std::uint64_t(sizeof(Image)) << 36) ^
+    (std::uint64_t(sizeof(ImageWriteOptions)) << 24) ^ (std::uint64_t(sizeof(ImageChannel)) << 12) ^
+    std::uint64_t(sizeof(ImageAttribute) + sizeof(std::string));
+
+// The module's file name, and the one function it exports (extern "C", no mangling).
+constexpr const char* kImageCodecModule = "libclhair_image_codec.so";
+constexpr const char* kImageCodecEntry = "clhair_image_codec";
+
+}  // namespace clhair

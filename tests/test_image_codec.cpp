@@ -1,0 +1,83 @@
+// test_image_codec.cpp — the command loads the image codec (OpenImageIO and the libraries it
+// brings) as a module on its first image, not at start (io/image_codec.h,
+// cli/image_codec_loader.cpp).
+//
+// Which libraries a process loads is read from the dynamic loader's own trace
+// (LD_DEBUG=libs, glibc: a "find library=NAME" line per library it looks for, on stderr).
+// A command that writes no image (help, the device list) must not look for OpenImageIO; a
+// render must. A codec module
+// that is missing or is not one is refused with one error line before any work: nothing is
+// written and the command exits 1.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "test_util.h"
+
+namespace clhair::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kTinyScene = "/tests/data/oclgrind_tiny.json";  // 48x32, the tiny groom
+
+bool looksForOpenImageIO(const std::string& output) {
+  return output.find("find library=libOpenImageIO") != std::string::npos;
+}
+
+TEST(ImageCodecCli, OnlyACommandWithImagesLoadsTheCodec) {
+  const fs::path dir = testOutputPath();
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  // without OpenImageIO: help, and a command that writes no image
+  CommandResult help = runCommand("LD_DEBUG=libs " + quote(cliPath()) + " --help");
+  ASSERT_EQ(help.exitCode, 0) << help.output;
+  EXPECT_NE(help.output.find("find library=libOpenCL"), std::string::npos)
+      << "LD_DEBUG=libs traces nothing here, so the checks below prove nothing:\n"
+      << help.output.substr(0, 2000);
+  EXPECT_FALSE(looksForOpenImageIO(help.output)) << help.output.substr(0, 4000);
+  CommandResult devices = runCommand("LD_DEBUG=libs " + quote(cliPath()) + " devices");
+  ASSERT_EQ(devices.exitCode, 0) << devices.output.substr(0, 4000);
+  EXPECT_FALSE(looksForOpenImageIO(devices.output)) << devices.output.substr(0, 4000);
+  // a render loads it, and writes its image
+  const fs::path png = dir / "tiny.png";
+  CommandResult render =
+      runCommand("LD_DEBUG=libs " + quote(cliPath()) + " render " +
+                 quote(sourceDir() + kTinyScene) + " -q -o " + quote(png.string()));
+  ASSERT_EQ(render.exitCode, 0) << render.output.substr(0, 4000);
+  EXPECT_TRUE(looksForOpenImageIO(render.output));
+  EXPECT_GT(fs::file_size(png), 0u);
+}
+
+TEST(ImageCodecCli, AMissingOrForeignModuleIsOneLineBeforeAnyWork) {
+  const fs::path dir = testOutputPath();
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path notModule = dir / "not-a-module.so";
+  std::ofstream(notModule) << "not an ELF file\n";
+  const fs::path wrongModule = "/lib/x86_64-linux-gnu/libz.so.1";  // a library, not the codec
+  struct Case {
+    std::string module, says;
+  };
+  std::vector<Case> cases = {{(dir / "missing.so").string(), "missing.so"},
+                             {notModule.string(), "not-a-module.so"}};
+  if (fs::exists(wrongModule)) cases.push_back({wrongModule.string(), "not clhair's image codec"});
+  for (const Case& c : cases) {
+    const fs::path png = dir / "out.png";
+    CommandResult r =
+        runCommand("CLHAIR_IMAGE_CODEC=" + quote(c.module) + " " + quote(cliPath()) + " render " +
+                   quote(sourceDir() + kTinyScene) + " -o " + quote(png.string()));
+    EXPECT_EQ(r.exitCode, 1) << c.module << ":\n" << r.output;
+    const std::string line = onlyErrorLine(r.output);
+    EXPECT_NE(line.find("cannot load the image codec"), std::string::npos) << line;
+    EXPECT_NE(line.find(c.says), std::string::npos) << line;
+    // refused before the device opened: no stage times, no image
+    EXPECT_EQ(r.output.find("total"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(png)) << c.module;
+  }
+}
+
+}  // namespace
+}  // namespace clhair::test

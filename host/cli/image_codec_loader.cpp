@@ -6,7 +6,9 @@
 // The module is looked for in CLHAIR_IMAGE_CODEC when set (a path), else beside the command
 // (/proc/self/exe's folder), else where the build put it. A module that cannot be loaded, that
 // lacks the table or that was built for another clhair is one clhair::Error naming the path
-// and why; the next image tries again.
+// and why; the next image tries again. The module is not loaded ahead of the first image: a
+// command built with another writer for plain images (../shared/gpu/bundle.sh swaps
+// io/image_io.cpp for a PPM writer on machines without the codec's libraries) never needs it.
 #include <dlfcn.h>
 #include <unistd.h>
 
@@ -16,7 +18,6 @@
 #include <vector>
 
 #include "clhair/error.h"
-#include "image_codec_loader.h"
 #include "io/image_codec.h"
 #include "io/image_file.h"
 
@@ -82,8 +83,6 @@ const ImageCodec& codec() {
 }
 
 }  // namespace
-
-void loadImageCodec() { codec(); }
 
 void writeImage(const Image& image, const std::string& path, const ImageWriteOptions& options) {
   codec().writeImage(image, path, options);

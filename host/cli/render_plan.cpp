@@ -8,7 +8,6 @@
 #include "clhair/error.h"
 #include "clhair/progressive.h"
 #include "clhair/temporal.h"
-#include "image_codec_loader.h"
 #include "io/json_util.h"
 #include "io/regular_file.h"
 #include "io/safe_write.h"
@@ -63,7 +62,6 @@ RenderPlan planRender(const DeviceOptions& opts, const std::string& scenePath,
     throw Error("--views \"" + f.views + "\": expected all or view names");
   checkWriteFlags(f.write);
   checkImageFormat(out);  // -o x.xyz: refused before any work (folders: once the views are known)
-  loadImageCodec();       // a missing codec module too
   checkNotAnInput("-o", framePath(out, frames[0]), {{"the scene", scenePath}});
   { RegularFile scene(scenePath, "scene"); }  // a missing scene is named before the device opens
   // the device first: strand files are checked against its largest allocation as they load

@@ -1,8 +1,8 @@
 // image_io.cpp — the two image functions a build without OpenImageIO replaces: writeImage with
-// the default options and readImage. They only forward to io/image_write.cpp and
-// io/image_read.cpp; ../shared/gpu/bundle.sh (scripts/gpu-check.sh) swaps this one object for
-// a PPM writer to run clhair on machines that lack the codec libraries, so nothing else may
-// live here.
+// the default options and readImage. They only forward to codec/image_write.cpp and
+// codec/image_read.cpp (in the command, through the codec module: io/image_codec.h);
+// ../shared/gpu/bundle.sh (scripts/gpu-check.sh) swaps this one object for a PPM writer to run
+// clhair on machines that lack the codec libraries, so nothing else may live here.
 #include "clhair/image.h"
 #include "io/image_file.h"
 

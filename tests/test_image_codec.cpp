@@ -6,7 +6,8 @@
 // (LD_DEBUG=libs, glibc: a "find library=NAME" line per library it looks for, on stderr).
 // A command that writes no image (help, the device list) must not look for OpenImageIO; a
 // render must. A codec module that is missing or is not one is refused with one error line
-// when the first image is written: nothing is written and the command exits 1.
+// when the first image is written: nothing is written and the command exits 1. A broken
+// module beside the command is that error too, not passed over for the one the build made.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -74,6 +75,18 @@ TEST(ImageCodecCli, AMissingOrForeignModuleIsOneLineAndNoImage) {
     EXPECT_NE(line.find(c.says), std::string::npos) << line;
     EXPECT_FALSE(fs::exists(png)) << c.module;
   }
+  // a broken module beside the command is the error, not passed over for the build's own
+  const fs::path copy = dir / "copy";
+  fs::create_directories(copy);
+  fs::copy_file(cliPath(), copy / "clhair", fs::copy_options::overwrite_existing);
+  fs::copy_file(notModule, copy / "libclhair_image_codec.so", fs::copy_options::overwrite_existing);
+  const fs::path png = dir / "beside.png";
+  CommandResult r = runCommand(quote((copy / "clhair").string()) + " render " +
+                               quote(sourceDir() + kTinyScene) + " -q -o " + quote(png.string()));
+  EXPECT_EQ(r.exitCode, 1) << r.output;
+  const std::string line = onlyErrorLine(r.output);
+  EXPECT_NE(line.find((copy / "libclhair_image_codec.so").string()), std::string::npos) << line;
+  EXPECT_FALSE(fs::exists(png));
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
-// image_encode.h — the one way the codec writes an image file: OpenImageIO encodes into
-// memory (its IOProxy), the bytes go through writeFileAtomically (io/safe_write.h). No time
+// image_encode.h — the one way the codec writes an image file: OpenImageIO encodes through
+// an I/O proxy straight into an io/safe_write.h AtomicFile, a band of rows at a time. No time
 // stamp, so a file depends on its pixels and options only. The codec's messages end up in the
 // one clhair::Error line, never on stderr; safe from several threads on different paths.
 #pragma once

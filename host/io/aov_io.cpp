@@ -1,5 +1,5 @@
 // aov_io.cpp — the --aov list and a frame's layers as named channels (see clhair/aov.h,
-// docs/aovs.md); io/aov_write.cpp writes them as one multi-channel OpenEXR file.
+// docs/aovs.md); codec/aov_write.cpp writes them as one multi-channel OpenEXR file.
 #include <algorithm>
 #include <cmath>
 

@@ -8,10 +8,11 @@
 // module call it directly. The command links every layer but the codec and defines the three
 // functions in cli/image_codec_loader.cpp, which loads the codec module (the codec's objects
 // built as libclhair_image_codec.so beside the command) on the first image it reads or writes
-// and calls through this table. OpenImageIO's 260 libraries cost about 0.2 s of dynamic
+// and calls through this table. OpenImageIO's 250 or so libraries cost about 0.2 s of dynamic
 // linking at every start (bench/suite.md); a command that writes no image no longer pays it.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -21,20 +22,29 @@
 
 namespace clhair {
 
+// Each entry returns 0 when it succeeds and 1 with the clhair::Error's message in `error`
+// (at most `capacity` bytes with its terminating zero) when it fails: no exception crosses
+// the module's edge, so the command and the module need not share a C++ runtime (a command
+// linked with a static libstdc++, as ../shared/gpu/bundle.sh links it, may load the module).
 struct ImageCodec {
   std::uint64_t abi;  // kImageCodecAbi of the build that made the module
-  void (*writeImage)(const Image& image, const std::string& path, const ImageWriteOptions& options);
-  void (*writeChannels)(const std::vector<ImageChannel>& channels, int width, int height,
-                        const std::string& path, const ImageWriteOptions& options,
-                        const std::vector<ImageAttribute>& attributes);
-  Image (*readImageFile)(const std::string& path);
+  int (*writeImage)(const Image& image, const std::string& path, const ImageWriteOptions& options,
+                    char* error, std::size_t capacity) noexcept;
+  int (*writeChannels)(const std::vector<ImageChannel>& channels, int width, int height,
+                       const std::string& path, const ImageWriteOptions& options,
+                       const std::vector<ImageAttribute>& attributes, char* error,
+                       std::size_t capacity) noexcept;
+  int (*readImageFile)(const std::string& path, Image* out, char* error,
+                       std::size_t capacity) noexcept;
 };
 
-// Changes with the table and with the layout of what it passes: a module of another build is
-// refused, not called.
+// Changes with the table's version and with the layout of what it passes: a module whose
+// table or types differ from the command's is refused, not called. (It does not tell two
+// builds of the same layout apart: the command looks for the module beside itself first.)
 constexpr std::uint64_t kImageCodecAbi =
-    (std::uint64_t(1) << 48) ^ (std::uint64_t(sizeof(Image)) << 36) ^
-    (std::uint64_t(sizeof(ImageWriteOptions)) << 24) ^ (std::uint64_t(sizeof(ImageChannel)) << 12) ^
+    (std::uint64_t(2) << 56) ^ (std::uint64_t(sizeof(ImageCodec)) << 44) ^
+    (std::uint64_t(sizeof(Image)) << 34) ^ (std::uint64_t(sizeof(ImageWriteOptions)) << 24) ^
+    (std::uint64_t(sizeof(ImageChannel)) << 12) ^
     std::uint64_t(sizeof(ImageAttribute) + sizeof(std::string));
 
 // The module's file name, and the one function it exports (extern "C", no mangling).

@@ -179,26 +179,25 @@ void reportRoundTrip(const RoundTrip& rt, const ImageDiff& d, const char* what) 
   }
 }
 
-// Same float32 points, same tangent arithmetic, same uv, w and AO, same bounds: the same
-// frame, bit for bit.
-TEST(ExplicitRoundTrip, CyHairFileRendersLikeTheHairMesh) {
-  RoundTrip rt = renderRoundTrip(false);
+// The round trip's two frames are the same, bit for bit (colour and depth).
+void expectSameFrames(bool shadows, const char* what) {
+  RoundTrip rt = renderRoundTrip(shadows);
   ImageDiff d = diffImages(rt.mesh.color, rt.strands.color);
   EXPECT_TRUE(rt.mesh.color.rgba == rt.strands.color.rgba);
   EXPECT_TRUE(rt.mesh.depth == rt.strands.depth);
-  reportRoundTrip(rt, d, "unshadowed");
+  reportRoundTrip(rt, d, what);
 }
+
+// Same float32 points, same tangent arithmetic, same uv, w and AO, same bounds: the same
+// frame, bit for bit.
+TEST(ExplicitRoundTrip, CyHairFileRendersLikeTheHairMesh) { expectSameFrames(false, "unshadowed"); }
 
 // The light's view frames the grooms' hair (a hair mesh's measured box, a strand file's
 // strands that draw something: the corner strands draw nothing), equal here, and the opacity
 // of every strand goes into the deep opacity maps by integer atomic additions, whose order
 // does not matter: the same frame, bit for bit.
 TEST(ExplicitRoundTrip, ShadowsOfTheStrandFileMatchTheHairMesh) {
-  RoundTrip rt = renderRoundTrip(true);
-  ImageDiff d = diffImages(rt.mesh.color, rt.strands.color);
-  EXPECT_TRUE(rt.mesh.color.rgba == rt.strands.color.rgba);
-  EXPECT_TRUE(rt.mesh.depth == rt.strands.depth);
-  reportRoundTrip(rt, d, "with deep opacity shadows");
+  expectSameFrames(true, "with deep opacity shadows");
 }
 
 // ---- round trip: hair mesh -> export-strands .tfx -> StrandGroom --------------------------

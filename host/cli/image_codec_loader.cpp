@@ -15,7 +15,6 @@
 #include <unistd.h>
 
 #include <cstdlib>
-#include <mutex>
 #include <string>
 #include <vector>
 
@@ -77,11 +76,10 @@ const ImageCodec* loadCodec() {
               (where.empty() ? std::string("(no place to look)") : where));
 }
 
+// Loaded once, by the first caller (a static's initialisation is thread-safe; one that throws
+// is tried again by the next call).
 const ImageCodec& codec() {
-  static std::mutex m;
-  static const ImageCodec* loaded = nullptr;
-  std::lock_guard<std::mutex> lock(m);
-  if (!loaded) loaded = loadCodec();
+  static const ImageCodec* const loaded = loadCodec();
   return *loaded;
 }
 

@@ -46,10 +46,18 @@ if ((check == 0)); then
   exit 0
 fi
 
+# One formatter process over every file (one per file took 18 s of the suite's time for 492
+# files): --dry-run --Werror names each unformatted file in lines "FILE:LINE:COL: error: ...".
+report=$("$cf" --style=file --dry-run --Werror -- "${files[@]}" 2>&1) && rc=0 || rc=$?
 bad=()
-for f in "${files[@]}"; do
-  "$cf" --style=file -- "$f" | cmp -s - "$f" || bad+=("$f")
-done
+while IFS= read -r f; do [[ -n "$f" ]] && bad+=("$f"); done < <(
+  printf '%s\n' "$report" | sed -n 's/^\(.*\):[0-9]*:[0-9]*: error: code should be clang-formatted.*/\1/p' |
+    sort -u)
+if ((rc != 0 && ${#bad[@]} == 0)); then
+  printf '%s\n' "$report" >&2
+  echo "format.sh: $cf failed (exit $rc) without naming an unformatted file" >&2
+  exit 1
+fi
 if ((${#bad[@]})); then
   printf '%s\n' "${bad[@]}"
   echo "format.sh: ${#bad[@]} of ${#files[@]} files are not clang-formatted; run scripts/format.sh" >&2

@@ -7,6 +7,7 @@
 // or read-only file system means no cache, and the render still succeeds. A binary written
 // wrong under a valid checksum is caught in a child process and rebuilt; baked data is keyed
 // by the host build. A driver that keeps its own compiled programs (PoCL) has none stored here.
+// A sub-group self-test's pass is kept, and a start that finds it skips the test.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -242,7 +243,9 @@ TEST(BinaryCache, ABinaryWrittenWrongIsCaughtInAChildAndRebuilt) {
   for (std::size_t i = damaged.size() / 4; i < 3 * damaged.size() / 4; ++i) damaged[i] ^= 0x5a;
   std::ofstream(entry, std::ios::binary | std::ios::trunc) << encodeCacheEntry(key, damaged);
   ASSERT_TRUE(decodeCacheEntry(readAll(entry), key).has_value()) << "the checksum is valid";
-  // through the command, whose device builds this program on every start (the self-test)
+  // through the command, whose device builds this program at a start that has not kept the
+  // self-test's pass (the self-test runs it)
+  for (const fs::path& pass : entries(dir, ".selftest")) fs::remove(pass);
   const test::CommandResult r =
       test::runCommand("CLHAIR_CACHE_PROGRAMS=1 CLHAIR_CACHE_DIR=" + test::quote(dir) + " " +
                        test::quote(test::cliPath()) + " devices");
@@ -275,6 +278,39 @@ TEST(BinaryCache, BakedDataIsKeyedByTheHostBuild) {
   BinaryCache(dir).store(other, {1, 2, 3, 4});  // the other build fills the shared folder
   EXPECT_TRUE(BinaryCache(dir).load(other).has_value());
   EXPECT_FALSE(BinaryCache(dir).load(here).has_value()) << "this build read the other's entry";
+}
+
+// The payload of the one entry of kind `ext` in `dir`, or "" (with a failure) when there is
+// not exactly one.
+std::string onlyPayload(const std::string& dir, const std::string& ext) {
+  const std::vector<fs::path> found = entries(dir, ext);
+  EXPECT_EQ(found.size(), 1u) << ext;
+  if (found.size() != 1) return {};
+  const auto payload =
+      decodeCacheEntry(test::readBytes(found[0].string()), found[0].filename().string());
+  EXPECT_TRUE(payload) << found[0] << " is not an entry";
+  return payload ? std::string(payload->begin(), payload->end()) : std::string();
+}
+
+// The sub-group self-test's pass is kept beside the programs (device.cpp, selfTestOnce): a
+// later start neither builds nor runs it. Only a pass is kept, and an entry holding anything
+// else is not taken for one. (Programs stored here too, so that a build shows as an entry.)
+TEST(BinaryCache, ASelfTestPassIsKeptAndOnlyAPassSkipsTheTest) {
+  const std::string dir = test::scratchDir() + "/cache";
+  { Device dev = test::openWithCache(dir); }
+  ASSERT_EQ(entries(dir).size(), 1u) << "the self-test's program (selftest.cl)";
+  EXPECT_EQ(onlyPayload(dir, ".selftest"), "passed");
+
+  fs::remove(entries(dir)[0]);
+  { Device again = test::openWithCache(dir); }
+  EXPECT_TRUE(entries(dir).empty()) << "a start with the pass kept built the self-test";
+
+  const fs::path kept = entries(dir, ".selftest").at(0);
+  std::ofstream(kept, std::ios::binary | std::ios::trunc)
+      << encodeCacheEntry(kept.filename().string(), {'f', 'a', 'i', 'l', 'e', 'd'});
+  { Device third = test::openWithCache(dir); }
+  EXPECT_EQ(entries(dir).size(), 1u) << "an entry that is not a pass did not run the self-test";
+  EXPECT_EQ(onlyPayload(dir, ".selftest"), "passed");
 }
 
 TEST(BinaryCache, OffMeansNoFiles) {

@@ -99,6 +99,36 @@ std::string describeList(const std::vector<Found>& all) {
   return s.empty() ? std::string(" (none)") : s;
 }
 
+constexpr char kSelfTestPassed[] = "passed";
+
+// The sub-group self-test of `b`, or "" at once where the cache folder holds its pass (`kept`). The
+// test's result is fixed by what the key holds (the device, its driver, the self-test's kernel
+// text and build options, the lanes and strands of a group, the host build), so a pass is kept
+// beside the programs and a later start skips building and running it (PoCL preprocesses every
+// program it builds: about 50 ms a start). A failure is never kept, and with the cache off the
+// test runs on every start.
+std::string selfTestOnce(const Device& dev, SubgroupBackend b, bool& kept) {
+  kept = false;
+  Device::Impl& d = *dev.impl();
+  std::string key;
+  const std::string passed = kSelfTestPassed;
+  if (d.binaries.enabled()) {
+    const StrandTuning t = d.tuningFor(b);
+    const std::string inputs = "subgroup-selftest-1|" + d.buildOptions(b, "") + "|" +
+                               std::to_string(t.lanes) + "|" + std::to_string(t.strandsPerGroup) +
+                               "|" + d.sources.program("selftest.cl");
+    key = BinaryCache::dataKey("selftest", d.info.platformName, d.info.name, d.info.driverVersion,
+                               inputs);
+    const auto bytes = d.binaries.load(key);
+    kept = bytes && std::string(bytes->begin(), bytes->end()) == passed;
+    if (kept) return {};
+  }
+  const std::string why = dev.selfTest(b);
+  if (why.empty() && !key.empty())
+    d.binaries.store(key, std::vector<unsigned char>(passed.begin(), passed.end()));
+  return why;
+}
+
 }  // namespace
 
 const char* subgroupBackendName(SubgroupBackend b) {
@@ -220,7 +250,8 @@ Device Device::open(const DeviceOptions& options) {
   std::string forced = options.subgroup == "auto" ? std::string() : options.subgroup;
   if (!forced.empty()) {
     SubgroupBackend b = parseSubgroupBackend(forced);
-    std::string why = dev.selfTest(b);
+    bool kept = false;
+    std::string why = selfTestOnce(dev, b, kept);
     if (!why.empty())
       throw Error(std::string("forced sub-group backend \"") + subgroupBackendName(b) +
                   "\" fails its self-test on " + impl->info.name + ": " + why);
@@ -229,9 +260,11 @@ Device Device::open(const DeviceOptions& options) {
   }
   std::string notes;
   for (SubgroupBackend b : impl->info.candidates) {
-    std::string why = dev.selfTest(b);
+    bool kept = false;
+    std::string why = selfTestOnce(dev, b, kept);
     if (why.empty()) {
-      impl->useBackend(b, notes.empty() ? "self-test passed" : notes);
+      const char* passed = kept ? "self-test passed on an earlier start" : "self-test passed";
+      impl->useBackend(b, notes.empty() ? passed : notes);
       return dev;
     }
     notes += std::string(subgroupBackendName(b)) + " failed (" + why + "); ";

@@ -3,7 +3,7 @@
 
 namespace clhair {
 
-CompositeStage::CompositeStage(Device::Impl& dev) : dev_(dev) { kernel(1); }
+CompositeStage::CompositeStage(Device::Impl& dev) : dev_(dev) {}  // kernels built on first use
 
 cl::Kernel& CompositeStage::kernel(int msaa) {
   auto it = kernels_.find(msaa);

@@ -6,9 +6,7 @@
 namespace clhair {
 
 FilterStage::FilterStage(Device::Impl& dev)
-    : dev_(dev),
-      kernel_(dev.kernel("filter.cl", "filter_reconstruct")),
-      params_(makeBuffer<gpu::ClhFilterGpu>(dev, "filter parameters", 1)) {}
+    : dev_(dev), params_(makeBuffer<gpu::ClhFilterGpu>(dev, "filter parameters", 1)) {}
 
 cl::Event FilterStage::enqueue(const FilterParams& f, const Params& p, Profiler* profiler) {
   if (f.radius < 0 || f.radius > 8)
@@ -23,6 +21,8 @@ cl::Event FilterStage::enqueue(const FilterParams& f, const Params& p, Profiler*
   g.strip = f.strip;
   g.promote = f.promote ? 1u : 0u;
   uploadChanged(dev_, params_, sent_, &g, 1);
+  // built on first use: a frame with Huang's filter (the default) never runs this kernel
+  if (!kernel_()) kernel_ = dev_.kernel("filter.cl", "filter_reconstruct");
   const std::uint64_t pixels = p.target.pixels();
   KernelArgs(kernel_, "filter")
       .buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))

@@ -27,7 +27,7 @@ class FilterStage {
 
  private:
   Device::Impl& dev_;
-  cl::Kernel kernel_;
+  cl::Kernel kernel_;  // built by the first enqueue
   cl::Buffer params_;
   std::vector<unsigned char> sent_;  // what params_ holds
 };

@@ -10,14 +10,16 @@ namespace clhair {
 
 LinkStage::LinkStage(Device::Impl& dev)
     : dev_(dev),
-      select_(dev.kernel("link.cl", "link_select")),
-      propagate_(dev.kernel("link.cl", "link_propagate")),
-      merge_(dev.kernel("link.cl", "link_merge")),
-      alpha_(dev.kernel("link.cl", "link_alpha")),
-      aniso_(dev.kernel("link.cl", "link_aniso")),
       clear_(dev),
       params_(makeBuffer<gpu::ClhLinkGpu>(dev, "hair linking parameters", 1)),
       counters_(makeBuffer<cl_uint>(dev, "hair linking counters", CLH_LINK_COUNTERS)) {}
+
+// Each kernel is built on its first use: a frame that does not link (Lipp's filter, or no
+// filter) builds no link program.
+cl::Kernel& LinkStage::built(cl::Kernel& kernel, const char* name) {
+  if (!kernel()) kernel = dev_.kernel("link.cl", name);
+  return kernel;
+}
 
 namespace {
 std::uint64_t gbufferBytes(const LinkStage::Params& p) {
@@ -75,7 +77,7 @@ void LinkStage::select(const FilterParams& f, const Params& p, Profiler* profile
     throw Error("hair linking needs " + std::to_string(CLH_LAYER_LINKED + 1) +
                 " G-buffer layers, not " + std::to_string(p.layers));
   const PixelRect box = boxOf(p, 1);  // an empty pixel's 3x3 neighbourhood
-  KernelArgs(select_, "link")
+  KernelArgs(built(select_, "link_select"), "link")
       .buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
       .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
       .buffer("link parameters", params_, sizeof(gpu::ClhLinkGpu))
@@ -89,7 +91,7 @@ void LinkStage::select(const FilterParams& f, const Params& p, Profiler* profile
 
 void LinkStage::propagate(const Params& p, Profiler* profiler) {
   const PixelRect box = boxOf(p, 1);  // the pixels select may have given a source
-  KernelArgs(propagate_, "link")
+  KernelArgs(built(propagate_, "link_propagate"), "link")
       .buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
       .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
       .buffer("link parameters", params_, sizeof(gpu::ClhLinkGpu))
@@ -101,7 +103,7 @@ void LinkStage::propagate(const Params& p, Profiler* profiler) {
 
 void LinkStage::merge(const Params& p, bool linking, Profiler* profiler) {
   const PixelRect box = boxOf(p, 0);
-  KernelArgs(merge_, "link")
+  KernelArgs(built(merge_, "link_merge"), "link")
       .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
       .buffer("link parameters", params_, sizeof(gpu::ClhLinkGpu))
       .buffer("G-buffer", *p.gbuffer, gbufferBytes(p))
@@ -118,7 +120,7 @@ cl::Buffer* LinkStage::finish(const Params& p, bool aniso, cl::Buffer& hair, cl:
   const std::uint64_t colourBytes = std::uint64_t(p.target.pixels()) * 4 * sizeof(float);
   // the alpha fix's output as far as the anisotropic filter reads it; the filter the box
   const PixelRect alphaBox = boxOf(p, CLH_LINK_MAX_RADIUS), box = boxOf(p, 0);
-  KernelArgs(alpha_, "filter")
+  KernelArgs(built(alpha_, "link_alpha"), "filter")
       .buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
       .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
       .buffer("link parameters", params_, sizeof(gpu::ClhLinkGpu))
@@ -130,7 +132,7 @@ cl::Buffer* LinkStage::finish(const Params& p, bool aniso, cl::Buffer& hair, cl:
       .value("box", alphaBox.arg());
   dispatchBox(dev_, alpha_, "filter", alphaBox, profiler);
   if (!aniso) return &out;
-  KernelArgs(aniso_, "filter")
+  KernelArgs(built(aniso_, "link_aniso"), "filter")
       .buffer("groom", *p.groom, sizeof(gpu::ClhGroomGpu))
       .buffer("view", *p.target.view, sizeof(gpu::ClhViewGpu))
       .buffer("link parameters", params_, sizeof(gpu::ClhLinkGpu))

@@ -71,6 +71,7 @@ class LinkStage {
 
  private:
   Device::Impl& dev_;
+  cl::Kernel& built(cl::Kernel& kernel, const char* name);  // `kernel`, built if not yet
   cl::Kernel select_, propagate_, merge_, alpha_, aniso_;
   ClearStage clear_;
   cl::Buffer params_, choice_, flags_, table_, counters_;

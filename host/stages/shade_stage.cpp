@@ -8,7 +8,7 @@
 
 namespace clhair {
 
-ShadeStage::ShadeStage(Device::Impl& dev) : dev_(dev) { kernel(1, false); }
+ShadeStage::ShadeStage(Device::Impl& dev) : dev_(dev) {}  // kernels built on first use
 
 cl::Kernel& ShadeStage::kernel(int msaa, bool cover) {
   auto it = kernels_.find({msaa, cover});

@@ -7,14 +7,13 @@
 namespace clhair {
 
 ShadowStage::ShadowStage(Device::Impl& dev)
-    : dev_(dev),
-      resolve_(dev.kernel("shadow.cl", "shadow_resolve_depth")),
-      clear_(dev.kernel("shadow.cl", "shadow_clear")) {}
+    : dev_(dev) {}  // the kernels are built on their first use: a frame without maps builds none
 
 void ShadowStage::resolveDepth(const cl::Buffer& shadow, const cl::Buffer& gbuffer,
                                cl::Buffer& hairDepth, int res, std::size_t allTexels,
                                Profiler* profiler) {
   const std::uint64_t texels = std::uint64_t(res) * std::uint64_t(res);
+  if (!resolve_()) resolve_ = dev_.kernel("shadow.cl", "shadow_resolve_depth");
   KernelArgs(resolve_, "shadow")
       .buffer("shadow", shadow, sizeof(gpu::ClhShadowGpu))
       .buffer("light G-buffer", gbuffer, 2 * texels * sizeof(cl_ulong))
@@ -45,6 +44,7 @@ void ShadowStage::capLod(cl::Buffer& lod, cl::Buffer& counts, cl::Buffer& offset
 
 void ShadowStage::clearOpacity(const cl::Buffer& shadow, cl::Buffer& opacity,
                                std::size_t slotTexels, std::size_t allTexels, Profiler* profiler) {
+  if (!clear_()) clear_ = dev_.kernel("shadow.cl", "shadow_clear");
   KernelArgs(clear_, "shadow")
       .buffer("shadow", shadow, sizeof(gpu::ClhShadowGpu))
       .buffer("opacity", opacity, allTexels * CLH_DOM_LAYERS * sizeof(cl_uint));

@@ -92,9 +92,9 @@ constexpr std::size_t kMessageBytes = 4096;
 
 }  // namespace
 
-void writeImage(const Image& image, const std::string& path, const ImageWriteOptions& options) {
+void encodeImage(const Image& image, const std::string& path, const ImageWriteOptions& options) {
   char message[kMessageBytes] = "";
-  check(codec().writeImage(image, path, options, message, sizeof(message)), message);
+  check(codec().encodeImage(image, path, options, message, sizeof(message)), message);
 }
 
 void writeChannels(const std::vector<ImageChannel>& channels, int width, int height,

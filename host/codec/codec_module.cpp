@@ -44,7 +44,7 @@ extern "C" __attribute__((visibility("default"))) const clhair::ImageCodec* clha
       clhair::kImageCodecAbi,
       [](const Image& image, const std::string& path, const ImageWriteOptions& options, char* error,
          std::size_t capacity) noexcept {
-        return guarded([&] { clhair::writeImage(image, path, options); }, error, capacity);
+        return guarded([&] { clhair::encodeImage(image, path, options); }, error, capacity);
       },
       [](const std::vector<ImageChannel>& channels, int width, int height, const std::string& path,
          const ImageWriteOptions& options, const std::vector<ImageAttribute>& attributes,

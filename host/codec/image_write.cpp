@@ -129,7 +129,7 @@ void writeImageFile(const std::string& path, OIIO::ImageSpec spec, OIIO::TypeDes
                [&](OIIO::ImageOutput& out) { return out.write_image(format, pixels); });
 }
 
-void writeImage(const Image& image, const std::string& path, const ImageWriteOptions& options) {
+void encodeImage(const Image& image, const std::string& path, const ImageWriteOptions& options) {
   if (image.width <= 0 || image.height <= 0 ||
       image.rgba.size() != static_cast<std::size_t>(image.width) * image.height * 4)
     throw Error(path + ": refusing to write an empty or inconsistent image");

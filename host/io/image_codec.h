@@ -1,7 +1,8 @@
 // image_codec.h — the image codec (host/codec/: OpenImageIO and the many libraries it brings)
 // as a table of three functions, so a program can load it on first use instead of at start.
 //
-// The codec writes images (writeImage with options, clhair/image.h), multi-channel OpenEXR files
+// The codec writes images of every format but PNG (encodeImage, io/image_file.h; PNG is libpng's,
+// io/png_write.cpp, which needs no module), multi-channel OpenEXR files
 // (writeChannels, clhair/aov.h) and reads images (readImageFile, io/image_file.h). Everything
 // else about images (the formats written, the checks of names and options) lives in io/ and
 // needs no codec. clhair_core links the codec itself: the tests, the benchmark and the Python
@@ -28,8 +29,8 @@ namespace clhair {
 // linked with a static libstdc++, as ../shared/gpu/bundle.sh links it, may load the module).
 struct ImageCodec {
   std::uint64_t abi;  // kImageCodecAbi of the build that made the module
-  int (*writeImage)(const Image& image, const std::string& path, const ImageWriteOptions& options,
-                    char* error, std::size_t capacity) noexcept;
+  int (*encodeImage)(const Image& image, const std::string& path, const ImageWriteOptions& options,
+                     char* error, std::size_t capacity) noexcept;
   int (*writeChannels)(const std::vector<ImageChannel>& channels, int width, int height,
                        const std::string& path, const ImageWriteOptions& options,
                        const std::vector<ImageAttribute>& attributes, char* error,
@@ -42,7 +43,7 @@ struct ImageCodec {
 // table or types differ from the command's is refused, not called. (It does not tell two
 // builds of the same layout apart: the command looks for the module beside itself first.)
 constexpr std::uint64_t kImageCodecAbi =
-    (std::uint64_t(2) << 56) ^ (std::uint64_t(sizeof(ImageCodec)) << 44) ^
+    (std::uint64_t(3) << 56) ^ (std::uint64_t(sizeof(ImageCodec)) << 44) ^
     (std::uint64_t(sizeof(Image)) << 34) ^ (std::uint64_t(sizeof(ImageWriteOptions)) << 24) ^
     (std::uint64_t(sizeof(ImageChannel)) << 12) ^
     std::uint64_t(sizeof(ImageAttribute) + sizeof(std::string));

@@ -20,6 +20,10 @@ bool imageFormatHasAlpha(const std::string& path);
 bool imageFormatIsFloat(const std::string& path);
 std::vector<std::string> imageFormatExtensions();
 
+// writeImage's work for every format but PNG (codec/image_write.cpp); writeImage
+// (io/image_write.cpp) calls it.
+void encodeImage(const Image& image, const std::string& path, const ImageWriteOptions& options);
+
 // readImage's work (codec/image_read.cpp); readImage (io/image_io.cpp) calls it.
 Image readImageFile(const std::string& path);
 

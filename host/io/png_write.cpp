@@ -11,8 +11,8 @@
 
 #include <algorithm>
 #include <csetjmp>
-#include <cstdio>
 #include <cstdint>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -118,15 +118,15 @@ void writePng(const Image& image, const std::string& path, const ImageWriteOptio
   }
   png_set_write_fn(png, &sink, writeBytes, flushBytes);
   const Rows rows{&image, channels};
-  const bool ok = encodeRows(png, info, image.width, image.height, channels,
-                             options.pngCompression, fillRows, &rows, band.data(), bandRows);
+  const bool ok = encodeRows(png, info, image.width, image.height, channels, options.pngCompression,
+                             fillRows, &rows, band.data(), bandRows);
   png_destroy_write_struct(&png, &info);
   if (!sink.failure.empty()) throw Error(sink.failure);
   if (!ok)
-    throw Error(path + ": encoding the image failed (" +
-                (sink.codecError[0] ? std::string(sink.codecError)
-                                    : std::string("libpng gave no reason")) +
-                ")");
+    throw Error(
+        path + ": encoding the image failed (" +
+        (sink.codecError[0] ? std::string(sink.codecError) : std::string("libpng gave no reason")) +
+        ")");
   file.commit();
 }
 

@@ -85,15 +85,14 @@ TEST(ImageCodecCli, AMissingOrForeignModuleIsOneLineAndNoImage) {
     EXPECT_NE(line.find("cannot load the image codec"), std::string::npos) << line;
     EXPECT_NE(line.find(c.says), std::string::npos) << line;
     EXPECT_FALSE(fs::exists(exr)) << c.module;
-    // a PNG needs no module
-    const fs::path png = dir / "out.png";
-    CommandResult p =
-        runCommand("CLHAIR_IMAGE_CODEC=" + quote(c.module) + " " + quote(cliPath()) + " render " +
-                   quote(sourceDir() + kTinyScene) + " -q -o " + quote(png.string()));
-    EXPECT_EQ(p.exitCode, 0) << c.module << ":\n" << p.output;
-    EXPECT_TRUE(fs::exists(png)) << c.module;
-    fs::remove(png);
   }
+  // a PNG needs no module
+  const fs::path png = dir / "out.png";
+  CommandResult p =
+      runCommand("CLHAIR_IMAGE_CODEC=" + quote(cases[0].module) + " " + quote(cliPath()) +
+                 " render " + quote(sourceDir() + kTinyScene) + " -q -o " + quote(png.string()));
+  EXPECT_EQ(p.exitCode, 0) << p.output;
+  EXPECT_TRUE(fs::exists(png));
   // a broken module beside the command is the error, not passed over for the build's own
   const fs::path copy = dir / "copy";
   fs::create_directories(copy);

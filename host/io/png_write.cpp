@@ -61,7 +61,7 @@ void onError(png_structp png, png_const_charp message) {
 void onWarning(png_structp, png_const_charp) {}
 
 // The encoding itself between one setjmp and libpng's end; false when libpng stopped on an
-// error. `rows` (width * channels bytes each) are filled a band at a time by `fill`.
+// error. `band` holds `bandRows` rows of width * channels bytes, which `fill` fills.
 bool encodeRows(png_structp png, png_infop info, int width, int height, int channels,
                 int compression, void (*fill)(const void*, int, int, png_bytep), const void* ctx,
                 png_bytep band, int bandRows) {

@@ -87,9 +87,6 @@ class AtomicFileProxy final : public OIIO::Filesystem::IOProxy {
   std::string failure_;
 };
 
-// Rows per band: about 1 MB of 8-bit RGBA at 4K, at least 16 rows.
-int bandRows(int width) { return std::max(16, (1 << 20) / std::max(1, width * 4)); }
-
 // Opens `path` (a checked temporary beside it), lets `encode` give the codec the pixels, and
 // moves the file into place only when the codec and every write succeeded.
 void encodeToFile(const std::string& path, OIIO::ImageSpec spec, const ImageWriteOptions& options,
@@ -130,9 +127,7 @@ void writeImageFile(const std::string& path, OIIO::ImageSpec spec, OIIO::TypeDes
 }
 
 void encodeImage(const Image& image, const std::string& path, const ImageWriteOptions& options) {
-  if (image.width <= 0 || image.height <= 0 ||
-      image.rgba.size() != static_cast<std::size_t>(image.width) * image.height * 4)
-    throw Error(path + ": refusing to write an empty or inconsistent image");
+  checkImageToWrite(image, path);
   checkImageOutput(path);
   const bool floating = imageFormatIsFloat(path);
   const int channels = imageFormatHasAlpha(path) ? 4 : 3;
@@ -140,7 +135,7 @@ void encodeImage(const Image& image, const std::string& path, const ImageWriteOp
   OIIO::ImageSpec spec(image.width, image.height, channels,
                        floating ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::UINT8);
   spec.attribute("oiio:ColorSpace", floating ? "Linear" : "sRGB");
-  const int band = bandRows(image.width);
+  const int band = imageBandRows(image.width);
   // one band of rows at a time: the float rows as they are (RGBA), or converted (RGB, 8 bit)
   std::vector<float> rgb;
   std::vector<std::uint8_t> bytes;

@@ -20,6 +20,11 @@ bool imageFormatHasAlpha(const std::string& path);
 bool imageFormatIsFloat(const std::string& path);
 std::vector<std::string> imageFormatExtensions();
 
+// Refuses an image whose size and pixels disagree (one clhair::Error naming `path`).
+void checkImageToWrite(const Image& image, const std::string& path);
+// Rows a writer encodes at a time: about 1 MB of 8-bit RGBA at 4K, at least 16 rows.
+int imageBandRows(int width);
+
 // writeImage's work for every format but PNG (codec/image_write.cpp); writeImage
 // (io/image_write.cpp) calls it.
 void encodeImage(const Image& image, const std::string& path, const ImageWriteOptions& options);

@@ -61,6 +61,14 @@ std::vector<std::string> imageFormatExtensions() {
   return out;
 }
 
+void checkImageToWrite(const Image& image, const std::string& path) {
+  if (image.width <= 0 || image.height <= 0 ||
+      image.rgba.size() != static_cast<std::size_t>(image.width) * image.height * 4)
+    throw Error(path + ": refusing to write an empty or inconsistent image");
+}
+
+int imageBandRows(int width) { return std::max(16, (1 << 20) / std::max(1, width * 4)); }
+
 bool imageFormatWritable(const std::string& path) { return imageFormat(path) != nullptr; }
 
 bool imageFormatHasAlpha(const std::string& path) {

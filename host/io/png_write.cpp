@@ -98,14 +98,11 @@ void fillRows(const void* ctx, int y0, int y1, png_bytep out) {
 }  // namespace
 
 void writePng(const Image& image, const std::string& path, const ImageWriteOptions& options) {
-  if (image.width <= 0 || image.height <= 0 ||
-      image.rgba.size() != static_cast<std::size_t>(image.width) * image.height * 4)
-    throw Error(path + ": refusing to write an empty or inconsistent image");
+  checkImageToWrite(image, path);
   checkImageWriteOptions(options);
   checkImageOutput(path);
   const int channels = imageFormatHasAlpha(path) ? 4 : 3;
-  // a band of rows at a time: about 1 MB at 4K, at least 16 rows
-  const int bandRows = std::max(16, (1 << 20) / std::max(1, image.width * 4));
+  const int bandRows = imageBandRows(image.width);
   std::vector<png_byte> band(static_cast<std::size_t>(bandRows) * image.width * channels);
   AtomicFile file(path);
   Sink sink;

@@ -180,6 +180,9 @@ std::optional<int> parseOptions(int argc, char** argv, Options& o) {
                  "look section: all (default), lights (the ambient light off) or ambient (the "
                  "lights off): one kind of light at a time")
       ->check(CLI::IsMember({"all", "lights", "ambient"}));
+  app.add_flag("--look-scales", o.lookScales,
+               "look section: also the FLIP left with every feature coarser than 1-32 px made "
+               "exact, and the hair's contrast per octave of scale (look_scales.h)");
   app.add_option("--look-path-events", o.lookPathEvents,
                  "look section: scattering events per path of the reference (64; 1: the lights' "
                  "single scattering, 2: the ambient light's, against --look-scattering both's "

@@ -89,6 +89,7 @@ struct Options {
   std::string lookRows;           // look: the rows (tags, comma-separated) to measure; empty: all
   std::uint32_t lookRefSeed = 1;  // look: the path references' seed (their own noise, apart)
   int lookPathEvents = 64;        // look: scattering events of the path reference
+  bool lookScales = false;        // look: the FLIP left per scale and the contrast per octave
   ThroughputOptions tp;
   int tpWidth = 0, tpHeight = 0;
 };

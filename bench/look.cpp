@@ -19,6 +19,7 @@
 // reference single scattering, for the single-scattering rows (DESIGN.md, "Hair the colour
 // of hair": the two errors measured apart).
 #include "harness.h"
+#include "look_scales.h"
 
 #include <algorithm>
 #include <array>
@@ -27,6 +28,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -85,6 +87,7 @@ void runLook(Run& r) {
     levels.push_back({"draft before: single scattering, no maps", Quality::Draft, false, true});
   }
   json q;
+  std::ostringstream scalesMd, contrastMd;  // --look-scales: two tables after the main one
   r.md << "\n## The look against the path-traced reference (" << qw << "x" << qh << ", path "
        << r.opt.refSpp << " spp, every light with a deep opacity map)\n\nOver the hair's pixels: "
        << "mean FLIP / mean colour ΔE (CIE76, CIELAB D65, of the mean 8-bit sRGB colour) / "
@@ -174,6 +177,13 @@ void runLook(Run& r) {
                          {"mean_srgb", refColour},
                          {"chroma", chroma(refColour)},
                          {"hair_pixels", nHair}};
+      if (r.opt.lookScales) {
+        const json rc = octaveContrast(ref.color, mask);
+        qc["scales"]["reference"] = {{"octave_contrast", rc}};
+        contrastMd << "| " << gr.name << " | " << r.distNames[d] << " | path |";
+        for (double v : rc.get<std::vector<double>>()) contrastMd << " " << fmt(v, 3) << " |";
+        contrastMd << "\n";
+      }
       std::fprintf(stderr, "look %s %s: path %d spp %.1f s, hair %s\n", gr.tag.c_str(),
                    r.distNames[d], r.opt.refSpp, refMs / 1000.0, colourText(refColour).c_str());
       r.md << "| " << gr.name << " | " << r.distNames[d] << " | " << colourText(refColour) << " |";
@@ -203,6 +213,32 @@ void runLook(Run& r) {
         flip /= static_cast<double>(std::max<std::size_t>(nHair, 1));
         const std::array<double, 3> colour = meanSrgb(f.color, mask);
         const double de = deltaE(colour, refColour);
+        if (r.opt.lookScales) {
+          // where the error lives in scale (look_scales.h)
+          json matched, contrast = octaveContrast(f.color, mask);
+          scalesMd << "| " << gr.name << " | " << r.distNames[d] << " | " << l.name << " | "
+                   << fmt(flip, 4) << " |";
+          for (int radius : lookScaleRadii()) {
+            const ImageComparison m =
+                compareImages(ref.color, matchCoarserThan(ref.color, f.color, mask, radius));
+            double mf = 0.0;
+            for (std::size_t i = 0; i < mask.size(); ++i)
+              if (mask[i]) mf += m.flip.error[i];
+            mf /= static_cast<double>(std::max<std::size_t>(nHair, 1));
+            matched[std::to_string(radius)] = mf;
+            scalesMd << " " << fmt(mf, 4) << " |";
+          }
+          scalesMd << "\n";
+          contrastMd << "| " << gr.name << " | " << r.distNames[d] << " | " << l.name << " |";
+          for (double v : contrast.get<std::vector<double>>())
+            contrastMd << " " << fmt(v, 3) << " |";
+          contrastMd << "\n";
+          qc["scales"][l.name] = {{"flip_coarser_matched", matched}, {"octave_contrast", contrast}};
+          std::fprintf(
+              stderr,
+              "look %s %s %s: FLIP with every feature coarser than 1/2/4/8/16/32 px exact: %s\n",
+              gr.tag.c_str(), r.distNames[d], l.name, matched.dump().c_str());
+        }
         std::string file = l.name;
         for (char& ch : file)
           if (ch == ' ' || ch == ',' || ch == ':') ch = '_';
@@ -220,6 +256,28 @@ void runLook(Run& r) {
       }
       r.md << "\n";
     }
+  }
+  if (r.opt.lookScales) {
+    r.md << "\nWhere the error is in scale (`--look-scales`): mean FLIP over the hair as "
+            "rendered, then with every feature coarser than r pixels made exact (each channel "
+            "scaled by the reference's mean over the (2r+1)^2 box around the pixel over the "
+            "test's), a lower bound for any change that only moves coarser features.\n\n"
+            "| groom | distance | level | as rendered |";
+    for (int radius : lookScaleRadii()) r.md << " r = " << radius << " |";
+    r.md << "\n|---|---|---|---|";
+    for (std::size_t i = 0; i < lookScaleRadii().size(); ++i) r.md << "---|";
+    r.md << "\n" << scalesMd.str();
+    r.md << "\nContrast per octave of scale: RMS over the hair of the log luminance's band "
+            "between box radii (pixel to 1, 1 to 2, ... 16 to 32), then the standard deviation "
+            "of the 32-pixel average.\n\n| groom | distance | image |";
+    int prev = 0;
+    for (int radius : lookScaleRadii()) {
+      r.md << " " << prev << "-" << radius << " |";
+      prev = radius;
+    }
+    r.md << " > " << prev << " |\n|---|---|---|";
+    for (std::size_t i = 0; i <= lookScaleRadii().size(); ++i) r.md << "---|";
+    r.md << "\n" << contrastMd.str();
   }
   r.report["look"] = q;
   r.md << "\nImages: `" << dir << "/`.\n";

@@ -17,9 +17,10 @@
  * view) in slot 15. Output 2 float4 per record:
  *    0 (clh_hair_agg_eval_cos rgb, luminance)   1 (clh_hair_eval_cos rgb, luminance)
  * bsdf_probe_dual: dual scattering (hair_dual.h) on the same records, with the optical depth
- * tau toward the light in slot 7, the depth behind tau_b in slot 11 and the AO in slot 15.
- * Output 2 float4 per record:
- *    0 (clh_hair_dual_eval_cos rgb, luminance)   1 (clh_hair_dual_probe rgb, 0)
+ * tau toward the light in slot 7, the depth behind tau_b in slot 11, the AO in slot 15 and
+ * the maps' mean transmittance in slot 19 (negative: none). Output 2 float4 per record:
+ *    0 (clh_hair_dual_eval_cos rgb, luminance)
+ *    1 (clh_hair_dual_probe rgb, clh_hair_dual_probe_ao of slots 15 and 19)
  * bsdf_probe_lanes: the lane-wise elementary functions of clh_math.h (clh_v3_exp, clh_v3_log2,
  * clh_v3_sincos) against clhair/fast_math.h's scalar ones on the same device: input i sits
  * in the middle lane, inputs i + 1 and i + 2 in the others; output 8 floats per input: the
@@ -140,7 +141,8 @@ __kernel void bsdf_probe_dual(__global const float* rec_g, uint count, __global 
   const clh_v3 f = clh_hair_dual_eval_cos(&hv, &ds, wi, clh_hair_eval_cos(&hv, wi), r[7], r[11]);
   const clh_v3 lum = clh_v3_make(0.2126f, 0.7152f, 0.0722f);
   out_g[2 * (size_t)i] = (float4)(clh_v3_f3(f), clh_v3_dot(f, lum));
-  out_g[2 * (size_t)i + 1] = (float4)(clh_v3_f3(clh_hair_dual_probe(&ds, r[15])), 0.0f);
+  out_g[2 * (size_t)i + 1] =
+      (float4)(clh_v3_f3(clh_hair_dual_probe(&ds, r[15])), clh_hair_dual_probe_ao(r[15], r[19]));
 }
 
 __kernel void bsdf_probe_lanes(__global const float* in_g, uint count, __global float* out_g) {

@@ -157,6 +157,7 @@ static inline clh_v3 shade_at(__global const ClhGroomGpu* groom_g,
   clh_v3 radiance = clh_v3_splat(0.0f);
   const bool diffused = dual && (in->vis->ao_dims[3] & 2u) != 0u;
   const uint nl = min(scene_g->light_count, (uint)CLH_MAX_LIGHTS);
+  float map_t = 0.0f, maps = 0.0f; /* the mapped lights' transmittances at the point, summed */
   for (uint i = 0; i < nl; ++i) {
     __global const ClhLightGpu* light = lights_g + i;
     const clh_v3 lc = clh_v3_make(light->color[0], light->color[1], light->color[2]);
@@ -174,10 +175,12 @@ static inline clh_v3 shade_at(__global const ClhGroomGpu* groom_g,
     const int slot = clh_light_shadow_slot(light);
     const bool mapped = slot >= 0 && slot < CLH_MAX_SHADOWS;
     float tau = 0.0f, tau_b = 0.0f;
-    if (mapped && dual)
+    if (mapped && dual) {
       clh_shadow_depths_v3(in->params + slot, in->opaque, in->hair, in->opacity, pos, in->lod_shift,
                            &tau, &tau_b);
-    else if (mapped)
+      map_t += tau > 0.0f ? clh_hair_exp(-tau) : 1.0f;
+      maps += 1.0f;
+    } else if (mapped)
       falloff *= clh_shadow_transmittance_v3(in->params + slot, in->opaque, in->hair, in->opacity,
                                              pos, in->lod_shift);
     else if (use_vis)
@@ -225,7 +228,11 @@ static inline clh_v3 shade_at(__global const ClhGroomGpu* groom_g,
   clh_v3 out = clh_v3_add(
       radiance, clh_v3_add(clh_v3_scale(probe, ao), clh_v3_scale(probe_tt, ao * ao * ao)));
   /* the probe light the AO took away, given back by the hair around (dual scattering) */
-  if (dual && ao < 1.0f) out = clh_v3_add(out, clh_v3_mul(uniform, clh_hair_dual_probe(&ds, ao)));
+  if (dual) {
+    /* the AO refined by the maps at the point (clh_hair_dual_probe_ao) */
+    const float ao_d = clh_hair_dual_probe_ao(ao, maps > 0.0f ? map_t / maps : -1.0f);
+    if (ao_d < 1.0f) out = clh_v3_add(out, clh_v3_mul(uniform, clh_hair_dual_probe(&ds, ao_d)));
+  }
   if (file_color) {
     /* The absorption above gives the fibre about its colour as albedo (within a few %, at
      * normal incidence); the lobes are scaled so that their energies at this view sum to it

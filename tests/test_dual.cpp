@@ -144,7 +144,9 @@ TEST(Dual, DeviceMatchesCpuCompile) {
   const float taus[] = {0.0f, 0.4f, 2.5f, 9.0f}, backs[] = {0.0f, 1.0f, 6.0f};
   std::vector<float> rec;
   std::vector<hb::clh_v3> expectF, expectP;
-  for (int i = 0; i < 181; ++i) {  // not a multiple of the work-group size
+  std::vector<float> expectAo;
+  const float mapTs[] = {-1.0f, 0.0f, 0.03f, 0.4f, 1.0f};  // the maps' mean transmittance
+  for (int i = 0; i < 181; ++i) {                          // not a multiple of the work-group size
     const hb::clh_hair_material m = material(sigmas[i % 5]);
     const Dir t = unit(u(gen), u(gen), u(gen)), wo = unit(u(gen), u(gen), u(gen)),
               wi = unit(u(gen), u(gen), u(gen));
@@ -160,6 +162,7 @@ TEST(Dual, DeviceMatchesCpuCompile) {
     r[7] = tau;
     r[11] = tauB;
     r[15] = ao;
+    r[19] = mapTs[(i / 3) % 5];
     const Dir v[3] = {t, wo, wi};
     for (int k = 0; k < 3; ++k) {
       r[8 + 4 * k] = v[k].x;
@@ -170,6 +173,7 @@ TEST(Dual, DeviceMatchesCpuCompile) {
     const Shaded s = prepare(m, t, wo);
     expectF.push_back(dual(s, wi, tau, tauB));
     expectP.push_back(hb::clh_hair_dual_probe(&s.ds, ao));
+    expectAo.push_back(hb::clh_hair_dual_probe_ao(ao, r[19]));
   }
   const cl_uint n = static_cast<cl_uint>(expectF.size());
   const cl_float4 canary = {{-123.0f, -456.0f, -789.0f, -1.0f}};
@@ -186,6 +190,8 @@ TEST(Dual, DeviceMatchesCpuCompile) {
       EXPECT_TRUE(near(out[2 * i + 1].s[c], ep[c]))
           << i << " probe " << c << ": " << out[2 * i + 1].s[c] << " vs " << ep[c];
     }
+    EXPECT_TRUE(near(out[2 * i + 1].s[3], expectAo[i]))
+        << i << " probe AO: " << out[2 * i + 1].s[3] << " vs " << expectAo[i];
   }
 }
 
@@ -203,6 +209,35 @@ TEST(Dual, NoHairAroundIsTheSingleFibre) {
     const hb::clh_v3 p = hb::clh_hair_dual_probe(&s.ds, 1.0f);
     EXPECT_EQ(p.x + p.y + p.z, 0.0f) << "an AO of 1 leaves nothing to give back";
   }
+}
+
+TEST(Dual, TheProbeAoIsRefinedByTheMapsBetweenTheTwoDepths) {
+  const float w = CLH_DUAL_PROBE_MAP_WEIGHT;
+  ASSERT_GT(w, 0.0f);
+  ASSERT_LT(w, 1.0f);
+  const float aos[] = {1e-4f, 0.01f, 0.1f, 0.35f, 0.7f, 0.99f, 1.0f};
+  const float ts[] = {0.0f, 1e-5f, 0.02f, 0.2f, 0.5f, 0.9f, 1.0f};
+  for (float ao : aos) {
+    // no light with a map: the AO as baked, bit for bit
+    EXPECT_EQ(hb::clh_hair_dual_probe_ao(ao, -1.0f), ao);
+    float prev = 0.0f;
+    for (float t : ts) {
+      const float a = hb::clh_hair_dual_probe_ao(ao, t);
+      const float tc = std::max(t, 1e-4f);
+      // the depths blended: -ln a = (1 - w)(-ln ao) + w(-ln t)
+      const double want = std::exp((1.0 - w) * std::log(double(ao)) + w * std::log(double(tc)));
+      EXPECT_NEAR(a, want, 2e-3 * want) << "ao " << ao << " t " << t;
+      EXPECT_GE(a, std::min(ao, tc) * (1.0f - 2e-3f)) << "ao " << ao << " t " << t;
+      EXPECT_LE(a, std::max(ao, tc) * (1.0f + 2e-3f)) << "ao " << ao << " t " << t;
+      EXPECT_LE(a, 1.0f) << "an AO above 1 would take light away in the term";
+      EXPECT_GE(a, prev) << "more light through the maps never darkens the term";
+      prev = a;
+    }
+    // the maps agree with the AO: nothing changes
+    EXPECT_NEAR(hb::clh_hair_dual_probe_ao(ao, ao), ao, 2e-3f * ao);
+  }
+  // an open point: no map darkness and no AO leaves nothing to give back
+  EXPECT_EQ(hb::clh_hair_dual_probe_ao(1.0f, 1.0f), 1.0f);
 }
 
 // The fibre's tangent and view of the energy tests: tilted fibre, oblique view.

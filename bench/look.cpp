@@ -233,7 +233,13 @@ void runLook(Run& r) {
           for (double v : contrast.get<std::vector<double>>())
             contrastMd << " " << fmt(v, 3) << " |";
           contrastMd << "\n";
-          qc["scales"][l.name] = {{"flip_coarser_matched", matched}, {"octave_contrast", contrast}};
+          const json corr = octaveCorrelation(ref.color, f.color, mask);
+          contrastMd << "| | | " << l.name << ": correlation with the path image |";
+          for (double v : corr.get<std::vector<double>>()) contrastMd << " " << fmt(v, 2) << " |";
+          contrastMd << "\n";
+          qc["scales"][l.name] = {{"flip_coarser_matched", matched},
+                                  {"octave_contrast", contrast},
+                                  {"octave_correlation", corr}};
           std::fprintf(
               stderr,
               "look %s %s %s: FLIP with every feature coarser than 1/2/4/8/16/32 px exact: %s\n",
@@ -269,7 +275,9 @@ void runLook(Run& r) {
     r.md << "\n" << scalesMd.str();
     r.md << "\nContrast per octave of scale: RMS over the hair of the log luminance's band "
             "between box radii (pixel to 1, 1 to 2, ... 16 to 32), then the standard deviation "
-            "of the 32-pixel average.\n\n| groom | distance | image |";
+            "of the 32-pixel average; below each level's, the correlation of its bands with the "
+            "path image's (1: its bright and dark features of that scale sit where the path "
+            "image's do).\n\n| groom | distance | image |";
     int prev = 0;
     for (int radius : lookScaleRadii()) {
       r.md << " " << prev << "-" << radius << " |";

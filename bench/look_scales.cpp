@@ -66,7 +66,11 @@ Image matchCoarserThan(const Image& ref, const Image& test, const std::vector<ch
   return out;
 }
 
-std::vector<double> octaveContrast(const Image& image, const std::vector<char>& mask) {
+namespace {
+
+// The octave bands of the log luminance over the masked pixels (lookScaleRadii(): B_{k-1} -
+// B_k per radius, then the coarsest B less its mean); zero outside the mask.
+std::vector<std::vector<double>> octaveBands(const Image& image, const std::vector<char>& mask) {
   const int w = image.width, h = image.height;
   const std::size_t n = static_cast<std::size_t>(w) * h;
   std::vector<double> level(n), ones(n, 1.0);
@@ -77,29 +81,63 @@ std::vector<double> octaveContrast(const Image& image, const std::vector<char>& 
     level[i] = std::log(std::max(lum, 1e-4));
     count += mask[i] ? 1u : 0u;
   }
-  std::vector<double> out;
-  if (count == 0) return std::vector<double>(lookScaleRadii().size() + 1, 0.0);
+  std::vector<std::vector<double>> bands;
+  if (count == 0) return std::vector<std::vector<double>>(lookScaleRadii().size() + 1,
+                                                          std::vector<double>(n, 0.0));
   const BoxSums sums(w, h, mask, level), weight(w, h, mask, ones);
-  std::vector<double> finer(level), coarser(n);
+  std::vector<double> finer(level), coarser(n, 0.0);
   for (int r : lookScaleRadii()) {
-    double band = 0.0;
+    std::vector<double> band(n, 0.0);
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
         const std::size_t i = static_cast<std::size_t>(y) * w + x;
         if (!mask[i]) continue;
         coarser[i] = sums.box(x, y, r) / weight.box(x, y, r);
-        band += (finer[i] - coarser[i]) * (finer[i] - coarser[i]);
+        band[i] = finer[i] - coarser[i];
       }
-    out.push_back(std::sqrt(band / static_cast<double>(count)));
+    bands.push_back(std::move(band));
     finer.swap(coarser);
   }
-  double mean = 0.0, sq = 0.0;
+  double mean = 0.0;
   for (std::size_t i = 0; i < n; ++i)
     if (mask[i]) mean += finer[i];
   mean /= static_cast<double>(count);
+  std::vector<double> rest(n, 0.0);
   for (std::size_t i = 0; i < n; ++i)
-    if (mask[i]) sq += (finer[i] - mean) * (finer[i] - mean);
-  out.push_back(std::sqrt(sq / static_cast<double>(count)));
+    if (mask[i]) rest[i] = finer[i] - mean;
+  bands.push_back(std::move(rest));
+  return bands;
+}
+
+}  // namespace
+
+std::vector<double> octaveContrast(const Image& image, const std::vector<char>& mask) {
+  std::size_t count = 0;
+  for (char m : mask) count += m ? 1u : 0u;
+  std::vector<double> out;
+  for (const std::vector<double>& band : octaveBands(image, mask)) {
+    double sq = 0.0;
+    for (std::size_t i = 0; i < band.size(); ++i)
+      if (mask[i]) sq += band[i] * band[i];
+    out.push_back(count > 0 ? std::sqrt(sq / static_cast<double>(count)) : 0.0);
+  }
+  return out;
+}
+
+std::vector<double> octaveCorrelation(const Image& ref, const Image& test,
+                                      const std::vector<char>& mask) {
+  const std::vector<std::vector<double>> a = octaveBands(ref, mask), b = octaveBands(test, mask);
+  std::vector<double> out;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    double ab = 0.0, aa = 0.0, bb = 0.0;
+    for (std::size_t i = 0; i < mask.size(); ++i) {
+      if (!mask[i]) continue;
+      ab += a[k][i] * b[k][i];
+      aa += a[k][i] * a[k][i];
+      bb += b[k][i] * b[k][i];
+    }
+    out.push_back(aa > 0.0 && bb > 0.0 ? ab / std::sqrt(aa * bb) : 0.0);
+  }
   return out;
 }
 

@@ -29,6 +29,12 @@ Image matchCoarserThan(const Image& ref, const Image& test, const std::vector<ch
 // deviation of the coarsest B. One value more than there are radii.
 std::vector<double> octaveContrast(const Image& image, const std::vector<char>& mask);
 
+// How well the two images' octave bands (as octaveContrast's) line up over the masked pixels:
+// per band, the correlation sum(a b) / sqrt(sum a^2 sum b^2), 1 where the test's bright and dark
+// features of that scale sit where the reference's do. One value more than there are radii.
+std::vector<double> octaveCorrelation(const Image& ref, const Image& test,
+                                      const std::vector<char>& mask);
+
 }  // namespace clhair::bench
 
 #endif

@@ -82,8 +82,9 @@ std::vector<std::vector<double>> octaveBands(const Image& image, const std::vect
     count += mask[i] ? 1u : 0u;
   }
   std::vector<std::vector<double>> bands;
-  if (count == 0) return std::vector<std::vector<double>>(lookScaleRadii().size() + 1,
-                                                          std::vector<double>(n, 0.0));
+  if (count == 0)
+    return std::vector<std::vector<double>>(lookScaleRadii().size() + 1,
+                                            std::vector<double>(n, 0.0));
   const BoxSums sums(w, h, mask, level), weight(w, h, mask, ones);
   std::vector<double> finer(level), coarser(n, 0.0);
   for (int r : lookScaleRadii()) {

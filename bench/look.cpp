@@ -233,9 +233,13 @@ void runLook(Run& r) {
           for (double v : contrast.get<std::vector<double>>())
             contrastMd << " " << fmt(v, 3) << " |";
           contrastMd << "\n";
-          const json corr = octaveCorrelation(ref.color, f.color, mask);
+          json corr = json::array();  // NaN (a flat band) as null
+          for (double v : octaveCorrelation(ref.color, f.color, mask))
+            corr.push_back(std::isfinite(v) ? json(v) : json(nullptr));
           contrastMd << "| | | " << l.name << ": correlation with the path image |";
-          for (double v : corr.get<std::vector<double>>()) contrastMd << " " << fmt(v, 2) << " |";
+          for (const json& v : corr)
+            contrastMd << " " << (v.is_number() ? fmt(v.get<double>(), 2) : std::string("-"))
+                       << " |";
           contrastMd << "\n";
           qc["scales"][l.name] = {{"flip_coarser_matched", matched},
                                   {"octave_contrast", contrast},

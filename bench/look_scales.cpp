@@ -128,6 +128,9 @@ std::vector<double> octaveContrast(const Image& image, const std::vector<char>& 
 std::vector<double> octaveCorrelation(const Image& ref, const Image& test,
                                       const std::vector<char>& mask) {
   const std::vector<std::vector<double>> a = octaveBands(ref, mask), b = octaveBands(test, mask);
+  double count = 0.0;
+  for (char m : mask) count += m ? 1.0 : 0.0;
+  const double kFlat = 1e-8;  // a band's mean square under this (RMS 1e-4) is flat
   std::vector<double> out;
   for (std::size_t k = 0; k < a.size(); ++k) {
     double ab = 0.0, aa = 0.0, bb = 0.0;
@@ -137,7 +140,10 @@ std::vector<double> octaveCorrelation(const Image& ref, const Image& test,
       aa += a[k][i] * a[k][i];
       bb += b[k][i] * b[k][i];
     }
-    out.push_back(aa > 0.0 && bb > 0.0 ? ab / std::sqrt(aa * bb) : 0.0);
+    // a band with no contrast in either image (an image smaller than the box) has no
+    // correlation to speak of: NaN, shown as "-"
+    out.push_back(aa > kFlat * count && bb > kFlat * count ? ab / std::sqrt(aa * bb)
+                                                           : std::nan(""));
   }
   return out;
 }

@@ -31,7 +31,8 @@ std::vector<double> octaveContrast(const Image& image, const std::vector<char>& 
 
 // How well the two images' octave bands (as octaveContrast's) line up over the masked pixels:
 // per band, the correlation sum(a b) / sqrt(sum a^2 sum b^2), 1 where the test's bright and dark
-// features of that scale sit where the reference's do. One value more than there are radii.
+// features of that scale sit where the reference's do; NaN where either band is flat (RMS
+// under 1e-4, e.g. a hair smaller than the box). One value more than there are radii.
 std::vector<double> octaveCorrelation(const Image& ref, const Image& test,
                                       const std::vector<char>& mask);
 

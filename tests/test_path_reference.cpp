@@ -174,7 +174,7 @@ TEST(PathReference, WhiteFurnaceKeepsTheAmbientRadianceAndAFixedSeedRepeats) {
 }
 
 TEST(PathReference, DenseWhiteFurnaceStaysWithinTwoPercentOfOne) {
-  // 300 strands 0.3 px wide (docs/hair-shading.md §7), white, 64 samples: paths scatter many
+  // 300 strands 0.3 px wide (docs/path-reference.md), white, 64 samples: paths scatter many
   // times between the fibres, so a sampler whose weights have a heavy tail converges from
   // below (the mixture sampler gave 0.924 here). Stated tolerance: 2 %, the BSDF's own
   // furnace error (0.6 %) and the Monte Carlo error of the mean.

@@ -15,7 +15,7 @@
 //
 // Path mode (the constructor's flag) adds opaque surfaces and tracePaths(): a CPU path
 // tracer through the same curves, the reference with scattering between fibres
-// (path_trace.cpp; docs/hair-shading.md, "The path-traced reference").
+// (path_trace.cpp; docs/path-reference.md).
 #pragma once
 
 #include <cstdint>

@@ -165,7 +165,7 @@ enum class ReferenceMethod {
   // meshes as Lambertian surfaces): light scattered between fibres any number of times, each
   // event with the shading pass's single-fibre BSDF; every light shadowed by the real
   // geometry (no deep opacity maps, no baked visibility or AO); the constant ambient as a
-  // uniform environment. docs/hair-shading.md, "The path-traced reference".
+  // uniform environment. docs/path-reference.md.
   Path,
 };
 const char* referenceMethodName(ReferenceMethod m);

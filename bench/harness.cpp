@@ -11,6 +11,7 @@
 
 #include "cl/dispatch.h"
 #include "io/cyhair.h"
+#include "metrics/image_metrics.h"
 
 namespace clhair::bench {
 
@@ -105,6 +106,18 @@ Scene framed(Scene s, CameraPreset p, int w, int h) {
   s.height = h;
   s.camera = framePreset(s, p, 35.0f, 10.0f, 35.0f);
   return s;
+}
+
+double maskedFlip(const Image& ref, const Image& test, const std::vector<char>& mask) {
+  const ImageComparison cmp = compareImages(ref, test);
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < mask.size(); ++i)
+    if (mask[i]) {
+      sum += cmp.flip.error[i];
+      ++n;
+    }
+  return n ? sum / static_cast<double>(n) : 0.0;
 }
 
 std::optional<int> parseOptions(int argc, char** argv, Options& o) {

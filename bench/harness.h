@@ -65,6 +65,9 @@ double stageMedian(const Measured& m, const std::string& stage);
 // The scene at w x h, its camera at one of the presets (the benchmark's fixed angles).
 Scene framed(Scene s, CameraPreset p, int w, int h);
 
+// Mean FLIP of `test` against `ref` over the mask's pixels (0 where the mask is empty).
+double maskedFlip(const Image& ref, const Image& test, const std::vector<char>& mask);
+
 // The command line (clhair_bench --help).
 struct Options {
   DeviceOptions dopts;

@@ -206,11 +206,7 @@ void runLook(Run& r) {
         const double ms =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                 .count();
-        const ImageComparison cmp = compareImages(ref.color, f.color);
-        double flip = 0.0;
-        for (std::size_t i = 0; i < mask.size(); ++i)
-          if (mask[i]) flip += cmp.flip.error[i];
-        flip /= static_cast<double>(std::max<std::size_t>(nHair, 1));
+        const double flip = maskedFlip(ref.color, f.color, mask);
         const std::array<double, 3> colour = meanSrgb(f.color, mask);
         const double de = deltaE(colour, refColour);
         if (r.opt.lookScales) {
@@ -219,12 +215,8 @@ void runLook(Run& r) {
           scalesMd << "| " << gr.name << " | " << r.distNames[d] << " | " << l.name << " | "
                    << fmt(flip, 4) << " |";
           for (int radius : lookScaleRadii()) {
-            const ImageComparison m =
-                compareImages(ref.color, matchCoarserThan(ref.color, f.color, mask, radius));
-            double mf = 0.0;
-            for (std::size_t i = 0; i < mask.size(); ++i)
-              if (mask[i]) mf += m.flip.error[i];
-            mf /= static_cast<double>(std::max<std::size_t>(nHair, 1));
+            const double mf =
+                maskedFlip(ref.color, matchCoarserThan(ref.color, f.color, mask, radius), mask);
             matched[std::to_string(radius)] = mf;
             scalesMd << " " << fmt(mf, 4) << " |";
           }

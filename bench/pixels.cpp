@@ -108,18 +108,6 @@ std::vector<char> hairMask(Run& r, const Scene& s, const Frame& ref) {
   return mask;
 }
 
-double hairFlip(const Frame& ref, const Frame& f, const std::vector<char>& mask) {
-  const ImageComparison cmp = compareImages(ref.color, f.color);
-  double sum = 0.0;
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < mask.size(); ++i)
-    if (mask[i]) {
-      sum += cmp.flip.error[i];
-      ++n;
-    }
-  return sum / static_cast<double>(std::max<std::size_t>(n, 1));
-}
-
 std::string sizeName(const Size& z) { return std::to_string(z.w) + "x" + std::to_string(z.h); }
 
 void costTable(Run& r, const std::vector<Size>& sizes) {
@@ -233,7 +221,7 @@ void flipTable(Run& r, const std::vector<Size>& sizes) {
           if (c.sceneMaps) o.shadowResFromCamera = false;
           const Frame f = r.b.renderer.render(
               c.k > 0.0f || c.fullPoints ? withStrandsPerPixel(s, c.k, c.fullPoints) : s, o);
-          const double flip = hairFlip(ref, f, mask);
+          const double flip = maskedFlip(ref.color, f.color, mask);
           if (c.lod == Toggle::Off) off = flip;
           r.md << " " << fmt(flip, 4) << " / " << f.stats.segmentsPlanned;
           if (c.lod != Toggle::Off) r.md << " (" << fmt(flip / std::max(off, 1e-9), 3) << ")";
@@ -303,17 +291,18 @@ void finalTable(Run& r, const Size& z) {
   const double goodMs = timed(go, good);
   const double tracedMs =
       wallMs([&] { traced = r.b.renderer.renderReference(s, spp, ReferenceMethod::Embree); });
-  const double fFin = hairFlip(ref, fin, mask), fGood = hairFlip(ref, good, mask),
-               fTraced = hairFlip(ref, traced, mask);
+  const double fFin = maskedFlip(ref.color, fin.color, mask),
+               fGood = maskedFlip(ref.color, good.color, mask),
+               fTraced = maskedFlip(ref.color, traced.color, mask);
   r.md << "\n## Final against the Embree reference (assets/scenes/default.json, close, "
        << sizeName(z) << ", " << spp << " spp; FLIP over the hair's pixels against the "
        << r.opt.refSpp << "-spp reference; wall clock)\n\n"
        << "| still | wall ms | FLIP |\n|---|---|---|\n"
        << "| final, " << spp << " passes | " << fmt(finMs, 0) << " | " << fmt(fFin, 4) << " |\n"
        << "| final, " << spp << " passes assembling their strands again | " << fmt(againMs, 0)
-       << " | " << fmt(hairFlip(ref, again, mask), 4) << " |\n";
+       << " | " << fmt(maskedFlip(ref.color, again.color, mask), 4) << " |\n";
   for (std::size_t i = 0; i < subsets.size(); ++i) {
-    const double f = hairFlip(ref, subsets[i].second, mask);
+    const double f = maskedFlip(ref.color, subsets[i].second.color, mask);
     r.md << "| final, " << spp << " passes of one strand in " << subsets[i].first << " | "
          << fmt(subsetMs[i], 0) << " | " << fmt(f, 4) << " |\n";
     r.report["pixels"]["final_subset_" + std::to_string(subsets[i].first)] = {{"ms", subsetMs[i]},

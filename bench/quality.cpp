@@ -136,17 +136,6 @@ void runQuality(Run& r) {
     }
     return f;
   };
-  auto hairFlip = [](const Frame& ref, const Frame& f, const std::vector<char>& mask) {
-    ImageComparison cmp = compareImages(ref.color, f.color);
-    double sum = 0.0;
-    std::size_t n = 0;
-    for (std::size_t i = 0; i < mask.size(); ++i)
-      if (mask[i]) {
-        ++n;
-        sum += cmp.flip.error[i];
-      }
-    return sum / std::max<std::size_t>(n, 1);
-  };
   // mean linear luminance over the hair's pixels (brighter or darker than the reference)
   auto hairLuminance = [](const Frame& f, const std::vector<char>& mask) {
     double sum = 0.0;
@@ -305,8 +294,8 @@ void runQuality(Run& r) {
           const double otherMs = wallMs([&] { other = reference(s, g, d, otherMethod, ltag); });
           writeImage(other.color, r.opt.out + "/quality/mid_reference_" +
                                       referenceMethodName(otherMethod) + ".png");
-          const double flipOther = hairFlip(other, f, hairMask);
-          const double flipRefs = hairFlip(ref, other, hairMask);
+          const double flipOther = maskedFlip(other.color, f.color, hairMask);
+          const double flipRefs = maskedFlip(ref.color, other.color, hairMask);
           const char* a = referenceMethodName(refMethod);
           const char* o = referenceMethodName(otherMethod);
           refMd << "\nSWR1 at mid, mean FLIP over the hair against each reference (" << r.opt.refSpp

@@ -36,6 +36,12 @@ class BoxSums {
   std::vector<double> t_;
 };
 
+std::size_t maskCount(const std::vector<char>& mask) {
+  std::size_t n = 0;
+  for (char m : mask) n += m ? 1u : 0u;
+  return n;
+}
+
 std::vector<double> channel(const Image& im, int c) {
   std::vector<double> p(static_cast<std::size_t>(im.width) * im.height);
   for (std::size_t i = 0; i < p.size(); ++i) p[i] = im.rgba[i * 4 + c];
@@ -74,12 +80,11 @@ std::vector<std::vector<double>> octaveBands(const Image& image, const std::vect
   const int w = image.width, h = image.height;
   const std::size_t n = static_cast<std::size_t>(w) * h;
   std::vector<double> level(n), ones(n, 1.0);
-  std::size_t count = 0;
+  const std::size_t count = maskCount(mask);
   for (std::size_t i = 0; i < n; ++i) {
     const float* p = &image.rgba[i * 4];
     const double lum = 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
     level[i] = std::log(std::max(lum, 1e-4));
-    count += mask[i] ? 1u : 0u;
   }
   std::vector<std::vector<double>> bands;
   if (count == 0)
@@ -113,8 +118,7 @@ std::vector<std::vector<double>> octaveBands(const Image& image, const std::vect
 }  // namespace
 
 std::vector<double> octaveContrast(const Image& image, const std::vector<char>& mask) {
-  std::size_t count = 0;
-  for (char m : mask) count += m ? 1u : 0u;
+  const std::size_t count = maskCount(mask);
   std::vector<double> out;
   for (const std::vector<double>& band : octaveBands(image, mask)) {
     double sq = 0.0;
@@ -128,8 +132,7 @@ std::vector<double> octaveContrast(const Image& image, const std::vector<char>& 
 std::vector<double> octaveCorrelation(const Image& ref, const Image& test,
                                       const std::vector<char>& mask) {
   const std::vector<std::vector<double>> a = octaveBands(ref, mask), b = octaveBands(test, mask);
-  double count = 0.0;
-  for (char m : mask) count += m ? 1.0 : 0.0;
+  const double count = static_cast<double>(maskCount(mask));
   const double kFlat = 1e-8;  // a band's mean square under this (RMS 1e-4) is flat
   std::vector<double> out;
   for (std::size_t k = 0; k < a.size(); ++k) {

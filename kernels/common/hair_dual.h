@@ -236,7 +236,7 @@ static inline clh_v3 clh_hair_dual_eval_cos(const clh_hair_view* hv, const clh_h
  * The depth the term reads is a blend of the two depths:
  *   -ln a' = (1 - w) (-ln ao) + w (-ln map_t),   w = CLH_DUAL_PROBE_MAP_WEIGHT,
  * so a' lies between ao and map_t (each clamped to [1e-4, 1]). w was measured against the
- * path reference (bench/look-error.md, "The ambient light's scale"): 0.35 lowers blonde's FLIP by
+ * path reference (bench/look-ambient.md, "The ambient light's scale"): 0.35 lowers blonde's FLIP by
  * 12-14 % on groom1 and the darker strand file's by 12-17 %, and moves the rest by at most
  * 2.5 %. Only the given-back term reads it: the single-scattered probe light keeps the AO. */
 #define CLH_DUAL_PROBE_MAP_WEIGHT 0.35f

@@ -13,7 +13,9 @@
 // - with --pixel-final: quality final at the first size (the scene's spp), with the kept
 //   assembly and with every pass assembling again, against the
 //   Embree reference at the same spp, both timed by the wall clock (the reference's BVH
-//   build included), and their FLIP and good's against the --ref-spp reference.
+//   build included), and their FLIP and good's against the --ref-spp reference; then final
+//   and good again with the reference's own maps (every strand in the lights' passes, at the
+//   scene's resolution), which separates the maps' LOD from the camera's sampling.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -289,6 +291,14 @@ void finalTable(Run& r, const Size& z) {
   RenderOptions go;
   go.quality = Quality::Good;
   const double goodMs = timed(go, good);
+  // final and good with the reference's maps: every strand in the lights' passes, at the
+  // scene's resolution (Renderer::renderReference), so what remains is the camera's own
+  // sampling and LOD
+  Frame finMaps, goodMaps;
+  RenderOptions fm = fo, gm = go;
+  fm.shadowLod = gm.shadowLod = Toggle::Off;
+  fm.shadowResFromCamera = gm.shadowResFromCamera = false;
+  const double finMapsMs = timed(fm, finMaps), goodMapsMs = timed(gm, goodMaps);
   const double tracedMs =
       wallMs([&] { traced = r.b.renderer.renderReference(s, spp, ReferenceMethod::Embree); });
   const double fFin = maskedFlip(ref.color, fin.color, mask),
@@ -310,11 +320,20 @@ void finalTable(Run& r, const Size& z) {
   }
   r.md << "| Embree, " << spp << " spp (BVH build included) | " << fmt(tracedMs, 0) << " | "
        << fmt(fTraced, 4) << " |\n"
-       << "| good | " << fmt(goodMs, 0) << " | " << fmt(fGood, 4) << " |\n"
+       << "| good | " << fmt(goodMs, 0) << " | " << fmt(fGood, 4) << " |\n";
+  const double fFinMaps = maskedFlip(ref.color, finMaps.color, mask),
+               fGoodMaps = maskedFlip(ref.color, goodMaps.color, mask);
+  r.md << "| final, " << spp << " passes, the reference's maps (lights' passes without LOD) | "
+       << fmt(finMapsMs, 0) << " | " << fmt(fFinMaps, 4) << " |\n"
+       << "| good, the reference's maps | " << fmt(goodMapsMs, 0) << " | " << fmt(fGoodMaps, 4)
+       << " |\n"
        << "\nfinal / Embree time: " << fmt(finMs / std::max(tracedMs, 1e-9), 3)
        << " (assembling again: " << fmt(againMs / std::max(tracedMs, 1e-9), 3) << ")"
        << "; final's FLIP / good's: " << fmt(fFin / std::max(fGood, 1e-9), 3)
-       << "; maps built over final's passes: " << fin.stats.shadowMapsBuilt << ".\n";
+       << "; maps built over final's passes: " << fin.stats.shadowMapsBuilt
+       << ". With the reference's maps: final's FLIP / good's "
+       << fmt(fFinMaps / std::max(fGoodMaps, 1e-9), 3) << ", / the default good's "
+       << fmt(fFinMaps / std::max(fGood, 1e-9), 3) << ".\n";
   r.report["pixels"]["final"] = {{"spp", spp},
                                  {"final_ms", finMs},
                                  {"final_flip", fFin},
@@ -323,7 +342,11 @@ void finalTable(Run& r, const Size& z) {
                                  {"embree_flip", fTraced},
                                  {"good_ms", goodMs},
                                  {"good_flip", fGood},
-                                 {"maps_built", fin.stats.shadowMapsBuilt}};
+                                 {"maps_built", fin.stats.shadowMapsBuilt},
+                                 {"final_reference_maps_ms", finMapsMs},
+                                 {"final_reference_maps_flip", fFinMaps},
+                                 {"good_reference_maps_ms", goodMapsMs},
+                                 {"good_reference_maps_flip", fGoodMaps}};
 }
 
 }  // namespace

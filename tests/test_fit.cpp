@@ -293,20 +293,28 @@ TEST(FitDegenerate, BadInputIsOneClearError) {
 // The fit paths under UBSan (these run in the sanitized suite, scripts/dev.sh): a groom
 // centred on the origin puts cells left of and below the lattice's first (a negative cell
 // coordinate in the lattice's key), and 16384 bundles asked of 61 strands shrink the lattice
-// far below the roots' spacing (cell coordinates beyond the int range). Both fit.
+// far below the roots' spacing (cell coordinates beyond the int range). Both fit. The first
+// is 300 strands in 16 bundles (the k-means reads the cells around every border cell however
+// many strands there are) and the error is measured over a sample of 50 strands: the paths
+// run under the sanitizers in half the time of 1000 strands (23 s under ASan).
 TEST(FitSanitized, GroomCentredOnTheOrigin) {
-  StrandGroom g = straightStrands(1000, 5);
+  StrandGroom g = straightStrands(300, 5);
   for (glm::vec3& p : g.points) p -= glm::vec3(0.02f, 0.0f, 0.05f);
-  const FitResult r = fitHairMesh(g);
+  FitOptions o;
+  o.bundles = 16;
+  o.errorSample = 50;
+  const FitResult r = fitHairMesh(g, o);
+  EXPECT_GT(r.report.error.strands, 0u) << "the error was measured";
   EXPECT_NO_THROW(validateHairMesh(r.mesh, "fitted"));
   EXPECT_GT(r.mesh.faces.size(), 10u);
-  EXPECT_EQ(r.mesh.strandCount, 1000);
+  EXPECT_EQ(r.mesh.strandCount, 300);
 }
 
 TEST(FitSanitized, MoreBundlesThanStrands) {
   const StrandGroom g = straightStrands(61, 5);
   FitOptions o;
   o.bundles = kFitMaxBundles;
+  o.errorSample = 50;
   const FitResult r = fitHairMesh(g, o);
   EXPECT_NO_THROW(validateHairMesh(r.mesh, "fitted"));
   EXPECT_LE(r.mesh.faces.size(), 61u) << "no more bundles than strands";

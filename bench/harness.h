@@ -21,6 +21,7 @@
 #include "clhair/renderer.h"
 #include "clhair/scene.h"
 #include "clhair/strand_groom.h"
+#include "masked_flip.h"
 #include "throughput.h"
 
 namespace clhair::bench {
@@ -64,9 +65,6 @@ double stageMedian(const Measured& m, const std::string& stage);
 
 // The scene at w x h, its camera at one of the presets (the benchmark's fixed angles).
 Scene framed(Scene s, CameraPreset p, int w, int h);
-
-// Mean FLIP of `test` against `ref` over the mask's pixels (0 where the mask is empty).
-double maskedFlip(const Image& ref, const Image& test, const std::vector<char>& mask);
 
 // The command line (clhair_bench --help).
 struct Options {

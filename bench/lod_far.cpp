@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "clhair/scene.h"
-#include "metrics/image_metrics.h"
+#include "masked_flip.h"
 
 namespace clhair::bench {
 
@@ -75,19 +75,6 @@ std::string fmt(double v, int digits = 1) {
   char b[64];
   std::snprintf(b, sizeof(b), "%.*f", digits, v);
   return b;
-}
-
-// Mean FLIP between two frames over the mask's pixels.
-double maskedFlip(const Frame& a, const Frame& b, const std::vector<char>& mask) {
-  const ImageComparison cmp = compareImages(a.color, b.color);
-  double sum = 0.0;
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < mask.size(); ++i)
-    if (mask[i]) {
-      sum += cmp.flip.error[i];
-      ++n;
-    }
-  return n ? sum / static_cast<double>(n) : 0.0;
 }
 
 }  // namespace
@@ -180,11 +167,11 @@ void lodFarSection(Renderer& renderer, const LodFarOptions& o, std::ostringstrea
     onScene[i] = mask[i] && !hair ? 1 : 0;
     sceneShadowed += onScene[i];
   }
-  const double sceneOnVsOff = maskedFlip(timed[1].frame, timed[0].frame, onScene);
-  const double sceneFullVsOff = maskedFlip(timed[3].frame, timed[0].frame, onScene);
-  const double capVsFull = maskedFlip(timed[1].frame, timed[3].frame, mask);
-  const double lightVsFull = maskedFlip(timed[2].frame, timed[3].frame, mask);
-  const double onVsOff = maskedFlip(timed[1].frame, timed[0].frame, mask);
+  const double sceneOnVsOff = maskedFlip(timed[1].frame.color, timed[0].frame.color, onScene);
+  const double sceneFullVsOff = maskedFlip(timed[3].frame.color, timed[0].frame.color, onScene);
+  const double capVsFull = maskedFlip(timed[1].frame.color, timed[3].frame.color, mask);
+  const double lightVsFull = maskedFlip(timed[2].frame.color, timed[3].frame.color, mask);
+  const double onVsOff = maskedFlip(timed[1].frame.color, timed[0].frame.color, mask);
   md << "\nOver the " << shadowed
      << " pixels the hair's shadow darkens (LOD off, by more than 2 %), mean FLIP: capped maps "
         "against full-detail maps (the same camera LOD) "
